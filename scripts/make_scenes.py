@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""Writes voxlab's scenes (python3 standard library only, deterministic output).
+
+  scenes/cornell-box.gltf                the Cornell box from the published measurements (in metres)
+  tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
+  tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
+  tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
+
+Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
+"""
+
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gltf_writer import (GltfBuilder, axis_box_polygons, box_polygons, centroid, oriented,  # noqa: E402
+                         sub)
+
+MM = 0.001  # the published data is in millimetres
+
+WHITE = (0.725, 0.71, 0.68)
+RED = (0.63, 0.065, 0.05)
+GREEN = (0.14, 0.45, 0.091)
+
+# Quaternions (x, y, z, w) that turn a node's -Z (camera view / light direction) elsewhere.
+LOOK_PLUS_Z = (0.0, 1.0, 0.0, 0.0)                            # 180 deg about +y: -Z -> +Z
+LOOK_DOWN = (-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5))       # -90 deg about +x: -Z -> -Y
+
+
+def mm(points):
+    return [[c * MM for c in p] for p in points]
+
+
+def cornell_box(path):
+    b = GltfBuilder("voxlab scripts/make_scenes.py (Cornell box, published measurements)")
+    ceiling_y = 548.8 * MM
+    room_centre = [0.278, 0.2744, 0.2796]
+
+    def wall(name, albedo, points_mm):
+        pts = mm(points_mm)
+        poly = oriented(pts, sub(room_centre, centroid(pts)))  # faces into the room
+        b.add_mesh_node(name, b.add_material(name, albedo), [poly])
+
+    wall("floor", WHITE, [(552.8, 0, 0), (0, 0, 0), (0, 0, 559.2), (549.6, 0, 559.2)])
+    wall("ceiling", WHITE, [(556, 548.8, 0), (556, 548.8, 559.2), (0, 548.8, 559.2), (0, 548.8, 0)])
+    wall("back-wall", WHITE, [(549.6, 0, 559.2), (0, 0, 559.2), (0, 548.8, 559.2), (556, 548.8, 559.2)])
+    wall("left-wall-red", RED, [(552.8, 0, 0), (549.6, 0, 559.2), (556, 548.8, 559.2), (556, 548.8, 0)])
+    wall("right-wall-green", GREEN, [(0, 0, 559.2), (0, 0, 0), (0, 548.8, 0), (0, 548.8, 559.2)])
+
+    short_top = [(130, 65), (82, 225), (240, 272), (290, 114)]
+    tall_top = [(423, 247), (265, 296), (314, 456), (472, 406)]
+    b.add_mesh_node("short-block", b.add_material("short-block", WHITE),
+                    box_polygons([(x * MM, z * MM) for x, z in short_top], 165 * MM))
+    b.add_mesh_node("tall-block", b.add_material("tall-block", WHITE),
+                    box_polygons([(x * MM, z * MM) for x, z in tall_top], 330 * MM))
+
+    # Small emissive panel 1 mm below the ceiling, facing down. Emission is kept at 1 because it
+    # feeds an 8-bit radiance grid; the spot light below carries the actual lighting.
+    y = ceiling_y - 0.001
+    panel = [[0.213, y, 0.227], [0.343, y, 0.227], [0.343, y, 0.332], [0.213, y, 0.332]]
+    b.add_mesh_node("light-panel", b.add_material("light-panel", WHITE, emissive=(1.0, 1.0, 1.0)),
+                    [oriented(panel, [0.0, -1.0, 0.0])])
+
+    # Spot light 1 cm under the ceiling at the panel centre, pointing straight down. Intensity is
+    # radiant intensity (W/sr): irradiance on the floor below is I / d^2 = 3 W/m^2 (times colour).
+    light_pos = (0.278, round(ceiling_y - 0.0108, 4), 0.2795)  # (0.278, 0.538, 0.2795)
+    d = light_pos[1]
+    intensity = round(3.0 * d * d, 4)  # 0.8683 W/sr
+    b.add_light("ceiling-spot", {
+        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": intensity,
+        "spot": {"innerConeAngle": 0.6, "outerConeAngle": 1.3},
+    }, light_pos, LOOK_DOWN)
+
+    # The published camera: (278, 273, -800) mm looking +z, 35 mm lens on 25 mm film.
+    yfov = 2.0 * math.atan(0.025 / 2.0 / 0.035)  # 0.6860 rad = 39.3 deg
+    b.add_camera("camera", (0.278, 0.273, -0.8), LOOK_PLUS_Z, round(yfov, 4), aspect=1.0,
+                 znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+def furnace_box(path, albedo):
+    """Closed unit cube [-0.5, 0.5]^3 with inward faces, uniform albedo, no emission, no lights."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (white furnace box)")
+    mat = b.add_material("furnace-white", (albedo, albedo, albedo))
+    b.add_mesh_node("furnace-room", mat, axis_box_polygons([-0.5, -0.5, -0.5], [0.5, 0.5, 0.5],
+                                                           faces_outward=False))
+    b.add_camera("camera", (0.0, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0), 1.2, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+def wall_floor(path):
+    """Floor 2 x 2 m at y = 0 (facing +y) and a wall x -1..1, 2 m tall, at z = 0.1 facing the
+    origin (-z). At the origin V = 1/2 (1 + d / sqrt(d^2 + h^2)) for an infinitely long wall,
+    d = 0.1, h = 2 (the wall here is 2 m wide, so that formula is an approximation)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (wall and floor)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    floor = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]]
+    b.add_mesh_node("floor", grey, [oriented(floor, [0.0, 1.0, 0.0])])
+    wall = [[-1.0, 0.0, 0.1], [1.0, 0.0, 0.1], [1.0, 2.0, 0.1], [-1.0, 2.0, 0.1]]
+    b.add_mesh_node("wall", grey, [oriented(wall, [0.0, 0.0, -1.0])])
+    # Looking at the wall from the open side, slightly from above.
+    b.add_camera("camera", (0.0, 1.0, -3.0), LOOK_PLUS_Z, 0.9, aspect=1.0, znear=0.01, zfar=20.0)
+    b.write(path)
+
+
+def thin_wall(path):
+    """Closed room x -1..1, y 0..1, z -0.5..0.5 (inward faces) split at x = 0 by a 1 cm thick wall
+    (closed box, outward faces). A point light sits in the left (-x) half only; any light in the
+    right half that did not bounce around the wall is a leak."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (thin wall)")
+    room = b.add_material("room-white", (0.7, 0.7, 0.7))
+    wall = b.add_material("thin-wall", (0.7, 0.7, 0.7))
+    b.add_mesh_node("room", room, axis_box_polygons([-1.0, 0.0, -0.5], [1.0, 1.0, 0.5], faces_outward=False))
+    b.add_mesh_node("thin-wall", wall, axis_box_polygons([-0.005, 0.0, -0.5], [0.005, 1.0, 0.5]))
+    b.add_light("left-point", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 1.0},
+                (-0.5, 0.5, 0.0))
+    # Inside the room near the -z wall, looking +z at the divider.
+    b.add_camera("camera", (0.0, 0.5, -0.45), LOOK_PLUS_Z, 1.4, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--root", default=os.path.dirname(here), help="project root (default: this repo)")
+    parser.add_argument("--furnace-albedo", type=float, default=0.5)
+    args = parser.parse_args()
+    if not 0.0 <= args.furnace_albedo <= 1.0:
+        parser.error("--furnace-albedo must be in [0, 1]")
+    scenes = os.path.join(args.root, "scenes")
+    tests = os.path.join(args.root, "tests", "data", "scenes")
+    os.makedirs(scenes, exist_ok=True)
+    os.makedirs(tests, exist_ok=True)
+    outputs = [
+        (os.path.join(scenes, "cornell-box.gltf"), cornell_box),
+        (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
+        (os.path.join(tests, "wall-floor.gltf"), wall_floor),
+        (os.path.join(tests, "thin-wall.gltf"), thin_wall),
+    ]
+    for path, fn in outputs:
+        fn(path)
+        print("wrote", os.path.relpath(path, args.root))
+
+
+if __name__ == "__main__":
+    main()

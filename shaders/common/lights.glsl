@@ -1,0 +1,55 @@
+// Punctual lights, evaluated exactly as src/scene/light_model.h does on the CPU (the reference
+// path tracer): KHR_lights_punctual smooth spot falloff t^2, range window (1-(d/r)^4)^2, 1/d^2.
+#include "common/shared.h"
+
+layout(std140, binding = VOXLAB_UNIFORM_LIGHT) uniform LightBlock { GpuLight u_light; };
+
+// Direction to the light (unit) and its distance (1e30 for directional lights).
+void lightDirection(vec3 p, out vec3 toLight, out float dist) {
+  if (u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL) {
+    toLight = -u_light.directionRange.xyz;
+    dist = 1e30;
+    return;
+  }
+  vec3 d = u_light.positionType.xyz - p;
+  dist = max(length(d), 1e-4);
+  toLight = d / dist;
+}
+
+// Irradiance a surface facing the light receives at p, before the cosine and visibility.
+vec3 lightIrradiance(vec3 p) {
+  vec3 toLight; float dist;
+  lightDirection(p, toLight, dist);
+  if (u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL) return u_light.radiance.rgb;
+  float falloff = 1.0 / max(dist * dist, 1e-8);
+  float range = u_light.directionRange.w;
+  if (range > 0.0) {
+    float r = dist / range;
+    float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
+    falloff *= w * w;
+  }
+  if (u_light.positionType.w == VOXLAB_LIGHT_SPOT) {
+    float cosA = dot(u_light.directionRange.xyz, -toLight);
+    float t = clamp((cosA - u_light.spot.y) / max(u_light.spot.x - u_light.spot.y, 1e-4), 0.0, 1.0);
+    falloff *= t * t;
+  }
+  return u_light.radiance.rgb * falloff;
+}
+
+// 1 when p is lit according to the shadow map (PCF over 3x3 texels), 0 when in shadow.
+float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
+  if (u_light.spot.w < 0.5) return 1.0;
+  vec3 toLight; float dist;
+  lightDirection(p, toLight, dist);
+  // Normal offset keeps the receiver from shadowing itself.
+  vec4 clip = u_light.shadowViewProj * vec4(p + n * u_light.spot.z, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
+  vec3 uvz = ndc * 0.5 + 0.5;
+  if (any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz, vec3(1.0)))) return 1.0;
+  vec2 texel = 1.0 / vec2(textureSize(shadowMap, 0));
+  float lit = 0.0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x)
+      lit += (texture(shadowMap, uvz.xy + vec2(x, y) * texel).r >= uvz.z - 1e-4) ? 1.0 : 0.0;
+  return lit / 9.0;
+}

@@ -1,0 +1,12 @@
+// The material of the draw range being rasterized (set by GpuScene::draw).
+#include "common/shared.h"
+layout(std430, binding = VOXLAB_BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
+layout(binding = VOXLAB_UNIT_ALBEDO) uniform sampler2D u_albedoTexture;
+layout(binding = VOXLAB_UNIT_EMISSIVE) uniform sampler2D u_emissiveTexture;
+uniform int u_materialIndex;
+
+vec4 materialAlbedo(vec2 uv) { return materials[u_materialIndex].baseColor * texture(u_albedoTexture, uv); }
+vec3 materialEmission(vec2 uv) {
+  vec4 e = materials[u_materialIndex].emissive;
+  return e.a > 0.5 ? e.rgb * texture(u_emissiveTexture, uv).rgb : e.rgb;
+}

@@ -1,0 +1,74 @@
+// Structs and binding points shared by C++ (src/) and GLSL (shaders/). Included by both, so the
+// two sides cannot disagree on a layout. Every struct is std430-compatible: vec4 or scalar
+// members only, sizes multiples of 16 bytes.
+#ifndef VOXLAB_SHARED_H
+#define VOXLAB_SHARED_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace voxlab::gpu {
+using vec4 = glm::vec4;
+using mat4 = glm::mat4;
+using uint = uint32_t;
+#endif
+
+// --- Binding points ------------------------------------------------------------------------------
+#define VOXLAB_BINDING_MATERIALS 0        // SSBO: GpuMaterial[]
+#define VOXLAB_BINDING_FRAGMENTS 1        // SSBO: VoxelFragment[]
+#define VOXLAB_BINDING_FRAGMENT_COUNT 0   // atomic counter: number of voxel fragments appended
+#define VOXLAB_BINDING_CONE_SAMPLES 2     // SSBO: ConeSample[] of the probed pixel
+#define VOXLAB_BINDING_AXIS_COUNTS 3      // SSBO: uint[4] triangles per dominant axis (x, y, z, unused)
+#define VOXLAB_BINDING_CONE_SAMPLE_COUNT 4  // SSBO: uint number of ConeSample records written
+
+#define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
+
+// Texture units
+#define VOXLAB_UNIT_ALBEDO 0
+#define VOXLAB_UNIT_EMISSIVE 1
+
+// Vertex attribute locations of the scene's vertex buffer.
+#define VOXLAB_ATTR_POSITION 0
+#define VOXLAB_ATTR_NORMAL 1
+#define VOXLAB_ATTR_UV 2
+
+// --- Structs -------------------------------------------------------------------------------------
+
+struct GpuMaterial {
+  vec4 baseColor;  // linear RGBA factor
+  vec4 emissive;   // rgb: linear emitted radiance; a: 1 when an emissive texture multiplies it
+};
+
+// One voxel fragment: a surface sample produced by voxelization.
+struct VoxelFragment {
+  uint position;   // voxel coordinates packed 10:10:10 (x bits 0-9, y 10-19, z 20-29)
+  uint albedo;     // RGBA8 unorm (packUnorm4x8), linear
+  uint normal;     // packSnorm4x8 of the geometric normal (w unused)
+  uint emission;   // RGBA8 unorm, linear emitted radiance clamped to [0,1]
+};
+
+// Cone samples of one probed pixel (written when probing is enabled).
+#define VOXLAB_MAX_CONES 16
+#define VOXLAB_MAX_SAMPLES_PER_CONE 64
+struct ConeSample {
+  vec4 position;     // xyz: world position of the sample centre, w: diameter (world units)
+  vec4 accumulated;  // rgb: accumulated radiance after this sample, a: accumulated opacity
+  vec4 info;         // x: cone index, y: distance along the cone, z: mip level (LOD), w: sample alpha
+};
+
+// The light every technique shades with (the scene's first light), std140-compatible.
+#define VOXLAB_LIGHT_DIRECTIONAL 0.0
+#define VOXLAB_LIGHT_POINT 1.0
+#define VOXLAB_LIGHT_SPOT 2.0
+struct GpuLight {
+  mat4 shadowViewProj;  // world -> light clip space of the shadow map
+  vec4 positionType;    // xyz: position (world), w: VOXLAB_LIGHT_*
+  vec4 directionRange;  // xyz: unit direction the light travels, w: range (0 = infinite)
+  vec4 radiance;        // rgb: colour * intensity (W/sr, or W/m^2 when directional)
+  vec4 spot;            // x: cos(inner cone), y: cos(outer cone), z: normal offset (m), w: 1 = shadow map valid
+};
+
+#ifdef __cplusplus
+}  // namespace voxlab::gpu
+#endif
+#endif  // VOXLAB_SHARED_H

@@ -1,0 +1,79 @@
+#version 450
+// Cone tracing, one invocation per pixel of the G-buffer:
+//  - N diffuse cones around the normal (directions and normalised weights from the CPU, see
+//    src/techniques/vct_grid/cone_layout.cpp): indirect diffuse = albedo * sum_i w_i L_i, and
+//    ambient occlusion = 1 - sum_i w_i A_i(range), the cosine-weighted visible fraction;
+//  - one specular cone along the mirror direction, aperture from the roughness;
+//  - one soft-shadow cone toward the light: visibility = 1 - accumulated opacity.
+#include "common/shared.h"
+#include "common/voxel_space.glsl"
+#include "common/cone_trace.glsl"
+#include "common/lights.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 1) uniform sampler2D u_position;
+layout(binding = 2) uniform sampler2D u_normal;
+layout(binding = 3) uniform sampler2D u_albedo;
+layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
+layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
+layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
+layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
+
+uniform int u_coneCount;
+uniform vec4 u_cones[VOXLAB_MAX_CONES];  // xyz: direction in tangent space (z = normal), w: weight
+uniform float u_diffuseAperture;         // radians
+uniform float u_specularAperture;        // radians
+uniform float u_shadowAperture;          // radians
+uniform float u_startOffset;             // metres, along the normal
+uniform float u_maxDistance;             // metres
+uniform float u_aoRange;                 // metres
+uniform vec3 u_cameraPos;
+uniform ivec2 u_probePixel;              // pixel whose samples are recorded (-1 = none)
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = textureSize(u_position, 0);
+  if (px.x >= size.x || px.y >= size.y) return;
+  vec4 pos = texelFetch(u_position, px, 0);
+  if (pos.w == 0.0) {
+    imageStore(u_indirectDiffuse, px, vec4(0.0));
+    imageStore(u_indirectSpecular, px, vec4(0.0));
+    imageStore(u_ambientOcclusion, px, vec4(0.0));
+    imageStore(u_softShadow, px, vec4(0.0));
+    return;
+  }
+  bool record = px == u_probePixel;
+  vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
+  vec3 albedo = texelFetch(u_albedo, px, 0).rgb;
+  vec3 origin = pos.xyz + n * u_startOffset;
+  float start = u_voxelSize;
+
+  vec3 t = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
+  vec3 b = cross(n, t);
+  vec3 incoming = vec3(0.0);
+  float occlusion = 0.0;
+  for (int i = 0; i < u_coneCount; ++i) {
+    vec3 d = normalize(u_cones[i].x * t + u_cones[i].y * b + u_cones[i].z * n);
+    ConeResult c = traceCone(origin, d, u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record);
+    incoming += u_cones[i].w * c.radiance;
+    occlusion += u_cones[i].w * c.opacityAt;
+  }
+  imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
+  imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
+
+  vec3 view = normalize(pos.xyz - u_cameraPos);
+  vec3 r = reflect(view, n);
+  ConeResult spec = traceCone(origin, r, u_specularAperture, start, u_maxDistance, u_maxDistance, u_coneCount, record);
+  imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+
+  vec3 toLight; float dist;
+  lightDirection(pos.xyz, toLight, dist);
+  float shadowVis = 1.0;
+  if (dot(n, toLight) > 0.0) {
+    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(dist, u_maxDistance), 1e30, u_coneCount + 1, record);
+    shadowVis = 1.0 - sh.opacity;
+  } else {
+    shadowVis = 0.0;
+  }
+  imageStore(u_softShadow, px, vec4(shadowVis));
+}

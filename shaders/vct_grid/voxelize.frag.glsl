@@ -1,0 +1,62 @@
+#version 450
+// Voxelization, per fragment: the fragment is one column of voxels along the projection axis.
+// Conservative mode tests each voxel of the column that the triangle's plane can reach within
+// this pixel (at most 3, because the projection axis is dominant) with the exact triangle/box
+// overlap test, and appends one voxel fragment per overlapping voxel. Plain mode appends the one
+// voxel at the pixel centre's depth.
+#include "common/shared.h"
+#include "common/voxel_space.glsl"
+#include "common/material.glsl"
+#include "common/packing.glsl"
+#include "common/tri_box.glsl"
+
+in VoxelData {
+  vec3 normal;
+  vec2 uv;
+  flat vec4 boundsPx;
+  flat int axis;
+  flat vec3 tri0, tri1, tri2;
+} fin;
+
+layout(binding = VOXLAB_BINDING_FRAGMENT_COUNT, offset = 0) uniform atomic_uint u_fragmentCount;
+layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) writeonly buffer Fragments { VoxelFragment fragments[]; };
+uniform uint u_capacity;
+uniform int u_conservative;
+
+vec3 fromProjected(vec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
+vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
+
+void appendVoxel(ivec3 voxel) {
+  if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(u_resolution)))) return;
+  uint index = atomicCounterIncrement(u_fragmentCount);
+  if (index >= u_capacity) return;  // the stage sees the count, grows the list and runs again
+  vec4 albedo = materialAlbedo(fin.uv);
+  vec3 emission = materialEmission(fin.uv);
+  VoxelFragment f;
+  f.position = packVoxel10(uvec3(voxel));
+  f.albedo = packUnorm4x8(vec4(albedo.rgb, 1.0));
+  f.normal = packSnorm4x8(vec4(normalize(fin.normal), 0.0));
+  f.emission = packUnorm4x8(vec4(clamp(emission, 0.0, 1.0), 1.0));
+  fragments[index] = f;
+}
+
+void main() {
+  vec2 px = gl_FragCoord.xy;
+  if (u_conservative == 0) {
+    appendVoxel(ivec3(fromProjected(vec3(floor(px), floor(gl_FragCoord.z * float(u_resolution))), fin.axis)));
+    return;
+  }
+  if (px.x < fin.boundsPx.x || px.y < fin.boundsPx.y || px.x > fin.boundsPx.z || px.y > fin.boundsPx.w) discard;
+  vec3 s0 = toProjected(fin.tri0, fin.axis), s1 = toProjected(fin.tri1, fin.axis), s2 = toProjected(fin.tri2, fin.axis);
+  vec3 ns = cross(s1 - s0, s2 - s0);
+  vec2 grad = -ns.xy / ns.z;  // dz/dx, dz/dy of the plane; |grad| <= 1 per axis (dominant axis)
+  float zc = s0.z + dot(grad, px - s0.xy);
+  float reach = 0.5 * (abs(grad.x) + abs(grad.y));
+  float zlo = max(zc - reach, min(s0.z, min(s1.z, s2.z)));
+  float zhi = min(zc + reach, max(s0.z, max(s1.z, s2.z)));
+  vec2 cell = floor(px);
+  for (float z = floor(zlo); z <= floor(zhi) && z <= floor(zlo) + 3.0; z += 1.0) {
+    ivec3 voxel = ivec3(fromProjected(vec3(cell, z), fin.axis));
+    if (triangleOverlapsBox(fin.tri0, fin.tri1, fin.tri2, vec3(voxel) + 0.5, vec3(0.5))) appendVoxel(voxel);
+  }
+}

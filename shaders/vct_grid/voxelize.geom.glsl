@@ -1,0 +1,78 @@
+#version 450
+// Voxelization, per triangle: pick the dominant axis of the triangle's plane normal (computed from
+// its positions), project onto the plane of that axis so the triangle covers the most pixels, and
+// (conservative mode) push every edge out by half a pixel diagonal (Hasselgren et al. 2005) so each
+// pixel the triangle touches gets a fragment. The fragment shader discards fragments outside the
+// triangle's half-pixel-grown bounding box and decides the exact voxels.
+#include "common/shared.h"
+#include "common/voxel_space.glsl"
+
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+
+in VertexData { vec3 worldPos; vec3 normal; vec2 uv; } vin[];
+out VoxelData {
+  vec3 normal;
+  vec2 uv;
+  flat vec4 boundsPx;        // triangle bounds in projected pixels, grown by half a pixel
+  flat int axis;             // 0 = x, 1 = y, 2 = z: the projection axis
+  flat vec3 tri0, tri1, tri2;  // triangle in voxel coordinates (not swizzled)
+} vout;
+
+layout(std430, binding = VOXLAB_BINDING_AXIS_COUNTS) buffer AxisCounts { uint axisCount[4]; };
+uniform int u_conservative;
+
+// Swizzle voxel coordinates so the projection axis becomes z.
+vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
+
+void main() {
+  vec3 v[3];
+  for (int i = 0; i < 3; ++i) v[i] = worldToVoxel(vin[i].worldPos);
+  vec3 n = cross(v[1] - v[0], v[2] - v[0]);  // plane normal from positions, not from normals
+  vec3 an = abs(n);
+  if (max(an.x, max(an.y, an.z)) <= 0.0) return;  // degenerate triangle: no area, no voxels
+  int axis = (an.x >= an.y && an.x >= an.z) ? 0 : (an.y >= an.z ? 1 : 2);
+  atomicAdd(axisCount[axis], 1u);
+
+  vec3 s[3];
+  for (int i = 0; i < 3; ++i) s[i] = toProjected(v[i], axis);
+  int order[3] = int[3](0, 1, 2);
+  vec2 e01 = s[1].xy - s[0].xy, e02 = s[2].xy - s[0].xy;
+  if (e01.x * e02.y - e01.y * e02.x < 0.0) { order[1] = 2; order[2] = 1; }  // make it counter-clockwise
+
+  vec2 p[3];
+  for (int i = 0; i < 3; ++i) p[i] = s[order[i]].xy;
+  vec2 lo = min(p[0], min(p[1], p[2])), hi = max(p[0], max(p[1], p[2]));
+  vec4 bounds = vec4(lo - 0.5, hi + 0.5);
+  vec2 outPos[3] = p;
+  if (u_conservative != 0) {
+    // Edge lines l.(x,y,1) >= 0 inside; moving each out by half the pixel's extent along its normal.
+    vec3 lines[3];
+    for (int i = 0; i < 3; ++i) {
+      vec3 l = cross(vec3(p[i], 1.0), vec3(p[(i + 1) % 3], 1.0));
+      l.z += 0.5 * (abs(l.x) + abs(l.y));
+      lines[i] = l;
+    }
+    for (int i = 0; i < 3; ++i) {
+      vec3 q = cross(lines[(i + 2) % 3], lines[i]);
+      outPos[i] = abs(q.z) > 1e-12 ? q.xy / q.z : p[i];
+    }
+  }
+  // Depth of any point of the (grown) triangle from the plane through s[0] with normal ns.
+  vec3 ns = toProjected(n, axis);
+  for (int i = 0; i < 3; ++i) {
+    vec2 xy = outPos[i];
+    float z = s[0].z - (ns.x * (xy.x - s[0].x) + ns.y * (xy.y - s[0].y)) / ns.z;
+    gl_Position = vec4(xy / float(u_resolution) * 2.0 - 1.0, clamp(z / float(u_resolution) * 2.0 - 1.0, -1.0, 1.0), 1.0);
+    int k = order[i];
+    vout.normal = vin[k].normal;
+    vout.uv = vin[k].uv;
+    vout.boundsPx = bounds;
+    vout.axis = axis;
+    vout.tri0 = v[0];
+    vout.tri1 = v[1];
+    vout.tri2 = v[2];
+    EmitVertex();
+  }
+  EndPrimitive();
+}

@@ -1,0 +1,79 @@
+// voxlab list [--json]: every technique with its stages, outputs and parameters, and the scenes.
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "app/command.h"
+#include "core/args.h"
+#include "graph/technique.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+namespace {
+
+using nlohmann::json;
+
+json describeTechnique(const Technique& t) {
+  json j;
+  j["id"] = t.id();
+  j["title"] = t.title();
+  j["summary"] = t.summary();
+  j["final_output"] = t.id() + "/" + t.finalStage() + "/" + t.finalOutput();
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const StageDecl& d = t.decl(i);
+    json s;
+    s["id"] = t.stage(i).id();
+    s["title"] = t.stage(i).title();
+    s["summary"] = t.stage(i).summary();
+    s["reads"] = d.reads;
+    for (const auto& o : d.outputs)
+      s["outputs"].push_back({{"name", o.name}, {"address", t.id() + "/" + t.stage(i).id() + "/" + o.name},
+                              {"kind", kindName(o.kind)}, {"semantic", semanticName(o.semantic)}, {"help", o.help}});
+    for (const auto& p : d.params)
+      s["parameters"].push_back({{"name", p.name}, {"type", p.typeName()}, {"default", p.format(p.defaultValue)},
+                                 {"range", p.rangeText()}, {"unit", p.unit}, {"help", p.help}});
+    j["stages"].push_back(s);
+  }
+  return j;
+}
+
+int runList(const std::vector<std::string>& argv) {
+  Args args("list", argv, {{"--json", false, false, "print JSON instead of text"}});
+  json all;
+  for (const auto& e : techniqueRegistry()) all["techniques"].push_back(describeTechnique(*createTechnique(e.id)));
+  all["scenes"] = listScenes();
+  if (args.has("--json")) {
+    std::printf("%s\n", all.dump(2).c_str());
+    return 0;
+  }
+  for (const auto& t : all["techniques"]) {
+    std::printf("%s  %s\n  final output: %s\n", t["id"].get<std::string>().c_str(),
+                t["title"].get<std::string>().c_str(), t["final_output"].get<std::string>().c_str());
+    int n = 1;
+    for (const auto& s : t["stages"]) {
+      std::printf("  %d. %-14s %s\n", n++, s["id"].get<std::string>().c_str(), s["title"].get<std::string>().c_str());
+      if (s.contains("outputs"))
+        for (const auto& o : s["outputs"])
+          std::printf("       output %-22s %-9s %-13s %s\n", o["name"].get<std::string>().c_str(),
+                      o["kind"].get<std::string>().c_str(), o["semantic"].get<std::string>().c_str(),
+                      o["help"].get<std::string>().c_str());
+      if (s.contains("parameters"))
+        for (const auto& p : s["parameters"])
+          std::printf("       param  %-22s = %-8s [%s] %s\n", p["name"].get<std::string>().c_str(),
+                      p["default"].get<std::string>().c_str(), p["range"].get<std::string>().c_str(),
+                      p["help"].get<std::string>().c_str());
+    }
+    std::printf("\n");
+  }
+  std::printf("scenes:");
+  for (const auto& s : all["scenes"]) std::printf(" %s", s.get<std::string>().c_str());
+  std::printf("\n");
+  return 0;
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_COMMAND("list", "voxlab list [--json]",
+                        "list techniques (stages, outputs, parameters) and scenes", &runList);
+
+}  // namespace voxlab

@@ -1,0 +1,140 @@
+// voxlab reference: the CPU reference path tracer (ground truth for every technique).
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "app/command.h"
+#include "core/args.h"
+#include "core/error.h"
+#include "reference/image_io.h"
+#include "reference/path_tracer.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+namespace {
+
+float parseRadius(const std::string& text) {
+  if (text == "inf" || text == "infinite") return INFINITY;
+  char* end = nullptr;
+  float v = std::strtof(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v > 0.0f))
+    throw Error("--ao-radius '" + text + "' is not a positive number or 'inf'");
+  return v;
+}
+
+// A bar redrawn in place on a terminal; otherwise at most about ten "NN%" lines.
+struct Progress {
+  bool tty = isatty(STDERR_FILENO) != 0;
+  int lastShown = -1;
+  void operator()(double f) {
+    int pct = int(f * 100.0 + 1e-9);
+    if (tty) {
+      if (pct == lastShown) return;
+      lastShown = pct;
+      const int W = 40;
+      int fill = pct * W / 100;
+      std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(size_t(fill), '#').c_str(),
+                   std::string(size_t(W - fill), ' ').c_str(), pct);
+      if (pct >= 100) std::fputc('\n', stderr);
+    } else {
+      int step = pct / 10 * 10;
+      if (step < 10 || step <= lastShown) return;  // 10%, 20%, ..., 100%: ten lines at most
+      lastShown = step;
+      std::fprintf(stderr, "reference: %d%%\n", step);
+    }
+    std::fflush(stderr);
+  }
+};
+
+int runReference(const std::vector<std::string>& argv) {
+  Args args("reference", argv,
+            {{"--scene", true, false, "scene name in scenes/ or a .gltf/.glb path"},
+             {"--camera", true, false, "camera name (default: the scene's first camera)"},
+             {"--size", true, false, "image size WxH (default 512x512)"},
+             {"--spp", true, false, "samples per pixel, 1..1000000"},
+             {"--mode", true, false, "full, direct, one-bounce, indirect or ao (default full)"},
+             {"--ao-radius", true, false, "ao mode: maximum occluder distance (default inf)"},
+             {"--threads", true, false, "worker threads (default: $VOXLAB_THREADS or all cores)"},
+             {"--seed", true, false, "random sequence, 0..2^31-1 (default 0)"},
+             {"--jitter", false, false, "jitter rays within each pixel instead of the centre"},
+             {"--no-stderr", false, false, "do not write FILE.stderr.exr"},
+             {"--quiet", false, false, "no progress output"},
+             {"--out", true, false, "output EXR file"}});
+  std::string sceneArg = args.require("--scene");
+  std::string out = args.require("--out");
+  if (out.size() < 4 || out.compare(out.size() - 4, 4, ".exr") != 0)
+    throw Error("--out '" + out + "' must end in .exr");
+  reference::ReferenceSettings st;
+  st.spp = Args::parseInt("--spp", args.require("--spp"), 1, 1000000);
+  st.mode = reference::parseMode(args.get("--mode", "full"));
+  if (args.has("--size")) Args::parseSize(args.get("--size"), st.width, st.height);
+  if (args.has("--ao-radius")) {
+    if (st.mode != reference::Mode::AO) throw Error("--ao-radius only applies to --mode ao");
+    st.aoRadius = parseRadius(args.get("--ao-radius"));
+  }
+  if (args.has("--threads")) st.threads = Args::parseInt("--threads", args.get("--threads"), 1, 4096);
+  if (args.has("--seed")) st.seed = uint64_t(Args::parseInt("--seed", args.get("--seed"), 0, 2147483647));
+  st.pixelJitter = args.has("--jitter");
+  st.computeStdErr = !args.has("--no-stderr");
+
+  Scene scene = loadScene(resolveScenePath(sceneArg));
+  if (auto cam = args.find("--camera")) {
+    std::vector<std::string> names;
+    int found = -1;
+    for (size_t i = 0; i < scene.cameras.size(); ++i) {
+      names.push_back(scene.cameras[i].name);
+      if (scene.cameras[i].name == *cam && found < 0) found = int(i);
+    }
+    if (found < 0)
+      throw Error("scene '" + scene.name + "' has no camera '" + *cam + "'; its cameras: " + joinNames(names));
+    st.cameraIndex = found;
+  }
+  Progress progress;
+  if (!args.has("--quiet")) st.progress = [&](double f) { progress(f); };
+
+  reference::ReferenceTracer tracer(scene);
+  reference::RenderStats stats;
+  reference::Image img = tracer.render(st, &stats);
+
+  std::string camName = scene.cameras[size_t(st.cameraIndex)].name;
+  reference::ImageAttributes attrs = {
+      {"voxlab:spp", std::to_string(st.spp), true},
+      {"voxlab:mode", reference::modeName(st.mode), false},
+      {"voxlab:scene", scene.name, false},
+      {"voxlab:camera", camName, false},
+      {"voxlab:seed", std::to_string(st.seed), true},
+      {"voxlab:pixel_filter", st.pixelJitter ? "box (jittered)" : "centre", false}};
+  if (st.mode == reference::Mode::AO)
+    attrs.push_back({"voxlab:ao_radius", std::isinf(st.aoRadius) ? "inf" : std::to_string(st.aoRadius), false});
+  reference::writeExr(out, img, attrs);
+  std::string errPath;
+  if (st.computeStdErr) {
+    reference::Image se(img.width, img.height);
+    se.rgb = img.stdErr;
+    auto seAttrs = attrs;
+    seAttrs.push_back({"voxlab:content", "standard error of the mean per pixel", false});
+    errPath = reference::stdErrPathFor(out);
+    reference::writeExr(errPath, se, seAttrs);
+  }
+  std::printf("wrote %s (%dx%d, %d spp, mode %s, camera '%s')%s%s\n", out.c_str(), img.width,
+              img.height, st.spp, reference::modeName(st.mode).c_str(), camName.c_str(),
+              errPath.empty() ? "" : " and ", errPath.c_str());
+  std::printf("%.2f s on %d threads, %.3g rays, %.2f Mrays/s, %.3f s per spp\n", stats.seconds,
+              stats.threads, double(stats.rays), stats.raysPerSecond() / 1e6, stats.seconds / st.spp);
+  return 0;
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_COMMAND("reference",
+                         "voxlab reference --scene S [--camera NAME] [--size WxH] --spp N "
+                         "[--mode full|direct|one-bounce|indirect|ao] [--ao-radius R] [--threads N] "
+                         "[--seed N] [--jitter] [--no-stderr] [--quiet] --out FILE.exr",
+                         "render a ground-truth image with the CPU reference path tracer (Embree)",
+                         &runReference);
+
+}  // namespace voxlab

@@ -1,0 +1,55 @@
+// voxlab: run voxel global-illumination techniques stage by stage.
+// main() only dispatches to the commands registered in src/app/cmd_*.cpp.
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "app/command.h"
+#include "core/error.h"
+
+static void printUsage() {
+  std::printf("usage: voxlab COMMAND [options]\n\ncommands:\n");
+  auto cmds = voxlab::commands();
+  std::sort(cmds.begin(), cmds.end(),
+            [](const auto& a, const auto& b) { return std::strcmp(a.name, b.name) < 0; });
+  for (const auto& c : cmds) std::printf("  %-10s %s\n", c.name, c.summary);
+  std::printf("\n'voxlab help COMMAND' shows a command's options.\n");
+}
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    printUsage();
+    return args.empty() ? 2 : 0;
+  }
+  std::string name = args[0];
+  if (name == "help" && args.size() > 1) {
+    name = args[1];
+    args = {name, "--help"};
+  }
+  for (const auto& c : voxlab::commands()) {
+    if (name != c.name) continue;
+    std::vector<std::string> rest(args.begin() + 1, args.end());
+    if (!rest.empty() && (rest[0] == "--help" || rest[0] == "-h")) {
+      std::printf("usage: %s\n%s\n", c.usage, c.summary);
+      return 0;
+    }
+    try {
+      return c.run(rest);
+    } catch (const voxlab::Error& e) {
+      std::fprintf(stderr, "voxlab %s: %s\n", c.name, e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "voxlab %s: internal error: %s\n", c.name, e.what());
+      return 3;
+    }
+  }
+  std::vector<std::string> names;
+  for (const auto& c : voxlab::commands()) names.push_back(c.name);
+  std::sort(names.begin(), names.end());
+  std::fprintf(stderr, "voxlab: unknown command '%s'; valid commands: %s\n", name.c_str(),
+               voxlab::joinNames(names).c_str());
+  return 2;
+}

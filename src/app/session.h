@@ -1,0 +1,51 @@
+// A headless session: an offscreen GL context, the shader library, a scene and a step cursor for
+// one technique. `voxlab run`, `voxlab bench` and the test suites open one of these.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/shader_library.h"
+#include "graph/step_cursor.h"
+#include "platform/gl_context.h"
+
+namespace voxlab {
+
+struct RunRequest {
+  std::string technique;
+  std::string scene = "cornell-box";  // name in scenes/ or a path
+  std::string until;                  // stage id; "" = all stages
+  std::vector<std::string> sets;      // "name=value"
+  int width = 512;
+  int height = 512;
+  int camera = 0;
+};
+
+class HeadlessSession {
+ public:
+  // Validates the whole request (technique, stage, parameters, scene file) before any GL work;
+  // throws Error with one line naming the first problem.
+  explicit HeadlessSession(const RunRequest& request);
+  ~HeadlessSession();
+
+  StepCursor& cursor() { return *cursor_; }
+  const RunRequest& request() const { return request_; }
+  int untilStage() const { return untilStage_; }  // index of the last stage to run
+  void run();                                     // runs stages 0..untilStage
+
+  // Writes every output of every stage 0..untilStage (or only the final output when finalOnly)
+  // into dir, then dir/manifest.json last. Returns the manifest.
+  nlohmann::json writeOutputs(const std::string& dir, bool finalOnly = false);
+  nlohmann::json manifestHeader() const;  // technique, scene, parameters, GL strings, view
+
+ private:
+  RunRequest request_;
+  std::unique_ptr<GLContext> context_;
+  std::unique_ptr<ShaderLibrary> shaders_;
+  std::unique_ptr<StepCursor> cursor_;
+  int untilStage_ = 0;
+};
+
+}  // namespace voxlab

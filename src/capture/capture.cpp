@@ -1,0 +1,403 @@
+#include "capture/capture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+
+#include "core/error.h"
+#include "gpu/resources.h"
+
+namespace voxlab {
+
+using nlohmann::json;
+
+// --- Readback ------------------------------------------------------------------------------------
+
+static LevelData readTextureLevel(const Texture& tex, int level) {
+  FormatInfo fi = formatInfo(tex.desc().format);
+  LevelData d;
+  d.size = tex.levelSize(level);
+  d.channels = fi.channels;
+  size_t n = d.texelCount() * d.channels;
+  d.values.resize(n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  if (fi.isInteger) {
+    std::vector<uint32_t> tmp(n);
+    glGetTextureImage(tex.id(), level, fi.readFormat, GL_UNSIGNED_INT, GLsizei(n * 4), tmp.data());
+    for (size_t i = 0; i < n; ++i) d.values[i] = float(tmp[i]);
+  } else {
+    glGetTextureImage(tex.id(), level, fi.readFormat, GL_FLOAT, GLsizei(n * 4), d.values.data());
+  }
+  return d;
+}
+
+CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc) {
+  CapturedOutput out;
+  out.desc = desc;
+  if (desc.kind == OutputKind::Buffer) {
+    Buffer& buf = board.buffer(desc.resourceName());
+    const BufferLayout& L = desc.layout;
+    if (L.stride == 0) throw Error("output " + desc.name + " is a buffer without a record layout");
+    uint32_t capacity = uint32_t(buf.size() / L.stride);
+    uint32_t count = capacity;
+    if (!L.countResource.empty()) {
+      auto bytes = board.buffer(L.countResource).download(4, L.countOffset);
+      std::memcpy(&count, bytes.data(), 4);
+      count = std::min(count, capacity);
+    }
+    out.format = "records";
+    out.recordCount = count;
+    out.records = buf.download(size_t(count) * L.stride);
+    return out;
+  }
+  Texture& tex = board.texture(desc.resourceName());
+  out.format = formatName(tex.desc().format);
+  for (int l = 0; l < tex.levels(); ++l) {
+    out.levels.push_back(readTextureLevel(tex, l));
+    if (desc.channel >= 0) {  // keep only the selected channel
+      LevelData& d = out.levels.back();
+      std::vector<float> one(d.texelCount());
+      for (size_t i = 0; i < one.size(); ++i) one[i] = d.values[i * d.channels + desc.channel];
+      d.values = std::move(one);
+      d.channels = 1;
+    }
+  }
+  return out;
+}
+
+// --- Statistics ----------------------------------------------------------------------------------
+
+bool texelNonEmpty(const CapturedOutput& out, const LevelData& d, size_t t) {
+  const float* v = &d.values[t * d.channels];
+  Semantic s = out.desc.semantic;
+  if (out.desc.kind == OutputKind::Volume3D && d.channels == 4 &&
+      (s == Semantic::Color || s == Semantic::RadianceHDR || s == Semantic::Opacity))
+    return v[3] != 0.0f;
+  for (int c = 0; c < d.channels; ++c)
+    if (v[c] != 0.0f) return true;
+  return false;
+}
+
+static double fieldScalar(const uint8_t* rec, const BufferField& f, int component) {
+  uint32_t u;
+  std::memcpy(&u, rec + f.offset + (f.type == FieldType::Vec2 || f.type == FieldType::Vec3 || f.type == FieldType::Vec4 ? 4 * component : 0), 4);
+  switch (f.type) {
+    case FieldType::U32: return double(u);
+    case FieldType::I32: return double(int32_t(u));
+    case FieldType::F32: case FieldType::Vec2: case FieldType::Vec3: case FieldType::Vec4: {
+      float x;
+      std::memcpy(&x, &u, 4);
+      return x;
+    }
+    case FieldType::UnormRGBA8: return double((u >> (8 * component)) & 0xffu) / 255.0;
+    case FieldType::SnormRGBA8: return std::max(-1.0, double(int8_t((u >> (8 * component)) & 0xffu)) / 127.0);
+    case FieldType::Packed10_10_10: return double((u >> (10 * component)) & 0x3ffu);
+  }
+  return 0;
+}
+
+static int fieldComponents(FieldType t) {
+  switch (t) {
+    case FieldType::Vec2: return 2;
+    case FieldType::Vec3: case FieldType::Packed10_10_10: return 3;
+    case FieldType::Vec4: case FieldType::UnormRGBA8: case FieldType::SnormRGBA8: return 4;
+    default: return 1;
+  }
+}
+
+json outputStatistics(const CapturedOutput& out) {
+  json s;
+  if (out.desc.kind == OutputKind::Buffer) {
+    s["count"] = out.recordCount;
+    const auto& L = out.desc.layout;
+    for (const auto& f : L.fields) {
+      int nc = fieldComponents(f.type);
+      std::vector<double> lo(nc, 1e300), hi(nc, -1e300), sum(nc, 0.0);
+      for (uint32_t r = 0; r < out.recordCount; ++r)
+        for (int c = 0; c < nc; ++c) {
+          double v = fieldScalar(&out.records[size_t(r) * L.stride], f, c);
+          lo[c] = std::min(lo[c], v); hi[c] = std::max(hi[c], v); sum[c] += v;
+        }
+      if (out.recordCount == 0) continue;
+      json fj;
+      for (int c = 0; c < nc; ++c) {
+        fj["min"].push_back(lo[c]);
+        fj["max"].push_back(hi[c]);
+        fj["mean"].push_back(sum[c] / out.recordCount);
+      }
+      s["fields"][f.name] = fj;
+    }
+    return s;
+  }
+  for (size_t l = 0; l < out.levels.size(); ++l) {
+    const LevelData& d = out.levels[l];
+    std::vector<double> lo(d.channels, 1e300), hi(d.channels, -1e300), sum(d.channels, 0.0);
+    size_t nonEmpty = 0, nonFinite = 0;
+    for (size_t t = 0; t < d.texelCount(); ++t) {
+      for (int c = 0; c < d.channels; ++c) {
+        float v = d.values[t * d.channels + c];
+        if (!std::isfinite(v)) { ++nonFinite; continue; }
+        lo[c] = std::min(lo[c], double(v)); hi[c] = std::max(hi[c], double(v)); sum[c] += v;
+      }
+      if (texelNonEmpty(out, d, t)) ++nonEmpty;
+    }
+    json lj;
+    lj["level"] = l;
+    lj["size"] = {d.size.x, d.size.y, d.size.z};
+    lj["min"] = lo;
+    lj["max"] = hi;
+    std::vector<double> mean(d.channels);
+    for (int c = 0; c < d.channels; ++c) mean[c] = sum[c] / std::max<size_t>(d.texelCount(), 1);
+    lj["mean"] = mean;
+    lj["non_empty"] = nonEmpty;
+    lj["non_finite"] = nonFinite;
+    s["levels"].push_back(lj);
+  }
+  return s;
+}
+
+// --- Display mapping -----------------------------------------------------------------------------
+
+static uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+static float srgbEncode(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+// A perceptually ordered dark-to-bright colour ramp (stops chosen for voxlab: black, indigo,
+// magenta-red, orange, pale yellow).
+static void falseColour(float t, uint8_t* rgb) {
+  static const float stops[5][3] = {{0.0f, 0.0f, 0.02f}, {0.25f, 0.05f, 0.45f}, {0.75f, 0.15f, 0.35f},
+                                    {0.98f, 0.55f, 0.1f}, {0.99f, 0.98f, 0.75f}};
+  t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
+  int i = std::min(int(t), 3);
+  float f = t - float(i);
+  for (int c = 0; c < 3; ++c) rgb[c] = toByte(stops[i][c] * (1 - f) + stops[i + 1][c] * f);
+}
+
+static void mapTexel(const CapturedOutput& out, const LevelData& d, size_t t, float lo, float hi, uint8_t* rgb) {
+  const float* v = &d.values[t * d.channels];
+  auto ch = [&](int c) { return c < d.channels ? v[c] : v[0]; };
+  switch (out.desc.semantic) {
+    case Semantic::Color:
+      for (int c = 0; c < 3; ++c) rgb[c] = toByte(srgbEncode(ch(c)));
+      break;
+    case Semantic::RadianceHDR:
+      for (int c = 0; c < 3; ++c) rgb[c] = toByte(srgbEncode(ch(c) / (1.0f + ch(c))));
+      break;
+    case Semantic::Normal: {
+      bool zero = ch(0) == 0 && ch(1) == 0 && ch(2) == 0;
+      for (int c = 0; c < 3; ++c) rgb[c] = zero ? 0 : toByte(ch(c) * 0.5f + 0.5f);
+      break;
+    }
+    case Semantic::Occupancy: {
+      uint8_t b = texelNonEmpty(out, d, t) ? 255 : 0;
+      rgb[0] = rgb[1] = rgb[2] = b;
+      break;
+    }
+    case Semantic::Fraction: {
+      uint8_t b = toByte(v[0]);
+      rgb[0] = rgb[1] = rgb[2] = b;
+      break;
+    }
+    case Semantic::Opacity: {
+      uint8_t b = toByte(d.channels == 4 ? v[3] : v[0]);
+      rgb[0] = rgb[1] = rgb[2] = b;
+      break;
+    }
+    default:
+      falseColour(hi > lo ? (v[0] - lo) / (hi - lo) : 0.0f, rgb);
+  }
+}
+
+DisplayImage displayImage(const CapturedOutput& out, int level) {
+  const LevelData& d = out.levels.at(level);
+  float lo = 1e30f, hi = -1e30f;
+  for (size_t t = 0; t < d.texelCount(); ++t) {
+    float v = d.values[t * d.channels];
+    if (std::isfinite(v)) { lo = std::min(lo, v); hi = std::max(hi, v); }
+  }
+  int slices = d.size.z, shown = std::min(slices, 64);
+  int cols = int(std::ceil(std::sqrt(double(shown)))), rows = (shown + cols - 1) / cols;
+  int gap = slices > 1 ? 1 : 0;
+  DisplayImage img;
+  img.width = cols * d.size.x + (cols - 1) * gap;
+  img.height = rows * d.size.y + (rows - 1) * gap;
+  img.rgb.assign(size_t(img.width) * img.height * 3, slices > 1 ? 40 : 0);
+  for (int s = 0; s < shown; ++s) {
+    int z = shown == slices ? s : int((long(s) * slices) / shown);
+    int ox = (s % cols) * (d.size.x + gap), oy = (s / cols) * (d.size.y + gap);
+    for (int y = 0; y < d.size.y; ++y)
+      for (int x = 0; x < d.size.x; ++x) {
+        size_t t = (size_t(z) * d.size.y + y) * d.size.x + x;
+        int py = oy + (d.size.y - 1 - y);  // GL rows are bottom-up; images are top-down
+        mapTexel(out, d, t, lo, hi, &img.rgb[(size_t(py) * img.width + ox + x) * 3]);
+      }
+  }
+  return img;
+}
+
+DisplayImage pointView(const CapturedOutput& out, int size) {
+  DisplayImage img;
+  img.width = img.height = size;
+  img.rgb.assign(size_t(size) * size * 3, 24);
+  const auto& L = out.desc.layout;
+  const BufferField* pos = nullptr;
+  const BufferField* col = nullptr;
+  for (const auto& f : L.fields) {
+    if (f.role == FieldRole::Position && !pos) pos = &f;
+    if (f.role == FieldRole::Color && !col) col = &f;
+  }
+  if (!pos || out.recordCount == 0) return img;
+  std::vector<glm::vec3> p(out.recordCount);
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (uint32_t r = 0; r < out.recordCount; ++r) {
+    const uint8_t* rec = &out.records[size_t(r) * L.stride];
+    p[r] = {fieldScalar(rec, *pos, 0), fieldScalar(rec, *pos, 1), fieldScalar(rec, *pos, 2)};
+    lo = glm::min(lo, p[r]);
+    hi = glm::max(hi, p[r]);
+  }
+  // A fixed three-quarter orthographic view: yaw 35 degrees, pitch 25 degrees, z-buffered splats.
+  glm::vec3 c = 0.5f * (lo + hi);
+  float radius = 0.5f * glm::length(hi - lo) + 1.0f;
+  float cy = std::cos(0.61f), sy = std::sin(0.61f), cp = std::cos(0.436f), sp = std::sin(0.436f);
+  std::vector<float> depth(size_t(size) * size, 1e30f);
+  int splat = std::max(1, size / 256);
+  for (uint32_t r = 0; r < out.recordCount; ++r) {
+    glm::vec3 q = p[r] - c;
+    float x1 = cy * q.x + sy * q.z, z1 = -sy * q.x + cy * q.z;
+    float y2 = cp * q.y - sp * z1, z2 = sp * q.y + cp * z1;
+    int px = int((x1 / radius * 0.48f + 0.5f) * size), py = int((0.5f - y2 / radius * 0.48f) * size);
+    uint8_t rgb[3] = {230, 230, 230};
+    if (col) {
+      const uint8_t* rec = &out.records[size_t(r) * L.stride];
+      for (int k = 0; k < 3; ++k) rgb[k] = toByte(srgbEncode(float(fieldScalar(rec, *col, k))));
+    }
+    for (int dy = 0; dy < splat; ++dy)
+      for (int dx = 0; dx < splat; ++dx) {
+        int xx = px + dx, yy = py + dy;
+        if (xx < 0 || yy < 0 || xx >= size || yy >= size) continue;
+        size_t i = size_t(yy) * size + xx;
+        if (z2 >= depth[i]) continue;
+        depth[i] = z2;
+        std::memcpy(&img.rgb[i * 3], rgb, 3);
+      }
+  }
+  return img;
+}
+
+// --- Files ---------------------------------------------------------------------------------------
+
+void writePng(const DisplayImage& image, const std::string& path) {
+  auto o = OIIO::ImageOutput::create(path);
+  if (!o) throw Error("cannot write '" + path + "': " + OIIO::geterror());
+  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+  if (!o->open(path, spec) || !o->write_image(OIIO::TypeDesc::UINT8, image.rgb.data()) || !o->close())
+    throw Error("cannot write '" + path + "': " + o->geterror());
+}
+
+void writeLevelExr(const LevelData& d, const std::string& path, const std::string& semantic) {
+  int w = d.size.x, h = d.size.y * d.size.z;
+  std::vector<float> rows(d.values.size());
+  size_t rowFloats = size_t(d.size.x) * d.channels;
+  for (int z = 0; z < d.size.z; ++z)
+    for (int y = 0; y < d.size.y; ++y) {
+      size_t src = (size_t(z) * d.size.y + y) * rowFloats;
+      size_t dstRow = size_t(z) * d.size.y + (d.size.y - 1 - y);
+      std::memcpy(&rows[dstRow * rowFloats], &d.values[src], rowFloats * 4);
+    }
+  auto o = OIIO::ImageOutput::create(path);
+  if (!o) throw Error("cannot write '" + path + "': " + OIIO::geterror());
+  OIIO::ImageSpec spec(w, h, d.channels, OIIO::TypeDesc::FLOAT);
+  spec.attribute("compression", "zip");
+  spec.attribute("voxlab:depth", d.size.z);
+  spec.attribute("voxlab:semantic", semantic);
+  if (!o->open(path, spec) || !o->write_image(OIIO::TypeDesc::FLOAT, rows.data()) || !o->close())
+    throw Error("cannot write '" + path + "': " + o->geterror());
+}
+
+LevelData readLevelExr(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error("cannot read '" + path + "': " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  int depth = spec.get_int_attribute("voxlab:depth", 1);
+  LevelData d;
+  d.channels = spec.nchannels;
+  d.size = {spec.width, spec.height / std::max(depth, 1), depth};
+  std::vector<float> rows(size_t(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, rows.data()))
+    throw Error("cannot read '" + path + "': " + in->geterror());
+  d.values.resize(rows.size());
+  size_t rowFloats = size_t(d.size.x) * d.channels;
+  for (int z = 0; z < d.size.z; ++z)
+    for (int y = 0; y < d.size.y; ++y) {
+      size_t dst = (size_t(z) * d.size.y + y) * rowFloats;
+      size_t srcRow = size_t(z) * d.size.y + (d.size.y - 1 - y);
+      std::memcpy(&d.values[dst], &rows[srcRow * rowFloats], rowFloats * 4);
+    }
+  return d;
+}
+
+json recordsJson(const CapturedOutput& out, size_t limit) {
+  json arr = json::array();
+  const auto& L = out.desc.layout;
+  for (uint32_t r = 0; r < std::min<size_t>(out.recordCount, limit); ++r) {
+    json rec;
+    for (const auto& f : L.fields) {
+      int nc = fieldComponents(f.type);
+      if (nc == 1) {
+        rec[f.name] = fieldScalar(&out.records[size_t(r) * L.stride], f, 0);
+      } else {
+        for (int c = 0; c < nc; ++c) rec[f.name].push_back(fieldScalar(&out.records[size_t(r) * L.stride], f, c));
+      }
+    }
+    arr.push_back(rec);
+  }
+  return arr;
+}
+
+json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix) {
+  json entry;
+  entry["kind"] = kindName(out.desc.kind);
+  entry["semantic"] = semanticName(out.desc.semantic);
+  entry["format"] = out.format;
+  entry["statistics"] = outputStatistics(out);
+  json files = json::array();
+  auto add = [&](const std::string& name) {
+    files.push_back(name);
+    return dir + "/" + name;
+  };
+  if (out.desc.kind == OutputKind::Buffer) {
+    json summary;
+    summary["count"] = out.recordCount;
+    summary["stride"] = out.desc.layout.stride;
+    summary["statistics"] = entry["statistics"];
+    summary["first_records"] = recordsJson(out, 64);
+    std::ofstream(add(prefix + ".json")) << summary.dump(2) << "\n";
+    {
+      std::ofstream bin(add(prefix + ".bin"), std::ios::binary);
+      bin.write(reinterpret_cast<const char*>(out.records.data()), std::streamsize(out.records.size()));
+    }
+    if (std::any_of(out.desc.layout.fields.begin(), out.desc.layout.fields.end(),
+                    [](const BufferField& f) { return f.role == FieldRole::Position; }))
+      writePng(pointView(out), add(prefix + ".points.png"));
+  } else {
+    entry["levels"] = int(out.levels.size());
+    for (size_t l = 0; l < out.levels.size(); ++l) {
+      std::string base = prefix + (out.levels.size() > 1 ? "@" + std::to_string(l) : "");
+      writePng(displayImage(out, int(l)), add(base + ".png"));
+      writeLevelExr(out.levels[l], add(base + ".exr"), semanticName(out.desc.semantic));
+    }
+  }
+  entry["files"] = files;
+  return entry;
+}
+
+}  // namespace voxlab

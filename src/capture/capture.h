@@ -1,0 +1,68 @@
+// Capture: reads any declared output back from the GPU and turns it into files and statistics,
+// driven only by its OutputDesc (kind, semantic, layout). Used by `voxlab run`, the snapshot
+// suite, the viewer's export and the benchmark.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "graph/blackboard.h"
+#include "graph/output.h"
+
+namespace voxlab {
+
+// One level of an image or volume, as floats (integers converted exactly up to 2^24).
+struct LevelData {
+  glm::ivec3 size{0};  // depth 1 for images
+  int channels = 0;
+  std::vector<float> values;  // x fastest, then y (row 0 = bottom, GL order), then z; channels interleaved
+  size_t texelCount() const { return size_t(size.x) * size.y * size.z; }
+  float at(int x, int y, int z, int c) const {
+    return values[((size_t(z) * size.y + y) * size.x + x) * channels + c];
+  }
+};
+
+struct CapturedOutput {
+  OutputDesc desc;
+  std::string format;              // "rgba8", "r32f", ... or "records" for buffers
+  std::vector<LevelData> levels;   // images and volumes
+  uint32_t recordCount = 0;        // buffers
+  std::vector<uint8_t> records;    // buffers: recordCount * layout.stride bytes
+};
+
+CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc);
+
+// Per-level statistics: min/max/mean per channel, non-empty texel count; buffers: count and
+// per-field ranges. The manifest and the snapshot suite use these.
+nlohmann::json outputStatistics(const CapturedOutput& out);
+
+// A texel is non-empty when any channel is non-zero (for the Opacity/Color semantics of an
+// RGBA volume: when alpha is non-zero).
+bool texelNonEmpty(const CapturedOutput& out, const LevelData& level, size_t texel);
+
+// Display mapping by semantic: returns 8-bit RGB of 'level' as a top-row-first image.
+// Volumes become a montage of z slices (at most 64 slices, evenly spaced, with 1-pixel gaps).
+struct DisplayImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+};
+DisplayImage displayImage(const CapturedOutput& out, int level);
+DisplayImage pointView(const CapturedOutput& out, int size = 512);  // buffers with a Position field
+
+// Writes the output's files into 'dir' with names "<prefix>.<ext>" / "<prefix>@L.<ext>" and
+// returns the manifest entry (files, statistics, format, levels).
+nlohmann::json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix);
+
+// Values of one level as an EXR (volumes unrolled: width x (height * depth), attribute
+// voxlab:depth). Row order is top-row-first in the file.
+void writeLevelExr(const LevelData& level, const std::string& path, const std::string& semantic);
+LevelData readLevelExr(const std::string& path);  // throws Error
+void writePng(const DisplayImage& image, const std::string& path);
+
+// Decoded records of a buffer output as JSON (first 'limit' records).
+nlohmann::json recordsJson(const CapturedOutput& out, size_t limit);
+
+}  // namespace voxlab

@@ -1,0 +1,62 @@
+#include "graph/output.h"
+
+#include <cstdlib>
+
+#include "core/error.h"
+
+namespace voxlab {
+
+const char* kindName(OutputKind k) {
+  switch (k) {
+    case OutputKind::Image2D: return "image2d";
+    case OutputKind::Volume3D: return "volume3d";
+    case OutputKind::Buffer: return "buffer";
+  }
+  return "?";
+}
+
+const char* semanticName(Semantic s) {
+  switch (s) {
+    case Semantic::Color: return "color";
+    case Semantic::RadianceHDR: return "radiance-hdr";
+    case Semantic::Normal: return "normal";
+    case Semantic::Depth: return "depth";
+    case Semantic::Scalar: return "scalar";
+    case Semantic::Occupancy: return "occupancy";
+    case Semantic::Opacity: return "opacity";
+    case Semantic::Fraction: return "fraction";
+    case Semantic::Points: return "points";
+    case Semantic::ConeSamples: return "cone-samples";
+  }
+  return "?";
+}
+
+OutputAddress OutputAddress::parse(const std::string& text) {
+  OutputAddress a;
+  std::string rest = text;
+  if (auto at = rest.find('@'); at != std::string::npos) {
+    std::string lv = rest.substr(at + 1);
+    char* end = nullptr;
+    long l = std::strtol(lv.c_str(), &end, 10);
+    if (lv.empty() || *end || l < 0 || l > 64)
+      throw Error("output address '" + text + "' has a bad level; expected technique/stage/output@LEVEL");
+    a.level = int(l);
+    rest = rest.substr(0, at);
+  }
+  auto s1 = rest.find('/');
+  auto s2 = s1 == std::string::npos ? s1 : rest.find('/', s1 + 1);
+  if (s1 == std::string::npos || s2 == std::string::npos || rest.find('/', s2 + 1) != std::string::npos)
+    throw Error("output address '" + text + "' is not technique/stage/output[@level]");
+  a.technique = rest.substr(0, s1);
+  a.stage = rest.substr(s1 + 1, s2 - s1 - 1);
+  a.output = rest.substr(s2 + 1);
+  if (a.technique.empty() || a.stage.empty() || a.output.empty())
+    throw Error("output address '" + text + "' is not technique/stage/output[@level]");
+  return a;
+}
+
+std::string OutputAddress::str() const {
+  return technique + "/" + stage + "/" + output + (level >= 0 ? "@" + std::to_string(level) : "");
+}
+
+}  // namespace voxlab

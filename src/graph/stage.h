@@ -1,0 +1,81 @@
+// Stage: one inspectable step of a technique. A stage declares what it reads, what it writes
+// (its outputs) and which parameters it takes; the viewer, the CLI, the snapshot suite, the
+// benchmark and the lessons all work from that declaration alone.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "graph/blackboard.h"
+#include "graph/output.h"
+#include "graph/param.h"
+
+namespace voxlab {
+
+struct Scene;
+class GpuScene;
+class ShaderLibrary;
+
+// Resource names that are not on the blackboard but still carry dependencies.
+inline constexpr const char* kViewResource = "@view";  // camera and output size
+
+struct StageDecl {
+  std::vector<std::string> reads;     // resources (and kViewResource) this stage reads
+  std::vector<std::string> writes;    // resources it writes that are not outputs
+  std::vector<OutputDesc> outputs;    // resources it writes that can be inspected
+  std::vector<ParamDesc> params;
+};
+
+class StageBuilder {
+ public:
+  explicit StageBuilder(StageDecl& decl) : decl_(decl) {}
+  StageBuilder& read(const std::string& resource) { decl_.reads.push_back(resource); return *this; }
+  StageBuilder& readView() { return read(kViewResource); }
+  StageBuilder& write(const std::string& resource) { decl_.writes.push_back(resource); return *this; }
+  OutputDesc& output(const std::string& name, OutputKind kind, Semantic semantic, const std::string& help);
+  StageBuilder& param(const ParamDesc& p) { decl_.params.push_back(p); return *this; }
+
+ private:
+  StageDecl& decl_;
+};
+
+// The camera and image size a run renders with.
+struct ViewState {
+  int width = 512;
+  int height = 512;
+  glm::vec3 position{0.0f};
+  glm::mat4 view{1.0f};
+  glm::mat4 projection{1.0f};
+  glm::mat4 viewProjection() const { return projection * view; }
+};
+
+// Numbers a stage reports about what it did (counts, sizes); they go into the manifest.
+using StageStats = std::map<std::string, double>;
+
+struct StageContext {
+  const Scene& scene;
+  const GpuScene& gpuScene;
+  const ParamSet& params;
+  Blackboard& board;
+  ShaderLibrary& shaders;
+  const ViewState& view;
+  StageStats& stats;
+  int iteration = 0;  // 0..iterations()-1 for iterative stages
+};
+
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  virtual const char* id() const = 0;     // "voxelize": short, stable, used in addresses
+  virtual const char* title() const = 0;  // "Voxelize the scene"
+  virtual const char* summary() const = 0;  // one or two sentences for the timeline and lessons
+  virtual void declare(StageBuilder& b) const = 0;
+  // Iterative stages (octree levels, propagation steps) return how many iterations they run;
+  // execute() is called once per iteration with context.iteration set.
+  virtual int iterations(const ParamSet&) const { return 1; }
+  virtual void execute(StageContext& context) = 0;
+};
+
+}  // namespace voxlab

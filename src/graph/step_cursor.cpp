@@ -1,0 +1,150 @@
+#include "graph/step_cursor.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "core/error.h"
+#include "gpu/shader_library.h"
+
+namespace voxlab {
+
+const char* stageStateName(StageState s) {
+  switch (s) {
+    case StageState::NotRun: return "not run";
+    case StageState::Done: return "done";
+    case StageState::Stale: return "stale";
+  }
+  return "?";
+}
+
+StepCursor::StepCursor(std::unique_ptr<Technique> technique, ShaderLibrary& shaders)
+    : technique_(std::move(technique)), shaders_(shaders), params_(technique_->defaultParams()),
+      records_(technique_->stageCount()) {}
+
+StepCursor::~StepCursor() = default;
+
+void StepCursor::setScene(std::shared_ptr<const Scene> scene) {
+  gpuScene_.reset();
+  board_.clear();
+  scene_ = std::move(scene);
+  gpuScene_ = std::make_unique<GpuScene>(*scene_);
+  for (auto& r : records_) r = StageRecord{};
+  camera_ = scene_->cameras.at(0);
+  updateViewMatrices();
+}
+
+void StepCursor::markStale(int i) {
+  auto& r = records_.at(i);
+  if (r.state == StageState::Done) r.state = StageState::Stale;
+}
+
+void StepCursor::propagate() {
+  for (int j = 0; j < stageCount(); ++j) {
+    if (records_[j].state == StageState::Done) {
+      for (const auto& res : technique_->decl(j).reads) {
+        if (res == kViewResource) continue;
+        int w = technique_->writerOf(res, j);
+        if (w >= 0 && records_[w].state != StageState::Done) {
+          markStale(j);
+          break;
+        }
+      }
+    }
+  }
+}
+
+void StepCursor::setParam(const std::string& name, double value) {
+  if (params_.value(name) == value) return;
+  params_.set(name, value);
+  for (int i = 0; i < stageCount(); ++i)
+    for (const auto& p : technique_->decl(i).params)
+      if (p.name == name) markStale(i);
+  propagate();
+}
+
+void StepCursor::setParamText(const std::string& name, const std::string& text) {
+  setParam(name, params_.desc(name).parse(text));
+}
+
+void StepCursor::setParams(const ParamSet& values) {
+  for (const auto& [name, desc] : values.descs())
+    if (params_.has(name)) setParam(name, values.value(name));
+}
+
+void StepCursor::invalidateAll() {
+  for (int i = 0; i < stageCount(); ++i) markStale(i);
+}
+
+void StepCursor::updateViewMatrices() {
+  view_.position = camera_.position;
+  view_.view = camera_.view();
+  view_.projection = camera_.projection(float(view_.width) / float(view_.height));
+  for (int i = 0; i < stageCount(); ++i) {
+    const auto& reads = technique_->decl(i).reads;
+    if (std::find(reads.begin(), reads.end(), kViewResource) != reads.end()) markStale(i);
+  }
+  propagate();
+}
+
+void StepCursor::setViewSize(int width, int height) {
+  if (width == view_.width && height == view_.height) return;
+  view_.width = width;
+  view_.height = height;
+  updateViewMatrices();
+}
+
+void StepCursor::setCamera(const Camera& camera) {
+  camera_ = camera;
+  updateViewMatrices();
+}
+
+void StepCursor::useSceneCamera(int index) {
+  if (!scene_) throw Error("no scene loaded");
+  int n = int(scene_->cameras.size());
+  if (index < 0 || index >= n)
+    throw Error("camera " + std::to_string(index) + " does not exist; valid: 0.." + std::to_string(n - 1));
+  setCamera(scene_->cameras[index]);
+}
+
+int StepCursor::lastRunStage() const {
+  int last = -1;
+  for (int i = 0; i < stageCount(); ++i)
+    if (records_[i].state == StageState::Done) last = i;
+  return last;
+}
+
+void StepCursor::runThrough(int last, const std::function<void(int, int, int)>& progress) {
+  if (!scene_) throw Error("no scene loaded");
+  last = std::min(last, stageCount() - 1);
+  for (int i = 0; i <= last; ++i) {
+    StageRecord& r = records_[i];
+    if (r.state == StageState::Done) continue;
+    Stage& stage = technique_->stage(i);
+    r.stats.clear();
+    StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0};
+    int iterations = stage.iterations(params_);
+    GpuTimer timer;
+    auto t0 = std::chrono::steady_clock::now();
+    timer.begin();
+    for (int it = 0; it < iterations; ++it) {
+      if (progress) progress(i, it, iterations);
+      ctx.iteration = it;
+      stage.execute(ctx);
+    }
+    timer.end();
+    glFinish();
+    auto t1 = std::chrono::steady_clock::now();
+    r.cpuMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    r.gpuMs = timer.milliseconds();
+    r.iterationsRun = iterations;
+    r.state = StageState::Done;
+    // Stages after this one that were Done now depend on fresh data.
+    for (int j = i + 1; j < stageCount(); ++j) {
+      for (const auto& res : technique_->decl(j).reads)
+        if (res != kViewResource && technique_->writerOf(res, j) == i) markStale(j);
+    }
+    propagate();
+  }
+}
+
+}  // namespace voxlab

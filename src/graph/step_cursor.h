@@ -1,0 +1,85 @@
+// StepCursor: runs a technique's stages 0..k on a scene with a parameter set, and re-runs only
+// what a change invalidates. The viewer's Next/Previous/Run-to-here, `voxlab run --until`, the
+// snapshot suite and the benchmark all drive this one class.
+//
+// Invalidation follows the declarations: changing a parameter makes every stage that declares it
+// stale; changing the view makes every stage that reads kViewResource stale; a stage is stale as
+// soon as the stage that wrote one of its reads is stale. A new scene makes everything "not run".
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "graph/technique.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+
+class ShaderLibrary;
+
+enum class StageState { NotRun, Done, Stale };
+const char* stageStateName(StageState s);
+
+struct StageRecord {
+  StageState state = StageState::NotRun;
+  double cpuMs = 0.0;  // wall time of execute() including a glFinish
+  double gpuMs = 0.0;  // GL_TIME_ELAPSED of the stage's commands
+  int iterationsRun = 0;
+  StageStats stats;
+};
+
+class StepCursor {
+ public:
+  StepCursor(std::unique_ptr<Technique> technique, ShaderLibrary& shaders);
+  ~StepCursor();
+
+  Technique& technique() { return *technique_; }
+  const Technique& technique() const { return *technique_; }
+  void setScene(std::shared_ptr<const Scene> scene);  // uploads it; every stage becomes NotRun
+  const Scene& scene() const { return *scene_; }
+  bool hasScene() const { return scene_ != nullptr; }
+
+  const ParamSet& params() const { return params_; }
+  void setParam(const std::string& name, double value);
+  void setParamText(const std::string& name, const std::string& text);
+  void setParams(const ParamSet& values);  // copies every value; invalidates what changed
+
+  // Output size and camera. The camera defaults to the scene's first camera.
+  void setViewSize(int width, int height);
+  void setCamera(const Camera& camera);
+  void useSceneCamera(int index);  // throws Error naming the valid range
+  const ViewState& view() const { return view_; }
+  const Camera& camera() const { return camera_; }
+
+  int stageCount() const { return technique_->stageCount(); }
+  const StageRecord& record(int stage) const { return records_.at(stage); }
+  // Runs every stage 0..last that is not Done. 'progress' is called before each iteration.
+  // Stages after 'last' keep their state (a Done stage after a re-run one becomes Stale).
+  void runThrough(int last, const std::function<void(int stage, int iteration, int iterations)>& progress = {});
+  void runAll() { runThrough(stageCount() - 1); }
+  // Runs stage 'stage' through iteration 'iteration' only (for stepping iterative stages).
+  int lastRunStage() const;  // highest index that is Done (-1 none)
+
+  Blackboard& board() { return board_; }
+  ShaderLibrary& shaders() { return shaders_; }
+  void invalidateAll();  // e.g. after a shader reload
+
+ private:
+  void markStale(int stage);
+  void propagate();
+  void updateViewMatrices();
+
+  std::unique_ptr<Technique> technique_;
+  ShaderLibrary& shaders_;
+  std::shared_ptr<const Scene> scene_;
+  std::unique_ptr<GpuScene> gpuScene_;
+  ParamSet params_;
+  Camera camera_;
+  ViewState view_;
+  Blackboard board_;
+  std::vector<StageRecord> records_;
+};
+
+}  // namespace voxlab

@@ -1,0 +1,30 @@
+// Platform: where a GL 4.5 core context comes from.
+//
+// The renderer never draws into a window's default framebuffer; it draws into its own framebuffer
+// objects, and a window (when there is one) only presents. So the same pipeline runs headless
+// (OSMesa on llvmpipe, the default here) and in the viewer (GLFW).
+#pragma once
+#include <memory>
+#include <string>
+
+namespace voxlab {
+
+class GLContext {
+ public:
+  virtual ~GLContext() = default;
+  virtual void makeCurrent() = 0;
+  virtual const char* kind() const = 0;  // "osmesa", "glfw"
+};
+
+// An offscreen OSMesa context (GL 4.5 core) made current and with the GL loader initialised.
+// Throws Error when libOSMesa is missing or cannot create a 4.5 core context.
+std::unique_ptr<GLContext> createOffscreenContext();
+
+// Loads GL entry points through 'getProc' and checks the version is at least 4.5; throws Error.
+void loadGL(void* (*getProc)(const char*));
+
+// GL_RENDERER and GL_VERSION of the current context.
+std::string glRenderer();
+std::string glVersion();
+
+}  // namespace voxlab

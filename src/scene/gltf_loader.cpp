@@ -1,0 +1,1101 @@
+// loadScene(): glTF 2.0 (.gltf / .glb) -> voxlab::Scene, flattened into world space.
+//
+// Loading happens in three passes, so that every defect is reported as one line naming the file:
+//  1. our own structural check of the JSON (types, version, required extensions, references in
+//     range, node cycles, external files present) - tinygltf is lenient about several of these
+//     and its own messages span several lines;
+//  2. tinygltf parses the file, decodes buffers and images;
+//  3. the node hierarchy is walked and every triangle primitive is read through range-checked
+//     accessors into the world-space arrays.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "scene/scene.h"
+
+#include "scene/tinygltf_config.h"
+
+namespace voxlab {
+namespace {
+
+using Json = nlohmann::json;
+
+const std::vector<std::string> kSupportedExtensions = {"KHR_lights_punctual",
+                                                       "KHR_materials_emissive_strength"};
+
+// Collapses any multi-line / control-character text into one trimmed line of bounded length.
+std::string oneLine(const std::string& text, size_t maxLength = 400) {
+  // Line breaks become "; ", other control characters spaces; runs of spaces collapse.
+  std::string out;
+  std::string line;
+  std::vector<std::string> lines;
+  for (unsigned char c : text) {
+    if (c == '\n' || c == '\r') {
+      lines.push_back(line);
+      line.clear();
+    } else if (c < 0x20 || c == 0x7f) {
+      line += ' ';
+    } else {
+      line += char(c);
+    }
+  }
+  lines.push_back(line);
+  for (std::string& l : lines) {
+    std::string t;
+    for (char c : l) {
+      if (c == ' ' && (t.empty() || t.back() == ' ')) continue;
+      t += c;
+    }
+    while (!t.empty() && t.back() == ' ') t.pop_back();
+    if (t.empty()) continue;
+    if (!out.empty()) out += "; ";
+    out += t;
+  }
+  if (out.size() > maxLength) out = out.substr(0, maxLength - 3) + "...";
+  return out;
+}
+
+class Loader {
+ public:
+  explicit Loader(std::string path) : path_(std::move(path)) {}
+  Scene load();
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(oneLine("scene '" + path_ + "': " + what, 1000));
+  }
+
+  // Pass 1
+  void readFile();
+  void checkJson(const Json& root);
+  void checkCycles(const Json& root);
+  void checkExternalFiles(const Json& root);
+  // Pass 2
+  void parseWithTinygltf();
+  // Pass 3
+  void buildScene(Scene& scene);
+  void addNode(Scene& scene, int nodeIndex, const glm::mat4& world);
+  void addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm::mat4& world);
+  std::vector<float> readAccessor(int accessorIndex, int wantType, const std::string& what);
+  std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what);
+  uint32_t materialFor(Scene& scene, int gltfMaterial);
+  int textureFor(Scene& scene, int gltfTexture);
+  std::string meshLabel(int meshIndex, int primIndex) const;
+
+  std::string path_;
+  std::string baseDir_;
+  std::vector<unsigned char> bytes_;
+  bool binary_ = false;
+  std::string jsonText_;
+  tinygltf::Model model_;
+
+  // Triangles collected per scene material before they are sorted into draw ranges.
+  std::vector<std::vector<uint32_t>> trianglesByMaterial_;
+  std::vector<int> materialMap_;  // glTF material -> scene material (-1 = not yet added)
+  int defaultMaterial_ = -1;
+  std::vector<int> textureMap_;  // glTF image -> scene texture
+  size_t skippedPrimitives_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Pass 1: the file and its JSON
+
+void Loader::readFile() {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+  std::ifstream in(path_, std::ios::binary);
+  if (!in) fail(std::string("cannot read file (") + std::strerror(errno) + ")");
+  bytes_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) fail("cannot read file (I/O error)");
+  if (bytes_.empty()) fail("file is empty (0 bytes), expected glTF JSON or GLB data");
+  baseDir_ = std::filesystem::path(path_).parent_path().string();
+
+  if (bytes_.size() >= 4 && std::memcmp(bytes_.data(), "glTF", 4) == 0) {
+    binary_ = true;
+    auto u32 = [&](size_t offset) {
+      uint32_t v = 0;
+      std::memcpy(&v, bytes_.data() + offset, 4);
+      return v;
+    };
+    if (bytes_.size() < 20) fail("GLB file is truncated (" + std::to_string(bytes_.size()) + " bytes)");
+    uint32_t version = u32(4);
+    if (version != 2) {
+      fail("GLB container version " + std::to_string(version) +
+           " is not supported (glTF 1.0 is not supported; only glTF 2.x)");
+    }
+    uint32_t length = u32(8);
+    if (length > bytes_.size()) {
+      fail("GLB header says " + std::to_string(length) + " bytes but the file has " +
+           std::to_string(bytes_.size()));
+    }
+    uint32_t chunkLength = u32(12);
+    uint32_t chunkType = u32(16);
+    if (chunkType != 0x4E4F534Au) fail("GLB first chunk is not JSON");
+    if (uint64_t(chunkLength) + 20 > length) fail("GLB JSON chunk extends past the end of the file");
+    jsonText_.assign(reinterpret_cast<const char*>(bytes_.data()) + 20, chunkLength);
+  } else {
+    jsonText_.assign(reinterpret_cast<const char*>(bytes_.data()), bytes_.size());
+  }
+}
+
+const char* jsonTypeName(const Json& j) {
+  switch (j.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::object: return "an object";
+    case Json::value_t::array: return "an array";
+    case Json::value_t::string: return "a string";
+    case Json::value_t::boolean: return "a boolean";
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned: return "an integer";
+    case Json::value_t::number_float: return "a number";
+    default: return "an unknown value";
+  }
+}
+
+enum class Kind { Int, Num, Str, Bool, Obj, ObjArr, StrArr, IntArr, NumArr, Ref, RefArr, TexInfo };
+
+struct FieldSpec {
+  const char* key;
+  Kind kind;
+  const char* target = nullptr;  // Ref / RefArr / TexInfo: the top-level array referred to
+  int length = 0;                // NumArr: required length (0 = any)
+};
+
+bool isNonNegativeInt(const Json& j) {
+  return j.is_number_unsigned() || (j.is_number_integer() && j.get<int64_t>() >= 0);
+}
+
+void Loader::checkJson(const Json& root) {
+  if (!root.is_object()) fail(std::string("JSON root must be an object, got ") + jsonTypeName(root));
+
+  // asset.version: glTF 1.0 files are recognisably different and must not be half-loaded.
+  auto asset = root.find("asset");
+  if (asset == root.end()) {
+    fail("has no 'asset' object (not a glTF 2.0 file; glTF 1.0 is not supported)");
+  }
+  if (!asset->is_object()) fail(std::string("'asset' must be an object, got ") + jsonTypeName(*asset));
+  auto version = asset->find("version");
+  if (version == asset->end()) fail("asset.version is missing (only glTF 2.x is supported)");
+  if (!version->is_string()) {
+    fail(std::string("asset.version must be a string such as \"2.0\", got ") + jsonTypeName(*version) + " " +
+         oneLine(version->dump(), 40));
+  }
+  std::string versionText = version->get<std::string>();
+  if (versionText.rfind("2.", 0) != 0) {
+    fail("glTF version " + versionText + " is not supported (only glTF 2.x; glTF 1.0 files must be converted to 2.0)");
+  }
+
+  const std::map<std::string, std::vector<FieldSpec>> specs = {
+      {"accessors",
+       {{"bufferView", Kind::Ref, "bufferViews"}, {"byteOffset", Kind::Int}, {"componentType", Kind::Int},
+        {"normalized", Kind::Bool}, {"count", Kind::Int}, {"type", Kind::Str}, {"sparse", Kind::Obj},
+        {"min", Kind::NumArr}, {"max", Kind::NumArr}, {"name", Kind::Str}}},
+      {"animations", {}},
+      {"buffers", {{"uri", Kind::Str}, {"byteLength", Kind::Int}, {"name", Kind::Str}}},
+      {"bufferViews",
+       {{"buffer", Kind::Ref, "buffers"}, {"byteOffset", Kind::Int}, {"byteLength", Kind::Int},
+        {"byteStride", Kind::Int}, {"target", Kind::Int}, {"name", Kind::Str}}},
+      {"cameras", {{"type", Kind::Str}, {"perspective", Kind::Obj}, {"orthographic", Kind::Obj}, {"name", Kind::Str}}},
+      {"images", {{"uri", Kind::Str}, {"mimeType", Kind::Str}, {"bufferView", Kind::Ref, "bufferViews"}, {"name", Kind::Str}}},
+      {"materials",
+       {{"name", Kind::Str}, {"pbrMetallicRoughness", Kind::Obj}, {"emissiveFactor", Kind::NumArr, nullptr, 3},
+        {"emissiveTexture", Kind::TexInfo, "textures"}, {"normalTexture", Kind::TexInfo, "textures"},
+        {"occlusionTexture", Kind::TexInfo, "textures"}, {"doubleSided", Kind::Bool},
+        {"extensions", Kind::Obj}}},
+      {"meshes", {{"primitives", Kind::ObjArr}, {"name", Kind::Str}, {"weights", Kind::NumArr}}},
+      {"nodes",
+       {{"children", Kind::RefArr, "nodes"}, {"mesh", Kind::Ref, "meshes"}, {"camera", Kind::Ref, "cameras"},
+        {"skin", Kind::Ref, "skins"}, {"matrix", Kind::NumArr, nullptr, 16},
+        {"translation", Kind::NumArr, nullptr, 3}, {"rotation", Kind::NumArr, nullptr, 4},
+        {"scale", Kind::NumArr, nullptr, 3}, {"name", Kind::Str}, {"extensions", Kind::Obj}}},
+      {"samplers", {}},
+      {"scenes", {{"nodes", Kind::RefArr, "nodes"}, {"name", Kind::Str}}},
+      {"skins", {}},
+      {"textures", {{"source", Kind::Ref, "images"}, {"sampler", Kind::Ref, "samplers"}}},
+  };
+
+  auto arraySize = [&](const char* name) -> size_t {
+    auto it = root.find(name);
+    return (it != root.end() && it->is_array()) ? it->size() : 0;
+  };
+
+  // Checks one field of an object against its spec; 'where' is e.g. "nodes[3]".
+  std::function<void(const Json&, const std::string&, const FieldSpec&)> checkField =
+      [&](const Json& obj, const std::string& where, const FieldSpec& f) {
+        auto it = obj.find(f.key);
+        if (it == obj.end()) return;
+        const Json& v = *it;
+        std::string name = where + "." + f.key;
+        auto expect = [&](bool ok, const char* what) {
+          if (!ok) fail(name + " must be " + what + ", got " + jsonTypeName(v) + " " + oneLine(v.dump(), 40));
+        };
+        auto checkRef = [&](const Json& r, const std::string& rname) {
+          if (!isNonNegativeInt(r)) {
+            fail(rname + " must be a non-negative integer index, got " + jsonTypeName(r) + " " + oneLine(r.dump(), 40));
+          }
+          size_t n = arraySize(f.target);
+          if (r.get<uint64_t>() >= n) {
+            fail(rname + " = " + r.dump() + " is out of range ('" + f.target + "' has " + std::to_string(n) + " entries)");
+          }
+        };
+        switch (f.kind) {
+          case Kind::Int: expect(isNonNegativeInt(v), "a non-negative integer"); break;
+          case Kind::Num: expect(v.is_number(), "a number"); break;
+          case Kind::Str: expect(v.is_string(), "a string"); break;
+          case Kind::Bool: expect(v.is_boolean(), "a boolean"); break;
+          case Kind::Obj: expect(v.is_object(), "an object"); break;
+          case Kind::ObjArr:
+            expect(v.is_array(), "an array of objects");
+            for (size_t i = 0; i < v.size(); ++i) {
+              if (!v[i].is_object()) {
+                fail(name + "[" + std::to_string(i) + "] must be an object, got " + jsonTypeName(v[i]));
+              }
+            }
+            break;
+          case Kind::StrArr:
+            expect(v.is_array(), "an array of strings");
+            for (const Json& e : v) expect(e.is_string(), "an array of strings");
+            break;
+          case Kind::IntArr:
+            expect(v.is_array(), "an array of integers");
+            for (const Json& e : v) expect(isNonNegativeInt(e), "an array of non-negative integers");
+            break;
+          case Kind::NumArr:
+            expect(v.is_array(), "an array of numbers");
+            for (const Json& e : v) expect(e.is_number(), "an array of numbers");
+            if (f.length && int(v.size()) != f.length) {
+              fail(name + " must have " + std::to_string(f.length) + " numbers, got " + std::to_string(v.size()));
+            }
+            break;
+          case Kind::Ref: checkRef(v, name); break;
+          case Kind::RefArr:
+            expect(v.is_array(), "an array of indices");
+            for (size_t i = 0; i < v.size(); ++i) checkRef(v[i], name + "[" + std::to_string(i) + "]");
+            break;
+          case Kind::TexInfo: {
+            expect(v.is_object(), "an object");
+            auto idx = v.find("index");
+            if (idx == v.end()) fail(name + ".index is missing");
+            checkRef(*idx, name + ".index");
+            auto tc = v.find("texCoord");
+            if (tc != v.end() && !isNonNegativeInt(*tc)) fail(name + ".texCoord must be a non-negative integer");
+            break;
+          }
+        }
+      };
+
+  for (const auto& [arrayName, fields] : specs) {
+    auto it = root.find(arrayName);
+    if (it == root.end()) continue;
+    if (!it->is_array()) {
+      fail("'" + arrayName + "' must be an array, got " + jsonTypeName(*it) + " " + oneLine(it->dump(), 40));
+    }
+    for (size_t i = 0; i < it->size(); ++i) {
+      const Json& obj = (*it)[i];
+      std::string where = arrayName + "[" + std::to_string(i) + "]";
+      if (!obj.is_object()) fail(where + " must be an object, got " + jsonTypeName(obj));
+      for (const FieldSpec& f : fields) checkField(obj, where, f);
+    }
+  }
+  for (const char* name : {"extensionsUsed", "extensionsRequired"}) {
+    auto it = root.find(name);
+    if (it != root.end()) checkField(root, "(root)", FieldSpec{name, Kind::StrArr});
+  }
+  if (auto it = root.find("scene"); it != root.end()) {
+    checkField(root, "(root)", FieldSpec{"scene", Kind::Ref, "scenes"});
+  }
+
+  // Required fields and nested structures we read.
+  if (auto acc = root.find("accessors"); acc != root.end()) {
+    for (size_t i = 0; i < acc->size(); ++i) {
+      const Json& a = (*acc)[i];
+      std::string where = "accessors[" + std::to_string(i) + "]";
+      for (const char* req : {"componentType", "count", "type"}) {
+        if (!a.contains(req)) fail(where + " has no '" + req + "'");
+      }
+    }
+  }
+  if (auto bv = root.find("bufferViews"); bv != root.end()) {
+    for (size_t i = 0; i < bv->size(); ++i) {
+      for (const char* req : {"buffer", "byteLength"}) {
+        if (!(*bv)[i].contains(req)) fail("bufferViews[" + std::to_string(i) + "] has no '" + req + "'");
+      }
+    }
+  }
+  if (auto meshes = root.find("meshes"); meshes != root.end()) {
+    for (size_t m = 0; m < meshes->size(); ++m) {
+      const Json& mesh = (*meshes)[m];
+      auto prims = mesh.find("primitives");
+      if (prims == mesh.end()) fail("meshes[" + std::to_string(m) + "] has no 'primitives'");
+      for (size_t p = 0; p < prims->size(); ++p) {
+        const Json& prim = (*prims)[p];
+        std::string where = "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]";
+        auto attrs = prim.find("attributes");
+        if (attrs == prim.end() || !attrs->is_object()) fail(where + ".attributes must be an object");
+        for (auto a = attrs->begin(); a != attrs->end(); ++a) {
+          checkField(*attrs, where + ".attributes", FieldSpec{a.key().c_str(), Kind::Ref, "accessors"});
+        }
+        checkField(prim, where, FieldSpec{"indices", Kind::Ref, "accessors"});
+        checkField(prim, where, FieldSpec{"material", Kind::Ref, "materials"});
+        checkField(prim, where, FieldSpec{"mode", Kind::Int});
+      }
+    }
+  }
+  if (auto mats = root.find("materials"); mats != root.end()) {
+    for (size_t m = 0; m < mats->size(); ++m) {
+      auto pbr = (*mats)[m].find("pbrMetallicRoughness");
+      if (pbr == (*mats)[m].end()) continue;
+      std::string where = "materials[" + std::to_string(m) + "].pbrMetallicRoughness";
+      checkField(*pbr, where, FieldSpec{"baseColorFactor", Kind::NumArr, nullptr, 4});
+      checkField(*pbr, where, FieldSpec{"baseColorTexture", Kind::TexInfo, "textures"});
+      checkField(*pbr, where, FieldSpec{"metallicFactor", Kind::Num});
+      checkField(*pbr, where, FieldSpec{"roughnessFactor", Kind::Num});
+    }
+  }
+
+  // Required extensions: refuse what we cannot honour, naming it and what we support.
+  if (auto req = root.find("extensionsRequired"); req != root.end()) {
+    std::vector<std::string> unsupported;
+    for (const Json& e : *req) {
+      std::string name = e.get<std::string>();
+      if (std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), name) == kSupportedExtensions.end()) {
+        unsupported.push_back(name);
+      }
+    }
+    if (!unsupported.empty()) {
+      fail("requires unsupported extension" + std::string(unsupported.size() > 1 ? "s " : " ") +
+           joinNames(unsupported) + " (supported: " + joinNames(kSupportedExtensions) + ")");
+    }
+  }
+
+  // KHR_lights_punctual: light definitions and node references.
+  size_t lightCount = 0;
+  if (auto ext = root.find("extensions"); ext != root.end()) {
+    if (!ext->is_object()) fail(std::string("'extensions' must be an object, got ") + jsonTypeName(*ext));
+    if (auto lp = ext->find("KHR_lights_punctual"); lp != ext->end()) {
+      if (!lp->is_object()) fail("extensions.KHR_lights_punctual must be an object");
+      if (auto lights = lp->find("lights"); lights != lp->end()) {
+        if (!lights->is_array()) fail("extensions.KHR_lights_punctual.lights must be an array");
+        lightCount = lights->size();
+        for (size_t i = 0; i < lights->size(); ++i) {
+          const Json& l = (*lights)[i];
+          std::string where = "KHR_lights_punctual.lights[" + std::to_string(i) + "]";
+          if (!l.is_object()) fail(where + " must be an object");
+          auto type = l.find("type");
+          if (type == l.end() || !type->is_string()) fail(where + ".type must be a string");
+          std::string t = type->get<std::string>();
+          if (t != "directional" && t != "point" && t != "spot") {
+            fail(where + ".type '" + t + "' is not one of directional, point, spot");
+          }
+          checkField(l, where, FieldSpec{"color", Kind::NumArr, nullptr, 3});
+          checkField(l, where, FieldSpec{"intensity", Kind::Num});
+          checkField(l, where, FieldSpec{"range", Kind::Num});
+          checkField(l, where, FieldSpec{"spot", Kind::Obj});
+          if (auto spot = l.find("spot"); spot != l.end()) {
+            checkField(*spot, where + ".spot", FieldSpec{"innerConeAngle", Kind::Num});
+            checkField(*spot, where + ".spot", FieldSpec{"outerConeAngle", Kind::Num});
+          }
+        }
+      }
+    }
+  }
+  if (auto nodes = root.find("nodes"); nodes != root.end()) {
+    for (size_t i = 0; i < nodes->size(); ++i) {
+      auto ext = (*nodes)[i].find("extensions");
+      if (ext == (*nodes)[i].end()) continue;
+      auto lp = ext->find("KHR_lights_punctual");
+      if (lp == ext->end()) continue;
+      std::string where = "nodes[" + std::to_string(i) + "].extensions.KHR_lights_punctual";
+      if (!lp->is_object()) fail(where + " must be an object");
+      auto light = lp->find("light");
+      if (light == lp->end() || !isNonNegativeInt(*light)) fail(where + ".light must be a non-negative integer");
+      if (light->get<uint64_t>() >= lightCount) {
+        fail(where + ".light = " + light->dump() + " is out of range (the file defines " +
+             std::to_string(lightCount) + " lights)");
+      }
+    }
+  }
+}
+
+// glTF requires the node hierarchy to be a forest; a cycle would make traversal infinite.
+void Loader::checkCycles(const Json& root) {
+  auto nodesIt = root.find("nodes");
+  if (nodesIt == root.end()) return;
+  const Json& nodes = *nodesIt;
+  const size_t n = nodes.size();
+  auto nodeName = [&](size_t i) {
+    std::string s = std::to_string(i);
+    auto nm = nodes[i].find("name");
+    if (nm != nodes[i].end() && nm->is_string()) s += " ('" + nm->get<std::string>() + "')";
+    return s;
+  };
+  std::vector<std::vector<size_t>> children(n);
+  for (size_t i = 0; i < n; ++i) {
+    auto c = nodes[i].find("children");
+    if (c == nodes[i].end()) continue;
+    for (const Json& e : *c) children[i].push_back(e.get<size_t>());
+  }
+  // Iterative three-colour depth-first search.
+  std::vector<uint8_t> colour(n, 0);  // 0 unvisited, 1 on stack, 2 done
+  for (size_t start = 0; start < n; ++start) {
+    if (colour[start]) continue;
+    std::vector<std::pair<size_t, size_t>> stack{{start, 0}};
+    colour[start] = 1;
+    while (!stack.empty()) {
+      auto& [node, next] = stack.back();
+      if (next < children[node].size()) {
+        size_t child = children[node][next++];
+        if (colour[child] == 1) {
+          // Reconstruct the cycle child -> ... -> node -> child.
+          std::vector<size_t> cycle{child};
+          for (size_t k = stack.size(); k-- > 0 && stack[k].first != child;) cycle.insert(cycle.begin() + 1, stack[k].first);
+          std::string text;
+          for (size_t k = 0; k < cycle.size(); ++k) {
+            if (cycle.size() > 8 && k == 3) {
+              text += "... (" + std::to_string(cycle.size() - 6) + " more) -> ";
+              k = cycle.size() - 3;
+            }
+            text += "node " + nodeName(cycle[k]) + " -> ";
+          }
+          text += "node " + nodeName(child);
+          fail("node hierarchy has a cycle: " + text);
+        }
+        if (colour[child] == 0) {
+          colour[child] = 1;
+          stack.push_back({child, 0});
+        }
+      } else {
+        colour[node] = 2;
+        stack.pop_back();
+      }
+    }
+  }
+}
+
+std::string decodeUri(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit((unsigned char)uri[i + 1]) &&
+        std::isxdigit((unsigned char)uri[i + 2])) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+void Loader::checkExternalFiles(const Json& root) {
+  for (const char* kind : {"buffers", "images"}) {
+    auto arr = root.find(kind);
+    if (arr == root.end()) continue;
+    for (size_t i = 0; i < arr->size(); ++i) {
+      auto uri = (*arr)[i].find("uri");
+      if (uri == (*arr)[i].end()) continue;
+      std::string u = uri->get<std::string>();
+      if (u.rfind("data:", 0) == 0) continue;
+      std::filesystem::path file = std::filesystem::path(baseDir_) / decodeUri(u);
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(file, ec)) {
+        std::string what = std::string(kind) == "buffers" ? "buffer " : "image ";
+        fail(what + std::to_string(i) + " refers to external file '" + u + "' which does not exist (looked for " +
+             file.string() + ")");
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pass 2
+
+void Loader::parseWithTinygltf() {
+  tinygltf::TinyGLTF gltf;
+  std::string err, warn;
+  bool ok = false;
+  if (bytes_.size() > 0xffffffffull) fail("file is larger than 4 GiB");
+  if (binary_) {
+    ok = gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes_.data(), unsigned(bytes_.size()), baseDir_);
+  } else {
+    ok = gltf.LoadASCIIFromString(&model_, &err, &warn, jsonText_.data(), unsigned(jsonText_.size()), baseDir_);
+  }
+  if (!ok || !err.empty()) {
+    std::string text = oneLine(err.empty() ? warn : err);
+    fail("glTF parse error: " + (text.empty() ? std::string("unknown error") : text));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pass 3: accessors
+
+std::string Loader::meshLabel(int meshIndex, int primIndex) const {
+  std::string s = "mesh " + std::to_string(meshIndex);
+  const std::string& name = model_.meshes[size_t(meshIndex)].name;
+  if (!name.empty()) s += " ('" + name + "')";
+  return s + " primitive " + std::to_string(primIndex);
+}
+
+int componentSize(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+  }
+}
+
+// Reads one component as float; normalized integers map to [0,1] / [-1,1].
+float readComponent(const uint8_t* p, int componentType, bool normalized) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0f : float(p[0]);
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t v; std::memcpy(&v, p, 1);
+      return normalized ? std::max(v / 127.0f, -1.0f) : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v; std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0f : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v; std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0f, -1.0f) : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v; std::memcpy(&v, p, 4);
+      return normalized ? float(double(v) / 4294967295.0) : float(v);
+    }
+    default: return 0.0f;
+  }
+}
+
+uint32_t readIndexComponent(const uint8_t* p, int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[0];
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); return v; }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return v; }
+    default: return 0;
+  }
+}
+
+// A validated strided view of accessor-like data inside a buffer.
+struct ByteView {
+  const uint8_t* data = nullptr;
+  size_t stride = 0;
+};
+
+const char* typeName(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+    case TINYGLTF_TYPE_VEC2: return "VEC2";
+    case TINYGLTF_TYPE_VEC3: return "VEC3";
+    case TINYGLTF_TYPE_VEC4: return "VEC4";
+    case TINYGLTF_TYPE_MAT2: return "MAT2";
+    case TINYGLTF_TYPE_MAT3: return "MAT3";
+    case TINYGLTF_TYPE_MAT4: return "MAT4";
+    default: return "unknown";
+  }
+}
+
+// Checks that 'count' elements of 'elementSize' bytes at 'offset' with 'stride' fit buffer view
+// 'viewIndex', and that the view fits its buffer; returns a pointer to the first element.
+ByteView viewBytes(const tinygltf::Model& model, int viewIndex, size_t offset, size_t count, size_t elementSize,
+                   const std::string& what, const std::function<void(const std::string&)>& fail) {
+  if (viewIndex < 0 || size_t(viewIndex) >= model.bufferViews.size()) {
+    fail(what + " refers to buffer view " + std::to_string(viewIndex) + " which is out of range (the file has " +
+         std::to_string(model.bufferViews.size()) + ")");
+  }
+  const tinygltf::BufferView& view = model.bufferViews[size_t(viewIndex)];
+  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
+    fail("buffer view " + std::to_string(viewIndex) + " refers to buffer " + std::to_string(view.buffer) +
+         " which is out of range");
+  }
+  const tinygltf::Buffer& buffer = model.buffers[size_t(view.buffer)];
+  if (uint64_t(view.byteOffset) + uint64_t(view.byteLength) > buffer.data.size()) {
+    fail("buffer view " + std::to_string(viewIndex) + " (bytes " + std::to_string(view.byteOffset) + ".." +
+         std::to_string(uint64_t(view.byteOffset) + view.byteLength) + ") is out of range of buffer " +
+         std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) + " bytes)");
+  }
+  size_t stride = view.byteStride ? size_t(view.byteStride) : elementSize;
+  if (stride < elementSize) {
+    fail(what + ": buffer view " + std::to_string(viewIndex) + " byteStride " + std::to_string(stride) +
+         " is smaller than the element size " + std::to_string(elementSize));
+  }
+  if (count > 0) {
+    // Compute in long double-free 64-bit arithmetic, guarding overflow by a division check.
+    uint64_t c = count - 1;
+    if (c > 0 && stride > UINT64_MAX / c) fail(what + " is out of range of its buffer view (overflow)");
+    uint64_t end = uint64_t(offset) + c * stride + elementSize;
+    if (end < offset || end > view.byteLength) {
+      fail(what + " is out of range: it needs bytes " + std::to_string(offset) + ".." + std::to_string(end) +
+           " of buffer view " + std::to_string(viewIndex) + " which has " + std::to_string(view.byteLength) +
+           " bytes");
+    }
+  }
+  return {buffer.data.data() + view.byteOffset + offset, stride};
+}
+
+std::vector<float> Loader::readAccessor(int accessorIndex, int wantType, const std::string& what) {
+  auto failFn = [this](const std::string& m) { fail(m); };
+  if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size()) {
+    fail(what + " refers to accessor " + std::to_string(accessorIndex) + " which is out of range");
+  }
+  const tinygltf::Accessor& acc = model_.accessors[size_t(accessorIndex)];
+  std::string label = what + " (accessor " + std::to_string(accessorIndex) + ")";
+  if (acc.type != wantType) {
+    fail(label + " has type " + typeName(acc.type) + ", expected " + typeName(wantType));
+  }
+  int csize = componentSize(acc.componentType);
+  if (csize == 0) fail(label + " has invalid componentType " + std::to_string(acc.componentType));
+  int nc = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
+  size_t count = acc.count;
+  if (count > (size_t(1) << 31)) fail(label + " count " + std::to_string(count) + " is too large");
+  std::vector<float> out(count * size_t(nc), 0.0f);
+  size_t elementSize = size_t(csize) * size_t(nc);
+  if (acc.bufferView >= 0) {
+    ByteView v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, elementSize, label, failFn);
+    for (size_t i = 0; i < count; ++i) {
+      const uint8_t* e = v.data + i * v.stride;
+      for (int c = 0; c < nc; ++c) out[i * nc + c] = readComponent(e + c * csize, acc.componentType, acc.normalized);
+    }
+  }
+  if (acc.sparse.isSparse) {
+    size_t n = size_t(std::max(acc.sparse.count, 0));
+    int icsize = componentSize(acc.sparse.indices.componentType);
+    if (icsize == 0 || acc.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+        acc.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
+        acc.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+      fail(label + " has sparse indices of invalid componentType");
+    }
+    ByteView iv = viewBytes(model_, acc.sparse.indices.bufferView, size_t(acc.sparse.indices.byteOffset), n,
+                            size_t(icsize), label + " sparse indices", failFn);
+    ByteView vv = viewBytes(model_, acc.sparse.values.bufferView, size_t(acc.sparse.values.byteOffset), n,
+                            elementSize, label + " sparse values", failFn);
+    iv.stride = size_t(icsize);
+    vv.stride = elementSize;
+    for (size_t k = 0; k < n; ++k) {
+      uint32_t target = readIndexComponent(iv.data + k * iv.stride, acc.sparse.indices.componentType);
+      if (target >= count) fail(label + " sparse index " + std::to_string(target) + " is out of range");
+      for (int c = 0; c < nc; ++c) {
+        out[target * nc + c] = readComponent(vv.data + k * vv.stride + c * csize, acc.componentType, acc.normalized);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<uint32_t> Loader::readIndices(int accessorIndex, const std::string& what) {
+  auto failFn = [this](const std::string& m) { fail(m); };
+  if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size()) {
+    fail(what + " refers to accessor " + std::to_string(accessorIndex) + " which is out of range");
+  }
+  const tinygltf::Accessor& acc = model_.accessors[size_t(accessorIndex)];
+  std::string label = what + " (accessor " + std::to_string(accessorIndex) + ")";
+  if (acc.type != TINYGLTF_TYPE_SCALAR) fail(label + " must be SCALAR");
+  int ct = acc.componentType;
+  if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+    fail(label + " has componentType " + std::to_string(ct) + "; indices must be unsigned byte, short or int");
+  }
+  if (acc.sparse.isSparse) {
+    // Rare for indices; read through the float path would lose precision, so decode directly.
+    std::vector<float> f = readAccessor(accessorIndex, TINYGLTF_TYPE_SCALAR, what);
+    std::vector<uint32_t> out(f.size());
+    for (size_t i = 0; i < f.size(); ++i) out[i] = uint32_t(f[i]);
+    return out;
+  }
+  size_t count = acc.count;
+  if (count > (size_t(1) << 31)) fail(label + " count " + std::to_string(count) + " is too large");
+  std::vector<uint32_t> out(count, 0);
+  if (acc.bufferView < 0) return out;
+  int csize = componentSize(ct);
+  ByteView v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, size_t(csize), label, failFn);
+  for (size_t i = 0; i < count; ++i) out[i] = readIndexComponent(v.data + i * v.stride, ct);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pass 3: materials and textures
+
+int Loader::textureFor(Scene& scene, int gltfTexture) {
+  if (gltfTexture < 0 || size_t(gltfTexture) >= model_.textures.size()) return -1;
+  int source = model_.textures[size_t(gltfTexture)].source;
+  if (source < 0 || size_t(source) >= model_.images.size()) return -1;
+  if (textureMap_.empty()) textureMap_.assign(model_.images.size(), -2);
+  if (textureMap_[size_t(source)] != -2) return textureMap_[size_t(source)];
+  const tinygltf::Image& img = model_.images[size_t(source)];
+  std::string label = "image " + std::to_string(source) + (img.uri.empty() || img.uri.rfind("data:", 0) == 0
+                                                               ? std::string()
+                                                               : " ('" + img.uri + "')");
+  if (img.image.empty() || img.width <= 0 || img.height <= 0) fail(label + " could not be decoded");
+  int comp = img.component;
+  int bytesPerChannel = img.bits == 16 ? 2 : img.bits == 8 ? 1 : 0;
+  if (comp < 1 || comp > 4 || bytesPerChannel == 0) {
+    fail(label + " has an unsupported pixel format (" + std::to_string(comp) + " channels, " +
+         std::to_string(img.bits) + " bits)");
+  }
+  size_t pixels = size_t(img.width) * size_t(img.height);
+  if (img.image.size() < pixels * size_t(comp) * size_t(bytesPerChannel)) fail(label + " pixel data is truncated");
+  TextureImage tex;
+  tex.name = img.name.empty() ? img.uri.substr(0, img.uri.rfind("data:", 0) == 0 ? 0 : img.uri.size()) : img.name;
+  tex.width = img.width;
+  tex.height = img.height;
+  tex.rgba8.resize(pixels * 4);
+  for (size_t i = 0; i < pixels; ++i) {
+    uint8_t ch[4] = {0, 0, 0, 255};
+    for (int c = 0; c < comp; ++c) {
+      size_t at = (i * size_t(comp) + size_t(c)) * size_t(bytesPerChannel);
+      // 16-bit: take the high byte (little-endian as decoded by stb).
+      ch[c] = bytesPerChannel == 2 ? img.image[at + 1] : img.image[at];
+    }
+    uint8_t* dst = &tex.rgba8[i * 4];
+    if (comp == 1) { dst[0] = dst[1] = dst[2] = ch[0]; dst[3] = 255; }
+    else if (comp == 2) { dst[0] = dst[1] = dst[2] = ch[0]; dst[3] = ch[1]; }
+    else { dst[0] = ch[0]; dst[1] = ch[1]; dst[2] = ch[2]; dst[3] = comp == 4 ? ch[3] : 255; }
+  }
+  scene.textures.push_back(std::move(tex));
+  textureMap_[size_t(source)] = int(scene.textures.size() - 1);
+  return textureMap_[size_t(source)];
+}
+
+uint32_t Loader::materialFor(Scene& scene, int gltfMaterial) {
+  if (gltfMaterial < 0) {
+    if (defaultMaterial_ < 0) {
+      Material m;
+      m.name = "default";
+      scene.materials.push_back(m);
+      trianglesByMaterial_.emplace_back();
+      defaultMaterial_ = int(scene.materials.size() - 1);
+    }
+    return uint32_t(defaultMaterial_);
+  }
+  if (size_t(gltfMaterial) >= model_.materials.size()) {
+    fail("material " + std::to_string(gltfMaterial) + " is out of range (the file has " +
+         std::to_string(model_.materials.size()) + ")");
+  }
+  if (materialMap_.empty()) materialMap_.assign(model_.materials.size(), -1);
+  if (materialMap_[size_t(gltfMaterial)] >= 0) return uint32_t(materialMap_[size_t(gltfMaterial)]);
+  const tinygltf::Material& src = model_.materials[size_t(gltfMaterial)];
+  Material m;
+  m.name = src.name.empty() ? "material-" + std::to_string(gltfMaterial) : src.name;
+  const auto& bc = src.pbrMetallicRoughness.baseColorFactor;
+  if (bc.size() == 4) m.baseColor = glm::vec4(float(bc[0]), float(bc[1]), float(bc[2]), float(bc[3]));
+  m.baseColorTexture = textureFor(scene, src.pbrMetallicRoughness.baseColorTexture.index);
+  if (src.emissiveFactor.size() == 3) {
+    m.emissive = glm::vec3(float(src.emissiveFactor[0]), float(src.emissiveFactor[1]), float(src.emissiveFactor[2]));
+  }
+  auto strength = src.extensions.find("KHR_materials_emissive_strength");
+  if (strength != src.extensions.end() && strength->second.IsObject()) {
+    const tinygltf::Value& s = strength->second.Get("emissiveStrength");
+    if (s.IsNumber()) m.emissive *= float(s.GetNumberAsDouble());
+  }
+  m.emissiveTexture = textureFor(scene, src.emissiveTexture.index);
+  scene.materials.push_back(m);
+  trianglesByMaterial_.emplace_back();
+  materialMap_[size_t(gltfMaterial)] = int(scene.materials.size() - 1);
+  return uint32_t(scene.materials.size() - 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pass 3: geometry
+
+glm::mat4 localMatrix(const tinygltf::Node& node) {
+  if (node.matrix.size() == 16) {
+    glm::mat4 m;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m[c][r] = float(node.matrix[size_t(c * 4 + r)]);
+    return m;
+  }
+  glm::mat4 t(1.0f), r(1.0f), s(1.0f);
+  if (node.translation.size() == 3) {
+    t = glm::translate(glm::mat4(1.0f), glm::vec3(float(node.translation[0]), float(node.translation[1]),
+                                                  float(node.translation[2])));
+  }
+  if (node.rotation.size() == 4) {
+    glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]));
+    float len = glm::length(q);
+    if (len > 0.0f) r = glm::mat4_cast(q / len);
+  }
+  if (node.scale.size() == 3) {
+    s = glm::scale(glm::mat4(1.0f), glm::vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
+  }
+  return t * r * s;
+}
+
+void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm::mat4& world) {
+  const tinygltf::Primitive& prim = model_.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
+  std::string label = meshLabel(meshIndex, primIndex);
+  int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+    ++skippedPrimitives_;  // points and lines carry no surface
+    return;
+  }
+  auto posIt = prim.attributes.find("POSITION");
+  if (posIt == prim.attributes.end()) {
+    ++skippedPrimitives_;
+    return;
+  }
+  std::vector<float> pos = readAccessor(posIt->second, TINYGLTF_TYPE_VEC3, label + " POSITION");
+  size_t vertexCount = pos.size() / 3;
+  for (size_t v = 0; v < vertexCount; ++v) {
+    for (int c = 0; c < 3; ++c) {
+      float x = pos[v * 3 + size_t(c)];
+      if (std::isnan(x)) fail(label + ": vertex " + std::to_string(v) + " has a NaN position");
+      if (std::isinf(x)) fail(label + ": vertex " + std::to_string(v) + " has an infinite (Inf) position");
+    }
+  }
+
+  // Index list (or implicit 0..n-1), validated against the vertex count.
+  std::vector<uint32_t> idx;
+  if (prim.indices >= 0) {
+    idx = readIndices(prim.indices, label + " indices");
+    for (size_t i = 0; i < idx.size(); ++i) {
+      if (idx[i] >= vertexCount) {
+        fail(label + ": index " + std::to_string(idx[i]) + " (entry " + std::to_string(i) +
+             ") is out of range of its " + std::to_string(vertexCount) + " vertices");
+      }
+    }
+  } else {
+    idx.resize(vertexCount);
+    for (size_t i = 0; i < vertexCount; ++i) idx[i] = uint32_t(i);
+  }
+  // Convert to a triangle list.
+  std::vector<uint32_t> tris;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    tris.assign(idx.begin(), idx.begin() + long(idx.size() / 3 * 3));
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 2; i < idx.size(); ++i) {
+      if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
+      else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
+    }
+  } else {
+    for (size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[i - 1], idx[i], idx[0]});
+  }
+  if (tris.empty()) return;
+
+  std::vector<float> nrm, uv;
+  auto nIt = prim.attributes.find("NORMAL");
+  if (nIt != prim.attributes.end()) {
+    nrm = readAccessor(nIt->second, TINYGLTF_TYPE_VEC3, label + " NORMAL");
+    if (nrm.size() != pos.size()) fail(label + ": NORMAL count differs from POSITION count");
+  }
+  auto tIt = prim.attributes.find("TEXCOORD_0");
+  if (tIt != prim.attributes.end()) {
+    uv = readAccessor(tIt->second, TINYGLTF_TYPE_VEC2, label + " TEXCOORD_0");
+    if (uv.size() / 2 != vertexCount) fail(label + ": TEXCOORD_0 count differs from POSITION count");
+  }
+
+  glm::mat3 linear(world);
+  float det = glm::determinant(linear);
+  bool flip = det < 0.0f;
+  bool invertible = std::abs(det) > 1e-20f;
+  glm::mat3 normalMatrix = invertible ? glm::transpose(glm::inverse(linear)) : glm::mat3(1.0f);
+
+  const uint32_t base = uint32_t(scene.positions.size());
+  if (uint64_t(base) + vertexCount > UINT32_MAX) fail("scene has more than 2^32 vertices");
+  for (size_t v = 0; v < vertexCount; ++v) {
+    glm::vec3 p(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]);
+    glm::vec3 wp = glm::vec3(world * glm::vec4(p, 1.0f));
+    if (!std::isfinite(wp.x) || !std::isfinite(wp.y) || !std::isfinite(wp.z)) {
+      fail(label + ": vertex " + std::to_string(v) + " is not finite after the node transform (Inf/NaN)");
+    }
+    scene.positions.push_back(wp);
+    glm::vec3 n(0.0f);
+    if (!nrm.empty() && invertible) {
+      n = normalMatrix * glm::vec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2]);
+      float len = glm::length(n);
+      n = (std::isfinite(len) && len > 1e-20f) ? n / len : glm::vec3(0.0f);
+    }
+    scene.normals.push_back(n);
+    scene.uvs.push_back(uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[v * 2], uv[v * 2 + 1]));
+  }
+  if (flip) {
+    for (size_t t = 0; t + 2 < tris.size(); t += 3) std::swap(tris[t + 1], tris[t + 2]);
+  }
+  // Area-weighted normals where the file has none (or the given ones were unusable).
+  bool computeAll = nrm.empty() || !invertible;
+  std::vector<glm::vec3> accum(vertexCount, glm::vec3(0.0f));
+  {
+    for (size_t t = 0; t + 2 < tris.size(); t += 3) {
+      const glm::vec3& a = scene.positions[base + tris[t]];
+      const glm::vec3& b = scene.positions[base + tris[t + 1]];
+      const glm::vec3& c = scene.positions[base + tris[t + 2]];
+      glm::vec3 cr = glm::cross(b - a, c - a);  // length = 2 * area: area weighting
+      for (int k = 0; k < 3; ++k) accum[tris[t + size_t(k)]] += cr;
+    }
+  }
+  for (size_t v = 0; v < vertexCount; ++v) {
+    glm::vec3& n = scene.normals[base + v];
+    if (computeAll || n == glm::vec3(0.0f)) {
+      float len = glm::length(accum[v]);
+      n = len > 1e-30f ? accum[v] / len : glm::vec3(0.0f, 1.0f, 0.0f);
+    }
+  }
+
+  uint32_t material = materialFor(scene, prim.material);
+  std::vector<uint32_t>& out = trianglesByMaterial_[material];
+  for (uint32_t i : tris) out.push_back(base + i);
+}
+
+void Loader::addNode(Scene& scene, int rootIndex, const glm::mat4& rootParent) {
+  // Explicit stack: depth is bounded by the node count (cycles were rejected in pass 1).
+  struct Item { int node; glm::mat4 parent; };
+  std::vector<Item> stack{{rootIndex, rootParent}};
+  size_t visits = 0;
+  const size_t maxVisits = std::max<size_t>(1, model_.nodes.size()) * 64 + 1024;
+  while (!stack.empty()) {
+    Item item = stack.back();
+    stack.pop_back();
+    if (++visits > maxVisits) fail("node hierarchy is too large or not a tree (node visited too often)");
+    if (item.node < 0 || size_t(item.node) >= model_.nodes.size()) {
+      fail("node " + std::to_string(item.node) + " is out of range (the file has " +
+           std::to_string(model_.nodes.size()) + " nodes)");
+    }
+    const tinygltf::Node& node = model_.nodes[size_t(item.node)];
+    glm::mat4 world = item.parent * localMatrix(node);
+
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= model_.meshes.size()) fail("node " + std::to_string(item.node) + " mesh is out of range");
+      const tinygltf::Mesh& mesh = model_.meshes[size_t(node.mesh)];
+      for (size_t p = 0; p < mesh.primitives.size(); ++p) addPrimitive(scene, node.mesh, int(p), world);
+    }
+    glm::vec3 origin = glm::vec3(world * glm::vec4(0, 0, 0, 1));
+    glm::vec3 minusZ = glm::mat3(world) * glm::vec3(0, 0, -1);
+    glm::vec3 plusY = glm::mat3(world) * glm::vec3(0, 1, 0);
+    if (node.camera >= 0 && size_t(node.camera) < model_.cameras.size()) {
+      const tinygltf::Camera& src = model_.cameras[size_t(node.camera)];
+      if (src.type == "perspective" && glm::length(minusZ) > 0.0f) {
+        Camera cam;
+        cam.name = src.name.empty() ? (node.name.empty() ? "camera-" + std::to_string(node.camera) : node.name) : src.name;
+        cam.position = origin;
+        cam.forward = glm::normalize(minusZ);
+        glm::vec3 up = plusY - glm::dot(plusY, cam.forward) * cam.forward;
+        cam.up = glm::length(up) > 1e-12f ? glm::normalize(up) : glm::vec3(0, 1, 0);
+        if (src.perspective.yfov > 0.0) cam.yfov = float(src.perspective.yfov);
+        if (src.perspective.znear > 0.0) cam.znear = float(src.perspective.znear);
+        cam.zfar = src.perspective.zfar > 0.0 ? float(src.perspective.zfar) : 100.0f;
+        scene.cameras.push_back(cam);
+      }
+    }
+    auto lp = node.extensions.find("KHR_lights_punctual");
+    if (lp != node.extensions.end() && lp->second.IsObject()) {
+      const tinygltf::Value& li = lp->second.Get("light");
+      int lightIndex = li.IsInt() ? li.GetNumberAsInt() : -1;
+      if (lightIndex >= 0 && size_t(lightIndex) < model_.lights.size()) {
+        const tinygltf::Light& src = model_.lights[size_t(lightIndex)];
+        Light l;
+        l.name = src.name.empty() ? (node.name.empty() ? "light-" + std::to_string(lightIndex) : node.name) : src.name;
+        l.type = src.type == "directional" ? LightType::Directional : src.type == "spot" ? LightType::Spot : LightType::Point;
+        l.position = origin;
+        l.direction = glm::length(minusZ) > 0.0f ? glm::normalize(minusZ) : glm::vec3(0, 0, -1);
+        if (src.color.size() == 3) l.color = glm::vec3(float(src.color[0]), float(src.color[1]), float(src.color[2]));
+        l.intensity = float(src.intensity);
+        l.range = float(src.range);
+        l.innerConeAngle = float(src.spot.innerConeAngle);
+        l.outerConeAngle = float(src.spot.outerConeAngle);
+        scene.lights.push_back(l);
+      }
+    }
+    // Push children in reverse so they are visited in file order.
+    for (size_t c = node.children.size(); c-- > 0;) stack.push_back({node.children[c], world});
+  }
+}
+
+void Loader::buildScene(Scene& scene) {
+  std::vector<int> roots;
+  int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : (model_.scenes.empty() ? -1 : 0);
+  if (sceneIndex >= 0 && size_t(sceneIndex) < model_.scenes.size()) {
+    roots = model_.scenes[size_t(sceneIndex)].nodes;
+  } else {
+    // No scenes: every node that is nobody's child is a root.
+    std::vector<bool> isChild(model_.nodes.size(), false);
+    for (const auto& n : model_.nodes)
+      for (int c : n.children)
+        if (c >= 0 && size_t(c) < isChild.size()) isChild[size_t(c)] = true;
+    for (size_t i = 0; i < model_.nodes.size(); ++i)
+      if (!isChild[i]) roots.push_back(int(i));
+  }
+  for (int r : roots) addNode(scene, r, glm::mat4(1.0f));
+
+  // Sort triangles into one contiguous draw range per material (materials in first-use order).
+  for (size_t m = 0; m < trianglesByMaterial_.size(); ++m) {
+    const std::vector<uint32_t>& t = trianglesByMaterial_[m];
+    if (t.empty()) continue;
+    DrawRange d;
+    d.firstIndex = uint32_t(scene.indices.size());
+    d.indexCount = uint32_t(t.size());
+    d.material = uint32_t(m);
+    scene.draws.push_back(d);
+    scene.indices.insert(scene.indices.end(), t.begin(), t.end());
+  }
+  if (scene.indices.empty()) {
+    std::string why = skippedPrimitives_ ? " (" + std::to_string(skippedPrimitives_) +
+                                               " primitive(s) were points or lines, which are skipped)"
+                                         : "";
+    fail("contains no triangles" + why);
+  }
+  for (uint32_t i : scene.indices) scene.bounds.extend(scene.positions[i]);
+  if (scene.materials.empty()) {
+    Material m;
+    m.name = "default";
+    scene.materials.push_back(m);
+  }
+  if (scene.cameras.empty()) scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
+}
+
+Scene Loader::load() {
+  readFile();
+  Json root;
+  try {
+    root = Json::parse(jsonText_);
+  } catch (const Json::parse_error& e) {
+    // nlohmann's text quotes the raw bytes it last read, which may be anything: drop that part.
+    std::string what = e.what();
+    auto lastRead = what.find("; last read:");
+    if (lastRead != std::string::npos) {
+      auto expected = what.find("; expected", lastRead);
+      what = what.substr(0, lastRead) + (expected == std::string::npos ? "" : what.substr(expected));
+    }
+    auto colon = what.find("parse error");
+    fail("is not valid JSON (" + (colon == std::string::npos ? what : what.substr(colon)) + ")");
+  }
+  checkJson(root);
+  checkCycles(root);
+  checkExternalFiles(root);
+  parseWithTinygltf();
+  Scene scene;
+  scene.path = path_;
+  scene.name = std::filesystem::path(path_).stem().string();
+  buildScene(scene);
+  return scene;
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path) {
+  try {
+    return Loader(path).load();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(oneLine("scene '" + path + "'") + ": out of memory while loading (file too large or corrupt)");
+  } catch (const std::exception& e) {
+    throw Error(oneLine("scene '" + path + "': " + e.what(), 1000));
+  }
+}
+
+}  // namespace voxlab

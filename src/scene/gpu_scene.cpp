@@ -1,0 +1,77 @@
+#include "scene/gpu_scene.h"
+
+#include "common/shared.h"
+#include "gpu/shader_library.h"
+
+namespace voxlab {
+
+namespace {
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+};
+}  // namespace
+
+GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
+  std::vector<Vertex> verts(scene.positions.size());
+  for (size_t i = 0; i < verts.size(); ++i)
+    verts[i] = {scene.positions[i], scene.normals[i], i < scene.uvs.size() ? scene.uvs[i] : glm::vec2(0)};
+  vertices_ = Buffer("scene.vertices", verts.size() * sizeof(Vertex), verts.data(), 0);
+  indices_ = Buffer("scene.indices", scene.indices.size() * 4, scene.indices.data(), 0);
+  triangleCount_ = scene.triangleCount();
+
+  std::vector<gpu::GpuMaterial> mats;
+  for (const auto& m : scene.materials)
+    mats.push_back({m.baseColor, glm::vec4(m.emissive, m.emissiveTexture >= 0 ? 1.0f : 0.0f)});
+  materials_ = Buffer("scene.materials", mats.size() * sizeof(gpu::GpuMaterial), mats.data(), 0);
+
+  GLuint vao = vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, indices_.id());
+  glEnableVertexArrayAttrib(vao, VOXLAB_ATTR_POSITION);
+  glEnableVertexArrayAttrib(vao, VOXLAB_ATTR_NORMAL);
+  glEnableVertexArrayAttrib(vao, VOXLAB_ATTR_UV);
+  glVertexArrayAttribFormat(vao, VOXLAB_ATTR_POSITION, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
+  glVertexArrayAttribFormat(vao, VOXLAB_ATTR_NORMAL, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, normal));
+  glVertexArrayAttribFormat(vao, VOXLAB_ATTR_UV, 2, GL_FLOAT, GL_FALSE, offsetof(Vertex, uv));
+  glVertexArrayAttribBinding(vao, VOXLAB_ATTR_POSITION, 0);
+  glVertexArrayAttribBinding(vao, VOXLAB_ATTR_NORMAL, 0);
+  glVertexArrayAttribBinding(vao, VOXLAB_ATTR_UV, 0);
+  glObjectLabel(GL_VERTEX_ARRAY, vao, -1, "scene.vao");
+
+  for (const auto& img : scene.textures) {
+    TextureDesc d;
+    d.format = GL_SRGB8_ALPHA8;
+    d.size = {img.width, img.height, 1};
+    d.levels = 0;
+    d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+    d.wrap = GL_REPEAT;
+    textures_.emplace_back("scene.texture." + img.name, d);
+    glTextureSubImage2D(textures_.back().id(), 0, 0, 0, img.width, img.height, GL_RGBA,
+                        GL_UNSIGNED_BYTE, img.rgba8.data());
+    glGenerateTextureMipmap(textures_.back().id());
+  }
+  TextureDesc w;
+  w.size = {1, 1, 1};
+  white_ = Texture("scene.texture.white", w);
+  const uint8_t one[4] = {255, 255, 255, 255};
+  glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, one);
+}
+
+void GpuScene::draw(GLuint program) const {
+  glUseProgram(program);
+  glBindVertexArray(vao_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, materials_.id());
+  GLint loc = glGetUniformLocation(program, "u_materialIndex");
+  for (const auto& d : scene_.draws) {
+    const Material& m = scene_.materials[d.material];
+    glProgramUniform1i(program, loc, int(d.material));
+    glBindTextureUnit(VOXLAB_UNIT_ALBEDO, m.baseColorTexture >= 0 ? textures_[m.baseColorTexture].id() : white_.id());
+    glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
+    glDrawElements(GL_TRIANGLES, GLsizei(d.indexCount), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(uintptr_t(d.firstIndex) * 4));
+  }
+}
+
+}  // namespace voxlab

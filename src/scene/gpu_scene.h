@@ -1,0 +1,34 @@
+// GpuScene: a Scene uploaded once for every stage that rasterizes it: one interleaved vertex
+// buffer (position, normal, uv), one index buffer, the materials as an SSBO, base colour and
+// emissive textures. draw() issues one draw per material range.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "gpu/resources.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+
+class GpuScene {
+ public:
+  explicit GpuScene(const Scene& scene);
+  // Binds the vertex array and the material SSBO, then for each draw range sets the uniform
+  // "u_materialIndex", binds that material's textures and draws its triangles.
+  void draw(GLuint program) const;
+  const Buffer& materials() const { return materials_; }
+  const Buffer& vertices() const { return vertices_; }
+  const Buffer& indices() const { return indices_; }
+  GLuint vertexArray() const { return vao_.id(); }
+  size_t triangleCount() const { return triangleCount_; }
+
+ private:
+  const Scene& scene_;
+  Buffer vertices_, indices_, materials_;
+  VertexArray vao_;
+  std::vector<Texture> textures_;
+  Texture white_;
+  size_t triangleCount_ = 0;
+};
+
+}  // namespace voxlab

@@ -1,0 +1,101 @@
+// Scene helpers that do not depend on the glTF parser: cameras, draw-range lookups and the
+// mapping from a scene name ("cornell-box") to a file in scenes/.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/error.h"
+#include "core/paths.h"
+
+namespace voxlab {
+
+glm::mat4 Camera::view() const { return glm::lookAtRH(position, position + forward, up); }
+
+glm::mat4 Camera::projection(float aspect) const {
+  // Right-handed eye space looking down -z, GL clip space with depth in -1..1.
+  return glm::perspectiveRH_NO(yfov, aspect > 0.0f ? aspect : 1.0f, znear, zfar);
+}
+
+Camera frameBounds(const Bounds& bounds, float yfov) {
+  Camera cam;
+  cam.name = "framing-camera";
+  cam.yfov = yfov;
+  glm::vec3 center = bounds.valid() ? bounds.center() : glm::vec3(0.0f);
+  float radius = bounds.valid() ? 0.5f * glm::length(bounds.extent()) : 1.0f;
+  radius = std::max(radius, 1e-3f);
+  // Distance at which the bounding sphere fits the vertical field of view.
+  float distance = radius / std::sin(0.5f * std::clamp(yfov, 0.01f, 3.0f));
+  cam.position = center + glm::vec3(0.0f, 0.0f, distance);
+  cam.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+  cam.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  cam.znear = std::max(1e-3f, 0.5f * (distance - radius));
+  cam.zfar = std::max(cam.znear * 10.0f, distance + 4.0f * radius);
+  return cam;
+}
+
+uint32_t Scene::triangleMaterial(size_t triangle) const {
+  // Draw ranges are sorted by firstIndex and contiguous; binary search the containing one.
+  size_t first = triangle * 3;
+  auto it = std::upper_bound(draws.begin(), draws.end(), first,
+                             [](size_t f, const DrawRange& d) { return f < d.firstIndex; });
+  if (it == draws.begin()) return 0;
+  --it;
+  if (first < size_t(it->firstIndex) + it->indexCount) return it->material;
+  return 0;
+}
+
+namespace {
+
+bool hasSceneExtension(const std::filesystem::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".gltf" || ext == ".glb";
+}
+
+}  // namespace
+
+std::vector<std::string> listScenes() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  std::filesystem::directory_iterator it(projectPath("scenes"), ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    if (hasSceneExtension(it->path())) names.push_back(it->path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  return names;
+}
+
+std::string resolveScenePath(const std::string& nameOrPath) {
+  if (nameOrPath.empty()) {
+    throw Error("empty scene name; valid scene names: " + joinNames(listScenes()));
+  }
+  if (fileExists(nameOrPath)) return nameOrPath;
+  const std::filesystem::path p(nameOrPath);
+  bool looksLikeName = nameOrPath.find('/') == std::string::npos && !hasSceneExtension(p);
+  if (looksLikeName) {
+    for (const char* ext : {".gltf", ".glb"}) {
+      std::string candidate = projectPath("scenes/" + nameOrPath + ext);
+      if (fileExists(candidate)) return candidate;
+    }
+  } else if (nameOrPath.find('/') == std::string::npos) {
+    // "cornell-box.gltf": a file name inside scenes/.
+    std::string candidate = projectPath("scenes/" + nameOrPath);
+    if (fileExists(candidate)) return candidate;
+  }
+  std::vector<std::string> names = listScenes();
+  std::string valid = names.empty() ? std::string("(none found in ") + projectPath("scenes") + ")"
+                                    : joinNames(names);
+  if (looksLikeName) {
+    throw Error("unknown scene '" + nameOrPath + "'; valid scene names: " + valid +
+                " (or a path to a .gltf/.glb file)");
+  }
+  throw Error("scene file '" + nameOrPath + "' does not exist; valid scene names: " + valid);
+}
+
+}  // namespace voxlab

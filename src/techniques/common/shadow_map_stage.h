@@ -1,0 +1,23 @@
+// ShadowMapStage: depth from the scene's light (its first KHR_lights_punctual light), and the
+// light's parameters as a uniform buffer ("light") that later stages shade with.
+//
+// Spot lights get a perspective shadow map covering their outer cone, directional lights an
+// orthographic one covering the scene; point lights are shaded without a shadow map (the
+// manifest says so in the stage's statistics).
+#pragma once
+#include "graph/stage.h"
+
+namespace voxlab {
+
+class ShadowMapStage : public Stage {
+ public:
+  const char* id() const override { return "shadow-map"; }
+  const char* title() const override { return "Shadow map from the light"; }
+  const char* summary() const override {
+    return "Render the scene's depth from the light, so injection and shading can tell lit from shadowed points.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+}  // namespace voxlab

@@ -1,0 +1,37 @@
+#include "techniques/common/voxel_space.h"
+
+#include <algorithm>
+
+#include "common/shared.h"
+#include "gpu/shader_library.h"
+
+namespace voxlab {
+
+VoxelSpace VoxelSpace::fromScene(const Scene& scene, int resolution) {
+  VoxelSpace v;
+  v.resolution = resolution;
+  glm::vec3 ext = scene.bounds.extent();
+  float largest = std::max(std::max(ext.x, ext.y), std::max(ext.z, 1e-4f));
+  v.voxelSize = largest / float(std::max(resolution - 1, 1));
+  v.origin = scene.bounds.center() - 0.5f * v.voxelSize * float(resolution);
+  return v;
+}
+
+void VoxelSpace::setUniforms(GLuint program) const {
+  setUniform(program, "u_volumeOrigin", origin);
+  setUniform(program, "u_voxelSize", voxelSize);
+  setUniform(program, "u_resolution", resolution);
+}
+
+BufferLayout voxelFragmentLayout(const std::string& countResource) {
+  BufferLayout L;
+  L.stride = sizeof(gpu::VoxelFragment);
+  L.fields = {{"voxel", FieldType::Packed10_10_10, offsetof(gpu::VoxelFragment, position), FieldRole::Position},
+              {"albedo", FieldType::UnormRGBA8, offsetof(gpu::VoxelFragment, albedo), FieldRole::Color},
+              {"normal", FieldType::SnormRGBA8, offsetof(gpu::VoxelFragment, normal), FieldRole::Normal},
+              {"emission", FieldType::UnormRGBA8, offsetof(gpu::VoxelFragment, emission), FieldRole::Other}};
+  L.countResource = countResource;
+  return L;
+}
+
+}  // namespace voxlab

@@ -1,0 +1,27 @@
+// The voxel volume every voxel technique uses: a cube around the scene's bounds, resolution^3
+// voxels. The scene's largest extent spans resolution - 1 voxels and is centred, so the outermost
+// surfaces lie half a voxel inside the volume (never exactly on a voxel boundary or outside).
+#pragma once
+#include <glm/glm.hpp>
+
+#include "gpu/gl.h"
+#include "graph/output.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+
+struct VoxelSpace {
+  glm::vec3 origin{0.0f};  // world position of the volume's minimum corner
+  float voxelSize = 1.0f;  // edge of one voxel, metres
+  int resolution = 1;      // voxels per axis
+
+  static VoxelSpace fromScene(const Scene& scene, int resolution);
+  float edge() const { return voxelSize * float(resolution); }
+  glm::vec3 toVoxel(const glm::vec3& world) const { return (world - origin) / voxelSize; }
+  void setUniforms(GLuint program) const;  // u_volumeOrigin, u_voxelSize, u_resolution
+};
+
+// The record layout of the VoxelFragment list (shaders/common/shared.h), for outputs.
+BufferLayout voxelFragmentLayout(const std::string& countResource);
+
+}  // namespace voxlab

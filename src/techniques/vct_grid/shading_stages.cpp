@@ -1,0 +1,210 @@
+// The screen-space stages of vct-grid: G-buffer, cone tracing and compositing.
+#include <cmath>
+#include <vector>
+
+#include "common/shared.h"
+#include "gpu/shader_library.h"
+#include "scene/gpu_scene.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/vct_grid/cone_layout.h"
+#include "techniques/vct_grid/stages.h"
+
+namespace voxlab::vct {
+
+static constexpr float kDegrees = 3.14159265358979f / 180.0f;
+
+static TextureDesc screenDesc(const ViewState& view, GLenum format) {
+  TextureDesc d;
+  d.format = format;
+  d.size = {view.width, view.height, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+// --- G-buffer ------------------------------------------------------------------------------------
+
+void GBufferStage::declare(StageBuilder& b) const {
+  b.readView();
+  b.output("position", OutputKind::Image2D, Semantic::Scalar, "world position of the visible surface (xyz), w = 1 where covered");
+  b.output("normal", OutputKind::Image2D, Semantic::Normal, "unit normal facing the camera");
+  b.output("albedo", OutputKind::Image2D, Semantic::Color, "Lambertian albedo (base colour)");
+  b.output("emission", OutputKind::Image2D, Semantic::RadianceHDR, "emitted radiance");
+  b.output("depth", OutputKind::Image2D, Semantic::Depth, "depth buffer (0 near, 1 far)");
+}
+
+void GBufferStage::execute(StageContext& ctx) {
+  Texture& position = ctx.board.ensureTexture("position", screenDesc(ctx.view, GL_RGBA32F));
+  Texture& normal = ctx.board.ensureTexture("normal", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& albedo = ctx.board.ensureTexture("albedo", screenDesc(ctx.view, GL_RGBA8));
+  Texture& emission = ctx.board.ensureTexture("emission", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& depth = ctx.board.ensureTexture("depth", screenDesc(ctx.view, GL_DEPTH_COMPONENT32F));
+  Framebuffer fb("gbuffer.fbo");
+  fb.attach(GL_COLOR_ATTACHMENT0, position);
+  fb.attach(GL_COLOR_ATTACHMENT1, normal);
+  fb.attach(GL_COLOR_ATTACHMENT2, albedo);
+  fb.attach(GL_COLOR_ATTACHMENT3, emission);
+  fb.attach(GL_DEPTH_ATTACHMENT, depth);
+  fb.setDrawBuffers(4);
+  fb.checkComplete();
+  const float zero[4] = {0, 0, 0, 0};
+  const float far = 1.0f;
+  for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(fb.id(), GL_COLOR, i, zero);
+  glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
+  GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "vct_grid/gbuffer.frag.glsl"});
+  setUniform(program, "u_viewProj", ctx.view.viewProjection());
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
+  glViewport(0, 0, ctx.view.width, ctx.view.height);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  ctx.gpuScene.draw(program);
+  glDisable(GL_DEPTH_TEST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// --- Cone tracing --------------------------------------------------------------------------------
+
+void ConeTraceStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
+  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
+  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
+                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
+  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
+                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
+  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
+                          "cones start this far from the surface along its normal (avoids self-occlusion)", "voxels"));
+  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
+  b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
+  b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
+                          "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
+  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
+                          "specular cone aperture = max(2, 90 * roughness) degrees"));
+  b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
+  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.readView();
+  b.read("radiance");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("light");
+  b.write("cone-samples.count");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones");
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
+           "cosine-weighted visible fraction within ao.range (1 = open)");
+  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the voxels (1 = lit)");
+  BufferLayout samples;
+  samples.stride = sizeof(gpu::ConeSample);
+  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
+                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
+                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
+  samples.countResource = "cone-samples.count";
+  b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
+           "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, cone/distance/lod/alpha")
+      .layout = samples;
+}
+
+void ConeTraceStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", screenDesc(ctx.view, GL_R16F));
+  Texture& shadow = ctx.board.ensureTexture("soft-shadow", screenDesc(ctx.view, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  const uint32_t zero = 0;
+  sampleCount.upload(&zero, 4);
+
+  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
+  auto cones = diffuseCones(ctx.params.getInt("cone.count"), aperture, ctx.params.getChoice("cone.layout"),
+                            ctx.params.getChoice("cone.weighting"));
+  std::vector<glm::vec4> packed;
+  for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
+
+  GLuint program = ctx.shaders.program({"vct_grid/cone_trace.comp.glsl"});
+  space.setUniforms(program);
+  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
+  setUniform(program, "u_coneCount", int(cones.size()));
+  setUniform(program, "u_diffuseAperture", aperture);
+  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
+  setUniform(program, "u_shadowAperture", ctx.params.getFloat("shadow.cone-aperture") * kDegrees);
+  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset") * space.voxelSize);
+  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_maxSteps", 512);
+  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * space.edge());
+  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * space.edge());
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  // probe.y counts from the top of the image; GL rows count from the bottom.
+  int probeX = std::min(int(ctx.params.getFloat("probe.x") * ctx.view.width), ctx.view.width - 1);
+  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * ctx.view.height), ctx.view.height - 1);
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+
+  glUseProgram(program);
+  glBindTextureUnit(0, ctx.board.texture("radiance").id());
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(3, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["probe_x"] = probeX;
+  ctx.stats["probe_y_from_top"] = ctx.view.height - 1 - probeY;
+}
+
+// --- Composite -----------------------------------------------------------------------------------
+
+void CompositeStage::declare(StageBuilder& b) const {
+  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
+  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
+  b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
+                          "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
+  b.param(ParamDesc::choice("composite.shadow", {"shadow-map", "soft-shadow-cone"}, 0,
+                            "visibility of direct light: the shadow map, or the soft-shadow cone"));
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("emission");
+  b.read("indirect-diffuse");
+  b.read("indirect-specular");
+  b.read("soft-shadow");
+  b.read("shadow-map");
+  b.read("light");
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission");
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance");
+  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+}
+
+void CompositeStage::execute(StageContext& ctx) {
+  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
+  GLuint program = ctx.shaders.program({"vct_grid/composite.comp.glsl"});
+  setUniform(program, "u_shadowSource", ctx.params.getInt("composite.shadow"));
+  setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
+  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
+  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  glUseProgram(program);
+  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular",
+                          "soft-shadow", "shadow-map"};
+  for (int i = 0; i < 8; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace voxlab::vct

@@ -1,0 +1,58 @@
+// vct-grid: voxel cone tracing on a dense 3D texture.
+//
+// Intro
+//   Global illumination by cone tracing (Crassin et al. 2011), in the simplest form: the scene is
+//   voxelized into a dense grid, the grid is lit by the direct light, prefiltered into mip levels,
+//   and every pixel gathers indirect light by marching a few wide cones through the mip levels.
+//
+// Overview (the stages, in order)
+//   1. voxelize       triangles -> voxel fragment list (dominant axis, conservative raster)
+//   2. shadow-map     depth from the light; the light's parameters as a uniform buffer
+//   3. inject         Lambert direct light + emission per fragment, averaged per voxel (RGBA8, CAS)
+//   4. occlusion-fix  alpha = 1 in every non-empty voxel
+//   5. mipmap         own compute pass per level: average of the 8 children (isotropic)
+//   6. gbuffer        position, normal, albedo, emission, depth from the camera
+//   7. cone-trace     diffuse cones (+AO), one specular cone, one soft-shadow cone per pixel
+//   8. composite      direct + indirect diffuse + specular, tonemapped; each term an output
+//
+// Details
+//   - Units: metres and the radiometric units of src/scene/light_model.h. The RGBA8 grid stores
+//     outgoing radiance clamped to [0,1]; the scenes in scenes/ keep injected radiance below 1.
+//   - Diffuse cone weights sum to 1 (cone_layout.h), so under uniform incoming radiance L the
+//     indirect diffuse term is exactly albedo * L: the white-furnace test in tests/ checks it.
+//     (The 0.707-style weights in seed 000 and the blog's unweighted sum do not sum to 1.)
+//   - Steps are half the sample diameter with opacity correction a' = 1 - (1 - a)^(step/diameter).
+//   - Cones start cone.start-offset voxels off the surface (default 1.75, about a voxel diagonal).
+//   - The voxelization geometry shader takes the plane normal from the triangle's positions (seed
+//     003's listing subtracts a normal from a position there: a typo we do not reproduce).
+//
+// References
+//   seed 000 (Gomes) section 2.1 (voxelization), 4.2.1 (VCT on a full grid); seed 003 (blog: the
+//   minimal dense-grid VCT with 6 diffuse cones and 1 specular cone); Crassin, Neyret, Sainz,
+//   Green, Eisemann, "Interactive Indirect Illumination Using Voxel Cone Tracing", 2011.
+#include "graph/technique.h"
+#include "techniques/common/shadow_map_stage.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/vct_grid/stages.h"
+
+namespace voxlab {
+
+static std::unique_ptr<Technique> makeVctGrid() {
+  auto t = std::make_unique<Technique>(
+      "vct-grid", "Voxel cone tracing on a dense grid",
+      "Voxelize, inject direct light, prefilter into mips, then gather indirect light with cones.");
+  t->add<VoxelizeStage>();
+  t->add<ShadowMapStage>();
+  t->add<vct::InjectStage>();
+  t->add<vct::OcclusionFixStage>();
+  t->add<vct::MipmapStage>();
+  t->add<vct::GBufferStage>();
+  t->add<vct::ConeTraceStage>();
+  t->add<vct::CompositeStage>();
+  t->setFinalOutput("composite", "final");
+  return t;
+}
+
+VOXLAB_REGISTER_TECHNIQUE("vct-grid", "Voxel cone tracing on a dense grid", makeVctGrid);
+
+}  // namespace voxlab
