@@ -1,14 +1,39 @@
 // Cone tracing through a prefiltered (mipmapped) voxel volume of premultiplied radiance and
 // opacity (Crassin et al. 2011). Along the cone the sample diameter grows as 2 t tan(aperture/2);
-// the mip level whose voxels match that diameter is sampled trilinearly; samples are composited
-// front to back. Steps are half the sample diameter (u_stepScale = 0.5), so each sample's
-// opacity is corrected to the distance actually stepped: a' = 1 - (1 - a)^(step / diameter).
+// the mip level lod = log2(diameter / voxel) + bias is sampled quadrilinearly (bias -1, the
+// default, makes the filter's full support, two texels, equal to the diameter, so a cone does
+// not see the surface it starts from); samples are composited front to back. Steps are half the
+// sample diameter (u_stepScale = 0.5); each sample's opacity, which belongs to a path one texel
+// long, is corrected to the distance actually stepped: a' = 1 - (1 - a)^(step / texel).
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 
-layout(binding = 0) uniform sampler3D u_radiance;
+layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; anisotropic: level 0
+// Anisotropic levels 1.. (their level 0 is level 1 of the hierarchy), one per travel direction.
+layout(binding = 8) uniform sampler3D u_dirPosX;
+layout(binding = 9) uniform sampler3D u_dirNegX;
+layout(binding = 10) uniform sampler3D u_dirPosY;
+layout(binding = 11) uniform sampler3D u_dirNegY;
+layout(binding = 12) uniform sampler3D u_dirPosZ;
+layout(binding = 13) uniform sampler3D u_dirNegZ;
+uniform int u_anisotropic;
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
+uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
+
+// The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod'. With
+// anisotropic mips, the three directional volumes facing the cone are blended with weights dir^2
+// (they sum to 1); between level 0 and 1 the isotropic voxels fade into the directional level.
+vec4 sampleVolume(vec3 uvw, float lod, vec3 dir) {
+  if (u_anisotropic == 0) return textureLod(u_radiance, uvw, lod);
+  vec3 w = dir * dir;
+  float l = max(lod - 1.0, 0.0);
+  vec4 sx = dir.x >= 0.0 ? textureLod(u_dirPosX, uvw, l) : textureLod(u_dirNegX, uvw, l);
+  vec4 sy = dir.y >= 0.0 ? textureLod(u_dirPosY, uvw, l) : textureLod(u_dirNegY, uvw, l);
+  vec4 sz = dir.z >= 0.0 ? textureLod(u_dirPosZ, uvw, l) : textureLod(u_dirNegZ, uvw, l);
+  vec4 a = w.x * sx + w.y * sy + w.z * sz;
+  return lod < 1.0 ? mix(textureLod(u_radiance, uvw, 0.0), a, lod) : a;
+}
 
 // Samples of the probed pixel's cones, for the viewer's cone inspector.
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
@@ -28,14 +53,19 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   bool marked = false;
   for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
     float diameter = max(2.0 * tanHalf * t, u_voxelSize);
-    float lod = log2(diameter / u_voxelSize);
+    float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
     vec3 p = origin + dir * t;
     vec3 uvw = worldToVolumeUV(p);
-    if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) break;
+    // Stop once the sample lies wholly outside the volume (edge texels are clamped, so a wall on
+    // the volume's boundary stays a wall for samples that straddle it).
+    float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
+    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) break;
     if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
-    vec4 s = textureLod(u_radiance, uvw, lod);
+    vec4 s = sampleVolume(uvw, lod, dir);
     float stepLength = diameter * u_stepScale;
-    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / diameter);
+    // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
+    float texelSize = u_voxelSize * exp2(lod);
+    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
     vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
     r.radiance += (1.0 - r.opacity) * c;
     r.opacity += (1.0 - r.opacity) * a;

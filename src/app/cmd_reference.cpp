@@ -56,12 +56,13 @@ int runReference(const std::vector<std::string>& argv) {
              {"--camera", true, false, "camera name (default: the scene's first camera)"},
              {"--size", true, false, "image size WxH (default 512x512)"},
              {"--spp", true, false, "samples per pixel, 1..1000000"},
-             {"--mode", true, false, "full, direct, one-bounce, indirect or ao (default full)"},
+             {"--mode", true, false, "full, direct, one-bounce, indirect, indirect-1 or ao (default full)"},
              {"--ao-radius", true, false, "ao mode: maximum occluder distance (default inf)"},
              {"--threads", true, false, "worker threads (default: $VOXLAB_THREADS or all cores)"},
              {"--seed", true, false, "random sequence, 0..2^31-1 (default 0)"},
              {"--jitter", false, false, "jitter rays within each pixel instead of the centre"},
              {"--no-stderr", false, false, "do not write FILE.stderr.exr"},
+             {"--half", false, false, "store half floats (16-bit) in the EXR files instead of 32-bit floats"},
              {"--quiet", false, false, "no progress output"},
              {"--out", true, false, "output EXR file"}});
   std::string sceneArg = args.require("--scene");
@@ -101,16 +102,37 @@ int runReference(const std::vector<std::string>& argv) {
   reference::Image img = tracer.render(st, &stats);
 
   std::string camName = scene.cameras[size_t(st.cameraIndex)].name;
+  // Mean of the per-pixel standard error over every pixel and channel: the noise level of the
+  // image in one number (the comparison tolerances are set well above it).
+  // The RMS is what adds (in quadrature) to an RMSE measured against this image.
+  double meanStdErr = 0.0, msStdErr = 0.0;
+  for (float v : img.stdErr) {
+    meanStdErr += double(v);
+    msStdErr += double(v) * double(v);
+  }
+  if (!img.stdErr.empty()) {
+    meanStdErr /= double(img.stdErr.size());
+    msStdErr /= double(img.stdErr.size());
+  }
+  char meanBuf[32], rmsBuf[32];
+  std::snprintf(meanBuf, sizeof meanBuf, "%.6g", meanStdErr);
+  std::snprintf(rmsBuf, sizeof rmsBuf, "%.6g", std::sqrt(msStdErr));
   reference::ImageAttributes attrs = {
       {"voxlab:spp", std::to_string(st.spp), true},
       {"voxlab:mode", reference::modeName(st.mode), false},
       {"voxlab:scene", scene.name, false},
       {"voxlab:camera", camName, false},
+      {"voxlab:camera_index", std::to_string(st.cameraIndex), true},
       {"voxlab:seed", std::to_string(st.seed), true},
       {"voxlab:pixel_filter", st.pixelJitter ? "box (jittered)" : "centre", false}};
   if (st.mode == reference::Mode::AO)
     attrs.push_back({"voxlab:ao_radius", std::isinf(st.aoRadius) ? "inf" : std::to_string(st.aoRadius), false});
-  reference::writeExr(out, img, attrs);
+  if (st.computeStdErr && st.spp > 1) {
+    attrs.push_back({"voxlab:mean_stderr", meanBuf, false});
+    attrs.push_back({"voxlab:rms_stderr", rmsBuf, false});
+  }
+  const bool half = args.has("--half");
+  reference::writeExr(out, img, attrs, half);
   std::string errPath;
   if (st.computeStdErr) {
     reference::Image se(img.width, img.height);
@@ -118,11 +140,13 @@ int runReference(const std::vector<std::string>& argv) {
     auto seAttrs = attrs;
     seAttrs.push_back({"voxlab:content", "standard error of the mean per pixel", false});
     errPath = reference::stdErrPathFor(out);
-    reference::writeExr(errPath, se, seAttrs);
+    reference::writeExr(errPath, se, seAttrs, half);
   }
   std::printf("wrote %s (%dx%d, %d spp, mode %s, camera '%s')%s%s\n", out.c_str(), img.width,
               img.height, st.spp, reference::modeName(st.mode).c_str(), camName.c_str(),
               errPath.empty() ? "" : " and ", errPath.c_str());
+  if (st.computeStdErr && st.spp > 1)
+    std::printf("standard error over every pixel and channel: mean %s, rms %s\n", meanBuf, rmsBuf);
   std::printf("%.2f s on %d threads, %.3g rays, %.2f Mrays/s, %.3f s per spp\n", stats.seconds,
               stats.threads, double(stats.rays), stats.raysPerSecond() / 1e6, stats.seconds / st.spp);
   return 0;
@@ -132,8 +156,8 @@ int runReference(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("reference",
                          "voxlab reference --scene S [--camera NAME] [--size WxH] --spp N "
-                         "[--mode full|direct|one-bounce|indirect|ao] [--ao-radius R] [--threads N] "
-                         "[--seed N] [--jitter] [--no-stderr] [--quiet] --out FILE.exr",
+                         "[--mode full|direct|one-bounce|indirect|indirect-1|ao] [--ao-radius R] [--threads N] "
+                         "[--seed N] [--jitter] [--no-stderr] [--half] [--quiet] --out FILE.exr",
                          "render a ground-truth image with the CPU reference path tracer (Embree)",
                          &runReference);
 

@@ -168,23 +168,25 @@ VertexArray::VertexArray() {
 // --- Timer ---------------------------------------------------------------------------------------
 
 GpuTimer::GpuTimer() {
-  GLuint id = 0;
-  glCreateQueries(GL_TIME_ELAPSED, 1, &id);
-  query_ = GLHandle<QueryDeleter>(id);
+  GLuint ids[2] = {0, 0};
+  glCreateQueries(GL_TIMESTAMP, 2, ids);
+  start_ = GLHandle<QueryDeleter>(ids[0]);
+  stop_ = GLHandle<QueryDeleter>(ids[1]);
 }
 
-void GpuTimer::begin() { glBeginQuery(GL_TIME_ELAPSED, query_.id()); }
+void GpuTimer::begin() { glQueryCounter(start_.id(), GL_TIMESTAMP); }
 
 void GpuTimer::end() {
-  glEndQuery(GL_TIME_ELAPSED);
+  glQueryCounter(stop_.id(), GL_TIMESTAMP);
   pending_ = true;
 }
 
 double GpuTimer::milliseconds() {
   if (pending_) {
-    GLuint64 ns = 0;
-    glGetQueryObjectui64v(query_.id(), GL_QUERY_RESULT, &ns);
-    last_ = double(ns) * 1e-6;
+    GLuint64 t0 = 0, t1 = 0;
+    glGetQueryObjectui64v(start_.id(), GL_QUERY_RESULT, &t0);
+    glGetQueryObjectui64v(stop_.id(), GL_QUERY_RESULT, &t1);
+    last_ = t1 > t0 ? double(t1 - t0) * 1e-6 : 0.0;
     pending_ = false;
   }
   return last_;

@@ -124,7 +124,8 @@ class VertexArray {
   GLHandle<VertexArrayDeleter> handle_;
 };
 
-// Measures one span of GPU work (GL_TIME_ELAPSED) without stalling until the result is asked for.
+// Measures one span of GPU work with two GL_TIMESTAMP queries (robust where GL_TIME_ELAPSED
+// spans a synchronising readback), without stalling until the result is asked for.
 class GpuTimer {
  public:
   GpuTimer();
@@ -133,7 +134,7 @@ class GpuTimer {
   double milliseconds();  // waits for the result
 
  private:
-  GLHandle<QueryDeleter> query_;
+  GLHandle<QueryDeleter> start_, stop_;
   bool pending_ = false;
   double last_ = 0.0;
 };

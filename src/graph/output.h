@@ -65,6 +65,11 @@ struct OutputDesc {
   BufferLayout layout;   // Buffer kind only
   CaptureTier tier = CaptureTier::Tolerance;
   int channel = -1;      // show only this channel (e.g. 3 = alpha); -1 = all
+  // "" none; else the reference path tracer mode this output approximates ("full", "direct",
+  // "indirect", "indirect-1", ... see reference/path_tracer.h). `voxlab run` compares an Image2D
+  // output in linear radiance with tests/golden/reference/<scene>/<mode>.exr when one exists for
+  // the same scene, camera and size (app/reference_error.h).
+  std::string referenceMode;
 
   const std::string& resourceName() const { return resource.empty() ? name : resource; }
 };

@@ -37,7 +37,8 @@ std::string stdErrPathFor(const std::string& path) {
   return stem + ".stderr" + (ext.empty() ? std::string(".exr") : path.substr(path.size() - ext.size()));
 }
 
-void writeImage(const std::string& path, const Image& img, const ImageAttributes& attributes) {
+void writeImage(const std::string& path, const Image& img, const ImageAttributes& attributes,
+                bool halfFloat) {
   if (img.width <= 0 || img.height <= 0 || img.rgb.size() != img.pixelCount() * 3)
     throw Error("cannot write '" + path + "': image has no pixels or a wrong pixel count");
   std::string ext = lowerExtension(path);
@@ -49,7 +50,10 @@ void writeImage(const std::string& path, const Image& img, const ImageAttributes
   if (!out)
     throw Error("cannot write '" + path + "': no image writer for extension '" + ext +
                 "' (use .exr or .png)");
-  OIIO::ImageSpec spec(img.width, img.height, 3, floatFile ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  OIIO::TypeDesc fileType = !floatFile                    ? OIIO::TypeDesc::UINT8
+                            : halfFloat && ext == ".exr" ? OIIO::TypeDesc::HALF
+                                                         : OIIO::TypeDesc::FLOAT;
+  OIIO::ImageSpec spec(img.width, img.height, 3, fileType);
   spec.channelnames = {"R", "G", "B"};
   for (const auto& a : attributes) {
     if (a.isInt)
@@ -74,10 +78,11 @@ void writeImage(const std::string& path, const Image& img, const ImageAttributes
   if (!out->close()) throw Error("cannot write '" + path + "': " + out->geterror());
 }
 
-void writeExr(const std::string& path, const Image& img, const ImageAttributes& attributes) {
+void writeExr(const std::string& path, const Image& img, const ImageAttributes& attributes,
+              bool halfFloat) {
   if (lowerExtension(path) != ".exr")
     throw Error("'" + path + "' does not end in .exr; the reference image is written as EXR");
-  writeImage(path, img, attributes);
+  writeImage(path, img, attributes, halfFloat);
 }
 
 Image readImage(const std::string& path, ImageAttributes* attributes) {

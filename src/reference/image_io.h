@@ -19,10 +19,13 @@ using ImageAttributes = std::vector<ImageAttribute>;
 
 // Writes img.rgb as 3-channel float (half-free, full 32-bit) EXR, or as 8-bit sRGB-encoded data
 // when the extension is .png/.jpg (values clamped to [0,1] and encoded with the sRGB curve).
-// Throws voxlab::Error naming the path when the file cannot be written.
-void writeImage(const std::string& path, const Image& img, const ImageAttributes& attributes = {});
+// Throws voxlab::Error naming the path when the file cannot be written. halfFloat: EXR pixels as
+// 16-bit half floats (relative rounding error <= 2^-11, range up to 65504) instead of 32-bit float.
+void writeImage(const std::string& path, const Image& img, const ImageAttributes& attributes = {},
+                bool halfFloat = false);
 // Writes an EXR; the same as writeImage but insists on a .exr extension.
-void writeExr(const std::string& path, const Image& img, const ImageAttributes& attributes = {});
+void writeExr(const std::string& path, const Image& img, const ImageAttributes& attributes = {},
+              bool halfFloat = false);
 
 // Reads the first three channels of the first subimage as float (a one-channel file is copied to
 // all three). 8-bit files are returned as stored (0..1, not linearised). Attributes that start

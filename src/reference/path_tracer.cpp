@@ -123,6 +123,7 @@ Range reflectionRange(Mode mode) {
     case Mode::Direct: return {0, 1};
     case Mode::OneBounce: return {0, 2};
     case Mode::Indirect: return {2, INT_MAX};
+    case Mode::IndirectOne: return {2, 2};
     default: return {0, INT_MAX};
   }
 }
@@ -136,13 +137,14 @@ std::string modeName(Mode mode) {
     case Mode::Direct: return "direct";
     case Mode::OneBounce: return "one-bounce";
     case Mode::Indirect: return "indirect";
+    case Mode::IndirectOne: return "indirect-1";
     case Mode::AO: return "ao";
   }
   return "?";
 }
-std::vector<std::string> modeNames() { return {"full", "direct", "one-bounce", "indirect", "ao"}; }
+std::vector<std::string> modeNames() { return {"full", "direct", "one-bounce", "indirect", "indirect-1", "ao"}; }
 Mode parseMode(const std::string& name) {
-  for (Mode m : {Mode::Full, Mode::Direct, Mode::OneBounce, Mode::Indirect, Mode::AO})
+  for (Mode m : {Mode::Full, Mode::Direct, Mode::OneBounce, Mode::Indirect, Mode::IndirectOne, Mode::AO})
     if (modeName(m) == name) return m;
   throw Error("unknown mode '" + name + "'; valid modes: " + joinNames(modeNames()));
 }

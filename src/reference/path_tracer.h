@@ -11,6 +11,9 @@
 //   direct      r in {0, 1}      -> furnace Le (1 + rho)
 //   one-bounce  r in {0, 1, 2}   -> furnace Le (1 + rho + rho^2)
 //   indirect    r >= 2           -> furnace Le rho^2 / (1 - rho)   (= full - direct)
+//   indirect-1  r == 2           -> furnace Le rho^2                (= one-bounce - direct): exactly
+//               one indirect bounce, what a single-bounce GI technique (e.g. vct-grid's
+//               indirect-diffuse: one diffuse gather of the direct-lit voxels) approximates
 //   full        r >= 0           -> furnace Le / (1 - rho)
 //   ao          cosine-weighted visible fraction V at the first hit, rays up to aoRadius long
 //
@@ -40,9 +43,9 @@
 
 namespace voxlab::reference {
 
-enum class Mode { Full, Direct, OneBounce, Indirect, AO };
+enum class Mode { Full, Direct, OneBounce, Indirect, AO, IndirectOne };
 
-std::string modeName(Mode mode);               // "full", "direct", "one-bounce", "indirect", "ao"
+std::string modeName(Mode mode);  // "full", "direct", "one-bounce", "indirect", "indirect-1", "ao"
 std::vector<std::string> modeNames();
 Mode parseMode(const std::string& name);       // throws voxlab::Error listing the valid modes
 

@@ -331,6 +331,30 @@ TEST(SceneLoader, LoadsGlb) {
   EXPECT_EQ(s.name, "tri");
 }
 
+TEST(SceneLoader, TexturesAndEmissiveStrength) {
+  // A 2x1 RGB PNG (red, green) as base colour texture; emissive (0.5,0.25,0) x strength 4.
+  const std::string png = "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAIAAAB7QOjdAAAAD0lEQVR42mP4z8DA8J8BAAf/Af+4BDXgAAAAAElFTkSuQmCC";
+  std::string extra =
+      ",\"materials\":[{\"name\":\"tex\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,1,1,1],"
+      "\"baseColorTexture\":{\"index\":0}},\"emissiveFactor\":[0.5,0.25,0],"
+      "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":4}}}]"
+      ",\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"data:image/png;base64," + png + "\"}]"
+      ",\"extensionsUsed\":[\"KHR_materials_emissive_strength\"]"
+      ",\"extensionsRequired\":[\"KHR_materials_emissive_strength\"]";
+  std::string text = primitiveGltf(kTriangle, {0, 1, 2}, 5123, "[{\"mesh\":0}]", "[0]", extra);
+  // Give the primitive its material.
+  text.replace(text.find("\"indices\":1}"), 12, "\"indices\":1,\"material\":0}");
+  TempDir dir;
+  Scene s = loadScene(dir.write("tex.gltf", text));
+  ASSERT_EQ(s.materials.size(), 1u);
+  ASSERT_EQ(s.materials[0].baseColorTexture, 0);
+  expectNear(s.materials[0].emissive, glm::vec3(2.0f, 1.0f, 0.0f));
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].width, 2);
+  EXPECT_EQ(s.textures[0].height, 1);
+  EXPECT_EQ(s.textures[0].rgba8, (std::vector<uint8_t>{255, 0, 0, 255, 0, 255, 0, 255}));
+}
+
 TEST(SceneLoader, ComputedNormalsFollowWinding) {
   TempDir dir;
   Scene s = loadScene(dir.write("n.gltf", primitiveGltf(kTriangle, {0, 1, 2}, 5123, "[{\"mesh\":0}]", "[0]")));

@@ -1,5 +1,7 @@
 // Light injection and the occlusion fix (seed 000 section 4.2.1).
+#include <algorithm>
 #include <cstring>
+#include <string>
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
@@ -17,6 +19,15 @@ static TextureDesc radianceGridDesc(int res, int levels) {
   d.levels = levels;
   d.minFilter = levels == 1 ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
   return d;
+}
+
+// Number of valid records in the voxel fragment list.
+static uint32_t fragmentCount(StageContext& ctx) {
+  uint32_t count = 0;
+  auto bytes = ctx.board.buffer("fragments.count").download(4);
+  std::memcpy(&count, bytes.data(), 4);
+  uint32_t capacity = uint32_t(ctx.board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
+  return std::min(count, capacity);
 }
 
 void InjectStage::declare(StageBuilder& b) const {
@@ -46,11 +57,7 @@ void InjectStage::execute(StageContext& ctx) {
   glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
   glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
 
-  uint32_t count = 0;
-  auto bytes = ctx.board.buffer("fragments.count").download(4);
-  std::memcpy(&count, bytes.data(), 4);
-  uint32_t capacity = uint32_t(ctx.board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
-  count = std::min(count, capacity);
+  uint32_t count = fragmentCount(ctx);
 
   GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"});
   space.setUniforms(program);
@@ -72,6 +79,8 @@ void InjectStage::execute(StageContext& ctx) {
 void OcclusionFixStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("radiance-injected");
+  b.read("fragments");
+  b.read("fragments.count");
   b.output("radiance-opaque", OutputKind::Volume3D, Semantic::Color,
            "radiance per voxel with alpha 1 in every occupied voxel");
 }
@@ -80,21 +89,41 @@ void OcclusionFixStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   Texture& src = ctx.board.texture("radiance-injected");
   Texture& dst = ctx.board.ensureTexture("radiance-opaque", radianceGridDesc(res, 1));
+  const uint8_t zero[4] = {0, 0, 0, 0};
+  glClearTexImage(dst.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  // Only voxels that received fragments can be non-empty: visit those instead of the whole grid.
+  uint32_t count = fragmentCount(ctx);
   GLuint program = ctx.shaders.program({"vct_grid/occlusion_fix.comp.glsl"});
+  setUniform(program, "u_fragmentCount", unsigned(count));
   glUseProgram(program);
   glBindTextureUnit(0, src.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindImageTexture(0, dst.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  dispatchCompute({res, res, res}, {4, 4, 4});
+  dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+const char* const kDirectionalVolumes[6] = {"radiance-dir+x", "radiance-dir-x", "radiance-dir+y",
+                                           "radiance-dir-y", "radiance-dir+z", "radiance-dir-z"};
+
+ParamDesc mipmapModeParam() {
+  return ParamDesc::choice("mipmap.mode", {"isotropic", "anisotropic"}, 0,
+                           "isotropic: one average per 2x2x2 block; anisotropic: six volumes, one per travel direction, "
+                           "compositing front to back before averaging (Crassin et al.)");
 }
 
 void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(mipmapModeParam());
   b.read("radiance-opaque");
   b.output("radiance", OutputKind::Volume3D, Semantic::Color,
            "the prefiltered radiance grid: level 0 = the voxels, each further level averages 2x2x2");
   b.output("opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the prefiltered grid per level")
       .resource = "radiance";
+  for (const char* name : kDirectionalVolumes)
+    b.output(name, OutputKind::Volume3D, Semantic::Color,
+             std::string("anisotropic levels 1.. as seen by a cone travelling along ") + (name + 13) +
+                 " (one voxel, empty, when mipmap.mode is isotropic)");
 }
 
 void MipmapStage::execute(StageContext& ctx) {
@@ -113,7 +142,35 @@ void MipmapStage::execute(StageContext& ctx) {
   }
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
   ctx.stats["levels"] = grid.levels();
-  ctx.stats["bytes"] = double(grid.byteSize());
+  double bytes = double(grid.byteSize());
+
+  // Anisotropic volumes: level 0 of each is level 1 of the hierarchy. In isotropic mode they are
+  // one empty voxel each, so the outputs exist but cost nothing.
+  const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
+  const int half = anisotropic ? std::max(res / 2, 1) : 1;
+  Texture* dirs[6];
+  for (int d = 0; d < 6; ++d) {
+    dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0));
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    if (!anisotropic) glClearTexImage(dirs[d]->id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    bytes += double(dirs[d]->byteSize());
+  }
+  if (anisotropic) {
+    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"});
+    glUseProgram(aniso);
+    glBindTextureUnit(0, src.id());
+    for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
+    for (int level = 0; level < dirs[0]->levels(); ++level) {
+      setUniform(aniso, "u_fromIsotropic", level == 0 ? 1 : 0);
+      setUniform(aniso, "u_sourceLevel", std::max(level - 1, 0));
+      for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), level, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+      dispatchCompute(dirs[0]->levelSize(level), {4, 4, 4});
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+  }
+  ctx.stats["anisotropic"] = anisotropic ? 1 : 0;
+  ctx.stats["bytes"] = bytes;
 }
 
 }  // namespace voxlab::vct

@@ -76,6 +76,8 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
                           "cones start this far from the surface along its normal (avoids self-occlusion)", "voxels"));
   b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
+  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
+                          "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
   b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
   b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
                           "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
@@ -84,8 +86,10 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.param(mipmapModeParam());
   b.readView();
   b.read("radiance");
+  for (const char* name : kDirectionalVolumes) b.read(name);
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -135,6 +139,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_shadowAperture", ctx.params.getFloat("shadow.cone-aperture") * kDegrees);
   setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset") * space.voxelSize);
   setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
   setUniform(program, "u_maxSteps", 512);
   setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * space.edge());
   setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * space.edge());
@@ -144,8 +149,10 @@ void ConeTraceStage::execute(StageContext& ctx) {
   int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * ctx.view.height), ctx.view.height - 1);
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
 
+  setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("radiance").id());
+  for (int d = 0; d < 6; ++d) glBindTextureUnit(8 + d, ctx.board.texture(kDirectionalVolumes[d]).id());
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
   glBindTextureUnit(3, ctx.board.texture("albedo").id());

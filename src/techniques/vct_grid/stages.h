@@ -4,6 +4,10 @@
 
 namespace voxlab::vct {
 
+// Names of the six anisotropic volumes (+x -x +y -y +z -z) and the parameter that enables them.
+extern const char* const kDirectionalVolumes[6];
+ParamDesc mipmapModeParam();
+
 class InjectStage : public Stage {
  public:
   const char* id() const override { return "inject"; }

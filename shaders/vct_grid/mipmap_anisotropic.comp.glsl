@@ -1,0 +1,71 @@
+#version 450
+// Anisotropic mipmapping (Crassin et al. 2011): six prefiltered volumes, one per direction a cone
+// can travel (+x, -x, +y, -y, +z, -z). For direction +x, each pair of children along x is first
+// composited front to back (the child with the smaller x in front: c = c0 + (1 - a0) c1,
+// a = a0 + (1 - a0) a1), then the four composited columns are averaged. A one-voxel wall seen
+// face-on therefore stays opaque at every level, where the isotropic average halves its opacity
+// per level.
+// Level 1 of the hierarchy is built from the isotropic level-0 voxels; higher levels from the
+// direction's own previous level.
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(binding = 0) uniform sampler3D u_isotropic;  // level 0 voxels
+// The directional volumes, read at u_sourceLevel (+x -x +y -y +z -z).
+layout(binding = 1) uniform sampler3D u_dir0;
+layout(binding = 2) uniform sampler3D u_dir1;
+layout(binding = 3) uniform sampler3D u_dir2;
+layout(binding = 4) uniform sampler3D u_dir3;
+layout(binding = 5) uniform sampler3D u_dir4;
+layout(binding = 6) uniform sampler3D u_dir5;
+layout(rgba8, binding = 0) uniform writeonly image3D u_target0;
+layout(rgba8, binding = 1) uniform writeonly image3D u_target1;
+layout(rgba8, binding = 2) uniform writeonly image3D u_target2;
+layout(rgba8, binding = 3) uniform writeonly image3D u_target3;
+layout(rgba8, binding = 4) uniform writeonly image3D u_target4;
+layout(rgba8, binding = 5) uniform writeonly image3D u_target5;
+uniform int u_fromIsotropic;
+uniform int u_sourceLevel;
+
+vec4 child(int direction, ivec3 v) {
+  if (u_fromIsotropic != 0) return texelFetch(u_isotropic, v, 0);
+  switch (direction) {
+    case 0: return texelFetch(u_dir0, v, u_sourceLevel);
+    case 1: return texelFetch(u_dir1, v, u_sourceLevel);
+    case 2: return texelFetch(u_dir2, v, u_sourceLevel);
+    case 3: return texelFetch(u_dir3, v, u_sourceLevel);
+    case 4: return texelFetch(u_dir4, v, u_sourceLevel);
+    default: return texelFetch(u_dir5, v, u_sourceLevel);
+  }
+}
+
+vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
+
+// Direction d = 2 * axis + (0 for +, 1 for -).
+vec4 reduce(int d, ivec3 base) {
+  int axis = d >> 1;
+  bool negative = (d & 1) == 1;
+  vec4 sum = vec4(0.0);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      ivec3 lo = base, hi = base;
+      // (i, j) index the two axes other than 'axis'.
+      int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+      lo[a1] += i; lo[a2] += j;
+      hi = lo;
+      hi[axis] += 1;
+      vec4 near = child(d, negative ? hi : lo), far = child(d, negative ? lo : hi);
+      sum += over(near, far);
+    }
+  return sum * 0.25;
+}
+
+void main() {
+  ivec3 v = ivec3(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(v, imageSize(u_target0)))) return;
+  ivec3 base = 2 * v;
+  imageStore(u_target0, v, reduce(0, base));
+  imageStore(u_target1, v, reduce(1, base));
+  imageStore(u_target2, v, reduce(2, base));
+  imageStore(u_target3, v, reduce(3, base));
+  imageStore(u_target4, v, reduce(4, base));
+  imageStore(u_target5, v, reduce(5, base));
+}

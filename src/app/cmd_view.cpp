@@ -1,0 +1,42 @@
+// voxlab view: the interactive viewer (GLFW + ImGui); with --script it replays actions for tests.
+#include <cstdio>
+
+#include "app/command.h"
+#include "core/args.h"
+#include "inspect/inspect_logic.h"
+#include "inspect/viewer.h"
+
+namespace voxlab {
+namespace {
+
+int runView(const std::vector<std::string>& argv) {
+  for (const auto& a : argv)
+    if (a == "--script-help") {
+      std::printf("script actions, one per line ('#' comments, ${ENV} substituted):\n%s", scriptVerbsHelp().c_str());
+      return 0;
+    }
+  Args args("view", argv,
+            {{"--technique", true, false, "technique id (default vct-grid)"},
+             {"--scene", true, false, "scene name in scenes/ or a glTF path (default cornell-box)"},
+             {"--lesson", true, false, "lesson Markdown file to play"},
+             {"--script", true, false, "replay actions from FILE and quit (voxlab view --script-help)"},
+             {"--size", true, false, "render size WIDTHxHEIGHT (default 512x512)"},
+             {"--window", true, false, "window size WIDTHxHEIGHT (default 1280x720)"}});
+  ViewerOptions o;
+  o.technique = args.get("--technique", o.technique);
+  o.scene = args.get("--scene", o.scene);
+  o.lesson = args.get("--lesson");
+  o.script = args.get("--script");
+  if (args.has("--size")) Args::parseSize(args.get("--size"), o.width, o.height);
+  if (args.has("--window")) Args::parseSize(args.get("--window"), o.windowWidth, o.windowHeight);
+  return runViewer(o);
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_COMMAND("view",
+                        "voxlab view [--technique T] [--scene S] [--lesson FILE] [--script FILE] [--size WxH] "
+                        "[--window WxH]",
+                        "open the viewer: step through stages, inspect outputs, probe cones, play lessons", &runView);
+
+}  // namespace voxlab

@@ -1,0 +1,303 @@
+#include "inspect/inspect_logic.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+#include "common/shared.h"
+
+namespace voxlab {
+
+// --- Display mapping -----------------------------------------------------------------------------
+
+namespace {
+
+uint8_t unit8(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+float toSrgb(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+// Dark blue -> teal -> green -> yellow ramp for normalised scalars (voxlab viewer's own stops).
+void ramp(float t, uint8_t* rgb) {
+  static const float stops[4][3] = {{0.05f, 0.03f, 0.25f}, {0.10f, 0.45f, 0.55f}, {0.35f, 0.75f, 0.30f},
+                                    {0.98f, 0.92f, 0.25f}};
+  t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) * 3.0f : 0.0f;
+  int i = std::min(int(t), 2);
+  float f = t - float(i);
+  for (int c = 0; c < 3; ++c) rgb[c] = unit8(stops[i][c] * (1 - f) + stops[i + 1][c] * f);
+}
+
+}  // namespace
+
+glm::ivec2 sliceExtent(const LevelData& d, const SliceSpec& s) {
+  switch (s.axis) {
+    case 0: return {d.size.z, d.size.y};
+    case 1: return {d.size.x, d.size.z};
+    default: return {d.size.x, d.size.y};
+  }
+}
+
+glm::ivec3 sliceTexel(const LevelData& d, const SliceSpec& s, int px, int py) {
+  int axisSize = s.axis == 0 ? d.size.x : s.axis == 1 ? d.size.y : d.size.z;
+  int index = std::clamp(s.index, 0, std::max(axisSize - 1, 0));
+  switch (s.axis) {
+    case 0: return {index, d.size.y - 1 - py, px};
+    case 1: return {px, index, d.size.z - 1 - py};
+    default: return {px, d.size.y - 1 - py, index};
+  }
+}
+
+SliceImage mapSlice(const LevelData& d, Semantic semantic, const SliceSpec& s, const DisplaySettings& ds) {
+  SliceImage img;
+  glm::ivec2 e = sliceExtent(d, s);
+  img.width = e.x;
+  img.height = e.y;
+  img.rgba.assign(size_t(e.x) * e.y * 4, 255);
+  if (d.values.empty() || d.channels == 0) return img;
+  int ch = ds.channel >= d.channels ? d.channels - 1 : ds.channel;
+  // Scalars are normalised over the whole level so that moving the slice keeps the scale.
+  bool normalise = semantic == Semantic::Depth || semantic == Semantic::Scalar;
+  float lo = 1e30f, hi = -1e30f;
+  if (normalise) {
+    int c = std::max(ch, 0);
+    for (size_t t = 0; t < d.texelCount(); ++t) {
+      float v = d.values[t * d.channels + c];
+      if (std::isfinite(v)) { lo = std::min(lo, v); hi = std::max(hi, v); }
+    }
+  }
+  float x = ds.exposure;
+  for (int py = 0; py < e.y; ++py)
+    for (int px = 0; px < e.x; ++px) {
+      glm::ivec3 t = sliceTexel(d, s, px, py);
+      const float* v = &d.values[((size_t(t.z) * d.size.y + t.y) * d.size.x + t.x) * d.channels];
+      uint8_t* o = &img.rgba[(size_t(py) * e.x + px) * 4];
+      auto c = [&](int k) { return k < d.channels ? v[k] : v[0]; };
+      if (ch >= 0) {
+        uint8_t g = normalise ? unit8(hi > lo ? (v[ch] - lo) / (hi - lo) : 0.0f) : unit8(v[ch] * x);
+        o[0] = o[1] = o[2] = g;
+        continue;
+      }
+      switch (semantic) {
+        case Semantic::Color:
+          for (int k = 0; k < 3; ++k) o[k] = unit8(toSrgb(c(k) * x));
+          break;
+        case Semantic::RadianceHDR:
+          for (int k = 0; k < 3; ++k) {
+            float y = c(k) * x;
+            o[k] = unit8(toSrgb(y / (1.0f + y)));
+          }
+          break;
+        case Semantic::Normal: {
+          bool zero = c(0) == 0 && c(1) == 0 && c(2) == 0;
+          for (int k = 0; k < 3; ++k) o[k] = zero ? 0 : unit8(c(k) * 0.5f + 0.5f);
+          break;
+        }
+        case Semantic::Occupancy: {
+          bool any = false;
+          for (int k = 0; k < d.channels; ++k) any = any || v[k] != 0.0f;
+          o[0] = o[1] = o[2] = any ? 255 : 0;
+          break;
+        }
+        case Semantic::Opacity:
+          o[0] = o[1] = o[2] = unit8((d.channels == 4 ? v[3] : v[0]) * x);
+          break;
+        case Semantic::Fraction:
+          o[0] = o[1] = o[2] = unit8(v[0] * x);
+          break;
+        default:
+          ramp(hi > lo ? (v[0] - lo) / (hi - lo) : 0.0f, o);
+      }
+    }
+  return img;
+}
+
+// --- Cone samples ----------------------------------------------------------------------------------
+
+std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out) {
+  std::vector<ConeSeries> cones;
+  uint32_t stride = out.desc.layout.stride ? out.desc.layout.stride : uint32_t(sizeof(gpu::ConeSample));
+  if (stride < sizeof(gpu::ConeSample)) return cones;
+  std::map<int, size_t> index;
+  for (uint32_t r = 0; r < out.recordCount && size_t(r + 1) * stride <= out.records.size(); ++r) {
+    gpu::ConeSample s;
+    std::memcpy(&s, &out.records[size_t(r) * stride], sizeof s);
+    int cone = int(s.info.x);
+    auto it = index.find(cone);
+    if (it == index.end()) {
+      it = index.emplace(cone, cones.size()).first;
+      cones.push_back({});
+      cones.back().cone = cone;
+    }
+    ConeSeries& c = cones[it->second];
+    c.distance.push_back(s.info.y);
+    c.lod.push_back(s.info.z);
+    c.sampleAlpha.push_back(s.info.w);
+    c.diameter.push_back(s.position.w);
+    c.opacity.push_back(s.accumulated.w);
+    c.luminance.push_back(0.2126f * s.accumulated.x + 0.7152f * s.accumulated.y + 0.0722f * s.accumulated.z);
+  }
+  // Records are appended by parallel invocations; order each cone by distance along it.
+  for (auto& c : cones) {
+    std::vector<size_t> order(c.distance.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return c.distance[a] < c.distance[b]; });
+    auto perm = [&](std::vector<float>& v) {
+      std::vector<float> r(v.size());
+      for (size_t i = 0; i < order.size(); ++i) r[i] = v[order[i]];
+      v.swap(r);
+    };
+    perm(c.distance), perm(c.lod), perm(c.opacity), perm(c.luminance), perm(c.diameter), perm(c.sampleAlpha);
+  }
+  std::sort(cones.begin(), cones.end(), [](const ConeSeries& a, const ConeSeries& b) { return a.cone < b.cone; });
+  return cones;
+}
+
+std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones) {
+  for (const auto& c : cones)
+    for (size_t i = 1; i < c.opacity.size(); ++i)
+      if (c.opacity[i] < c.opacity[i - 1]) {
+        std::ostringstream o;
+        o << "cone " << c.cone << ": accumulated opacity falls from " << c.opacity[i - 1] << " to " << c.opacity[i]
+          << " at sample " << i << " (distance " << c.distance[i] << ")";
+        return o.str();
+      }
+  return "";
+}
+
+// --- Reproduction ----------------------------------------------------------------------------------
+
+std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
+                             const ParamSet& defaults, int width, int height, int camera,
+                             const std::string& until, const std::string& out) {
+  auto quote = [](const std::string& s) {
+    if (s.find_first_of(" \t'\"$\\") == std::string::npos) return s;
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  std::string cmd = "voxlab run --technique " + quote(technique) + " --scene " + quote(scene);
+  for (const auto& [name, desc] : params.descs()) {
+    double v = params.value(name);
+    if (defaults.has(name) && defaults.value(name) == v) continue;
+    cmd += " --set " + quote(name + "=" + desc.format(v));
+  }
+  cmd += " --size " + std::to_string(width) + "x" + std::to_string(height);
+  if (camera != 0) cmd += " --camera " + std::to_string(camera);
+  if (!until.empty()) cmd += " --until " + quote(until);
+  cmd += " --out " + quote(out);
+  return cmd;
+}
+
+// --- Scripts -----------------------------------------------------------------------------------------
+
+namespace {
+
+struct VerbSpec {
+  const char* verb;
+  int minArgs, maxArgs;
+  const char* usage;
+};
+
+const VerbSpec kVerbs[] = {
+    {"technique", 1, 1, "technique ID"},
+    {"scene", 1, 1, "scene NAME|PATH (a failed load keeps the current scene and records the error)"},
+    {"expect-scene-error", 1, 1, "expect-scene-error TEXT (the last scene error contains TEXT)"},
+    {"stage", 1, 1, "stage ID (select it)"},
+    {"output", 1, 1, "output NAME (of the selected stage)"},
+    {"level", 1, 1, "level N"},
+    {"slice", 2, 2, "slice x|y|z INDEX"},
+    {"channel", 1, 1, "channel N (-1 = all)"},
+    {"exposure", 1, 1, "exposure F"},
+    {"set", 1, 1, "set NAME=VALUE"},
+    {"reset-params", 0, 0, "reset-params"},
+    {"camera", 1, 1, "camera N (scene camera bookmark)"},
+    {"orbit", 2, 2, "orbit YAW_DEG PITCH_DEG"},
+    {"frame-scene", 0, 0, "frame-scene"},
+    {"size", 1, 1, "size WxH (render size)"},
+    {"run", 0, 0, "run (to the selected stage)"},
+    {"runall", 0, 0, "runall"},
+    {"next", 0, 0, "next (run and select the next stage)"},
+    {"prev", 0, 0, "prev (select the previous stage)"},
+    {"probe", 2, 2, "probe X Y (pixel of the final render, from the top left)"},
+    {"lesson", 1, 1, "lesson FILE (load it and apply step 1)"},
+    {"lesson-next", 0, 0, "lesson-next"},
+    {"lesson-prev", 0, 0, "lesson-prev"},
+    {"lesson-end", 0, 0, "lesson-end (play every remaining step, running each)"},
+    {"screenshot", 1, 1, "screenshot PATH.png (the window's back buffer)"},
+    {"save-output", 1, 1, "save-output DIR (selected output, files named as voxlab run names them)"},
+    {"compare-output", 2, 3, "compare-output VIEW_DIR RUN_DIR [TOLERANCE] (EXR/bin of the selected output saved by save-output vs voxlab run)"},
+    {"expect-images-differ", 2, 2, "expect-images-differ A.png B.png"},
+    {"expect-images-equal", 2, 2, "expect-images-equal A.png B.png"},
+    {"expect-samples-monotonic", 0, 0, "expect-samples-monotonic (samples > 0, opacity never decreases)"},
+    {"expect-state", 2, 2, "expect-state STAGE done|stale|not-run"},
+    {"expect-param", 2, 2, "expect-param NAME VALUE"},
+    {"copy-command", 0, 0, "copy-command (prints the voxlab run line and copies it)"},
+    {"reload", 0, 0, "reload (shader hot reload, as F5)"},
+    {"wait", 1, 1, "wait FRAMES"},
+    {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
+    {"quit", 0, 0, "quit"},
+};
+
+std::string substituteEnv(const std::string& s, const std::string& where) {
+  std::string r;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '$' && i + 1 < s.size() && s[i + 1] == '{') {
+      size_t end = s.find('}', i);
+      if (end == std::string::npos) throw Error(where + ": unterminated ${...}");
+      std::string name = s.substr(i + 2, end - i - 2);
+      const char* v = std::getenv(name.c_str());
+      if (!v) throw Error(where + ": environment variable " + name + " is not set");
+      r += v;
+      i = end;
+    } else {
+      r += s[i];
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+std::string scriptVerbsHelp() {
+  std::string s;
+  for (const auto& v : kVerbs) s += std::string("  ") + v.usage + "\n";
+  return s;
+}
+
+std::vector<ScriptAction> parseScript(const std::string& text, const std::string& path) {
+  std::vector<ScriptAction> actions;
+  std::istringstream in(text);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    std::string where = path + ":" + std::to_string(n);
+    size_t hash = line.find('#');
+    if (hash != std::string::npos) line = line.substr(0, hash);
+    std::istringstream words(substituteEnv(line, where));
+    ScriptAction a;
+    a.line = n;
+    if (!(words >> a.verb)) continue;
+    for (std::string w; words >> w;) a.args.push_back(w);
+    const VerbSpec* spec = nullptr;
+    for (const auto& v : kVerbs)
+      if (a.verb == v.verb) spec = &v;
+    if (!spec) {
+      std::vector<std::string> names;
+      for (const auto& v : kVerbs) names.push_back(v.verb);
+      throw Error(where + ": unknown action '" + a.verb + "'; valid: " + joinNames(names));
+    }
+    if (int(a.args.size()) < spec->minArgs || int(a.args.size()) > spec->maxArgs)
+      throw Error(where + ": wrong arguments; usage: " + spec->usage);
+    actions.push_back(std::move(a));
+  }
+  return actions;
+}
+
+}  // namespace voxlab

@@ -1,0 +1,73 @@
+// The viewer's logic that needs no window: display mapping of captured levels (with channel,
+// exposure and volume slices), cone-sample decoding for the pixel probe, the `voxlab run` command
+// line that reproduces a viewer state, and the viewer's script format. Unit-tested in
+// tests/unit/test_lesson.cpp; the ImGui code in viewer.cpp only draws what these return.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "capture/capture.h"
+#include "graph/param.h"
+
+namespace voxlab {
+
+// --- Display mapping -----------------------------------------------------------------------------
+
+// Which 2D slice of a level to show: images are one slice (axis 2, index 0).
+struct SliceSpec {
+  int axis = 2;   // 0 = x (shows z,y), 1 = y (shows x,z), 2 = z (shows x,y)
+  int index = 0;  // clamped to the level's extent along 'axis'
+};
+
+struct DisplaySettings {
+  int channel = -1;       // -1 = the semantic's mapping of all channels; 0..3 = that channel in grey
+  float exposure = 1.0f;  // multiplies values before the semantic's mapping
+};
+
+// RGBA8 image of one slice, top row first, plus the texel coordinates of each pixel's source.
+struct SliceImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+glm::ivec2 sliceExtent(const LevelData& level, const SliceSpec& slice);
+SliceImage mapSlice(const LevelData& level, Semantic semantic, const SliceSpec& slice, const DisplaySettings& ds);
+// Texel (x, y, z) shown at image pixel (px, py) (top-row-first image coordinates).
+glm::ivec3 sliceTexel(const LevelData& level, const SliceSpec& slice, int px, int py);
+
+// --- Cone samples ----------------------------------------------------------------------------------
+
+// One cone of a probed pixel, samples in the order they were taken (the ConeSample layout of
+// shaders/common/shared.h, which every Semantic::ConeSamples output uses).
+struct ConeSeries {
+  int cone = 0;
+  std::vector<float> distance, lod, opacity, luminance, diameter, sampleAlpha;
+};
+std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out);
+// "" when every cone's accumulated opacity never decreases, else a message naming the cone/sample.
+std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones);
+
+// --- Reproduction ----------------------------------------------------------------------------------
+
+// "voxlab run --technique T --scene S [--set n=v]... [--size WxH] [--camera N] [--until STAGE] --out OUT"
+// with a --set for every parameter that differs from its default (sorted by name).
+std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
+                             const ParamSet& defaults, int width, int height, int camera,
+                             const std::string& until, const std::string& out = "out");
+
+// --- Scripts -----------------------------------------------------------------------------------------
+
+struct ScriptAction {
+  int line = 0;
+  std::string verb;
+  std::vector<std::string> args;
+};
+// One action per line; '#' starts a comment; ${NAME} is replaced by the environment variable NAME.
+// Unknown verbs or wrong argument counts are Errors naming "file:line".
+std::vector<ScriptAction> parseScript(const std::string& text, const std::string& path);
+// The verbs with their usage, for messages and `voxlab help view`.
+std::string scriptVerbsHelp();
+
+}  // namespace voxlab

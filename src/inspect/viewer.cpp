@@ -1,0 +1,1302 @@
+#include "inspect/viewer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <GLFW/glfw3.h>
+#include <OpenImageIO/imageio.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include "capture/capture.h"
+#include "core/args.h"
+#include "core/error.h"
+#include "core/paths.h"
+#include "gpu/gl.h"
+#include "gpu/shader_library.h"
+#include "graph/step_cursor.h"
+#include "inspect/inspect_logic.h"
+#include "lesson/lesson.h"
+#include "platform/glfw_window.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+std::string fmtBytes(size_t b) {
+  char buf[64];
+  if (b >= (1u << 20)) std::snprintf(buf, sizeof buf, "%.1f MiB", double(b) / (1 << 20));
+  else if (b >= 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", double(b) / 1024);
+  else std::snprintf(buf, sizeof buf, "%zu B", b);
+  return buf;
+}
+
+// Reads an 8-bit image (PNG) as RGB bytes for the script's image comparisons.
+std::vector<uint8_t> readImageBytes(const std::string& path, int& w, int& h) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error("cannot read '" + path + "': " + OIIO::geterror());
+  const auto& spec = in->spec();
+  w = spec.width;
+  h = spec.height;
+  std::vector<uint8_t> px(size_t(w) * h * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, px.data()))
+    throw Error("cannot read '" + path + "': " + in->geterror());
+  return px;
+}
+
+// A GL texture holding one RGBA8 image for ImGui::Image.
+struct DisplayTexture {
+  GLuint id = 0;
+  int width = 0, height = 0;
+  void upload(int w, int h, const uint8_t* rgba) {
+    if (id == 0 || w != width || h != height) {
+      if (id) glDeleteTextures(1, &id);
+      glCreateTextures(GL_TEXTURE_2D, 1, &id);
+      glTextureStorage2D(id, 1, GL_RGBA8, std::max(w, 1), std::max(h, 1));
+      glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glObjectLabel(GL_TEXTURE, id, -1, "viewer.display");
+      width = w;
+      height = h;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(id, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  }
+  ~DisplayTexture() {
+    if (id) glDeleteTextures(1, &id);
+  }
+};
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewerOptions& o);
+  ~Viewer();
+  int loop();
+
+ private:
+  // --- state changes (shared by the UI, the keyboard, lessons and scripts) ---
+  void switchTechnique(const std::string& id);
+  bool loadSceneNamed(const std::string& name);  // false + sceneError_ on failure
+  void selectStage(int i);
+  void selectOutput(const std::string& name);
+  void requestRun(int stage) { runTarget_ = std::max(runTarget_, std::min(stage, cursor_->stageCount() - 1)); }
+  void paramsChanged() {
+    if (autoRerun_) requestRun(std::max(selected_, lastRunRequest_));
+  }
+  void setCameraIndex(int i);
+  void orbit(float yawDeg, float pitchDeg);
+  void frameScene();
+  void probePixel(int x, int y);
+  void applyLessonStep(int i);
+  void reloadShaders();
+  std::string commandLine() const;
+  int probeStage() const;  // stage with a ConeSamples output and probe.x/probe.y params, or -1
+
+  // --- per frame ---
+  bool runPendingStage();  // runs at most one stage; true when one ran
+  void refreshCapture();
+  void drawUi();
+  void drawLeftPanel();
+  void drawView();
+  void drawRightPanel();
+  void drawInspector();
+  void drawProbe();
+  void drawTiming();
+  void drawLesson();
+  void drawExport();
+  void handleKeys();
+  void takeScreenshot(const std::string& path);
+
+  // --- script ---
+  bool scriptBusy() const { return runTarget_ >= 0 || !pendingScreenshot_.empty() || waitFrames_ > 0; }
+  void stepScript();
+  void execute(const ScriptAction& a);
+  [[noreturn]] void scriptFail(const ScriptAction& a, const std::string& msg) const;
+  void printFrameStats() const;
+
+  ViewerOptions opt_;
+  std::unique_ptr<GlfwWindow> window_;
+  std::unique_ptr<ShaderLibrary> shaders_;
+  std::unique_ptr<StepCursor> cursor_;
+  std::shared_ptr<const Scene> scene_;
+  std::string sceneName_;
+  std::string sceneError_, shaderError_, status_;
+  char scenePath_[512] = {0};
+
+  int selected_ = 0;          // selected stage
+  int outputIndex_ = 0;       // output of the selected stage
+  int level_ = 0;
+  SliceSpec slice_;
+  DisplaySettings display_;
+  int cameraIndex_ = 0;       // scene camera in use (-1 after an orbit)
+  int runTarget_ = -1;        // stage to run through, one stage per frame (-1 = idle)
+  int lastRunRequest_ = -1;
+  bool autoRerun_ = true;
+  long generation_ = 0;       // bumps whenever a stage runs or the technique/scene changes
+
+  // Capture of the selected output (refreshed when selection or generation changes).
+  CapturedOutput cap_;
+  std::string capError_;
+  long capKey_[4] = {-1, -1, -1, -1};
+  long texKey_[8] = {0};
+  DisplayTexture viewTex_;
+  SliceImage viewImage_;
+  std::vector<ConeSeries> cones_;
+  bool hover_ = false;
+  glm::ivec3 hoverTexel_{0}, pickTexel_{-1};
+  bool dragging_ = false;
+  ImVec2 dragStart_{0, 0};
+
+  Lesson lesson_;
+  int lessonStep_ = -1;
+
+  std::vector<ScriptAction> script_;
+  size_t pc_ = 0;
+  int waitFrames_ = 0;
+  std::string pendingScreenshot_;
+  int screenshotDelay_ = 0;
+  bool quit_ = false;
+  bool scripted_ = false;
+
+  std::vector<double> idleFrameMs_;  // frames where no stage ran and no capture was refreshed
+  bool frameHeavy_ = false;
+  std::string copied_;
+};
+
+// --- Construction ------------------------------------------------------------------------------
+
+Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
+  // Validate input that needs no window first, so bad options fail with one line.
+  createTechnique(o.technique);
+  if (!o.lesson.empty()) lesson_ = loadLesson(o.lesson);
+  if (!o.script.empty()) {
+    if (!fileExists(o.script)) throw Error("script file '" + o.script + "' does not exist");
+    script_ = parseScript(readTextFile(o.script), o.script);
+    scripted_ = true;
+  }
+  auto scene = std::make_shared<Scene>(loadScene(resolveScenePath(o.scene)));
+
+  window_ = std::make_unique<GlfwWindow>(o.windowWidth, o.windowHeight, "voxlab");
+  shaders_ = std::make_unique<ShaderLibrary>();
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // layout is fixed; no imgui.ini next to the binary
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window_->handle(), true);
+  ImGui_ImplOpenGL3_Init("#version 450 core");
+
+  scene_ = scene;
+  sceneName_ = o.scene;
+  std::snprintf(scenePath_, sizeof scenePath_, "%s", o.scene.c_str());
+  switchTechnique(o.technique);
+  if (!lesson_.steps.empty()) applyLessonStep(0);
+}
+
+Viewer::~Viewer() {
+  cursor_.reset();
+  shaders_.reset();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+// --- State changes -----------------------------------------------------------------------------
+
+void Viewer::switchTechnique(const std::string& id) {
+  auto t = createTechnique(id);
+  cursor_ = std::make_unique<StepCursor>(std::move(t), *shaders_);
+  cursor_->setScene(scene_);
+  cursor_->setViewSize(opt_.width, opt_.height);
+  cameraIndex_ = 0;
+  selected_ = 0;
+  outputIndex_ = 0;
+  level_ = 0;
+  runTarget_ = lastRunRequest_ = -1;
+  ++generation_;
+}
+
+bool Viewer::loadSceneNamed(const std::string& name) {
+  try {
+    auto scene = std::make_shared<Scene>(loadScene(resolveScenePath(name)));
+    scene_ = scene;
+    sceneName_ = name;
+    cursor_->setScene(scene_);
+    cursor_->setViewSize(opt_.width, opt_.height);
+    cameraIndex_ = 0;
+    runTarget_ = -1;
+    sceneError_.clear();
+    ++generation_;
+    if (autoRerun_ && lastRunRequest_ >= 0) requestRun(lastRunRequest_);
+    return true;
+  } catch (const Error& e) {
+    sceneError_ = e.what();  // keep the current scene
+    return false;
+  }
+}
+
+void Viewer::selectStage(int i) {
+  i = std::clamp(i, 0, cursor_->stageCount() - 1);
+  if (i != selected_) {
+    outputIndex_ = 0;
+    level_ = 0;
+    pickTexel_ = glm::ivec3(-1);
+  }
+  selected_ = i;
+}
+
+void Viewer::selectOutput(const std::string& name) {
+  const auto& outs = cursor_->technique().decl(selected_).outputs;
+  for (size_t k = 0; k < outs.size(); ++k)
+    if (outs[k].name == name) {
+      outputIndex_ = int(k);
+      return;
+    }
+  cursor_->technique().findOutput(cursor_->technique().stage(selected_).id(), name);  // throws listing names
+}
+
+void Viewer::setCameraIndex(int i) {
+  cursor_->useSceneCamera(i);
+  cameraIndex_ = i;
+  paramsChanged();
+}
+
+void Viewer::orbit(float yawDeg, float pitchDeg) {
+  Camera c = cursor_->camera();
+  glm::vec3 target = scene_->bounds.center();
+  glm::vec3 off = c.position - target;
+  float r = glm::length(off);
+  if (r < 1e-6f) return;
+  float yaw = std::atan2(off.x, off.z) + glm::radians(yawDeg);
+  float pitch = std::asin(std::clamp(off.y / r, -1.0f, 1.0f)) + glm::radians(pitchDeg);
+  pitch = std::clamp(pitch, glm::radians(-85.0f), glm::radians(85.0f));
+  off = r * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+  c.position = target + off;
+  c.forward = glm::normalize(-off);
+  glm::vec3 right = glm::normalize(glm::cross(c.forward, glm::vec3(0, 1, 0)));
+  c.up = glm::cross(right, c.forward);
+  c.name = "orbit";
+  cursor_->setCamera(c);
+  cameraIndex_ = -1;
+  paramsChanged();
+}
+
+void Viewer::frameScene() {
+  Camera c = frameBounds(scene_->bounds, cursor_->camera().yfov);
+  cursor_->setCamera(c);
+  cameraIndex_ = -1;
+  paramsChanged();
+}
+
+int Viewer::probeStage() const {
+  const Technique& t = cursor_->technique();
+  for (int i = 0; i < t.stageCount(); ++i) {
+    bool samples = false, px = false, py = false;
+    for (const auto& o : t.decl(i).outputs) samples = samples || o.semantic == Semantic::ConeSamples;
+    for (const auto& p : t.decl(i).params) {
+      px = px || p.name == "probe.x";
+      py = py || p.name == "probe.y";
+    }
+    if (samples && px && py) return i;
+  }
+  return -1;
+}
+
+void Viewer::probePixel(int x, int y) {
+  int p = probeStage();
+  if (p < 0) throw Error("technique " + cursor_->technique().id() + " has no stage with a cone-samples output and probe.x/probe.y");
+  const ViewState& v = cursor_->view();
+  x = std::clamp(x, 0, v.width - 1);
+  y = std::clamp(y, 0, v.height - 1);
+  cursor_->setParam("probe.x", (x + 0.5) / v.width);
+  cursor_->setParam("probe.y", (y + 0.5) / v.height);
+  requestRun(std::max(p, std::max(selected_, lastRunRequest_)));
+  status_ = "probed pixel " + std::to_string(x) + "," + std::to_string(y);
+}
+
+void Viewer::applyLessonStep(int i) {
+  if (lesson_.steps.empty()) return;
+  i = std::clamp(i, 0, int(lesson_.steps.size()) - 1);
+  const LessonStep& s = lesson_.steps[i];
+  if (s.technique != cursor_->technique().id()) switchTechnique(s.technique);
+  if (s.scene != sceneName_ && !loadSceneNamed(s.scene))
+    throw Error(lesson_.path + ":" + std::to_string(s.line) + ": " + sceneError_);
+  ParamSet p = cursor_->technique().defaultParams();
+  for (const auto& [n, v] : s.sets) p.setText(n, v);
+  cursor_->setParams(p);
+  if (s.camera != cameraIndex_) {
+    cursor_->useSceneCamera(s.camera);
+    cameraIndex_ = s.camera;
+  }
+  selectStage(cursor_->technique().stageIndex(s.stage));
+  if (!s.output.empty()) selectOutput(s.output);
+  level_ = s.level;
+  lessonStep_ = i;
+  lastRunRequest_ = selected_;
+  requestRun(selected_);
+}
+
+void Viewer::reloadShaders() {
+  auto errors = shaders_->reloadChanged();
+  if (errors.empty()) {
+    shaderError_.clear();
+    cursor_->invalidateAll();
+    status_ = "shaders reloaded; every stage is stale";
+    if (autoRerun_ && lastRunRequest_ >= 0) requestRun(lastRunRequest_);
+  } else {
+    shaderError_ = joinNames(errors, "\n");  // the last good programs stay in use
+    status_ = "shader reload failed";
+  }
+}
+
+std::string Viewer::commandLine() const {
+  const Technique& t = cursor_->technique();
+  std::string until = selected_ == t.stageCount() - 1 ? "" : t.stage(selected_).id();
+  return reproduceCommand(t.id(), sceneName_, cursor_->params(), t.defaultParams(), cursor_->view().width,
+                          cursor_->view().height, std::max(cameraIndex_, 0), until);
+}
+
+// --- Per frame -----------------------------------------------------------------------------------
+
+bool Viewer::runPendingStage() {
+  if (runTarget_ < 0) return false;
+  int next = -1;
+  for (int i = 0; i <= runTarget_; ++i)
+    if (cursor_->record(i).state != StageState::Done) {
+      next = i;
+      break;
+    }
+  if (next < 0) {
+    lastRunRequest_ = std::max(lastRunRequest_, runTarget_);
+    runTarget_ = -1;
+    return false;
+  }
+  try {
+    cursor_->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
+  } catch (const ShaderError& e) {
+    shaderError_ = e.what();
+    runTarget_ = -1;
+    if (scripted_) throw;
+  }
+  ++generation_;
+  return true;
+}
+
+void Viewer::refreshCapture() {
+  const Technique& t = cursor_->technique();
+  const auto& outs = t.decl(selected_).outputs;
+  if (outs.empty()) {
+    capError_ = "this stage declares no outputs";
+    cap_ = CapturedOutput();
+    return;
+  }
+  outputIndex_ = std::clamp(outputIndex_, 0, int(outs.size()) - 1);
+  long key[4] = {long(cursor_.get() != nullptr ? generation_ : 0), selected_, outputIndex_, 0};
+  if (std::equal(key, key + 4, capKey_)) return;
+  std::copy(key, key + 4, capKey_);
+  frameHeavy_ = true;
+  cones_.clear();
+  const StageRecord& r = cursor_->record(selected_);
+  cap_ = CapturedOutput();
+  cap_.desc = outs[outputIndex_];
+  capError_.clear();
+  if (r.state == StageState::NotRun) {
+    capError_ = "not run yet: press Run to here (R)";
+    return;
+  }
+  try {
+    cap_ = captureOutput(cursor_->board(), outs[outputIndex_]);
+  } catch (const Error& e) {
+    capError_ = e.what();
+    return;
+  }
+  if (cap_.desc.semantic == Semantic::ConeSamples) cones_ = decodeConeSamples(cap_);
+}
+
+void Viewer::handleKeys() {
+  ImGuiIO& io = ImGui::GetIO();
+  if (io.WantCaptureKeyboard) return;
+  if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_RightArrow))) {
+    selectStage(selected_ + 1);
+    lastRunRequest_ = std::max(lastRunRequest_, selected_);
+    requestRun(selected_);
+  }
+  if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_LeftArrow))) selectStage(selected_ - 1);
+  if (ImGui::IsKeyPressed(GLFW_KEY_R)) {
+    lastRunRequest_ = std::max(lastRunRequest_, selected_);
+    requestRun(selected_);
+  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_A)) {
+    lastRunRequest_ = cursor_->stageCount() - 1;
+    requestRun(lastRunRequest_);
+  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_F5)) reloadShaders();
+  if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN) && !lesson_.steps.empty()) applyLessonStep(lessonStep_ + 1);
+  if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP) && !lesson_.steps.empty()) applyLessonStep(lessonStep_ - 1);
+}
+
+void Viewer::takeScreenshot(const std::string& path) {
+  int w, h;
+  window_->framebufferSize(w, h);
+  std::vector<uint8_t> rgba(size_t(w) * h * 4);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  DisplayImage img;
+  img.width = w;
+  img.height = h;
+  img.rgb.resize(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        img.rgb[(size_t(h - 1 - y) * w + x) * 3 + c] = rgba[(size_t(y) * w + x) * 4 + c];
+  std::error_code ec;
+  fs::path p(path);
+  if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
+  writePng(img, path);
+}
+
+int Viewer::loop() {
+  while (!window_->shouldClose() && !quit_) {
+    auto t0 = Clock::now();
+    frameHeavy_ = false;
+    window_->pollEvents();
+    if (scripted_) stepScript();
+    if (quit_) break;
+    if (runPendingStage()) frameHeavy_ = true;
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    handleKeys();
+    refreshCapture();
+    drawUi();
+    ImGui::Render();
+    int w, h;
+    window_->framebufferSize(w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, w, h);
+    glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (!pendingScreenshot_.empty() && --screenshotDelay_ <= 0) {
+      takeScreenshot(pendingScreenshot_);
+      std::printf("screenshot %s\n", pendingScreenshot_.c_str());
+      pendingScreenshot_.clear();
+      frameHeavy_ = true;
+    }
+    window_->swapBuffers();
+    glFinish();  // count the frame's GPU work (llvmpipe) in its time
+    double ms = msSince(t0);
+    if (!frameHeavy_) idleFrameMs_.push_back(ms);
+    if (waitFrames_ > 0) --waitFrames_;
+  }
+  if (scripted_) printFrameStats();
+  return 0;
+}
+
+// --- UI --------------------------------------------------------------------------------------------
+
+constexpr float kLeftWidth = 330.0f;
+constexpr float kRightWidth = 380.0f;
+
+void Viewer::drawUi() {
+  ImGuiIO& io = ImGui::GetIO();
+  ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(kLeftWidth, io.DisplaySize.y));
+  ImGui::Begin("Technique", nullptr, fixed);
+  drawLeftPanel();
+  ImGui::End();
+
+  ImGui::SetNextWindowPos(ImVec2(kLeftWidth, 0));
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x - kLeftWidth - kRightWidth, io.DisplaySize.y));
+  ImGui::Begin("View", nullptr, fixed);
+  drawView();
+  ImGui::End();
+
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kRightWidth, 0));
+  ImGui::SetNextWindowSize(ImVec2(kRightWidth, io.DisplaySize.y));
+  ImGui::Begin("Details", nullptr, fixed);
+  drawRightPanel();
+  ImGui::End();
+}
+
+void Viewer::drawLeftPanel() {
+  Technique& t = cursor_->technique();
+  // Technique and scene pickers.
+  if (ImGui::BeginCombo("technique", t.id().c_str())) {
+    for (const auto& e : techniqueRegistry())
+      if (ImGui::Selectable(e.id.c_str(), e.id == t.id()) && e.id != t.id()) switchTechnique(e.id);
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", t.title().c_str());
+  if (ImGui::BeginCombo("scene", scene_->name.c_str())) {
+    std::error_code ec;
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(projectPath("scenes"), ec)) {
+      auto ext = e.path().extension().string();
+      if (ext == ".gltf" || ext == ".glb") names.push_back(e.path().stem().string());
+    }
+    std::sort(names.begin(), names.end());
+    for (const auto& n : names)
+      if (ImGui::Selectable(n.c_str(), n == scene_->name)) loadSceneNamed(n);
+    ImGui::EndCombo();
+  }
+  ImGui::InputText("##scenepath", scenePath_, sizeof scenePath_);
+  ImGui::SameLine();
+  if (ImGui::Button("Load")) loadSceneNamed(scenePath_);
+  if (!sceneError_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", sceneError_.c_str());
+
+  // Stage timeline.
+  ImGui::Separator();
+  ImGui::TextUnformatted("Stages");
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const StageRecord& r = cursor_->record(i);
+    ImVec4 col = r.state == StageState::Done    ? ImVec4(0.4f, 0.9f, 0.4f, 1)
+                 : r.state == StageState::Stale ? ImVec4(0.95f, 0.75f, 0.3f, 1)
+                                                : ImVec4(0.6f, 0.6f, 0.6f, 1);
+    bool running = runTarget_ >= i && r.state != StageState::Done;
+    char label[160];
+    std::snprintf(label, sizeof label, "%d. %-14s %s##stage%d", i + 1, t.stage(i).id(),
+                  running ? "(queued)" : stageStateName(r.state), i);
+    ImGui::PushStyleColor(ImGuiCol_Text, col);
+    if (ImGui::Selectable(label, selected_ == i)) selectStage(i);
+    ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n%s", t.stage(i).title(), t.stage(i).summary());
+  }
+  if (ImGui::Button("< Prev")) selectStage(selected_ - 1);
+  ImGui::SameLine();
+  if (ImGui::Button("Next >")) {
+    selectStage(selected_ + 1);
+    lastRunRequest_ = std::max(lastRunRequest_, selected_);
+    requestRun(selected_);
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Run to here")) {
+    lastRunRequest_ = std::max(lastRunRequest_, selected_);
+    requestRun(selected_);
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Run all")) {
+    lastRunRequest_ = t.stageCount() - 1;
+    requestRun(lastRunRequest_);
+  }
+  ImGui::TextDisabled("keys: Left/Right stage, R run, A all, F5 reload");
+  if (runTarget_ >= 0) ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "running through stage %d ...", runTarget_ + 1);
+
+  // Parameters, generated from the declarations of every stage.
+  ImGui::Separator();
+  ImGui::Checkbox("auto re-run", &autoRerun_);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("after a change, re-run the stale stages up to the last run one");
+  ImGui::SameLine();
+  if (ImGui::Button("Defaults")) {
+    cursor_->setParams(t.defaultParams());
+    paramsChanged();
+  }
+  ImGui::BeginChild("params", ImVec2(0, 0), false);
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const auto& decl = t.decl(i);
+    if (decl.params.empty()) continue;
+    bool open = ImGui::TreeNodeEx(t.stage(i).id(), i == selected_ ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+    if (!open) continue;
+    for (const auto& p : decl.params) {
+      ImGui::PushID((std::to_string(i) + p.name).c_str());
+      double v = cursor_->params().value(p.name);
+      double nv = v;
+      switch (p.type) {
+        case ParamType::Int: {
+          int iv = int(v);
+          if (ImGui::SliderInt(p.name.c_str(), &iv, int(p.minValue), int(p.maxValue))) {
+            if (p.powerOfTwo) {
+              int k = 1;
+              while (k < iv) k <<= 1;
+              iv = (k - iv <= iv - k / 2) ? k : k / 2;
+              iv = std::clamp(iv, int(p.minValue), int(p.maxValue));
+            }
+            nv = iv;
+          }
+          break;
+        }
+        case ParamType::Float: {
+          float fv = float(v);
+          if (ImGui::SliderFloat(p.name.c_str(), &fv, float(p.minValue), float(p.maxValue), "%.3f")) nv = fv;
+          break;
+        }
+        case ParamType::Bool: {
+          bool b = v != 0.0;
+          if (ImGui::Checkbox(p.name.c_str(), &b)) nv = b ? 1.0 : 0.0;
+          break;
+        }
+        case ParamType::Choice: {
+          int c = int(v);
+          if (ImGui::BeginCombo(p.name.c_str(), p.choices.at(c).c_str())) {
+            for (size_t k = 0; k < p.choices.size(); ++k)
+              if (ImGui::Selectable(p.choices[k].c_str(), int(k) == c)) nv = double(k);
+            ImGui::EndCombo();
+          }
+          break;
+        }
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s\n%s%s%s", p.help.c_str(), p.rangeText().c_str(), p.unit.empty() ? "" : ", ",
+                          p.unit.c_str());
+      if (nv != v) {
+        try {
+          cursor_->setParam(p.name, nv);  // marks every stage that declares it (and its readers) stale
+          paramsChanged();
+        } catch (const Error& e) {
+          status_ = e.what();
+        }
+      }
+      ImGui::PopID();
+    }
+    ImGui::TreePop();
+  }
+  ImGui::EndChild();
+}
+
+void Viewer::drawView() {
+  const Technique& t = cursor_->technique();
+  const StageRecord& rec = cursor_->record(selected_);
+  const auto& outs = t.decl(selected_).outputs;
+  ImGui::Text("%s / %s", t.id().c_str(), t.stage(selected_).title());
+  if (!outs.empty()) {
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(200);
+    if (ImGui::BeginCombo("output", outs[outputIndex_].name.c_str())) {
+      for (size_t k = 0; k < outs.size(); ++k)
+        if (ImGui::Selectable(outs[k].name.c_str(), int(k) == outputIndex_)) {
+          outputIndex_ = int(k);
+          level_ = 0;
+          pickTexel_ = glm::ivec3(-1);
+        }
+      ImGui::EndCombo();
+    }
+  }
+  if (rec.state == StageState::Stale) ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "stale: showing the last run's data");
+  if (!capError_.empty()) {
+    ImGui::TextWrapped("%s", capError_.c_str());
+    return;
+  }
+  const OutputDesc& d = cap_.desc;
+  ImGui::TextDisabled("%s, %s, %s: %s", kindName(d.kind), semanticName(d.semantic), cap_.format.c_str(), d.help.c_str());
+
+  // Build the displayed image: a slice of the selected level, or the point view of a buffer.
+  long key[8] = {capKey_[0], capKey_[1], capKey_[2], level_, slice_.axis, slice_.index, display_.channel,
+                 long(display_.exposure * 1000)};
+  bool isBuffer = d.kind == OutputKind::Buffer;
+  if (!std::equal(key, key + 8, texKey_)) {
+    std::copy(key, key + 8, texKey_);
+    frameHeavy_ = true;
+    if (isBuffer) {
+      DisplayImage pv = pointView(cap_, 512);
+      viewImage_ = SliceImage();
+      viewImage_.width = pv.width;
+      viewImage_.height = pv.height;
+      viewImage_.rgba.resize(size_t(pv.width) * pv.height * 4);
+      for (size_t i = 0; i < size_t(pv.width) * pv.height; ++i) {
+        for (int c = 0; c < 3; ++c) viewImage_.rgba[i * 4 + c] = pv.rgb[i * 3 + c];
+        viewImage_.rgba[i * 4 + 3] = 255;
+      }
+    } else if (!cap_.levels.empty()) {
+      level_ = std::clamp(level_, 0, int(cap_.levels.size()) - 1);
+      viewImage_ = mapSlice(cap_.levels[level_], d.semantic, slice_, display_);
+    } else {
+      viewImage_ = SliceImage();
+    }
+    if (viewImage_.width > 0) viewTex_.upload(viewImage_.width, viewImage_.height, viewImage_.rgba.data());
+  }
+  if (viewImage_.width == 0) return;
+
+  // Fit the image into the panel, keeping its aspect; nearest filtering shows voxels as squares.
+  ImVec2 avail = ImGui::GetContentRegionAvail();
+  avail.y -= 60;
+  float scale = std::min(avail.x / viewImage_.width, avail.y / viewImage_.height);
+  ImVec2 size(viewImage_.width * scale, viewImage_.height * scale);
+  ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImGui::Image(reinterpret_cast<ImTextureID>(intptr_t(viewTex_.id)), size);
+  hover_ = false;
+  bool imageHovered = ImGui::IsItemHovered();
+  ImVec2 m = ImGui::GetIO().MousePos;
+  int px = int((m.x - origin.x) / scale), py = int((m.y - origin.y) / scale);
+  if (imageHovered && !isBuffer && px >= 0 && py >= 0 && px < viewImage_.width && py < viewImage_.height) {
+    hover_ = true;
+    hoverTexel_ = sliceTexel(cap_.levels[level_], slice_, px, py);
+  }
+  // Left drag orbits the camera (applied on release); a left click probes or picks.
+  if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    dragging_ = true;
+    dragStart_ = m;
+  }
+  if (dragging_ && ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
+    dragging_ = false;
+    float dx = m.x - dragStart_.x, dy = m.y - dragStart_.y;
+    if (std::abs(dx) + std::abs(dy) > 4.0f) {
+      orbit(-dx * 0.3f, dy * 0.3f);
+    } else if (hover_) {
+      pickTexel_ = hoverTexel_;
+      bool fullView = d.kind == OutputKind::Image2D && cap_.levels[0].size.x == cursor_->view().width &&
+                      cap_.levels[0].size.y == cursor_->view().height;
+      if (fullView && probeStage() >= 0) probePixel(px, py);
+    }
+  }
+  if (dragging_) ImGui::GetWindowDrawList()->AddLine(dragStart_, m, IM_COL32(255, 200, 80, 255), 2.0f);
+
+  // Value under the cursor and the picked texel.
+  auto valueText = [&](const glm::ivec3& tx) {
+    const LevelData& L = cap_.levels[level_];
+    std::string s;
+    char buf[64];
+    for (int c = 0; c < L.channels; ++c) {
+      std::snprintf(buf, sizeof buf, "%s%.4g", c ? ", " : "", L.at(tx.x, tx.y, tx.z, c));
+      s += buf;
+    }
+    return s;
+  };
+  if (!isBuffer) {
+    const LevelData& L = cap_.levels[level_];
+    if (hover_)
+      ImGui::Text("%s (%d, %d, %d) = (%s)", L.size.z > 1 ? "voxel" : "pixel", hoverTexel_.x,
+                  L.size.z > 1 ? hoverTexel_.y : L.size.y - 1 - hoverTexel_.y, hoverTexel_.z, valueText(hoverTexel_).c_str());
+    else
+      ImGui::TextDisabled("hover for values; click to %s; drag to orbit the camera",
+                          probeStage() >= 0 && d.kind == OutputKind::Image2D ? "probe cones" : "pick");
+    if (pickTexel_.x >= 0 && pickTexel_.x < L.size.x && pickTexel_.y < L.size.y && pickTexel_.z < L.size.z)
+      ImGui::Text("picked (%d, %d, %d) = (%s)", pickTexel_.x, L.size.z > 1 ? pickTexel_.y : L.size.y - 1 - pickTexel_.y,
+                  pickTexel_.z, valueText(pickTexel_).c_str());
+  } else {
+    ImGui::Text("%u records (point view)", cap_.recordCount);
+  }
+  if (!status_.empty()) ImGui::TextDisabled("%s", status_.c_str());
+}
+
+void Viewer::drawRightPanel() {
+  if (ImGui::BeginTabBar("tabs")) {
+    if (ImGui::BeginTabItem("Inspect")) {
+      drawInspector();
+      ImGui::EndTabItem();
+    }
+    if (probeStage() >= 0 && ImGui::BeginTabItem("Probe")) {
+      drawProbe();
+      ImGui::EndTabItem();
+    }
+    if (ImGui::BeginTabItem("Timing")) {
+      drawTiming();
+      ImGui::EndTabItem();
+    }
+    ImGuiTabItemFlags lessonFlags = 0;
+    if (!lesson_.steps.empty() && ImGui::BeginTabItem("Lesson", nullptr, lessonFlags)) {
+      drawLesson();
+      ImGui::EndTabItem();
+    }
+    if (ImGui::BeginTabItem("Camera/Export")) {
+      drawExport();
+      ImGui::EndTabItem();
+    }
+    ImGui::EndTabBar();
+  }
+  if (!shaderError_.empty()) {
+    ImGui::Separator();
+    ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "shader error (last good program kept):");
+    ImGui::TextWrapped("%s", shaderError_.c_str());
+  }
+}
+
+void Viewer::drawInspector() {
+  const Technique& t = cursor_->technique();
+  ImGui::TextWrapped("%s", t.stage(selected_).summary());
+  ImGui::Separator();
+  if (!capError_.empty()) return;
+  const OutputDesc& d = cap_.desc;
+  if (d.kind != OutputKind::Buffer && !cap_.levels.empty()) {
+    int levels = int(cap_.levels.size());
+    if (levels > 1) ImGui::SliderInt("level", &level_, 0, levels - 1);
+    const LevelData& L = cap_.levels[std::clamp(level_, 0, levels - 1)];
+    ImGui::Text("size %d x %d x %d, %d channels", L.size.x, L.size.y, L.size.z, L.channels);
+    if (L.size.z > 1) {
+      ImGui::TextUnformatted("slice axis");
+      for (int a = 0; a < 3; ++a) {
+        ImGui::SameLine();
+        ImGui::RadioButton(a == 0 ? "x" : a == 1 ? "y" : "z", &slice_.axis, a);
+      }
+      int extent = slice_.axis == 0 ? L.size.x : slice_.axis == 1 ? L.size.y : L.size.z;
+      slice_.index = std::clamp(slice_.index, 0, extent - 1);
+      ImGui::SliderInt("slice", &slice_.index, 0, extent - 1);
+    }
+    const char* channels[] = {"all (semantic)", "r / 0", "g / 1", "b / 2", "a / 3"};
+    int ch = display_.channel + 1;
+    if (ImGui::Combo("channel", &ch, channels, std::min(L.channels, 4) + 1)) display_.channel = ch - 1;
+    ImGui::SliderFloat("exposure", &display_.exposure, 0.05f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+    auto stats = outputStatistics(cap_);
+    if (stats.contains("levels") && stats["levels"].size() > size_t(level_)) {
+      ImGui::Separator();
+      ImGui::TextWrapped("%s", stats["levels"][level_].dump().c_str());
+    }
+  } else if (d.kind == OutputKind::Buffer) {
+    ImGui::Text("%u records, stride %u bytes", cap_.recordCount, d.layout.stride);
+    auto recs = recordsJson(cap_, 32);
+    if (recs.is_array() && !recs.empty() && recs[0].is_object()) {
+      int cols = int(recs[0].size()) + 1;
+      if (ImGui::BeginTable("records", cols, ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX |
+                                                  ImGuiTableFlags_SizingFixedFit,
+                            ImVec2(0, 300))) {
+        ImGui::TableSetupColumn("#");
+        for (auto it = recs[0].begin(); it != recs[0].end(); ++it) ImGui::TableSetupColumn(it.key().c_str());
+        ImGui::TableHeadersRow();
+        for (size_t r = 0; r < recs.size(); ++r) {
+          ImGui::TableNextRow();
+          ImGui::TableNextColumn();
+          ImGui::Text("%zu", r);
+          for (auto it = recs[r].begin(); it != recs[r].end(); ++it) {
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(it.value().dump().c_str());
+          }
+        }
+        ImGui::EndTable();
+      }
+    }
+  }
+}
+
+void Viewer::drawProbe() {
+  int p = probeStage();
+  const ParamSet& ps = cursor_->params();
+  ImGui::Text("probe pixel: (%.0f, %.0f) of %dx%d", ps.value("probe.x") * cursor_->view().width - 0.5,
+              ps.value("probe.y") * cursor_->view().height - 0.5, cursor_->view().width, cursor_->view().height);
+  ImGui::TextDisabled("click a pixel of a full-size image output to probe it");
+  // The samples come from the probe stage's ConeSamples output, whoever declares it.
+  const Technique& t = cursor_->technique();
+  if (cursor_->record(p).state == StageState::NotRun) {
+    ImGui::TextWrapped("stage %s has not run yet", t.stage(p).id());
+    return;
+  }
+  static std::vector<ConeSeries> cones;
+  static long key = -1;
+  if (key != generation_) {
+    key = generation_;
+    cones.clear();
+    for (const auto& o : t.decl(p).outputs)
+      if (o.semantic == Semantic::ConeSamples) {
+        try {
+          cones = decodeConeSamples(captureOutput(cursor_->board(), o));
+        } catch (const Error&) {
+        }
+        break;
+      }
+  }
+  size_t total = 0;
+  for (const auto& c : cones) total += c.distance.size();
+  ImGui::Text("%zu cones, %zu samples", cones.size(), total);
+  std::string mono = checkOpacityMonotonic(cones);
+  if (!mono.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", mono.c_str());
+  ImGui::BeginChild("cones");
+  for (const auto& c : cones) {
+    if (c.distance.empty()) continue;
+    char title[64];
+    std::snprintf(title, sizeof title, "cone %d: %zu samples, to distance %.3f", c.cone, c.distance.size(), c.distance.back());
+    if (!ImGui::TreeNodeEx(title, ImGuiTreeNodeFlags_DefaultOpen)) continue;
+    int n = int(c.distance.size());
+    ImGui::PlotLines("lod", c.lod.data(), n, 0, "mip level per sample", 0.0f, FLT_MAX, ImVec2(0, 40));
+    ImGui::PlotLines("opacity", c.opacity.data(), n, 0, "accumulated opacity", 0.0f, 1.0f, ImVec2(0, 40));
+    ImGui::PlotLines("radiance", c.luminance.data(), n, 0, "accumulated luminance", 0.0f, FLT_MAX, ImVec2(0, 40));
+    ImGui::TextDisabled("final opacity %.3f, luminance %.4f", c.opacity.back(), c.luminance.back());
+    ImGui::TreePop();
+  }
+  ImGui::EndChild();
+}
+
+void Viewer::drawTiming() {
+  const Technique& t = cursor_->technique();
+  double cpu = 0, gpu = 0;
+  if (ImGui::BeginTable("timing", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
+    ImGui::TableSetupColumn("stage");
+    ImGui::TableSetupColumn("state");
+    ImGui::TableSetupColumn("cpu ms");
+    ImGui::TableSetupColumn("gpu ms");
+    ImGui::TableHeadersRow();
+    for (int i = 0; i < t.stageCount(); ++i) {
+      const StageRecord& r = cursor_->record(i);
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(t.stage(i).id());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(stageStateName(r.state));
+      ImGui::TableNextColumn();
+      ImGui::Text("%.1f", r.cpuMs);
+      ImGui::TableNextColumn();
+      ImGui::Text("%.1f", r.gpuMs);
+      cpu += r.cpuMs;
+      gpu += r.gpuMs;
+    }
+    ImGui::EndTable();
+  }
+  ImGui::Text("total cpu %.1f ms, gpu %.1f ms", cpu, gpu);
+  if (!idleFrameMs_.empty()) {
+    size_t n = std::min<size_t>(idleFrameMs_.size(), 120);
+    std::vector<float> recent(idleFrameMs_.end() - n, idleFrameMs_.end());
+    ImGui::PlotLines("UI ms", recent.data(), int(n), 0, nullptr, 0.0f, FLT_MAX, ImVec2(0, 40));
+  }
+  ImGui::Separator();
+  const Blackboard& b = cursor_->board();
+  ImGui::Text("resources: %s", fmtBytes(b.totalBytes()).c_str());
+  if (ImGui::BeginTable("memory", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollY,
+                        ImVec2(0, 260))) {
+    ImGui::TableSetupColumn("resource");
+    ImGui::TableSetupColumn("shape");
+    ImGui::TableSetupColumn("bytes");
+    ImGui::TableHeadersRow();
+    for (const auto& [name, tex] : b.textures()) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(name.c_str());
+      ImGui::TableNextColumn();
+      glm::ivec3 s = tex->levelSize(0);
+      ImGui::Text("%dx%dx%d %s x%d", s.x, s.y, s.z, formatName(tex->desc().format), tex->levels());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(fmtBytes(tex->byteSize()).c_str());
+    }
+    for (const auto& [name, buf] : b.buffers()) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted("buffer");
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(fmtBytes(buf->size()).c_str());
+    }
+    ImGui::EndTable();
+  }
+}
+
+void Viewer::drawLesson() {
+  ImGui::TextWrapped("%s", lesson_.title.c_str());
+  ImGui::Text("step %d of %zu", lessonStep_ + 1, lesson_.steps.size());
+  if (ImGui::Button("< Previous step")) applyLessonStep(lessonStep_ - 1);
+  ImGui::SameLine();
+  if (ImGui::Button("Next step >")) applyLessonStep(lessonStep_ + 1);
+  ImGui::Separator();
+  ImGui::BeginChild("narrative");
+  if (lessonStep_ >= 0) {
+    std::istringstream in(lesson_.steps[lessonStep_].narrative);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("#", 0) == 0) {
+        size_t k = line.find_first_not_of('#');
+        ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s", line.substr(std::min(k + 1, line.size())).c_str());
+      } else if (line.empty()) {
+        ImGui::Spacing();
+      } else {
+        ImGui::TextWrapped("%s", line.c_str());
+      }
+    }
+    if (lessonStep_ + 1 == int(lesson_.steps.size()) && !lesson_.epilogue.empty()) {
+      ImGui::Separator();
+      ImGui::TextWrapped("%s", lesson_.epilogue.c_str());
+    }
+  }
+  ImGui::EndChild();
+}
+
+void Viewer::drawExport() {
+  const Technique& t = cursor_->technique();
+  ImGui::TextUnformatted("Camera");
+  for (size_t i = 0; i < scene_->cameras.size(); ++i) {
+    std::string label = std::to_string(i) + ": " + scene_->cameras[i].name;
+    if (ImGui::Selectable(label.c_str(), cameraIndex_ == int(i))) setCameraIndex(int(i));
+  }
+  if (ImGui::Button("Frame the scene")) frameScene();
+  ImGui::SameLine();
+  if (ImGui::Button("Orbit -15")) orbit(-15, 0);
+  ImGui::SameLine();
+  if (ImGui::Button("Orbit +15")) orbit(15, 0);
+  ImGui::Separator();
+  ImGui::TextUnformatted("Export");
+  static char dir[256] = "viewer-out";
+  ImGui::InputText("folder", dir, sizeof dir);
+  if (ImGui::Button("Save view PNG")) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    DisplayImage img;
+    img.width = viewImage_.width;
+    img.height = viewImage_.height;
+    for (size_t i = 0; i < viewImage_.rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), &viewImage_.rgba[i], &viewImage_.rgba[i] + 3);
+    std::string path = std::string(dir) + "/view.png";
+    try {
+      writePng(img, path);
+      status_ = "saved " + path;
+    } catch (const Error& e) {
+      status_ = e.what();
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Save output PNG/EXR") && capError_.empty()) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    try {
+      auto e = writeOutputFiles(cap_, dir, std::string(t.stage(selected_).id()) + "." + cap_.desc.name);
+      status_ = "saved " + e["files"].dump();
+    } catch (const Error& e) {
+      status_ = e.what();
+    }
+  }
+  if (ImGui::Button("Screenshot")) {
+    pendingScreenshot_ = std::string(dir) + "/screenshot.png";
+    screenshotDelay_ = 1;
+  }
+  if (ImGui::Button("Copy `voxlab run` command")) {
+    copied_ = commandLine();
+    glfwSetClipboardString(window_->handle(), copied_.c_str());
+  }
+  if (!copied_.empty()) ImGui::TextWrapped("%s", copied_.c_str());
+  ImGui::Separator();
+  if (ImGui::Button("Reload shaders (F5)")) reloadShaders();
+  ImGui::TextDisabled("%d programs", shaders_->programCount());
+}
+
+// --- Scripts ---------------------------------------------------------------------------------------
+
+void Viewer::scriptFail(const ScriptAction& a, const std::string& msg) const {
+  throw Error(opt_.script + ":" + std::to_string(a.line) + ": " + a.verb + ": " + msg);
+}
+
+void Viewer::stepScript() {
+  if (scriptBusy()) return;
+  if (pc_ >= script_.size()) {
+    quit_ = true;
+    return;
+  }
+  const ScriptAction& a = script_[pc_++];
+  try {
+    execute(a);
+  } catch (const Error& e) {
+    std::string m = e.what();
+    if (m.rfind(opt_.script + ":", 0) == 0) throw;
+    scriptFail(a, m);
+  }
+}
+
+void Viewer::execute(const ScriptAction& a) {
+  const Technique& t = cursor_->technique();
+  auto arg = [&](size_t i) -> const std::string& { return a.args.at(i); };
+  auto intArg = [&](size_t i) {
+    try {
+      size_t used = 0;
+      int v = std::stoi(arg(i), &used);
+      if (used != arg(i).size()) throw std::invalid_argument("x");
+      return v;
+    } catch (const std::exception&) {
+      scriptFail(a, "'" + arg(i) + "' is not an integer");
+    }
+  };
+  auto floatArg = [&](size_t i) {
+    try {
+      return std::stof(arg(i));
+    } catch (const std::exception&) {
+      scriptFail(a, "'" + arg(i) + "' is not a number");
+    }
+  };
+  const std::string& v = a.verb;
+  if (v == "technique") {
+    if (arg(0) != t.id()) switchTechnique(arg(0));
+  } else if (v == "scene") {
+    if (!loadSceneNamed(arg(0))) std::printf("scene error: %s\n", sceneError_.c_str());
+  } else if (v == "expect-scene-error") {
+    if (sceneError_.find(arg(0)) == std::string::npos) scriptFail(a, "last scene error is '" + sceneError_ + "'");
+  } else if (v == "stage") {
+    selectStage(t.stageIndex(arg(0)));
+  } else if (v == "output") {
+    selectOutput(arg(0));
+  } else if (v == "level") {
+    level_ = intArg(0);
+  } else if (v == "slice") {
+    std::string ax = arg(0);
+    if (ax != "x" && ax != "y" && ax != "z") scriptFail(a, "axis must be x, y or z");
+    slice_.axis = ax[0] - 'x';
+    slice_.index = intArg(1);
+  } else if (v == "channel") {
+    display_.channel = std::clamp(intArg(0), -1, 3);
+  } else if (v == "exposure") {
+    display_.exposure = floatArg(0);
+  } else if (v == "set") {
+    std::string s = arg(0);
+    size_t eq = s.find('=');
+    if (eq == std::string::npos) scriptFail(a, "expected NAME=VALUE");
+    cursor_->setParamText(s.substr(0, eq), s.substr(eq + 1));
+    paramsChanged();
+  } else if (v == "reset-params") {
+    cursor_->setParams(t.defaultParams());
+    paramsChanged();
+  } else if (v == "camera") {
+    setCameraIndex(intArg(0));
+  } else if (v == "orbit") {
+    orbit(floatArg(0), floatArg(1));
+  } else if (v == "frame-scene") {
+    frameScene();
+  } else if (v == "size") {
+    Args::parseSize(arg(0), opt_.width, opt_.height);
+    cursor_->setViewSize(opt_.width, opt_.height);
+    paramsChanged();
+  } else if (v == "run") {
+    lastRunRequest_ = std::max(lastRunRequest_, selected_);
+    requestRun(selected_);
+  } else if (v == "runall") {
+    lastRunRequest_ = t.stageCount() - 1;
+    requestRun(lastRunRequest_);
+  } else if (v == "next") {
+    selectStage(selected_ + 1);
+    lastRunRequest_ = std::max(lastRunRequest_, selected_);
+    requestRun(selected_);
+  } else if (v == "prev") {
+    selectStage(selected_ - 1);
+  } else if (v == "probe") {
+    probePixel(intArg(0), intArg(1));
+  } else if (v == "lesson") {
+    lesson_ = loadLesson(arg(0));
+    applyLessonStep(0);
+  } else if (v == "lesson-next" || v == "lesson-prev") {
+    if (lesson_.steps.empty()) scriptFail(a, "no lesson is open");
+    int next = lessonStep_ + (v == "lesson-next" ? 1 : -1);
+    if (next < 0 || next >= int(lesson_.steps.size()))
+      scriptFail(a, "no step " + std::to_string(next + 1) + "; the lesson has " + std::to_string(lesson_.steps.size()));
+    applyLessonStep(next);
+    std::printf("lesson step %d/%zu: %s/%s\n", next + 1, lesson_.steps.size(), lesson_.steps[next].stage.c_str(),
+                lesson_.steps[next].output.c_str());
+  } else if (v == "lesson-end") {
+    if (lesson_.steps.empty()) scriptFail(a, "no lesson is open");
+    if (lessonStep_ + 1 < int(lesson_.steps.size())) {
+      applyLessonStep(lessonStep_ + 1);
+      std::printf("lesson step %d/%zu: %s/%s\n", lessonStep_ + 1, lesson_.steps.size(),
+                  lesson_.steps[lessonStep_].stage.c_str(), lesson_.steps[lessonStep_].output.c_str());
+      --pc_;  // repeat this action after the step has run
+    }
+  } else if (v == "screenshot") {
+    pendingScreenshot_ = arg(0);
+    screenshotDelay_ = 2;  // let ImGui settle one frame after the last change
+  } else if (v == "save-output" || v == "compare-output") {
+    refreshCapture();
+    if (!capError_.empty()) scriptFail(a, capError_);
+    std::string prefix = std::string(t.stage(selected_).id()) + "." + cap_.desc.name;
+    if (v == "save-output") {
+      std::error_code ec;
+      fs::create_directories(arg(0), ec);
+      auto e = writeOutputFiles(cap_, arg(0), prefix);
+      std::printf("saved %s: %s\n", prefix.c_str(), e["files"].dump().c_str());
+      return;
+    }
+    double tol = a.args.size() > 2 ? floatArg(2) : 0.0;
+    if (cap_.desc.kind == OutputKind::Buffer) {
+      std::string x = readTextFile(arg(0) + "/" + prefix + ".bin"), y = readTextFile(arg(1) + "/" + prefix + ".bin");
+      uint32_t stride = std::max<uint32_t>(cap_.desc.layout.stride, 1);
+      if (x.size() != y.size())
+        scriptFail(a, prefix + ": " + std::to_string(x.size() / stride) + " records vs " + std::to_string(y.size() / stride));
+      // Appended records have no fixed order: compare the sorted record sets.
+      auto recs = [&](const std::string& s) {
+        std::vector<std::string> r;
+        for (size_t i = 0; i + stride <= s.size(); i += stride) r.push_back(s.substr(i, stride));
+        std::sort(r.begin(), r.end());
+        return r;
+      };
+      if (recs(x) != recs(y)) scriptFail(a, prefix + ": record sets differ");
+      std::printf("compare-output %s: %zu records identical\n", prefix.c_str(), x.size() / stride);
+      return;
+    }
+    size_t levels = cap_.levels.size();
+    for (size_t l = 0; l < levels; ++l) {
+      std::string name = prefix + (levels > 1 ? "@" + std::to_string(l) : "") + ".exr";
+      LevelData p = readLevelExr(arg(0) + "/" + name), q = readLevelExr(arg(1) + "/" + name);
+      if (p.size != q.size || p.channels != q.channels) scriptFail(a, name + ": sizes or channel counts differ");
+      double maxDiff = 0;
+      size_t above = 0;
+      for (size_t i = 0; i < p.values.size(); ++i) {
+        double dd = std::abs(double(p.values[i]) - double(q.values[i]));
+        if (!(dd <= tol)) ++above;
+        if (dd > maxDiff || std::isnan(dd)) maxDiff = dd;
+      }
+      std::printf("compare-output %s: %zu values, max abs diff %g (tolerance %g)\n", name.c_str(), p.values.size(), maxDiff, tol);
+      if (above) scriptFail(a, name + ": " + std::to_string(above) + " values differ by more than " + arg(2 < a.args.size() ? 2 : 0));
+    }
+  } else if (v == "expect-images-differ" || v == "expect-images-equal") {
+    int w1, h1, w2, h2;
+    auto p = readImageBytes(arg(0), w1, h1), q = readImageBytes(arg(1), w2, h2);
+    size_t diff = 0;
+    if (w1 == w2 && h1 == h2 && p.size() == q.size())
+      for (size_t i = 0; i < p.size(); ++i) diff += p[i] != q[i];
+    else
+      diff = std::max(p.size(), q.size());
+    std::printf("%s vs %s: %zu bytes differ\n", arg(0).c_str(), arg(1).c_str(), diff);
+    if (v == "expect-images-differ" && diff == 0) scriptFail(a, "the images are identical");
+    if (v == "expect-images-equal" && diff != 0) scriptFail(a, std::to_string(diff) + " bytes differ");
+  } else if (v == "expect-samples-monotonic") {
+    int p = probeStage();
+    if (p < 0) scriptFail(a, "the technique has no cone-samples output");
+    std::vector<ConeSeries> cones;
+    for (const auto& o : t.decl(p).outputs)
+      if (o.semantic == Semantic::ConeSamples) cones = decodeConeSamples(captureOutput(cursor_->board(), o));
+    size_t total = 0;
+    for (const auto& c : cones) total += c.distance.size();
+    if (total == 0) scriptFail(a, "no cone samples were recorded");
+    std::string m = checkOpacityMonotonic(cones);
+    if (!m.empty()) scriptFail(a, m);
+    std::printf("probe: %zu cones, %zu samples, accumulated opacity non-decreasing along every cone\n", cones.size(), total);
+  } else if (v == "expect-state") {
+    int i = t.stageIndex(arg(0));
+    std::string want = arg(1) == "not-run" ? "not run" : arg(1);
+    std::string got = stageStateName(cursor_->record(i).state);
+    if (got != want) scriptFail(a, "stage " + arg(0) + " is " + got + ", expected " + want);
+  } else if (v == "expect-param") {
+    std::string got = cursor_->params().desc(arg(0)).format(cursor_->params().value(arg(0)));
+    if (got != arg(1)) scriptFail(a, arg(0) + " is " + got + ", expected " + arg(1));
+  } else if (v == "copy-command") {
+    copied_ = commandLine();
+    glfwSetClipboardString(window_->handle(), copied_.c_str());
+    std::printf("command: %s\n", copied_.c_str());
+  } else if (v == "reload") {
+    reloadShaders();
+    if (!shaderError_.empty()) std::printf("shader reload failed: %s\n", shaderError_.c_str());
+  } else if (v == "wait") {
+    waitFrames_ = intArg(0);
+  } else if (v == "frame-stats") {
+    printFrameStats();
+  } else if (v == "quit") {
+    quit_ = true;
+  }
+}
+
+void Viewer::printFrameStats() const {
+  if (idleFrameMs_.empty()) {
+    std::printf("frame-stats: no idle frames\n");
+    return;
+  }
+  std::vector<double> s = idleFrameMs_;
+  std::sort(s.begin(), s.end());
+  double sum = 0;
+  for (double x : s) sum += x;
+  int w, h;
+  window_->framebufferSize(w, h);
+  std::printf("frame-stats: %zu idle UI frames at %dx%d: mean %.1f ms, median %.1f ms, p95 %.1f ms, max %.1f ms\n",
+              s.size(), w, h, sum / s.size(), s[s.size() / 2], s[std::min(s.size() - 1, size_t(s.size() * 0.95))],
+              s.back());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int runViewer(const ViewerOptions& options) {
+  Viewer v(options);
+  return v.loop();
+}
+
+}  // namespace voxlab

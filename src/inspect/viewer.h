@@ -1,0 +1,29 @@
+// Viewer: the interactive front end (`voxlab view`). It steps any technique stage by stage and
+// inspects every declared output, working from the stage declarations alone: the timeline comes
+// from the stage list, the parameter panel from the ParamDescs, the inspector from each
+// OutputDesc's kind and semantic, and the pixel probe from any stage that declares a
+// Semantic::ConeSamples output and the parameters probe.x / probe.y. No stage-specific code.
+//
+// Stages run on the GL thread one per frame (StepCursor::runThrough to the next stage only), so
+// the UI is drawn between stages and never freezes for a whole technique. A script (--script)
+// replays the same actions a user performs, for tests under Xvfb.
+#pragma once
+#include <memory>
+#include <string>
+
+namespace voxlab {
+
+struct ViewerOptions {
+  std::string technique = "vct-grid";
+  std::string scene = "cornell-box";
+  std::string lesson;      // lesson file to open (optional)
+  std::string script;      // script file to replay (optional); the viewer quits at its end
+  int width = 512, height = 512;                // render size of the technique's view
+  int windowWidth = 1280, windowHeight = 720;   // window size
+};
+
+// Runs the viewer until the window closes or the script quits. Returns the exit code; a script
+// error throws Error ("FILE:LINE: message").
+int runViewer(const ViewerOptions& options);
+
+}  // namespace voxlab

@@ -1,0 +1,180 @@
+#include "lesson/lesson.h"
+
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/paths.h"
+#include "graph/technique.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+namespace {
+
+using nlohmann::json;
+
+std::string trim(const std::string& s) {
+  size_t a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return "";
+  size_t b = s.find_last_not_of(" \t\r\n");
+  return s.substr(a, b - a + 1);
+}
+
+std::string jsonText(const json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number_integer()) return std::to_string(v.get<long long>());
+  if (v.is_number()) {
+    std::ostringstream o;
+    o << v.get<double>();
+    return o.str();
+  }
+  throw Error("a parameter value must be a string, number or boolean, got " + v.dump());
+}
+
+// Validates one step against the registry; 'where' is "file:line".
+void validateStep(LessonStep& step, const std::string& where, bool checkScenes) {
+  auto fail = [&](const std::string& what) { throw Error(where + ": " + what); };
+  std::unique_ptr<Technique> t;
+  try {
+    t = createTechnique(step.technique);
+  } catch (const Error& e) {
+    fail(e.what());
+  }
+  int index = -1;
+  try {
+    index = t->stageIndex(step.stage);
+  } catch (const Error& e) {
+    fail(e.what());
+  }
+  const auto& outs = t->decl(index).outputs;
+  if (step.output.empty()) {
+    if (!outs.empty()) step.output = outs.front().name;
+  } else {
+    try {
+      t->findOutput(step.stage, step.output);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+  }
+  if (step.level < 0) fail("level must be 0 or more, got " + std::to_string(step.level));
+  if (step.camera < 0) fail("camera must be 0 or more, got " + std::to_string(step.camera));
+  ParamSet params = t->defaultParams();
+  for (const auto& [name, value] : step.sets) {
+    try {
+      params.setText(name, value);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+  }
+  if (checkScenes) {
+    try {
+      resolveScenePath(step.scene);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+  }
+}
+
+}  // namespace
+
+Lesson parseLesson(const std::string& text, const std::string& path, bool checkScenes) {
+  Lesson lesson;
+  lesson.path = path;
+  std::istringstream in(text);
+  std::string line, narrative, block;
+  int lineNo = 0, blockLine = 0;
+  bool inStep = false, inOtherFence = false;
+  std::string technique, scene = "cornell-box";
+  while (std::getline(in, line)) {
+    ++lineNo;
+    std::string t = trim(line);
+    if (inStep) {
+      if (t.rfind("```", 0) == 0) {
+        inStep = false;
+        std::string where = path + ":" + std::to_string(blockLine);
+        json j;
+        try {
+          j = json::parse(block);
+        } catch (const json::parse_error& e) {
+          // Turn the byte offset into a line of the file.
+          size_t byte = std::min<size_t>(e.byte, block.size());
+          int extra = 0;
+          for (size_t k = 0; k + 1 < byte; ++k) extra += block[k] == '\n';
+          throw Error(path + ":" + std::to_string(blockLine + 1 + extra) + ": voxlab-step is not valid JSON: " +
+                      std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
+        }
+        if (!j.is_object()) throw Error(where + ": a voxlab-step block must hold one JSON object");
+        LessonStep step;
+        step.line = blockLine;
+        step.narrative = trim(narrative);
+        narrative.clear();
+        static const char* known[] = {"technique", "scene", "stage", "output", "level", "camera", "set"};
+        for (auto it = j.begin(); it != j.end(); ++it) {
+          bool ok = false;
+          for (const char* k : known) ok = ok || it.key() == k;
+          if (!ok)
+            throw Error(where + ": unknown key '" + it.key() +
+                        "'; valid keys: technique, scene, stage, output, level, camera, set");
+        }
+        auto str = [&](const char* key, std::string& out) {
+          if (!j.contains(key)) return;
+          if (!j[key].is_string()) throw Error(where + ": '" + key + "' must be a string");
+          out = j[key].get<std::string>();
+        };
+        auto num = [&](const char* key, int& out) {
+          if (!j.contains(key)) return;
+          if (!j[key].is_number_integer()) throw Error(where + ": '" + key + "' must be an integer");
+          out = j[key].get<int>();
+        };
+        str("technique", technique);
+        str("scene", scene);
+        if (technique.empty()) throw Error(where + ": the first voxlab-step needs a \"technique\"");
+        if (!j.contains("stage")) throw Error(where + ": a voxlab-step needs a \"stage\"");
+        step.technique = technique;
+        step.scene = scene;
+        str("stage", step.stage);
+        str("output", step.output);
+        num("level", step.level);
+        num("camera", step.camera);
+        if (j.contains("set")) {
+          if (!j["set"].is_object()) throw Error(where + ": 'set' must be an object of name: value");
+          for (auto it = j["set"].begin(); it != j["set"].end(); ++it) {
+            try {
+              step.sets.emplace_back(it.key(), jsonText(it.value()));
+            } catch (const Error& e) {
+              throw Error(where + ": " + it.key() + ": " + e.what());
+            }
+          }
+        }
+        validateStep(step, where, checkScenes);
+        lesson.steps.push_back(std::move(step));
+      } else {
+        block += line + "\n";
+      }
+      continue;
+    }
+    if (!inOtherFence && t.rfind("```voxlab-step", 0) == 0) {
+      inStep = true;
+      blockLine = lineNo;
+      block.clear();
+      continue;
+    }
+    if (t.rfind("```", 0) == 0) inOtherFence = !inOtherFence;
+    if (!inOtherFence && lesson.title.empty() && t.rfind("# ", 0) == 0) lesson.title = trim(t.substr(2));
+    narrative += line + "\n";
+  }
+  if (inStep) throw Error(path + ":" + std::to_string(blockLine) + ": voxlab-step block is never closed");
+  if (lesson.steps.empty()) throw Error(path + ": the lesson has no ```voxlab-step blocks");
+  lesson.epilogue = trim(narrative);
+  if (lesson.title.empty()) lesson.title = path;
+  return lesson;
+}
+
+Lesson loadLesson(const std::string& path, bool checkScenes) {
+  if (!fileExists(path)) throw Error("lesson file '" + path + "' does not exist");
+  return parseLesson(readTextFile(path), path, checkScenes);
+}
+
+}  // namespace voxlab

@@ -1,0 +1,47 @@
+// Lessons: Markdown files in lessons/ that walk a student through a technique stage by stage.
+//
+// A lesson is ordinary Markdown (the narrative) with one fenced block per step:
+//
+//   ```voxlab-step
+//   {"technique": "vct-grid", "scene": "cornell-box", "stage": "mipmap", "output": "radiance",
+//    "level": 2, "camera": 0, "set": {"mipmap.mode": "anisotropic"}}
+//   ```
+//
+// The narrative of a step is the text between the previous block (or the start of the file) and
+// its own block. A step's state is absolute: the technique's default parameters plus its "set",
+// so steps can be replayed in any order. Only "stage" is required; "technique" and "scene" carry
+// over from the previous step (the first step needs "technique"; "scene" defaults to
+// cornell-box). Validation runs against the technique registry: an unknown technique, stage,
+// output or parameter, or a bad value, is an Error naming "file:line".
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+namespace voxlab {
+
+struct LessonStep {
+  int line = 0;                 // line of the opening ```voxlab-step fence (1-based)
+  std::string narrative;        // Markdown before the block (trimmed)
+  std::string technique;
+  std::string scene;            // name in scenes/ or a path
+  std::string stage;
+  std::string output;           // "" = the stage's first output
+  int level = 0;
+  int camera = 0;
+  std::vector<std::pair<std::string, std::string>> sets;  // name, value (in file order)
+};
+
+struct Lesson {
+  std::string path;
+  std::string title;            // the first "# " heading, or the file name
+  std::string epilogue;         // narrative after the last block
+  std::vector<LessonStep> steps;
+};
+
+// Parses and validates 'text' as the lesson at 'path' (the path only appears in messages).
+// 'checkScenes' also resolves each scene name to a file.
+Lesson parseLesson(const std::string& text, const std::string& path, bool checkScenes = true);
+Lesson loadLesson(const std::string& path, bool checkScenes = true);  // reads, then parseLesson
+
+}  // namespace voxlab

@@ -1,0 +1,62 @@
+#include "reference/cpu_voxelizer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "techniques/common/voxel_space.h"
+
+namespace voxlab {
+
+static bool separatedOn(const glm::dvec3& axis, const glm::dvec3& v0, const glm::dvec3& v1,
+                        const glm::dvec3& v2, const glm::dvec3& h) {
+  double p0 = glm::dot(v0, axis), p1 = glm::dot(v1, axis), p2 = glm::dot(v2, axis);
+  double r = glm::dot(h, glm::abs(axis));
+  return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+}
+
+bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                         const glm::dvec3& center, const glm::dvec3& h) {
+  glm::dvec3 v0 = a - center, v1 = b - center, v2 = c - center;
+  // 1. Box face normals = the triangle's bounding box against the box.
+  for (int i = 0; i < 3; ++i) {
+    if (std::min({v0[i], v1[i], v2[i]}) > h[i] || std::max({v0[i], v1[i], v2[i]}) < -h[i]) return false;
+  }
+  glm::dvec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
+  // 2. Triangle plane.
+  glm::dvec3 n = glm::cross(e[0], e[1]);
+  if (std::abs(glm::dot(n, v0)) > glm::dot(h, glm::abs(n))) return false;
+  // 3. Cross products of the box axes with the edges.
+  for (int i = 0; i < 3; ++i) {
+    glm::dvec3 unit(0.0);
+    unit[i] = 1.0;
+    for (const auto& edge : e) {
+      glm::dvec3 axis = glm::cross(unit, edge);
+      if (glm::dot(axis, axis) > 1e-30 && separatedOn(axis, v0, v1, v2, h)) return false;
+    }
+  }
+  return true;
+}
+
+std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space) {
+  std::vector<uint32_t> keys;
+  const int res = space.resolution;
+  const glm::dvec3 half(0.5);
+  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+    glm::dvec3 v[3];
+    for (int k = 0; k < 3; ++k) v[k] = glm::dvec3(space.toVoxel(scene.positions[scene.indices[3 * t + k]]));
+    if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) <= 0.0) continue;
+    glm::dvec3 lo = glm::min(v[0], glm::min(v[1], v[2])), hi = glm::max(v[0], glm::max(v[1], v[2]));
+    glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)) - 1, glm::ivec3(0), glm::ivec3(res - 1));
+    glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(hi)) + 1, glm::ivec3(0), glm::ivec3(res - 1));
+    for (int z = a.z; z <= b.z; ++z)
+      for (int y = a.y; y <= b.y; ++y)
+        for (int x = a.x; x <= b.x; ++x)
+          if (triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half))
+            keys.push_back(packVoxelKey(x, y, z));
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+}  // namespace voxlab

@@ -1,0 +1,28 @@
+// CPU reference voxelizer: the exact conservative surface voxel set of a scene.
+//
+// A voxel belongs to the set when at least one triangle overlaps its closed box (separating axis
+// test over the 13 axes of Akenine-Moller 2001; touching counts). Degenerate triangles (zero
+// area) are skipped, as the GPU voxelizers skip them. The GPU methods are tested against this.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace voxlab {
+
+struct VoxelSpace;
+
+bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                         const glm::dvec3& center, const glm::dvec3& halfSize);
+
+// Sorted, unique voxel keys (x | y << 10 | z << 20, the 10:10:10 packing) overlapped by the
+// scene's triangles in the given voxel space.
+std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space);
+
+inline uint32_t packVoxelKey(int x, int y, int z) { return uint32_t(x) | (uint32_t(y) << 10) | (uint32_t(z) << 20); }
+inline glm::ivec3 unpackVoxelKey(uint32_t k) { return {int(k & 1023u), int((k >> 10) & 1023u), int((k >> 20) & 1023u)}; }
+
+}  // namespace voxlab

@@ -1,0 +1,230 @@
+// Snapshot suite: every declared output of every technique, compared with its golden.
+//
+// For each technique the run settings come from tests/golden/<technique>/settings.json (scene,
+// size, parameter overrides; defaults below when absent). Goldens live in
+// tests/golden/<technique>/<scene>/:
+//   images and volumes: <stage>.<output>[@level].exr (values, as `voxlab run` writes them);
+//   buffers:            <stage>.<output>.records (raw records; sorted for the exact tier).
+// Tolerances are data (tests/golden/tolerances.json): "exact" outputs must match bit for bit
+// (buffers as sorted multisets, since atomics append in no fixed order); "tolerance" outputs may
+// differ by max_abs in at most max_fraction of their values. A failure writes the actual file and
+// a difference image under <build>/snapshot-failures/ and names them.
+// Goldens are (re)written only with VOXLAB_UPDATE_GOLDENS=1 (scripts/update-goldens.sh).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/args.h"
+#include "core/paths.h"
+#include "graph/technique.h"
+#include "test_support.h"
+
+namespace voxlab::snapshot {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Settings {
+  RunRequest request;
+};
+
+Settings settingsFor(const std::string& technique) {
+  Settings s;
+  s.request.technique = technique;
+  s.request.width = s.request.height = 128;
+  std::string path = projectPath("tests/golden/" + technique + "/settings.json");
+  auto params = createTechnique(technique)->defaultParams();
+  if (params.has("voxel.resolution")) s.request.sets.push_back("voxel.resolution=64");
+  if (fileExists(path)) {
+    json j = json::parse(readTextFile(path));
+    s.request.scene = j.value("scene", s.request.scene);
+    if (j.contains("size")) Args::parseSize(j["size"].get<std::string>(), s.request.width, s.request.height);
+    if (j.contains("set")) s.request.sets = j["set"].get<std::vector<std::string>>();
+  }
+  return s;
+}
+
+struct Tolerance {
+  double maxAbs = 0.0;
+  double maxFraction = 0.0;
+};
+
+Tolerance toleranceFor(const std::string& address, CaptureTier tier) {
+  static json data = json::parse(readTextFile(projectPath("tests/golden/tolerances.json")));
+  Tolerance t;
+  if (tier == CaptureTier::Exact) return t;
+  const json& d = data.at("default");
+  t.maxAbs = d.at("max_abs").get<double>();
+  t.maxFraction = d.at("max_fraction").get<double>();
+  if (data.contains("outputs") && data["outputs"].contains(address)) {
+    const json& o = data["outputs"][address];
+    t.maxAbs = o.value("max_abs", t.maxAbs);
+    t.maxFraction = o.value("max_fraction", t.maxFraction);
+  }
+  return t;
+}
+
+bool updating() {
+  const char* e = std::getenv("VOXLAB_UPDATE_GOLDENS");
+  return e && std::string(e) == "1";
+}
+
+std::string failureDir() {
+  std::string d = fs::current_path().string() + "/snapshot-failures";
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<uint8_t> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void writeBytes(const std::string& path, const std::vector<uint8_t>& b) {
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
+}
+
+// Records sorted as byte strings: the canonical form of an append-order-free list.
+std::vector<uint8_t> sortedRecords(const CapturedOutput& c) {
+  size_t stride = c.desc.layout.stride;
+  std::vector<std::vector<uint8_t>> recs(c.recordCount);
+  for (uint32_t i = 0; i < c.recordCount; ++i)
+    recs[i].assign(c.records.begin() + i * stride, c.records.begin() + (i + 1) * stride);
+  std::sort(recs.begin(), recs.end());
+  std::vector<uint8_t> out;
+  for (auto& r : recs) out.insert(out.end(), r.begin(), r.end());
+  return out;
+}
+
+class SnapshotTest : public ::testing::Test {
+ public:
+  SnapshotTest(std::string technique, std::string stage, std::string output)
+      : technique_(std::move(technique)), stage_(std::move(stage)), output_(std::move(output)) {}
+
+  void TestBody() override {
+    Settings settings = settingsFor(technique_);
+    HeadlessSession& s = testing_support::session(settings.request);
+    CapturedOutput c = testing_support::capture(s, stage_, output_);
+    std::string address = technique_ + "/" + stage_ + "/" + output_;
+    std::string dir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
+    std::string prefix = stage_ + "." + output_;
+    Tolerance tol = toleranceFor(address, c.desc.tier);
+    if (c.desc.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
+    if (c.desc.kind == OutputKind::Buffer)
+      compareBuffer(c, dir, prefix, tol);
+    else
+      compareLevels(c, dir, prefix, tol);
+  }
+
+ private:
+  void compareBuffer(const CapturedOutput& c, const std::string& dir, const std::string& prefix, const Tolerance& tol) {
+    std::string golden = dir + "/" + prefix + ".records";
+    std::vector<uint8_t> actual = c.desc.tier == CaptureTier::Exact ? sortedRecords(c) : c.records;
+    if (updating()) {
+      fs::create_directories(dir);
+      writeBytes(golden, actual);
+      return;
+    }
+    ASSERT_TRUE(fileExists(golden)) << "missing golden " << golden << " (run scripts/update-goldens.sh and review)";
+    std::vector<uint8_t> expected = readBytes(golden);
+    std::string actualPath = failureDir() + "/" + technique_ + "." + prefix + ".records";
+    size_t stride = c.desc.layout.stride;
+    if (expected.size() != actual.size()) {
+      writeBytes(actualPath, actual);
+      FAIL() << technique_ << "/" << prefix << ": " << actual.size() / stride << " records, golden has "
+             << expected.size() / stride << " (actual written to " << actualPath << ")";
+    }
+    if (c.desc.tier == CaptureTier::Exact) {
+      if (expected != actual) {
+        writeBytes(actualPath, actual);
+        size_t differing = 0;
+        for (size_t i = 0; i < actual.size(); i += stride)
+          if (std::memcmp(&actual[i], &expected[i], stride) != 0) ++differing;
+        FAIL() << technique_ << "/" << prefix << ": " << differing << " of " << actual.size() / stride
+               << " sorted records differ (actual written to " << actualPath << ")";
+      }
+      return;
+    }
+    // Tolerance tier: every 4-byte field read as float.
+    size_t n = actual.size() / 4, over = 0;
+    double worst = 0;
+    for (size_t i = 0; i < n; ++i) {
+      float a, e;
+      std::memcpy(&a, &actual[i * 4], 4);
+      std::memcpy(&e, &expected[i * 4], 4);
+      double d = std::abs(double(a) - double(e));
+      worst = std::max(worst, d);
+      if (d > tol.maxAbs) ++over;
+    }
+    if (double(over) > tol.maxFraction * double(n)) {
+      writeBytes(actualPath, actual);
+      FAIL() << technique_ << "/" << prefix << ": " << over << " of " << n << " values differ by more than "
+             << tol.maxAbs << " (worst " << worst << "; allowed fraction " << tol.maxFraction << "; actual written to "
+             << actualPath << ")";
+    }
+  }
+
+  void compareLevels(const CapturedOutput& c, const std::string& dir, const std::string& prefix, const Tolerance& tol) {
+    for (size_t l = 0; l < c.levels.size(); ++l) {
+      std::string name = prefix + (c.levels.size() > 1 ? "@" + std::to_string(l) : "") + ".exr";
+      std::string golden = dir + "/" + name;
+      const LevelData& a = c.levels[l];
+      if (updating()) {
+        fs::create_directories(dir);
+        writeLevelExr(a, golden, semanticName(c.desc.semantic));
+        continue;
+      }
+      ASSERT_TRUE(fileExists(golden)) << "missing golden " << golden << " (run scripts/update-goldens.sh and review)";
+      LevelData e = readLevelExr(golden);
+      ASSERT_EQ(a.size, e.size) << name << ": size differs from the golden";
+      ASSERT_EQ(a.channels, e.channels) << name << ": channel count differs from the golden";
+      size_t over = 0;
+      double worst = 0;
+      LevelData diff = a;
+      for (size_t i = 0; i < a.values.size(); ++i) {
+        double d = std::abs(double(a.values[i]) - double(e.values[i]));
+        if (std::isnan(d)) d = INFINITY;
+        diff.values[i] = float(d);
+        worst = std::max(worst, d);
+        if (d > tol.maxAbs) ++over;
+      }
+      if (double(over) > tol.maxFraction * double(a.values.size())) {
+        std::string base = failureDir() + "/" + technique_ + "." + name;
+        writeLevelExr(a, base + ".actual.exr", semanticName(c.desc.semantic));
+        writeLevelExr(diff, base + ".diff.exr", "scalar");
+        FAIL() << technique_ << "/" << name << ": " << over << " of " << a.values.size() << " values differ by more than "
+               << tol.maxAbs << " (worst " << worst << ", allowed fraction " << tol.maxFraction << "); actual: "
+               << base << ".actual.exr, difference: " << base << ".diff.exr, golden: " << golden;
+      }
+    }
+  }
+
+  std::string technique_, stage_, output_;
+};
+
+}  // namespace
+
+void registerSnapshotTests() {
+  for (const auto& entry : techniqueRegistry()) {
+    auto t = createTechnique(entry.id);
+    for (int i = 0; i < t->stageCount(); ++i)
+      for (const auto& o : t->decl(i).outputs) {
+        std::string id = entry.id, stage = t->stage(i).id(), output = o.name;
+        std::string name = id + "/" + stage + "/" + output;
+        std::replace(name.begin(), name.end(), '-', '_');
+        std::replace(name.begin(), name.end(), '/', '_');
+        ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
+                                [=]() -> ::testing::Test* { return new SnapshotTest(id, stage, output); });
+      }
+  }
+}
+
+}  // namespace voxlab::snapshot

@@ -1,0 +1,30 @@
+#include "test_support.h"
+
+#include <map>
+
+namespace voxlab::testing_support {
+
+HeadlessSession& session(const RunRequest& r) {
+  static std::map<std::string, std::unique_ptr<HeadlessSession>> sessions;
+  std::string key = r.technique + "|" + r.scene + "|" + r.until + "|" + std::to_string(r.width) + "x" +
+                    std::to_string(r.height) + "|" + std::to_string(r.camera);
+  for (const auto& s : r.sets) key += "|" + s;
+  auto& slot = sessions[key];
+  if (!slot) {
+    // One GL context per process: drop the others first (each session owns its context).
+    sessions.clear();
+    auto& fresh = sessions[key];
+    fresh = std::make_unique<HeadlessSession>(r);
+    fresh->run();
+    return *fresh;
+  }
+  return *slot;
+}
+
+CapturedOutput capture(HeadlessSession& s, const std::string& stage, const std::string& output) {
+  auto [index, desc] = s.cursor().technique().findOutput(stage, output);
+  (void)index;
+  return captureOutput(s.cursor().board(), *desc);
+}
+
+}  // namespace voxlab::testing_support

@@ -1,0 +1,223 @@
+// vct-grid checks that do not come from the code under test (testing.md tiers 1 and 3):
+//  - the conservative voxelizer's voxel set against the CPU triangle/box reference;
+//  - triangles per projection axis against a CPU count (the plane normal comes from positions);
+//  - every mip texel against the CPU average of its 8 children;
+//  - white furnace: uniform injected radiance L in a closed box of albedo rho gives rho * L;
+//  - ambient occlusion of floor points next to a wall against numerical quadrature.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <set>
+
+#include "core/paths.h"
+#include "reference/cpu_voxelizer.h"
+#include "scene/scene.h"
+#include "techniques/common/voxel_space.h"
+#include "test_support.h"
+
+namespace voxlab {
+namespace {
+
+using testing_support::capture;
+using testing_support::session;
+
+RunRequest request(const std::string& scene, std::vector<std::string> sets, const std::string& until = "",
+                   int size = 128) {
+  RunRequest r;
+  r.technique = "vct-grid";
+  r.scene = scene;
+  r.until = until;
+  r.sets = std::move(sets);
+  r.width = r.height = size;
+  return r;
+}
+
+std::set<uint32_t> voxelKeysOf(const CapturedOutput& fragments) {
+  std::set<uint32_t> keys;
+  for (uint32_t i = 0; i < fragments.recordCount; ++i) {
+    uint32_t packed;
+    std::memcpy(&packed, &fragments.records[size_t(i) * fragments.desc.layout.stride], 4);
+    keys.insert(packed);
+  }
+  return keys;
+}
+
+void expectConservativeCoversReference(const std::string& scene, int resolution) {
+  auto& s = session(request(scene, {"voxel.resolution=" + std::to_string(resolution)}, "voxelize"));
+  std::set<uint32_t> gpu = voxelKeysOf(capture(s, "voxelize", "fragments"));
+  auto ref = referenceVoxelSet(s.cursor().scene(), VoxelSpace::fromScene(s.cursor().scene(), resolution));
+  size_t missing = 0;
+  for (uint32_t k : ref)
+    if (!gpu.count(k)) ++missing;
+  std::set<uint32_t> refSet(ref.begin(), ref.end());
+  size_t extra = 0;
+  for (uint32_t k : gpu)
+    if (!refSet.count(k)) ++extra;
+  ::testing::Test::RecordProperty("reference_voxels", int(ref.size()));
+  ::testing::Test::RecordProperty("gpu_voxels", int(gpu.size()));
+  ::testing::Test::RecordProperty("extra_voxels", int(extra));
+  EXPECT_GT(ref.size(), 1000u);
+  EXPECT_EQ(missing, 0u) << scene << " @" << resolution << ": the GPU misses " << missing << " of " << ref.size()
+                         << " reference voxels";
+  // The GPU tests each candidate voxel with the same exact overlap test in single precision; a
+  // voxel can only be added where a triangle touches a voxel face to within float rounding.
+  // Measured: 0 extra voxels on the Cornell box at 64 and 128 and on thin-wall at 64.
+  EXPECT_LE(extra, ref.size() / 1000) << scene << ": " << extra << " voxels beyond the reference";
+}
+
+TEST(VctGridVoxelize, ConservativeCoversCpuReferenceCornell64) { expectConservativeCoversReference("cornell-box", 64); }
+TEST(VctGridVoxelize, ConservativeCoversCpuReferenceCornell128) { expectConservativeCoversReference("cornell-box", 128); }
+TEST(VctGridVoxelize, ConservativeCoversCpuReferenceThinWall) {
+  expectConservativeCoversReference(projectPath("tests/data/scenes/thin-wall.gltf"), 64);
+}
+
+TEST(VctGridVoxelize, TrianglesPerAxisMatchCpuPlaneNormals) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=64"}, "voxelize"));
+  const Scene& scene = s.cursor().scene();
+  double counts[3] = {0, 0, 0};
+  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+    glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
+              c = scene.positions[scene.indices[3 * t + 2]];
+    glm::vec3 n = glm::abs(glm::cross(b - a, c - a));
+    counts[(n.x >= n.y && n.x >= n.z) ? 0 : (n.y >= n.z ? 1 : 2)] += 1;
+  }
+  const auto& stats = s.cursor().record(0).stats;
+  EXPECT_EQ(stats.at("triangles_axis_x"), counts[0]);
+  EXPECT_EQ(stats.at("triangles_axis_y"), counts[1]);
+  EXPECT_EQ(stats.at("triangles_axis_z"), counts[2]);
+  EXPECT_EQ(stats.at("fragments"), s.cursor().record(0).stats.at("fragments"));
+}
+
+TEST(VctGridMipmap, EveryTexelIsTheAverageOfItsChildren) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=64"}, "mipmap"));
+  CapturedOutput mips = capture(s, "mipmap", "radiance");
+  ASSERT_EQ(mips.levels.size(), 7u);  // 64, 32, 16, 8, 4, 2, 1
+  size_t nonEmptyParents = 0;
+  for (size_t l = 1; l < mips.levels.size(); ++l) {
+    const LevelData& parent = mips.levels[l];
+    const LevelData& child = mips.levels[l - 1];
+    double worst = 0;
+    for (int z = 0; z < parent.size.z; ++z)
+      for (int y = 0; y < parent.size.y; ++y)
+        for (int x = 0; x < parent.size.x; ++x)
+          for (int c = 0; c < 4; ++c) {
+            double sum = 0;
+            for (int i = 0; i < 8; ++i) sum += child.at(2 * x + (i & 1), 2 * y + ((i >> 1) & 1), 2 * z + ((i >> 2) & 1), c);
+            double v = parent.at(x, y, z, c);
+            if (c == 3 && v > 0) ++nonEmptyParents;
+            worst = std::max(worst, std::abs(v - sum / 8.0));
+          }
+    // RGBA8 stores the nearest of k/255: at most half a step from the exact average.
+    EXPECT_LE(worst, 0.5 / 255.0 + 1e-6) << "level " << l;
+  }
+  EXPECT_GT(nonEmptyParents, 100u);
+}
+
+TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
+  const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
+  auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),
+                            {"voxel.resolution=64", "inject.mode=uniform", "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"}, "cone-trace"));
+  CapturedOutput indirect = capture(s, "cone-trace", "indirect-diffuse");
+  CapturedOutput albedo = capture(s, "gbuffer", "albedo");
+  CapturedOutput position = capture(s, "gbuffer", "position");
+  const LevelData& ind = indirect.levels[0];
+  double sum = 0, worst = 0;
+  size_t n = 0;
+  for (size_t t = 0; t < ind.texelCount(); ++t) {
+    if (position.levels[0].values[t * 4 + 3] == 0) continue;
+    ASSERT_NEAR(albedo.levels[0].values[t * 4], rho, 1.0 / 255.0);
+    double v = ind.values[t * 4];
+    sum += v;
+    worst = std::max(worst, std::abs(v - rho * L));
+    ++n;
+  }
+  ASSERT_EQ(n, ind.texelCount());  // the camera is inside the closed box: every pixel sees a wall
+  double mean = sum / double(n);
+  ::testing::Test::RecordProperty("furnace_mean", std::to_string(mean));
+  ::testing::Test::RecordProperty("furnace_worst_abs_error", std::to_string(worst));
+  // Expected rho * L = 0.25. What varies: 0.5 stored in RGBA8 is 128/255 = 0.50196 (+0.4 %), the
+  // anisotropic mips keep the one-voxel walls opaque and every cone ends on a wall. Measured at
+  // 64^3: mean 0.2514, worst pixel off by 0.0037 (RGBA8 rounding in the mips). With isotropic mips
+  // the same box gives a mean near 0.09: coarse levels of thin walls are mostly transparent.
+  EXPECT_NEAR(mean, rho * L, 0.003);
+  EXPECT_LE(worst, 0.006);
+}
+
+// Cosine-weighted visible fraction at a floor point (normal +y) in front of the wall rectangle
+// x in [-1, 1], y in [0, 2] at z = 0.1, by midpoint quadrature over the hemisphere.
+double visibleFractionNextToWall(double px, double pz) {
+  const int nTheta = 400, nPhi = 800;
+  double visible = 0, total = 0;
+  for (int i = 0; i < nTheta; ++i) {
+    double theta = (i + 0.5) / nTheta * M_PI / 2;
+    for (int j = 0; j < nPhi; ++j) {
+      double phi = (j + 0.5) / nPhi * 2 * M_PI;
+      double dx = std::sin(theta) * std::cos(phi), dy = std::cos(theta), dz = std::sin(theta) * std::sin(phi);
+      double w = std::cos(theta) * std::sin(theta);
+      total += w;
+      bool blocked = false;
+      if (dz > 0) {
+        double t = (0.1 - pz) / dz;
+        double x = px + t * dx, y = t * dy;
+        blocked = x >= -1 && x <= 1 && y >= 0 && y <= 2;
+      }
+      if (!blocked) visible += w;
+    }
+  }
+  return visible / total;
+}
+
+// Ambient occlusion of floor points at distance d from the wall, measured with the given mips.
+std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode) {
+  auto& s = session(request(projectPath("tests/data/scenes/wall-floor.gltf"),
+                            {"voxel.resolution=128", "mipmap.mode=" + mipmapMode, "ao.range=2", "cone.count=16",
+                             "cone.layout=fibonacci", "cone.weighting=equal", "cone.aperture=30"},
+                            "cone-trace", 256));
+  CapturedOutput ao = capture(s, "cone-trace", "ambient-occlusion");
+  CapturedOutput position = capture(s, "gbuffer", "position");
+  const LevelData& pos = position.levels[0];
+  std::vector<std::pair<double, double>> out;  // (measured, expected)
+  for (double d : {0.15, 0.3, 0.6, 0.9}) {
+    // The pixel whose floor point is closest to (0, 0, 0.1 - d).
+    glm::vec3 target(0.0f, 0.0f, float(0.1 - d));
+    size_t best = 0;
+    float bestDist = 1e30f;
+    for (size_t t = 0; t < pos.texelCount(); ++t) {
+      if (pos.values[t * 4 + 3] == 0 || std::abs(pos.values[t * 4 + 1]) > 1e-3f) continue;
+      glm::vec3 p(pos.values[t * 4], pos.values[t * 4 + 1], pos.values[t * 4 + 2]);
+      float dist = glm::length(p - target);
+      if (dist < bestDist) { bestDist = dist; best = t; }
+    }
+    EXPECT_LT(bestDist, 0.02f);
+    double px = pos.values[best * 4], pz = pos.values[best * 4 + 2];
+    double expected = visibleFractionNextToWall(px, pz);
+    double infiniteWall = 0.5 * (1 + (0.1 - pz) / std::sqrt((0.1 - pz) * (0.1 - pz) + 4.0));
+    // The 2 m wide wall hides a little less than the infinitely long one of the formula.
+    EXPECT_GE(expected, infiniteWall - 1e-3);
+    double measured = ao.levels[0].values[best];
+    ::testing::Test::RecordProperty(mipmapMode + "_ao_d" + std::to_string(d),
+                                    std::to_string(measured) + " vs " + std::to_string(expected));
+    out.push_back({measured, expected});
+  }
+  return out;
+}
+
+TEST(VctGridPhysics, AmbientOcclusionNextToAWallMatchesQuadrature) {
+  // 16 cones of 30 degrees on a cosine-distributed spiral, anisotropic mips, 128^3 voxels.
+  // Measured (LP_NUM_THREADS 1 and 2 alike): 0.5444/0.5551, 0.6074/0.6127, 0.6997/0.7091,
+  // 0.7666/0.7896 (cones/quadrature at d = 0.15, 0.3, 0.6, 0.9 m): largest error 0.023, at the
+  // farthest point, where coarse mips blur the wall's top edge. Tolerance 0.04.
+  for (auto [measured, expected] : aoNextToWall("anisotropic")) EXPECT_NEAR(measured, expected, 0.04);
+}
+
+TEST(VctGridPhysics, IsotropicMipsLeakThroughAThinWall) {
+  // Averaging a one-voxel wall into coarser levels makes it half as opaque per level, so wide
+  // cones see through it: isotropic AO next to the wall is far too open (measured 0.78..0.95
+  // against 0.56..0.79). This documents the known leak the anisotropic mips fix.
+  for (auto [measured, expected] : aoNextToWall("isotropic")) EXPECT_GT(measured, expected + 0.1);
+}
+
+}  // namespace
+}  // namespace voxlab
