@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "app/reference_error.h"
 #include "capture/capture.h"
 #include "core/error.h"
 #include "scene/scene.h"
@@ -86,6 +87,13 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly) {
       e["address"] = t.id() + "/" + t.stage(i).id() + "/" + o.name;
       e["help"] = o.help;
       e["final"] = isFinal;
+      // Outputs tagged with a reference mode: error against the checked-in ground truth, if any.
+      json refErr = compareWithReference(cap, cursor_->scene().name, request_.camera, dir, prefix);
+      if (!refErr.is_null()) {
+        if (refErr.contains("files"))
+          for (const auto& f : refErr["files"]) e["files"].push_back(f);
+        e["reference_error"] = refErr;
+      }
       outs.push_back(e);
     }
     s["outputs"] = outs;

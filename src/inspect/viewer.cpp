@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <OpenImageIO/imageio.h>
 #include <imgui.h>

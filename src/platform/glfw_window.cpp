@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "gpu/gl.h"
 
+#define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 namespace voxlab {

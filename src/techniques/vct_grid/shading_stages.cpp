@@ -95,8 +95,10 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("albedo");
   b.read("light");
   b.write("cone-samples.count");
+  // One diffuse gather of the direct-lit voxels: exactly one indirect bounce (docs/fidelity.md).
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
-           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones");
+           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones")
+      .referenceMode = "indirect-1";
   b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "cosine-weighted visible fraction within ao.range (1 = open)");
@@ -188,8 +190,10 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.read("soft-shadow");
   b.read("shadow-map");
   b.read("light");
-  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission");
-  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance");
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode =
+      "direct";
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
+      .referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
 }
 

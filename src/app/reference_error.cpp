@@ -1,0 +1,107 @@
+#include "app/reference_error.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.h"
+#include "core/paths.h"
+#include "reference/image_io.h"
+#include "reference/image_metrics.h"
+
+namespace voxlab {
+
+using nlohmann::json;
+
+std::string referenceImagePath(const std::string& scene, const std::string& mode) {
+  return projectPath("tests/golden/reference/" + scene + "/" + mode + ".exr");
+}
+
+namespace {
+
+const reference::ImageAttribute* findAttr(const reference::ImageAttributes& attrs, const std::string& name) {
+  for (const auto& a : attrs)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+}  // namespace
+
+json compareWithReference(const CapturedOutput& out, const std::string& scene, int camera,
+                          const std::string& dir, const std::string& prefix) {
+  const std::string& mode = out.desc.referenceMode;
+  if (mode.empty() || out.desc.kind != OutputKind::Image2D || out.levels.empty()) return nullptr;
+  std::string path = referenceImagePath(scene, mode);
+  if (!fileExists(path)) return nullptr;
+  json r;
+  r["mode"] = mode;
+  r["reference"] = "tests/golden/reference/" + scene + "/" + mode + ".exr";
+
+  reference::ImageAttributes attrs;
+  reference::Image ref;
+  try {
+    ref = reference::readExr(path, &attrs);
+  } catch (const Error& e) {
+    r["skipped"] = e.what();
+    return r;
+  }
+  const LevelData& level = out.levels[0];
+  auto attr = [&](const char* name) {
+    const auto* a = findAttr(attrs, name);
+    return a ? a->value : std::string();
+  };
+  std::string why;
+  if (attr("voxlab:scene") != scene)
+    why = "the reference is of scene '" + attr("voxlab:scene") + "'";
+  else if (attr("voxlab:mode") != mode)
+    why = "the reference is of mode '" + attr("voxlab:mode") + "'";
+  else if (attr("voxlab:camera_index") != std::to_string(camera))
+    why = "the reference is of camera " + (attr("voxlab:camera_index").empty() ? "?" : attr("voxlab:camera_index")) +
+          ", the run of camera " + std::to_string(camera);
+  else if (ref.width != level.size.x || ref.height != level.size.y)
+    why = "the run is " + std::to_string(level.size.x) + "x" + std::to_string(level.size.y) + ", the reference " +
+          std::to_string(ref.width) + "x" + std::to_string(ref.height);
+  else if (level.size.z != 1 || level.channels < 1)
+    why = "the output is not a 2D image";
+  if (!why.empty()) {
+    r["skipped"] = why;
+    return r;
+  }
+
+  // The capture is bottom row first (GL order) with 1..4 channels; the reference top row first, RGB.
+  reference::Image img(level.size.x, level.size.y);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      float* px = img.at(x, img.height - 1 - y);
+      for (int c = 0; c < 3; ++c) px[c] = level.at(x, y, 0, std::min(c, level.channels - 1));
+    }
+  reference::ImageMetrics m = reference::computeMetrics(img, ref);
+  float scale = 0.0f;
+  reference::Image err = reference::errorImage(img, ref, 0.0f, &scale);
+  char scaleText[32];
+  std::snprintf(scaleText, sizeof scaleText, "%g", scale);
+  reference::ImageAttributes errAttrs = {
+      {"voxlab:error_scale", scaleText, false},
+      {"voxlab:reference", r["reference"].get<std::string>(), false},
+      {"voxlab:content", "luminance of |output - reference| through the voxlab error colour ramp", false}};
+  json files = json::array();
+  for (const char* ext : {".error.png", ".error.exr"}) {
+    reference::writeImage(dir + "/" + prefix + ext, err, errAttrs);
+    files.push_back(prefix + ext);
+  }
+  if (!attr("voxlab:spp").empty()) r["spp"] = std::stoi(attr("voxlab:spp"));
+  if (!attr("voxlab:rms_stderr").empty()) r["rms_stderr"] = std::stod(attr("voxlab:rms_stderr"));
+  r["rmse"] = number(m.rmse);
+  r["psnr"] = number(m.psnr);
+  r["mae"] = number(m.mae);
+  r["mre"] = number(m.mre);
+  r["max_abs"] = number(m.maxAbs);
+  r["ssim"] = number(m.ssim);
+  r["dssim"] = number(m.dssim);
+  r["error_scale"] = scale;
+  r["files"] = files;
+  return r;
+}
+
+}  // namespace voxlab

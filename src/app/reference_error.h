@@ -1,0 +1,31 @@
+// A technique output against the checked-in ground truth: `voxlab run` calls this for every
+// output whose OutputDesc::referenceMode is set (no technique-specific code).
+//
+// The reference is tests/golden/reference/<scene>/<mode>.exr (under projectRoot()), rendered by
+// `voxlab reference` (scripts/make-references.sh). It is used only when its metadata says the same
+// scene, the same camera index and the same image size as the run; otherwise the manifest says
+// why it was skipped. Metrics are those of `voxlab compare` (reference/image_metrics.h) on the
+// output's first three channels, linear, unclamped.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "capture/capture.h"
+
+namespace voxlab {
+
+// Where the reference for (scene, mode) would be; it may not exist.
+std::string referenceImagePath(const std::string& scene, const std::string& mode);
+
+// Compares 'out' (an Image2D capture, level 0) with the reference for out.desc.referenceMode.
+// Returns null when the output is not comparable or no reference file exists. Otherwise the
+// manifest's "reference_error" object: mode, reference (path relative to the project root), spp,
+// rms_stderr of the reference, rmse, psnr (null when infinite), mae, mre, max_abs, ssim, dssim,
+// error_scale and files ("<prefix>.error.png" and ".error.exr", written into dir: the false-colour
+// luminance of |output - reference|); or {mode, reference, skipped: "why"} on a metadata mismatch.
+// A reference that exists but cannot be read is reported as skipped too (the run still succeeds).
+nlohmann::json compareWithReference(const CapturedOutput& out, const std::string& scene, int camera,
+                                    const std::string& dir, const std::string& prefix);
+
+}  // namespace voxlab
