@@ -28,13 +28,16 @@ uniform float u_startOffset;             // metres, along the normal
 uniform float u_maxDistance;             // metres
 uniform float u_aoRange;                 // metres
 uniform vec3 u_cameraPos;
-uniform ivec2 u_probePixel;              // pixel whose samples are recorded (-1 = none)
+uniform ivec2 u_probePixel;              // pixel (of the traced image) whose samples are recorded
+uniform int u_scale;                     // 1: one cone set per G-buffer pixel; 2: per 2x2 block
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = textureSize(u_position, 0);
-  if (px.x >= size.x || px.y >= size.y) return;
-  vec4 pos = texelFetch(u_position, px, 0);
+  if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
+  // At half resolution each traced pixel shades the top-left G-buffer pixel of its 2x2 block;
+  // composite upsamples with weights that respect depth and normal edges.
+  ivec2 g = min(px * u_scale, textureSize(u_position, 0) - 1);
+  vec4 pos = texelFetch(u_position, g, 0);
   if (pos.w == 0.0) {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
     imageStore(u_indirectSpecular, px, vec4(0.0));
@@ -43,8 +46,8 @@ void main() {
     return;
   }
   bool record = px == u_probePixel;
-  vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
-  vec3 albedo = texelFetch(u_albedo, px, 0).rgb;
+  vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
+  vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
   vec3 origin = pos.xyz + n * u_startOffset;
   float start = u_voxelSize;
 

@@ -59,14 +59,28 @@ json compareWithReference(const CapturedOutput& out, const std::string& scene, i
   else if (attr("voxlab:camera_index") != std::to_string(camera))
     why = "the reference is of camera " + (attr("voxlab:camera_index").empty() ? "?" : attr("voxlab:camera_index")) +
           ", the run of camera " + std::to_string(camera);
-  else if (ref.width != level.size.x || ref.height != level.size.y)
+  else if (level.size.z != 1 || level.channels < 1 || level.size.x < 1 || level.size.y < 1)
+    why = "the output is not a 2D image";
+  // An output traced at a reduced resolution (e.g. one value per 2x2 block) is compared with the
+  // reference box-filtered by the same integer factor.
+  int factor = level.size.x > 0 ? ref.width / level.size.x : 0;
+  if (why.empty() && (factor < 1 || ref.width != level.size.x * factor || ref.height != level.size.y * factor))
     why = "the run is " + std::to_string(level.size.x) + "x" + std::to_string(level.size.y) + ", the reference " +
           std::to_string(ref.width) + "x" + std::to_string(ref.height);
-  else if (level.size.z != 1 || level.channels < 1)
-    why = "the output is not a 2D image";
   if (!why.empty()) {
     r["skipped"] = why;
     return r;
+  }
+  if (factor > 1) {
+    reference::Image small(level.size.x, level.size.y);
+    const float w = 1.0f / float(factor * factor);
+    for (int y = 0; y < small.height; ++y)
+      for (int x = 0; x < small.width; ++x)
+        for (int dy = 0; dy < factor; ++dy)
+          for (int dx = 0; dx < factor; ++dx)
+            for (int c = 0; c < 3; ++c) small.at(x, y)[c] += w * ref.at(x * factor + dx, y * factor + dy)[c];
+    ref = std::move(small);
+    r["reference_downsampled"] = factor;
   }
 
   // The capture is bottom row first (GL order) with 1..4 channels; the reference top row first, RGB.

@@ -3,7 +3,9 @@
 //
 // The reference is tests/golden/reference/<scene>/<mode>.exr (under projectRoot()), rendered by
 // `voxlab reference` (scripts/make-references.sh). It is used only when its metadata says the same
-// scene, the same camera index and the same image size as the run; otherwise the manifest says
+// scene, the same camera index and the same image size as the run, or a size that is an integer
+// multiple of the output's (an output traced at reduced resolution is compared with the reference
+// box-filtered down by that factor, "reference_downsampled": factor); otherwise the manifest says
 // why it was skipped. Metrics are those of `voxlab compare` (reference/image_metrics.h) on the
 // output's first three channels, linear, unclamped.
 #pragma once

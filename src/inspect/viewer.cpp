@@ -251,7 +251,14 @@ bool Viewer::loadSceneNamed(const std::string& name) {
 void Viewer::selectStage(int i) {
   i = std::clamp(i, 0, cursor_->stageCount() - 1);
   if (i != selected_) {
+    // The final stage opens on the technique's final output; any other stage on its first output.
     outputIndex_ = 0;
+    const Technique& t = cursor_->technique();
+    if (t.finalStage() == t.stage(i).id()) {
+      const auto& outs = t.decl(i).outputs;
+      for (size_t k = 0; k < outs.size(); ++k)
+        if (outs[k].name == t.finalOutput()) outputIndex_ = int(k);
+    }
     level_ = 0;
     pickTexel_ = glm::ivec3(-1);
   }
@@ -1080,6 +1087,7 @@ void Viewer::stepScript() {
     return;
   }
   const ScriptAction& a = script_[pc_++];
+  frameHeavy_ = true;  // script I/O (saving, comparing) is not UI time
   try {
     execute(a);
   } catch (const Error& e) {
@@ -1248,7 +1256,7 @@ void Viewer::execute(const ScriptAction& a) {
       if (o.semantic == Semantic::ConeSamples) cones = decodeConeSamples(captureOutput(cursor_->board(), o));
     size_t total = 0;
     for (const auto& c : cones) total += c.distance.size();
-    if (total == 0) scriptFail(a, "no cone samples were recorded");
+    if (total == 0) scriptFail(a, "no cone samples were recorded (stage " + std::string(t.stage(p).id()) + ", " + std::to_string(cones.size()) + " cones)");
     std::string m = checkOpacityMonotonic(cones);
     if (!m.empty()) scriptFail(a, m);
     std::printf("probe: %zu cones, %zu samples, accumulated opacity non-decreasing along every cone\n", cones.size(), total);

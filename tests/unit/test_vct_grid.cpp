@@ -118,7 +118,7 @@ TEST(VctGridMipmap, EveryTexelIsTheAverageOfItsChildren) {
 TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
   const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
   auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),
-                            {"voxel.resolution=64", "inject.mode=uniform", "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"}, "cone-trace"));
+                            {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform", "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"}, "cone-trace"));
   CapturedOutput indirect = capture(s, "cone-trace", "indirect-diffuse");
   CapturedOutput albedo = capture(s, "gbuffer", "albedo");
   CapturedOutput position = capture(s, "gbuffer", "position");
@@ -172,7 +172,7 @@ double visibleFractionNextToWall(double px, double pz) {
 // Ambient occlusion of floor points at distance d from the wall, measured with the given mips.
 std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode) {
   auto& s = session(request(projectPath("tests/data/scenes/wall-floor.gltf"),
-                            {"voxel.resolution=128", "mipmap.mode=" + mipmapMode, "ao.range=2", "cone.count=16",
+                            {"voxel.resolution=128", "cone.resolution=full", "mipmap.mode=" + mipmapMode, "ao.range=2", "cone.count=16",
                              "cone.layout=fibonacci", "cone.weighting=equal", "cone.aperture=30"},
                             "cone-trace", 256));
   CapturedOutput ao = capture(s, "cone-trace", "ambient-occlusion");

@@ -1,0 +1,114 @@
+// The checked-in ground truth (tests/golden/reference/cornell-box/*.exr, made by
+// scripts/make-references.sh): readable, carrying the metadata `voxlab run` matches on, and
+// consistent with each other: full = direct + indirect within the Monte Carlo noise that each file
+// states in its voxlab:rms_stderr attribute.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "app/reference_error.h"
+#include "core/paths.h"
+#include "reference/image_io.h"
+
+namespace voxlab {
+namespace {
+
+using reference::Image;
+using reference::ImageAttributes;
+
+struct Golden {
+  Image img;
+  std::map<std::string, std::string> attrs;
+  double rmsStdErr = 0.0;
+};
+
+Golden load(const std::string& mode) {
+  Golden g;
+  std::string path = referenceImagePath("cornell-box", mode);
+  EXPECT_TRUE(fileExists(path)) << path << " is missing; scripts/make-references.sh makes it";
+  ImageAttributes attrs;
+  g.img = reference::readExr(path, &attrs);
+  for (const auto& a : attrs) g.attrs[a.name] = a.value;
+  if (g.attrs.count("voxlab:rms_stderr")) g.rmsStdErr = std::stod(g.attrs["voxlab:rms_stderr"]);
+  return g;
+}
+
+class ReferenceGolden : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ReferenceGolden, ReadableWithMetadata) {
+  const std::string mode = GetParam();
+  Golden g = load(mode);
+  EXPECT_EQ(g.img.width, 512);
+  EXPECT_EQ(g.img.height, 512);
+  EXPECT_EQ(g.attrs["voxlab:mode"], mode);
+  EXPECT_EQ(g.attrs["voxlab:scene"], "cornell-box");
+  EXPECT_EQ(g.attrs["voxlab:camera_index"], "0");
+  ASSERT_TRUE(g.attrs.count("voxlab:spp"));
+  EXPECT_GE(std::stoi(g.attrs["voxlab:spp"]), 16);
+  ASSERT_TRUE(g.attrs.count("voxlab:mean_stderr"));
+  ASSERT_TRUE(g.attrs.count("voxlab:rms_stderr"));
+  // The noise the references promise: below 0.01 mean and 0.05 RMS standard error (docs/fidelity.md).
+  EXPECT_LT(std::stod(g.attrs["voxlab:mean_stderr"]), 0.02) << mode;
+  EXPECT_LT(g.rmsStdErr, 0.05) << mode;
+  double sum = 0.0;
+  for (float v : g.img.rgb) {
+    ASSERT_TRUE(std::isfinite(v)) << mode;
+    ASSERT_GE(v, 0.0f) << mode;
+    sum += v;
+  }
+  EXPECT_GT(sum, 0.0) << mode << " is black";
+}
+
+INSTANTIATE_TEST_SUITE_P(CornellBox, ReferenceGolden,
+                         ::testing::Values("full", "direct", "indirect", "indirect-1"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           for (auto& c : n)
+                             if (c == '-') c = '_';
+                           return n;
+                         });
+
+// full - direct - indirect is pure noise: its RMS matches the quadrature sum of the three files'
+// RMS standard errors, and its mean over the image is zero within the standard error of a mean.
+TEST(ReferenceGoldenConsistency, FullIsDirectPlusIndirect) {
+  Golden full = load("full"), direct = load("direct"), indirect = load("indirect");
+  ASSERT_EQ(full.img.rgb.size(), direct.img.rgb.size());
+  ASSERT_EQ(full.img.rgb.size(), indirect.img.rgb.size());
+  double sum = 0.0, sq = 0.0;
+  size_t n = full.img.rgb.size();
+  for (size_t i = 0; i < n; ++i) {
+    double r = double(full.img.rgb[i]) - direct.img.rgb[i] - indirect.img.rgb[i];
+    sum += r;
+    sq += r * r;
+  }
+  double rms = std::sqrt(sq / double(n));
+  double mean = sum / double(n);
+  double expected = std::sqrt(full.rmsStdErr * full.rmsStdErr + direct.rmsStdErr * direct.rmsStdErr +
+                              indirect.rmsStdErr * indirect.rmsStdErr);
+  ASSERT_GT(expected, 0.0);
+  std::printf("  rms(full - direct - indirect) %.5f, noise (quadrature sum of rms_stderr) %.5f, ratio %.3f;"
+              " mean %.2e (SE of the mean %.2e)\n", rms, expected, rms / expected, mean,
+              expected / std::sqrt(double(n / 3)));
+  // Measured with the checked-in files: see the numbers in docs/fidelity.md.
+  EXPECT_LT(rms, 1.25 * expected) << "rms(full - direct - indirect) " << rms << ", noise " << expected;
+  EXPECT_GT(rms, 0.75 * expected) << "rms(full - direct - indirect) " << rms << ", noise " << expected;
+  // Pixels are independent; channels of one pixel are not, so count pixels, not values.
+  double meanSe = expected / std::sqrt(double(n / 3));
+  EXPECT_LT(std::abs(mean), 5.0 * meanSe) << "mean(full - direct - indirect) " << mean << ", SE " << meanSe;
+}
+
+// indirect-1 keeps only the first indirect bounce: less light than indirect (all bounces).
+TEST(ReferenceGoldenConsistency, OneBounceBelowAllBounces) {
+  Golden one = load("indirect-1"), all = load("indirect");
+  double a = 0.0, b = 0.0;
+  for (float v : one.img.rgb) a += v;
+  for (float v : all.img.rgb) b += v;
+  EXPECT_LT(a, b);
+  EXPECT_GT(a, 0.3 * b);
+}
+
+}  // namespace
+}  // namespace voxlab
