@@ -1,0 +1,24 @@
+# voxlab run/list/bench: bad arguments give one line naming what is wrong and what is valid, exit 2.
+voxlab_cli_case(run_unknown_technique 2 "unknown technique 'vct-nope'; valid techniques: .*vct-grid"
+  "run --technique vct-nope --out @OUT@")
+voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize, shadow-map, inject, occlusion-fix, mipmap, gbuffer, cone-trace, composite"
+  "run --technique vct-grid --until shade --out @OUT@")
+voxlab_cli_case(run_unknown_parameter 2 "unknown parameter 'voxel.size'; valid parameters: .*voxel.resolution"
+  "run --technique vct-grid --set voxel.size=3 --out @OUT@")
+voxlab_cli_case(run_parameter_out_of_range 2 "voxel.resolution=.1024. is not valid; valid: 16..512 .power of two."
+  "run --technique vct-grid --set voxel.resolution=1024 --out @OUT@")
+voxlab_cli_case(run_parameter_not_power_of_two 2 "voxel.resolution=.100. is not valid; valid: 16..512 .power of two."
+  "run --technique vct-grid --set voxel.resolution=100 --out @OUT@")
+voxlab_cli_case(run_parameter_bad_choice 2 "mipmap.mode='fancy' is not valid; valid: one of isotropic, anisotropic"
+  "run --technique vct-grid --set mipmap.mode=fancy --out @OUT@")
+voxlab_cli_case(run_set_without_value 2 "--set 'voxel.resolution' is not NAME=VALUE"
+  "run --technique vct-grid --set voxel.resolution --out @OUT@")
+voxlab_cli_case(run_bad_size 2 "--size '512' is not WIDTHxHEIGHT"
+  "run --technique vct-grid --size 512 --out @OUT@")
+voxlab_cli_case(run_unknown_option 2 "'run' has no option '--frobnicate'; valid options: .*--technique"
+  "run --technique vct-grid --frobnicate --out @OUT@")
+voxlab_cli_case(run_missing_out 2 "'run' needs --out" "run --technique vct-grid")
+voxlab_cli_case(run_bad_camera 2 "camera 7 does not exist in cornell-box; valid: 0..0"
+  "run --technique vct-grid --camera 7 --out @OUT@")
+voxlab_cli_case(unknown_command 2 "unknown command 'frobnicate'; valid commands: .*run" "frobnicate")
+voxlab_cli_case(bench_unknown_technique 2 "unknown technique 'nope'" "bench --technique nope --process-runs 0")
