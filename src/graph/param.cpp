@@ -113,7 +113,11 @@ double ParamDesc::parse(const std::string& text) const {
       if (!std::isfinite(v) || v < minValue || v > maxValue) throw bad();
     }
   }
-  validate(v);
+  try {
+    validate(v);
+  } catch (const Error&) {
+    throw bad();
+  }
   return v;
 }
 

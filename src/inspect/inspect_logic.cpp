@@ -208,7 +208,7 @@ struct VerbSpec {
 const VerbSpec kVerbs[] = {
     {"technique", 1, 1, "technique ID"},
     {"scene", 1, 1, "scene NAME|PATH (a failed load keeps the current scene and records the error)"},
-    {"expect-scene-error", 1, 1, "expect-scene-error TEXT (the last scene error contains TEXT)"},
+    {"expect-scene-error", 1, 32, "expect-scene-error TEXT... (the last scene error contains TEXT)"},
     {"stage", 1, 1, "stage ID (select it)"},
     {"output", 1, 1, "output NAME (of the selected stage)"},
     {"level", 1, 1, "level N"},

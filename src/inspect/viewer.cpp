@@ -104,6 +104,8 @@ class Viewer {
   void applyLessonStep(int i);
   void reloadShaders();
   std::string commandLine() const;
+  // The slice to show of a level: the chosen one for volumes, the only one for images.
+  SliceSpec sliceOf(const LevelData& level) const { return level.size.z > 1 ? slice_ : SliceSpec{}; }
   int probeStage() const;  // stage with a ConeSamples output and probe.x/probe.y params, or -1
 
   // --- per frame ---
@@ -721,7 +723,7 @@ void Viewer::drawView() {
       }
     } else if (!cap_.levels.empty()) {
       level_ = std::clamp(level_, 0, int(cap_.levels.size()) - 1);
-      viewImage_ = mapSlice(cap_.levels[level_], d.semantic, slice_, display_);
+      viewImage_ = mapSlice(cap_.levels[level_], d.semantic, sliceOf(cap_.levels[level_]), display_);
     } else {
       viewImage_ = SliceImage();
     }
@@ -742,7 +744,7 @@ void Viewer::drawView() {
   int px = int((m.x - origin.x) / scale), py = int((m.y - origin.y) / scale);
   if (imageHovered && !isBuffer && px >= 0 && py >= 0 && px < viewImage_.width && py < viewImage_.height) {
     hover_ = true;
-    hoverTexel_ = sliceTexel(cap_.levels[level_], slice_, px, py);
+    hoverTexel_ = sliceTexel(cap_.levels[level_], sliceOf(cap_.levels[level_]), px, py);
   }
   // Left drag orbits the camera (applied on release); a left click probes or picks.
   if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
@@ -1123,7 +1125,12 @@ void Viewer::execute(const ScriptAction& a) {
   } else if (v == "scene") {
     if (!loadSceneNamed(arg(0))) std::printf("scene error: %s\n", sceneError_.c_str());
   } else if (v == "expect-scene-error") {
-    if (sceneError_.find(arg(0)) == std::string::npos) scriptFail(a, "last scene error is '" + sceneError_ + "'");
+    std::string text;
+    for (const auto& w : a.args) text += (text.empty() ? "" : " ") + w;
+    if (sceneError_.empty() || sceneError_.find(text) == std::string::npos)
+      scriptFail(a, "last scene error is '" + sceneError_ + "', expected it to contain '" + text + "'");
+    if (scene_->name != "cornell-box" && sceneName_.find("cornell-box") == std::string::npos)
+      scriptFail(a, "the failed load replaced the scene");
   } else if (v == "stage") {
     selectStage(t.stageIndex(arg(0)));
   } else if (v == "output") {

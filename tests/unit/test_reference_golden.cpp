@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <string>
 
@@ -108,6 +109,70 @@ TEST(ReferenceGoldenConsistency, OneBounceBelowAllBounces) {
   for (float v : all.img.rgb) b += v;
   EXPECT_LT(a, b);
   EXPECT_GT(a, 0.3 * b);
+}
+
+}  // namespace
+}  // namespace voxlab
+
+// `voxlab run`'s comparison (app/reference_error.h) on a capture made from the reference itself:
+// the error is zero, a half-resolution capture is compared with the box-filtered reference, and a
+// size that does not divide the reference's, another camera or an untagged output are not compared.
+namespace voxlab {
+namespace {
+
+CapturedOutput captureOf(const Image& img, int factor, const std::string& mode) {
+  CapturedOutput out;
+  out.desc.name = "test";
+  out.desc.kind = OutputKind::Image2D;
+  out.desc.semantic = Semantic::RadianceHDR;
+  out.desc.referenceMode = mode;
+  LevelData level;
+  level.size = {img.width / factor, img.height / factor, 1};
+  level.channels = 4;
+  level.values.assign(level.texelCount() * 4, 1.0f);
+  for (int y = 0; y < level.size.y; ++y)  // GL order: row 0 at the bottom
+    for (int x = 0; x < level.size.x; ++x)
+      for (int c = 0; c < 3; ++c) {
+        double s = 0.0;
+        for (int dy = 0; dy < factor; ++dy)
+          for (int dx = 0; dx < factor; ++dx)
+            s += img.at(x * factor + dx, (level.size.y - 1 - y) * factor + dy)[c];
+        level.values[((size_t(y) * level.size.x) + x) * 4 + c] = float(s / (factor * factor));
+      }
+  out.levels.push_back(level);
+  return out;
+}
+
+TEST(ReferenceGoldenRunComparison, IdenticalDownsampledAndSkipped) {
+  Golden full = load("full");
+  std::string dir = ::testing::TempDir() + "voxlab_reference_error";
+  std::filesystem::create_directories(dir);
+
+  nlohmann::json same = compareWithReference(captureOf(full.img, 1, "full"), "cornell-box", 0, dir, "s.o");
+  ASSERT_TRUE(same.is_object()) << same.dump();
+  ASSERT_FALSE(same.contains("skipped")) << same.dump();
+  EXPECT_LT(same["rmse"].get<double>(), 1e-6);
+  EXPECT_GT(same["ssim"].get<double>(), 0.999999);
+  EXPECT_EQ(same["mode"], "full");
+  EXPECT_EQ(same["files"].size(), 2u);
+  EXPECT_TRUE(fileExists(dir + "/s.o.error.png"));
+  EXPECT_TRUE(fileExists(dir + "/s.o.error.exr"));
+
+  nlohmann::json half = compareWithReference(captureOf(full.img, 2, "full"), "cornell-box", 0, dir, "h.o");
+  ASSERT_FALSE(half.contains("skipped")) << half.dump();
+  EXPECT_EQ(half["reference_downsampled"], 2);
+  EXPECT_LT(half["rmse"].get<double>(), 1e-5);
+
+  CapturedOutput odd = captureOf(full.img, 1, "full");
+  odd.levels[0].size = {100, 100, 1};
+  odd.levels[0].values.resize(100 * 100 * 4);
+  nlohmann::json skipped = compareWithReference(odd, "cornell-box", 0, dir, "x.o");
+  EXPECT_EQ(skipped["skipped"], "the run is 100x100, the reference 512x512");
+  nlohmann::json camera = compareWithReference(captureOf(full.img, 1, "full"), "cornell-box", 1, dir, "c.o");
+  EXPECT_TRUE(camera.contains("skipped")) << camera.dump();
+
+  EXPECT_TRUE(compareWithReference(captureOf(full.img, 1, ""), "cornell-box", 0, dir, "n.o").is_null());
+  EXPECT_TRUE(compareWithReference(captureOf(full.img, 1, "full"), "no-such-scene", 0, dir, "n.o").is_null());
 }
 
 }  // namespace
