@@ -6,9 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imageio.h>
-
+#include "capture/image_files.h"
 #include "core/error.h"
 #include "gpu/resources.h"
 
@@ -296,51 +294,39 @@ DisplayImage pointView(const CapturedOutput& out, int size) {
 // --- Files ---------------------------------------------------------------------------------------
 
 void writePng(const DisplayImage& image, const std::string& path) {
-  auto o = OIIO::ImageOutput::create(path);
-  if (!o) throw Error("cannot write '" + path + "': " + OIIO::geterror());
-  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-  if (!o->open(path, spec) || !o->write_image(OIIO::TypeDesc::UINT8, image.rgb.data()) || !o->close())
-    throw Error("cannot write '" + path + "': " + o->geterror());
+  writePngFile(path, image.width, image.height, 3, image.rgb.data());
 }
 
 void writeLevelExr(const LevelData& d, const std::string& path, const std::string& semantic) {
-  int w = d.size.x, h = d.size.y * d.size.z;
-  std::vector<float> rows(d.values.size());
+  ImageFileData img;
+  img.width = d.size.x;
+  img.height = d.size.y * d.size.z;
+  img.channels = d.channels;
+  img.pixels.resize(d.values.size());
   size_t rowFloats = size_t(d.size.x) * d.channels;
   for (int z = 0; z < d.size.z; ++z)
     for (int y = 0; y < d.size.y; ++y) {
       size_t src = (size_t(z) * d.size.y + y) * rowFloats;
       size_t dstRow = size_t(z) * d.size.y + (d.size.y - 1 - y);
-      std::memcpy(&rows[dstRow * rowFloats], &d.values[src], rowFloats * 4);
+      std::memcpy(&img.pixels[dstRow * rowFloats], &d.values[src], rowFloats * 4);
     }
-  auto o = OIIO::ImageOutput::create(path);
-  if (!o) throw Error("cannot write '" + path + "': " + OIIO::geterror());
-  OIIO::ImageSpec spec(w, h, d.channels, OIIO::TypeDesc::FLOAT);
-  spec.attribute("compression", "zip");
-  spec.attribute("voxlab:depth", d.size.z);
-  spec.attribute("voxlab:semantic", semantic);
-  if (!o->open(path, spec) || !o->write_image(OIIO::TypeDesc::FLOAT, rows.data()) || !o->close())
-    throw Error("cannot write '" + path + "': " + o->geterror());
+  img.attributes = {{"voxlab:depth", std::to_string(d.size.z), true}, {"voxlab:semantic", semantic, false}};
+  writeExrFile(path, img);
 }
 
 LevelData readLevelExr(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw Error("cannot read '" + path + "': " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  int depth = spec.get_int_attribute("voxlab:depth", 1);
+  ImageFileData img = readImageFile(path);
+  int depth = std::max(1, std::stoi(img.attribute("voxlab:depth", "1")));
   LevelData d;
-  d.channels = spec.nchannels;
-  d.size = {spec.width, spec.height / std::max(depth, 1), depth};
-  std::vector<float> rows(size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, rows.data()))
-    throw Error("cannot read '" + path + "': " + in->geterror());
-  d.values.resize(rows.size());
+  d.channels = img.channels;
+  d.size = {img.width, img.height / depth, depth};
+  d.values.resize(img.pixels.size());
   size_t rowFloats = size_t(d.size.x) * d.channels;
   for (int z = 0; z < d.size.z; ++z)
     for (int y = 0; y < d.size.y; ++y) {
       size_t dst = (size_t(z) * d.size.y + y) * rowFloats;
       size_t srcRow = size_t(z) * d.size.y + (d.size.y - 1 - y);
-      std::memcpy(&d.values[dst], &rows[srcRow * rowFloats], rowFloats * 4);
+      std::memcpy(&d.values[dst], &img.pixels[srcRow * rowFloats], rowFloats * 4);
     }
   return d;
 }

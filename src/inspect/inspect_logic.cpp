@@ -241,6 +241,7 @@ const VerbSpec kVerbs[] = {
     {"copy-command", 0, 0, "copy-command (prints the voxlab run line and copies it)"},
     {"reload", 0, 0, "reload (shader hot reload, as F5)"},
     {"wait", 1, 1, "wait FRAMES"},
+    {"tab", 1, 1, "tab inspect|probe|timing|lesson|export (bring a details tab to front)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

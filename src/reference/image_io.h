@@ -1,4 +1,4 @@
-// Reading and writing float RGB images (EXR, and whatever else OpenImageIO handles) with
+// Reading and writing float RGB images (EXR; PNG and other 8-bit formats) with
 // voxlab's metadata attributes ("voxlab:spp", "voxlab:mode", ...).
 #pragma once
 #include <string>

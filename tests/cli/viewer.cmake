@@ -1,0 +1,21 @@
+# Viewer tests: scripted runs of `voxlab view` under Xvfb (tests/viewer/*.txt, driven by
+# tests/viewer/run_viewer_test.sh; skipped only when xvfb-run is missing), plus command-line
+# cases for bad scripts and lessons, which fail before any window opens.
+foreach(script walk_stages probe lesson scene_error)
+  add_test(NAME viewer.${script}
+    COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+            ${CMAKE_SOURCE_DIR}/tests/viewer/${script}.txt ${CMAKE_BINARY_DIR}/viewer-out/${script})
+  set_tests_properties(viewer.${script} PROPERTIES
+    ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+endforeach()
+
+voxlab_cli_case(view_script_unknown_action 2 "bad_verb\\.txt:2: unknown action 'frobnicate'; valid: technique"
+  "view --script @ROOT@/tests/viewer/bad_verb.txt")
+voxlab_cli_case(view_script_missing 2 "script file '.*no-such-script\\.txt' does not exist"
+  "view --script @ROOT@/tests/viewer/no-such-script.txt")
+voxlab_cli_case(lesson_check_ok 0 "^$"
+  "lesson --check @ROOT@/lessons/01-voxel-cone-tracing.md")
+voxlab_cli_case(lesson_unknown_param 2 "bad-lesson-param\\.md:9: unknown parameter 'mipmap\\.no-such-knob'|bad-lesson-param\\.md:9: .*mipmap\\.no-such-knob"
+  "lesson --check @ROOT@/tests/viewer/bad-lesson-param.md")
+voxlab_cli_case(lesson_unknown_stage 2 "bad-lesson-stage\\.md:3: .*voxelise.*voxelize"
+  "lesson --check @ROOT@/tests/viewer/bad-lesson-stage.md")

@@ -1,0 +1,171 @@
+// Viewer logic without a window: lesson parsing and validation, the viewer's script format, the
+// `voxlab run` line that reproduces a viewer state, slice display mapping and cone-sample decoding.
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "core/paths.h"
+#include "graph/technique.h"
+#include "inspect/inspect_logic.h"
+#include "lesson/lesson.h"
+
+namespace voxlab {
+namespace {
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Lesson, ShippedLessonCoversEveryVctGridStage) {
+  Lesson l = loadLesson(projectPath("lessons/01-voxel-cone-tracing.md"));
+  auto t = createTechnique("vct-grid");
+  std::set<std::string> seen;
+  for (const auto& s : l.steps) {
+    EXPECT_EQ(s.technique, "vct-grid");
+    EXPECT_FALSE(s.narrative.empty()) << "step at line " << s.line << " has no narrative";
+    EXPECT_FALSE(s.output.empty());
+    seen.insert(s.stage);
+  }
+  for (const auto& id : t->stageIds()) EXPECT_TRUE(seen.count(id)) << "lesson never shows stage " << id;
+}
+
+TEST(Lesson, StepsCarryTechniqueAndSceneAndDefaultTheOutput) {
+  Lesson l = parseLesson(
+      "# T\nintro\n```voxlab-step\n{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"level\":2,"
+      "\"set\":{\"mipmap.mode\":\"anisotropic\",\"voxel.resolution\":64}}\n```\nsecond\n"
+      "```voxlab-step\n{\"stage\":\"composite\",\"output\":\"final\"}\n```\nthe end\n",
+      "mem.md");
+  ASSERT_EQ(l.steps.size(), 2u);
+  EXPECT_EQ(l.title, "T");
+  EXPECT_EQ(l.steps[0].line, 3);
+  EXPECT_EQ(l.steps[0].output, "radiance");  // first output of the stage
+  EXPECT_EQ(l.steps[0].level, 2);
+  ASSERT_EQ(l.steps[0].sets.size(), 2u);
+  EXPECT_EQ(l.steps[0].sets[1].second, "64");
+  EXPECT_EQ(l.steps[1].technique, "vct-grid");
+  EXPECT_EQ(l.steps[1].scene, "cornell-box");
+  EXPECT_EQ(l.steps[1].narrative, "second");
+  EXPECT_EQ(l.epilogue, "the end");
+}
+
+TEST(Lesson, ErrorsNameFileAndLine) {
+  auto bad = [](const std::string& json) {
+    return errorOf([&] { parseLesson("# x\n\n```voxlab-step\n" + json + "\n```\n", "l.md"); });
+  };
+  EXPECT_NE(bad("{\"technique\":\"no-such\",\"stage\":\"a\"}").find("l.md:3: unknown technique"), std::string::npos)
+      << bad("{\"technique\":\"no-such\",\"stage\":\"a\"}");
+  EXPECT_NE(bad("{\"technique\":\"vct-grid\",\"stage\":\"nope\"}").find("l.md:3:"), std::string::npos);
+  EXPECT_NE(bad("{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"output\":\"x\"}").find("l.md:3:"), std::string::npos);
+  std::string p = bad("{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"set\":{\"cone.count\":99}}");
+  EXPECT_NE(p.find("l.md:3:"), std::string::npos) << p;
+  EXPECT_NE(p.find("cone.count"), std::string::npos) << p;
+  EXPECT_NE(bad("{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"set\":{\"nope.x\":1}}").find("unknown parameter"),
+            std::string::npos);
+  EXPECT_NE(bad("{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"colour\":1}").find("unknown key 'colour'"),
+            std::string::npos);
+  // A JSON syntax error names the line inside the block.
+  std::string j = errorOf([] { parseLesson("a\n```voxlab-step\n{\"technique\": \"vct-grid\",\n \"stage\" \"x\"}\n```\n", "j.md"); });
+  EXPECT_EQ(j.rfind("j.md:4:", 0), 0u) << j;
+  EXPECT_NE(errorOf([] { parseLesson("no steps here\n", "e.md"); }).find("no ```voxlab-step"), std::string::npos);
+  EXPECT_NE(errorOf([] { parseLesson("```voxlab-step\n{}\n", "u.md"); }).find("u.md:1: voxlab-step block is never closed"),
+            std::string::npos);
+}
+
+TEST(Script, ParsesVerbsCommentsAndEnvironment) {
+  setenv("VOXLAB_TEST_DIR", "/tmp/x", 1);
+  auto a = parseScript("# comment\nstage mipmap\n\nlevel 2 # trailing\nscreenshot ${VOXLAB_TEST_DIR}/a.png\n", "s.txt");
+  ASSERT_EQ(a.size(), 3u);
+  EXPECT_EQ(a[0].verb, "stage");
+  EXPECT_EQ(a[1].line, 4);
+  EXPECT_EQ(a[2].args.at(0), "/tmp/x/a.png");
+  EXPECT_EQ(errorOf([] { parseScript("stage\n", "s.txt"); }).rfind("s.txt:1: wrong arguments; usage: stage ID", 0), 0u);
+  EXPECT_EQ(errorOf([] { parseScript("run\nfly away\n", "s.txt"); }).rfind("s.txt:2: unknown action 'fly'", 0), 0u);
+  EXPECT_NE(errorOf([] { parseScript("lesson ${VOXLAB_NOT_SET_ANYWHERE}\n", "s.txt"); }).find("VOXLAB_NOT_SET_ANYWHERE is not set"),
+            std::string::npos);
+}
+
+TEST(Reproduce, ListsOnlyChangedParameters) {
+  auto t = createTechnique("vct-grid");
+  ParamSet d = t->defaultParams(), p = d;
+  EXPECT_EQ(reproduceCommand("vct-grid", "cornell-box", p, d, 512, 512, 0, ""),
+            "voxlab run --technique vct-grid --scene cornell-box --size 512x512 --out out");
+  p.setText("cone.count", "4");
+  p.setText("mipmap.mode", "anisotropic");
+  EXPECT_EQ(reproduceCommand("vct-grid", "my scene.gltf", p, d, 640, 360, 1, "mipmap"),
+            "voxlab run --technique vct-grid --scene 'my scene.gltf' --set cone.count=4 --set mipmap.mode=anisotropic "
+            "--size 640x360 --camera 1 --until mipmap --out out");
+}
+
+TEST(Display, SlicesVolumesAlongEachAxis) {
+  LevelData v;
+  v.size = {4, 3, 2};
+  v.channels = 1;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) v.values.push_back(float(x + 10 * y + 100 * z));
+  // z slice: top-left pixel is (x 0, y top, z index).
+  SliceSpec s{2, 1};
+  EXPECT_EQ(sliceExtent(v, s), glm::ivec2(4, 3));
+  EXPECT_EQ(sliceTexel(v, s, 0, 0), glm::ivec3(0, 2, 1));
+  SliceSpec sx{0, 3};
+  EXPECT_EQ(sliceExtent(v, sx), glm::ivec2(2, 3));
+  EXPECT_EQ(sliceTexel(v, sx, 1, 2), glm::ivec3(3, 0, 1));
+  SliceSpec sy{1, 5};  // index clamped to the extent
+  EXPECT_EQ(sliceTexel(v, sy, 2, 0), glm::ivec3(2, 2, 1));
+  // Scalar semantic: channel 0 in grey when selected, normalised over the level.
+  DisplaySettings ds;
+  ds.channel = 0;
+  SliceImage img = mapSlice(v, Semantic::Scalar, s, ds);
+  ASSERT_EQ(img.rgba.size(), 4u * 3 * 4);
+  EXPECT_EQ(img.rgba[(2 * 4 + 0) * 4], uint8_t(std::lround(100.0 / 123.0 * 255)));  // bottom-left of z=1: 100
+  // Colour with exposure 2 saturates 0.5 to white.
+  LevelData c;
+  c.size = {1, 1, 1};
+  c.channels = 4;
+  c.values = {0.5f, 0.25f, 0.0f, 1.0f};
+  DisplaySettings e;
+  e.exposure = 2.0f;
+  SliceImage ci = mapSlice(c, Semantic::Color, SliceSpec{}, e);
+  EXPECT_EQ(ci.rgba[0], 255);
+  EXPECT_EQ(ci.rgba[2], 0);
+}
+
+TEST(ConeSamples, DecodesPerConeSortedByDistanceAndChecksOpacity) {
+  CapturedOutput out;
+  out.desc.semantic = Semantic::ConeSamples;
+  out.desc.layout.stride = sizeof(gpu::ConeSample);
+  auto add = [&](int cone, float dist, float opacity) {
+    gpu::ConeSample s{};
+    s.info = glm::vec4(float(cone), dist, dist * 2.0f, 0.1f);
+    s.accumulated = glm::vec4(1.0f, 1.0f, 1.0f, opacity);
+    size_t at = out.records.size();
+    out.records.resize(at + sizeof s);
+    std::memcpy(&out.records[at], &s, sizeof s);
+    ++out.recordCount;
+  };
+  add(1, 0.2f, 0.5f);
+  add(0, 0.1f, 0.1f);
+  add(1, 0.1f, 0.2f);  // appended out of order: decoding sorts by distance
+  auto cones = decodeConeSamples(out);
+  ASSERT_EQ(cones.size(), 2u);
+  EXPECT_EQ(cones[1].cone, 1);
+  EXPECT_FLOAT_EQ(cones[1].opacity[0], 0.2f);
+  EXPECT_FLOAT_EQ(cones[1].lod[1], 0.4f);
+  EXPECT_FLOAT_EQ(cones[0].luminance[0], 1.0f);
+  EXPECT_EQ(checkOpacityMonotonic(cones), "");
+  add(1, 0.3f, 0.4f);  // opacity falls: must be reported
+  EXPECT_NE(checkOpacityMonotonic(decodeConeSamples(out)).find("cone 1"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace voxlab
