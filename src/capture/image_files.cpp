@@ -25,6 +25,14 @@ std::string ImageFileData::attribute(const std::string& name, const std::string&
   return fallback;
 }
 
+// Library messages can span lines; voxlab's errors are one line.
+static std::string oneLine(std::string s) {
+  for (auto& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
 static std::vector<std::string> channelNames(int channels) {
   switch (channels) {
     case 1: return {"Y"};
@@ -73,14 +81,6 @@ void writeExrFile(const std::string& path, const ImageFileData& img, bool half) 
 void writePngFile(const std::string& path, int width, int height, int channels, const uint8_t* data) {
   if (!stbi_write_png(path.c_str(), width, height, channels, data, width * channels))
     throw Error("cannot write '" + path + "' (folder missing or not writable?)");
-}
-
-// Library messages can span lines; voxlab's errors are one line.
-static std::string oneLine(std::string s) {
-  for (auto& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
 }
 
 static ImageFileData readExr(const std::string& path) {
