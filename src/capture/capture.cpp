@@ -297,19 +297,26 @@ void writePng(const DisplayImage& image, const std::string& path) {
   writePngFile(path, image.width, image.height, 3, image.rgb.data());
 }
 
+// Flips each z slice's rows: GL order (row 0 at the bottom) <-> file order (row 0 at the top,
+// slices stacked downwards). The mapping is its own inverse.
+static std::vector<float> flipSliceRows(const std::vector<float>& in, glm::ivec3 size, int channels) {
+  std::vector<float> out(in.size());
+  size_t rowFloats = size_t(size.x) * channels;
+  for (int z = 0; z < size.z; ++z)
+    for (int y = 0; y < size.y; ++y) {
+      size_t a = (size_t(z) * size.y + y) * rowFloats;
+      size_t b = (size_t(z) * size.y + (size.y - 1 - y)) * rowFloats;
+      std::memcpy(&out[b], &in[a], rowFloats * 4);
+    }
+  return out;
+}
+
 void writeLevelExr(const LevelData& d, const std::string& path, const std::string& semantic) {
   ImageFileData img;
   img.width = d.size.x;
   img.height = d.size.y * d.size.z;
   img.channels = d.channels;
-  img.pixels.resize(d.values.size());
-  size_t rowFloats = size_t(d.size.x) * d.channels;
-  for (int z = 0; z < d.size.z; ++z)
-    for (int y = 0; y < d.size.y; ++y) {
-      size_t src = (size_t(z) * d.size.y + y) * rowFloats;
-      size_t dstRow = size_t(z) * d.size.y + (d.size.y - 1 - y);
-      std::memcpy(&img.pixels[dstRow * rowFloats], &d.values[src], rowFloats * 4);
-    }
+  img.pixels = flipSliceRows(d.values, d.size, d.channels);
   img.attributes = {{"voxlab:depth", std::to_string(d.size.z), true}, {"voxlab:semantic", semantic, false}};
   writeExrFile(path, img);
 }
@@ -320,14 +327,9 @@ LevelData readLevelExr(const std::string& path) {
   LevelData d;
   d.channels = img.channels;
   d.size = {img.width, img.height / depth, depth};
-  d.values.resize(img.pixels.size());
-  size_t rowFloats = size_t(d.size.x) * d.channels;
-  for (int z = 0; z < d.size.z; ++z)
-    for (int y = 0; y < d.size.y; ++y) {
-      size_t dst = (size_t(z) * d.size.y + y) * rowFloats;
-      size_t srcRow = size_t(z) * d.size.y + (d.size.y - 1 - y);
-      std::memcpy(&d.values[dst], &img.pixels[srcRow * rowFloats], rowFloats * 4);
-    }
+  if (size_t(d.size.x) * d.size.y * d.size.z * d.channels != img.pixels.size())
+    throw Error("'" + path + "' is not a stack of " + std::to_string(depth) + " equal slices");
+  d.values = flipSliceRows(img.pixels, d.size, d.channels);
   return d;
 }
 

@@ -29,6 +29,10 @@ std::string keyOf(const std::vector<std::string>& files, const std::string& defi
   return k + defines;
 }
 
+// Every file's lines are numbered from kFileLineBase * its index in the file table (the #line
+// directives below), because Mesa reports the line but not the source-string number of an error.
+constexpr long kFileLineBase = 100000;
+
 // Rewrites driver messages "S:L(C): text" (Mesa) or "S(L) : text" (NVIDIA) to "file:L: text".
 std::string mapLog(const std::string& log, const std::vector<std::string>& fileTable) {
   static const std::regex mesa(R"(^(\d+):(\d+)\((\d+)\):\s*(.*)$)");
@@ -47,10 +51,31 @@ std::string mapLog(const std::string& log, const std::vector<std::string>& fileT
       if (!line.empty()) out += line + "\n";
       continue;
     }
+    long encoded = std::stol(lineNo);
+    if (encoded >= kFileLineBase) file = size_t(encoded / kFileLineBase);
     std::string name = file < fileTable.size() ? fileTable[file] : "?";
-    out += name + ":" + lineNo + ": " + rest + "\n";
+    out += name + ":" + std::to_string(encoded % kFileLineBase) + ": " + rest + "\n";
   }
   return out;
+}
+
+// The info log of a shader or program object.
+std::string infoLog(GLuint object, bool isProgram) {
+  GLint len = 0;
+  if (isProgram)
+    glGetProgramiv(object, GL_INFO_LOG_LENGTH, &len);
+  else
+    glGetShaderiv(object, GL_INFO_LOG_LENGTH, &len);
+  std::string log(std::max(len, 1), '\0');
+  if (isProgram)
+    glGetProgramInfoLog(object, len, nullptr, log.data());
+  else
+    glGetShaderInfoLog(object, len, nullptr, log.data());
+  return log.c_str();
+}
+
+std::string lineDirective(int line, int file) {
+  return "#line " + std::to_string(kFileLineBase * file + line) + " " + std::to_string(file) + "\n";
 }
 
 std::string firstLine(const std::string& s) {
@@ -97,15 +122,15 @@ std::string ShaderLibrary::expand(const std::string& file, const std::string& de
               out += line + "\n" + defines + (defines.empty() || defines.back() == '\n' ? "" : "\n");
               versionSeen = true;
             }
-            out += "#line " + std::to_string(lineNo + 1) + " " + std::to_string(id) + "\n";
+            out += lineDirective(lineNo + 1, id);
             continue;
           }
           if (std::regex_match(line, m, includeRe)) {
             emit(m[1].str(), name, lineNo);
-            out += "#line " + std::to_string(lineNo + 1) + " " + std::to_string(id) + "\n";
+            out += lineDirective(lineNo + 1, id);
             continue;
           }
-          if (lineNo == 1) out += "#line 1 " + std::to_string(id) + "\n";
+          if (lineNo == 1) out += lineDirective(1, id);
           out += line + "\n";
         }
       };
@@ -138,13 +163,7 @@ GLuint ShaderLibrary::build(const std::vector<std::string>& files, const std::st
     glCompileShader(shader);
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      GLint len = 0;
-      glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-      std::string log(std::max(len, 1), '\0');
-      glGetShaderInfoLog(shader, len, nullptr, log.data());
-      errors += mapLog(log.c_str(), table);
-    }
+    if (!ok) errors += mapLog(infoLog(shader, false), table);
     glAttachShader(program, shader);
     shaders.push_back(shader);
   }
@@ -153,13 +172,10 @@ GLuint ShaderLibrary::build(const std::vector<std::string>& files, const std::st
     GLint ok = 0;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {
-      GLint len = 0;
-      glGetProgramiv(program, GL_INFO_LOG_LENGTH, &len);
-      std::string log(std::max(len, 1), '\0');
-      glGetProgramInfoLog(program, len, nullptr, log.data());
+      std::string log = infoLog(program, true);
       std::string names;
       for (const auto& f : files) names += (names.empty() ? "" : " + ") + f;
-      errors = names + ": link error: " + firstLine(log.c_str()) + "\n";
+      errors = names + ": link error: " + firstLine(log) + "\n";
     }
   }
   for (GLuint s : shaders) glDeleteShader(s);

@@ -19,7 +19,7 @@ namespace voxlab {
 // Which 2D slice of a level to show: images are one slice (axis 2, index 0).
 struct SliceSpec {
   int axis = 2;   // 0 = x (shows z,y), 1 = y (shows x,z), 2 = z (shows x,y)
-  int index = 0;  // clamped to the level's extent along 'axis'
+  int index = -1;  // clamped to the level's extent along 'axis'; -1 = the middle slice
 };
 
 struct DisplaySettings {

@@ -102,7 +102,13 @@ class Viewer {
   void reloadShaders();
   std::string commandLine() const;
   // The slice to show of a level: the chosen one for volumes, the only one for images.
-  SliceSpec sliceOf(const LevelData& level) const { return level.size.z > 1 ? slice_ : SliceSpec{}; }
+  // A negative index (the default) means the middle slice, where a scene usually has content.
+  SliceSpec sliceOf(const LevelData& level) const {
+    if (level.size.z <= 1) return SliceSpec{0, 0};
+    SliceSpec s = slice_;
+    if (s.index < 0) s.index = (s.axis == 0 ? level.size.x : s.axis == 1 ? level.size.y : level.size.z) / 2;
+    return s;
+  }
   int probeStage() const;  // stage with a ConeSamples output and probe.x/probe.y params, or -1
 
   // --- per frame ---
@@ -856,6 +862,7 @@ void Viewer::drawInspector() {
         ImGui::RadioButton(a == 0 ? "x" : a == 1 ? "y" : "z", &slice_.axis, a);
       }
       int extent = slice_.axis == 0 ? L.size.x : slice_.axis == 1 ? L.size.y : L.size.z;
+      if (slice_.index < 0) slice_.index = extent / 2;
       slice_.index = std::clamp(slice_.index, 0, extent - 1);
       ImGui::SliderInt("slice", &slice_.index, 0, extent - 1);
     }
