@@ -59,8 +59,9 @@ int runList(const std::vector<std::string>& argv) {
                       o["help"].get<std::string>().c_str());
       if (s.contains("parameters"))
         for (const auto& p : s["parameters"])
-          std::printf("       param  %-22s = %-8s [%s] %s\n", p["name"].get<std::string>().c_str(),
+          std::printf("       param  %-22s = %-8s [%s%s%s] %s\n", p["name"].get<std::string>().c_str(),
                       p["default"].get<std::string>().c_str(), p["range"].get<std::string>().c_str(),
+                      p["unit"].get<std::string>().empty() ? "" : " ", p["unit"].get<std::string>().c_str(),
                       p["help"].get<std::string>().c_str());
     }
     std::printf("\n");

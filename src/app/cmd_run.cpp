@@ -4,6 +4,8 @@
 #include "app/command.h"
 #include "app/session.h"
 #include "core/args.h"
+#include "core/error.h"
+#include "graph/output.h"
 
 namespace voxlab {
 namespace {
@@ -17,6 +19,7 @@ int runRun(const std::vector<std::string>& argv) {
              {"--size", true, false, "output size WIDTHxHEIGHT (default 512x512)"},
              {"--camera", true, false, "index of the scene camera (default 0)"},
              {"--final-only", false, false, "write only the technique's final output"},
+             {"--only", true, true, "write only this output: technique/stage/output[@level], repeatable"},
              {"--out", true, false, "folder to write the outputs and manifest.json into"}});
   RunRequest req;
   req.technique = args.require("--technique");
@@ -27,9 +30,22 @@ int runRun(const std::vector<std::string>& argv) {
   if (args.has("--camera")) req.camera = Args::parseInt("--camera", args.get("--camera"), 0, 1000);
   std::string out = args.require("--out");
 
+  std::vector<OutputAddress> only;
+  for (const auto& a : args.all("--only")) {
+    OutputAddress addr = OutputAddress::parse(a);
+    if (addr.technique != req.technique)
+      throw Error("--only " + a + " names technique '" + addr.technique + "', but the run is " + req.technique);
+    only.push_back(addr);
+  }
   HeadlessSession session(req);
+  for (const auto& a : only) {
+    const Technique& t = session.cursor().technique();
+    auto [stage, desc] = t.findOutput(a.stage, a.output);  // throws naming the valid stages/outputs
+    (void)desc;
+    if (stage > session.untilStage()) throw Error("--only " + a.str() + " is after --until " + req.until);
+  }
   session.run();
-  auto manifest = session.writeOutputs(out, args.has("--final-only"));
+  auto manifest = session.writeOutputs(out, args.has("--final-only"), only);
   size_t files = 0;
   for (const auto& s : manifest["stages"])
     for (const auto& o : s["outputs"]) files += o["files"].size();
@@ -43,7 +59,7 @@ int runRun(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("run",
                         "voxlab run --technique T [--scene S] [--until STAGE] [--set name=value]... "
-                        "[--size WxH] [--camera N] [--final-only] --out DIR",
+                        "[--size WxH] [--camera N] [--final-only] [--only technique/stage/output[@level]]... --out DIR",
                         "run a technique headless and write every stage output and a manifest", &runRun);
 
 }  // namespace voxlab

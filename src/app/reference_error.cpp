@@ -106,6 +106,11 @@ json compareWithReference(const CapturedOutput& out, const std::string& scene, i
   }
   if (!attr("voxlab:spp").empty()) r["spp"] = std::stoi(attr("voxlab:spp"));
   if (!attr("voxlab:rms_stderr").empty()) r["rms_stderr"] = std::stod(attr("voxlab:rms_stderr"));
+  // Energy: the output's mean over the reference's (all pixels, RGB). 1 = no overall bias.
+  double sumA = 0.0, sumB = 0.0;
+  for (float v : img.rgb) sumA += double(v);
+  for (float v : ref.rgb) sumB += double(v);
+  r["mean_ratio"] = number(sumB > 0.0 ? sumA / sumB : NAN);
   r["rmse"] = number(m.rmse);
   r["psnr"] = number(m.psnr);
   r["mae"] = number(m.mae);

@@ -23,7 +23,8 @@ std::string referenceImagePath(const std::string& scene, const std::string& mode
 // Compares 'out' (an Image2D capture, level 0) with the reference for out.desc.referenceMode.
 // Returns null when the output is not comparable or no reference file exists. Otherwise the
 // manifest's "reference_error" object: mode, reference (path relative to the project root), spp,
-// rms_stderr of the reference, rmse, psnr (null when infinite), mae, mre, max_abs, ssim, dssim,
+// rms_stderr of the reference, mean_ratio (the output's mean over the reference's: overall energy
+// bias), rmse, psnr (null when infinite), mae, mre, max_abs, ssim, dssim,
 // error_scale and files ("<prefix>.error.png" and ".error.exr", written into dir: the false-colour
 // luminance of |output - reference|); or {mode, reference, skipped: "why"} on a metadata mismatch.
 // A reference that exists but cannot be read is reported as skipped too (the run still succeeds).

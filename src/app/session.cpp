@@ -1,5 +1,6 @@
 #include "app/session.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -53,7 +54,7 @@ json HeadlessSession::manifestHeader() const {
   return m;
 }
 
-json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly) {
+json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const std::vector<OutputAddress>& only) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -80,8 +81,23 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly) {
     for (const auto& o : t.decl(i).outputs) {
       bool isFinal = t.finalStage() == t.stage(i).id() && t.finalOutput() == o.name;
       if (finalOnly && !isFinal) continue;
+      int onlyLevel = -1;
+      if (!only.empty()) {
+        auto hit = std::find_if(only.begin(), only.end(), [&](const OutputAddress& a) {
+          return a.stage == t.stage(i).id() && a.output == o.name;
+        });
+        if (hit == only.end()) continue;
+        onlyLevel = hit->level;
+      }
       CapturedOutput cap = captureOutput(cursor_->board(), o);
-      std::string prefix = std::string(t.stage(i).id()) + "." + o.name;
+      if (onlyLevel >= 0) {
+        if (onlyLevel >= int(cap.levels.size()))
+          throw Error("output " + t.id() + "/" + t.stage(i).id() + "/" + o.name + " has levels 0.." +
+                      std::to_string(int(cap.levels.size()) - 1) + ", not " + std::to_string(onlyLevel));
+        cap.levels = {cap.levels[onlyLevel]};
+      }
+      std::string prefix = std::string(t.stage(i).id()) + "." + o.name +
+                           (onlyLevel >= 0 ? "@" + std::to_string(onlyLevel) : "");
       json e = writeOutputFiles(cap, dir, prefix);
       e["name"] = o.name;
       e["address"] = t.id() + "/" + t.stage(i).id() + "/" + o.name;

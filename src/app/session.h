@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gpu/shader_library.h"
+#include "graph/output.h"
 #include "graph/step_cursor.h"
 #include "platform/gl_context.h"
 
@@ -35,9 +36,11 @@ class HeadlessSession {
   int untilStage() const { return untilStage_; }  // index of the last stage to run
   void run();                                     // runs stages 0..untilStage
 
-  // Writes every output of every stage 0..untilStage (or only the final output when finalOnly)
-  // into dir, then dir/manifest.json last. Returns the manifest.
-  nlohmann::json writeOutputs(const std::string& dir, bool finalOnly = false);
+  // Writes every output of every stage 0..untilStage (only the final output when finalOnly; only
+  // the listed outputs, and levels, when 'only' is not empty) into dir, then dir/manifest.json
+  // last. Returns the manifest.
+  nlohmann::json writeOutputs(const std::string& dir, bool finalOnly = false,
+                              const std::vector<OutputAddress>& only = {});
   nlohmann::json manifestHeader() const;  // technique, scene, parameters, GL strings, view
 
  private:

@@ -22,3 +22,11 @@ voxlab_cli_case(run_bad_camera 2 "camera 7 does not exist in cornell-box; valid:
   "run --technique vct-grid --camera 7 --out @OUT@")
 voxlab_cli_case(unknown_command 2 "unknown command 'frobnicate'; valid commands: .*run" "frobnicate")
 voxlab_cli_case(bench_unknown_technique 2 "unknown technique 'nope'" "bench --technique nope --process-runs 0")
+voxlab_cli_case(run_only_bad_address 2 "output address 'mipmap/radiance' is not technique/stage/output"
+  "run --technique vct-grid --only mipmap/radiance --out @OUT@")
+voxlab_cli_case(run_only_unknown_output 2 "vct-grid/mipmap has no output 'glow'; valid outputs: radiance, opacity"
+  "run --technique vct-grid --only vct-grid/mipmap/glow --out @OUT@")
+voxlab_cli_case(run_only_after_until 2 "--only vct-grid/mipmap/radiance is after --until inject"
+  "run --technique vct-grid --until inject --only vct-grid/mipmap/radiance --out @OUT@")
+voxlab_cli_case(run_only_level_out_of_range 2 "output vct-grid/mipmap/radiance has levels 0..4, not 9"
+  "run --technique vct-grid --until mipmap --set voxel.resolution=16 --only vct-grid/mipmap/radiance@9 --out @OUT@")
