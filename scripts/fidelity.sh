@@ -47,8 +47,8 @@ done
 python3 - "$doc" "${runs[@]}" <<'PY'
 import json, sys
 doc, manifests = sys.argv[1], sys.argv[2:]
-rows = ["| technique | parameters (non-default) | output | reference | RMSE | PSNR (dB) | MAE | MRE | SSIM |",
-        "|---|---|---|---|---:|---:|---:|---:|---:|"]
+rows = ["| technique | parameters (non-default) | output | reference | RMSE | PSNR (dB) | MAE | MRE | SSIM | mean ratio |",
+        "|---|---|---|---|---:|---:|---:|---:|---:|---:|"]
 notes = {}
 for path in manifests:
     m = json.load(open(path))
@@ -60,7 +60,7 @@ for path in manifests:
             if not r:
                 continue
             if "skipped" in r:
-                rows.append(f"| {m['technique']} | {params} | {s['id']}/{o['name']} | {r['mode']} | skipped: {r['skipped']} |||||")
+                rows.append(f"| {m['technique']} | {params} | {s['id']}/{o['name']} | {r['mode']} | skipped: {r['skipped']} ||||||")
                 continue
             psnr = "inf" if r["psnr"] is None else f"{r['psnr']:.2f}"
             out = f"{s['id']}/{o['name']}"
@@ -68,7 +68,7 @@ for path in manifests:
             if k:
                 out += f" (1/{k} res., vs reference box-filtered {k}x{k})"
             rows.append(f"| {m['technique']} | {params} | {out} | {r['mode']} | "
-                        f"{r['rmse']:.4f} | {psnr} | {r['mae']:.4f} | {r['mre']:.3f} | {r['ssim']:.3f} |")
+                        f"{r['rmse']:.4f} | {psnr} | {r['mae']:.4f} | {r['mre']:.3f} | {r['ssim']:.3f} | {r['mean_ratio']:.3f} |")
             notes[r["mode"]] = (r.get("spp"), r.get("rms_stderr"))
 table = "\n".join(rows) + "\n\nReferences used (spp, RMS standard error): " + ", ".join(
     f"{k} {v[0]} spp / {v[1]:.4g}" for k, v in sorted(notes.items()) if v[1] is not None) + ".\n"

@@ -146,6 +146,21 @@ class GltfBuilder:
         })
         return len(self.doc["meshes"]) - 1
 
+    def add_indexed_mesh(self, name, material, positions, triangles):
+        """positions: list of (x, y, z); triangles: list of (i, j, k) into positions, shared
+        vertices, no NORMAL attribute (the loader computes normals)."""
+        flat = [float(c) for p in positions for c in p]
+        idx = [int(i) for t in triangles for i in t]
+        vcount = len(positions)
+        pos = self.add_accessor(flat, "VEC3", 5126, vcount, with_bounds=True, target=34962)
+        idx_type = 5123 if vcount < 65536 else 5125
+        ind = self.add_accessor(idx, "SCALAR", idx_type, len(idx), target=34963)
+        self.doc["meshes"].append({
+            "name": name,
+            "primitives": [{"attributes": {"POSITION": pos}, "indices": ind, "material": material, "mode": 4}],
+        })
+        return len(self.doc["meshes"]) - 1
+
     def add_node(self, node, root=True):
         self.doc["nodes"].append(node)
         index = len(self.doc["nodes"]) - 1

@@ -5,6 +5,8 @@
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
+  tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
+  tests/data/scenes/huge-triangles.gltf  4 huge triangles at odd angles (voxelization sweep)
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
 """
@@ -121,6 +123,44 @@ def thin_wall(path):
     b.write(path)
 
 
+def dense_sheet(path):
+    """A 1 m wavy sheet of 2 * 96^2 triangles above a floor of two large triangles: at 64^3 each
+    sheet triangle is ~0.2 voxel^2, the floor triangles ~2000 voxel^2 (both hybrid classes).
+    Same surface as denseScene() in tests/unit/test_voxelization.cpp (float rounding aside)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (dense sheet)")
+    grey = b.add_material("grey", (0.7, 0.7, 0.7))
+    n = 96
+    points, tris = [], []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            x, z = i / n, j / n
+            points.append((x, 0.3 + 0.12 * math.sin(7.0 * x + 1.0) * math.cos(5.0 * z) + 0.2 * x * z, z))
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i
+            c = a + n + 1
+            tris += [(a, c, a + 1), (a + 1, c, c + 1)]
+    f = len(points)
+    points += [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 0.0, 1.0), (0.0, 0.0, 1.0)]
+    tris += [(f, f + 3, f + 1), (f + 1, f + 3, f + 2)]
+    b.add_node({"name": "dense-sheet", "mesh": b.add_indexed_mesh("dense-sheet", grey, points, tris)})
+    b.write(path)
+
+
+def huge_triangles(path):
+    """Four triangles at odd angles, each crossing most of the unit volume (hugeScene() in
+    tests/unit/test_voxelization.cpp)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (huge triangles)")
+    grey = b.add_material("grey", (0.7, 0.7, 0.7))
+    points = [(0.0, 0.05, 0.0), (1.0, 0.31, 0.07), (0.13, 0.97, 0.93),
+              (1.0, 0.0, 1.0), (0.02, 0.11, 0.8), (0.77, 1.0, 0.05),
+              (0.5, 0.0, 0.0), (0.0, 1.0, 0.4), (1.0, 0.6, 1.0),
+              (0.9, 0.9, 0.1), (0.1, 0.2, 0.3), (0.6, 0.1, 0.95)]
+    tris = [(0, 1, 2), (3, 4, 5), (6, 7, 8), (9, 10, 11)]
+    b.add_node({"name": "huge-triangles", "mesh": b.add_indexed_mesh("huge-triangles", grey, points, tris)})
+    b.write(path)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -138,6 +178,8 @@ def main():
         (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
+        (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
+        (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
     ]
     for path, fn in outputs:
         fn(path)

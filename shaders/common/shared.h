@@ -20,6 +20,11 @@ using uint = uint32_t;
 #define VOXLAB_BINDING_CONE_SAMPLES 2     // SSBO: ConeSample[] of the probed pixel
 #define VOXLAB_BINDING_AXIS_COUNTS 3      // SSBO: uint[4] triangles per dominant axis (x, y, z, unused)
 #define VOXLAB_BINDING_CONE_SAMPLE_COUNT 4  // SSBO: uint number of ConeSample records written
+#define VOXLAB_BINDING_SCENE_VERTICES 5   // SSBO: the scene's vertices, 8 floats each (position, normal, uv)
+#define VOXLAB_BINDING_SCENE_INDICES 6    // SSBO: the scene's triangle indices, 3 uints per triangle
+#define VOXLAB_BINDING_TRIANGLE_INFO 7    // SSBO: uint per triangle: material (bits 0-23), class (bit 31: 1 = small)
+#define VOXLAB_BINDING_TRIANGLE_LIST 8    // SSBO: uint indices of the triangles a compute voxelizer visits
+#define VOXLAB_BINDING_CLASS_COUNTS 9     // SSBO: uint[8] counters of the triangle classification
 
 #define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
 

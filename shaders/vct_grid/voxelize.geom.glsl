@@ -21,6 +21,12 @@ out VoxelData {
 
 layout(std430, binding = VOXLAB_BINDING_AXIS_COUNTS) buffer AxisCounts { uint axisCount[4]; };
 uniform int u_conservative;
+#ifdef VOXLAB_SKIP_SMALL_TRIANGLES
+// Hybrid voxelization (shaders/voxelization/): triangles classified small are voxelized by the
+// triangle-parallel compute pass instead, so the raster pass skips them.
+layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) readonly buffer TriangleInfo { uint triangleInfo[]; };
+uniform int u_firstTriangle;  // set by GpuScene::draw: the draw range's first triangle
+#endif
 
 // Swizzle voxel coordinates so the projection axis becomes z.
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
@@ -31,6 +37,9 @@ void main() {
   vec3 n = cross(v[1] - v[0], v[2] - v[0]);  // plane normal from positions, not from normals
   vec3 an = abs(n);
   if (max(an.x, max(an.y, an.z)) <= 0.0) return;  // degenerate triangle: no area, no voxels
+#ifdef VOXLAB_SKIP_SMALL_TRIANGLES
+  if ((triangleInfo[u_firstTriangle + gl_PrimitiveIDIn] & 0x80000000u) != 0u) return;
+#endif
   int axis = (an.x >= an.y && an.x >= an.z) ? 0 : (an.y >= an.z ? 1 : 2);
   atomicAdd(axisCount[axis], 1u);
 

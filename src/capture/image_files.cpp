@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 
+#include <Imath/half.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -63,11 +64,20 @@ void writeExrFile(const std::string& path, const ImageFileData& img, bool half) 
       else
         header.insert(a.name, Imf::StringAttribute(a.value));
     }
-    // OpenEXR converts float to half while writing when the channel is HALF.
+    // OpenEXR converts pixel types only when reading: a HALF channel needs a HALF slice.
     Imf::FrameBuffer fb;
-    size_t xStride = sizeof(float) * img.channels, yStride = xStride * img.width;
-    for (int c = 0; c < img.channels; ++c)
-      fb.insert(names[c], Imf::Slice(Imf::FLOAT, (char*)(img.pixels.data() + c), xStride, yStride));
+    std::vector<::half> halves;  // (the parameter 'half' hides the type's name here)
+    if (half) {
+      halves.reserve(img.pixels.size());
+      for (float v : img.pixels) halves.push_back(::half(v));
+      size_t xStride = sizeof(::half) * img.channels, yStride = xStride * img.width;
+      for (int c = 0; c < img.channels; ++c)
+        fb.insert(names[c], Imf::Slice(Imf::HALF, (char*)(halves.data() + c), xStride, yStride));
+    } else {
+      size_t xStride = sizeof(float) * img.channels, yStride = xStride * img.width;
+      for (int c = 0; c < img.channels; ++c)
+        fb.insert(names[c], Imf::Slice(Imf::FLOAT, (char*)(img.pixels.data() + c), xStride, yStride));
+    }
     Imf::OutputFile file(path.c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(img.height);

@@ -64,9 +64,11 @@ void GpuScene::draw(GLuint program) const {
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, materials_.id());
   GLint loc = glGetUniformLocation(program, "u_materialIndex");
+  GLint firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
   for (const auto& d : scene_.draws) {
     const Material& m = scene_.materials[d.material];
     glProgramUniform1i(program, loc, int(d.material));
+    if (firstLoc >= 0) glProgramUniform1i(program, firstLoc, int(d.firstIndex / 3));
     glBindTextureUnit(VOXLAB_UNIT_ALBEDO, m.baseColorTexture >= 0 ? textures_[m.baseColorTexture].id() : white_.id());
     glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
     glDrawElements(GL_TRIANGLES, GLsizei(d.indexCount), GL_UNSIGNED_INT,

@@ -14,7 +14,8 @@ class GpuScene {
  public:
   explicit GpuScene(const Scene& scene);
   // Binds the vertex array and the material SSBO, then for each draw range sets the uniform
-  // "u_materialIndex", binds that material's textures and draws its triangles.
+  // "u_materialIndex" (and "u_firstTriangle", the range's first triangle, where the program has
+  // it), binds that material's textures and draws its triangles.
   void draw(GLuint program) const;
   const Buffer& materials() const { return materials_; }
   const Buffer& vertices() const { return vertices_; }

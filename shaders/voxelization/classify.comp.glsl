@@ -1,0 +1,48 @@
+#version 450
+// Triangle classification, one invocation per triangle: the dominant axis of the plane normal
+// (from positions, in voxel units), the area of the triangle projected along it in voxels^2, and
+// the class: small triangles go to the triangle-parallel compute pass (listed in triangleList and
+// flagged with bit 31 of triangleInfo), large ones to the fragment-parallel raster pass
+// (Rauwendaal & Bailey 2013; seed 002 chapter 3).
+#include "common/shared.h"
+#include "common/voxel_space.glsl"
+#include "voxelization/scene_triangles.glsl"
+
+layout(local_size_x = 64) in;
+layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) buffer TriangleInfo { uint triangleInfo[]; };
+layout(std430, binding = VOXLAB_BINDING_TRIANGLE_LIST) writeonly buffer TriangleList { uint triangleList[]; };
+// [0..2] triangles per dominant axis, [3] degenerate, [4] small (compute), [5] large (raster)
+layout(std430, binding = VOXLAB_BINDING_CLASS_COUNTS) buffer ClassCounts { uint classCounts[8]; };
+
+uniform uint u_triangleCount;
+uniform int u_mode;      // 0: every triangle large (raster), 1: every triangle small (compute), 2: by area
+uniform float u_cutoff;  // hybrid: projected area (voxels^2) below which a triangle is small
+
+void main() {
+  uint t = gl_GlobalInvocationID.x;
+  if (t >= u_triangleCount) return;
+  vec3 v0 = worldToVoxel(scenePosition(sceneVertexIndex(t, 0)));
+  vec3 v1 = worldToVoxel(scenePosition(sceneVertexIndex(t, 1)));
+  vec3 v2 = worldToVoxel(scenePosition(sceneVertexIndex(t, 2)));
+  vec3 n = cross(v1 - v0, v2 - v0);
+  uint info = triangleInfo[t] & 0x00FFFFFFu;  // keep the material index, clear the class bit
+  // Degenerate triangles have no area and no voxels: neither pass voxelizes them.
+  if (max(abs(n.x), max(abs(n.y), abs(n.z))) <= 0.0) {
+    atomicAdd(classCounts[3], 1u);
+    triangleInfo[t] = info;
+    return;
+  }
+  int axis = dominantAxis(n);
+  atomicAdd(classCounts[axis], 1u);
+  // The projection along the dominant axis has area |n[axis]| / 2 (n is twice the area vector).
+  float projectedArea = 0.5 * abs(n[axis]);
+  bool small = u_mode == 1 || (u_mode == 2 && projectedArea < u_cutoff);
+  if (small) {
+    uint slot = atomicAdd(classCounts[4], 1u);
+    triangleList[slot] = t;
+    info |= 0x80000000u;
+  } else {
+    atomicAdd(classCounts[5], 1u);
+  }
+  triangleInfo[t] = info;
+}

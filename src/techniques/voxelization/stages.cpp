@@ -1,0 +1,319 @@
+#include "techniques/voxelization/stages.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "reference/cpu_voxelizer.h"
+#include "scene/gpu_scene.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/common/voxelize_stage.h"
+
+namespace voxlab::vox {
+
+ParamDesc methodParam() {
+  return ParamDesc::choice("voxelize.method", {"fragment-parallel", "plain", "triangle-parallel", "hybrid"}, 0,
+                           "how triangles become voxels: conservative raster, plain raster (holes), one compute "
+                           "invocation per triangle, or by triangle size (small: compute, large: raster)");
+}
+
+ParamDesc hybridCutoffParam() {
+  return ParamDesc::real("voxelize.hybrid-cutoff", 4.0, 0.0, 1.0e6,
+                         "hybrid: triangles whose area projected along the dominant axis is below this go to the "
+                         "triangle-parallel pass, the rest are rasterized",
+                         "voxels^2");
+}
+
+void checkPackableResolution(int resolution) {
+  if (resolution > kMaxPackedResolution)
+    throw Error("voxel.resolution " + std::to_string(resolution) + " cannot be voxelized: fragments pack voxel "
+                "coordinates into 10 bits per axis, so at most " + std::to_string(kMaxPackedResolution) +
+                " voxels per axis");
+}
+
+static Method methodOf(const ParamSet& params) { return Method(params.getInt("voxelize.method")); }
+
+static uint32_t readUint(const Buffer& buffer, size_t offset = 0) {
+  uint32_t v = 0;
+  auto bytes = buffer.download(4, offset);
+  std::memcpy(&v, bytes.data(), 4);
+  return v;
+}
+
+// --- 1. classify ----------------------------------------------------------------------------------
+
+void ClassifyStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(methodParam());
+  b.param(hybridCutoffParam());
+  b.readView();
+  b.write("triangle-info");
+  b.write("triangle-list");
+  b.write("triangle-classes");
+  b.output("triangle-axes", OutputKind::Image2D, Semantic::Color,
+           "triangles coloured by the axis they are projected along (x red, y green, z blue)");
+}
+
+void ClassifyStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  checkPackableResolution(res);
+  const Method method = methodOf(ctx.params);
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  const size_t triangles = ctx.scene.triangleCount();
+
+  // Material index per triangle (bits 0-23); the shader adds the class bit.
+  std::vector<uint32_t> info(std::max<size_t>(triangles, 1), 0u);
+  for (const DrawRange& d : ctx.scene.draws)
+    for (uint32_t t = d.firstIndex / 3; t < (d.firstIndex + d.indexCount) / 3; ++t) info[t] = d.material;
+  Buffer& infoBuffer = ctx.board.ensureBuffer("triangle-info", info.size() * 4);
+  infoBuffer.upload(info.data(), info.size() * 4);
+  Buffer& list = ctx.board.ensureBuffer("triangle-list", info.size() * 4);
+  Buffer& counts = ctx.board.ensureBuffer("triangle-classes", 32);
+  const uint32_t zero[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  counts.upload(zero, 32);
+
+  GLuint program = ctx.shaders.program({"voxelization/classify.comp.glsl"});
+  space.setUniforms(program);
+  setUniform(program, "u_triangleCount", unsigned(triangles));
+  setUniform(program, "u_mode", method == Method::TriangleParallel ? 1 : (method == Method::Hybrid ? 2 : 0));
+  setUniform(program, "u_cutoff", ctx.params.getFloat("voxelize.hybrid-cutoff"));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, infoBuffer.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, list.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CLASS_COUNTS, counts.id());
+  dispatchCompute({int(triangles), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+  uint32_t c[8];
+  auto bytes = counts.download(32);
+  std::memcpy(c, bytes.data(), 32);
+  ctx.stats["triangles"] = double(triangles);
+  ctx.stats["triangles_axis_x"] = c[0];
+  ctx.stats["triangles_axis_y"] = c[1];
+  ctx.stats["triangles_axis_z"] = c[2];
+  ctx.stats["triangles_degenerate"] = c[3];
+  ctx.stats["triangles_small_compute"] = c[4];
+  ctx.stats["triangles_large_raster"] = c[5];
+
+  // Triangles coloured by projection axis, seen from the camera.
+  TextureDesc color;
+  color.size = {ctx.view.width, ctx.view.height, 1};
+  Texture& image = ctx.board.ensureTexture("triangle-axes", color);
+  TextureDesc depthDesc;
+  depthDesc.format = GL_DEPTH_COMPONENT32F;
+  depthDesc.size = color.size;
+  Texture depth("classify.axis-depth", depthDesc);
+  Framebuffer fb("classify.axis-fbo");
+  fb.attach(GL_COLOR_ATTACHMENT0, image);
+  fb.attach(GL_DEPTH_ATTACHMENT, depth);
+  fb.setDrawBuffers(1);
+  fb.checkComplete();
+  GLuint axisProgram = ctx.shaders.program(
+      {"common/camera.vert.glsl", "vct_grid/dominant_axis.geom.glsl", "vct_grid/dominant_axis.frag.glsl"});
+  setUniform(axisProgram, "u_viewProj", ctx.view.viewProjection());
+  setUniform(axisProgram, "u_viewDir", glm::normalize(-glm::vec3(glm::transpose(ctx.view.view)[2])));
+  glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
+  glViewport(0, 0, ctx.view.width, ctx.view.height);
+  const float black[4] = {0, 0, 0, 1};
+  const float far = 1.0f;
+  glClearNamedFramebufferfv(fb.id(), GL_COLOR, 0, black);
+  glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
+  glEnable(GL_DEPTH_TEST);
+  ctx.gpuScene.draw(axisProgram);
+  glDisable(GL_DEPTH_TEST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// --- 2. voxelize ----------------------------------------------------------------------------------
+
+void VoxelizeStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(methodParam());
+  b.read("triangle-info");
+  b.read("triangle-list");
+  b.read("triangle-classes");
+  b.write("fragments.count");
+  b.output("fragments", OutputKind::Buffer, Semantic::Points,
+           "voxel fragments: packed voxel coordinates, albedo, normal, emission")
+      .layout = voxelFragmentLayout("fragments.count");
+}
+
+void VoxelizeStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  checkPackableResolution(res);
+  const Method method = methodOf(ctx.params);
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  const bool raster = method != Method::TriangleParallel;
+  const bool compute = method == Method::TriangleParallel || method == Method::Hybrid;
+  const uint32_t listCount = readUint(ctx.board.buffer("triangle-classes"), 16);
+
+  GLuint rasterProgram = 0;
+  if (raster) {
+    rasterProgram = ctx.shaders.program(
+        {"common/world.vert.glsl", "vct_grid/voxelize.geom.glsl", "vct_grid/voxelize.frag.glsl"},
+        method == Method::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "");
+    space.setUniforms(rasterProgram);
+    setUniform(rasterProgram, "u_conservative", method == Method::Plain ? 0 : 1);
+  }
+  GLuint computeProgram = 0;
+  if (compute) {
+    computeProgram = ctx.shaders.program({"voxelization/triangle_parallel.comp.glsl"});
+    space.setUniforms(computeProgram);
+    setUniform(computeProgram, "u_listCount", unsigned(listCount));
+  }
+
+  Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
+  Buffer& axisCounts = ctx.board.ensureBuffer("voxelize.axis-counts", 16);  // the raster shader counts axes too
+  // Capacity guess; if the counter says more fragments were produced, grow and run again.
+  size_t capacity = std::max<size_t>(size_t(res) * res * 12, 1 << 16);
+  if (ctx.board.hasBuffer("fragments"))
+    capacity = std::max(capacity, ctx.board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
+
+  GLuint fbo = 0;
+  glCreateFramebuffers(1, &fbo);
+  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, res);
+  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, res);
+  uint32_t afterRaster = 0, produced = 0;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    Buffer& fragments = ctx.board.ensureBuffer("fragments", capacity * sizeof(gpu::VoxelFragment));
+    const uint32_t zero[4] = {0, 0, 0, 0};
+    counter.upload(zero, 4);
+    axisCounts.upload(zero, 16);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, VOXLAB_BINDING_FRAGMENT_COUNT, counter.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, fragments.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_AXIS_COUNTS, axisCounts.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
+    if (raster) {
+      // Fragment-parallel: one rasterization over a res x res framebuffer without attachments.
+      setUniform(rasterProgram, "u_capacity", unsigned(capacity));
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glViewport(0, 0, res, res);
+      glDisable(GL_DEPTH_TEST);
+      glDisable(GL_CULL_FACE);
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      ctx.gpuScene.draw(rasterProgram);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+      afterRaster = readUint(counter);
+    }
+    if (compute && listCount > 0) {
+      // Triangle-parallel: one invocation per listed triangle, appending to the same list.
+      setUniform(computeProgram, "u_capacity", unsigned(capacity));
+      glUseProgram(computeProgram);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer("triangle-list").id());
+      dispatchCompute({int(listCount), 1, 1}, {64, 1, 1});
+      glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+    produced = readUint(counter);
+    if (produced <= capacity) break;
+    capacity = produced;
+  }
+  glDeleteFramebuffers(1, &fbo);
+
+  ctx.stats["fragments"] = produced;
+  ctx.stats["fragments_raster"] = afterRaster;
+  ctx.stats["fragments_compute"] = double(produced - afterRaster);
+  ctx.stats["fragment_capacity"] = double(capacity);
+  ctx.stats["voxel_size_m"] = space.voxelSize;
+}
+
+// --- 3. occupancy ---------------------------------------------------------------------------------
+
+static TextureDesc volumeDesc(int res, GLenum format) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = format;
+  d.size = {res, res, res};
+  d.levels = 1;
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+void OccupancyStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  b.write("occupancy.unique");
+  b.output("occupancy", OutputKind::Volume3D, Semantic::Occupancy,
+           "fragments per voxel (r32ui); non-zero = occupied");
+}
+
+void OccupancyStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  Texture& grid = ctx.board.ensureTexture("occupancy", volumeDesc(res, GL_R32UI));
+  const uint32_t zero = 0;
+  glClearTexImage(grid.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  Buffer& unique = ctx.board.ensureBuffer("occupancy.unique", 4);
+  unique.upload(&zero, 4);
+  const Buffer& fragments = ctx.board.buffer("fragments");
+  const uint32_t count = std::min<uint32_t>(readUint(ctx.board.buffer("fragments.count")),
+                                            uint32_t(fragments.size() / sizeof(gpu::VoxelFragment)));
+
+  GLuint program = ctx.shaders.program({"voxelization/occupancy.comp.glsl"});
+  setUniform(program, "u_fragmentCount", unsigned(count));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, fragments.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CLASS_COUNTS, unique.id());
+  glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                  GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  const uint32_t voxels = readUint(unique);
+  ctx.stats["fragments"] = count;
+  ctx.stats["unique_voxels"] = voxels;
+  ctx.stats["duplicate_fragments"] = double(count) - double(voxels);
+}
+
+// --- 4. compare -----------------------------------------------------------------------------------
+
+void CompareStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("occupancy");
+  b.output("reference", OutputKind::Volume3D, Semantic::Occupancy,
+           "CPU reference voxels: every voxel whose closed box a triangle overlaps (exact SAT, double)");
+  b.output("difference", OutputKind::Volume3D, Semantic::Scalar,
+           "0 = method and reference agree, 1 = missed by the method, 2 = added by the method");
+}
+
+void CompareStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  const std::vector<uint32_t> keys = referenceVoxelSet(ctx.scene, VoxelSpace::fromScene(ctx.scene, res));
+  const size_t n = size_t(res) * res * res;
+  std::vector<uint8_t> reference(n, 0);
+  for (uint32_t k : keys) {
+    glm::ivec3 v = unpackVoxelKey(k);
+    reference[(size_t(v.z) * res + v.y) * res + v.x] = 255;
+  }
+  std::vector<uint32_t> occupancy(n, 0);
+  glGetTextureImage(ctx.board.texture("occupancy").id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                    GLsizei(n * 4), occupancy.data());
+  std::vector<float> difference(n, 0.0f);
+  size_t missed = 0, added = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const bool ref = reference[i] != 0, gpu = occupancy[i] != 0;
+    if (ref && !gpu) { difference[i] = 1.0f; ++missed; }
+    if (gpu && !ref) { difference[i] = 2.0f; ++added; }
+  }
+  Texture& refTex = ctx.board.ensureTexture("reference", volumeDesc(res, GL_R8));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage3D(refTex.id(), 0, 0, 0, 0, res, res, res, GL_RED, GL_UNSIGNED_BYTE, reference.data());
+  Texture& diffTex = ctx.board.ensureTexture("difference", volumeDesc(res, GL_R32F));
+  glTextureSubImage3D(diffTex.id(), 0, 0, 0, 0, res, res, res, GL_RED, GL_FLOAT, difference.data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  ctx.stats["reference_voxels"] = double(keys.size());
+  ctx.stats["missed_voxels"] = double(missed);
+  ctx.stats["added_voxels"] = double(added);
+}
+
+}  // namespace voxlab::vox
