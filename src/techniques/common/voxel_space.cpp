@@ -1,9 +1,11 @@
 #include "techniques/common/voxel_space.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
+#include "graph/blackboard.h"
 
 namespace voxlab {
 
@@ -21,6 +23,14 @@ void VoxelSpace::setUniforms(GLuint program) const {
   setUniform(program, "u_volumeOrigin", origin);
   setUniform(program, "u_voxelSize", voxelSize);
   setUniform(program, "u_resolution", resolution);
+}
+
+uint32_t voxelFragmentCount(Blackboard& board) {
+  uint32_t count = 0;
+  auto bytes = board.buffer("fragments.count").download(4);
+  std::memcpy(&count, bytes.data(), 4);
+  uint32_t capacity = uint32_t(board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
+  return std::min(count, capacity);
 }
 
 BufferLayout voxelFragmentLayout(const std::string& countResource) {

@@ -2,6 +2,8 @@
 // voxels. The scene's largest extent spans resolution - 1 voxels and is centred, so the outermost
 // surfaces lie half a voxel inside the volume (never exactly on a voxel boundary or outside).
 #pragma once
+#include <cstdint>
+
 #include <glm/glm.hpp>
 
 #include "gpu/gl.h"
@@ -20,6 +22,12 @@ struct VoxelSpace {
   glm::vec3 toVoxel(const glm::vec3& world) const { return (world - origin) / voxelSize; }
   void setUniforms(GLuint program) const;  // u_volumeOrigin, u_voxelSize, u_resolution
 };
+
+class Blackboard;
+
+// Valid records in the voxel fragment list "fragments": its counter "fragments.count", capped at
+// the list's capacity (the counter keeps counting past it when the list overflows).
+uint32_t voxelFragmentCount(Blackboard& board);
 
 // The record layout of the VoxelFragment list (shaders/common/shared.h), for outputs.
 BufferLayout voxelFragmentLayout(const std::string& countResource);

@@ -90,15 +90,18 @@ void VoxelizeStage::execute(StageContext& ctx) {
   ctx.stats["triangles_axis_z"] = axes[2];
   ctx.stats["voxel_size_m"] = space.voxelSize;
 
-  // Triangles coloured by projection axis, seen from the camera.
+  renderTriangleAxes(ctx, "triangle-axes");
+}
+
+void renderTriangleAxes(StageContext& ctx, const std::string& resource) {
   TextureDesc color;
   color.size = {ctx.view.width, ctx.view.height, 1};
-  Texture& image = ctx.board.ensureTexture("triangle-axes", color);
+  Texture& image = ctx.board.ensureTexture(resource, color);
   TextureDesc depthDesc;
   depthDesc.format = GL_DEPTH_COMPONENT32F;
   depthDesc.size = color.size;
-  Texture depth("voxelize.axis-depth", depthDesc);
-  Framebuffer fb("voxelize.axis-fbo");
+  Texture depth(resource + ".depth", depthDesc);
+  Framebuffer fb(resource + ".fbo");
   fb.attach(GL_COLOR_ATTACHMENT0, image);
   fb.attach(GL_DEPTH_ATTACHMENT, depth);
   fb.setDrawBuffers(1);

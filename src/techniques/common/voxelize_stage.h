@@ -27,6 +27,10 @@ class VoxelizeStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+// Renders the scene from the camera into the 2D texture 'resource', each triangle coloured by the
+// axis voxelization projects it along (x red, y green, z blue).
+void renderTriangleAxes(StageContext& ctx, const std::string& resource);
+
 // Parameter shared by every stage that needs the voxel grid size.
 ParamDesc voxelResolutionParam();
 

@@ -21,15 +21,6 @@ static TextureDesc radianceGridDesc(int res, int levels) {
   return d;
 }
 
-// Number of valid records in the voxel fragment list.
-static uint32_t fragmentCount(StageContext& ctx) {
-  uint32_t count = 0;
-  auto bytes = ctx.board.buffer("fragments.count").download(4);
-  std::memcpy(&count, bytes.data(), 4);
-  uint32_t capacity = uint32_t(ctx.board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
-  return std::min(count, capacity);
-}
-
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
@@ -57,7 +48,7 @@ void InjectStage::execute(StageContext& ctx) {
   glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
   glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
 
-  uint32_t count = fragmentCount(ctx);
+  uint32_t count = voxelFragmentCount(ctx.board);
 
   GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"});
   space.setUniforms(program);
@@ -92,7 +83,7 @@ void OcclusionFixStage::execute(StageContext& ctx) {
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(dst.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   // Only voxels that received fragments can be non-empty: visit those instead of the whole grid.
-  uint32_t count = fragmentCount(ctx);
+  uint32_t count = voxelFragmentCount(ctx.board);
   GLuint program = ctx.shaders.program({"vct_grid/occlusion_fix.comp.glsl"});
   setUniform(program, "u_fragmentCount", unsigned(count));
   glUseProgram(program);

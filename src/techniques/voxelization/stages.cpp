@@ -101,33 +101,7 @@ void ClassifyStage::execute(StageContext& ctx) {
   ctx.stats["triangles_small_compute"] = c[4];
   ctx.stats["triangles_large_raster"] = c[5];
 
-  // Triangles coloured by projection axis, seen from the camera.
-  TextureDesc color;
-  color.size = {ctx.view.width, ctx.view.height, 1};
-  Texture& image = ctx.board.ensureTexture("triangle-axes", color);
-  TextureDesc depthDesc;
-  depthDesc.format = GL_DEPTH_COMPONENT32F;
-  depthDesc.size = color.size;
-  Texture depth("classify.axis-depth", depthDesc);
-  Framebuffer fb("classify.axis-fbo");
-  fb.attach(GL_COLOR_ATTACHMENT0, image);
-  fb.attach(GL_DEPTH_ATTACHMENT, depth);
-  fb.setDrawBuffers(1);
-  fb.checkComplete();
-  GLuint axisProgram = ctx.shaders.program(
-      {"common/camera.vert.glsl", "vct_grid/dominant_axis.geom.glsl", "vct_grid/dominant_axis.frag.glsl"});
-  setUniform(axisProgram, "u_viewProj", ctx.view.viewProjection());
-  setUniform(axisProgram, "u_viewDir", glm::normalize(-glm::vec3(glm::transpose(ctx.view.view)[2])));
-  glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
-  glViewport(0, 0, ctx.view.width, ctx.view.height);
-  const float black[4] = {0, 0, 0, 1};
-  const float far = 1.0f;
-  glClearNamedFramebufferfv(fb.id(), GL_COLOR, 0, black);
-  glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
-  glEnable(GL_DEPTH_TEST);
-  ctx.gpuScene.draw(axisProgram);
-  glDisable(GL_DEPTH_TEST);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  renderTriangleAxes(ctx, "triangle-axes");
 }
 
 // --- 2. voxelize ----------------------------------------------------------------------------------
@@ -149,9 +123,19 @@ void VoxelizeStage::execute(StageContext& ctx) {
   checkPackableResolution(res);
   const Method method = methodOf(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
-  const bool raster = method != Method::TriangleParallel;
-  const bool compute = method == Method::TriangleParallel || method == Method::Hybrid;
-  const uint32_t listCount = readUint(ctx.board.buffer("triangle-classes"), 16);
+  // The classification's counters (one readback): [4] triangles listed for the compute pass,
+  // [5] triangles left to the raster pass.
+  uint32_t classes[8];
+  {
+    auto bytes = ctx.board.buffer("triangle-classes").download(32);
+    std::memcpy(classes, bytes.data(), 32);
+  }
+  const uint32_t listCount = classes[4], rasterCount = classes[5];
+  // The hybrid skips a pass that has no triangles: an empty raster pass would still run every
+  // triangle through the vertex and geometry shaders only to drop it there (single-threaded
+  // stages on llvmpipe), and an empty compute pass would cost a dispatch for nothing.
+  const bool raster = method != Method::TriangleParallel && (method != Method::Hybrid || rasterCount > 0);
+  const bool compute = (method == Method::TriangleParallel || method == Method::Hybrid) && listCount > 0;
 
   GLuint rasterProgram = 0;
   if (raster) {
@@ -203,7 +187,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
       glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
       afterRaster = readUint(counter);
     }
-    if (compute && listCount > 0) {
+    if (compute) {
       // Triangle-parallel: one invocation per listed triangle, appending to the same list.
       setUniform(computeProgram, "u_capacity", unsigned(capacity));
       glUseProgram(computeProgram);
@@ -224,6 +208,8 @@ void VoxelizeStage::execute(StageContext& ctx) {
   ctx.stats["fragments_raster"] = afterRaster;
   ctx.stats["fragments_compute"] = double(produced - afterRaster);
   ctx.stats["fragment_capacity"] = double(capacity);
+  ctx.stats["raster_pass"] = raster ? 1.0 : 0.0;
+  ctx.stats["compute_pass"] = compute ? 1.0 : 0.0;
   ctx.stats["voxel_size_m"] = space.voxelSize;
 }
 
@@ -256,8 +242,7 @@ void OccupancyStage::execute(StageContext& ctx) {
   Buffer& unique = ctx.board.ensureBuffer("occupancy.unique", 4);
   unique.upload(&zero, 4);
   const Buffer& fragments = ctx.board.buffer("fragments");
-  const uint32_t count = std::min<uint32_t>(readUint(ctx.board.buffer("fragments.count")),
-                                            uint32_t(fragments.size() / sizeof(gpu::VoxelFragment)));
+  const uint32_t count = voxelFragmentCount(ctx.board);
 
   GLuint program = ctx.shaders.program({"voxelization/occupancy.comp.glsl"});
   setUniform(program, "u_fragmentCount", unsigned(count));
