@@ -26,9 +26,12 @@ json describeTechnique(const Technique& t) {
     s["title"] = t.stage(i).title();
     s["summary"] = t.stage(i).summary();
     s["reads"] = d.reads;
-    for (const auto& o : d.outputs)
-      s["outputs"].push_back({{"name", o.name}, {"address", t.id() + "/" + t.stage(i).id() + "/" + o.name},
-                              {"kind", kindName(o.kind)}, {"semantic", semanticName(o.semantic)}, {"help", o.help}});
+    for (const auto& o : d.outputs) {
+      json oj = {{"name", o.name}, {"address", t.id() + "/" + t.stage(i).id() + "/" + o.name},
+                 {"kind", kindName(o.kind)}, {"semantic", semanticName(o.semantic)}, {"help", o.help}};
+      if (!o.referenceMode.empty()) oj["reference_mode"] = o.referenceMode;
+      s["outputs"].push_back(oj);
+    }
     for (const auto& p : d.params)
       s["parameters"].push_back({{"name", p.name}, {"type", p.typeName()}, {"default", p.format(p.defaultValue)},
                                  {"range", p.rangeText()}, {"unit", p.unit}, {"help", p.help}});
