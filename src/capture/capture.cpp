@@ -293,6 +293,31 @@ DisplayImage pointView(const CapturedOutput& out, int size) {
 
 // --- Files ---------------------------------------------------------------------------------------
 
+std::vector<RecordPoint> recordPoints(const CapturedOutput& out) {
+  std::vector<RecordPoint> pts;
+  const auto& L = out.desc.layout;
+  const BufferField* pos = nullptr;
+  const BufferField* col = nullptr;
+  const BufferField* nrm = nullptr;
+  for (const auto& f : L.fields) {
+    if (f.role == FieldRole::Position && !pos) pos = &f;
+    if (f.role == FieldRole::Color && !col) col = &f;
+    if (f.role == FieldRole::Normal && !nrm) nrm = &f;
+  }
+  if (!pos || L.stride == 0) return pts;
+  for (uint32_t r = 0; r < out.recordCount && size_t(r + 1) * L.stride <= out.records.size(); ++r) {
+    const uint8_t* rec = &out.records[size_t(r) * L.stride];
+    RecordPoint p;
+    for (int k = 0; k < 3; ++k) p.position[k] = float(fieldScalar(rec, *pos, k)) * L.positionScale;
+    if (col)
+      for (int k = 0; k < 3; ++k) p.color[k] = float(fieldScalar(rec, *col, k));
+    if (nrm)
+      for (int k = 0; k < 3; ++k) p.normal[k] = float(fieldScalar(rec, *nrm, k));
+    pts.push_back(p);
+  }
+  return pts;
+}
+
 void writePng(const DisplayImage& image, const std::string& path) {
   writePngFile(path, image.width, image.height, 3, image.rgb.data());
 }

@@ -52,6 +52,16 @@ struct DisplayImage {
 DisplayImage displayImage(const CapturedOutput& out, int level);
 DisplayImage pointView(const CapturedOutput& out, int size = 512);  // buffers with a Position field
 
+// Records of a buffer with a Position field as points: position (times layout.positionScale) and
+// the Color field's first three components (linear; 0.9 grey without one), the Normal field (zero
+// without one). Empty without a Position field.
+struct RecordPoint {
+  glm::vec3 position{0.0f};
+  glm::vec3 color{0.9f};
+  glm::vec3 normal{0.0f};
+};
+std::vector<RecordPoint> recordPoints(const CapturedOutput& out);
+
 // Writes the output's files into 'dir' with names "<prefix>.<ext>" / "<prefix>@L.<ext>" and
 // returns the manifest entry (files, statistics, format, levels).
 nlohmann::json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix);

@@ -54,6 +54,61 @@ glm::ivec3 sliceTexel(const LevelData& d, const SliceSpec& s, int px, int py) {
   }
 }
 
+namespace {
+
+// lo/hi of channel c over a whole level (finite values only), for the normalised semantics.
+void levelRange(const LevelData& d, int c, float& lo, float& hi) {
+  lo = 1e30f;
+  hi = -1e30f;
+  for (size_t t = 0; t < d.texelCount(); ++t) {
+    float v = d.values[t * d.channels + c];
+    if (std::isfinite(v)) { lo = std::min(lo, v); hi = std::max(hi, v); }
+  }
+}
+
+// RGB of one texel as the slice view shows it.
+void mapTexel(const float* v, int channels, Semantic semantic, int ch, float x, bool normalise, float lo, float hi,
+              uint8_t* o) {
+  auto c = [&](int k) { return k < channels ? v[k] : v[0]; };
+  if (ch >= 0) {
+    uint8_t g = normalise ? unit8(hi > lo ? (v[ch] - lo) / (hi - lo) : 0.0f) : unit8(v[ch] * x);
+    o[0] = o[1] = o[2] = g;
+    return;
+  }
+  switch (semantic) {
+    case Semantic::Color:
+      for (int k = 0; k < 3; ++k) o[k] = unit8(toSrgb(c(k) * x));
+      break;
+    case Semantic::RadianceHDR:
+      for (int k = 0; k < 3; ++k) {
+        float y = c(k) * x;
+        o[k] = unit8(toSrgb(y / (1.0f + y)));
+      }
+      break;
+    case Semantic::Normal: {
+      bool zero = c(0) == 0 && c(1) == 0 && c(2) == 0;
+      for (int k = 0; k < 3; ++k) o[k] = zero ? 0 : unit8(c(k) * 0.5f + 0.5f);
+      break;
+    }
+    case Semantic::Occupancy: {
+      bool any = false;
+      for (int k = 0; k < channels; ++k) any = any || v[k] != 0.0f;
+      o[0] = o[1] = o[2] = any ? 255 : 0;
+      break;
+    }
+    case Semantic::Opacity:
+      o[0] = o[1] = o[2] = unit8((channels == 4 ? v[3] : v[0]) * x);
+      break;
+    case Semantic::Fraction:
+      o[0] = o[1] = o[2] = unit8(v[0] * x);
+      break;
+    default:
+      ramp(hi > lo ? (v[0] - lo) / (hi - lo) : 0.0f, o);
+  }
+}
+
+}  // namespace
+
 SliceImage mapSlice(const LevelData& d, Semantic semantic, const SliceSpec& s, const DisplaySettings& ds) {
   SliceImage img;
   glm::ivec2 e = sliceExtent(d, s);
@@ -64,58 +119,89 @@ SliceImage mapSlice(const LevelData& d, Semantic semantic, const SliceSpec& s, c
   int ch = ds.channel >= d.channels ? d.channels - 1 : ds.channel;
   // Scalars are normalised over the whole level so that moving the slice keeps the scale.
   bool normalise = semantic == Semantic::Depth || semantic == Semantic::Scalar;
-  float lo = 1e30f, hi = -1e30f;
-  if (normalise) {
-    int c = std::max(ch, 0);
-    for (size_t t = 0; t < d.texelCount(); ++t) {
-      float v = d.values[t * d.channels + c];
-      if (std::isfinite(v)) { lo = std::min(lo, v); hi = std::max(hi, v); }
-    }
-  }
-  float x = ds.exposure;
+  float lo = 0, hi = 0;
+  if (normalise) levelRange(d, std::max(ch, 0), lo, hi);
   for (int py = 0; py < e.y; ++py)
     for (int px = 0; px < e.x; ++px) {
       glm::ivec3 t = sliceTexel(d, s, px, py);
       const float* v = &d.values[((size_t(t.z) * d.size.y + t.y) * d.size.x + t.x) * d.channels];
-      uint8_t* o = &img.rgba[(size_t(py) * e.x + px) * 4];
-      auto c = [&](int k) { return k < d.channels ? v[k] : v[0]; };
-      if (ch >= 0) {
-        uint8_t g = normalise ? unit8(hi > lo ? (v[ch] - lo) / (hi - lo) : 0.0f) : unit8(v[ch] * x);
-        o[0] = o[1] = o[2] = g;
-        continue;
-      }
-      switch (semantic) {
-        case Semantic::Color:
-          for (int k = 0; k < 3; ++k) o[k] = unit8(toSrgb(c(k) * x));
-          break;
-        case Semantic::RadianceHDR:
-          for (int k = 0; k < 3; ++k) {
-            float y = c(k) * x;
-            o[k] = unit8(toSrgb(y / (1.0f + y)));
-          }
-          break;
-        case Semantic::Normal: {
-          bool zero = c(0) == 0 && c(1) == 0 && c(2) == 0;
-          for (int k = 0; k < 3; ++k) o[k] = zero ? 0 : unit8(c(k) * 0.5f + 0.5f);
-          break;
-        }
-        case Semantic::Occupancy: {
-          bool any = false;
-          for (int k = 0; k < d.channels; ++k) any = any || v[k] != 0.0f;
-          o[0] = o[1] = o[2] = any ? 255 : 0;
-          break;
-        }
-        case Semantic::Opacity:
-          o[0] = o[1] = o[2] = unit8((d.channels == 4 ? v[3] : v[0]) * x);
-          break;
-        case Semantic::Fraction:
-          o[0] = o[1] = o[2] = unit8(v[0] * x);
-          break;
-        default:
-          ramp(hi > lo ? (v[0] - lo) / (hi - lo) : 0.0f, o);
-      }
+      mapTexel(v, d.channels, semantic, ch, ds.exposure, normalise, lo, hi, &img.rgba[(size_t(py) * e.x + px) * 4]);
     }
   return img;
+}
+
+// --- 3D views -------------------------------------------------------------------------------------
+
+VolumeRGBA mapVolume(const LevelData& d, Semantic semantic, const DisplaySettings& ds) {
+  VolumeRGBA vol;
+  vol.size = d.size;
+  vol.rgba.assign(d.texelCount() * 4, 0);
+  if (d.values.empty() || d.channels == 0) return vol;
+  int ch = ds.channel >= d.channels ? d.channels - 1 : ds.channel;
+  bool normalise = semantic == Semantic::Depth || semantic == Semantic::Scalar;
+  float lo = 0, hi = 0;
+  if (normalise) levelRange(d, std::max(ch, 0), lo, hi);
+  bool alphaIsOpacity = ch < 0 && d.channels == 4 &&
+                        (semantic == Semantic::Color || semantic == Semantic::RadianceHDR || semantic == Semantic::Opacity);
+  for (size_t t = 0; t < d.texelCount(); ++t) {
+    const float* v = &d.values[t * d.channels];
+    uint8_t* o = &vol.rgba[t * 4];
+    uint8_t a = 0;
+    if (alphaIsOpacity) {
+      a = unit8(v[3]);
+    } else {
+      bool any = false;
+      for (int k = ch < 0 ? 0 : ch; k < (ch < 0 ? d.channels : ch + 1); ++k) any = any || (v[k] != 0.0f && std::isfinite(v[k]));
+      a = any ? 255 : 0;
+    }
+    if (a == 0) continue;
+    mapTexel(v, d.channels, semantic, ch, ds.exposure, normalise, lo, hi, o);
+    o[3] = a;
+    ++vol.nonEmpty;
+  }
+  return vol;
+}
+
+glm::vec3 OrbitCamera::eye() const {
+  glm::vec3 dir(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+  return target + dir * (distance * radius);
+}
+
+glm::mat4 OrbitCamera::view() const {
+  glm::vec3 e = eye(), f = glm::normalize(target - e);
+  glm::vec3 r = glm::normalize(glm::cross(f, glm::vec3(0, 1, 0)));
+  glm::vec3 u = glm::cross(r, f);
+  glm::mat4 m(1.0f);
+  m[0][0] = r.x, m[1][0] = r.y, m[2][0] = r.z;
+  m[0][1] = u.x, m[1][1] = u.y, m[2][1] = u.z;
+  m[0][2] = -f.x, m[1][2] = -f.y, m[2][2] = -f.z;
+  m[3][0] = -glm::dot(r, e), m[3][1] = -glm::dot(u, e), m[3][2] = glm::dot(f, e);
+  return m;
+}
+
+glm::mat4 OrbitCamera::projection(float aspect) const {
+  float n = std::max(1e-3f, (distance - 1.5f) * radius * 0.5f), f = (distance + 1.5f) * radius * 2.0f;
+  float t = 1.0f / std::tan(yfov * 0.5f);
+  glm::mat4 m(0.0f);
+  m[0][0] = t / aspect;
+  m[1][1] = t;
+  m[2][2] = -(f + n) / (f - n);
+  m[2][3] = -1.0f;
+  m[3][2] = -2.0f * f * n / (f - n);
+  return m;
+}
+
+void OrbitCamera::rotate(float yawDeg, float pitchDeg) {
+  yaw = std::remainder(yaw + yawDeg * 0.0174532925f, 6.2831853f);
+  pitch = std::clamp(pitch + pitchDeg * 0.0174532925f, -1.4835f, 1.4835f);
+}
+
+void OrbitCamera::lookAlong(const glm::vec3& forward) {
+  float l = glm::length(forward);
+  if (!(l > 1e-6f)) return;
+  glm::vec3 off = -forward / l;  // from the target to the eye
+  yaw = std::atan2(off.x, off.z);
+  pitch = std::clamp(std::asin(std::clamp(off.y, -1.0f, 1.0f)), -1.4835f, 1.4835f);
 }
 
 // --- Cone samples ----------------------------------------------------------------------------------
@@ -142,6 +228,7 @@ std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out) {
     c.diameter.push_back(s.position.w);
     c.opacity.push_back(s.accumulated.w);
     c.luminance.push_back(0.2126f * s.accumulated.x + 0.7152f * s.accumulated.y + 0.0722f * s.accumulated.z);
+    c.position.push_back(glm::vec3(s.position.x, s.position.y, s.position.z));
   }
   // Records are appended by parallel invocations; order each cone by distance along it.
   for (auto& c : cones) {
@@ -154,6 +241,9 @@ std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out) {
       v.swap(r);
     };
     perm(c.distance), perm(c.lod), perm(c.opacity), perm(c.luminance), perm(c.diameter), perm(c.sampleAlpha);
+    std::vector<glm::vec3> pos(c.position.size());
+    for (size_t i = 0; i < order.size(); ++i) pos[i] = c.position[order[i]];
+    c.position.swap(pos);
   }
   std::sort(cones.begin(), cones.end(), [](const ConeSeries& a, const ConeSeries& b) { return a.cone < b.cone; });
   return cones;
@@ -242,6 +332,9 @@ const VerbSpec kVerbs[] = {
     {"reload", 0, 0, "reload (shader hot reload, as F5)"},
     {"wait", 1, 1, "wait FRAMES"},
     {"tab", 1, 1, "tab inspect|probe|timing|lesson|export (bring a details tab to front)"},
+    {"view-mode", 1, 1, "view-mode slice|3d|cubes (3D views of volumes and of buffers with positions)"},
+    {"view-orbit", 2, 2, "view-orbit YAW_DEG PITCH_DEG (rotate the 3D view's own camera)"},
+    {"expect-view-nonempty", 1, 1, "expect-view-nonempty MIN_PIXELS (the 3D view shows more content pixels than MIN_PIXELS)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

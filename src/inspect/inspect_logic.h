@@ -44,10 +44,39 @@ glm::ivec3 sliceTexel(const LevelData& level, const SliceSpec& slice, int px, in
 struct ConeSeries {
   int cone = 0;
   std::vector<float> distance, lod, opacity, luminance, diameter, sampleAlpha;
+  std::vector<glm::vec3> position;  // sample centres (world units)
 };
 std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out);
 // "" when every cone's accumulated opacity never decreases, else a message naming the cone/sample.
 std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones);
+
+// --- 3D views -------------------------------------------------------------------------------------
+
+// One volume level mapped for the 3D views: RGBA8 texels (x fastest, GL order), rgb as the slice
+// view shows the texel (semantic, channel, exposure), alpha the texel's opacity: the alpha channel
+// for Color/RadianceHDR/Opacity semantics of 4-channel levels (with channel = -1), otherwise 255
+// for non-empty texels (any shown channel non-zero) and 0 for empty ones.
+struct VolumeRGBA {
+  glm::ivec3 size{0};
+  std::vector<uint8_t> rgba;
+  size_t nonEmpty = 0;  // texels with alpha > 0
+};
+VolumeRGBA mapVolume(const LevelData& level, Semantic semantic, const DisplaySettings& ds);
+
+// Orbit camera of the 3D views: looks at 'target' from 'distance' bounding radii, perspective.
+struct OrbitCamera {
+  glm::vec3 target{0.0f};
+  float radius = 1.0f;     // bounding radius of what is shown
+  float yaw = 0.6f;        // radians about +y; 0 looks along -z
+  float pitch = 0.35f;     // radians, clamped to +-85 degrees
+  float distance = 2.6f;   // in radii
+  float yfov = 0.7f;       // radians
+  glm::vec3 eye() const;
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;
+  void rotate(float yawDeg, float pitchDeg);
+  void lookAlong(const glm::vec3& forward);  // sets yaw/pitch so the view direction is 'forward'
+};
 
 // --- Reproduction ----------------------------------------------------------------------------------
 

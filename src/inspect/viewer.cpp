@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #define GLFW_INCLUDE_NONE
@@ -23,9 +24,11 @@
 #include "gpu/shader_library.h"
 #include "graph/step_cursor.h"
 #include "inspect/inspect_logic.h"
+#include "inspect/view3d.h"
 #include "lesson/lesson.h"
 #include "platform/glfw_window.h"
 #include "scene/scene.h"
+#include "techniques/common/voxel_space.h"
 
 namespace voxlab {
 namespace {
@@ -117,6 +120,11 @@ class Viewer {
   void drawUi();
   void drawLeftPanel();
   void drawView();
+  // 3D views (View3D) of volumes and of buffers with a Position field.
+  bool has3DView(const OutputDesc& d) const;
+  bool update3D();  // builds the 3D content and renders it when anything shown changed; false = no 3D view
+  void build3DContent();
+  void draw3DView();
   void drawRightPanel();
   void drawInspector();
   void drawProbe();
@@ -181,6 +189,17 @@ class Viewer {
   bool frameHeavy_ = false;
   std::string copied_;
   std::string wantTab_;  // tab to bring to front on the next frame ("" = leave as is)
+
+  // 3D views.
+  ViewMode viewMode_ = ViewMode::Slice;
+  std::unique_ptr<View3D> view3d_;
+  OrbitCamera orbit3d_;
+  const Scene* orbitScene_ = nullptr;  // the orbit starts along the scene camera once per scene
+  long content3dKey_[7] = {-1, -1, -1, -1, -1, -1, -1};
+  double render3dKey_[5] = {-1, 0, 0, 0, 0};
+  std::string info3d_, msg3d_;
+  std::vector<double> render3dMs_;
+  bool dragging3d_ = false;
 };
 
 // --- Construction ------------------------------------------------------------------------------
@@ -213,6 +232,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
 }
 
 Viewer::~Viewer() {
+  view3d_.reset();
   cursor_.reset();
   shaders_.reset();
   ImGui_ImplOpenGL3_Shutdown();
@@ -709,6 +729,21 @@ void Viewer::drawView() {
   }
   const OutputDesc& d = cap_.desc;
   ImGui::TextDisabled("%s, %s, %s: %s", kindName(d.kind), semanticName(d.semantic), cap_.format.c_str(), d.help.c_str());
+  if (has3DView(d)) {
+    int mode = int(viewMode_);
+    ImGui::TextUnformatted("view");
+    ImGui::SameLine();
+    ImGui::RadioButton(d.kind == OutputKind::Buffer ? "points 2D" : "slice", &mode, int(ViewMode::Slice));
+    ImGui::SameLine();
+    ImGui::RadioButton("3D", &mode, int(ViewMode::Volume));
+    ImGui::SameLine();
+    ImGui::RadioButton("cubes", &mode, int(ViewMode::Cubes));
+    viewMode_ = ViewMode(mode);
+    if (viewMode_ != ViewMode::Slice) {
+      draw3DView();
+      return;
+    }
+  }
 
   // Build the displayed image: a slice of the selected level, or the point view of a buffer.
   long key[8] = {capKey_[0], capKey_[1], capKey_[2], level_, slice_.axis, slice_.index, display_.channel,
@@ -806,6 +841,205 @@ void Viewer::drawView() {
   } else {
     ImGui::Text("%u records (point view)", cap_.recordCount);
   }
+  if (!status_.empty()) ImGui::TextDisabled("%s", status_.c_str());
+}
+
+// --- 3D views -----------------------------------------------------------------------------------------
+
+bool Viewer::has3DView(const OutputDesc& d) const {
+  if (d.kind == OutputKind::Volume3D) return true;
+  if (d.kind != OutputKind::Buffer) return false;
+  return std::any_of(d.layout.fields.begin(), d.layout.fields.end(),
+                     [](const BufferField& f) { return f.role == FieldRole::Position; });
+}
+
+namespace {
+
+float srgb(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+const glm::vec3 kPointLight = glm::normalize(glm::vec3(0.45f, 0.8f, 0.4f));
+
+// Accumulated opacity 0 -> 1 as blue -> magenta -> orange -> yellow.
+glm::vec3 opacityColour(float a) {
+  static const glm::vec3 stops[4] = {{0.15f, 0.45f, 1.0f}, {0.85f, 0.25f, 0.85f}, {1.0f, 0.55f, 0.15f}, {1.0f, 0.95f, 0.3f}};
+  float t = std::clamp(a, 0.0f, 1.0f) * 3.0f;
+  int i = std::min(int(t), 2);
+  return glm::mix(stops[i], stops[i + 1], t - float(i));
+}
+
+}  // namespace
+
+void Viewer::build3DContent() {
+  const Technique& t = cursor_->technique();
+  const OutputDesc& d = cap_.desc;
+  view3d_->clear();
+  msg3d_.clear();
+  info3d_.clear();
+  glm::vec3 lo(0.0f), hi(1.0f);
+  char buf[256];
+  // The context volume of a buffer: the first volume output of the last stage before the selected
+  // one that wrote volumes and has run (its level 0 spans the voxel space that buffer positions use).
+  auto contextVolume = [&](CapturedOutput& out, std::string& name) {
+    for (int i = selected_ - 1; i >= 0; --i) {
+      if (cursor_->record(i).state == StageState::NotRun) continue;
+      for (const auto& o : t.decl(i).outputs)
+        if (o.kind == OutputKind::Volume3D) {
+          try {
+            out = captureOutput(cursor_->board(), o);
+          } catch (const Error&) {
+            continue;
+          }
+          if (out.levels.empty()) continue;
+          name = std::string(t.stage(i).id()) + "/" + o.name;
+          return true;
+        }
+    }
+    return false;
+  };
+
+  if (d.kind == OutputKind::Volume3D) {
+    if (cap_.levels.empty()) return;
+    level_ = std::clamp(level_, 0, int(cap_.levels.size()) - 1);
+    const LevelData& L = cap_.levels[level_];
+    VolumeRGBA vol = mapVolume(L, d.semantic, display_);
+    hi = glm::vec3(cap_.levels[0].size);
+    view3d_->setVolume(vol, hi, 1.0f);
+    std::snprintf(buf, sizeof buf, "level %d: %dx%dx%d, %zu non-empty texels", level_, L.size.x, L.size.y, L.size.z, vol.nonEmpty);
+    info3d_ = buf;
+  } else if (d.semantic == Semantic::ConeSamples) {
+    // World positions -> voxels of the context volume (the voxel space every voxel technique uses).
+    CapturedOutput ctx;
+    std::string ctxName;
+    std::function<glm::vec3(glm::vec3)> toView = [](glm::vec3 p) { return p; };
+    float scale = 1.0f;
+    bool haveCtx = contextVolume(ctx, ctxName) && scene_;
+    if (haveCtx) {
+      hi = glm::vec3(ctx.levels[0].size);
+      VoxelSpace space = VoxelSpace::fromScene(*scene_, ctx.levels[0].size.x);
+      toView = [space](glm::vec3 p) { return space.toVoxel(p); };
+      scale = 1.0f / space.voxelSize;
+      view3d_->setVolume(mapVolume(ctx.levels[0], ctx.desc.semantic, DisplaySettings{}), hi, 0.3f);
+    }
+    std::vector<ViewInstance> spheres, lines;
+    glm::vec3 plo(1e30f), phi(-1e30f);
+    size_t samples = 0;
+    for (const auto& c : cones_) {
+      if (c.position.empty()) continue;
+      for (size_t i = 0; i < c.position.size(); ++i) {
+        glm::vec3 p = toView(c.position[i]);
+        float r = 0.5f * c.diameter[i] * scale;
+        spheres.push_back({glm::vec4(p, r), glm::vec4(opacityColour(c.opacity[i]), 0.28f)});
+        plo = glm::min(plo, p - r);
+        phi = glm::max(phi, p + r);
+        ++samples;
+      }
+      // The cone's axis: from its apex (first sample minus its distance) through the last sample.
+      glm::vec3 first = c.position.front(), last = c.position.back();
+      glm::vec3 dir = glm::length(last - first) > 1e-6f ? glm::normalize(last - first) : glm::vec3(0, 0, 1);
+      glm::vec3 apex = first - dir * c.distance.front();
+      lines.push_back({glm::vec4(toView(apex), 0), glm::vec4(1.0f)});
+      lines.push_back({glm::vec4(toView(last), 0), glm::vec4(1.0f)});
+    }
+    view3d_->setSpheres(std::move(spheres));
+    view3d_->setLines(std::move(lines));
+    if (!haveCtx) {
+      lo = samples ? plo : glm::vec3(0.0f);
+      hi = samples ? phi : glm::vec3(1.0f);
+    }
+    std::snprintf(buf, sizeof buf, "%zu cones, %zu samples: disc = sample diameter, colour = accumulated opacity (blue 0, yellow 1)%s%s",
+                  cones_.size(), samples, haveCtx ? "; context: " : "", haveCtx ? (ctxName + " level 0").c_str() : "");
+    info3d_ = buf;
+    if (samples == 0) msg3d_ = "no cone samples recorded: probe a pixel first";
+  } else {
+    std::vector<RecordPoint> pts = recordPoints(cap_);
+    bool integer = false;
+    for (const auto& f : d.layout.fields)
+      if (f.role == FieldRole::Position)
+        integer = f.type == FieldType::Packed10_10_10 || f.type == FieldType::U32 || f.type == FieldType::I32;
+    std::vector<ViewInstance> points, cubes;
+    glm::vec3 plo(1e30f), phi(-1e30f);
+    for (const auto& r : pts) {
+      glm::vec3 c = r.position + (integer ? 0.5f : 0.0f);  // integer positions name voxels: show their centres
+      glm::vec4 col(srgb(r.color.x), srgb(r.color.y), srgb(r.color.z), 1.0f);
+      // Points have no faces: shade them by their normal (when the layout has one) from a fixed
+      // direction, so surfaces of one albedo stay apart. Cubes are shaded by face instead.
+      float shade = glm::length(r.normal) > 0.1f ? 0.45f + 0.55f * std::abs(glm::dot(glm::normalize(r.normal), kPointLight)) : 1.0f;
+      points.push_back({glm::vec4(c, 1.0f), glm::vec4(glm::vec3(col) * shade, 1.0f)});
+      cubes.push_back({glm::vec4(c - 0.5f, 1.0f), col});
+      plo = glm::min(plo, c - 0.5f);
+      phi = glm::max(phi, c + 0.5f);
+    }
+    view3d_->setPoints(std::move(points));
+    view3d_->setCubes(std::move(cubes));
+    if (!pts.empty()) lo = glm::floor(plo), hi = glm::ceil(phi);
+    std::snprintf(buf, sizeof buf, "%zu records", pts.size());
+    info3d_ = buf;
+    if (pts.empty()) msg3d_ = "no records";
+  }
+  view3d_->setBox(lo, hi);
+  orbit3d_.target = 0.5f * (lo + hi);
+  orbit3d_.radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+  if (orbitScene_ != scene_.get()) {
+    orbitScene_ = scene_.get();
+    orbit3d_.lookAlong(cursor_->camera().forward);
+  }
+}
+
+bool Viewer::update3D() {
+  if (!capError_.empty() || !has3DView(cap_.desc) || viewMode_ == ViewMode::Slice) return false;
+  if (!view3d_) view3d_ = std::make_unique<View3D>(*shaders_);
+  long key[7] = {capKey_[0], capKey_[1], capKey_[2], level_, display_.channel, long(display_.exposure * 1000),
+                 long(reinterpret_cast<intptr_t>(scene_.get()))};
+  bool rebuilt = false;
+  if (!std::equal(key, key + 7, content3dKey_)) {
+    std::copy(key, key + 7, content3dKey_);
+    build3DContent();
+    rebuilt = true;
+  }
+  if (viewMode_ == ViewMode::Cubes && view3d_->cubesOverLimit()) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%zu cubes would be drawn, over the limit of %zu: pick a coarser level or the 3D view",
+                  view3d_->cubeCandidates(), View3D::kCubeLimit);
+    msg3d_ = buf;
+  } else if (msg3d_.find("over the limit") != std::string::npos) {
+    msg3d_.clear();
+  }
+  double rkey[5] = {double(viewMode_), orbit3d_.yaw, orbit3d_.pitch, orbit3d_.distance, double(orbit3d_.radius)};
+  if (rebuilt || !std::equal(rkey, rkey + 5, render3dKey_)) {
+    std::copy(rkey, rkey + 5, render3dKey_);
+    try {
+      render3dMs_.push_back(view3d_->render(viewMode_, orbit3d_));
+    } catch (const ShaderError& e) {
+      shaderError_ = e.what();
+      if (scripted_) throw;
+    }
+    frameHeavy_ = true;
+  }
+  return true;
+}
+
+void Viewer::draw3DView() {
+  if (!update3D()) return;
+  ImVec2 avail = ImGui::GetContentRegionAvail();
+  avail.y -= 70;
+  float side = std::max(64.0f, std::min(avail.x, avail.y));
+  ImGui::Image(reinterpret_cast<ImTextureID>(intptr_t(view3d_->texture())), ImVec2(side, side), ImVec2(0, 1), ImVec2(1, 0));
+  ImGuiIO& io = ImGui::GetIO();
+  if (ImGui::IsItemHovered()) {
+    if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) dragging3d_ = true;
+    if (io.MouseWheel != 0.0f) orbit3d_.distance = std::clamp(orbit3d_.distance * std::pow(0.9f, io.MouseWheel), 0.6f, 8.0f);
+  }
+  if (dragging3d_) {
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) dragging3d_ = false;
+    else if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f) orbit3d_.rotate(-io.MouseDelta.x * 0.4f, io.MouseDelta.y * 0.4f);
+  }
+  if (!msg3d_.empty()) ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "%s", msg3d_.c_str());
+  ImGui::TextWrapped("%s", info3d_.c_str());
+  ImGui::TextDisabled("%s view %dx%d, last render %.1f ms; drag to rotate, wheel to zoom", viewModeName(viewMode_),
+                      View3D::kSize, View3D::kSize, render3dMs_.empty() ? 0.0 : render3dMs_.back());
   if (!status_.empty()) ImGui::TextDisabled("%s", status_.c_str());
 }
 
@@ -1318,6 +1552,28 @@ void Viewer::execute(const ScriptAction& a) {
     if (std::find_if(std::begin(tabs), std::end(tabs), [&](const char* n) { return arg(0) == n; }) == std::end(tabs))
       scriptFail(a, "unknown tab '" + arg(0) + "'; valid: inspect, probe, timing, lesson, export");
     wantTab_ = arg(0);
+  } else if (v == "view-mode") {
+    if (arg(0) == "slice") viewMode_ = ViewMode::Slice;
+    else if (arg(0) == "3d") viewMode_ = ViewMode::Volume;
+    else if (arg(0) == "cubes") viewMode_ = ViewMode::Cubes;
+    else scriptFail(a, "unknown mode '" + arg(0) + "'; valid: slice, 3d, cubes");
+    if (viewMode_ != ViewMode::Slice) {
+      refreshCapture();
+      if (capError_.empty() && !has3DView(cap_.desc))
+        scriptFail(a, "output " + cap_.desc.name + " (" + kindName(cap_.desc.kind) + ") has no 3D view");
+    }
+  } else if (v == "view-orbit") {
+    orbit3d_.rotate(floatArg(0), floatArg(1));
+  } else if (v == "expect-view-nonempty") {
+    refreshCapture();
+    if (!capError_.empty()) scriptFail(a, capError_);
+    if (!update3D()) scriptFail(a, "no 3D view is shown (view-mode 3d|cubes on a volume or a buffer with positions)");
+    if (!msg3d_.empty() && msg3d_.find("over the limit") != std::string::npos) scriptFail(a, msg3d_);
+    size_t n = view3d_->nonBackgroundPixels(), want = size_t(std::max(intArg(0), 0));
+    std::printf("view %s of %s: %zu of %d pixels show content (need > %zu); %s; render %.1f ms\n",
+                viewModeName(viewMode_), cap_.desc.name.c_str(), n, View3D::kSize * View3D::kSize, want, info3d_.c_str(),
+                render3dMs_.empty() ? 0.0 : render3dMs_.back());
+    if (n <= want) scriptFail(a, std::to_string(n) + " content pixels, expected more than " + arg(0));
   } else if (v == "frame-stats") {
     printFrameStats();
   } else if (v == "quit") {
@@ -1339,6 +1595,14 @@ void Viewer::printFrameStats() const {
   std::printf("frame-stats: %zu idle UI frames at %dx%d: mean %.1f ms, median %.1f ms, p95 %.1f ms, max %.1f ms\n",
               s.size(), w, h, sum / s.size(), s[s.size() / 2], s[std::min(s.size() - 1, size_t(s.size() * 0.95))],
               s.back());
+  if (!render3dMs_.empty()) {
+    std::vector<double> r = render3dMs_;
+    std::sort(r.begin(), r.end());
+    double total = 0;
+    for (double x : r) total += x;
+    std::printf("frame-stats: %zu 3D view renders at %dx%d: mean %.1f ms, median %.1f ms, max %.1f ms\n", r.size(),
+                View3D::kSize, View3D::kSize, total / r.size(), r[r.size() / 2], r.back());
+  }
   std::fflush(stdout);
 }
 

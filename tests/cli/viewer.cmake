@@ -1,7 +1,7 @@
 # Viewer tests: scripted runs of `voxlab view` under Xvfb (tests/viewer/*.txt, driven by
 # tests/viewer/run_viewer_test.sh; skipped only when xvfb-run is missing), plus command-line
 # cases for bad scripts and lessons, which fail before any window opens.
-foreach(script walk_stages probe lesson scene_error)
+foreach(script walk_stages probe lesson scene_error view3d)
   add_test(NAME viewer.${script}
     COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
             ${CMAKE_SOURCE_DIR}/tests/viewer/${script}.txt ${CMAKE_BINARY_DIR}/viewer-out/${script})
@@ -15,6 +15,8 @@ voxlab_cli_case(view_script_missing 2 "script file '.*no-such-script\\.txt' does
   "view --script @ROOT@/tests/viewer/no-such-script.txt")
 voxlab_cli_case(lesson_check_ok 0 "^$"
   "lesson --check @ROOT@/lessons/01-voxel-cone-tracing.md")
+voxlab_cli_case(lesson_check_voxelization_ok 0 "^$"
+  "lesson --check @ROOT@/lessons/02-voxelization.md")
 voxlab_cli_case(lesson_unknown_param 2 "bad-lesson-param\\.md:9: unknown parameter 'mipmap\\.no-such-knob'|bad-lesson-param\\.md:9: .*mipmap\\.no-such-knob"
   "lesson --check @ROOT@/tests/viewer/bad-lesson-param.md")
 voxlab_cli_case(lesson_unknown_stage 2 "bad-lesson-stage\\.md:3: .*voxelise.*voxelize"

@@ -167,5 +167,40 @@ TEST(ConeSamples, DecodesPerConeSortedByDistanceAndChecksOpacity) {
   EXPECT_NE(checkOpacityMonotonic(decodeConeSamples(out)).find("cone 1"), std::string::npos);
 }
 
+TEST(Inspect3D, MapVolumeUsesAlphaAsOpacityOrNonEmpty) {
+  LevelData L;
+  L.size = {2, 1, 1};
+  L.channels = 4;
+  L.values = {1, 0, 0, 0.5f, 0.3f, 0.3f, 0.3f, 0};
+  VolumeRGBA v = mapVolume(L, Semantic::Color, DisplaySettings{});
+  ASSERT_EQ(v.rgba.size(), 8u);
+  EXPECT_EQ(v.nonEmpty, 1u);
+  EXPECT_EQ(v.rgba[0], 255);  // linear 1 -> sRGB 255
+  EXPECT_EQ(v.rgba[3], 128);  // alpha 0.5 is the opacity
+  EXPECT_EQ(v.rgba[7], 0);    // alpha 0: empty although rgb is not
+  // Occupancy: any non-zero channel is an opaque texel.
+  VolumeRGBA o = mapVolume(L, Semantic::Occupancy, DisplaySettings{});
+  EXPECT_EQ(o.nonEmpty, 2u);
+  EXPECT_EQ(o.rgba[3], 255);
+  EXPECT_EQ(o.rgba[7], 255);
+}
+
+TEST(Inspect3D, OrbitCameraLooksAtItsTarget) {
+  OrbitCamera c;
+  c.target = {10, 20, 30};
+  c.radius = 5;
+  c.lookAlong({0, 0, -1});
+  EXPECT_NEAR(c.yaw, 0.0f, 1e-5f);
+  EXPECT_NEAR(c.pitch, 0.0f, 1e-5f);
+  glm::vec4 p = c.projection(1.0f) * c.view() * glm::vec4(c.target, 1.0f);
+  EXPECT_NEAR(p.x / p.w, 0.0f, 1e-4f);
+  EXPECT_NEAR(p.y / p.w, 0.0f, 1e-4f);
+  EXPECT_GT(p.z / p.w, -1.0f);
+  EXPECT_LT(p.z / p.w, 1.0f);
+  c.rotate(90, 200);  // pitch clamps below 90 degrees
+  EXPECT_LT(c.pitch, 1.5f);
+  EXPECT_NEAR(glm::length(c.eye() - c.target), c.distance * c.radius, 1e-3f);
+}
+
 }  // namespace
 }  // namespace voxlab

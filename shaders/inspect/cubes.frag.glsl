@@ -1,0 +1,16 @@
+#version 450
+// Flat cube faces shaded by axis (as the ray-marched view) with darkened edges, so single voxels
+// stay distinguishable inside a wall of equal colour when they are large enough on screen.
+in CubeData { flat vec3 color; flat int axis; vec3 local; } fin;
+layout(location = 0) out vec4 outColor;
+void main() {
+  const float shade[3] = float[3](0.72, 1.0, 0.86);
+  vec3 l = fin.local;
+  vec2 f = fin.axis == 0 ? l.yz : fin.axis == 1 ? l.xz : l.xy;
+  float edge = min(min(f.x, 1.0 - f.x), min(f.y, 1.0 - f.y));
+  // Edges only where a cube is several pixels wide (fwidth: local units per pixel); at a few pixels
+  // per cube the lines would alias into moire.
+  float w = max(fwidth(f.x), fwidth(f.y));
+  float k = (w < 0.2 && edge < max(0.06, w)) ? 0.6 : 1.0;
+  outColor = vec4(fin.color * shade[fin.axis] * k, 1.0);
+}

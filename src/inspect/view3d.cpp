@@ -1,0 +1,243 @@
+#include "inspect/view3d.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+
+#include "gpu/shader_library.h"
+
+namespace voxlab {
+
+namespace {
+const glm::vec3 kBackground(0.11f, 0.11f, 0.13f);
+const glm::vec3 kBoxColor(0.85f, 0.75f, 0.35f);
+const char* kFullscreen = "inspect/fullscreen.vert.glsl";
+}  // namespace
+
+const char* viewModeName(ViewMode mode) {
+  switch (mode) {
+    case ViewMode::Slice: return "slice";
+    case ViewMode::Volume: return "3d";
+    case ViewMode::Cubes: return "cubes";
+  }
+  return "?";
+}
+
+View3D::View3D(ShaderLibrary& shaders) : shaders_(shaders) {
+  TextureDesc c;
+  c.format = GL_RGBA8;
+  c.size = {kSize, kSize, 1};
+  c.minFilter = c.magFilter = GL_LINEAR;
+  color_ = Texture("viewer.view3d.color", c);
+  TextureDesc d = c;
+  d.format = GL_DEPTH_COMPONENT24;
+  d.minFilter = d.magFilter = GL_NEAREST;
+  depth_ = Texture("viewer.view3d.depth", d);
+  fbo_ = Framebuffer("viewer.view3d");
+  fbo_.attach(GL_COLOR_ATTACHMENT0, color_);
+  fbo_.attach(GL_DEPTH_ATTACHMENT, depth_);
+  fbo_.setDrawBuffers(1);
+  fbo_.checkComplete();
+}
+
+void View3D::clear() {
+  hasVolume_ = false;
+  cubeCount_ = pointCount_ = sphereCount_ = 0;
+  lines_.clear();
+  cubeCandidates_ = 0;
+}
+
+GLuint View3D::uploadInstances(const std::vector<ViewInstance>& v, Buffer& buf, size_t& count) {
+  count = v.size();
+  size_t bytes = std::max<size_t>(v.size() * sizeof(ViewInstance), sizeof(ViewInstance));
+  if (buf.size() < bytes || buf.size() > 4 * bytes) buf = Buffer("viewer.view3d.instances", bytes);
+  if (!v.empty()) buf.upload(v.data(), v.size() * sizeof(ViewInstance));
+  return buf.id();
+}
+
+void View3D::setVolume(const VolumeRGBA& vol, glm::vec3 extent, float opacityScale) {
+  if (vol.size != volumeSize_ || !volumeTex_) {
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_3D, 1, &id);
+    volumeTex_ = GLHandle<TextureDeleter>(id);
+    glTextureStorage3D(id, 1, GL_RGBA8, std::max(vol.size.x, 1), std::max(vol.size.y, 1), std::max(vol.size.z, 1));
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glObjectLabel(GL_TEXTURE, id, -1, "viewer.view3d.volume");
+    volumeSize_ = vol.size;
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (!vol.rgba.empty())
+    glTextureSubImage3D(volumeTex_.id(), 0, 0, 0, 0, vol.size.x, vol.size.y, vol.size.z, GL_RGBA, GL_UNSIGNED_BYTE,
+                        vol.rgba.data());
+  volumeExtent_ = extent;
+  opacityScale_ = opacityScale;
+  hasVolume_ = true;
+  // Cubes: one per non-empty texel, only under the limit (the viewer shows the count otherwise).
+  cubeCandidates_ = vol.nonEmpty;
+  std::vector<ViewInstance> cubes;
+  if (vol.nonEmpty <= kCubeLimit) {
+    glm::vec3 texel = extent / glm::vec3(glm::max(vol.size, glm::ivec3(1)));
+    cubes.reserve(vol.nonEmpty);
+    for (int z = 0; z < vol.size.z; ++z)
+      for (int y = 0; y < vol.size.y; ++y)
+        for (int x = 0; x < vol.size.x; ++x) {
+          const uint8_t* p = &vol.rgba[((size_t(z) * vol.size.y + y) * vol.size.x + x) * 4];
+          if (p[3] == 0) continue;
+          // Faces shared with a non-empty neighbour are never seen: draw only the others.
+          int mask = 0;
+          glm::ivec3 q(x, y, z);
+          for (int f = 0; f < 6; ++f) {
+            glm::ivec3 n = q;
+            n[f >> 1] += (f & 1) ? 1 : -1;
+            bool inside = glm::all(glm::greaterThanEqual(n, glm::ivec3(0))) && glm::all(glm::lessThan(n, vol.size));
+            if (!inside || vol.rgba[((size_t(n.z) * vol.size.y + n.y) * vol.size.x + n.x) * 4 + 3] == 0) mask |= 1 << f;
+          }
+          if (mask == 0) continue;
+          ViewInstance c;
+          c.positionSize = glm::vec4(glm::vec3(x, y, z) * texel, texel.x);
+          c.color = glm::vec4(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, float(mask));
+          cubes.push_back(c);
+        }
+  }
+  uploadInstances(cubes, cubes_, cubeCount_);
+}
+
+void View3D::setCubes(std::vector<ViewInstance> cubes) {
+  cubeCandidates_ = cubes.size();
+  for (auto& c : cubes) c.color.w = 63.0f;  // every face
+  if (cubes.size() > kCubeLimit) cubes.clear();
+  uploadInstances(cubes, cubes_, cubeCount_);
+}
+
+void View3D::setPoints(std::vector<ViewInstance> points) { uploadInstances(points, points_, pointCount_); }
+void View3D::setSpheres(std::vector<ViewInstance> spheres) { uploadInstances(spheres, spheres_, sphereCount_); }
+void View3D::setLines(std::vector<ViewInstance> ends) { lines_ = std::move(ends); }
+
+double View3D::render(ViewMode mode, const OrbitCamera& camera) {
+  auto t0 = std::chrono::steady_clock::now();
+  glm::mat4 view = camera.view(), proj = camera.projection(1.0f), viewProj = proj * view;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, kSize, kSize);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glClearColor(kBackground.x, kBackground.y, kBackground.z, 1.0f);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glBindVertexArray(vao_.id());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+
+  if (mode == ViewMode::Volume && hasVolume_) {
+    // The ray march writes every pixel (background included) and the depth of its first opaque hit.
+    glDepthFunc(GL_ALWAYS);
+    GLuint p = shaders_.program({kFullscreen, "inspect/volume_raymarch.frag.glsl"});
+    glUseProgram(p);
+    glBindTextureUnit(0, volumeTex_.id());
+    setUniform(p, "u_volume", 0);
+    setUniform(p, "u_volumeSize", volumeSize_);
+    setUniform(p, "u_boxMax", volumeExtent_);
+    setUniform(p, "u_invViewProj", glm::inverse(viewProj));
+    setUniform(p, "u_viewProj", viewProj);
+    setUniform(p, "u_eye", camera.eye());
+    setUniform(p, "u_opacityScale", opacityScale_);
+    setUniform(p, "u_background", kBackground);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthFunc(GL_LESS);
+  }
+  if (mode == ViewMode::Cubes && cubeCount_ > 0) {
+    GLuint p = shaders_.program({"inspect/cubes.vert.glsl", "inspect/cubes.frag.glsl"});
+    glUseProgram(p);
+    setUniform(p, "u_viewProj", viewProj);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, cubes_.id());
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(cubeCount_));
+  }
+  if (mode == ViewMode::Volume && pointCount_ > 0) {
+    GLuint p = shaders_.program({"inspect/points.vert.glsl", "inspect/color.frag.glsl"});
+    glUseProgram(p);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    setUniform(p, "u_viewProj", viewProj);
+    setUniform(p, "u_pointSize", 2.0f);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, points_.id());
+    glDrawArrays(GL_POINTS, 0, GLsizei(pointCount_));
+    glDisable(GL_PROGRAM_POINT_SIZE);
+  }
+  // Bounds (12 edges) and any extra lines (cone axes), depth-tested.
+  {
+    std::vector<ViewInstance> lines;
+    glm::vec3 lo = boxLo_, hi = boxHi_;
+    for (int e = 0; e < 12; ++e) {
+      int axis = e / 4, a = e % 4;
+      glm::vec3 p0, p1;
+      for (int k = 0, bit = 0; k < 3; ++k) {
+        if (k == axis) {
+          p0[k] = lo[k], p1[k] = hi[k];
+        } else {
+          float v = ((a >> bit) & 1) ? hi[k] : lo[k];
+          p0[k] = p1[k] = v;
+          ++bit;
+        }
+      }
+      glm::vec4 col(kBoxColor, 1.0f);
+      lines.push_back({glm::vec4(p0, 0), col});
+      lines.push_back({glm::vec4(p1, 0), col});
+    }
+    lines.insert(lines.end(), lines_.begin(), lines_.end());
+    Buffer buf("viewer.view3d.lines", lines.size() * sizeof(ViewInstance), lines.data());
+    GLuint p = shaders_.program({"inspect/lines.vert.glsl", "inspect/color.frag.glsl"});
+    glUseProgram(p);
+    setUniform(p, "u_viewProj", viewProj);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
+    glDrawArrays(GL_LINES, 0, GLsizei(lines.size()));
+  }
+  if (sphereCount_ > 0) {
+    GLuint p = shaders_.program({"inspect/spheres.vert.glsl", "inspect/spheres.frag.glsl"});
+    glUseProgram(p);
+    setUniform(p, "u_view", view);
+    setUniform(p, "u_projection", proj);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, spheres_.id());
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(sphereCount_));
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(0);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<uint8_t> View3D::readPixels() const {
+  std::vector<uint8_t> px(size_t(kSize) * kSize * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(color_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(px.size()), px.data());
+  return px;
+}
+
+size_t View3D::nonBackgroundPixels() const {
+  std::vector<uint8_t> px = readPixels();
+  // The bounds' lines are drawn in one exact colour and do not count as content.
+  int bg[3], box[3];
+  for (int k = 0; k < 3; ++k) {
+    bg[k] = int(std::lround(kBackground[k] * 255.0f));
+    box[k] = int(std::lround(kBoxColor[k] * 255.0f));
+  }
+  auto near = [&](size_t i, const int* c) {
+    return std::abs(px[i] - c[0]) <= 2 && std::abs(px[i + 1] - c[1]) <= 2 && std::abs(px[i + 2] - c[2]) <= 2;
+  };
+  size_t n = 0;
+  for (size_t i = 0; i < px.size(); i += 4)
+    if (!near(i, bg) && !near(i, box)) ++n;
+  return n;
+}
+
+}  // namespace voxlab

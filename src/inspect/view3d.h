@@ -1,0 +1,81 @@
+// View3D: the viewer's 3D views of a volume level or of buffer records, rendered offscreen into a
+// small texture (kSize^2) with an orbit camera of its own, only when what is shown changes.
+//
+// Everything is in "view units": level-0 voxels of the volume (a level L texel spans 2^L of them).
+//   volume  ray-marched front to back (shaders/inspect/volume_raymarch.frag.glsl)
+//   cubes   one instanced cube per non-empty texel or per record (up to kCubeLimit)
+//   points  buffer records as points
+//   spheres + lines: cone samples (disc of the sample's diameter) and cone axes, volume bounds
+// The content is set by the viewer from captured outputs; this class knows no stage.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gpu/gl.h"
+#include "gpu/resources.h"
+#include "inspect/inspect_logic.h"
+
+namespace voxlab {
+
+class ShaderLibrary;
+
+enum class ViewMode { Slice, Volume, Cubes };
+const char* viewModeName(ViewMode mode);  // "slice", "3d", "cubes"
+
+// One instance record (matches shaders/inspect/instances.glsl).
+struct ViewInstance {
+  glm::vec4 positionSize{0.0f};  // corner (cubes) or centre (points, spheres); edge or radius
+  glm::vec4 color{1.0f};         // display-encoded rgb, opacity (cubes: bit mask of the faces to draw)
+};
+
+class View3D {
+ public:
+  static constexpr int kSize = 384;
+  static constexpr size_t kCubeLimit = 200000;
+
+  explicit View3D(ShaderLibrary& shaders);
+
+  // --- content (view units) ---
+  void clear();  // nothing but the background
+  void setBox(glm::vec3 lo, glm::vec3 hi) { boxLo_ = lo, boxHi_ = hi; }
+  // The volume spans [0, extent]; its texels are level texels. Keeps a copy for the cubes.
+  void setVolume(const VolumeRGBA& volume, glm::vec3 extent, float opacityScale);
+  void setCubes(std::vector<ViewInstance> cubes);    // replaces the cubes the volume made (all faces)
+  void setPoints(std::vector<ViewInstance> points);  // centres
+  void setSpheres(std::vector<ViewInstance> spheres);
+  void setLines(std::vector<ViewInstance> ends);     // pairs of ends
+  size_t cubeCandidates() const { return cubeCandidates_; }  // non-empty texels or records
+  bool cubesOverLimit() const { return cubeCandidates_ > kCubeLimit; }
+
+  // --- rendering ---
+  // Renders into the view texture; returns milliseconds including glFinish.
+  double render(ViewMode mode, const OrbitCamera& camera);
+  GLuint texture() const { return color_.id(); }
+  // Pixels of the last render that differ from the background and the bounds' line colour
+  // (reads the texture back).
+  size_t nonBackgroundPixels() const;
+  std::vector<uint8_t> readPixels() const;  // RGBA8, bottom row first
+
+ private:
+  GLuint uploadInstances(const std::vector<ViewInstance>& v, Buffer& buf, size_t& count);
+
+  ShaderLibrary& shaders_;
+  Texture color_, depth_;
+  Framebuffer fbo_;
+  VertexArray vao_;
+  GLHandle<TextureDeleter> volumeTex_;
+  glm::ivec3 volumeSize_{0};
+  glm::vec3 volumeExtent_{1.0f};
+  float opacityScale_ = 1.0f;
+  bool hasVolume_ = false;
+  glm::vec3 boxLo_{0.0f}, boxHi_{1.0f};
+  Buffer cubes_, points_, spheres_;
+  std::vector<ViewInstance> lines_;
+  size_t cubeCount_ = 0, pointCount_ = 0, sphereCount_ = 0;
+  size_t cubeCandidates_ = 0;
+};
+
+}  // namespace voxlab
