@@ -11,12 +11,17 @@
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) buffer TriangleInfo { uint triangleInfo[]; };
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_LIST) writeonly buffer TriangleList { uint triangleList[]; };
-// [0..2] triangles per dominant axis, [3] degenerate, [4] small (compute), [5] large (raster)
+// [0..2] triangles per dominant axis, [3] degenerate, [4] small (compute), [5] large (raster),
+// [6] an upper bound of the voxel columns of any listed triangle, [7] listed triangles with more
+// than u_chunkColumns columns. The compute pass loops over a triangle's columns in chunks of
+// u_chunkColumns (triangle_parallel.comp.glsl): every listed triangle is in triangleList[0..[4]),
+// the ones that need more than one chunk also in triangleList[u_triangleCount + (0..[7])).
 layout(std430, binding = VOXLAB_BINDING_CLASS_COUNTS) buffer ClassCounts { uint classCounts[8]; };
 
 uniform uint u_triangleCount;
 uniform int u_mode;      // 0: every triangle large (raster), 1: every triangle small (compute), 2: by area
 uniform float u_cutoff;  // hybrid: projected area (voxels^2) below which a triangle is small
+uniform uint u_chunkColumns;  // voxel columns one compute invocation visits at most
 
 void main() {
   uint t = gl_GlobalInvocationID.x;
@@ -41,6 +46,14 @@ void main() {
     uint slot = atomicAdd(classCounts[4], 1u);
     triangleList[slot] = t;
     info |= 0x80000000u;
+    // Columns of the triangle's voxel box seen along any axis, the box grown by one voxel so that
+    // rounding in the compute pass's own box can only make it smaller than this bound.
+    vec3 lo = min(v0, min(v1, v2)), hi = max(v0, max(v1, v2));
+    uvec3 extent = uvec3(clamp(ivec3(floor(hi)) + 1, ivec3(0), ivec3(u_resolution - 1)) -
+                         clamp(ivec3(ceil(lo)) - 2, ivec3(0), ivec3(u_resolution - 1)) + 1);
+    uint columns = max(extent.x * extent.y, max(extent.y * extent.z, extent.z * extent.x));
+    atomicMax(classCounts[6], columns);
+    if (columns > u_chunkColumns) triangleList[u_triangleCount + atomicAdd(classCounts[7], 1u)] = t;
   } else {
     atomicAdd(classCounts[5], 1u);
   }

@@ -8,6 +8,14 @@
 // triangle when it passes the plane test and all nine edge tests; with the loop's bounding box
 // that is exactly the 13-axis separating axis test of the CPU reference. Each overlapped voxel
 // appends one VoxelFragment through the shared atomic counter.
+//
+// The columns are one flat loop split into chunks of u_chunkColumns: invocation (x, y) of the
+// dispatch does chunk u_firstChunk + y of triangle triangleList[u_listBase + x]. The stage runs
+// chunk 0 of every listed triangle, then the further chunks of the few triangles that have them. llvmpipe ends every shader invocation's loops after
+// 65535 iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops of the shader), so an
+// unsplit loop silently dropped the rest of any triangle with more than ~20000 columns (the
+// Cornell box's walls at 256^3). A chunk of C columns costs at most C iterations of the column
+// loop plus 4 per column of the candidate loop; the stage keeps 5 C well below the limit.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
@@ -19,7 +27,10 @@ layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) readonly buffer TriangleI
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_LIST) readonly buffer TriangleList { uint triangleList[]; };
 layout(binding = VOXLAB_BINDING_FRAGMENT_COUNT, offset = 0) uniform atomic_uint u_fragmentCount;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) writeonly buffer Fragments { VoxelFragment fragments[]; };
-uniform uint u_listCount;  // triangles in triangleList
+uniform uint u_listBase;      // first entry of triangleList this dispatch visits
+uniform uint u_listCount;     // entries it visits
+uniform uint u_firstChunk;    // chunk of invocation y = 0
+uniform uint u_chunkColumns;  // voxel columns per invocation
 uniform uint u_capacity;   // records the fragment list holds
 
 // 2D edge functions of one projection: inside when dot(n[i], p) + d[i] >= 0 for the box corner p
@@ -46,6 +57,7 @@ bool insideEdges(Edges2D e, vec2 p) {
 // Swizzle so that the projection axis becomes the third coordinate (as voxelize.geom.glsl does).
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 vec3 fromProjected(vec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
+uvec3 toProjectedU(uvec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 
 void appendVoxel(ivec3 voxel, uint material, vec3 normal) {
   uint index = atomicCounterIncrement(u_fragmentCount);
@@ -61,7 +73,7 @@ void appendVoxel(ivec3 voxel, uint material, vec3 normal) {
 
 void main() {
   if (gl_GlobalInvocationID.x >= u_listCount) return;
-  uint t = triangleList[gl_GlobalInvocationID.x];
+  uint t = triangleList[u_listBase + gl_GlobalInvocationID.x];
   uint material = triangleInfo[t] & 0x00FFFFFFu;
   uint i0 = sceneVertexIndex(t, 0), i1 = sceneVertexIndex(t, 1), i2 = sceneVertexIndex(t, 2);
   vec3 w0 = worldToVoxel(scenePosition(i0)), w1 = worldToVoxel(scenePosition(i1)), w2 = worldToVoxel(scenePosition(i2));
@@ -70,6 +82,7 @@ void main() {
   vec3 lo = min(w0, min(w1, w2)), hi = max(w0, max(w1, w2));
   ivec3 boxLo = clamp(ivec3(ceil(lo)) - 1, ivec3(0), ivec3(u_resolution - 1));
   ivec3 boxHi = clamp(ivec3(floor(hi)), ivec3(0), ivec3(u_resolution - 1));
+  uvec3 extent = uvec3(boxHi - boxLo + 1);
 
   // Work relative to an integer origin near the triangle: small numbers, exact voxel corners.
   vec3 origin = floor(w0);
@@ -93,26 +106,31 @@ void main() {
   vec3 s0 = toProjected(v0, axis), sn = toProjected(n, axis);
   vec2 grad = -sn.xy / sn.z;
   float reach = 0.5 * (abs(grad.x) + abs(grad.y));
-  vec3 pLo = toProjected(vec3(boxLo), axis), pHi = toProjected(vec3(boxHi), axis);
+  vec3 pLo = toProjected(vec3(boxLo), axis);
+  uvec2 columns = toProjectedU(extent, axis).xy;
+  uint first = (u_firstChunk + gl_GlobalInvocationID.y) * u_chunkColumns;
+  if (first >= columns.x * columns.y) return;  // this triangle has fewer chunks
+  uint last = min(columns.x * columns.y, first + u_chunkColumns);
+  float kMaxBox = toProjected(vec3(boxHi), axis).z;
   vec3 pOrigin = toProjected(origin, axis);
   float zMin = min(s0.z, min(toProjected(v1, axis).z, toProjected(v2, axis).z));
   float zMax = max(s0.z, max(toProjected(v1, axis).z, toProjected(v2, axis).z));
-  for (float b = pLo.y; b <= pHi.y; b += 1.0) {
-    for (float a = pLo.x; a <= pHi.x; a += 1.0) {
-      vec2 center = vec2(a, b) - pOrigin.xy + 0.5;
-      float zc = s0.z + dot(grad, center - s0.xy);
-      float zlo = max(zc - reach, zMin), zhi = min(zc + reach, zMax);
-      // Candidates: voxels whose closed depth range meets [zlo, zhi] (widened for rounding).
-      float kLo = max(floor(zlo - 1e-3) + pOrigin.z, pLo.z);
-      float kHi = min(floor(zhi + 1e-3) + pOrigin.z, pHi.z);
-      for (float k = kLo; k <= kHi; k += 1.0) {
-        vec3 voxel = fromProjected(vec3(a, b, k), axis);
-        vec3 p = voxel - origin;  // box minimum corner, triangle-local
-        float np = dot(n, p);
-        if ((np + d1) * (np + d2) > 0.0) continue;
-        if (!insideEdges(exy, p.xy) || !insideEdges(eyz, p.yz) || !insideEdges(ezx, p.zx)) continue;
-        appendVoxel(ivec3(voxel), material, normal);
-      }
+  for (uint column = first; column < last; ++column) {
+    float a = pLo.x + float(column % columns.x), b = pLo.y + float(column / columns.x);
+    vec2 center = vec2(a, b) - pOrigin.xy + 0.5;
+    float zc = s0.z + dot(grad, center - s0.xy);
+    float zlo = max(zc - reach, zMin), zhi = min(zc + reach, zMax);
+    // Candidates: voxels whose closed depth range meets [zlo, zhi] (widened for rounding); the
+    // range is at most 2 voxels deep, so at most 4 of them.
+    float kLo = max(floor(zlo - 1e-3) + pOrigin.z, pLo.z);
+    float kHi = min(min(floor(zhi + 1e-3) + pOrigin.z, kMaxBox), kLo + 3.0);
+    for (float k = kLo; k <= kHi; k += 1.0) {
+      vec3 voxel = fromProjected(vec3(a, b, k), axis);
+      vec3 p = voxel - origin;  // box minimum corner, triangle-local
+      float np = dot(n, p);
+      if ((np + d1) * (np + d2) > 0.0) continue;
+      if (!insideEdges(exy, p.xy) || !insideEdges(eyz, p.yz) || !insideEdges(ezx, p.zx)) continue;
+      appendVoxel(ivec3(voxel), material, normal);
     }
   }
 }

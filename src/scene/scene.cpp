@@ -87,6 +87,11 @@ std::string resolveScenePath(const std::string& nameOrPath) {
     // "cornell-box.gltf": a file name inside scenes/.
     std::string candidate = projectPath("scenes/" + nameOrPath);
     if (fileExists(candidate)) return candidate;
+  } else if (p.is_relative()) {
+    // "tests/data/scenes/thin-wall.gltf": a path relative to the project root (lessons name
+    // scenes this way and are played from any working directory).
+    std::string candidate = projectPath(nameOrPath);
+    if (fileExists(candidate)) return candidate;
   }
   std::vector<std::string> names = listScenes();
   std::string valid = names.empty() ? std::string("(none found in ") + projectPath("scenes") + ")"

@@ -22,9 +22,13 @@ ParamDesc methodParam() {
 }
 
 ParamDesc hybridCutoffParam() {
-  return ParamDesc::real("voxelize.hybrid-cutoff", 4.0, 0.0, 1.0e6,
+  // Default from the llvmpipe sweep in docs/performance.md: the compute pass was the faster one on
+  // every scene, huge triangles included, so every triangle goes to it (1e6 voxels^2 exceeds any
+  // triangle's projected area at 512^3). On a GPU a few voxels^2 would be the place to start.
+  return ParamDesc::real("voxelize.hybrid-cutoff", 1.0e6, 0.0, 1.0e6,
                          "hybrid: triangles whose area projected along the dominant axis is below this go to the "
-                         "triangle-parallel pass, the rest are rasterized",
+                         "triangle-parallel pass, the rest are rasterized (default: all to compute, measured "
+                         "fastest on llvmpipe)",
                          "voxels^2");
 }
 
@@ -34,6 +38,9 @@ void checkPackableResolution(int resolution) {
                 "coordinates into 10 bits per axis, so at most " + std::to_string(kMaxPackedResolution) +
                 " voxels per axis");
 }
+
+// Voxel columns one triangle-parallel invocation visits at most (see VoxelizeStage::execute).
+static constexpr uint32_t kChunkColumns = 8192;
 
 static Method methodOf(const ParamSet& params) { return Method(params.getInt("voxelize.method")); }
 
@@ -71,7 +78,8 @@ void ClassifyStage::execute(StageContext& ctx) {
     for (uint32_t t = d.firstIndex / 3; t < (d.firstIndex + d.indexCount) / 3; ++t) info[t] = d.material;
   Buffer& infoBuffer = ctx.board.ensureBuffer("triangle-info", info.size() * 4);
   infoBuffer.upload(info.data(), info.size() * 4);
-  Buffer& list = ctx.board.ensureBuffer("triangle-list", info.size() * 4);
+  // Two lists (classify.comp.glsl): every compute triangle, then those with more than one chunk.
+  Buffer& list = ctx.board.ensureBuffer("triangle-list", info.size() * 8);
   Buffer& counts = ctx.board.ensureBuffer("triangle-classes", 32);
   const uint32_t zero[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   counts.upload(zero, 32);
@@ -81,6 +89,7 @@ void ClassifyStage::execute(StageContext& ctx) {
   setUniform(program, "u_triangleCount", unsigned(triangles));
   setUniform(program, "u_mode", method == Method::TriangleParallel ? 1 : (method == Method::Hybrid ? 2 : 0));
   setUniform(program, "u_cutoff", ctx.params.getFloat("voxelize.hybrid-cutoff"));
+  setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
@@ -131,6 +140,13 @@ void VoxelizeStage::execute(StageContext& ctx) {
     std::memcpy(classes, bytes.data(), 32);
   }
   const uint32_t listCount = classes[4], rasterCount = classes[5];
+  // The compute pass splits each triangle's voxel columns into chunks, one invocation per
+  // (triangle, chunk): llvmpipe ends a shader invocation's loops after 65535 iterations in all, and
+  // a chunk costs at most 5 iterations per column (triangle_parallel.comp.glsl). classes[6] bounds
+  // the columns of the largest listed triangle, classes[7] counts the triangles with more than one
+  // chunk (listed again from entry triangleCount on).
+  const int chunks = int(std::max<uint32_t>(1, (classes[6] + kChunkColumns - 1) / kChunkColumns));
+  const uint32_t multiChunkCount = classes[7];
   // The hybrid skips a pass that has no triangles: an empty raster pass would still run every
   // triangle through the vertex and geometry shaders only to drop it there (single-threaded
   // stages on llvmpipe), and an empty compute pass would cost a dispatch for nothing.
@@ -149,7 +165,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
   if (compute) {
     computeProgram = ctx.shaders.program({"voxelization/triangle_parallel.comp.glsl"});
     space.setUniforms(computeProgram);
-    setUniform(computeProgram, "u_listCount", unsigned(listCount));
+    setUniform(computeProgram, "u_chunkColumns", unsigned(kChunkColumns));
   }
 
   Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
@@ -195,7 +211,17 @@ void VoxelizeStage::execute(StageContext& ctx) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer("triangle-list").id());
+      // Chunk 0 of every listed triangle, then chunks 1.. of those that have more.
+      setUniform(computeProgram, "u_listBase", 0u);
+      setUniform(computeProgram, "u_listCount", unsigned(listCount));
+      setUniform(computeProgram, "u_firstChunk", 0u);
       dispatchCompute({int(listCount), 1, 1}, {64, 1, 1});
+      if (chunks > 1 && multiChunkCount > 0) {
+        setUniform(computeProgram, "u_listBase", unsigned(ctx.scene.triangleCount()));
+        setUniform(computeProgram, "u_listCount", unsigned(multiChunkCount));
+        setUniform(computeProgram, "u_firstChunk", 1u);
+        dispatchCompute({int(multiChunkCount), chunks - 1, 1}, {64, 1, 1});
+      }
       glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
     produced = readUint(counter);
@@ -210,6 +236,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
   ctx.stats["fragment_capacity"] = double(capacity);
   ctx.stats["raster_pass"] = raster ? 1.0 : 0.0;
   ctx.stats["compute_pass"] = compute ? 1.0 : 0.0;
+  ctx.stats["compute_chunks"] = compute ? double(chunks) : 0.0;
   ctx.stats["voxel_size_m"] = space.voxelSize;
 }
 

@@ -34,9 +34,12 @@
 //     minus occupied voxels) count voxels shared by several triangles, not double work.
 //   - The compute pass takes albedo and emission from the material factors only (no texture
 //     lookups) and a face normal oriented like the vertex normals; positions are what is compared.
-//   - Time: a triangle-parallel invocation loops over its whole projected box, so one huge triangle
-//     serialises thousands of columns on one invocation; rasterization spreads them over pixels.
-//     That is the case the hybrid method exists for (docs/voxelization.md has the measurements).
+//   - Time: a triangle-parallel invocation loops over its projected box, so on a GPU one huge
+//     triangle serialises thousands of columns while other lanes idle; rasterization spreads them
+//     over pixels. That is the case the hybrid method exists for. The compute pass splits a box into
+//     chunks of 8192 columns (one invocation each), because llvmpipe ends an invocation's loops
+//     after 65535 iterations; on llvmpipe it is then the faster pass everywhere, so the default
+//     cutoff sends every triangle to it (docs/performance.md, "Voxelization sweep").
 //
 // References
 //   seed 000 (Gomes) section 2.1; seed 002 (Basgier) chapter 3: triangle-parallel voxelization,
