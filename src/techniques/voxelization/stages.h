@@ -27,6 +27,19 @@ class ClassifyStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+// 1b. One chosen triangle along its dominant axis: plain vs conservative pixel coverage.
+class TriangleViewStage : public Stage {
+ public:
+  const char* id() const override { return "triangle-view"; }
+  const char* title() const override { return "Look at one triangle"; }
+  const char* summary() const override {
+    return "One triangle projected along its dominant axis at the voxel resolution: the pixels plain "
+           "rasterization covers, the ones conservative rasterization adds, the grown triangle and its box.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
 // 2. Triangles -> voxel fragment list, by the chosen method.
 class VoxelizeStage : public Stage {
  public:

@@ -9,6 +9,9 @@
 // Overview (the stages, in order)
 //   1. classify   per triangle: dominant axis, area projected along it (voxels^2), and the pass
 //                 that voxelizes it (small -> triangle-parallel compute, large -> raster)
+//   1b. triangle-view  one chosen triangle (inspect.triangle) along its dominant axis: the pixels
+//                 plain rasterization covers, those conservative rasterization adds, the grown
+//                 triangle and grown bounding box (drawn on the CPU with the raster pass's rules)
 //   2. voxelize   triangles -> voxel fragment list (10:10:10 positions), by voxelize.method:
 //                   fragment-parallel  rasterize along the dominant axis, triangles grown by half
 //                                      a pixel, exact triangle/box test for the <= 3 voxels of each
@@ -58,6 +61,7 @@ static std::unique_ptr<Technique> makeVoxelization() {
       "Turn triangles into voxels by conservative raster, plain raster, a compute pass per triangle or a "
       "hybrid by triangle size, and compare every voxel with an exact CPU reference.");
   t->add<vox::ClassifyStage>();
+  t->add<vox::TriangleViewStage>();
   t->add<vox::VoxelizeStage>();
   t->add<vox::OccupancyStage>();
   t->add<vox::CompareStage>();
