@@ -33,6 +33,13 @@ uint32_t voxelFragmentCount(Blackboard& board) {
   return std::min(count, capacity);
 }
 
+size_t initialFragmentCapacity(Blackboard& board, int resolution) {
+  size_t capacity = std::max<size_t>(size_t(resolution) * resolution * 12, 1 << 16);
+  if (board.hasBuffer("fragments"))
+    capacity = std::max(capacity, board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
+  return capacity;
+}
+
 BufferLayout voxelFragmentLayout(const std::string& countResource) {
   BufferLayout L;
   L.stride = sizeof(gpu::VoxelFragment);

@@ -171,9 +171,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
   Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
   Buffer& axisCounts = ctx.board.ensureBuffer("voxelize.axis-counts", 16);  // the raster shader counts axes too
   // Capacity guess; if the counter says more fragments were produced, grow and run again.
-  size_t capacity = std::max<size_t>(size_t(res) * res * 12, 1 << 16);
-  if (ctx.board.hasBuffer("fragments"))
-    capacity = std::max(capacity, ctx.board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
+  size_t capacity = initialFragmentCapacity(ctx.board, res);
 
   GLuint fbo = 0;
   glCreateFramebuffers(1, &fbo);
