@@ -203,6 +203,7 @@ GLuint ShaderLibrary::program(const std::vector<std::string>& files, const std::
 
 std::vector<std::string> ShaderLibrary::reloadChanged(bool force) {
   std::vector<std::string> failures;
+  lastReloadCount_ = 0;
   for (auto& [key, e] : programs_) {
     bool changed = force;
     for (const auto& [file, time] : e.sources) {
@@ -217,6 +218,7 @@ std::vector<std::string> ShaderLibrary::reloadChanged(bool force) {
       glDeleteProgram(e.program);
       e.program = p;
       e.sources = sources;
+      ++lastReloadCount_;
     } catch (const Error& err) {
       // Keep the last good program; remember the new times so the error is reported once.
       for (auto& [file, time] : e.sources) {

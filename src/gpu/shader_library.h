@@ -49,6 +49,7 @@ class ShaderLibrary {
 
   const std::string& root() const { return root_; }
   const std::string& lastErrorLog() const { return lastErrorLog_; }
+  int lastReloadCount() const { return lastReloadCount_; }  // programs rebuilt by the last reloadChanged()
   int programCount() const { return int(programs_.size()); }
 
  private:
@@ -63,6 +64,7 @@ class ShaderLibrary {
   std::string root_;
   std::map<std::string, Entry> programs_;  // key: files + defines
   std::string lastErrorLog_;
+  int lastReloadCount_ = 0;
 };
 
 // Uniform setters by name (no-ops for names the linker removed).

@@ -102,7 +102,9 @@ class Viewer {
   void frameScene();
   void probePixel(int x, int y);
   void applyLessonStep(int i);
-  void reloadShaders();
+  // Rebuilds programs whose files changed. fromWatch: the periodic file check, which stays quiet
+  // when nothing changed.
+  void reloadShaders(bool fromWatch = false);
   std::string commandLine() const;
   // The slice to show of a level: the chosen one for volumes, the only one for images.
   // A negative index (the default) means the middle slice, where a scene usually has content.
@@ -159,6 +161,8 @@ class Viewer {
   int runTarget_ = -1;        // stage to run through, one stage per frame (-1 = idle)
   int lastRunRequest_ = -1;
   bool autoRerun_ = true;
+  bool watchShaders_ = true;     // rebuild programs when their files change on disk
+  double lastShaderCheck_ = 0.0;
   long generation_ = 0;       // bumps whenever a stage runs or the technique/scene changes
 
   // Capture of the selected output (refreshed when selection or generation changes).
@@ -384,8 +388,9 @@ void Viewer::applyLessonStep(int i) {
   requestRun(selected_);
 }
 
-void Viewer::reloadShaders() {
+void Viewer::reloadShaders(bool fromWatch) {
   auto errors = shaders_->reloadChanged();
+  if (fromWatch && errors.empty() && shaders_->lastReloadCount() == 0) return;
   if (errors.empty()) {
     shaderError_.clear();
     cursor_->invalidateAll();
@@ -479,6 +484,11 @@ void Viewer::handleKeys() {
     requestRun(lastRunRequest_);
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_F5)) reloadShaders();
+  // Watch the shader files: about once a second, rebuild the programs whose files changed.
+  if (watchShaders_ && glfwGetTime() - lastShaderCheck_ > 1.0) {
+    lastShaderCheck_ = glfwGetTime();
+    reloadShaders(true);
+  }
   if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN) && !lesson_.steps.empty()) applyLessonStep(lessonStep_ + 1);
   if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP) && !lesson_.steps.empty()) applyLessonStep(lessonStep_ - 1);
 }
@@ -1338,6 +1348,8 @@ void Viewer::drawExport() {
   if (!copied_.empty()) ImGui::TextWrapped("%s", copied_.c_str());
   ImGui::Separator();
   if (ImGui::Button("Reload shaders (F5)")) reloadShaders();
+  ImGui::SameLine();
+  ImGui::Checkbox("watch shader files", &watchShaders_);
   ImGui::TextDisabled("%d programs", shaders_->programCount());
 }
 

@@ -88,6 +88,7 @@ TEST_F(ShaderLibraryTest, FailedReloadKeepsTheLastGoodProgram) {
   ShaderLibrary lib(root_.string());
   GLuint good = lib.program({"fill.comp.glsl"});
   EXPECT_TRUE(lib.reloadChanged().empty());  // nothing changed yet
+  EXPECT_EQ(lib.lastReloadCount(), 0);
   write("common/helpers.glsl", "// helper\nfloat twice(float x) { return 2.0 * x }\n");
   auto failures = lib.reloadChanged();
   ASSERT_EQ(failures.size(), 1u);
@@ -96,6 +97,7 @@ TEST_F(ShaderLibraryTest, FailedReloadKeepsTheLastGoodProgram) {
   EXPECT_TRUE(glIsProgram(good));
   write("common/helpers.glsl", "// helper\nfloat twice(float x) { return x + x; }\n");
   EXPECT_TRUE(lib.reloadChanged().empty());
+  EXPECT_EQ(lib.lastReloadCount(), 1);  // the viewer's file watch reacts to this
   EXPECT_NE(lib.program({"fill.comp.glsl"}), 0u);
 }
 
