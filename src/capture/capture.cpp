@@ -58,13 +58,6 @@ CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc) {
   out.format = formatName(tex.desc().format);
   for (int l = 0; l < tex.levels(); ++l) {
     out.levels.push_back(readTextureLevel(tex, l));
-    if (desc.channel >= 0) {  // keep only the selected channel
-      LevelData& d = out.levels.back();
-      std::vector<float> one(d.texelCount());
-      for (size_t i = 0; i < one.size(); ++i) one[i] = d.values[i * d.channels + desc.channel];
-      d.values = std::move(one);
-      d.channels = 1;
-    }
   }
   return out;
 }

@@ -64,7 +64,6 @@ struct OutputDesc {
   std::string help;      // one line for the inspector and `voxlab list`
   BufferLayout layout;   // Buffer kind only
   CaptureTier tier = CaptureTier::Tolerance;
-  int channel = -1;      // show only this channel (e.g. 3 = alpha); -1 = all
   // "" none; else the reference path tracer mode this output approximates ("full", "direct",
   // "indirect", "indirect-1", ... see reference/path_tracer.h). `voxlab run` compares an Image2D
   // output in linear radiance with tests/golden/reference/<scene>/<mode>.exr when one exists for

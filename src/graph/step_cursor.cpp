@@ -106,13 +106,6 @@ void StepCursor::useSceneCamera(int index) {
   setCamera(scene_->cameras[index]);
 }
 
-int StepCursor::lastRunStage() const {
-  int last = -1;
-  for (int i = 0; i < stageCount(); ++i)
-    if (records_[i].state == StageState::Done) last = i;
-  return last;
-}
-
 void StepCursor::runThrough(int last, const std::function<void(int, int, int)>& progress) {
   if (!scene_) throw Error("no scene loaded");
   last = std::min(last, stageCount() - 1);

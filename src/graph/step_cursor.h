@@ -59,8 +59,6 @@ class StepCursor {
   // Stages after 'last' keep their state (a Done stage after a re-run one becomes Stale).
   void runThrough(int last, const std::function<void(int stage, int iteration, int iterations)>& progress = {});
   void runAll() { runThrough(stageCount() - 1); }
-  // Runs stage 'stage' through iteration 'iteration' only (for stepping iterative stages).
-  int lastRunStage() const;  // highest index that is Done (-1 none)
 
   Blackboard& board() { return board_; }
   ShaderLibrary& shaders() { return shaders_; }
