@@ -18,6 +18,8 @@ int runRun(const std::vector<std::string>& argv) {
              {"--set", true, true, "NAME=VALUE parameter override, repeatable"},
              {"--size", true, false, "output size WIDTHxHEIGHT (default 512x512)"},
              {"--camera", true, false, "index of the scene camera (default 0)"},
+             {"--look-from", true, false, "X,Y,Z: a free camera's position (with --look-at; keeps --camera's field of view)"},
+             {"--look-at", true, false, "X,Y,Z: the point a free camera looks at"},
              {"--final-only", false, false, "write only the technique's final output"},
              {"--only", true, true, "write only this output: technique/stage/output[@level], repeatable"},
              {"--out", true, false, "folder to write the outputs and manifest.json into"}});
@@ -28,6 +30,12 @@ int runRun(const std::vector<std::string>& argv) {
   req.sets = args.all("--set");
   if (args.has("--size")) Args::parseSize(args.get("--size"), req.width, req.height);
   if (args.has("--camera")) req.camera = Args::parseInt("--camera", args.get("--camera"), 0, 1000);
+  auto vec = [&](const char* name) {
+    auto v = Args::parseVec3(name, args.get(name));
+    return glm::vec3(v[0], v[1], v[2]);
+  };
+  if (args.has("--look-from")) req.lookFrom = vec("--look-from");
+  if (args.has("--look-at")) req.lookAt = vec("--look-at");
   std::string out = args.require("--out");
 
   std::vector<OutputAddress> only;
@@ -59,7 +67,7 @@ int runRun(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("run",
                         "voxlab run --technique T [--scene S] [--until STAGE] [--set name=value]... "
-                        "[--size WxH] [--camera N] [--final-only] [--only technique/stage/output[@level]]... --out DIR",
+                        "[--size WxH] [--camera N] [--look-from X,Y,Z --look-at X,Y,Z] [--final-only] [--only technique/stage/output[@level]]... --out DIR",
                         "run a technique headless and write every stage output and a manifest", &runRun);
 
 }  // namespace voxlab

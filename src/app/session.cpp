@@ -13,6 +13,21 @@ namespace voxlab {
 
 using nlohmann::json;
 
+Camera requestCamera(const Scene& scene, const RunRequest& request) {
+  Camera c = scene.cameras.at(request.camera);
+  if (!request.lookFrom && !request.lookAt) return c;
+  if (!request.lookFrom || !request.lookAt) throw Error("--look-from and --look-at go together; give both or neither");
+  glm::vec3 d = *request.lookAt - *request.lookFrom;
+  if (glm::length(d) < 1e-6f) throw Error("--look-from and --look-at are the same point; the camera needs a direction");
+  c.name = "free";
+  c.position = *request.lookFrom;
+  c.forward = glm::normalize(d);
+  // Up: world +y, or +z when looking straight up or down.
+  glm::vec3 worldUp = std::abs(c.forward.y) > 0.999f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+  c.up = glm::normalize(glm::cross(glm::cross(c.forward, worldUp), c.forward));
+  return c;
+}
+
 HeadlessSession::HeadlessSession(const RunRequest& request) : request_(request) {
   // Everything that can be checked without GL first, so bad input never leaves partial output.
   auto technique = createTechnique(request.technique);
@@ -25,12 +40,14 @@ HeadlessSession::HeadlessSession(const RunRequest& request) : request_(request) 
     throw Error("camera " + std::to_string(request.camera) + " does not exist in " + scene->name +
                 "; valid: 0.." + std::to_string(cameras - 1));
 
+  requestCamera(*scene, request);  // validates --look-from/--look-at
+
   context_ = createOffscreenContext();
   shaders_ = std::make_unique<ShaderLibrary>();
   cursor_ = std::make_unique<StepCursor>(std::move(technique), *shaders_);
   cursor_->setScene(scene);
   cursor_->setParams(params);
-  cursor_->useSceneCamera(request.camera);
+  cursor_->setCamera(requestCamera(*scene, request));
   cursor_->setViewSize(request.width, request.height);
 }
 
@@ -50,6 +67,11 @@ json HeadlessSession::manifestHeader() const {
   m["parameters"] = cursor_->params().formatted();
   m["view"] = {{"width", cursor_->view().width}, {"height", cursor_->view().height},
                {"camera", request_.camera}, {"camera_name", cursor_->camera().name}};
+  if (request_.lookFrom) {
+    const glm::vec3 &p = *request_.lookFrom, &q = *request_.lookAt;
+    m["view"]["look_from"] = {p.x, p.y, p.z};
+    m["view"]["look_at"] = {q.x, q.y, q.z};
+  }
   m["gl"] = {{"renderer", glRenderer()}, {"version", glVersion()}};
   return m;
 }
@@ -104,7 +126,9 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
       e["help"] = o.help;
       e["final"] = isFinal;
       // Outputs tagged with a reference mode: error against the checked-in ground truth, if any.
-      json refErr = compareWithReference(cap, cursor_->scene().name, request_.camera, dir, prefix);
+      // References are rendered from scene cameras; a free camera has none.
+      json refErr = request_.lookFrom ? json()
+                                      : compareWithReference(cap, cursor_->scene().name, request_.camera, dir, prefix);
       if (!refErr.is_null()) {
         if (refErr.contains("files"))
           for (const auto& f : refErr["files"]) e["files"].push_back(f);

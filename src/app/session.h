@@ -2,6 +2,7 @@
 // one technique. `voxlab run`, `voxlab bench` and the test suites open one of these.
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,14 @@ struct RunRequest {
   int width = 512;
   int height = 512;
   int camera = 0;
+  // A free camera instead of scene camera 'camera' (whose field of view it keeps): set by
+  // --look-from/--look-at, as the viewer's orbit and fly cameras reproduce.
+  std::optional<glm::vec3> lookFrom, lookAt;
 };
+
+// The camera of a request: scene camera 'camera', or one at lookFrom looking at lookAt.
+// Throws Error when the two points coincide.
+Camera requestCamera(const Scene& scene, const RunRequest& request);
 
 class HeadlessSession {
  public:

@@ -59,6 +59,7 @@ CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc) {
   for (int l = 0; l < tex.levels(); ++l) {
     out.levels.push_back(readTextureLevel(tex, l));
   }
+  if (desc.kind == OutputKind::Volume3D) out.world = board.placementOf(desc.resourceName());
   return out;
 }
 
@@ -104,6 +105,8 @@ static int fieldComponents(FieldType t) {
 
 json outputStatistics(const CapturedOutput& out) {
   json s;
+  if (out.world) s["world_box"] = {{"lo", {out.world->lo.x, out.world->lo.y, out.world->lo.z}},
+                                   {"hi", {out.world->hi.x, out.world->hi.y, out.world->hi.z}}};
   if (out.desc.kind == OutputKind::Buffer) {
     s["count"] = out.recordCount;
     const auto& L = out.desc.layout;

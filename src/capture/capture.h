@@ -3,6 +3,7 @@
 // suite, the viewer's export and the benchmark.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ struct CapturedOutput {
   std::vector<LevelData> levels;   // images and volumes
   uint32_t recordCount = 0;        // buffers
   std::vector<uint8_t> records;    // buffers: recordCount * layout.stride bytes
+  std::optional<WorldBox> world;   // volumes: where level 0 sits in the scene (Blackboard::placementOf)
 };
 
 CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc);

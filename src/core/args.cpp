@@ -1,5 +1,7 @@
 #include "core/args.h"
 
+#include <cmath>
+
 #include <cstdlib>
 
 #include "core/error.h"
@@ -88,6 +90,21 @@ void Args::parseSize(const std::string& text, int& width, int& height) {
     height = static_cast<int>(h);
   }
   if (!ok) throw Error("--size '" + text + "' is not WIDTHxHEIGHT with both in 1..8192 (e.g. 512x512)");
+}
+
+std::array<float, 3> Args::parseVec3(const std::string& name, const std::string& text) {
+  std::array<float, 3> v{};
+  const char* p = text.c_str();
+  bool ok = true;
+  for (int i = 0; i < 3 && ok; ++i) {
+    char* end = nullptr;
+    double d = std::strtod(p, &end);
+    ok = end != p && std::isfinite(d) && *end == (i < 2 ? ',' : '\0');
+    v[i] = float(d);
+    p = end + 1;
+  }
+  if (!ok) throw Error(name + " '" + text + "' is not three numbers X,Y,Z (e.g. 0,1,3.5)");
+  return v;
 }
 
 int Args::parseInt(const std::string& name, const std::string& text, int lo, int hi) {

@@ -3,6 +3,7 @@
 // Each command declares its options (name, whether it takes a value, whether it may repeat) and
 // gets them back parsed; anything else is an Error naming the unknown option and the valid ones.
 #pragma once
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -34,6 +35,8 @@ class Args {
   static void parseSize(const std::string& text, int& width, int& height);
   // Parses an integer in [lo, hi] for option 'name'; throws Error naming the range.
   static int parseInt(const std::string& name, const std::string& text, int lo, int hi);
+  // Parses "X,Y,Z" (three finite numbers) for option 'name'; throws Error naming the form.
+  static std::array<float, 3> parseVec3(const std::string& name, const std::string& text);
 
  private:
   std::string command_;

@@ -35,9 +35,19 @@ size_t Blackboard::totalBytes() const {
   return total;
 }
 
+std::optional<WorldBox> Blackboard::placementOf(const std::string& name) const {
+  auto p = placements_.find(name);
+  if (p != placements_.end()) return p->second;
+  auto t = textures_.find(name);
+  if (t == textures_.end() || t->second->desc().target != GL_TEXTURE_3D) return std::nullopt;
+  return voxelSpace_;
+}
+
 void Blackboard::clear() {
   textures_.clear();
   buffers_.clear();
+  voxelSpace_.reset();
+  placements_.clear();
 }
 
 }  // namespace voxlab

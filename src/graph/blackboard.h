@@ -7,9 +7,18 @@
 #include <string>
 #include <variant>
 
+#include <optional>
+
+#include <glm/glm.hpp>
+
 #include "gpu/resources.h"
 
 namespace voxlab {
+
+// Where a volume sits in the world: level 0 spans [lo, hi] (every mip level spans the same box).
+struct WorldBox {
+  glm::vec3 lo{0.0f}, hi{1.0f};
+};
 
 class Blackboard {
  public:
@@ -27,9 +36,19 @@ class Blackboard {
   size_t totalBytes() const;
   void clear();
 
+  // World placement of volumes, so viewers and exports can show voxels in the scene without
+  // knowing the stage: the voxel space (set by the stage that defines it) applies to every 3D
+  // texture without a placement of its own (e.g. a clip level or a propagation grid sets one).
+  void setVoxelSpace(const WorldBox& box) { voxelSpace_ = box; }
+  void place(const std::string& texture, const WorldBox& box) { placements_[texture] = box; }
+  std::optional<WorldBox> placementOf(const std::string& texture) const;
+  const std::optional<WorldBox>& voxelSpace() const { return voxelSpace_; }
+
  private:
   std::map<std::string, std::unique_ptr<Texture>> textures_;
   std::map<std::string, std::unique_ptr<Buffer>> buffers_;
+  std::optional<WorldBox> voxelSpace_;
+  std::map<std::string, WorldBox> placements_;
 };
 
 }  // namespace voxlab

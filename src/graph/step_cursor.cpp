@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "core/error.h"
 #include "gpu/shader_library.h"
@@ -13,6 +14,7 @@ const char* stageStateName(StageState s) {
     case StageState::NotRun: return "not run";
     case StageState::Done: return "done";
     case StageState::Stale: return "stale";
+    case StageState::Partial: return "partial";
   }
   return "?";
 }
@@ -35,7 +37,7 @@ void StepCursor::setScene(std::shared_ptr<const Scene> scene) {
 
 void StepCursor::markStale(int i) {
   auto& r = records_.at(i);
-  if (r.state == StageState::Done) r.state = StageState::Stale;
+  if (r.state == StageState::Done || r.state == StageState::Partial) r.state = StageState::Stale;
 }
 
 void StepCursor::propagate() {
@@ -75,6 +77,18 @@ void StepCursor::invalidateAll() {
   for (int i = 0; i < stageCount(); ++i) markStale(i);
 }
 
+void StepCursor::invalidate(int stage) {
+  markStale(stage);
+  markReadersStale(stage);
+}
+
+void StepCursor::markReadersStale(int stage) {
+  for (int j = stage + 1; j < stageCount(); ++j)
+    for (const auto& res : technique_->decl(j).reads)
+      if (res != kViewResource && technique_->writerOf(res, j) == stage) markStale(j);
+  propagate();
+}
+
 void StepCursor::updateViewMatrices() {
   view_.position = camera_.position;
   view_.view = camera_.view();
@@ -110,34 +124,59 @@ void StepCursor::runThrough(int last, const std::function<void(int, int, int)>& 
   if (!scene_) throw Error("no scene loaded");
   last = std::min(last, stageCount() - 1);
   for (int i = 0; i <= last; ++i) {
-    StageRecord& r = records_[i];
-    if (r.state == StageState::Done) continue;
-    Stage& stage = technique_->stage(i);
-    r.stats.clear();
-    StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0};
-    int iterations = stage.iterations(params_);
-    GpuTimer timer;
-    auto t0 = std::chrono::steady_clock::now();
-    timer.begin();
-    for (int it = 0; it < iterations; ++it) {
-      if (progress) progress(i, it, iterations);
-      ctx.iteration = it;
-      stage.execute(ctx);
+    if (records_[i].state == StageState::Done) continue;
+    if (!progress) {
+      runStage(i, std::numeric_limits<int>::max());
+      continue;
     }
-    timer.end();
-    glFinish();
-    auto t1 = std::chrono::steady_clock::now();
-    r.cpuMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    r.gpuMs = timer.milliseconds();
-    r.iterationsRun = iterations;
-    r.state = StageState::Done;
-    // Stages after this one that were Done now depend on fresh data.
-    for (int j = i + 1; j < stageCount(); ++j) {
-      for (const auto& res : technique_->decl(j).reads)
-        if (res != kViewResource && technique_->writerOf(res, j) == i) markStale(j);
+    // One iteration at a time so the caller can report progress.
+    int n = iterations(i);
+    for (int it = records_[i].state == StageState::Partial ? records_[i].iterationsRun : 0; it < n; ++it) {
+      progress(i, it, n);
+      runStage(i, it + 1);
     }
-    propagate();
   }
+}
+
+int StepCursor::runIteration(int stage) {
+  if (!scene_) throw Error("no scene loaded");
+  if (stage > 0) runThrough(stage - 1);
+  int next = records_.at(stage).state == StageState::Partial ? records_[stage].iterationsRun : 0;
+  runStage(stage, next + 1);
+  return next;
+}
+
+void StepCursor::runStage(int i, int untilIteration) {
+  StageRecord& r = records_.at(i);
+  Stage& stage = technique_->stage(i);
+  const int total = stage.iterations(params_);
+  int first = 0;
+  if (r.state == StageState::Partial) {
+    first = r.iterationsRun;
+  } else {
+    r.stats.clear();
+    r.cpuMs = r.gpuMs = 0.0;
+    r.iterationsRun = 0;
+  }
+  r.iterationsTotal = total;
+  untilIteration = std::min(untilIteration, total);
+  StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0};
+  GpuTimer timer;
+  auto t0 = std::chrono::steady_clock::now();
+  timer.begin();
+  for (int it = first; it < untilIteration; ++it) {
+    ctx.iteration = it;
+    stage.execute(ctx);
+  }
+  timer.end();
+  glFinish();
+  auto t1 = std::chrono::steady_clock::now();
+  // A stepped stage's times add up over its iterations.
+  r.cpuMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
+  r.gpuMs += timer.milliseconds();
+  r.iterationsRun = untilIteration;
+  r.state = untilIteration >= total ? StageState::Done : StageState::Partial;
+  markReadersStale(i);  // stages after this one now depend on changed data
 }
 
 }  // namespace voxlab

@@ -19,14 +19,17 @@ namespace voxlab {
 
 class ShaderLibrary;
 
-enum class StageState { NotRun, Done, Stale };
+// Partial: an iterative stage that ran some of its iterations (stepped one at a time); its
+// resources hold the state after the last one, and later stages wait until it is Done.
+enum class StageState { NotRun, Done, Stale, Partial };
 const char* stageStateName(StageState s);
 
 struct StageRecord {
   StageState state = StageState::NotRun;
   double cpuMs = 0.0;  // wall time of execute() including a glFinish
   double gpuMs = 0.0;  // GL_TIME_ELAPSED of the stage's commands
-  int iterationsRun = 0;
+  int iterationsRun = 0;    // of the current (or last) run
+  int iterationsTotal = 1;  // the stage's iterations() for that run
   StageStats stats;
 };
 
@@ -39,6 +42,7 @@ class StepCursor {
   const Technique& technique() const { return *technique_; }
   void setScene(std::shared_ptr<const Scene> scene);  // uploads it; every stage becomes NotRun
   const Scene& scene() const { return *scene_; }
+  const GpuScene& gpuScene() const { return *gpuScene_; }
   bool hasScene() const { return scene_ != nullptr; }
 
   const ParamSet& params() const { return params_; }
@@ -59,13 +63,22 @@ class StepCursor {
   // Stages after 'last' keep their state (a Done stage after a re-run one becomes Stale).
   void runThrough(int last, const std::function<void(int stage, int iteration, int iterations)>& progress = {});
   void runAll() { runThrough(stageCount() - 1); }
+  // Runs the next iteration of an iterative stage (the first one when it is not Partial), after
+  // running any earlier stage that is not Done. Returns the iteration that ran (0-based).
+  int runIteration(int stage);
+  int iterations(int stage) const { return technique_->stage(stage).iterations(params_); }
 
   Blackboard& board() { return board_; }
   ShaderLibrary& shaders() { return shaders_; }
   void invalidateAll();  // e.g. after a shader reload
+  void invalidate(int stage);  // that stage and every stage reading what it wrote become Stale
 
  private:
   void markStale(int stage);
+  void markReadersStale(int stage);  // every later stage reading what 'stage' wrote, then propagate()
+  // Runs iterations of 'stage' until 'untilIteration' (exclusive, clamped to its count),
+  // continuing a Partial stage; marks it Done after the last one.
+  void runStage(int stage, int untilIteration);
   void propagate();
   void updateViewMatrices();
 

@@ -53,6 +53,15 @@ int Technique::writerOf(const std::string& resource, int before) const {
   return -1;
 }
 
+bool Technique::dependsOnView(int stage) const {
+  for (const auto& res : decls_.at(stage).reads) {
+    if (res == kViewResource) return true;
+    int w = writerOf(res, stage);
+    if (w >= 0 && dependsOnView(w)) return true;
+  }
+  return false;
+}
+
 void Technique::validate() const {
   std::set<std::string> ids;
   for (int i = 0; i < stageCount(); ++i) {

@@ -43,6 +43,9 @@ class Technique {
   void validate() const;
   // Index of the stage that writes 'resource' last before stage 'before' (-1 = none).
   int writerOf(const std::string& resource, int before) const;
+  // Whether a stage's results depend on the camera: it reads kViewResource, or reads what an
+  // earlier stage that depends on it wrote. The viewer probes and overlays only such images.
+  bool dependsOnView(int stage) const;
   // (stage index, output) for "stage/output"; throws Error listing valid names.
   std::pair<int, const OutputDesc*> findOutput(const std::string& stage, const std::string& output) const;
 

@@ -36,6 +36,13 @@ void ramp(float t, uint8_t* rgb) {
 
 }  // namespace
 
+SliceSpec sliceToShow(const LevelData& level, const SliceSpec& chosen) {
+  if (level.size.z <= 1) return SliceSpec{2, 0};
+  SliceSpec s = chosen;
+  if (s.index < 0) s.index = (s.axis == 0 ? level.size.x : s.axis == 1 ? level.size.y : level.size.z) / 2;
+  return s;
+}
+
 glm::ivec2 sliceExtent(const LevelData& d, const SliceSpec& s) {
   switch (s.axis) {
     case 0: return {d.size.z, d.size.y};
@@ -204,6 +211,63 @@ void OrbitCamera::lookAlong(const glm::vec3& forward) {
   pitch = std::clamp(std::asin(std::clamp(off.y, -1.0f, 1.0f)), -1.4835f, 1.4835f);
 }
 
+// --- Scene camera moves ------------------------------------------------------------------------------
+
+namespace {
+constexpr float kMaxPitch = 1.4835f;  // 85 degrees
+
+// Forward from yaw (about +y, 0 = -z) and pitch; up without roll.
+Camera withDirection(Camera c, float yaw, float pitch) {
+  pitch = std::clamp(pitch, -kMaxPitch, kMaxPitch);
+  c.forward = glm::vec3(-std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw));
+  glm::vec3 right = glm::normalize(glm::cross(c.forward, glm::vec3(0, 1, 0)));
+  c.up = glm::cross(right, c.forward);
+  return c;
+}
+void yawPitchOf(const glm::vec3& f, float& yaw, float& pitch) {
+  yaw = std::atan2(-f.x, -f.z);
+  pitch = std::asin(std::clamp(f.y, -1.0f, 1.0f));
+}
+}  // namespace
+
+Camera orbitCamera(const Camera& c, glm::vec3 target, float yawDeg, float pitchDeg) {
+  // The camera turns rigidly about the target (position and view together), so a camera that was
+  // flown off-centre keeps its framing, and turning back by the same angles returns it exactly.
+  auto rotate = [](glm::vec3 v, glm::vec3 axis, float angle) {
+    float c = std::cos(angle), s = std::sin(angle);
+    return v * c + glm::cross(axis, v) * s + axis * glm::dot(axis, v) * (1.0f - c);
+  };
+  Camera o = c;
+  const float yaw = glm::radians(yawDeg);
+  o.position = target + rotate(c.position - target, glm::vec3(0, 1, 0), yaw);
+  o.forward = glm::normalize(rotate(c.forward, glm::vec3(0, 1, 0), yaw));
+  // Pitch: raising the eye tilts the view down; the view's pitch stays within +-85 degrees.
+  float p0 = std::asin(std::clamp(o.forward.y, -1.0f, 1.0f));
+  float turn = std::clamp(p0 - glm::radians(pitchDeg), -kMaxPitch, kMaxPitch) - p0;
+  glm::vec3 right = glm::normalize(glm::cross(o.forward, glm::vec3(0, 1, 0)));
+  o.position = target + rotate(o.position - target, right, turn);
+  o.forward = glm::normalize(rotate(o.forward, right, turn));
+  o.up = glm::cross(right, o.forward);
+  o.name = "orbit";
+  return o;
+}
+
+Camera lookCamera(const Camera& c, float yawDeg, float pitchDeg) {
+  float yaw, pitch;
+  yawPitchOf(c.forward, yaw, pitch);
+  Camera o = withDirection(c, yaw + glm::radians(yawDeg), pitch + glm::radians(pitchDeg));
+  o.name = "fly";
+  return o;
+}
+
+Camera flyCamera(const Camera& c, float right, float up, float forward) {
+  Camera o = c;
+  glm::vec3 r = glm::normalize(glm::cross(c.forward, c.up));
+  o.position += r * right + c.up * up + c.forward * forward;
+  o.name = "fly";
+  return o;
+}
+
 // --- Cone samples ----------------------------------------------------------------------------------
 
 std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out) {
@@ -265,7 +329,7 @@ std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones) {
 
 std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
                              const ParamSet& defaults, int width, int height, int camera,
-                             const std::string& until, const std::string& out) {
+                             const std::string& until, const std::string& out, const Camera* freeCamera) {
   auto quote = [](const std::string& s) {
     if (s.find_first_of(" \t'\"$\\") == std::string::npos) return s;
     std::string q = "'";
@@ -280,6 +344,14 @@ std::string reproduceCommand(const std::string& technique, const std::string& sc
   }
   cmd += " --size " + std::to_string(width) + "x" + std::to_string(height);
   if (camera != 0) cmd += " --camera " + std::to_string(camera);
+  if (freeCamera) {
+    auto vec = [](glm::vec3 v) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%.7g,%.7g,%.7g", v.x, v.y, v.z);
+      return std::string(buf);
+    };
+    cmd += " --look-from " + vec(freeCamera->position) + " --look-at " + vec(freeCamera->position + freeCamera->forward);
+  }
   if (!until.empty()) cmd += " --until " + quote(until);
   cmd += " --out " + quote(out);
   return cmd;
@@ -335,6 +407,15 @@ const VerbSpec kVerbs[] = {
     {"view-mode", 1, 1, "view-mode slice|3d|cubes (3D views of volumes and of buffers with positions)"},
     {"view-orbit", 2, 2, "view-orbit YAW_DEG PITCH_DEG (rotate the 3D view's own camera)"},
     {"expect-view-nonempty", 1, 1, "expect-view-nonempty MIN_PIXELS (the 3D view shows more content pixels than MIN_PIXELS)"},
+    {"iterate", 0, 0, "iterate (one more iteration of the selected stage, as Step iteration)"},
+    {"expect-iterations", 2, 2, "expect-iterations STAGE N (N of STAGE's iterations have run)"},
+    {"walk-stages", 3, 3, "walk-stages OUT_DIR RUN_DIR TOLERANCES.json (every stage: step its iterations, run, "
+                          "screenshot; every output: save and compare with voxlab run's files in RUN_DIR)"},
+    {"fly", 3, 3, "fly RIGHT UP FORWARD (move the camera along its axes, metres)"},
+    {"look", 2, 2, "look YAW_DEG PITCH_DEG (turn the camera about its eye)"},
+    {"overlay", 2, 2, "overlay bounds|voxels|xray on|off (overlays on camera images)"},
+    {"overlay-volume", 2, 2, "overlay-volume STAGE/OUTPUT LEVEL (the volume whose voxels the overlay shows)"},
+    {"expect-overlay-pixels", 1, 1, "expect-overlay-pixels MIN (the overlay covers more than MIN pixels)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

@@ -11,6 +11,7 @@
 
 #include "capture/capture.h"
 #include "graph/param.h"
+#include "scene/scene.h"
 
 namespace voxlab {
 
@@ -21,6 +22,10 @@ struct SliceSpec {
   int axis = 2;   // 0 = x (shows z,y), 1 = y (shows x,z), 2 = z (shows x,y)
   int index = -1;  // clamped to the level's extent along 'axis'; -1 = the middle slice
 };
+
+// The slice of a level to show: the chosen one for volumes (a negative index means the middle
+// slice, where a scene usually has content), the whole image (z = 0) for images.
+SliceSpec sliceToShow(const LevelData& level, const SliceSpec& chosen);
 
 struct DisplaySettings {
   int channel = -1;       // -1 = the semantic's mapping of all channels; 0..3 = that channel in grey
@@ -78,13 +83,22 @@ struct OrbitCamera {
   void lookAlong(const glm::vec3& forward);  // sets yaw/pitch so the view direction is 'forward'
 };
 
+// Scene camera moves of the viewer (no roll: up stays in the plane of forward and world +y; pitch
+// is kept within +-85 degrees). Angles in degrees, distances in metres.
+Camera orbitCamera(const Camera& c, glm::vec3 target, float yawDeg, float pitchDeg);  // about target
+Camera lookCamera(const Camera& c, float yawDeg, float pitchDeg);                     // about the eye
+Camera flyCamera(const Camera& c, float right, float up, float forward);             // in camera axes
+
 // --- Reproduction ----------------------------------------------------------------------------------
 
-// "voxlab run --technique T --scene S [--set n=v]... [--size WxH] [--camera N] [--until STAGE] --out OUT"
-// with a --set for every parameter that differs from its default (sorted by name).
+// "voxlab run --technique T --scene S [--set n=v]... [--size WxH] [--camera N] [--look-from P --look-at Q]
+// [--until STAGE] --out OUT" with a --set for every parameter that differs from its default (sorted by
+// name). freeCamera (an orbit or fly camera, not a scene camera) adds --look-from/--look-at; the field
+// of view stays scene camera N's.
 std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
                              const ParamSet& defaults, int width, int height, int camera,
-                             const std::string& until, const std::string& out = "out");
+                             const std::string& until, const std::string& out = "out",
+                             const Camera* freeCamera = nullptr);
 
 // --- Scripts -----------------------------------------------------------------------------------------
 

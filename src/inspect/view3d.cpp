@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "gpu/shader_library.h"
+#include "inspect/scene_overlay.h"
 
 namespace voxlab {
 
@@ -75,32 +76,8 @@ void View3D::setVolume(const VolumeRGBA& vol, glm::vec3 extent, float opacitySca
   opacityScale_ = opacityScale;
   hasVolume_ = true;
   // Cubes: one per non-empty texel, only under the limit (the viewer shows the count otherwise).
-  cubeCandidates_ = vol.nonEmpty;
-  std::vector<ViewInstance> cubes;
-  if (vol.nonEmpty <= kCubeLimit) {
-    glm::vec3 texel = extent / glm::vec3(glm::max(vol.size, glm::ivec3(1)));
-    cubes.reserve(vol.nonEmpty);
-    for (int z = 0; z < vol.size.z; ++z)
-      for (int y = 0; y < vol.size.y; ++y)
-        for (int x = 0; x < vol.size.x; ++x) {
-          const uint8_t* p = &vol.rgba[((size_t(z) * vol.size.y + y) * vol.size.x + x) * 4];
-          if (p[3] == 0) continue;
-          // Faces shared with a non-empty neighbour are never seen: draw only the others.
-          int mask = 0;
-          glm::ivec3 q(x, y, z);
-          for (int f = 0; f < 6; ++f) {
-            glm::ivec3 n = q;
-            n[f >> 1] += (f & 1) ? 1 : -1;
-            bool inside = glm::all(glm::greaterThanEqual(n, glm::ivec3(0))) && glm::all(glm::lessThan(n, vol.size));
-            if (!inside || vol.rgba[((size_t(n.z) * vol.size.y + n.y) * vol.size.x + n.x) * 4 + 3] == 0) mask |= 1 << f;
-          }
-          if (mask == 0) continue;
-          ViewInstance c;
-          c.positionSize = glm::vec4(glm::vec3(x, y, z) * texel, texel.x);
-          c.color = glm::vec4(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, float(mask));
-          cubes.push_back(c);
-        }
-  }
+  glm::vec3 texel = extent / glm::vec3(glm::max(vol.size, glm::ivec3(1)));
+  std::vector<ViewInstance> cubes = volumeCubes(vol, glm::vec3(0.0f), texel, kCubeLimit, cubeCandidates_);
   uploadInstances(cubes, cubes_, cubeCount_);
 }
 
@@ -115,11 +92,13 @@ void View3D::setPoints(std::vector<ViewInstance> points) { uploadInstances(point
 void View3D::setSpheres(std::vector<ViewInstance> spheres) { uploadInstances(spheres, spheres_, sphereCount_); }
 void View3D::setLines(std::vector<ViewInstance> ends) { lines_ = std::move(ends); }
 
-double View3D::render(ViewMode mode, const OrbitCamera& camera) {
+double View3D::render(ViewMode mode, const OrbitCamera& camera, int size) {
   auto t0 = std::chrono::steady_clock::now();
+  size = std::clamp(size, 16, kSize);
+  lastSize_ = size;
   glm::mat4 view = camera.view(), proj = camera.projection(1.0f), viewProj = proj * view;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, kSize, kSize);
+  glViewport(0, 0, size, size);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);

@@ -51,8 +51,10 @@ class View3D {
   bool cubesOverLimit() const { return cubeCandidates_ > kCubeLimit; }
 
   // --- rendering ---
-  // Renders into the view texture; returns milliseconds including glFinish.
-  double render(ViewMode mode, const OrbitCamera& camera);
+  // Renders into the lower-left size x size pixels of the view texture (the viewer renders at half
+  // size while the user drags, a quarter of the pixels); returns milliseconds including glFinish.
+  double render(ViewMode mode, const OrbitCamera& camera, int size = kSize);
+  int lastSize() const { return lastSize_; }  // of the last render
   GLuint texture() const { return color_.id(); }
   // Pixels of the last render that differ from the background and the bounds' line colour
   // (reads the texture back).
@@ -76,6 +78,7 @@ class View3D {
   std::vector<ViewInstance> lines_;
   size_t cubeCount_ = 0, pointCount_ = 0, sphereCount_ = 0;
   size_t cubeCandidates_ = 0;
+  int lastSize_ = kSize;
 };
 
 }  // namespace voxlab

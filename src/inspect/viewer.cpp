@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <deque>
 #include <functional>
+#include <optional>
 #include <sstream>
 
 #define GLFW_INCLUDE_NONE
@@ -24,11 +26,11 @@
 #include "gpu/shader_library.h"
 #include "graph/step_cursor.h"
 #include "inspect/inspect_logic.h"
+#include "inspect/scene_overlay.h"
 #include "inspect/view3d.h"
 #include "lesson/lesson.h"
 #include "platform/glfw_window.h"
 #include "scene/scene.h"
-#include "techniques/common/voxel_space.h"
 
 namespace voxlab {
 namespace {
@@ -98,23 +100,26 @@ class Viewer {
     if (autoRerun_) requestRun(std::max(selected_, lastRunRequest_));
   }
   void setCameraIndex(int i);
+  // Orbit and fly move the live camera at once; the technique's camera follows whenever no stage is
+  // queued, so overlays track the mouse while a slow render catches up.
+  const Camera& liveCamera() const { return pendingCamera_ ? *pendingCamera_ : cursor_->camera(); }
+  void moveCamera(const Camera& c);
+  void applyPendingCamera();
   void orbit(float yawDeg, float pitchDeg);
+  void handleFly();  // right mouse over a camera image: mouse looks, W/A/S/D/Q/E move
   void frameScene();
+  void stepIteration() { iterateStage_ = selected_; }
   void probePixel(int x, int y);
   void applyLessonStep(int i);
   // Rebuilds programs whose files changed. fromWatch: the periodic file check, which stays quiet
   // when nothing changed.
   void reloadShaders(bool fromWatch = false);
   std::string commandLine() const;
-  // The slice to show of a level: the chosen one for volumes, the only one for images.
-  // A negative index (the default) means the middle slice, where a scene usually has content.
-  SliceSpec sliceOf(const LevelData& level) const {
-    if (level.size.z <= 1) return SliceSpec{0, 0};
-    SliceSpec s = slice_;
-    if (s.index < 0) s.index = (s.axis == 0 ? level.size.x : s.axis == 1 ? level.size.y : level.size.z) / 2;
-    return s;
-  }
+  SliceSpec sliceOf(const LevelData& level) const { return sliceToShow(level, slice_); }
   int probeStage() const;  // stage with a ConeSamples output and probe.x/probe.y params, or -1
+  // An image at the view's size from a stage whose results depend on the camera
+  // (Technique::dependsOnView): probing and scene overlays apply to these.
+  bool isCameraImage(int stage, const CapturedOutput& c) const;
 
   // --- per frame ---
   bool runPendingStage();  // runs at most one stage; true when one ran
@@ -130,6 +135,11 @@ class Viewer {
   void drawRightPanel();
   void drawInspector();
   void drawProbe();
+  void drawStatsTable(const char* id, const nlohmann::json& stats);
+  // Scene overlays over camera images: voxels of a volume level and the volume's bounds.
+  void drawOverlayControls();
+  void updateOverlay();  // re-renders the overlay when anything it shows changed
+  std::vector<std::string> overlayVolumes() const;  // "stage/output" of every volume that has run
   void drawTiming();
   void drawLesson();
   void drawExport();
@@ -137,10 +147,14 @@ class Viewer {
   void takeScreenshot(const std::string& path);
 
   // --- script ---
-  bool scriptBusy() const { return runTarget_ >= 0 || !pendingScreenshot_.empty() || waitFrames_ > 0; }
+  bool scriptBusy() const {
+    return runTarget_ >= 0 || iterateStage_ >= 0 || pendingCamera_ || !pendingScreenshot_.empty() || waitFrames_ > 0;
+  }
   void stepScript();
   void execute(const ScriptAction& a);
   [[noreturn]] void scriptFail(const ScriptAction& a, const std::string& msg) const;
+  // Expands walk-stages into the actions that walk every stage and output of the technique.
+  std::vector<ScriptAction> walkStagesActions(const ScriptAction& a) const;
   void printFrameStats() const;
 
   ViewerOptions opt_;
@@ -157,8 +171,13 @@ class Viewer {
   int level_ = 0;
   SliceSpec slice_;
   DisplaySettings display_;
-  int cameraIndex_ = 0;       // scene camera in use (-1 after an orbit)
+  int cameraIndex_ = 0;       // scene camera in use (-1 after an orbit or fly)
+  std::optional<Camera> pendingCamera_;
+  bool flying_ = false;
+  double lastFlyTime_ = 0.0;
   int runTarget_ = -1;        // stage to run through, one stage per frame (-1 = idle)
+  int iterateStage_ = -1;     // stage to run one more iteration of, after the stages before it (-1 = none)
+  std::vector<std::deque<std::pair<float, float>>> timeHistory_;  // per stage: (cpu, gpu) ms of recent runs
   int lastRunRequest_ = -1;
   bool autoRerun_ = true;
   bool watchShaders_ = true;     // rebuild programs when their files change on disk
@@ -175,8 +194,16 @@ class Viewer {
   std::vector<ConeSeries> cones_;
   bool hover_ = false;
   glm::ivec3 hoverTexel_{0}, pickTexel_{-1};
-  bool dragging_ = false;
+  bool dragging_ = false, orbiting_ = false;
   ImVec2 dragStart_{0, 0};
+
+  // Scene overlay.
+  std::unique_ptr<SceneOverlay> overlay_;
+  SceneOverlay::Options overlayOpt_{false, false, false, 0.6f};
+  std::string overlayVolume_;  // "stage/output"; "" = the latest volume before the selected stage
+  int overlayLevel_ = -1;      // -1 = the finest level with at most 32 texels per axis
+  std::string overlayKey_, overlayContentKey_, overlayMsg_;
+  double overlayMs_ = 0.0;
 
   Lesson lesson_;
   int lessonStep_ = -1;
@@ -200,7 +227,7 @@ class Viewer {
   OrbitCamera orbit3d_;
   const Scene* orbitScene_ = nullptr;  // the orbit starts along the scene camera once per scene
   long content3dKey_[7] = {-1, -1, -1, -1, -1, -1, -1};
-  double render3dKey_[5] = {-1, 0, 0, 0, 0};
+  double render3dKey_[6] = {-1, 0, 0, 0, 0, 0};
   std::string info3d_, msg3d_;
   std::vector<double> render3dMs_;
   bool dragging3d_ = false;
@@ -255,7 +282,11 @@ void Viewer::switchTechnique(const std::string& id) {
   selected_ = 0;
   outputIndex_ = 0;
   level_ = 0;
-  runTarget_ = lastRunRequest_ = -1;
+  runTarget_ = lastRunRequest_ = iterateStage_ = -1;
+  pendingCamera_.reset();
+  timeHistory_.assign(cursor_->stageCount(), {});
+  overlayVolume_.clear();
+  overlayLevel_ = -1;
   ++generation_;
 }
 
@@ -267,7 +298,8 @@ bool Viewer::loadSceneNamed(const std::string& name) {
     cursor_->setScene(scene_);
     cursor_->setViewSize(opt_.width, opt_.height);
     cameraIndex_ = 0;
-    runTarget_ = -1;
+    runTarget_ = iterateStage_ = -1;
+    pendingCamera_.reset();
     sceneError_.clear();
     ++generation_;
     if (autoRerun_ && lastRunRequest_ >= 0) requestRun(lastRunRequest_);
@@ -307,35 +339,57 @@ void Viewer::selectOutput(const std::string& name) {
 
 void Viewer::setCameraIndex(int i) {
   cursor_->useSceneCamera(i);
+  pendingCamera_.reset();
   cameraIndex_ = i;
   paramsChanged();
 }
 
-void Viewer::orbit(float yawDeg, float pitchDeg) {
-  Camera c = cursor_->camera();
-  glm::vec3 target = scene_->bounds.center();
-  glm::vec3 off = c.position - target;
-  float r = glm::length(off);
-  if (r < 1e-6f) return;
-  float yaw = std::atan2(off.x, off.z) + glm::radians(yawDeg);
-  float pitch = std::asin(std::clamp(off.y / r, -1.0f, 1.0f)) + glm::radians(pitchDeg);
-  pitch = std::clamp(pitch, glm::radians(-85.0f), glm::radians(85.0f));
-  off = r * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
-  c.position = target + off;
-  c.forward = glm::normalize(-off);
-  glm::vec3 right = glm::normalize(glm::cross(c.forward, glm::vec3(0, 1, 0)));
-  c.up = glm::cross(right, c.forward);
-  c.name = "orbit";
-  cursor_->setCamera(c);
+void Viewer::moveCamera(const Camera& c) {
+  pendingCamera_ = c;
   cameraIndex_ = -1;
+}
+
+void Viewer::applyPendingCamera() {
+  if (!pendingCamera_ || runTarget_ >= 0 || iterateStage_ >= 0) return;
+  cursor_->setCamera(*pendingCamera_);
+  pendingCamera_.reset();
   paramsChanged();
 }
 
+void Viewer::orbit(float yawDeg, float pitchDeg) {
+  moveCamera(orbitCamera(liveCamera(), scene_->bounds.center(), yawDeg, pitchDeg));
+}
+
+void Viewer::handleFly() {
+  ImGuiIO& io = ImGui::GetIO();
+  double now = glfwGetTime();
+  float dt = float(std::clamp(now - lastFlyTime_, 0.0, 0.1));  // a slow frame moves no further than a fast one
+  lastFlyTime_ = now;
+  Camera c = liveCamera();
+  bool moved = false;
+  if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f) {
+    c = lookCamera(c, -io.MouseDelta.x * 0.25f, -io.MouseDelta.y * 0.25f);
+    moved = true;
+  }
+  // Speed: a third of the scene's diagonal per second, four times that with Shift.
+  float speed = 0.35f * glm::length(scene_->bounds.extent()) * (io.KeyShift ? 4.0f : 1.0f) * dt;
+  auto axis = [](int plus, int minus) { return float(ImGui::IsKeyDown(plus)) - float(ImGui::IsKeyDown(minus)); };
+  float f = axis(GLFW_KEY_W, GLFW_KEY_S), r = axis(GLFW_KEY_D, GLFW_KEY_A), u = axis(GLFW_KEY_E, GLFW_KEY_Q);
+  if (f != 0.0f || r != 0.0f || u != 0.0f) {
+    c = flyCamera(c, r * speed, u * speed, f * speed);
+    moved = true;
+  }
+  if (moved) moveCamera(c);
+}
+
 void Viewer::frameScene() {
-  Camera c = frameBounds(scene_->bounds, cursor_->camera().yfov);
-  cursor_->setCamera(c);
-  cameraIndex_ = -1;
-  paramsChanged();
+  moveCamera(frameBounds(scene_->bounds, liveCamera().yfov));
+}
+
+bool Viewer::isCameraImage(int stage, const CapturedOutput& c) const {
+  if (c.desc.kind != OutputKind::Image2D || c.levels.empty()) return false;
+  if (!cursor_->technique().dependsOnView(stage)) return false;
+  return c.levels[0].size.x == cursor_->view().width && c.levels[0].size.y == cursor_->view().height;
 }
 
 int Viewer::probeStage() const {
@@ -375,8 +429,9 @@ void Viewer::applyLessonStep(int i) {
   ParamSet p = cursor_->technique().defaultParams();
   for (const auto& [n, v] : s.sets) p.setText(n, v);
   cursor_->setParams(p);
-  if (s.camera != cameraIndex_) {
+  if (s.camera != cameraIndex_ || pendingCamera_) {
     cursor_->useSceneCamera(s.camera);
+    pendingCamera_.reset();
     cameraIndex_ = s.camera;
   }
   selectStage(cursor_->technique().stageIndex(s.stage));
@@ -405,31 +460,48 @@ void Viewer::reloadShaders(bool fromWatch) {
 std::string Viewer::commandLine() const {
   const Technique& t = cursor_->technique();
   std::string until = selected_ == t.stageCount() - 1 ? "" : t.stage(selected_).id();
+  // A scene camera by its index; an orbit or fly camera as --look-from/--look-at (with camera 0's field
+  // of view, which orbit and fly keep).
   return reproduceCommand(t.id(), sceneName_, cursor_->params(), t.defaultParams(), cursor_->view().width,
-                          cursor_->view().height, std::max(cameraIndex_, 0), until);
+                          cursor_->view().height, std::max(cameraIndex_, 0), until, "out",
+                          cameraIndex_ < 0 ? &liveCamera() : nullptr);
 }
 
 // --- Per frame -----------------------------------------------------------------------------------
 
 bool Viewer::runPendingStage() {
-  if (runTarget_ < 0) return false;
+  // One stage (or one iteration) per frame, so the window stays live while a technique runs.
+  const int target = iterateStage_ >= 0 ? iterateStage_ : runTarget_;
+  if (target < 0) return false;
+  // The first stage that is not Done: before the iterated stage, or up to the run target.
   int next = -1;
-  for (int i = 0; i <= runTarget_; ++i)
-    if (cursor_->record(i).state != StageState::Done) {
-      next = i;
-      break;
-    }
-  if (next < 0) {
+  for (int i = 0; i < target + (iterateStage_ >= 0 ? 0 : 1) && next < 0; ++i)
+    if (cursor_->record(i).state != StageState::Done) next = i;
+  if (next < 0 && iterateStage_ < 0) {
     lastRunRequest_ = std::max(lastRunRequest_, runTarget_);
     runTarget_ = -1;
     return false;
   }
+  const int ran = next >= 0 ? next : target;
   try {
-    cursor_->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
+    if (next >= 0) {
+      cursor_->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
+    } else {
+      int k = cursor_->runIteration(target);
+      iterateStage_ = -1;
+      status_ = std::string(cursor_->technique().stage(target).id()) + ": iteration " + std::to_string(k + 1) + " of " +
+                std::to_string(cursor_->record(target).iterationsTotal);
+    }
   } catch (const ShaderError& e) {
     shaderError_ = e.what();
-    runTarget_ = -1;
+    runTarget_ = iterateStage_ = -1;
     if (scripted_) throw;
+  }
+  const StageRecord& r = cursor_->record(ran);
+  if (r.state == StageState::Done) {
+    auto& h = timeHistory_.at(ran);
+    h.emplace_back(float(r.cpuMs), float(r.gpuMs));
+    if (h.size() > 32) h.pop_front();
   }
   ++generation_;
   return true;
@@ -468,7 +540,8 @@ void Viewer::refreshCapture() {
 
 void Viewer::handleKeys() {
   ImGuiIO& io = ImGui::GetIO();
-  if (io.WantCaptureKeyboard) return;
+  if (io.WantCaptureKeyboard || flying_) return;  // while flying, W/A/S/D/Q/E move the camera
+  if (ImGui::IsKeyPressed(GLFW_KEY_I) && cursor_->iterations(selected_) > 1) stepIteration();
   if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_RightArrow))) {
     selectStage(selected_ + 1);
     lastRunRequest_ = std::max(lastRunRequest_, selected_);
@@ -522,6 +595,7 @@ int Viewer::loop() {
     if (scripted_) stepScript();
     if (quit_) break;
     if (runPendingStage()) frameHeavy_ = true;
+    applyPendingCamera();
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -614,10 +688,14 @@ void Viewer::drawLeftPanel() {
     ImVec4 col = r.state == StageState::Done    ? ImVec4(0.4f, 0.9f, 0.4f, 1)
                  : r.state == StageState::Stale ? ImVec4(0.95f, 0.75f, 0.3f, 1)
                                                 : ImVec4(0.6f, 0.6f, 0.6f, 1);
-    bool running = runTarget_ >= i && r.state != StageState::Done;
+    bool running = (runTarget_ >= i && r.state != StageState::Done) || iterateStage_ == i;
+    char state[48];
+    if (r.state == StageState::Partial)
+      std::snprintf(state, sizeof state, "partial %d/%d", r.iterationsRun, r.iterationsTotal);
+    else
+      std::snprintf(state, sizeof state, "%s", running ? "(queued)" : stageStateName(r.state));
     char label[160];
-    std::snprintf(label, sizeof label, "%d. %-14s %s##stage%d", i + 1, t.stage(i).id(),
-                  running ? "(queued)" : stageStateName(r.state), i);
+    std::snprintf(label, sizeof label, "%d. %-14s %s##stage%d", i + 1, t.stage(i).id(), state, i);
     ImGui::PushStyleColor(ImGuiCol_Text, col);
     if (ImGui::Selectable(label, selected_ == i)) selectStage(i);
     ImGui::PopStyleColor();
@@ -640,7 +718,19 @@ void Viewer::drawLeftPanel() {
     lastRunRequest_ = t.stageCount() - 1;
     requestRun(lastRunRequest_);
   }
-  ImGui::TextDisabled("keys: Left/Right stage, R run, A all, F5 reload");
+  const int iterations = cursor_->iterations(selected_);
+  if (iterations > 1) {
+    const StageRecord& r = cursor_->record(selected_);
+    if (ImGui::Button("Step iteration")) stepIteration();
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("run the next of this stage's %d iterations (after the stages before it)", iterations);
+    ImGui::SameLine();
+    if (r.state == StageState::Partial)
+      ImGui::Text("iteration %d of %d done", r.iterationsRun, r.iterationsTotal);
+    else
+      ImGui::TextDisabled("%d iterations", iterations);
+  }
+  ImGui::TextDisabled("keys: Left/Right stage, R run, A all, I iteration, F5 reload");
   if (runTarget_ >= 0) ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "running through stage %d ...", runTarget_ + 1);
 
   // Parameters, generated from the declarations of every stage.
@@ -781,6 +871,8 @@ void Viewer::drawView() {
     if (viewImage_.width > 0) viewTex_.upload(viewImage_.width, viewImage_.height, viewImage_.rgba.data());
   }
   if (viewImage_.width == 0) return;
+  const bool cameraImage = !isBuffer && isCameraImage(selected_, cap_);
+  if (cameraImage) drawOverlayControls();
 
   // Fit the image into the panel, keeping its aspect; nearest filtering shows voxels as squares.
   ImVec2 avail = ImGui::GetContentRegionAvail();
@@ -797,30 +889,46 @@ void Viewer::drawView() {
     hover_ = true;
     hoverTexel_ = sliceTexel(cap_.levels[level_], sliceOf(cap_.levels[level_]), px, py);
   }
-  // Left drag orbits the camera (applied on release); a left click probes or picks.
+  // Camera images: the overlay (voxels, bounds) drawn with the live camera over the image.
+  auto* dl = ImGui::GetWindowDrawList();
+  if (cameraImage) {
+    updateOverlay();
+    if (!overlayKey_.empty())
+      dl->AddImage(reinterpret_cast<ImTextureID>(intptr_t(overlay_->texture())), origin,
+                   ImVec2(origin.x + size.x, origin.y + size.y), ImVec2(0, 1), ImVec2(1, 0));
+  }
+  // On camera images a left drag orbits the camera and a right drag flies it (mouse looks,
+  // W/A/S/D/Q/E move); a left click probes or picks.
+  ImGuiIO& io = ImGui::GetIO();
   if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
     dragging_ = true;
+    orbiting_ = false;
     dragStart_ = m;
   }
-  if (dragging_ && ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
-    dragging_ = false;
-    float dx = m.x - dragStart_.x, dy = m.y - dragStart_.y;
-    if (std::abs(dx) + std::abs(dy) > 4.0f) {
-      orbit(-dx * 0.3f, dy * 0.3f);
-    } else if (hover_) {
-      pickTexel_ = hoverTexel_;
-      bool fullView = d.kind == OutputKind::Image2D && cap_.levels[0].size.x == cursor_->view().width &&
-                      cap_.levels[0].size.y == cursor_->view().height;
-      if (fullView && probeStage() >= 0) probePixel(px, py);
+  if (dragging_) {
+    if (cameraImage && !orbiting_ && std::abs(m.x - dragStart_.x) + std::abs(m.y - dragStart_.y) > 4.0f) orbiting_ = true;
+    if (orbiting_ && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) orbit(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
+    if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
+      dragging_ = false;
+      if (!orbiting_ && hover_) {
+        pickTexel_ = hoverTexel_;
+        if (cameraImage && probeStage() >= 0) probePixel(px, py);
+      }
+      orbiting_ = false;
     }
   }
-  if (dragging_) ImGui::GetWindowDrawList()->AddLine(dragStart_, m, IM_COL32(255, 200, 80, 255), 2.0f);
-  // Mark the probed pixel on full-size images.
-  if (!isBuffer && probeStage() >= 0 && cap_.levels[0].size.x == cursor_->view().width &&
-      cap_.levels[0].size.y == cursor_->view().height && cap_.levels[0].size.z == 1) {
+  if (cameraImage && imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
+    flying_ = true;
+    lastFlyTime_ = glfwGetTime();
+  }
+  if (flying_) {
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Right)) flying_ = false;
+    else handleFly();
+  }
+  // Mark the probed pixel on camera images.
+  if (cameraImage && probeStage() >= 0) {
     float qx = origin.x + float(cursor_->params().value("probe.x")) * size.x;
     float qy = origin.y + float(cursor_->params().value("probe.y")) * size.y;
-    auto* dl = ImGui::GetWindowDrawList();
     dl->AddCircle(ImVec2(qx, qy), 6.0f, IM_COL32(255, 60, 200, 255), 12, 2.0f);
     dl->AddLine(ImVec2(qx - 10, qy), ImVec2(qx + 10, qy), IM_COL32(255, 60, 200, 255));
     dl->AddLine(ImVec2(qx, qy - 10), ImVec2(qx, qy + 10), IM_COL32(255, 60, 200, 255));
@@ -842,16 +950,148 @@ void Viewer::drawView() {
     if (hover_)
       ImGui::Text("%s (%d, %d, %d) = (%s)", L.size.z > 1 ? "voxel" : "pixel", hoverTexel_.x,
                   L.size.z > 1 ? hoverTexel_.y : L.size.y - 1 - hoverTexel_.y, hoverTexel_.z, valueText(hoverTexel_).c_str());
+    else if (cameraImage)
+      ImGui::TextDisabled("hover for values; click to %s; left drag orbits, right drag + W/A/S/D/Q/E flies",
+                          probeStage() >= 0 ? "probe cones" : "pick");
     else
-      ImGui::TextDisabled("hover for values; click to %s; drag to orbit the camera",
-                          probeStage() >= 0 && d.kind == OutputKind::Image2D ? "probe cones" : "pick");
+      ImGui::TextDisabled("hover for values; click to pick");
     if (pickTexel_.x >= 0 && pickTexel_.x < L.size.x && pickTexel_.y < L.size.y && pickTexel_.z < L.size.z)
       ImGui::Text("picked (%d, %d, %d) = (%s)", pickTexel_.x, L.size.z > 1 ? pickTexel_.y : L.size.y - 1 - pickTexel_.y,
                   pickTexel_.z, valueText(pickTexel_).c_str());
   } else {
     ImGui::Text("%u records (point view)", cap_.recordCount);
   }
+  if (pendingCamera_)
+    ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "camera moving: the image follows when the stages have re-run");
   if (!status_.empty()) ImGui::TextDisabled("%s", status_.c_str());
+}
+
+// --- Scene overlay -----------------------------------------------------------------------------------
+
+std::vector<std::string> Viewer::overlayVolumes() const {
+  const Technique& t = cursor_->technique();
+  std::vector<std::string> names;
+  for (int i = 0; i < t.stageCount(); ++i) {
+    if (cursor_->record(i).state == StageState::NotRun) continue;
+    for (const auto& o : t.decl(i).outputs)
+      if (o.kind == OutputKind::Volume3D) names.push_back(std::string(t.stage(i).id()) + "/" + o.name);
+  }
+  return names;
+}
+
+void Viewer::drawOverlayControls() {
+  ImGui::Checkbox("bounds", &overlayOpt_.bounds);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the voxel volume's box in the scene");
+  ImGui::SameLine();
+  ImGui::Checkbox("voxels", &overlayOpt_.voxels);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the non-empty voxels of a volume level over the image");
+  if (!overlayOpt_.voxels) return;
+  auto volumes = overlayVolumes();
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(190);
+  if (ImGui::BeginCombo("##overlayvolume", overlayVolume_.empty() ? "(latest volume)" : overlayVolume_.c_str())) {
+    for (const auto& v : volumes)
+      if (ImGui::Selectable(v.c_str(), v == overlayVolume_)) overlayVolume_ = v, overlayLevel_ = -1;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(80);
+  int level = std::max(overlayLevel_, 0);
+  if (ImGui::SliderInt("level##overlay", &level, 0, 12)) overlayLevel_ = level;
+  ImGui::Checkbox("x-ray", &overlayOpt_.xray);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("show voxels behind the scene's surfaces too");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(90);
+  ImGui::SliderFloat("opacity##overlay", &overlayOpt_.opacity, 0.1f, 1.0f, "%.2f");
+  if (!overlayMsg_.empty()) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "%s", overlayMsg_.c_str());
+  }
+}
+
+void Viewer::updateOverlay() {
+  SceneOverlay::Options o = overlayOpt_;
+  o.bounds = o.bounds || pendingCamera_.has_value() || flying_ || orbiting_;  // show where the camera goes
+  if (!o.bounds && !o.voxels) {
+    overlayKey_.clear();
+    return;
+  }
+  if (!overlay_) overlay_ = std::make_unique<SceneOverlay>(*shaders_);
+  const Technique& t = cursor_->technique();
+  // The volume: the chosen one, else the latest of a stage up to the selected one.
+  auto volumes = overlayVolumes();
+  std::string volume = overlayVolume_;
+  if (std::find(volumes.begin(), volumes.end(), volume) == volumes.end()) {
+    volume.clear();
+    for (const auto& v : volumes)
+      if (t.stageIndex(v.substr(0, v.find('/'))) <= selected_ || volume.empty()) volume = v;
+  }
+  // Content: re-read the volume only when the data or the choice changed.
+  auto contentKey = [&] {
+    return std::to_string(generation_) + "|" + volume + "|" + std::to_string(overlayLevel_) + "|" + std::to_string(o.voxels);
+  };
+  if (contentKey() != overlayContentKey_) {
+    overlayMsg_.clear();
+    std::vector<ViewInstance> cubes;
+    std::optional<WorldBox> box = cursor_->board().voxelSpace();
+    if (!volume.empty()) {
+      try {
+        size_t slash = volume.find('/');
+        auto [stage, desc] = t.findOutput(volume.substr(0, slash), volume.substr(slash + 1));
+        (void)stage;
+        if (auto placed = cursor_->board().placementOf(desc->resourceName())) box = placed;
+        CapturedOutput c;
+        if (o.voxels) c = captureOutput(cursor_->board(), *desc);
+        if (o.voxels && !c.levels.empty()) {
+          int level = overlayLevel_;
+          if (level < 0) {  // the finest level with at most 32 texels per axis: blocks large enough to see
+            level = 0;
+            while (level + 1 < int(c.levels.size()) && c.levels[level].size.x > 32) ++level;
+          }
+          level = std::clamp(level, 0, int(c.levels.size()) - 1);
+          overlayLevel_ = level;
+          const LevelData& L = c.levels[level];
+          if (!c.world) {
+            overlayMsg_ = volume + " has no world placement (Blackboard::place); showing nothing";
+          } else {
+            VolumeRGBA v = mapVolume(L, desc->semantic, DisplaySettings{});
+            size_t candidates = 0;
+            cubes = volumeCubes(v, c.world->lo, (c.world->hi - c.world->lo) / glm::vec3(L.size), View3D::kCubeLimit,
+                                candidates);
+            char buf[200];
+            if (cubes.empty() && candidates > 0)
+              std::snprintf(buf, sizeof buf, "%zu voxels at level %d, over the limit of %zu: pick a coarser level",
+                            candidates, level, View3D::kCubeLimit);
+            else
+              std::snprintf(buf, sizeof buf, "%s level %d (%dx%dx%d): %zu voxels", volume.c_str(), level, L.size.x,
+                            L.size.y, L.size.z, candidates);
+            overlayMsg_ = buf;
+          }
+        }
+      } catch (const Error& e) {
+        overlayMsg_ = e.what();
+      }
+    }
+    overlay_->setCubes(cubes);
+    overlay_->setBox(box);
+    overlayContentKey_ = contentKey();  // with the resolved level, so the next frame matches
+    overlayKey_.clear();
+  }
+  const Camera& cam = liveCamera();
+  char key[512];
+  std::snprintf(key, sizeof key, "%s|%d%d|%.3f|%g,%g,%g|%g,%g,%g", overlayContentKey_.c_str(), o.bounds, o.xray,
+                o.opacity, cam.position.x, cam.position.y, cam.position.z, cam.forward.x, cam.forward.y, cam.forward.z);
+  if (overlayKey_ == key) return;
+  overlayKey_ = key;
+  const ViewState& vs = cursor_->view();
+  glm::mat4 viewProj = cam.projection(float(vs.width) / float(vs.height)) * cam.view();
+  try {
+    overlayMs_ = overlay_->render(vs.width, vs.height, viewProj, cursor_->gpuScene(), o);
+  } catch (const ShaderError& e) {
+    shaderError_ = e.what();
+    if (scripted_) throw;
+  }
+  frameHeavy_ = true;
 }
 
 // --- 3D views -----------------------------------------------------------------------------------------
@@ -920,17 +1160,17 @@ void Viewer::build3DContent() {
     std::snprintf(buf, sizeof buf, "level %d: %dx%dx%d, %zu non-empty texels", level_, L.size.x, L.size.y, L.size.z, vol.nonEmpty);
     info3d_ = buf;
   } else if (d.semantic == Semantic::ConeSamples) {
-    // World positions -> voxels of the context volume (the voxel space every voxel technique uses).
+    // World positions -> texels of the context volume's level 0, through its world placement.
     CapturedOutput ctx;
     std::string ctxName;
     std::function<glm::vec3(glm::vec3)> toView = [](glm::vec3 p) { return p; };
     float scale = 1.0f;
-    bool haveCtx = contextVolume(ctx, ctxName) && scene_;
+    bool haveCtx = contextVolume(ctx, ctxName) && ctx.world;
     if (haveCtx) {
       hi = glm::vec3(ctx.levels[0].size);
-      VoxelSpace space = VoxelSpace::fromScene(*scene_, ctx.levels[0].size.x);
-      toView = [space](glm::vec3 p) { return space.toVoxel(p); };
-      scale = 1.0f / space.voxelSize;
+      const glm::vec3 origin = ctx.world->lo, texelsPerMetre = hi / (ctx.world->hi - ctx.world->lo);
+      toView = [origin, texelsPerMetre](glm::vec3 p) { return (p - origin) * texelsPerMetre; };
+      scale = texelsPerMetre.x;
       view3d_->setVolume(mapVolume(ctx.levels[0], ctx.desc.semantic, DisplaySettings{}), hi, 0.3f);
     }
     std::vector<ViewInstance> spheres, lines;
@@ -1017,11 +1257,14 @@ bool Viewer::update3D() {
   } else if (msg3d_.find("over the limit") != std::string::npos) {
     msg3d_.clear();
   }
-  double rkey[5] = {double(viewMode_), orbit3d_.yaw, orbit3d_.pitch, orbit3d_.distance, double(orbit3d_.radius)};
-  if (rebuilt || !std::equal(rkey, rkey + 5, render3dKey_)) {
-    std::copy(rkey, rkey + 5, render3dKey_);
+  // While dragging, render a quarter of the pixels: the ray march costs per pixel (level 0 of a
+  // 128^3 grid took 140-250 ms at 384^2 on llvmpipe); the full size follows on release.
+  const int size = dragging3d_ ? View3D::kSize / 2 : View3D::kSize;
+  double rkey[6] = {double(viewMode_), orbit3d_.yaw, orbit3d_.pitch, orbit3d_.distance, double(orbit3d_.radius), double(size)};
+  if (rebuilt || !std::equal(rkey, rkey + 6, render3dKey_)) {
+    std::copy(rkey, rkey + 6, render3dKey_);
     try {
-      render3dMs_.push_back(view3d_->render(viewMode_, orbit3d_));
+      render3dMs_.push_back(view3d_->render(viewMode_, orbit3d_, size));
     } catch (const ShaderError& e) {
       shaderError_ = e.what();
       if (scripted_) throw;
@@ -1036,7 +1279,9 @@ void Viewer::draw3DView() {
   ImVec2 avail = ImGui::GetContentRegionAvail();
   avail.y -= 70;
   float side = std::max(64.0f, std::min(avail.x, avail.y));
-  ImGui::Image(reinterpret_cast<ImTextureID>(intptr_t(view3d_->texture())), ImVec2(side, side), ImVec2(0, 1), ImVec2(1, 0));
+  float used = float(view3d_->lastSize()) / float(View3D::kSize);  // the rendered corner of the texture
+  ImGui::Image(reinterpret_cast<ImTextureID>(intptr_t(view3d_->texture())), ImVec2(side, side), ImVec2(0, used),
+               ImVec2(used, 0));
   ImGuiIO& io = ImGui::GetIO();
   if (ImGui::IsItemHovered()) {
     if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) dragging3d_ = true;
@@ -1049,7 +1294,7 @@ void Viewer::draw3DView() {
   if (!msg3d_.empty()) ImGui::TextColored(ImVec4(0.95f, 0.75f, 0.3f, 1), "%s", msg3d_.c_str());
   ImGui::TextWrapped("%s", info3d_.c_str());
   ImGui::TextDisabled("%s view %dx%d, last render %.1f ms; drag to rotate, wheel to zoom", viewModeName(viewMode_),
-                      View3D::kSize, View3D::kSize, render3dMs_.empty() ? 0.0 : render3dMs_.back());
+                      view3d_->lastSize(), view3d_->lastSize(), render3dMs_.empty() ? 0.0 : render3dMs_.back());
   if (!status_.empty()) ImGui::TextDisabled("%s", status_.c_str());
 }
 
@@ -1088,9 +1333,45 @@ void Viewer::drawRightPanel() {
   }
 }
 
+void Viewer::drawStatsTable(const char* id, const nlohmann::json& stats) {
+  if (!stats.is_object() || stats.empty()) return;
+  auto text = [](const nlohmann::json& v) {
+    char buf[48];
+    if (v.is_number()) {
+      std::snprintf(buf, sizeof buf, "%.6g", v.get<double>());
+      return std::string(buf);
+    }
+    if (v.is_array()) {
+      std::string s;
+      for (const auto& e : v) {
+        if (e.is_number()) std::snprintf(buf, sizeof buf, "%.4g", e.get<double>());
+        else std::snprintf(buf, sizeof buf, "%s", e.dump().c_str());
+        s += (s.empty() ? "" : ", ") + std::string(buf);
+      }
+      return s;
+    }
+    return v.is_string() ? v.get<std::string>() : v.dump();
+  };
+  if (ImGui::BeginTable(id, 2, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
+    for (auto it = stats.begin(); it != stats.end(); ++it) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(it.key().c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextWrapped("%s", text(it.value()).c_str());
+    }
+    ImGui::EndTable();
+  }
+}
+
 void Viewer::drawInspector() {
   const Technique& t = cursor_->technique();
   ImGui::TextWrapped("%s", t.stage(selected_).summary());
+  const StageRecord& rec = cursor_->record(selected_);
+  if (!rec.stats.empty() && ImGui::CollapsingHeader("stage statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
+    nlohmann::json j(rec.stats);
+    drawStatsTable("stagestats", j);
+  }
   ImGui::Separator();
   if (!capError_.empty()) return;
   const OutputDesc& d = cap_.desc;
@@ -1117,7 +1398,8 @@ void Viewer::drawInspector() {
     auto stats = outputStatistics(cap_);
     if (stats.contains("levels") && stats["levels"].size() > size_t(level_)) {
       ImGui::Separator();
-      ImGui::TextWrapped("%s", stats["levels"][level_].dump().c_str());
+      ImGui::Text("level %d statistics", level_);
+      drawStatsTable("levelstats", stats["levels"][level_]);
     }
   } else if (d.kind == OutputKind::Buffer) {
     ImGui::Text("%u records, stride %u bytes", cap_.recordCount, d.layout.stride);
@@ -1195,11 +1477,12 @@ void Viewer::drawProbe() {
 void Viewer::drawTiming() {
   const Technique& t = cursor_->technique();
   double cpu = 0, gpu = 0;
-  if (ImGui::BeginTable("timing", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
+  if (ImGui::BeginTable("timing", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
     ImGui::TableSetupColumn("stage");
     ImGui::TableSetupColumn("state");
     ImGui::TableSetupColumn("cpu ms");
     ImGui::TableSetupColumn("gpu ms");
+    ImGui::TableSetupColumn("gpu, last runs", ImGuiTableColumnFlags_WidthStretch);
     ImGui::TableHeadersRow();
     for (int i = 0; i < t.stageCount(); ++i) {
       const StageRecord& r = cursor_->record(i);
@@ -1212,6 +1495,19 @@ void Viewer::drawTiming() {
       ImGui::Text("%.1f", r.cpuMs);
       ImGui::TableNextColumn();
       ImGui::Text("%.1f", r.gpuMs);
+      ImGui::TableNextColumn();
+      const auto& h = timeHistory_.at(i);
+      if (!h.empty()) {
+        std::vector<float> g;
+        for (const auto& e : h) g.push_back(e.second);
+        std::vector<float> sorted = g;
+        std::sort(sorted.begin(), sorted.end());
+        char overlay[48];
+        std::snprintf(overlay, sizeof overlay, "median %.1f (%zu)", sorted[sorted.size() / 2], g.size());
+        ImGui::PushID(i);
+        ImGui::PlotLines("##history", g.data(), int(g.size()), 0, overlay, 0.0f, FLT_MAX, ImVec2(-1, 18));
+        ImGui::PopID();
+      }
       cpu += r.cpuMs;
       gpu += r.gpuMs;
     }
@@ -1365,7 +1661,7 @@ void Viewer::stepScript() {
     quit_ = true;
     return;
   }
-  const ScriptAction& a = script_[pc_++];
+  const ScriptAction a = script_[pc_++];  // a copy: walk-stages inserts actions into script_
   frameHeavy_ = true;  // script I/O (saving, comparing) is not UI time
   try {
     execute(a);
@@ -1586,11 +1882,97 @@ void Viewer::execute(const ScriptAction& a) {
                 viewModeName(viewMode_), cap_.desc.name.c_str(), n, View3D::kSize * View3D::kSize, want, info3d_.c_str(),
                 render3dMs_.empty() ? 0.0 : render3dMs_.back());
     if (n <= want) scriptFail(a, std::to_string(n) + " content pixels, expected more than " + arg(0));
+  } else if (v == "iterate") {
+    if (cursor_->iterations(selected_) <= 1) scriptFail(a, std::string("stage ") + t.stage(selected_).id() + " is not iterative");
+    stepIteration();
+  } else if (v == "expect-iterations") {
+    const StageRecord& r = cursor_->record(t.stageIndex(arg(0)));
+    int want = intArg(1);
+    if (r.iterationsRun != want || (r.state != StageState::Partial && r.state != StageState::Done))
+      scriptFail(a, arg(0) + " is " + stageStateName(r.state) + " after " + std::to_string(r.iterationsRun) + " of " +
+                        std::to_string(r.iterationsTotal) + " iterations, expected " + arg(1));
+    std::printf("%s: %d of %d iterations (%s)\n", arg(0).c_str(), r.iterationsRun, r.iterationsTotal, stageStateName(r.state));
+  } else if (v == "walk-stages") {
+    auto more = walkStagesActions(a);
+    script_.insert(script_.begin() + long(pc_), more.begin(), more.end());
+  } else if (v == "fly") {
+    moveCamera(flyCamera(liveCamera(), floatArg(0), floatArg(1), floatArg(2)));
+  } else if (v == "look") {
+    moveCamera(lookCamera(liveCamera(), floatArg(0), floatArg(1)));
+  } else if (v == "overlay") {
+    if (arg(1) != "on" && arg(1) != "off") scriptFail(a, "expected on or off, not '" + arg(1) + "'");
+    bool on = arg(1) == "on";
+    if (arg(0) == "bounds") overlayOpt_.bounds = on;
+    else if (arg(0) == "voxels") overlayOpt_.voxels = on;
+    else if (arg(0) == "xray") overlayOpt_.xray = on;
+    else scriptFail(a, "unknown overlay '" + arg(0) + "'; valid: bounds, voxels, xray");
+  } else if (v == "overlay-volume") {
+    auto vols = overlayVolumes();
+    if (std::find(vols.begin(), vols.end(), arg(0)) == vols.end())
+      scriptFail(a, "no volume '" + arg(0) + "' has run; valid: " + joinNames(vols));
+    overlayVolume_ = arg(0);
+    overlayLevel_ = intArg(1);
+  } else if (v == "expect-overlay-pixels") {
+    refreshCapture();
+    if (!capError_.empty()) scriptFail(a, capError_);
+    if (!isCameraImage(selected_, cap_)) scriptFail(a, "output " + cap_.desc.name + " is not a camera image; overlays apply to those");
+    updateOverlay();
+    if (overlayKey_.empty()) scriptFail(a, "no overlay is on (overlay bounds|voxels on)");
+    size_t n = overlay_->coveredPixels(), want = size_t(std::max(intArg(0), 0));
+    std::printf("overlay on %s: %zu pixels covered (need > %zu), %zu voxel cubes, %.1f ms; %s\n", cap_.desc.name.c_str(), n,
+                want, overlay_->cubeCount(), overlayMs_, overlayMsg_.c_str());
+    if (n <= want) scriptFail(a, std::to_string(n) + " pixels covered, expected more than " + arg(0));
   } else if (v == "frame-stats") {
     printFrameStats();
   } else if (v == "quit") {
     quit_ = true;
   }
+}
+
+std::vector<ScriptAction> Viewer::walkStagesActions(const ScriptAction& a) const {
+  const Technique& t = cursor_->technique();
+  const std::string out = a.args.at(0), run = a.args.at(1);
+  // Per-output tolerances of the snapshot suite: what was measured to vary between runs.
+  nlohmann::json tol = nlohmann::json::parse(readTextFile(a.args.at(2)));
+  auto toleranceOf = [&](const std::string& address) {
+    double d = tol.at("default").at("max_abs").get<double>();
+    if (tol.contains("outputs") && tol["outputs"].contains(address)) d = tol["outputs"][address].value("max_abs", d);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", d);
+    return std::string(buf);
+  };
+  std::vector<ScriptAction> acts;
+  auto add = [&](std::string verb, std::vector<std::string> args) {
+    ScriptAction s;
+    s.verb = std::move(verb);
+    s.args = std::move(args);
+    s.line = a.line;
+    acts.push_back(std::move(s));
+  };
+  std::string previous;
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const std::string id = t.stage(i).id();
+    add("stage", {id});
+    const int n = cursor_->iterations(i);
+    if (n > 1)
+      for (int k = 1; k <= n; ++k) {
+        add("iterate", {});
+        add("expect-iterations", {id, std::to_string(k)});
+      }
+    add("run", {});
+    char shot[32];
+    std::snprintf(shot, sizeof shot, "/%02d-", i + 1);
+    std::string png = out + shot + id + ".png";
+    add("screenshot", {png});
+    if (!previous.empty()) add("expect-images-differ", {previous, png});
+    previous = png;
+    for (const auto& o : t.decl(i).outputs) {
+      add("output", {o.name});
+      add("save-output", {out + "/view"});
+      add("compare-output", {out + "/view", run, toleranceOf(t.id() + "/" + id + "/" + o.name)});
+    }
+  }
+  return acts;
 }
 
 void Viewer::printFrameStats() const {

@@ -30,3 +30,9 @@ voxlab_cli_case(run_only_after_until 2 "--only vct-grid/mipmap/radiance is after
   "run --technique vct-grid --until inject --only vct-grid/mipmap/radiance --out @OUT@")
 voxlab_cli_case(run_only_level_out_of_range 2 "output vct-grid/mipmap/radiance has levels 0..4, not 9"
   "run --technique vct-grid --until mipmap --set voxel.resolution=16 --only vct-grid/mipmap/radiance@9 --out @OUT@")
+voxlab_cli_case(run_look_from_alone 2 "--look-from and --look-at go together; give both or neither"
+  "run --technique vct-grid --look-from 0,1,3 --out @OUT@")
+voxlab_cli_case(run_look_at_bad_vector 2 "--look-at '0,1' is not three numbers X,Y,Z"
+  "run --technique vct-grid --look-from 0,1,3 --look-at 0,1 --out @OUT@")
+voxlab_cli_case(run_look_from_equals_look_at 2 "--look-from and --look-at are the same point"
+  "run --technique vct-grid --look-from 0,1,3 --look-at 0,1,3 --out @OUT@")

@@ -210,6 +210,47 @@ class SnapshotTest : public ::testing::Test {
   std::string technique_, stage_, output_;
 };
 
+// An iterative stage stepped one iteration at a time (as the viewer's "Step iteration" does) must
+// pass through Partial, end Done, leave its readers Stale, and produce exactly what one full run
+// of the stage produces from the same inputs. Exact: the same programs on the same data.
+class IterationTest : public ::testing::Test {
+ public:
+  IterationTest(std::string technique, std::string stage) : technique_(std::move(technique)), stage_(std::move(stage)) {}
+  void TestBody() override {
+    HeadlessSession& s = testing_support::session(settingsFor(technique_).request);
+    StepCursor& c = s.cursor();
+    const Technique& t = c.technique();
+    const int stage = t.stageIndex(stage_);
+    const int n = c.iterations(stage);
+    ASSERT_GT(n, 1);
+    std::vector<CapturedOutput> full;
+    for (const auto& o : t.decl(stage).outputs) full.push_back(captureOutput(c.board(), o));
+
+    c.invalidate(stage);
+    for (int k = 0; k < n; ++k) {
+      EXPECT_EQ(c.runIteration(stage), k);
+      EXPECT_EQ(c.record(stage).iterationsRun, k + 1);
+      EXPECT_EQ(c.record(stage).state, k + 1 < n ? StageState::Partial : StageState::Done) << "after iteration " << k;
+    }
+    for (int j = stage + 1; j < t.stageCount(); ++j)
+      for (const auto& res : t.decl(j).reads)
+        if (res != kViewResource && t.writerOf(res, j) == stage)
+          EXPECT_EQ(c.record(j).state, StageState::Stale) << t.stage(j).id() << " reads " << res;
+    const auto& outs = t.decl(stage).outputs;
+    for (size_t i = 0; i < outs.size(); ++i) {
+      CapturedOutput stepped = captureOutput(c.board(), outs[i]);
+      ASSERT_EQ(stepped.levels.size(), full[i].levels.size()) << outs[i].name;
+      for (size_t l = 0; l < stepped.levels.size(); ++l)
+        EXPECT_EQ(stepped.levels[l].values, full[i].levels[l].values) << outs[i].name << " level " << l;
+      EXPECT_EQ(stepped.records, full[i].records) << outs[i].name;
+    }
+    c.runAll();  // leave the shared session as the snapshot tests expect it
+  }
+
+ private:
+  std::string technique_, stage_;
+};
+
 }  // namespace
 
 void registerSnapshotTests() {
@@ -223,6 +264,19 @@ void registerSnapshotTests() {
         std::replace(name.begin(), name.end(), '/', '_');
         ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
                                 [=]() -> ::testing::Test* { return new SnapshotTest(id, stage, output); });
+      }
+    ParamSet params = t->defaultParams();
+    for (const auto& set : settingsFor(entry.id).request.sets) {
+      size_t eq = set.find('=');
+      params.setText(set.substr(0, eq), set.substr(eq + 1));
+    }
+    for (int i = 0; i < t->stageCount(); ++i)
+      if (t->stage(i).iterations(params) > 1) {
+        std::string id = entry.id, stage = t->stage(i).id();
+        std::string name = id + "_" + stage;
+        std::replace(name.begin(), name.end(), '-', '_');
+        ::testing::RegisterTest("Iterations", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
+                                [=]() -> ::testing::Test* { return new IterationTest(id, stage); });
       }
   }
 }

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "graph/technique.h"
+#include "app/session.h"
 #include "inspect/inspect_logic.h"
 #include "lesson/lesson.h"
 
@@ -89,7 +90,7 @@ TEST(Script, ParsesVerbsCommentsAndEnvironment) {
   EXPECT_EQ(a[1].line, 4);
   EXPECT_EQ(a[2].args.at(0), "/tmp/x/a.png");
   EXPECT_EQ(errorOf([] { parseScript("stage\n", "s.txt"); }).rfind("s.txt:1: wrong arguments; usage: stage ID", 0), 0u);
-  EXPECT_EQ(errorOf([] { parseScript("run\nfly away\n", "s.txt"); }).rfind("s.txt:2: unknown action 'fly'", 0), 0u);
+  EXPECT_EQ(errorOf([] { parseScript("run\nsoar away\n", "s.txt"); }).rfind("s.txt:2: unknown action 'soar'", 0), 0u);
   EXPECT_NE(errorOf([] { parseScript("lesson ${VOXLAB_NOT_SET_ANYWHERE}\n", "s.txt"); }).find("VOXLAB_NOT_SET_ANYWHERE is not set"),
             std::string::npos);
 }
@@ -104,6 +105,87 @@ TEST(Reproduce, ListsOnlyChangedParameters) {
   EXPECT_EQ(reproduceCommand("vct-grid", "my scene.gltf", p, d, 640, 360, 1, "mipmap"),
             "voxlab run --technique vct-grid --scene 'my scene.gltf' --set cone.count=4 --set mipmap.mode=anisotropic "
             "--size 640x360 --camera 1 --until mipmap --out out");
+  Camera c;
+  c.position = {0.25f, 1.0f, 3.5f};
+  c.forward = glm::normalize(glm::vec3(0.0f, 0.0f, -1.0f));
+  EXPECT_EQ(reproduceCommand("vct-grid", "cornell-box", d, d, 512, 512, 0, "", "o", &c),
+            "voxlab run --technique vct-grid --scene cornell-box --size 512x512 --look-from 0.25,1,3.5 "
+            "--look-at 0.25,1,2.5 --out o");
+}
+
+// The free camera a copied command names must be the camera the viewer used: rebuilt from the
+// Cornell box camera's position and a point one metre along its view, it matches to float precision.
+TEST(Reproduce, FreeCameraRebuildsTheSceneCamera) {
+  Scene scene = loadScene(resolveScenePath("cornell-box"));
+  const Camera& c = scene.cameras.at(0);
+  RunRequest r;
+  r.lookFrom = c.position;
+  r.lookAt = c.position + c.forward;
+  Camera f = requestCamera(scene, r);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(f.position[i], c.position[i], 1e-6f);
+    EXPECT_NEAR(f.forward[i], c.forward[i], 1e-6f);
+    EXPECT_NEAR(f.up[i], c.up[i], 1e-6f);
+  }
+  EXPECT_EQ(f.yfov, c.yfov);
+  r.lookAt = c.position;
+  EXPECT_THROW(requestCamera(scene, r), Error);
+}
+
+// Orbit keeps the distance to the target and looks at it; look turns about the eye; fly moves
+// along the camera's own axes; neither rolls the camera (up stays in the forward/+y plane).
+TEST(CameraMoves, OrbitLookFly) {
+  Camera c;
+  c.position = {0.0f, 1.0f, 4.0f};
+  c.forward = {0.0f, 0.0f, -1.0f};
+  const glm::vec3 target(0.0f, 1.0f, 0.0f);
+  Camera o = orbitCamera(c, target, 90.0f, 0.0f);
+  EXPECT_NEAR(glm::length(o.position - target), 4.0f, 1e-5f);
+  EXPECT_NEAR(glm::dot(o.forward, glm::normalize(target - o.position)), 1.0f, 1e-5f);
+  EXPECT_NEAR(std::abs(o.position.x), 4.0f, 1e-4f);  // a quarter turn about +y
+  Camera o4 = c;
+  for (int i = 0; i < 4; ++i) o4 = orbitCamera(o4, target, 90.0f, 0.0f);
+  EXPECT_NEAR(glm::length(o4.position - c.position), 0.0f, 1e-4f);
+  Camera up = orbitCamera(c, target, 0.0f, 200.0f);  // clamped at 85 degrees
+  EXPECT_NEAR(std::asin(-up.forward.y), glm::radians(85.0f), 1e-4f);
+  EXPECT_NEAR(glm::length(up.position - target), 4.0f, 1e-5f);
+  // A camera looking past the target turns rigidly: there and back again is where it started.
+  Camera off = lookCamera(c, 20.0f, -10.0f);
+  Camera back = orbitCamera(orbitCamera(off, target, 35.0f, 12.0f), target, 0.0f, -12.0f);
+  back = orbitCamera(back, target, -35.0f, 0.0f);
+  EXPECT_NEAR(glm::length(back.position - off.position), 0.0f, 1e-4f);
+  EXPECT_NEAR(glm::length(back.forward - off.forward), 0.0f, 1e-4f);
+
+  Camera l = lookCamera(c, 0.0f, 30.0f);
+  EXPECT_EQ(l.position, c.position);
+  EXPECT_NEAR(l.forward.y, std::sin(glm::radians(30.0f)), 1e-5f);
+  EXPECT_NEAR(glm::dot(glm::cross(l.forward, l.up), glm::vec3(0, 1, 0)), 0.0f, 1e-5f);  // no roll
+  Camera l2 = lookCamera(lookCamera(c, 40.0f, 0.0f), -40.0f, 0.0f);
+  EXPECT_NEAR(glm::length(l2.forward - c.forward), 0.0f, 1e-5f);
+
+  Camera f = flyCamera(c, 0.5f, 0.25f, 2.0f);
+  EXPECT_NEAR(glm::length(f.position - glm::vec3(0.5f, 1.25f, 2.0f)), 0.0f, 1e-5f);
+  EXPECT_EQ(f.forward, c.forward);
+}
+
+// An image is shown whole whatever slice axis the volume views left selected (a regression: images
+// were once shown as their x = 0 column); a volume's default slice is the middle one.
+TEST(Display, ImagesShowWholeVolumesTheirMiddleSlice) {
+  LevelData img;
+  img.size = {64, 32, 1};
+  img.channels = 4;
+  img.values.assign(64 * 32 * 4, 0.5f);
+  for (int axis = 0; axis < 3; ++axis) {
+    SliceImage s = mapSlice(img, Semantic::Color, sliceToShow(img, SliceSpec{axis, -1}), DisplaySettings{});
+    EXPECT_EQ(s.width, 64) << "axis " << axis;
+    EXPECT_EQ(s.height, 32) << "axis " << axis;
+  }
+  LevelData vol;
+  vol.size = {8, 16, 4};
+  EXPECT_EQ(sliceToShow(vol, SliceSpec{0, -1}).index, 4);
+  EXPECT_EQ(sliceToShow(vol, SliceSpec{1, -1}).index, 8);
+  EXPECT_EQ(sliceToShow(vol, SliceSpec{2, -1}).index, 2);
+  EXPECT_EQ(sliceToShow(vol, SliceSpec{2, 3}).index, 3);
 }
 
 TEST(Display, SlicesVolumesAlongEachAxis) {

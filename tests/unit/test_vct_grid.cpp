@@ -117,6 +117,33 @@ TEST(VctGridMipmap, EveryTexelIsTheAverageOfItsChildren) {
   EXPECT_GT(nonEmptyParents, 100u);
 }
 
+// Stepping the mipmap stage builds one level per iteration: after iteration k, levels 0..k+1 of
+// the grid (and 0..k of each anisotropic volume, whose level 0 is hierarchy level 1) have content
+// and every coarser level is still empty.
+TEST(VctGridMipmap, EachIterationBuildsTheNextLevel) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=32", "mipmap.mode=anisotropic"}, "mipmap"));
+  StepCursor& c = s.cursor();
+  const int stage = c.technique().stageIndex("mipmap");
+  ASSERT_EQ(c.iterations(stage), 5);  // 32 -> 16, 8, 4, 2, 1
+  c.invalidate(stage);
+  auto nonEmpty = [](const LevelData& L) {
+    size_t n = 0;
+    for (size_t i = 0; i < L.values.size(); i += 4) n += L.values[i + 3] > 0.0f;
+    return n;
+  };
+  for (int k = 0; k < 5; ++k) {
+    c.runIteration(stage);
+    CapturedOutput grid = capture(s, "mipmap", "radiance");
+    CapturedOutput posX = capture(s, "mipmap", "radiance-dir+x");
+    ASSERT_EQ(grid.levels.size(), 6u);
+    for (int l = 0; l < 6; ++l)
+      EXPECT_EQ(nonEmpty(grid.levels[l]) > 0, l <= k + 1) << "iteration " << k << ", level " << l;
+    for (int l = 0; l < int(posX.levels.size()); ++l)
+      EXPECT_EQ(nonEmpty(posX.levels[l]) > 0, l <= k) << "iteration " << k << ", anisotropic level " << l;
+  }
+  EXPECT_EQ(c.record(stage).state, StageState::Done);
+}
+
 TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
   const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
   auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),

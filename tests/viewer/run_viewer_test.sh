@@ -6,15 +6,30 @@ exe="$1"; script="$2"; out="$3"
 command -v xvfb-run >/dev/null 2>&1 || { echo "xvfb-run not found: skipping"; exit 77; }
 rm -rf "$out"
 mkdir -p "$out"
-export VOXLAB_VIEWER_OUT="$out"
-export VOXLAB_VIEWER_RUN="$out/run"
-# inject averages fragments into RGBA8 voxels with an atomic moving average whose order llvmpipe
-# does not fix (work is split across threads dynamically), so two runs differ by one 8-bit step in a
-# few voxels: measured max abs 0.00392 (= 1/255) on inject, occlusion-fix, mipmap levels 0-2 and
-# composite/final, 0.0004 on cone-trace (fp16 storage), 0 on voxelize, shadow-map and gbuffer.
-# The outputs downstream of inject are compared with 1/255 + a margin; the rest exactly.
-export VOXLAB_INJECT_TOLERANCE="${VOXLAB_INJECT_TOLERANCE:-0.0040}"
+view() { xvfb-run -a -s "-screen 0 1600x900x24" "$exe" view --script "$script"; }
 case "$script" in
-  *walk_stages*) "$exe" run --technique vct-grid --scene cornell-box --out "$out/run" ;;
+  *walk_stages*)
+    # Every technique `voxlab list` names: `voxlab run` writes every output, the viewer walks it.
+    for t in $("$exe" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))'); do
+      echo "== walking $t"
+      export VOXLAB_WALK_TECHNIQUE="$t" VOXLAB_VIEWER_OUT="$out/$t" VOXLAB_VIEWER_RUN="$out/$t/run"
+      mkdir -p "$VOXLAB_VIEWER_OUT"
+      "$exe" run --technique "$t" --scene cornell-box --out "$VOXLAB_VIEWER_RUN" >/dev/null
+      view
+    done ;;
+  *camera_overlay*)
+    export VOXLAB_VIEWER_OUT="$out"
+    view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }
+    cat "$out/log.txt"
+    # Run the copied command (free camera after fly/look) and compare its final image with the
+    # viewer's: the camera goes through text with 7 significant digits, so allow what that moves
+    # (measured RMSE 0 to 2e-4 on the tonemapped RGBA8 image).
+    cmd=$(sed -n 's/^command: voxlab run \(.*\) --out out$/\1/p' "$out/log.txt" | head -n 1)
+    [ -n "$cmd" ] || { echo "no copied command in the viewer's output"; exit 1; }
+    case "$cmd" in *--look-from*) ;; *) echo "copied command has no free camera: $cmd"; exit 1 ;; esac
+    eval "\"$exe\" run $cmd --only vct-grid/composite/final --out \"$out/reproduced\"" >/dev/null
+    "$exe" compare "$out/view/composite.final.exr" "$out/reproduced/composite.final.exr" --fail-above rmse=0.002 ;;
+  *)
+    export VOXLAB_VIEWER_OUT="$out"
+    view ;;
 esac
-exec xvfb-run -a -s "-screen 0 1600x900x24" "$exe" view --script "$script"

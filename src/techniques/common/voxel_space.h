@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include "gpu/gl.h"
+#include "graph/blackboard.h"
 #include "graph/output.h"
 #include "scene/scene.h"
 
@@ -21,6 +22,7 @@ struct VoxelSpace {
   float edge() const { return voxelSize * float(resolution); }
   glm::vec3 toVoxel(const glm::vec3& world) const { return (world - origin) / voxelSize; }
   void setUniforms(GLuint program) const;  // u_volumeOrigin, u_voxelSize, u_resolution
+  WorldBox box() const { return {origin, origin + glm::vec3(edge())}; }
 };
 
 class Blackboard;

@@ -36,6 +36,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const bool conservative = ctx.params.getBool("voxelize.conservative");
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  ctx.board.setVoxelSpace(space.box());  // every later volume of the technique sits in this box
 
   GLuint program = ctx.shaders.program(
       {"common/world.vert.glsl", "vct_grid/voxelize.geom.glsl", "vct_grid/voxelize.frag.glsl"});

@@ -117,49 +117,61 @@ void MipmapStage::declare(StageBuilder& b) const {
                  " (one voxel, empty, when mipmap.mode is isotropic)");
 }
 
+// One iteration per level: iteration k builds level k+1 of the grid from level k (and, with
+// anisotropic mips, level k of the six directional volumes, whose level 0 is level 1 of the
+// hierarchy). Iteration 0 also copies the voxels into level 0 and clears the coarser levels, so a
+// stepped run shows exactly the levels built so far.
+int MipmapStage::iterations(const ParamSet& params) const {
+  int res = params.getInt("voxel.resolution"), levels = 0;
+  while (res > 1) res >>= 1, ++levels;
+  return std::max(levels, 1);
+}
+
 void MipmapStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  Texture& src = ctx.board.texture("radiance-opaque");
-  Texture& grid = ctx.board.ensureTexture("radiance", radianceGridDesc(res, 0));
-  glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, grid.id(), GL_TEXTURE_3D, 0, 0, 0, 0, res, res, res);
-  GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"});
-  glUseProgram(program);
-  glBindTextureUnit(0, grid.id());
-  for (int level = 1; level < grid.levels(); ++level) {
-    setUniform(program, "u_sourceLevel", level - 1);
-    glBindImageTexture(0, grid.id(), level, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    dispatchCompute(grid.levelSize(level), {4, 4, 4});
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  }
-  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-  ctx.stats["levels"] = grid.levels();
-  double bytes = double(grid.byteSize());
-
-  // Anisotropic volumes: level 0 of each is level 1 of the hierarchy. In isotropic mode they are
-  // one empty voxel each, so the outputs exist but cost nothing.
   const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
   const int half = anisotropic ? std::max(res / 2, 1) : 1;
+  const int k = ctx.iteration;
+  const uint8_t zero[4] = {0, 0, 0, 0};
+  Texture& src = ctx.board.texture("radiance-opaque");
+  Texture& grid = ctx.board.ensureTexture("radiance", radianceGridDesc(res, 0));
   Texture* dirs[6];
-  for (int d = 0; d < 6; ++d) {
-    dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0));
-    const uint8_t zero[4] = {0, 0, 0, 0};
-    if (!anisotropic) glClearTexImage(dirs[d]->id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
-    bytes += double(dirs[d]->byteSize());
+  for (int d = 0; d < 6; ++d) dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0));
+  if (k == 0) {
+    glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, grid.id(), GL_TEXTURE_3D, 0, 0, 0, 0, res, res, res);
+    for (int level = 1; level < grid.levels(); ++level)
+      glClearTexImage(grid.id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    // In isotropic mode the directional volumes are one empty voxel each: the outputs exist but
+    // cost nothing.
+    for (int d = 0; d < 6; ++d)
+      for (int level = 0; level < dirs[d]->levels(); ++level)
+        glClearTexImage(dirs[d]->id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   }
-  if (anisotropic) {
+
+  if (k + 1 < grid.levels()) {
+    GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"});
+    glUseProgram(program);
+    glBindTextureUnit(0, grid.id());
+    setUniform(program, "u_sourceLevel", k);
+    glBindImageTexture(0, grid.id(), k + 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute(grid.levelSize(k + 1), {4, 4, 4});
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  }
+  if (anisotropic && k < dirs[0]->levels()) {
     GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"});
     glUseProgram(aniso);
     glBindTextureUnit(0, src.id());
     for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
-    for (int level = 0; level < dirs[0]->levels(); ++level) {
-      setUniform(aniso, "u_fromIsotropic", level == 0 ? 1 : 0);
-      setUniform(aniso, "u_sourceLevel", std::max(level - 1, 0));
-      for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), level, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-      dispatchCompute(dirs[0]->levelSize(level), {4, 4, 4});
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    }
-    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    setUniform(aniso, "u_fromIsotropic", k == 0 ? 1 : 0);
+    setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
+    for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute(dirs[0]->levelSize(k), {4, 4, 4});
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
+  double bytes = double(grid.byteSize());
+  for (auto* d : dirs) bytes += double(d->byteSize());
+  ctx.stats["levels"] = grid.levels();
+  ctx.stats["levels_built"] = std::min(k + 2, grid.levels());
   ctx.stats["anisotropic"] = anisotropic ? 1 : 0;
   ctx.stats["bytes"] = bytes;
 }

@@ -37,9 +37,10 @@ class MipmapStage : public Stage {
   const char* title() const override { return "Prefilter the grid into mip levels"; }
   const char* summary() const override {
     return "Average each 2x2x2 block into the next level (our own compute pass per level), so a wide cone "
-           "can read a whole region in one sample.";
+           "can read a whole region in one sample. One iteration per level: step them to watch the pyramid grow.";
   }
   void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
   void execute(StageContext& ctx) override;
 };
 

@@ -70,6 +70,7 @@ void ClassifyStage::execute(StageContext& ctx) {
   checkPackableResolution(res);
   const Method method = methodOf(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  ctx.board.setVoxelSpace(space.box());  // every later volume of the technique sits in this box
   const size_t triangles = ctx.scene.triangleCount();
 
   // Material index per triangle (bits 0-23); the shader adds the class bit.

@@ -1,0 +1,61 @@
+// SceneOverlay: draws inspection geometry over a camera image of the technique (the final render,
+// the G-buffer, any image a stage renders from the view): the voxels of a volume level as cubes and
+// the volume's world bounds, with the same camera, into a transparent texture of the image's size
+// that the viewer lays over the image. The scene's own triangles fill the depth buffer first, so
+// voxels behind surfaces stay hidden (optional: "x-ray" shows them all).
+//
+// Everything is in world units; the viewer builds the cubes from a captured volume and its
+// WorldBox (Blackboard::placementOf), so any technique's volumes can be overlaid.
+#pragma once
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gpu/resources.h"
+#include "graph/blackboard.h"
+#include "inspect/view3d.h"
+
+namespace voxlab {
+
+class GpuScene;
+class ShaderLibrary;
+
+// Cubes for the non-empty texels of a display-mapped volume (alpha > 0) whose texel (0,0,0) has its
+// minimum corner at 'origin' and whose texels measure 'texel'; faces shared with a non-empty
+// neighbour are left out (the face mask in ViewInstance::color.a). Returns no cubes when there are
+// more than 'limit' non-empty texels; 'candidates' is their count either way.
+std::vector<ViewInstance> volumeCubes(const VolumeRGBA& volume, glm::vec3 origin, glm::vec3 texel, size_t limit,
+                                      size_t& candidates);
+
+class SceneOverlay {
+ public:
+  explicit SceneOverlay(ShaderLibrary& shaders);
+
+  void setCubes(const std::vector<ViewInstance>& cubes);  // world units; empty = no voxels
+  void setBox(const std::optional<WorldBox>& box) { box_ = box; }
+
+  struct Options {
+    bool voxels = true;
+    bool bounds = true;
+    bool xray = false;    // voxels behind the scene's surfaces stay visible
+    float opacity = 0.6f;  // of the voxel faces over the image
+  };
+  // Renders at width x height with the camera's view-projection; returns milliseconds (glFinish).
+  double render(int width, int height, const glm::mat4& viewProj, const GpuScene& scene, const Options& options);
+  GLuint texture() const { return color_.id(); }
+  size_t cubeCount() const { return cubeCount_; }
+  // Pixels with any overlay content (alpha > 0) in the last render; reads the texture back.
+  size_t coveredPixels() const;
+
+ private:
+  ShaderLibrary& shaders_;
+  Texture color_, depth_;
+  Framebuffer fbo_;
+  VertexArray emptyVao_;
+  Buffer cubes_;
+  size_t cubeCount_ = 0;
+  std::optional<WorldBox> box_;
+  int width_ = 0, height_ = 0;
+};
+
+}  // namespace voxlab
