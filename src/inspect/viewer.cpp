@@ -207,6 +207,7 @@ class Viewer {
 
   Lesson lesson_;
   int lessonStep_ = -1;
+  int lessonIterations_ = 0;  // iterations the current lesson step wants of its stage (0 = run it)
 
   std::vector<ScriptAction> script_;
   size_t pc_ = 0;
@@ -231,6 +232,7 @@ class Viewer {
   std::string info3d_, msg3d_;
   std::vector<double> render3dMs_;
   bool dragging3d_ = false;
+  bool scriptDragging_ = false;  // view-dragging on: render as while the mouse drags
 };
 
 // --- Construction ------------------------------------------------------------------------------
@@ -439,6 +441,21 @@ void Viewer::applyLessonStep(int i) {
   level_ = s.level;
   if (lessonStep_ < 0) wantTab_ = "lesson";
   lessonStep_ = i;
+  lessonIterations_ = 0;
+  overlayOpt_.bounds = s.bounds;
+  overlayOpt_.voxels = !s.overlay.empty();
+  if (!s.overlay.empty()) {
+    size_t at = s.overlay.find('@');
+    overlayVolume_ = s.overlay.substr(0, at);
+    overlayLevel_ = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
+  }
+  if (s.iterations > 0) {
+    // Stop the stage after that many iterations: run what comes before, then step it.
+    cursor_->invalidate(selected_);
+    lessonIterations_ = s.iterations;
+    stepIteration();
+    return;
+  }
   lastRunRequest_ = selected_;
   requestRun(selected_);
 }
@@ -489,6 +506,8 @@ bool Viewer::runPendingStage() {
     } else {
       int k = cursor_->runIteration(target);
       iterateStage_ = -1;
+      if (k + 1 < lessonIterations_) iterateStage_ = target;  // a lesson step wants more of them
+      else lessonIterations_ = 0;
       status_ = std::string(cursor_->technique().stage(target).id()) + ": iteration " + std::to_string(k + 1) + " of " +
                 std::to_string(cursor_->record(target).iterationsTotal);
     }
@@ -1259,12 +1278,16 @@ bool Viewer::update3D() {
   }
   // While dragging, render a quarter of the pixels: the ray march costs per pixel (level 0 of a
   // 128^3 grid took 140-250 ms at 384^2 on llvmpipe); the full size follows on release.
-  const int size = dragging3d_ ? View3D::kSize / 2 : View3D::kSize;
-  double rkey[6] = {double(viewMode_), orbit3d_.yaw, orbit3d_.pitch, orbit3d_.distance, double(orbit3d_.radius), double(size)};
+  // Cubes cost per cube in the vertex shader (one thread on llvmpipe: 0.5-0.7 s for 100k), so a
+  // drag shows the ray-marched view of the same texels and the cubes come back on release.
+  const bool dragging = dragging3d_ || scriptDragging_;
+  const int size = dragging ? View3D::kSize / 2 : View3D::kSize;
+  const ViewMode mode = dragging && viewMode_ == ViewMode::Cubes ? ViewMode::Volume : viewMode_;
+  double rkey[6] = {double(mode), orbit3d_.yaw, orbit3d_.pitch, orbit3d_.distance, double(orbit3d_.radius), double(size)};
   if (rebuilt || !std::equal(rkey, rkey + 6, render3dKey_)) {
     std::copy(rkey, rkey + 6, render3dKey_);
     try {
-      render3dMs_.push_back(view3d_->render(viewMode_, orbit3d_, size));
+      render3dMs_.push_back(view3d_->render(mode, orbit3d_, size));
     } catch (const ShaderError& e) {
       shaderError_ = e.what();
       if (scripted_) throw;
@@ -1870,6 +1893,9 @@ void Viewer::execute(const ScriptAction& a) {
       if (capError_.empty() && !has3DView(cap_.desc))
         scriptFail(a, "output " + cap_.desc.name + " (" + kindName(cap_.desc.kind) + ") has no 3D view");
     }
+  } else if (v == "view-dragging") {
+    if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
+    scriptDragging_ = arg(0) == "on";
   } else if (v == "view-orbit") {
     orbit3d_.rotate(floatArg(0), floatArg(1));
   } else if (v == "expect-view-nonempty") {

@@ -59,6 +59,17 @@ void validateStep(LessonStep& step, const std::string& where, bool checkScenes) 
     }
   }
   if (step.level < 0) fail("level must be 0 or more, got " + std::to_string(step.level));
+  if (!step.overlay.empty()) {
+    try {
+      OutputAddress a = OutputAddress::parse(step.technique + "/" + step.overlay);
+      auto [stage, desc] = t->findOutput(a.stage, a.output);
+      (void)stage;
+      if (desc->kind != OutputKind::Volume3D)
+        fail("overlay " + step.overlay + " is a " + kindName(desc->kind) + "; overlays show volumes (volume3d outputs)");
+    } catch (const Error& e) {
+      fail(std::string("overlay: ") + e.what());
+    }
+  }
   if (step.camera < 0) fail("camera must be 0 or more, got " + std::to_string(step.camera));
   ParamSet params = t->defaultParams();
   for (const auto& [name, value] : step.sets) {
@@ -67,6 +78,12 @@ void validateStep(LessonStep& step, const std::string& where, bool checkScenes) 
     } catch (const Error& e) {
       fail(e.what());
     }
+  }
+  if (step.iterations != 0) {
+    int n = t->stage(index).iterations(params);
+    if (n <= 1) fail("iterations: stage " + step.stage + " is not iterative");
+    if (step.iterations < 1 || step.iterations > n)
+      fail("iterations must be 1.." + std::to_string(n) + " for " + step.stage + ", got " + std::to_string(step.iterations));
   }
   if (checkScenes) {
     try {
@@ -110,13 +127,14 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         step.line = blockLine;
         step.narrative = trim(narrative);
         narrative.clear();
-        static const char* known[] = {"technique", "scene", "stage", "output", "level", "camera", "set"};
+        static const char* known[] = {"technique", "scene", "stage",      "output",  "level",
+                                      "camera",    "set",   "iterations", "overlay", "bounds"};
         for (auto it = j.begin(); it != j.end(); ++it) {
           bool ok = false;
           for (const char* k : known) ok = ok || it.key() == k;
           if (!ok)
             throw Error(where + ": unknown key '" + it.key() +
-                        "'; valid keys: technique, scene, stage, output, level, camera, set");
+                        "'; valid keys: technique, scene, stage, output, level, camera, set, iterations, overlay, bounds");
         }
         auto str = [&](const char* key, std::string& out) {
           if (!j.contains(key)) return;
@@ -138,6 +156,12 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         str("output", step.output);
         num("level", step.level);
         num("camera", step.camera);
+        num("iterations", step.iterations);
+        str("overlay", step.overlay);
+        if (j.contains("bounds")) {
+          if (!j["bounds"].is_boolean()) throw Error(where + ": 'bounds' must be true or false");
+          step.bounds = j["bounds"].get<bool>();
+        }
         if (j.contains("set")) {
           if (!j["set"].is_object()) throw Error(where + ": 'set' must be an object of name: value");
           for (auto it = j["set"].begin(); it != j["set"].end(); ++it) {

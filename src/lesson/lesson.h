@@ -11,7 +11,9 @@
 // its own block. A step's state is absolute: the technique's default parameters plus its "set",
 // so steps can be replayed in any order. Only "stage" is required; "technique" and "scene" carry
 // over from the previous step (the first step needs "technique"; "scene" defaults to
-// cornell-box). Validation runs against the technique registry: an unknown technique, stage,
+// cornell-box). Optional: "iterations": N stops an iterative stage after N iterations (a partly
+// built pyramid); "overlay": "stage/output@level" lays that volume level's voxels over camera
+// images, "bounds": true the volume's box. Validation runs against the technique registry: an unknown technique, stage,
 // output or parameter, or a bad value, is an Error naming "file:line".
 #pragma once
 #include <map>
@@ -30,6 +32,9 @@ struct LessonStep {
   int level = 0;
   int camera = 0;
   std::vector<std::pair<std::string, std::string>> sets;  // name, value (in file order)
+  int iterations = 0;           // > 0: run only this many iterations of an iterative stage
+  std::string overlay;          // "stage/output@level": that volume's voxels over camera images
+  bool bounds = false;          // the voxel volume's bounds over camera images
 };
 
 struct Lesson {

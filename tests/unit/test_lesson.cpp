@@ -74,6 +74,17 @@ TEST(Lesson, ErrorsNameFileAndLine) {
             std::string::npos);
   EXPECT_NE(bad("{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"colour\":1}").find("unknown key 'colour'"),
             std::string::npos);
+  // Iterations only on iterative stages and within their count (mipmap at 128^3: 7 levels to build).
+  std::string it = bad("{\"technique\":\"vct-grid\",\"stage\":\"gbuffer\",\"iterations\":2}");
+  EXPECT_NE(it.find("l.md:3: iterations: stage gbuffer is not iterative"), std::string::npos) << it;
+  it = bad("{\"technique\":\"vct-grid\",\"stage\":\"mipmap\",\"iterations\":8}");
+  EXPECT_NE(it.find("iterations must be 1..7 for mipmap, got 8"), std::string::npos) << it;
+  // Overlays name a volume output, with an optional level.
+  std::string ov = bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"overlay\":\"gbuffer/normal@0\"}");
+  EXPECT_NE(ov.find("overlay gbuffer/normal@0 is a image2d; overlays show volumes"), std::string::npos) << ov;
+  ov = bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"overlay\":\"mipmap/glow\"}");
+  EXPECT_NE(ov.find("overlay: vct-grid/mipmap has no output 'glow'"), std::string::npos) << ov;
+  EXPECT_EQ(bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"overlay\":\"mipmap/radiance@2\",\"bounds\":true}"), "");
   // A JSON syntax error names the line inside the block.
   std::string j = errorOf([] { parseLesson("a\n```voxlab-step\n{\"technique\": \"vct-grid\",\n \"stage\" \"x\"}\n```\n", "j.md"); });
   EXPECT_EQ(j.rfind("j.md:4:", 0), 0u) << j;
