@@ -30,10 +30,12 @@ uniform float u_aoRange;                 // metres
 uniform vec3 u_cameraPos;
 uniform ivec2 u_probePixel;              // pixel (of the traced image) whose samples are recorded
 uniform int u_scale;                     // 1: one cone set per G-buffer pixel; 2: per 2x2 block
+uniform int u_firstRow;                  // the stage traces the image in bands of rows [u_firstRow,
+uniform int u_endRow;                    // u_endRow), one band per iteration
 
 void main() {
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, u_firstRow);
+  if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse))) || px.y >= u_endRow) return;
   // At half resolution each traced pixel shades the top-left G-buffer pixel of its 2x2 block;
   // composite upsamples with weights that respect depth and normal edges.
   ivec2 g = min(px * u_scale, textureSize(u_position, 0) - 1);

@@ -501,7 +501,9 @@ bool Viewer::runPendingStage() {
   }
   const int ran = next >= 0 ? next : target;
   try {
-    if (next >= 0) {
+    if (next >= 0 && cursor_->iterations(next) > 1) {
+      cursor_->runIteration(next);  // iterative stages one iteration per frame: the timeline shows progress
+    } else if (next >= 0) {
       cursor_->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
     } else {
       int k = cursor_->runIteration(target);

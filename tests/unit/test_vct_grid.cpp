@@ -144,6 +144,29 @@ TEST(VctGridMipmap, EachIterationBuildsTheNextLevel) {
   EXPECT_EQ(c.record(stage).state, StageState::Done);
 }
 
+// Cone tracing runs in four bands of rows, top of the image first: after the first iteration the
+// top quarter has indirect light and everything below it is still zero.
+TEST(VctGridConeTrace, FirstIterationTracesTheTopBand) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=64"}, "cone-trace"));
+  StepCursor& c = s.cursor();
+  const int stage = c.technique().stageIndex("cone-trace");
+  ASSERT_EQ(c.iterations(stage), 4);
+  c.invalidate(stage);
+  c.runIteration(stage);
+  EXPECT_EQ(c.record(stage).state, StageState::Partial);
+  const LevelData L = capture(s, "cone-trace", "indirect-diffuse").levels.at(0);
+  const int band = L.size.y / 4;  // 64 traced rows at 128x128 (half resolution): 16 per band
+  size_t lit = 0, below = 0;
+  for (int y = 0; y < L.size.y; ++y)
+    for (int x = 0; x < L.size.x; ++x) {
+      bool nonzero = L.at(x, y, 0, 0) + L.at(x, y, 0, 1) + L.at(x, y, 0, 2) > 0.0f;
+      (y >= L.size.y - band ? lit : below) += nonzero;  // GL rows: the top band is the last
+    }
+  EXPECT_GT(lit, size_t(L.size.x) * band / 2);
+  EXPECT_EQ(below, 0u);
+  c.runAll();
+}
+
 TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
   const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
   auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),

@@ -140,11 +140,20 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, ctx.params, GL_R16F));
-  glm::ivec3 traced = indirect.desc().size;
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
-  const uint32_t zero = 0;
-  sampleCount.upload(&zero, 4);
+  glm::ivec3 traced = indirect.desc().size;
+  // Bands of rows (a multiple of the 8-row work group), top of the image first as a reader scans.
+  const int bandRows = (traced.y + kBands * 8 - 1) / (kBands * 8) * 8;
+  const int firstRow = std::max(traced.y - (ctx.iteration + 1) * bandRows, 0);
+  const int rows = traced.y - ctx.iteration * bandRows - firstRow;
+  if (ctx.iteration == 0) {
+    // Start empty, so a stepped run shows exactly the bands traced so far.
+    const uint32_t zero = 0;
+    sampleCount.upload(&zero, 4);
+    const float none[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (Texture* t : {&indirect, &specular, &ao, &shadow}) glClearTexImage(t->id(), 0, GL_RGBA, GL_FLOAT, none);
+  }
 
   float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
   auto cones = diffuseCones(ctx.params.getInt("cone.count"), aperture, ctx.params.getChoice("cone.layout"),
@@ -186,7 +195,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   glBindImageTexture(3, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-  dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  setUniform(program, "u_firstRow", firstRow);
+  setUniform(program, "u_endRow", firstRow + rows);
+  if (rows > 0) dispatchCompute({traced.x, rows, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   ctx.stats["diffuse_cones"] = double(cones.size());
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;

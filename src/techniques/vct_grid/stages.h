@@ -61,9 +61,12 @@ class ConeTraceStage : public Stage {
   const char* title() const override { return "Trace cones through the voxels"; }
   const char* summary() const override {
     return "Per pixel, march diffuse cones around the normal, a specular cone along the reflection and a "
-           "shadow cone toward the light, sampling coarser mip levels as each cone widens.";
+           "shadow cone toward the light, sampling coarser mip levels as each cone widens. Traced in "
+           "four bands of rows, one per iteration, so the viewer shows progress.";
   }
+  static constexpr int kBands = 4;
   void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet&) const override { return kBands; }
   void execute(StageContext& ctx) override;
 };
 
