@@ -392,6 +392,7 @@ const VerbSpec kVerbs[] = {
     {"lesson-next", 0, 0, "lesson-next"},
     {"lesson-prev", 0, 0, "lesson-prev"},
     {"lesson-end", 0, 0, "lesson-end (play every remaining step, running each)"},
+    {"save-view", 1, 1, "save-view PATH.png (what the view shows: the image with its overlay, or the 3D view; as Save view PNG)"},
     {"screenshot", 1, 1, "screenshot PATH.png (the window's back buffer)"},
     {"save-output", 1, 1, "save-output DIR (selected output, files named as voxlab run names them)"},
     {"compare-output", 2, 3, "compare-output VIEW_DIR RUN_DIR [TOLERANCE] (EXR/bin of the selected output saved by save-output vs voxlab run)"},

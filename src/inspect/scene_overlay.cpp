@@ -139,11 +139,16 @@ double SceneOverlay::render(int width, int height, const glm::mat4& viewProj, co
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-size_t SceneOverlay::coveredPixels() const {
-  if (width_ == 0) return 0;
+std::vector<uint8_t> SceneOverlay::readPixels() const {
   std::vector<uint8_t> px(size_t(width_) * height_ * 4);
+  if (px.empty()) return px;
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glGetTextureImage(color_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(px.size()), px.data());
+  return px;
+}
+
+size_t SceneOverlay::coveredPixels() const {
+  std::vector<uint8_t> px = readPixels();
   size_t n = 0;
   for (size_t i = 3; i < px.size(); i += 4) n += px[i] != 0;
   return n;

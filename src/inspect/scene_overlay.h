@@ -46,6 +46,7 @@ class SceneOverlay {
   size_t cubeCount() const { return cubeCount_; }
   // Pixels with any overlay content (alpha > 0) in the last render; reads the texture back.
   size_t coveredPixels() const;
+  std::vector<uint8_t> readPixels() const;  // RGBA8 of the last render, bottom row first
 
  private:
   ShaderLibrary& shaders_;

@@ -145,6 +145,8 @@ class Viewer {
   void drawExport();
   void handleKeys();
   void takeScreenshot(const std::string& path);
+  // What the view panel shows: the 3D view, or the image with its overlay blended in.
+  DisplayImage viewportImage() const;
 
   // --- script ---
   bool scriptBusy() const {
@@ -606,6 +608,35 @@ void Viewer::takeScreenshot(const std::string& path) {
   fs::path p(path);
   if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
   writePng(img, path);
+}
+
+DisplayImage Viewer::viewportImage() const {
+  DisplayImage img;
+  if (viewMode_ != ViewMode::Slice && view3d_ && has3DView(cap_.desc)) {
+    std::vector<uint8_t> px = view3d_->readPixels();  // kSize^2, bottom row first; the render fills a corner
+    int n = view3d_->lastSize();
+    img.width = img.height = n;
+    for (int y = n - 1; y >= 0; --y)
+      for (int x = 0; x < n; ++x)
+        img.rgb.insert(img.rgb.end(), &px[(size_t(y) * View3D::kSize + x) * 4], &px[(size_t(y) * View3D::kSize + x) * 4] + 3);
+    return img;
+  }
+  img.width = viewImage_.width;
+  img.height = viewImage_.height;
+  std::vector<uint8_t> over;
+  if (overlay_ && !overlayKey_.empty() && isCameraImage(selected_, cap_)) over = overlay_->readPixels();
+  const bool blend = over.size() == size_t(img.width) * img.height * 4;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const uint8_t* p = &viewImage_.rgba[(size_t(y) * img.width + x) * 4];
+      const uint8_t* o = blend ? &over[(size_t(img.height - 1 - y) * img.width + x) * 4] : nullptr;
+      for (int c = 0; c < 3; ++c) {
+        float v = p[c];
+        if (o) v = v + (o[c] - v) * (o[3] / 255.0f);  // as ImGui draws it: source alpha over the image
+        img.rgb.push_back(uint8_t(std::lround(v)));
+      }
+    }
+  return img;
 }
 
 int Viewer::loop() {
@@ -1635,13 +1666,9 @@ void Viewer::drawExport() {
   if (ImGui::Button("Save view PNG")) {
     std::error_code ec;
     fs::create_directories(dir, ec);
-    DisplayImage img;
-    img.width = viewImage_.width;
-    img.height = viewImage_.height;
-    for (size_t i = 0; i < viewImage_.rgba.size(); i += 4) img.rgb.insert(img.rgb.end(), &viewImage_.rgba[i], &viewImage_.rgba[i] + 3);
     std::string path = std::string(dir) + "/view.png";
     try {
-      writePng(img, path);
+      writePng(viewportImage(), path);
       status_ = "saved " + path;
     } catch (const Error& e) {
       status_ = e.what();
@@ -1794,6 +1821,16 @@ void Viewer::execute(const ScriptAction& a) {
                   lesson_.steps[lessonStep_].stage.c_str(), lesson_.steps[lessonStep_].output.c_str());
       --pc_;  // repeat this action after the step has run
     }
+  } else if (v == "save-view") {
+    refreshCapture();
+    if (!capError_.empty()) scriptFail(a, capError_);
+    if (viewMode_ != ViewMode::Slice) update3D();
+    else if (isCameraImage(selected_, cap_)) updateOverlay();
+    fs::path p(arg(0));
+    std::error_code ec;
+    if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
+    writePng(viewportImage(), arg(0));
+    std::printf("saved view %s\n", arg(0).c_str());
   } else if (v == "screenshot") {
     pendingScreenshot_ = arg(0);
     screenshotDelay_ = 2;  // let ImGui settle one frame after the last change
