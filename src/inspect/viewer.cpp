@@ -263,7 +263,16 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   sceneName_ = o.scene;
   std::snprintf(scenePath_, sizeof scenePath_, "%s", o.scene.c_str());
   switchTechnique(o.technique);
-  if (!lesson_.steps.empty()) applyLessonStep(0);
+  if (!lesson_.steps.empty()) {
+    applyLessonStep(0);
+  } else if (!scripted_) {
+    // A person opening the viewer sees the technique run, stage by stage, to its final image;
+    // scripts start from nothing run and drive every step themselves.
+    const int last = cursor_->stageCount() - 1;
+    selectStage(last);
+    lastRunRequest_ = last;
+    requestRun(last);
+  }
 }
 
 Viewer::~Viewer() {
