@@ -53,34 +53,8 @@ void SceneOverlay::setCubes(const std::vector<ViewInstance>& cubes) {
 double SceneOverlay::render(int width, int height, const glm::mat4& viewProj, const GpuScene& scene,
                             const Options& o) {
   auto t0 = std::chrono::steady_clock::now();
-  if (width != width_ || height != height_) {
-    TextureDesc c;
-    c.format = GL_RGBA8;
-    c.size = {width, height, 1};
-    c.minFilter = c.magFilter = GL_NEAREST;
-    color_ = Texture("viewer.overlay.color", c);
-    TextureDesc d = c;
-    d.format = GL_DEPTH_COMPONENT24;
-    depth_ = Texture("viewer.overlay.depth", d);
-    fbo_ = Framebuffer("viewer.overlay");
-    fbo_.attach(GL_COLOR_ATTACHMENT0, color_);
-    fbo_.attach(GL_DEPTH_ATTACHMENT, depth_);
-    fbo_.setDrawBuffers(1);
-    fbo_.checkComplete();
-    width_ = width, height_ = height;
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, width, height);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDepthMask(GL_TRUE);
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  if (width != target_.width || height != target_.height) target_.create("viewer.overlay", width, height, GL_NEAREST);
+  target_.begin(glm::vec4(0.0f), width, height);
 
   if (o.voxels && cubeCount_ > 0) {
     if (!o.xray) {
@@ -108,42 +82,18 @@ double SceneOverlay::render(int width, int height, const glm::mat4& viewProj, co
     // The 12 edges of the box, always on top.
     glDisable(GL_DEPTH_TEST);
     std::vector<ViewInstance> lines;
-    for (int e = 0; e < 12; ++e) {
-      int axis = e / 4, a = e % 4;
-      glm::vec3 p0, p1;
-      for (int k = 0, bit = 0; k < 3; ++k) {
-        if (k == axis) {
-          p0[k] = box_->lo[k], p1[k] = box_->hi[k];
-        } else {
-          p0[k] = p1[k] = ((a >> bit) & 1) ? box_->hi[k] : box_->lo[k];
-          ++bit;
-        }
-      }
-      lines.push_back({glm::vec4(p0, 0), kBoundsColor});
-      lines.push_back({glm::vec4(p1, 0), kBoundsColor});
-    }
-    Buffer buf("viewer.overlay.lines", lines.size() * sizeof(ViewInstance), lines.data());
-    GLuint p = shaders_.program({"inspect/lines.vert.glsl", "inspect/color.frag.glsl"});
-    glUseProgram(p);
-    setUniform(p, "u_viewProj", viewProj);
+    appendBoxEdges(lines, box_->lo, box_->hi, kBoundsColor);
     glBindVertexArray(emptyVao_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
-    glDrawArrays(GL_LINES, 0, GLsizei(lines.size()));
+    drawLines(shaders_, viewProj, lines);
   }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-  glDisable(GL_DEPTH_TEST);
-  glUseProgram(0);
-  glBindVertexArray(0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glFinish();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return endOffscreenRender(t0);
 }
 
 std::vector<uint8_t> SceneOverlay::readPixels() const {
-  std::vector<uint8_t> px(size_t(width_) * height_ * 4);
+  std::vector<uint8_t> px(size_t(target_.width) * target_.height * 4);
   if (px.empty()) return px;
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(color_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(px.size()), px.data());
+  glGetTextureImage(target_.color.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(px.size()), px.data());
   return px;
 }
 

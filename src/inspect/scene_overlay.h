@@ -42,7 +42,7 @@ class SceneOverlay {
   };
   // Renders at width x height with the camera's view-projection; returns milliseconds (glFinish).
   double render(int width, int height, const glm::mat4& viewProj, const GpuScene& scene, const Options& options);
-  GLuint texture() const { return color_.id(); }
+  GLuint texture() const { return target_.color.id(); }
   size_t cubeCount() const { return cubeCount_; }
   // Pixels with any overlay content (alpha > 0) in the last render; reads the texture back.
   size_t coveredPixels() const;
@@ -50,13 +50,11 @@ class SceneOverlay {
 
  private:
   ShaderLibrary& shaders_;
-  Texture color_, depth_;
-  Framebuffer fbo_;
+  ColorDepthTarget target_;
   VertexArray emptyVao_;
   Buffer cubes_;
   size_t cubeCount_ = 0;
   std::optional<WorldBox> box_;
-  int width_ = 0, height_ = 0;
 };
 
 }  // namespace voxlab

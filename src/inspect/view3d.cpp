@@ -25,22 +25,77 @@ const char* viewModeName(ViewMode mode) {
   return "?";
 }
 
-View3D::View3D(ShaderLibrary& shaders) : shaders_(shaders) {
+void appendBoxEdges(std::vector<ViewInstance>& lines, glm::vec3 lo, glm::vec3 hi, glm::vec4 color) {
+  for (int e = 0; e < 12; ++e) {
+    int axis = e / 4, a = e % 4;  // four edges along each axis, at the corners a of the other two
+    glm::vec3 p0, p1;
+    for (int k = 0, bit = 0; k < 3; ++k) {
+      if (k == axis) {
+        p0[k] = lo[k], p1[k] = hi[k];
+      } else {
+        p0[k] = p1[k] = ((a >> bit) & 1) ? hi[k] : lo[k];
+        ++bit;
+      }
+    }
+    lines.push_back({glm::vec4(p0, 0), color});
+    lines.push_back({glm::vec4(p1, 0), color});
+  }
+}
+
+double endOffscreenRender(std::chrono::steady_clock::time_point t0) {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(0);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void drawLines(ShaderLibrary& shaders, const glm::mat4& viewProj, const std::vector<ViewInstance>& lines) {
+  if (lines.empty()) return;
+  Buffer buf("viewer.lines", lines.size() * sizeof(ViewInstance), lines.data());
+  GLuint p = shaders.program({"inspect/lines.vert.glsl", "inspect/color.frag.glsl"});
+  glUseProgram(p);
+  setUniform(p, "u_viewProj", viewProj);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
+  glDrawArrays(GL_LINES, 0, GLsizei(lines.size()));
+}
+
+void ColorDepthTarget::create(const std::string& label, int w, int h, GLenum colorFilter) {
   TextureDesc c;
   c.format = GL_RGBA8;
-  c.size = {kSize, kSize, 1};
-  c.minFilter = c.magFilter = GL_LINEAR;
-  color_ = Texture("viewer.view3d.color", c);
+  c.size = {w, h, 1};
+  c.minFilter = c.magFilter = colorFilter;
+  color = Texture(label + ".color", c);
   TextureDesc d = c;
   d.format = GL_DEPTH_COMPONENT24;
   d.minFilter = d.magFilter = GL_NEAREST;
-  depth_ = Texture("viewer.view3d.depth", d);
-  fbo_ = Framebuffer("viewer.view3d");
-  fbo_.attach(GL_COLOR_ATTACHMENT0, color_);
-  fbo_.attach(GL_DEPTH_ATTACHMENT, depth_);
-  fbo_.setDrawBuffers(1);
-  fbo_.checkComplete();
+  depth = Texture(label + ".depth", d);
+  fbo = Framebuffer(label);
+  fbo.attach(GL_COLOR_ATTACHMENT0, color);
+  fbo.attach(GL_DEPTH_ATTACHMENT, depth);
+  fbo.setDrawBuffers(1);
+  fbo.checkComplete();
+  width = w, height = h;
 }
+
+void ColorDepthTarget::begin(glm::vec4 clearColor, int viewportWidth, int viewportHeight) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  glViewport(0, 0, viewportWidth, viewportHeight);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glClearColor(clearColor.x, clearColor.y, clearColor.z, clearColor.w);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+}
+
+View3D::View3D(ShaderLibrary& shaders) : shaders_(shaders) { target_.create("viewer.view3d", kSize, kSize, GL_LINEAR); }
 
 void View3D::clear() {
   hasVolume_ = false;
@@ -97,19 +152,8 @@ double View3D::render(ViewMode mode, const OrbitCamera& camera, int size) {
   size = std::clamp(size, 16, kSize);
   lastSize_ = size;
   glm::mat4 view = camera.view(), proj = camera.projection(1.0f), viewProj = proj * view;
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, size, size);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDepthMask(GL_TRUE);
-  glClearColor(kBackground.x, kBackground.y, kBackground.z, 1.0f);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  target_.begin(glm::vec4(kBackground, 1.0f), size, size);
   glBindVertexArray(vao_.id());
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
 
   if (mode == ViewMode::Volume && hasVolume_) {
     // The ray march writes every pixel (background included) and the depth of its first opaque hit.
@@ -146,33 +190,10 @@ double View3D::render(ViewMode mode, const OrbitCamera& camera, int size) {
     glDisable(GL_PROGRAM_POINT_SIZE);
   }
   // Bounds (12 edges) and any extra lines (cone axes), depth-tested.
-  {
-    std::vector<ViewInstance> lines;
-    glm::vec3 lo = boxLo_, hi = boxHi_;
-    for (int e = 0; e < 12; ++e) {
-      int axis = e / 4, a = e % 4;
-      glm::vec3 p0, p1;
-      for (int k = 0, bit = 0; k < 3; ++k) {
-        if (k == axis) {
-          p0[k] = lo[k], p1[k] = hi[k];
-        } else {
-          float v = ((a >> bit) & 1) ? hi[k] : lo[k];
-          p0[k] = p1[k] = v;
-          ++bit;
-        }
-      }
-      glm::vec4 col(kBoxColor, 1.0f);
-      lines.push_back({glm::vec4(p0, 0), col});
-      lines.push_back({glm::vec4(p1, 0), col});
-    }
-    lines.insert(lines.end(), lines_.begin(), lines_.end());
-    Buffer buf("viewer.view3d.lines", lines.size() * sizeof(ViewInstance), lines.data());
-    GLuint p = shaders_.program({"inspect/lines.vert.glsl", "inspect/color.frag.glsl"});
-    glUseProgram(p);
-    setUniform(p, "u_viewProj", viewProj);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
-    glDrawArrays(GL_LINES, 0, GLsizei(lines.size()));
-  }
+  std::vector<ViewInstance> lines;
+  appendBoxEdges(lines, boxLo_, boxHi_, glm::vec4(kBoxColor, 1.0f));
+  lines.insert(lines.end(), lines_.begin(), lines_.end());
+  drawLines(shaders_, viewProj, lines);
   if (sphereCount_ > 0) {
     GLuint p = shaders_.program({"inspect/spheres.vert.glsl", "inspect/spheres.frag.glsl"});
     glUseProgram(p);
@@ -186,19 +207,13 @@ double View3D::render(ViewMode mode, const OrbitCamera& camera, int size) {
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-  glDisable(GL_DEPTH_TEST);
-  glUseProgram(0);
-  glBindVertexArray(0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glFinish();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return endOffscreenRender(t0);
 }
 
 std::vector<uint8_t> View3D::readPixels() const {
   std::vector<uint8_t> px(size_t(kSize) * kSize * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(color_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(px.size()), px.data());
+  glGetTextureImage(target_.color.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(px.size()), px.data());
   return px;
 }
 

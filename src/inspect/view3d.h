@@ -8,6 +8,7 @@
 //   spheres + lines: cone samples (disc of the sample's diameter) and cone axes, volume bounds
 // The content is set by the viewer from captured outputs; this class knows no stage.
 #pragma once
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,6 +31,24 @@ struct ViewInstance {
   glm::vec4 positionSize{0.0f};  // corner (cubes) or centre (points, spheres); edge or radius
   glm::vec4 color{1.0f};         // display-encoded rgb, opacity (cubes: bit mask of the faces to draw)
 };
+
+// The 12 edges of the box [lo, hi] as line ends (pairs), appended to 'lines'.
+void appendBoxEdges(std::vector<ViewInstance>& lines, glm::vec3 lo, glm::vec3 hi, glm::vec4 color);
+// Draws line segments (pairs of ends) with the inspect line program into the bound framebuffer.
+void drawLines(ShaderLibrary& shaders, const glm::mat4& viewProj, const std::vector<ViewInstance>& lines);
+
+// An RGBA8 colour + 24-bit depth framebuffer for the viewer's offscreen renders.
+struct ColorDepthTarget {
+  Texture color, depth;
+  Framebuffer fbo;
+  int width = 0, height = 0;
+  void create(const std::string& label, int w, int h, GLenum colorFilter);
+  // Binds it, sets the viewport and the state every offscreen render starts from, clears it.
+  void begin(glm::vec4 clearColor, int viewportWidth, int viewportHeight) const;
+};
+
+// Unbinds what an offscreen render bound, waits for the GPU and returns milliseconds since t0.
+double endOffscreenRender(std::chrono::steady_clock::time_point t0);
 
 class View3D {
  public:
@@ -55,7 +74,7 @@ class View3D {
   // size while the user drags, a quarter of the pixels); returns milliseconds including glFinish.
   double render(ViewMode mode, const OrbitCamera& camera, int size = kSize);
   int lastSize() const { return lastSize_; }  // of the last render
-  GLuint texture() const { return color_.id(); }
+  GLuint texture() const { return target_.color.id(); }
   // Pixels of the last render that differ from the background and the bounds' line colour
   // (reads the texture back).
   size_t nonBackgroundPixels() const;
@@ -65,8 +84,7 @@ class View3D {
   GLuint uploadInstances(const std::vector<ViewInstance>& v, Buffer& buf, size_t& count);
 
   ShaderLibrary& shaders_;
-  Texture color_, depth_;
-  Framebuffer fbo_;
+  ColorDepthTarget target_;
   VertexArray vao_;
   GLHandle<TextureDeleter> volumeTex_;
   glm::ivec3 volumeSize_{0};
