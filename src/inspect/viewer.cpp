@@ -1542,20 +1542,18 @@ void Viewer::drawProbe() {
 void Viewer::drawTiming() {
   const Technique& t = cursor_->technique();
   double cpu = 0, gpu = 0;
-  if (ImGui::BeginTable("timing", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
-    ImGui::TableSetupColumn("stage");
-    ImGui::TableSetupColumn("state");
-    ImGui::TableSetupColumn("cpu ms");
-    ImGui::TableSetupColumn("gpu ms");
-    ImGui::TableSetupColumn("gpu, last runs", ImGuiTableColumnFlags_WidthStretch);
+  // The state is in the timeline; here the room goes to each stage's recent GPU times.
+  if (ImGui::BeginTable("timing", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
+    ImGui::TableSetupColumn("stage", ImGuiTableColumnFlags_WidthStretch, 1.15f);
+    ImGui::TableSetupColumn("cpu ms", ImGuiTableColumnFlags_WidthStretch, 0.6f);
+    ImGui::TableSetupColumn("gpu ms", ImGuiTableColumnFlags_WidthStretch, 0.6f);
+    ImGui::TableSetupColumn("gpu ms, last runs", ImGuiTableColumnFlags_WidthStretch, 1.65f);
     ImGui::TableHeadersRow();
     for (int i = 0; i < t.stageCount(); ++i) {
       const StageRecord& r = cursor_->record(i);
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(t.stage(i).id());
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(stageStateName(r.state));
       ImGui::TableNextColumn();
       ImGui::Text("%.1f", r.cpuMs);
       ImGui::TableNextColumn();
@@ -1570,7 +1568,8 @@ void Viewer::drawTiming() {
         char overlay[48];
         std::snprintf(overlay, sizeof overlay, "median %.1f (%zu)", sorted[sorted.size() / 2], g.size());
         ImGui::PushID(i);
-        ImGui::PlotLines("##history", g.data(), int(g.size()), 0, overlay, 0.0f, FLT_MAX, ImVec2(-1, 18));
+        ImGui::PlotLines("##history", g.data(), int(g.size()), 0, overlay, 0.0f, FLT_MAX,
+                         ImVec2(std::max(ImGui::GetContentRegionAvail().x, 40.0f), 18.0f));
         ImGui::PopID();
       }
       cpu += r.cpuMs;
@@ -1941,6 +1940,9 @@ void Viewer::execute(const ScriptAction& a) {
       if (capError_.empty() && !has3DView(cap_.desc))
         scriptFail(a, "output " + cap_.desc.name + " (" + kindName(cap_.desc.kind) + ") has no 3D view");
     }
+  } else if (v == "auto-rerun") {
+    if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
+    autoRerun_ = arg(0) == "on";
   } else if (v == "view-dragging") {
     if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
     scriptDragging_ = arg(0) == "on";
