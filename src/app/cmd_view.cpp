@@ -1,8 +1,10 @@
 // voxlab view: the interactive viewer (GLFW + ImGui); with --script it replays actions for tests.
 #include <cstdio>
+#include <cstdlib>
 
 #include "app/command.h"
 #include "core/args.h"
+#include "core/error.h"
 #include "inspect/inspect_logic.h"
 #include "inspect/viewer.h"
 
@@ -21,7 +23,8 @@ int runView(const std::vector<std::string>& argv) {
              {"--lesson", true, false, "lesson Markdown file to play"},
              {"--script", true, false, "replay actions from FILE and quit (voxlab view --script-help)"},
              {"--size", true, false, "render size WIDTHxHEIGHT (default 512x512)"},
-             {"--window", true, false, "window size WIDTHxHEIGHT (default 1280x720)"}});
+             {"--window", true, false, "window size WIDTHxHEIGHT (default 1280x720)"},
+             {"--ui-scale", true, false, "size of text and widgets, 0.75..3 (default 1; 1.5-2 for a projector)"}});
   ViewerOptions o;
   o.technique = args.get("--technique", o.technique);
   o.scene = args.get("--scene", o.scene);
@@ -29,6 +32,14 @@ int runView(const std::vector<std::string>& argv) {
   o.script = args.get("--script");
   if (args.has("--size")) Args::parseSize(args.get("--size"), o.width, o.height);
   if (args.has("--window")) Args::parseSize(args.get("--window"), o.windowWidth, o.windowHeight);
+  if (args.has("--ui-scale")) {
+    const std::string text = args.get("--ui-scale");
+    char* end = nullptr;
+    double s = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(s >= 0.75 && s <= 3.0))
+      throw Error("--ui-scale '" + text + "' is not a number in 0.75..3 (e.g. 1.5 for a projector)");
+    o.uiScale = float(s);
+  }
   return runViewer(o);
 }
 
@@ -36,7 +47,7 @@ int runView(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("view",
                         "voxlab view [--technique T] [--scene S] [--lesson FILE] [--script FILE] [--size WxH] "
-                        "[--window WxH]",
+                        "[--window WxH] [--ui-scale S]",
                         "open the viewer: step through stages, inspect outputs, probe cones, play lessons", &runView);
 
 }  // namespace voxlab

@@ -407,6 +407,7 @@ const VerbSpec kVerbs[] = {
     {"tab", 1, 1, "tab inspect|probe|timing|lesson|export (bring a details tab to front)"},
     {"view-mode", 1, 1, "view-mode slice|3d|cubes (3D views of volumes and of buffers with positions)"},
     {"auto-rerun", 1, 1, "auto-rerun on|off (re-run stale stages after a change, as the checkbox)"},
+    {"ui-scale", 1, 1, "ui-scale S (text and widget size, 0.75..3, as --ui-scale)"},
     {"view-dragging", 1, 1, "view-dragging on|off (render the 3D view as while the mouse drags it: half size)"},
     {"view-orbit", 2, 2, "view-orbit YAW_DEG PITCH_DEG (rotate the 3D view's own camera)"},
     {"expect-view-nonempty", 1, 1, "expect-view-nonempty MIN_PIXELS (the 3D view shows more content pixels than MIN_PIXELS)"},

@@ -145,6 +145,10 @@ class Viewer {
   void drawExport();
   void handleKeys();
   void takeScreenshot(const std::string& path);
+  // Rebuilds the font at the scale's size and scales the style (outside a frame); Ctrl+= / Ctrl+-
+  // and the Camera/Export tab change it.
+  void applyUiScale(float scale);
+  float uiScale_ = 1.0f, wantUiScale_ = 1.0f;
   // What the view panel shows: the 3D view, or the image with its overlay blended in.
   DisplayImage viewportImage() const;
 
@@ -258,6 +262,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   ImGui::StyleColorsDark();
   ImGui_ImplGlfw_InitForOpenGL(window_->handle(), true);
   ImGui_ImplOpenGL3_Init("#version 450 core");
+  applyUiScale(o.uiScale);
 
   scene_ = scene;
   sceneName_ = o.scene;
@@ -589,6 +594,9 @@ void Viewer::handleKeys() {
     requestRun(lastRunRequest_);
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_F5)) reloadShaders();
+  if (io.KeyCtrl && (ImGui::IsKeyPressed(GLFW_KEY_EQUAL) || ImGui::IsKeyPressed(GLFW_KEY_KP_ADD))) wantUiScale_ = uiScale_ + 0.25f;
+  if (io.KeyCtrl && (ImGui::IsKeyPressed(GLFW_KEY_MINUS) || ImGui::IsKeyPressed(GLFW_KEY_KP_SUBTRACT)))
+    wantUiScale_ = uiScale_ - 0.25f;
   // Watch the shader files: about once a second, rebuild the programs whose files changed.
   if (watchShaders_ && glfwGetTime() - lastShaderCheck_ > 1.0) {
     lastShaderCheck_ = glfwGetTime();
@@ -596,6 +604,22 @@ void Viewer::handleKeys() {
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN) && !lesson_.steps.empty()) applyLessonStep(lessonStep_ + 1);
   if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP) && !lesson_.steps.empty()) applyLessonStep(lessonStep_ - 1);
+}
+
+void Viewer::applyUiScale(float scale) {
+  scale = std::clamp(scale, 0.75f, 3.0f);
+  ImGuiIO& io = ImGui::GetIO();
+  io.Fonts->Clear();
+  ImFontConfig font;
+  font.SizePixels = std::round(13.0f * scale);  // the default font is drawn for 13 px
+  io.Fonts->AddFontDefault(&font);
+  ImGui_ImplOpenGL3_DestroyFontsTexture();
+  ImGui_ImplOpenGL3_CreateFontsTexture();
+  ImGuiStyle style;
+  ImGui::StyleColorsDark(&style);
+  style.ScaleAllSizes(scale);
+  ImGui::GetStyle() = style;
+  uiScale_ = wantUiScale_ = scale;
 }
 
 void Viewer::takeScreenshot(const std::string& path) {
@@ -657,6 +681,10 @@ int Viewer::loop() {
     if (quit_) break;
     if (runPendingStage()) frameHeavy_ = true;
     applyPendingCamera();
+    if (wantUiScale_ != uiScale_) {
+      applyUiScale(wantUiScale_);
+      frameHeavy_ = true;
+    }
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -690,11 +718,12 @@ int Viewer::loop() {
 
 // --- UI --------------------------------------------------------------------------------------------
 
-constexpr float kLeftWidth = 330.0f;
-constexpr float kRightWidth = 380.0f;
 
 void Viewer::drawUi() {
   ImGuiIO& io = ImGui::GetIO();
+  // Side panels grow with the UI scale but leave the view at least 40 % of the window.
+  const float kLeftWidth = std::min(330.0f * uiScale_, 0.28f * io.DisplaySize.x);
+  const float kRightWidth = std::min(380.0f * uiScale_, 0.32f * io.DisplaySize.x);
   ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(kLeftWidth, io.DisplaySize.y));
@@ -1569,7 +1598,7 @@ void Viewer::drawTiming() {
         std::snprintf(overlay, sizeof overlay, "median %.1f (%zu)", sorted[sorted.size() / 2], g.size());
         ImGui::PushID(i);
         ImGui::PlotLines("##history", g.data(), int(g.size()), 0, overlay, 0.0f, FLT_MAX,
-                         ImVec2(std::max(ImGui::GetContentRegionAvail().x, 40.0f), 18.0f));
+                         ImVec2(std::max(ImGui::GetContentRegionAvail().x, 40.0f), 18.0f * uiScale_));
         ImGui::PopID();
       }
       cpu += r.cpuMs;
@@ -1703,6 +1732,9 @@ void Viewer::drawExport() {
   }
   if (!copied_.empty()) ImGui::TextWrapped("%s", copied_.c_str());
   ImGui::Separator();
+  ImGui::SetNextItemWidth(120.0f * uiScale_);
+  float scale = wantUiScale_;
+  if (ImGui::SliderFloat("UI scale (Ctrl+= / Ctrl+-)", &scale, 0.75f, 3.0f, "%.2f")) wantUiScale_ = scale;
   if (ImGui::Button("Reload shaders (F5)")) reloadShaders();
   ImGui::SameLine();
   ImGui::Checkbox("watch shader files", &watchShaders_);
@@ -1943,6 +1975,11 @@ void Viewer::execute(const ScriptAction& a) {
   } else if (v == "auto-rerun") {
     if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
     autoRerun_ = arg(0) == "on";
+  } else if (v == "ui-scale") {
+    float s = floatArg(0);
+    if (!(s >= 0.75f && s <= 3.0f)) scriptFail(a, "scale must be in 0.75..3, not " + arg(0));
+    wantUiScale_ = s;
+    waitFrames_ = 2;
   } else if (v == "view-dragging") {
     if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
     scriptDragging_ = arg(0) == "on";

@@ -11,6 +11,8 @@ endforeach()
 
 voxlab_cli_case(view_script_unknown_action 2 "bad_verb\\.txt:2: unknown action 'frobnicate'; valid: technique"
   "view --script @ROOT@/tests/viewer/bad_verb.txt")
+voxlab_cli_case(view_bad_ui_scale 2 "--ui-scale '9' is not a number in 0.75..3"
+  "view --ui-scale 9 --script @ROOT@/tests/viewer/probe.txt")
 voxlab_cli_case(view_script_missing 2 "script file '.*no-such-script\\.txt' does not exist"
   "view --script @ROOT@/tests/viewer/no-such-script.txt")
 voxlab_cli_case(lesson_check_ok 0 "^$"
