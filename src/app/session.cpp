@@ -72,7 +72,7 @@ json HeadlessSession::manifestHeader() const {
     m["view"]["look_from"] = {p.x, p.y, p.z};
     m["view"]["look_at"] = {q.x, q.y, q.z};
   }
-  m["gl"] = {{"renderer", glRenderer()}, {"version", glVersion()}};
+  m["gl"] = {{"renderer", glRenderer()}, {"version", glVersion()}, {"context", context_->kind()}};
   return m;
 }
 

@@ -13,12 +13,16 @@ class GLContext {
  public:
   virtual ~GLContext() = default;
   virtual void makeCurrent() = 0;
-  virtual const char* kind() const = 0;  // "osmesa", "glfw"
+  virtual const char* kind() const = 0;  // "osmesa", "egl", "glfw"
 };
 
-// An offscreen OSMesa context (GL 4.5 core) made current and with the GL loader initialised.
-// Throws Error when libOSMesa is missing or cannot create a 4.5 core context.
+// An offscreen GL 4.5 core context, made current, with the GL loader initialised. The
+// environment variable VOXLAB_GL picks where it comes from: "osmesa" (the default: OSMesa on
+// llvmpipe) or "egl" (EGL without a surface: a GPU's EGL device when there is one, else Mesa's
+// surfaceless platform). Throws Error naming what is missing and what would be valid.
 std::unique_ptr<GLContext> createOffscreenContext();
+std::unique_ptr<GLContext> createOsmesaContext();
+std::unique_ptr<GLContext> createEglContext();
 
 // Loads GL entry points through 'getProc' and checks the version is at least 4.5; throws Error.
 void loadGL(void* (*getProc)(const char*));

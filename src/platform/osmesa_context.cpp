@@ -79,25 +79,6 @@ class OSMesaContext final : public GLContext {
 
 }  // namespace
 
-std::unique_ptr<GLContext> createOffscreenContext() { return std::make_unique<OSMesaContext>(); }
-
-void loadGL(void* (*getProc)(const char*)) {
-  int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(getProc));
-  if (!version) throw Error("could not load OpenGL entry points");
-  int major = GLAD_VERSION_MAJOR(version), minor = GLAD_VERSION_MINOR(version);
-  if (major < 4 || (major == 4 && minor < 5))
-    throw Error("OpenGL 4.5 core is needed, the context offers " + std::to_string(major) + "." +
-                std::to_string(minor));
-}
-
-std::string glRenderer() {
-  const GLubyte* s = glGetString(GL_RENDERER);
-  return s ? reinterpret_cast<const char*>(s) : "";
-}
-
-std::string glVersion() {
-  const GLubyte* s = glGetString(GL_VERSION);
-  return s ? reinterpret_cast<const char*>(s) : "";
-}
+std::unique_ptr<GLContext> createOsmesaContext() { return std::make_unique<OSMesaContext>(); }
 
 }  // namespace voxlab
