@@ -37,10 +37,7 @@ struct EglApi {
 const EglApi& egl() {
   static EglApi api = [] {
     EglApi a;
-    for (const char* name : {"libEGL.so.1", "libEGL.so"}) {
-      a.library = dlopen(name, RTLD_NOW | RTLD_LOCAL);
-      if (a.library) break;
-    }
+    a.library = openFirstLibrary({"libEGL.so.1", "libEGL.so"});
     if (!a.library) throw Error("VOXLAB_GL=egl: cannot load libEGL.so.1; install libegl1 (scripts/setup.sh)");
     a.getProc = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(dlsym(a.library, "eglGetProcAddress"));
     if (!a.getProc) throw Error("VOXLAB_GL=egl: libEGL has no eglGetProcAddress");

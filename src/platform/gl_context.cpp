@@ -1,6 +1,8 @@
 // Picks the offscreen platform (VOXLAB_GL) and loads the GL entry points of the current context.
 #include "platform/gl_context.h"
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <string>
 
@@ -8,6 +10,12 @@
 #include "gpu/gl.h"
 
 namespace voxlab {
+
+void* openFirstLibrary(std::initializer_list<const char*> names) {
+  for (const char* name : names)
+    if (void* handle = dlopen(name, RTLD_NOW | RTLD_LOCAL)) return handle;
+  return nullptr;
+}
 
 std::unique_ptr<GLContext> createOffscreenContext() {
   const char* e = std::getenv("VOXLAB_GL");

@@ -4,6 +4,7 @@
 // objects, and a window (when there is one) only presents. So the same pipeline runs headless
 // (OSMesa on llvmpipe, the default here) and in the viewer (GLFW).
 #pragma once
+#include <initializer_list>
 #include <memory>
 #include <string>
 
@@ -23,6 +24,9 @@ class GLContext {
 std::unique_ptr<GLContext> createOffscreenContext();
 std::unique_ptr<GLContext> createOsmesaContext();
 std::unique_ptr<GLContext> createEglContext();
+
+// dlopen()s the first of 'names' that loads (RTLD_NOW | RTLD_LOCAL); nullptr when none does.
+void* openFirstLibrary(std::initializer_list<const char*> names);
 
 // Loads GL entry points through 'getProc' and checks the version is at least 4.5; throws Error.
 void loadGL(void* (*getProc)(const char*));

@@ -37,10 +37,7 @@ struct OSMesaApi {
 const OSMesaApi& osmesa() {
   static OSMesaApi api = [] {
     OSMesaApi a;
-    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so"}) {
-      a.library = dlopen(name, RTLD_NOW | RTLD_LOCAL);
-      if (a.library) break;
-    }
+    a.library = openFirstLibrary({"libOSMesa.so.8", "libOSMesa.so"});
     if (!a.library)
       throw Error("cannot load libOSMesa.so.8 for headless rendering; install libosmesa6 (scripts/setup.sh)");
     a.create = reinterpret_cast<CreateFn>(dlsym(a.library, "OSMesaCreateContextAttribs"));
