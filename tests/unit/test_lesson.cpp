@@ -2,6 +2,7 @@
 // `voxlab run` line that reproduces a viewer state, slice display mapping and cone-sample decoding.
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <set>
 
@@ -38,6 +39,18 @@ TEST(Lesson, ShippedLessonCoversEveryVctGridStage) {
     seen.insert(s.stage);
   }
   for (const auto& id : t->stageIds()) EXPECT_TRUE(seen.count(id)) << "lesson never shows stage " << id;
+}
+
+// Every lesson shipped in lessons/ (all *.md but the authors' README) parses and validates, so a
+// new lesson is checked with no test code.
+TEST(Lesson, EveryShippedLessonIsValid) {
+  size_t lessons = 0;
+  for (const auto& e : std::filesystem::directory_iterator(projectPath("lessons"))) {
+    if (e.path().extension() != ".md" || e.path().filename() == "README.md") continue;
+    EXPECT_NO_THROW(loadLesson(e.path().string())) << e.path();
+    ++lessons;
+  }
+  EXPECT_GE(lessons, 2u);
 }
 
 TEST(Lesson, StepsCarryTechniqueAndSceneAndDefaultTheOutput) {
