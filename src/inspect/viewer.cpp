@@ -1555,8 +1555,13 @@ void Viewer::drawProbe() {
   ImGui::BeginChild("cones");
   for (const auto& c : cones) {
     if (c.distance.empty()) continue;
-    char title[64];
-    std::snprintf(title, sizeof title, "cone %d: %zu samples, to distance %.3f", c.cone, c.distance.size(), c.distance.back());
+    // The aperture follows from any sample: diameter = 2 * distance * tan(aperture / 2).
+    const float aperture = c.distance.back() > 0.0f
+                               ? 2.0f * std::atan(0.5f * c.diameter.back() / c.distance.back()) * 57.29578f
+                               : 0.0f;
+    char title[96];
+    std::snprintf(title, sizeof title, "cone %d: %.0f deg, %zu samples, to distance %.3f m", c.cone, aperture,
+                  c.distance.size(), c.distance.back());
     if (!ImGui::TreeNodeEx(title, ImGuiTreeNodeFlags_DefaultOpen)) continue;
     int n = int(c.distance.size());
     ImGui::PlotLines("lod", c.lod.data(), n, 0, "mip level per sample", 0.0f, FLT_MAX, ImVec2(0, 40));
