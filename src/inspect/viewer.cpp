@@ -1526,7 +1526,7 @@ void Viewer::drawProbe() {
   const ParamSet& ps = cursor_->params();
   ImGui::Text("probe pixel: (%.0f, %.0f) of %dx%d", ps.value("probe.x") * cursor_->view().width - 0.5,
               ps.value("probe.y") * cursor_->view().height - 0.5, cursor_->view().width, cursor_->view().height);
-  ImGui::TextDisabled("click a pixel of a full-size image output to probe it");
+  ImGui::TextDisabled("click a pixel of a camera image (final, G-buffer, ...) to probe it");
   // The samples come from the probe stage's ConeSamples output, whoever declares it.
   const Technique& t = cursor_->technique();
   if (cursor_->record(p).state == StageState::NotRun) {
