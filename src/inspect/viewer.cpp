@@ -192,6 +192,7 @@ class Viewer {
 
   // Capture of the selected output (refreshed when selection or generation changes).
   CapturedOutput cap_;
+  nlohmann::json capStats_, capRecords_;  // of cap_, computed once per capture (not per frame)
   std::string capError_;
   long capKey_[4] = {-1, -1, -1, -1};
   long texKey_[8] = {0};
@@ -561,6 +562,7 @@ void Viewer::refreshCapture() {
   const StageRecord& r = cursor_->record(selected_);
   cap_ = CapturedOutput();
   cap_.desc = outs[outputIndex_];
+  capStats_ = capRecords_ = nlohmann::json();
   capError_.clear();
   if (r.state == StageState::NotRun) {
     capError_ = "not run yet: press Run to here (R)";
@@ -573,6 +575,8 @@ void Viewer::refreshCapture() {
     return;
   }
   if (cap_.desc.semantic == Semantic::ConeSamples) cones_ = decodeConeSamples(cap_);
+  capStats_ = outputStatistics(cap_);
+  capRecords_ = cap_.desc.kind == OutputKind::Buffer ? recordsJson(cap_, 32) : nlohmann::json();
 }
 
 void Viewer::handleKeys() {
@@ -1489,7 +1493,7 @@ void Viewer::drawInspector() {
     int ch = display_.channel + 1;
     if (ImGui::Combo("channel", &ch, channels, std::min(L.channels, 4) + 1)) display_.channel = ch - 1;
     ImGui::SliderFloat("exposure", &display_.exposure, 0.05f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    auto stats = outputStatistics(cap_);
+    const nlohmann::json& stats = capStats_;
     if (stats.contains("levels") && stats["levels"].size() > size_t(level_)) {
       ImGui::Separator();
       ImGui::Text("level %d statistics", level_);
@@ -1497,7 +1501,7 @@ void Viewer::drawInspector() {
     }
   } else if (d.kind == OutputKind::Buffer) {
     ImGui::Text("%u records, stride %u bytes", cap_.recordCount, d.layout.stride);
-    auto recs = recordsJson(cap_, 32);
+    const nlohmann::json& recs = capRecords_;
     if (recs.is_array() && !recs.empty() && recs[0].is_object()) {
       int cols = int(recs[0].size()) + 1;
       if (ImGui::BeginTable("records", cols, ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX |
