@@ -26,6 +26,7 @@ json describeTechnique(const Technique& t) {
     s["title"] = t.stage(i).title();
     s["summary"] = t.stage(i).summary();
     s["reads"] = d.reads;
+    s["iterations"] = t.stage(i).iterations(t.defaultParams());  // at the default parameters
     for (const auto& o : d.outputs) {
       json oj = {{"name", o.name}, {"address", t.id() + "/" + t.stage(i).id() + "/" + o.name},
                  {"kind", kindName(o.kind)}, {"semantic", semanticName(o.semantic)}, {"help", o.help}};
@@ -54,7 +55,9 @@ int runList(const std::vector<std::string>& argv) {
                 t["title"].get<std::string>().c_str(), t["final_output"].get<std::string>().c_str());
     int n = 1;
     for (const auto& s : t["stages"]) {
-      std::printf("  %d. %-14s %s\n", n++, s["id"].get<std::string>().c_str(), s["title"].get<std::string>().c_str());
+      const int iterations = s["iterations"].get<int>();
+      std::printf("  %d. %-14s %s%s\n", n++, s["id"].get<std::string>().c_str(), s["title"].get<std::string>().c_str(),
+                  iterations > 1 ? (" (" + std::to_string(iterations) + " iterations at defaults)").c_str() : "");
       if (s.contains("outputs"))
         for (const auto& o : s["outputs"])
           std::printf("       output %-22s %-9s %-13s %s\n", o["name"].get<std::string>().c_str(),

@@ -120,22 +120,11 @@ void StepCursor::useSceneCamera(int index) {
   setCamera(scene_->cameras[index]);
 }
 
-void StepCursor::runThrough(int last, const std::function<void(int, int, int)>& progress) {
+void StepCursor::runThrough(int last) {
   if (!scene_) throw Error("no scene loaded");
   last = std::min(last, stageCount() - 1);
-  for (int i = 0; i <= last; ++i) {
-    if (records_[i].state == StageState::Done) continue;
-    if (!progress) {
-      runStage(i, std::numeric_limits<int>::max());
-      continue;
-    }
-    // One iteration at a time so the caller can report progress.
-    int n = iterations(i);
-    for (int it = records_[i].state == StageState::Partial ? records_[i].iterationsRun : 0; it < n; ++it) {
-      progress(i, it, n);
-      runStage(i, it + 1);
-    }
-  }
+  for (int i = 0; i <= last; ++i)
+    if (records_[i].state != StageState::Done) runStage(i, std::numeric_limits<int>::max());
 }
 
 int StepCursor::runIteration(int stage) {

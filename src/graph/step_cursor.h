@@ -6,7 +6,6 @@
 // stale; changing the view makes every stage that reads kViewResource stale; a stage is stale as
 // soon as the stage that wrote one of its reads is stale. A new scene makes everything "not run".
 #pragma once
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,9 +58,10 @@ class StepCursor {
 
   int stageCount() const { return technique_->stageCount(); }
   const StageRecord& record(int stage) const { return records_.at(stage); }
-  // Runs every stage 0..last that is not Done. 'progress' is called before each iteration.
-  // Stages after 'last' keep their state (a Done stage after a re-run one becomes Stale).
-  void runThrough(int last, const std::function<void(int stage, int iteration, int iterations)>& progress = {});
+  // Runs every stage 0..last that is not Done (a Partial stage continues from its next
+  // iteration). Stages after 'last' keep their state (a Done stage after a re-run one becomes
+  // Stale). For progress between iterations, step with runIteration (the viewer does).
+  void runThrough(int last);
   void runAll() { runThrough(stageCount() - 1); }
   // Runs the next iteration of an iterative stage (the first one when it is not Partial), after
   // running any earlier stage that is not Done. Returns the iteration that ran (0-based).

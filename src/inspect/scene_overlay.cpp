@@ -70,10 +70,13 @@ double SceneOverlay::render(int width, int height, const glm::mat4& viewProj, co
       glDisable(GL_POLYGON_OFFSET_FILL);
       glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
+    // X-ray: every voxel's edges, none hidden (by the scene or by other voxels), as a lattice.
+    if (o.xray) glDisable(GL_DEPTH_TEST);
     GLuint p = shaders_.program({"inspect/cubes.vert.glsl", "inspect/cubes.frag.glsl"});
     glUseProgram(p);
     setUniform(p, "u_viewProj", viewProj);
     setUniform(p, "u_alpha", o.opacity);
+    setUniform(p, "u_edgesOnly", o.xray ? 1 : 0);
     glBindVertexArray(emptyVao_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, cubes_.id());
     glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(cubeCount_));

@@ -2,7 +2,7 @@
 // the G-buffer, any image a stage renders from the view): the voxels of a volume level as cubes and
 // the volume's world bounds, with the same camera, into a transparent texture of the image's size
 // that the viewer lays over the image. The scene's own triangles fill the depth buffer first, so
-// voxels behind surfaces stay hidden (optional: "x-ray" shows them all).
+// voxels behind surfaces stay hidden ("x-ray" instead draws every voxel's edges, none hidden).
 //
 // Everything is in world units; the viewer builds the cubes from a captured volume and its
 // WorldBox (Blackboard::placementOf), so any technique's volumes can be overlaid.
@@ -37,7 +37,7 @@ class SceneOverlay {
   struct Options {
     bool voxels = true;
     bool bounds = true;
-    bool xray = false;    // voxels behind the scene's surfaces stay visible
+    bool xray = false;    // every voxel's edges, none hidden by surfaces or other voxels
     float opacity = 0.6f;  // of the voxel faces over the image
   };
   // Renders at width x height with the camera's view-projection; returns milliseconds (glFinish).

@@ -108,7 +108,13 @@ class Viewer {
   void orbit(float yawDeg, float pitchDeg);
   void handleFly();  // right mouse over a camera image: mouse looks, W/A/S/D/Q/E move
   void frameScene();
-  void stepIteration() { iterateStage_ = selected_; }
+  // Queues iterations of the selected stage until 'count' of them have run (after the stages
+  // before it); by default one more than now.
+  void stepIteration(int count = -1) {
+    const StageRecord& r = cursor_->record(selected_);
+    iterateStage_ = selected_;
+    iterateTo_ = count > 0 ? count : (r.state == StageState::Partial ? r.iterationsRun : 0) + 1;
+  }
   void probePixel(int x, int y);
   void applyLessonStep(int i);
   // Rebuilds programs whose files changed. fromWatch: the periodic file check, which stays quiet
@@ -182,7 +188,8 @@ class Viewer {
   bool flying_ = false;
   double lastFlyTime_ = 0.0;
   int runTarget_ = -1;        // stage to run through, one stage per frame (-1 = idle)
-  int iterateStage_ = -1;     // stage to run one more iteration of, after the stages before it (-1 = none)
+  int iterateStage_ = -1;     // stage to run iterations of, after the stages before it (-1 = none)
+  int iterateTo_ = 0;         // ... until this many of its iterations have run
   std::vector<std::deque<std::pair<float, float>>> timeHistory_;  // per stage: (cpu, gpu) ms of recent runs
   int lastRunRequest_ = -1;
   bool autoRerun_ = true;
@@ -209,12 +216,12 @@ class Viewer {
   SceneOverlay::Options overlayOpt_{false, false, false, 0.6f};
   std::string overlayVolume_;  // "stage/output"; "" = the latest volume before the selected stage
   int overlayLevel_ = -1;      // -1 = the finest level with at most 32 texels per axis
+  int overlayLevelCount_ = 1;  // levels of the overlaid volume (for the slider)
   std::string overlayKey_, overlayContentKey_, overlayMsg_;
   double overlayMs_ = 0.0;
 
   Lesson lesson_;
   int lessonStep_ = -1;
-  int lessonIterations_ = 0;  // iterations the current lesson step wants of its stage (0 = run it)
 
   std::vector<ScriptAction> script_;
   size_t pc_ = 0;
@@ -458,7 +465,6 @@ void Viewer::applyLessonStep(int i) {
   level_ = s.level;
   if (lessonStep_ < 0) wantTab_ = "lesson";
   lessonStep_ = i;
-  lessonIterations_ = 0;
   overlayOpt_.bounds = s.bounds;
   overlayOpt_.voxels = !s.overlay.empty();
   if (!s.overlay.empty()) {
@@ -469,8 +475,7 @@ void Viewer::applyLessonStep(int i) {
   if (s.iterations > 0) {
     // Stop the stage after that many iterations: run what comes before, then step it.
     cursor_->invalidate(selected_);
-    lessonIterations_ = s.iterations;
-    stepIteration();
+    stepIteration(s.iterations);
     return;
   }
   lastRunRequest_ = selected_;
@@ -524,9 +529,7 @@ bool Viewer::runPendingStage() {
       cursor_->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
     } else {
       int k = cursor_->runIteration(target);
-      iterateStage_ = -1;
-      if (k + 1 < lessonIterations_) iterateStage_ = target;  // a lesson step wants more of them
-      else lessonIterations_ = 0;
+      if (k + 1 >= iterateTo_ || cursor_->record(target).state == StageState::Done) iterateStage_ = -1;
       status_ = std::string(cursor_->technique().stage(target).id()) + ": iteration " + std::to_string(k + 1) + " of " +
                 std::to_string(cursor_->record(target).iterationsTotal);
     }
@@ -1091,9 +1094,9 @@ void Viewer::drawOverlayControls() {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(80);
   int level = std::max(overlayLevel_, 0);
-  if (ImGui::SliderInt("level##overlay", &level, 0, 12)) overlayLevel_ = level;
+  if (ImGui::SliderInt("level##overlay", &level, 0, std::max(overlayLevelCount_ - 1, 0))) overlayLevel_ = level;
   ImGui::Checkbox("x-ray", &overlayOpt_.xray);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("show voxels behind the scene's surfaces too");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the edges of every voxel, none hidden by surfaces or other voxels");
   ImGui::SameLine();
   ImGui::SetNextItemWidth(90);
   ImGui::SliderFloat("opacity##overlay", &overlayOpt_.opacity, 0.1f, 1.0f, "%.2f");
@@ -1144,6 +1147,7 @@ void Viewer::updateOverlay() {
           }
           level = std::clamp(level, 0, int(c.levels.size()) - 1);
           overlayLevel_ = level;
+          overlayLevelCount_ = int(c.levels.size());
           const LevelData& L = c.levels[level];
           if (!c.world) {
             overlayMsg_ = volume + " has no world placement (Blackboard::place); showing nothing";

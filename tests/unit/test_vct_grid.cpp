@@ -167,6 +167,28 @@ TEST(VctGridConeTrace, FirstIterationTracesTheTopBand) {
   c.runAll();
 }
 
+// Volumes carry their world placement: the voxel space the voxelize stage publishes (a cube around
+// the scene, level 0 spanning it), unless a texture is placed on its own; images have none.
+TEST(VctGridPlacement, VolumesSitInTheVoxelSpaceUnlessPlaced) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=32"}, "mipmap"));
+  Blackboard& board = s.cursor().board();
+  const VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), 32);
+  CapturedOutput grid = capture(s, "mipmap", "radiance");
+  ASSERT_TRUE(grid.world.has_value());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_FLOAT_EQ(grid.world->lo[k], space.origin[k]);
+    EXPECT_FLOAT_EQ(grid.world->hi[k], space.origin[k] + space.edge());
+    EXPECT_LE(grid.world->lo[k], s.cursor().scene().bounds.min[k]);  // the scene lies inside
+    EXPECT_GE(grid.world->hi[k], s.cursor().scene().bounds.max[k]);
+  }
+  EXPECT_FALSE(board.placementOf("shadow-map").has_value());
+  EXPECT_FALSE(board.placementOf("no-such-texture").has_value());
+  const WorldBox own{glm::vec3(-1.0f), glm::vec3(2.0f)};
+  board.place("radiance-dir+x", own);
+  EXPECT_EQ(board.placementOf("radiance-dir+x")->hi, own.hi);
+  EXPECT_EQ(board.placementOf("radiance")->hi, grid.world->hi);  // others keep the voxel space
+}
+
 TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
   const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
   auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),

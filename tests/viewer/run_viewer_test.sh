@@ -24,12 +24,12 @@ case "$script" in
     # Run the copied command (free camera after fly/look) and compare its final image with the
     # viewer's: the camera goes through text with 7 significant digits, so allow what that moves
     # (measured RMSE 1.3e-5 and 4.7e-5 on the tonemapped RGBA8 image: a handful of pixels one 8-bit
-    # step apart; the scene camera instead of the flown one gives 0.13).
+    # step apart; 2e-4 is four times the worst; the scene camera instead of the flown one gives 0.13).
     cmd=$(sed -n 's/^command: voxlab run \(.*\) --out out$/\1/p' "$out/log.txt" | head -n 1)
     [ -n "$cmd" ] || { echo "no copied command in the viewer's output"; exit 1; }
     case "$cmd" in *--look-from*) ;; *) echo "copied command has no free camera: $cmd"; exit 1 ;; esac
     eval "\"$exe\" run $cmd --only vct-grid/composite/final --out \"$out/reproduced\"" >/dev/null
-    "$exe" compare "$out/view/composite.final.exr" "$out/reproduced/composite.final.exr" --fail-above rmse=0.002 ;;
+    "$exe" compare "$out/view/composite.final.exr" "$out/reproduced/composite.final.exr" --fail-above rmse=0.0002 ;;
   *)
     export VOXLAB_VIEWER_OUT="$out"
     view ;;

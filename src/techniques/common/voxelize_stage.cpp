@@ -43,44 +43,14 @@ void VoxelizeStage::execute(StageContext& ctx) {
   space.setUniforms(program);
   setUniform(program, "u_conservative", conservative ? 1 : 0);
 
-  Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
-  Buffer& axisCounts = ctx.board.ensureBuffer("voxelize.axis-counts", 16);
-  // Capacity guess; if the counter says more fragments were produced, grow and run again.
-  size_t capacity = initialFragmentCapacity(ctx.board, res);
+  size_t capacity = 0;
+  const uint32_t produced = fillFragmentList(ctx, res, [&](uint32_t cap) {
+    setUniform(program, "u_capacity", cap);
+    rasterizeVoxelFragments(ctx, program, res);
+  }, capacity);
 
-  GLuint fbo = 0;
-  glCreateFramebuffers(1, &fbo);
-  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, res);
-  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, res);
-  uint32_t produced = 0;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    Buffer& fragments = ctx.board.ensureBuffer("fragments", capacity * sizeof(gpu::VoxelFragment));
-    const uint32_t zero[4] = {0, 0, 0, 0};
-    counter.upload(zero, 4);
-    axisCounts.upload(zero, 16);
-    setUniform(program, "u_capacity", unsigned(capacity));
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, res, res);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, VOXLAB_BINDING_FRAGMENT_COUNT, counter.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, fragments.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_AXIS_COUNTS, axisCounts.id());
-    ctx.gpuScene.draw(program);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    auto bytes = counter.download(4);
-    std::memcpy(&produced, bytes.data(), 4);
-    if (produced <= capacity) break;
-    capacity = produced;
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDeleteFramebuffers(1, &fbo);
-
-  uint32_t axes[4];
-  auto a = axisCounts.download(16);
-  std::memcpy(axes, a.data(), 16);
+  const Buffer& axisCounts = ctx.board.buffer("voxelize.axis-counts");
+  const uint32_t axes[3] = {readCounter(axisCounts, 0), readCounter(axisCounts, 4), readCounter(axisCounts, 8)};
   ctx.stats["fragments"] = produced;
   ctx.stats["fragment_capacity"] = double(capacity);
   ctx.stats["triangles"] = double(ctx.scene.triangleCount());
@@ -90,6 +60,52 @@ void VoxelizeStage::execute(StageContext& ctx) {
   ctx.stats["voxel_size_m"] = space.voxelSize;
 
   renderTriangleAxes(ctx, "triangle-axes");
+}
+
+uint32_t readCounter(const Buffer& buffer, size_t offset) {
+  uint32_t v = 0;
+  auto bytes = buffer.download(4, offset);
+  std::memcpy(&v, bytes.data(), 4);
+  return v;
+}
+
+uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function<void(uint32_t)>& passes,
+                          size_t& capacity) {
+  Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
+  Buffer& axisCounts = ctx.board.ensureBuffer("voxelize.axis-counts", 16);
+  capacity = initialFragmentCapacity(ctx.board, resolution);  // a guess; grown below if too small
+  uint32_t produced = 0;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    Buffer& fragments = ctx.board.ensureBuffer("fragments", capacity * sizeof(gpu::VoxelFragment));
+    const uint32_t zero[4] = {0, 0, 0, 0};
+    counter.upload(zero, 4);
+    axisCounts.upload(zero, 16);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, VOXLAB_BINDING_FRAGMENT_COUNT, counter.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, fragments.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_AXIS_COUNTS, axisCounts.id());
+    passes(uint32_t(capacity));
+    produced = readCounter(counter);
+    if (produced <= capacity) break;
+    capacity = produced;
+  }
+  return produced;
+}
+
+void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution) {
+  GLuint fbo = 0;
+  glCreateFramebuffers(1, &fbo);
+  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, resolution);
+  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, resolution);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, resolution, resolution);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  ctx.gpuScene.draw(program);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDeleteFramebuffers(1, &fbo);
+  glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 void renderTriangleAxes(StageContext& ctx, const std::string& resource) {

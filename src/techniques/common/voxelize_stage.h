@@ -9,6 +9,7 @@
 // Writes: "fragments" (the list), "fragments.count" (atomic counter), "triangle-axes" (triangles
 // coloured by projection axis, from the camera).
 #pragma once
+#include <functional>
 #include <string>
 
 #include "graph/stage.h"
@@ -26,6 +27,22 @@ class VoxelizeStage : public Stage {
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;
 };
+
+// Fills the voxel fragment list "fragments" (counter "fragments.count", per-axis triangle counts
+// "voxelize.axis-counts"): resets the counters, binds the three, and runs 'passes' with the list's
+// capacity in records. When the counter says more fragments were produced than fit, the list grows
+// to that size and the passes run once more. Returns the fragments produced; 'capacity' receives
+// the list's final capacity.
+uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function<void(uint32_t capacity)>& passes,
+                          size_t& capacity);
+
+// The fragment-parallel pass: draws the scene with 'program' (common/world.vert +
+// vct_grid/voxelize.geom/.frag) over a resolution^2 framebuffer without attachments, then makes
+// its appends visible. Call inside fillFragmentList's passes.
+void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution);
+
+// The value of a 32-bit counter at byte 'offset' of 'buffer' (reads it back).
+uint32_t readCounter(const Buffer& buffer, size_t offset = 0);
 
 // Renders the scene from the camera into the 2D texture 'resource', each triangle coloured by the
 // axis voxelization projects it along (x red, y green, z blue).

@@ -44,13 +44,6 @@ static constexpr uint32_t kChunkColumns = 8192;
 
 static Method methodOf(const ParamSet& params) { return Method(params.getInt("voxelize.method")); }
 
-static uint32_t readUint(const Buffer& buffer, size_t offset = 0) {
-  uint32_t v = 0;
-  auto bytes = buffer.download(4, offset);
-  std::memcpy(&v, bytes.data(), 4);
-  return v;
-}
-
 // --- 1. classify ----------------------------------------------------------------------------------
 
 void ClassifyStage::declare(StageBuilder& b) const {
@@ -169,42 +162,19 @@ void VoxelizeStage::execute(StageContext& ctx) {
     setUniform(computeProgram, "u_chunkColumns", unsigned(kChunkColumns));
   }
 
-  Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
-  Buffer& axisCounts = ctx.board.ensureBuffer("voxelize.axis-counts", 16);  // the raster shader counts axes too
-  // Capacity guess; if the counter says more fragments were produced, grow and run again.
-  size_t capacity = initialFragmentCapacity(ctx.board, res);
-
-  GLuint fbo = 0;
-  glCreateFramebuffers(1, &fbo);
-  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, res);
-  glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, res);
-  uint32_t afterRaster = 0, produced = 0;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    Buffer& fragments = ctx.board.ensureBuffer("fragments", capacity * sizeof(gpu::VoxelFragment));
-    const uint32_t zero[4] = {0, 0, 0, 0};
-    counter.upload(zero, 4);
-    axisCounts.upload(zero, 16);
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, VOXLAB_BINDING_FRAGMENT_COUNT, counter.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, fragments.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_AXIS_COUNTS, axisCounts.id());
+  uint32_t afterRaster = 0;
+  size_t capacity = 0;
+  const uint32_t produced = fillFragmentList(ctx, res, [&](uint32_t cap) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
     if (raster) {
-      // Fragment-parallel: one rasterization over a res x res framebuffer without attachments.
-      setUniform(rasterProgram, "u_capacity", unsigned(capacity));
-      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-      glViewport(0, 0, res, res);
-      glDisable(GL_DEPTH_TEST);
-      glDisable(GL_CULL_FACE);
-      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      ctx.gpuScene.draw(rasterProgram);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-      afterRaster = readUint(counter);
+      // Fragment-parallel: the conservative raster pass of vct-grid (hybrid: large triangles only).
+      setUniform(rasterProgram, "u_capacity", cap);
+      rasterizeVoxelFragments(ctx, rasterProgram, res);
+      afterRaster = readCounter(ctx.board.buffer("fragments.count"));
     }
     if (compute) {
       // Triangle-parallel: one invocation per listed triangle, appending to the same list.
-      setUniform(computeProgram, "u_capacity", unsigned(capacity));
+      setUniform(computeProgram, "u_capacity", cap);
       glUseProgram(computeProgram);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
@@ -223,11 +193,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
       }
       glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
-    produced = readUint(counter);
-    if (produced <= capacity) break;
-    capacity = produced;
-  }
-  glDeleteFramebuffers(1, &fbo);
+  }, capacity);
 
   ctx.stats["fragments"] = produced;
   ctx.stats["fragments_raster"] = afterRaster;
@@ -280,7 +246,7 @@ void OccupancyStage::execute(StageContext& ctx) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                   GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  const uint32_t voxels = readUint(unique);
+  const uint32_t voxels = readCounter(unique);
   ctx.stats["fragments"] = count;
   ctx.stats["unique_voxels"] = voxels;
   ctx.stats["duplicate_fragments"] = double(count) - double(voxels);
