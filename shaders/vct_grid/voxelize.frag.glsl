@@ -55,7 +55,11 @@ void main() {
   float zlo = max(zc - reach, min(s0.z, min(s1.z, s2.z)));
   float zhi = min(zc + reach, max(s0.z, max(s1.z, s2.z)));
   vec2 cell = floor(px);
-  for (float z = floor(zlo); z <= floor(zhi) && z <= floor(zlo) + 3.0; z += 1.0) {
+  // Candidates: the cells whose depth range meets [zlo, zhi], widened by 1e-3 voxel for rounding
+  // (a plane exactly on a cell boundary must reach the cell above it); at most 4. The exact test
+  // decides, with half-open cells (tri_box.glsl).
+  float kLo = floor(zlo - 1e-3), kHi = min(floor(zhi + 1e-3), kLo + 3.0);
+  for (float z = kLo; z <= kHi; z += 1.0) {
     ivec3 voxel = ivec3(fromProjected(vec3(cell, z), fin.axis));
     if (triangleOverlapsBox(fin.tri0, fin.tri1, fin.tri2, vec3(voxel) + 0.5, vec3(0.5))) appendVoxel(voxel);
   }
