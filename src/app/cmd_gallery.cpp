@@ -10,6 +10,7 @@
 // Indirect or IndirectOne: r >= 2 or r == 2) is the technique's indirect term. The time per frame
 // is the median over --bench-runs runs of all stages, measured as `voxlab bench` measures it.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,7 @@
 #include "core/paths.h"
 #include "graph/technique.h"
 #include "lesson/handout.h"
+#include "lesson/step_picture.h"
 #include "reference/path_tracer.h"
 #include "scene/scene.h"
 
@@ -76,12 +78,56 @@ std::string pngOf(const json& entry, const std::string& suffix) {
   return "";
 }
 
+// A small copy for the documentation: DIR/<scene>.md (a Markdown table per technique) and its
+// pictures, 160 px wide, in DIR/<scene>/ (about 20-40 KB each).
+void writeDocsCopy(const json& page, const std::string& galleryDir, const std::string& dir) {
+  const std::string scene = page["scene"].get<std::string>();
+  fs::create_directories(fs::path(dir) / scene);
+  auto copy = [&](const std::string& rel) {
+    ImageFileData f = readImageFile((fs::path(galleryDir) / rel).string());
+    DisplayImage img;
+    img.width = f.width;
+    img.height = f.height;
+    img.rgb.resize(size_t(f.width) * f.height * 3);
+    for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
+      for (int c = 0; c < 3; ++c)
+        img.rgb[i * 3 + c] = uint8_t(std::lround(255.0f * f.pixels[i * f.channels + std::min(c, f.channels - 1)]));
+    std::string name = rel.substr(rel.find('/') + 1);  // <technique>/<file>
+    std::replace(name.begin(), name.end(), '/', '.');
+    writePng(shrink(img, 160), (fs::path(dir) / scene / name).string());
+    return "![" + name + "](" + scene + "/" + name + ")";
+  };
+  std::string md = "# Gallery: " + scene + "\n\nWritten by `voxlab gallery --scene " + scene + " --docs-copy docs/gallery` " +
+                   "(camera " + std::to_string(page["camera"].get<int>()) + ", " + page["size"].get<std::string>() +
+                   ", default parameters; pictures reduced to 160 px). The full-size page is `<out>/" + scene +
+                   ".html`; docs/fidelity.md explains the numbers.\n";
+  for (const auto& t : page["techniques"]) {
+    md += "\n## " + t["title"].get<std::string>() + " (`" + t["id"].get<std::string>() + "`)\n\nTime per frame " +
+          fmt("%.0f", t["frame_cpu_ms_median"].get<double>()) + " ms (CPU wall, median of " +
+          std::to_string(page["bench_runs"].get<int>()) + " runs, " + t["gl_renderer"].get<std::string>() + ").\n\n" +
+          "| output | image | reference | error | RMSE | SSIM | mean ratio |\n|---|---|---|---|---:|---:|---:|\n";
+    for (const auto& o : t["outputs"]) {
+      md += "| `" + o["address"].get<std::string>() + "` (" + o["role"].get<std::string>() + ") | " + copy(o["image"]) + " | ";
+      if (o.contains("reference_image")) {
+        const json& r = o["reference_error"];
+        md += copy(o["reference_image"]) + " `" + r["mode"].get<std::string>() + "` | " +
+              (o.contains("error_image") ? copy(o["error_image"]) : std::string()) + " | " + fmt("%.4f", r["rmse"].get<double>()) +
+              " | " + fmt("%.3f", r["ssim"].get<double>()) + " | " + fmt("%.3f", r["mean_ratio"].get<double>()) + " |\n";
+      } else {
+        md += "no reference | | | | |\n";
+      }
+    }
+  }
+  std::ofstream(fs::path(dir) / (scene + ".md")) << md;
+}
+
 int runGallery(const std::vector<std::string>& argv) {
   Args args("gallery", argv,
             {{"--scene", true, false, "scene name in scenes/ or a glTF path"},
              {"--camera", true, false, "index of the scene camera (default 0, the references' camera)"},
              {"--size", true, false, "image size WIDTHxHEIGHT (default 512x512, the references' size)"},
              {"--bench-runs", true, false, "timed runs of all stages per technique (default 5, as voxlab bench)"},
+             {"--docs-copy", true, false, "also write DIR/<scene>.md with its pictures 160 px wide (docs/gallery)"},
              {"--out", true, false, "folder for <scene>.html, <scene>.json and <scene>/<technique>/"}});
   RunRequest base;
   base.scene = args.require("--scene");
@@ -139,7 +185,7 @@ int runGallery(const std::vector<std::string>& argv) {
             }
           }
         }
-        oj["role"] = role.empty() ? "compared output" : role;
+        oj["role"] = role.empty() ? "compared with the reference" : role;
         tj["outputs"].push_back(oj);
       }
     StageTimes times = timeStages(session.cursor(), benchRuns);
@@ -215,6 +261,7 @@ int runGallery(const std::vector<std::string>& argv) {
   fs::create_directories(out);
   std::ofstream(fs::path(out) / (scene + ".html")) << html;
   std::ofstream(fs::path(out) / (scene + ".json")) << page.dump(2) << "\n";
+  if (args.has("--docs-copy")) writeDocsCopy(page, out, args.get("--docs-copy"));
   std::printf("voxlab gallery: %zu techniques on %s, written to %s/%s.html\n", registry.size(), scene.c_str(), out.c_str(),
               scene.c_str());
   return 0;

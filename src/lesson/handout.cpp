@@ -71,27 +71,6 @@ void writeText(const std::string& path, const std::string& text) {
   if (!f) throw Error("cannot write '" + path + "'");
 }
 
-// Area-averaged copy of 'image' 'width' pixels wide (aspect kept).
-DisplayImage shrink(const DisplayImage& image, int width) {
-  if (image.width <= width) return image;
-  DisplayImage out;
-  out.width = width;
-  out.height = std::max(1, int(std::lround(double(image.height) * width / image.width)));
-  out.rgb.resize(size_t(out.width) * out.height * 3);
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      int x0 = x * image.width / out.width, x1 = std::max(x0 + 1, (x + 1) * image.width / out.width);
-      int y0 = y * image.height / out.height, y1 = std::max(y0 + 1, (y + 1) * image.height / out.height);
-      for (int c = 0; c < 3; ++c) {
-        long sum = 0;
-        for (int yy = y0; yy < y1; ++yy)
-          for (int xx = x0; xx < x1; ++xx) sum += image.rgb[(size_t(yy) * image.width + xx) * 3 + c];
-        out.rgb[(size_t(y) * out.width + x) * 3 + c] = uint8_t(sum / ((x1 - x0) * (y1 - y0)));
-      }
-    }
-  return out;
-}
-
 // The lesson's first step narrative repeats the "# title" heading; the page shows it once.
 std::string withoutTitle(const std::string& narrative, const std::string& title) {
   std::string first = narrative.substr(0, narrative.find('\n'));

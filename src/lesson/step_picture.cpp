@@ -68,6 +68,26 @@ void blendOverlay(DisplayImage& image, const std::vector<uint8_t>& over) {
     }
 }
 
+DisplayImage shrink(const DisplayImage& image, int width) {
+  if (image.width <= width) return image;
+  DisplayImage out;
+  out.width = width;
+  out.height = std::max(1, int(std::lround(double(image.height) * width / image.width)));
+  out.rgb.resize(size_t(out.width) * out.height * 3);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      int x0 = x * image.width / out.width, x1 = std::max(x0 + 1, (x + 1) * image.width / out.width);
+      int y0 = y * image.height / out.height, y1 = std::max(y0 + 1, (y + 1) * image.height / out.height);
+      for (int c = 0; c < 3; ++c) {
+        long sum = 0;
+        for (int yy = y0; yy < y1; ++yy)
+          for (int xx = x0; xx < x1; ++xx) sum += image.rgb[(size_t(yy) * image.width + xx) * 3 + c];
+        out.rgb[(size_t(y) * out.width + x) * 3 + c] = uint8_t(sum / ((x1 - x0) * (y1 - y0)));
+      }
+    }
+  return out;
+}
+
 DisplayImage enlarge(const DisplayImage& image, int factor) {
   if (factor <= 1) return image;
   DisplayImage out;

@@ -40,6 +40,8 @@ OverlayContent overlayContent(StepCursor& cursor, const std::string& volume, int
 // viewer draws it: source alpha over the image.
 void blendOverlay(DisplayImage& image, const std::vector<uint8_t>& over);
 
+// Area-averaged copy 'width' pixels wide, aspect kept (unchanged when not wider).
+DisplayImage shrink(const DisplayImage& image, int width);
 // Nearest-neighbour enlargement by a whole factor (1 = unchanged).
 DisplayImage enlarge(const DisplayImage& image, int factor);
 

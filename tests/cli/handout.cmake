@@ -28,5 +28,11 @@ voxlab_cli_case(handout_unrenderable_step 2
 voxlab_cli_case(handout_bad_size 2 "--size" "handout --all --size 0x5 --out @OUT@")
 voxlab_cli_case(gallery_unknown_scene 2 "no-such-scene"
   "gallery --scene no-such-scene --out @OUT@")
-voxlab_cli_case(gallery_needs_scene 2 "gallery needs --scene"
+voxlab_cli_case(gallery_needs_scene 2 "'gallery' needs --scene"
   "gallery --out @OUT@")
+
+# handout.progress_bar: the bar on a pseudo-terminal, none on a pipe (tests/cli/handout/progress_bar.sh).
+add_test(NAME handout.progress_bar
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/cli/handout/progress_bar.sh $<TARGET_FILE:voxlab> ${CMAKE_SOURCE_DIR}
+          ${CMAKE_BINARY_DIR}/handout-out/progress)
+set_tests_properties(handout.progress_bar PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" TIMEOUT 120)
