@@ -57,7 +57,7 @@ figure { margin: 1em 0; }
 figure img { max-width: 100%; height: auto; image-rendering: pixelated; border: 1px solid #ccc; }
 figcaption { font-size: 0.9em; color: #444; }
 table.index td { padding: 0.3em 0.8em; vertical-align: middle; }
-table.index img { width: 160px; height: auto; border: 1px solid #ccc; }
+table.index img { width: 160px; height: auto; image-rendering: pixelated; border: 1px solid #ccc; }
 )";
 
 std::string pageHead(const std::string& title) {
@@ -119,8 +119,9 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
     html += "<section class=\"step\" id=\"step-" + std::to_string(i + 1) + "\">\n";
     html += "<p class=\"stepno\">Step " + std::to_string(i + 1) + " of " + std::to_string(n) + "</p>\n";
     html += markdownToHtml(i == 0 ? withoutTitle(step.narrative, lesson.title) : step.narrative);
-    html += "<figure>\n<img src=\"" + htmlEscape(rel) + "\" width=\"" + std::to_string(pic.image.width) + "\" height=\"" +
-            std::to_string(pic.image.height) + "\" alt=\"" + htmlEscape(pic.address) + "\">\n<figcaption>\n";
+    html += "<figure>\n<img src=\"" + htmlEscape(rel) + "\" width=\"" + std::to_string(pic.image.width * pic.displayScale) +
+            "\" height=\"" + std::to_string(pic.image.height * pic.displayScale) + "\" alt=\"" + htmlEscape(pic.address) +
+            "\">\n<figcaption>\n";
     html += "<p><code>" + htmlEscape(pic.address) + "</code> on " + htmlEscape(step.scene) + ", camera " +
             std::to_string(step.camera) + "; parameters: " + params + ".";
     if (!pic.notes.empty()) html += " " + htmlEscape(pic.notes) + ".";

@@ -88,19 +88,6 @@ DisplayImage shrink(const DisplayImage& image, int width) {
   return out;
 }
 
-DisplayImage enlarge(const DisplayImage& image, int factor) {
-  if (factor <= 1) return image;
-  DisplayImage out;
-  out.width = image.width * factor;
-  out.height = image.height * factor;
-  out.rgb.resize(size_t(out.width) * out.height * 3);
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        out.rgb[(size_t(y) * out.width + x) * 3 + c] = image.rgb[(size_t(y / factor) * image.width + x / factor) * 3 + c];
-  return out;
-}
-
 StepRenderer::StepRenderer(int width, int height) : width_(width), height_(height) {}
 
 StepRenderer::~StepRenderer() {
@@ -202,9 +189,9 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
     }
   }
 
-  // The viewer fits a picture to its panel with nearest filtering (voxels stay squares); a coarse
-  // slice is enlarged the same way, by a whole factor, up to the handout's picture size.
-  pic.image = enlarge(pic.image, std::max(1, std::min(width_ / std::max(pic.image.width, 1), height_ / std::max(pic.image.height, 1))));
+  // The viewer fits a picture to its panel with nearest filtering (voxels stay squares); a page
+  // shows a coarse slice enlarged the same way, by a whole factor, up to the picture size.
+  pic.displayScale = std::max(1, std::min(width_ / std::max(pic.image.width, 1), height_ / std::max(pic.image.height, 1)));
 
   const bool wantsOverlay = step.bounds || !step.overlay.empty();
   if (wantsOverlay && isCameraImage(cursor, stage, cap)) {

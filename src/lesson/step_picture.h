@@ -42,11 +42,9 @@ void blendOverlay(DisplayImage& image, const std::vector<uint8_t>& over);
 
 // Area-averaged copy 'width' pixels wide, aspect kept (unchanged when not wider).
 DisplayImage shrink(const DisplayImage& image, int width);
-// Nearest-neighbour enlargement by a whole factor (1 = unchanged).
-DisplayImage enlarge(const DisplayImage& image, int factor);
-
 struct StepPicture {
-  DisplayImage image;                 // RGB, top row first
+  DisplayImage image;                 // RGB, top row first, at the size the viewer maps it (a slice's texels)
+  int displayScale = 1;               // whole factor to show it at, nearest filtering (up to the step size)
   std::string address;                // technique/stage/output@level
   std::vector<std::string> changed;   // "name=value" for parameters that differ from the defaults
   std::string command;                // the `voxlab run` line that reproduces the state

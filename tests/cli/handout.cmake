@@ -36,3 +36,11 @@ add_test(NAME handout.progress_bar
   COMMAND ${CMAKE_SOURCE_DIR}/tests/cli/handout/progress_bar.sh $<TARGET_FILE:voxlab> ${CMAKE_SOURCE_DIR}
           ${CMAKE_BINARY_DIR}/handout-out/progress)
 set_tests_properties(handout.progress_bar PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" TIMEOUT 120)
+
+# handout.viewer_match: every picture of lesson 01's handout is what the viewer's view shows at
+# that step (tests/cli/handout/viewer_match.sh under Xvfb; skipped only without xvfb-run).
+add_test(NAME handout.viewer_match
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/cli/handout/viewer_match.sh $<TARGET_FILE:voxlab> ${CMAKE_SOURCE_DIR}
+          ${CMAKE_BINARY_DIR}/handout-out/viewer_match)
+set_tests_properties(handout.viewer_match PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
