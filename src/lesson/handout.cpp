@@ -87,6 +87,9 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
   fs::create_directories(fs::path(dir) / stem, ec);
   if (ec) throw Error("cannot create output folder '" + (fs::path(dir) / stem).string() + "': " + ec.message());
 
+  for (const auto& e : fs::directory_iterator(fs::path(dir) / stem, ec))  // pictures of an older, longer version
+    if (e.path().filename().string().rfind("step-", 0) == 0) fs::remove(e.path(), ec);
+
   HandoutPage page;
   page.title = lesson.title;
   page.file = stem + ".html";
