@@ -3,6 +3,7 @@
 #include <cmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -71,6 +72,17 @@ void writeText(const std::string& path, const std::string& text) {
   if (!f) throw Error("cannot write '" + path + "'");
 }
 
+// Standard deviation of the 8-bit values over every pixel and channel.
+double pixelSpread(const DisplayImage& image) {
+  double sum = 0, sq = 0;
+  for (uint8_t v : image.rgb) {
+    sum += v;
+    sq += double(v) * v;
+  }
+  const double n = std::max<double>(1.0, double(image.rgb.size()));
+  return std::sqrt(std::max(0.0, sq / n - (sum / n) * (sum / n)));
+}
+
 // The lesson's first step narrative repeats the "# title" heading; the page shows it once.
 std::string withoutTitle(const std::string& narrative, const std::string& title) {
   std::string first = narrative.substr(0, narrative.find('\n'));
@@ -102,7 +114,8 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
   html += "<p class=\"source\">Handout of <code>" + htmlEscape(fs::path(lesson.path).filename().string()) + "</code>, " +
           std::to_string(n) + " steps. Every picture was rendered by <code>voxlab handout</code>; the line under it " +
           "reproduces it with <code>voxlab run</code>.</p>\n";
-  DisplayImage last;
+  DisplayImage thumb;  // the step picture with the most varied pixels: a slice of empty space is a poor thumbnail
+  double thumbSpread = -1.0;
   for (int i = 0; i < n; ++i) {
     const LessonStep& step = lesson.steps[i];
     if (progress) progress(i, n, stem + ": step " + std::to_string(i + 1) + " " + step.stage + "/" + step.output);
@@ -111,7 +124,11 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
     std::snprintf(name, sizeof name, "step-%02d.png", i + 1);
     const std::string rel = stem + "/" + name;
     writePng(pic.image, (fs::path(dir) / rel).string());
-    last = pic.image;
+    const double spread = pixelSpread(pic.image);
+    if (spread >= thumbSpread) {  // ties go to the later step
+      thumbSpread = spread;
+      thumb = pic.image;
+    }
 
     std::string params = "defaults";
     if (!pic.changed.empty()) {
@@ -133,7 +150,7 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
   }
   if (!lesson.epilogue.empty()) html += "<div class=\"epilogue\">\n" + markdownToHtml(lesson.epilogue) + "</div>\n";
   html += "</body>\n</html>\n";
-  writePng(shrink(last, 192), (fs::path(dir) / page.thumbnail).string());
+  writePng(shrink(thumb, 192), (fs::path(dir) / page.thumbnail).string());
   writeText((fs::path(dir) / page.file).string(), html);
   if (progress) progress(n, n, stem + ": written " + page.file);
   return page;

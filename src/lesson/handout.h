@@ -43,7 +43,8 @@ using HandoutProgress = std::function<void(int done, int total, const std::strin
 HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRenderer& renderer,
                          const HandoutProgress& progress = {});
 
-// DIR/index.html: the lessons in the given order, one line each with its thumbnail.
+// DIR/index.html: the lessons in the given order, one line each with its thumbnail (the lesson's
+// step picture with the most varied pixels, 192 px wide).
 void writeHandoutIndex(const std::vector<HandoutPage>& pages, const std::string& dir);
 
 // The lesson files of a folder in order (file name order: 01-..., 02-...), README.md left out.
