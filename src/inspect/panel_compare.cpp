@@ -161,7 +161,7 @@ void Viewer::drawCompareControls() {
     ImGui::TextColored(kWarningColour, "%s", compare.error.c_str());
   } else if (compare.metrics) {
     const auto& m = *compare.metrics;
-    ImGui::Text("vs %s: rmse %.5g, psnr %.2f dB, mae %.4g, max %.4g, ssim %.4f", compare.otherLabel.c_str(), m.rmse, m.psnr,
+    ImGui::TextWrapped("vs %s: rmse %.5g, psnr %.2f dB, mae %.4g, max %.4g, ssim %.4f", compare.otherLabel.c_str(), m.rmse, m.psnr,
                 m.mae, m.maxAbs, m.ssim);
     if (compare.mode == CompareState::Mode::Difference)
       ImGui::TextDisabled("luminance of |A - B|, false colour up to %.4g (99th percentile)", double(compare.errorScale));
