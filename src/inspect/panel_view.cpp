@@ -128,16 +128,30 @@ void Viewer::drawView() {
     if (!ImGui::IsMouseDown(ImGuiMouseButton_Right)) flying = false;
     else handleFly();
   }
-  // Mark the probed pixel on camera images (the first screen probe's parameters).
-  if (cameraImage) {
-    auto screen = probesFor(ProbeSpace::Screen, "");
-    if (!screen.empty()) {
-      float qx = origin.x + float(cursor->params().value(screen[0].second->x)) * size.x;
-      float qy = origin.y + float(cursor->params().value(screen[0].second->y)) * size.y;
-      dl->AddCircle(ImVec2(qx, qy), 6.0f, IM_COL32(255, 60, 200, 255), 12, 2.0f);
-      dl->AddLine(ImVec2(qx - 10, qy), ImVec2(qx + 10, qy), IM_COL32(255, 60, 200, 255));
-      dl->AddLine(ImVec2(qx, qy - 10), ImVec2(qx, qy + 10), IM_COL32(255, 60, 200, 255));
+  // Mark where the probes of the shown image's spaces point (in fractions of the image).
+  std::vector<ImVec2> marks;
+  const ParamSet& ps = cursor->params();
+  for (ProbeSpace space : probeSpaces)
+    for (auto [stage, p] : probesFor(space, d.resourceName())) {
+      if (space != ProbeSpace::Volume) {
+        marks.emplace_back(float(ps.value(p->x)), float(ps.value(p->y)));
+        continue;
+      }
+      // A probed cell shows when it lies in the shown slice of the shown level (the inverse of sliceTexel).
+      if (!p->level.empty() && ps.getInt(p->level) != view.level) continue;
+      const LevelData& L = cap.levels.at(std::clamp(view.level, 0, int(cap.levels.size()) - 1));
+      const SliceSpec sl = sliceToShow(L, view.slice);
+      const glm::ivec3 c(ps.getInt(p->x), ps.getInt(p->y), ps.getInt(p->z));
+      const glm::ivec2 e = sliceExtent(L, sl);
+      glm::ivec2 at = sl.axis == 0 ? glm::ivec2(c.z, L.size.y - 1 - c.y) : sl.axis == 1 ? glm::ivec2(c.x, L.size.z - 1 - c.z)
+                                                                               : glm::ivec2(c.x, L.size.y - 1 - c.y);
+      if (c[sl.axis] == sl.index) marks.emplace_back((at.x + 0.5f) / e.x, (at.y + 0.5f) / e.y);
     }
+  for (const ImVec2& f : marks) {
+    float qx = origin.x + f.x * size.x, qy = origin.y + f.y * size.y;
+    dl->AddCircle(ImVec2(qx, qy), 6.0f, IM_COL32(255, 60, 200, 255), 12, 2.0f);
+    dl->AddLine(ImVec2(qx - 10, qy), ImVec2(qx + 10, qy), IM_COL32(255, 60, 200, 255));
+    dl->AddLine(ImVec2(qx, qy - 10), ImVec2(qx, qy + 10), IM_COL32(255, 60, 200, 255));
   }
 
   // Value under the cursor and the picked element.
