@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "capture/image_files.h"
+#include "capture/output_handler.h"
 #include "core/error.h"
 #include "gpu/resources.h"
 
@@ -67,9 +68,7 @@ CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc) {
 
 bool texelNonEmpty(const CapturedOutput& out, const LevelData& d, size_t t) {
   const float* v = &d.values[t * d.channels];
-  Semantic s = out.desc.semantic;
-  if (out.desc.kind == OutputKind::Volume3D && d.channels == 4 &&
-      (s == Semantic::Color || s == Semantic::RadianceHDR || s == Semantic::Opacity))
+  if (out.desc.kind == OutputKind::Volume3D && d.channels == 4 && texelMapping(out.desc.semantic).alphaIsOpacity)
     return v[3] != 0.0f;
   for (int c = 0; c < d.channels; ++c)
     if (v[c] != 0.0f) return true;
@@ -103,11 +102,18 @@ static int fieldComponents(FieldType t) {
   }
 }
 
-json outputStatistics(const CapturedOutput& out) {
-  json s;
+json outputStatistics(const CapturedOutput& out) { return outputHandler(out.desc).statistics(out); }
+
+static json worldBoxJson(const CapturedOutput& out) {
+  json s = json::object();
   if (out.world) s["world_box"] = {{"lo", {out.world->lo.x, out.world->lo.y, out.world->lo.z}},
                                    {"hi", {out.world->hi.x, out.world->hi.y, out.world->hi.z}}};
-  if (out.desc.kind == OutputKind::Buffer) {
+  return s;
+}
+
+json recordStatistics(const CapturedOutput& out) {
+  json s = worldBoxJson(out);
+  {
     s["count"] = out.recordCount;
     const auto& L = out.desc.layout;
     for (const auto& f : L.fields) {
@@ -127,8 +133,12 @@ json outputStatistics(const CapturedOutput& out) {
       }
       s["fields"][f.name] = fj;
     }
-    return s;
   }
+  return s;
+}
+
+json levelStatistics(const CapturedOutput& out) {
+  json s = worldBoxJson(out);
   for (size_t l = 0; l < out.levels.size(); ++l) {
     const LevelData& d = out.levels[l];
     std::vector<double> lo(d.channels, 1e300), hi(d.channels, -1e300), sum(d.channels, 0.0);
@@ -158,61 +168,11 @@ json outputStatistics(const CapturedOutput& out) {
 
 // --- Display mapping -----------------------------------------------------------------------------
 
-static uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
-
-static float srgbEncode(float x) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
-
-// A perceptually ordered dark-to-bright colour ramp (stops chosen for voxlab: black, indigo,
-// magenta-red, orange, pale yellow).
-static void falseColour(float t, uint8_t* rgb) {
-  static const float stops[5][3] = {{0.0f, 0.0f, 0.02f}, {0.25f, 0.05f, 0.45f}, {0.75f, 0.15f, 0.35f},
-                                    {0.98f, 0.55f, 0.1f}, {0.99f, 0.98f, 0.75f}};
-  t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
-  int i = std::min(int(t), 3);
-  float f = t - float(i);
-  for (int c = 0; c < 3; ++c) rgb[c] = toByte(stops[i][c] * (1 - f) + stops[i + 1][c] * f);
-}
-
-static void mapTexel(const CapturedOutput& out, const LevelData& d, size_t t, float lo, float hi, uint8_t* rgb) {
-  const float* v = &d.values[t * d.channels];
-  auto ch = [&](int c) { return c < d.channels ? v[c] : v[0]; };
-  switch (out.desc.semantic) {
-    case Semantic::Color:
-      for (int c = 0; c < 3; ++c) rgb[c] = toByte(srgbEncode(ch(c)));
-      break;
-    case Semantic::RadianceHDR:
-      for (int c = 0; c < 3; ++c) rgb[c] = toByte(srgbEncode(ch(c) / (1.0f + ch(c))));
-      break;
-    case Semantic::Normal: {
-      bool zero = ch(0) == 0 && ch(1) == 0 && ch(2) == 0;
-      for (int c = 0; c < 3; ++c) rgb[c] = zero ? 0 : toByte(ch(c) * 0.5f + 0.5f);
-      break;
-    }
-    case Semantic::Occupancy: {
-      uint8_t b = texelNonEmpty(out, d, t) ? 255 : 0;
-      rgb[0] = rgb[1] = rgb[2] = b;
-      break;
-    }
-    case Semantic::Fraction: {
-      uint8_t b = toByte(v[0]);
-      rgb[0] = rgb[1] = rgb[2] = b;
-      break;
-    }
-    case Semantic::Opacity: {
-      uint8_t b = toByte(d.channels == 4 ? v[3] : v[0]);
-      rgb[0] = rgb[1] = rgb[2] = b;
-      break;
-    }
-    default:
-      falseColour(hi > lo ? (v[0] - lo) / (hi - lo) : 0.0f, rgb);
-  }
-}
+static uint8_t toByte(float v) { return unitToByte(v); }
 
 DisplayImage displayImage(const CapturedOutput& out, int level) {
   const LevelData& d = out.levels.at(level);
+  const TexelMapping& mapping = texelMapping(out.desc.semantic);
   float lo = 1e30f, hi = -1e30f;
   for (size_t t = 0; t < d.texelCount(); ++t) {
     float v = d.values[t * d.channels];
@@ -232,7 +192,7 @@ DisplayImage displayImage(const CapturedOutput& out, int level) {
       for (int x = 0; x < d.size.x; ++x) {
         size_t t = (size_t(z) * d.size.y + y) * d.size.x + x;
         int py = oy + (d.size.y - 1 - y);  // GL rows are bottom-up; images are top-down
-        mapTexel(out, d, t, lo, hi, &img.rgb[(size_t(py) * img.width + ox + x) * 3]);
+        mapping.map(&d.values[t * d.channels], d.channels, 1.0f, lo, hi, &img.rgb[(size_t(py) * img.width + ox + x) * 3]);
       }
   }
   return img;
@@ -372,41 +332,43 @@ json recordsJson(const CapturedOutput& out, size_t limit) {
   return arr;
 }
 
-json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix) {
+json manifestEntry(const CapturedOutput& out, const json& statistics) {
   json entry;
   entry["kind"] = kindName(out.desc.kind);
   entry["semantic"] = semanticName(out.desc.semantic);
   entry["format"] = out.format;
-  entry["statistics"] = outputStatistics(out);
-  json files = json::array();
+  entry["statistics"] = statistics;
+  return entry;
+}
+
+void writeRecordFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix, const json& statistics,
+                      json& files) {
   auto add = [&](const std::string& name) {
     files.push_back(name);
     return dir + "/" + name;
   };
-  if (out.desc.kind == OutputKind::Buffer) {
-    json summary;
-    summary["count"] = out.recordCount;
-    summary["stride"] = out.desc.layout.stride;
-    summary["statistics"] = entry["statistics"];
-    summary["first_records"] = recordsJson(out, 64);
-    std::ofstream(add(prefix + ".json")) << summary.dump(2) << "\n";
-    {
-      std::ofstream bin(add(prefix + ".bin"), std::ios::binary);
-      bin.write(reinterpret_cast<const char*>(out.records.data()), std::streamsize(out.records.size()));
-    }
-    if (std::any_of(out.desc.layout.fields.begin(), out.desc.layout.fields.end(),
-                    [](const BufferField& f) { return f.role == FieldRole::Position; }))
-      writePng(pointView(out), add(prefix + ".points.png"));
-  } else {
-    entry["levels"] = int(out.levels.size());
-    for (size_t l = 0; l < out.levels.size(); ++l) {
-      std::string base = prefix + (out.levels.size() > 1 ? "@" + std::to_string(l) : "");
-      writePng(displayImage(out, int(l)), add(base + ".png"));
-      writeLevelExr(out.levels[l], add(base + ".exr"), semanticName(out.desc.semantic));
-    }
+  json summary;
+  summary["count"] = out.recordCount;
+  summary["stride"] = out.desc.layout.stride;
+  summary["statistics"] = statistics;
+  summary["first_records"] = recordsJson(out, 64);
+  std::ofstream(add(prefix + ".json")) << summary.dump(2) << "\n";
+  std::ofstream bin(add(prefix + ".bin"), std::ios::binary);
+  bin.write(reinterpret_cast<const char*>(out.records.data()), std::streamsize(out.records.size()));
+}
+
+void writeLevelFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix, json& files) {
+  for (size_t l = 0; l < out.levels.size(); ++l) {
+    std::string base = prefix + (out.levels.size() > 1 ? "@" + std::to_string(l) : "");
+    files.push_back(base + ".png");
+    writePng(displayImage(out, int(l)), dir + "/" + base + ".png");
+    files.push_back(base + ".exr");
+    writeLevelExr(out.levels[l], dir + "/" + base + ".exr", semanticName(out.desc.semantic));
   }
-  entry["files"] = files;
-  return entry;
+}
+
+json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix) {
+  return outputHandler(out.desc).writeFiles(out, dir, prefix);
 }
 
 }  // namespace voxlab

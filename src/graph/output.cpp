@@ -15,21 +15,7 @@ const char* kindName(OutputKind k) {
   return "?";
 }
 
-const char* semanticName(Semantic s) {
-  switch (s) {
-    case Semantic::Color: return "color";
-    case Semantic::RadianceHDR: return "radiance-hdr";
-    case Semantic::Normal: return "normal";
-    case Semantic::Depth: return "depth";
-    case Semantic::Scalar: return "scalar";
-    case Semantic::Occupancy: return "occupancy";
-    case Semantic::Opacity: return "opacity";
-    case Semantic::Fraction: return "fraction";
-    case Semantic::Points: return "points";
-    case Semantic::ConeSamples: return "cone-samples";
-  }
-  return "?";
-}
+const char* semanticName(Semantic s) { return s.name(); }
 
 OutputAddress OutputAddress::parse(const std::string& text) {
   OutputAddress a;

@@ -2,6 +2,7 @@
 // saved; the semantic says how it is shown (the visualiser and the display mapping).
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -13,18 +14,42 @@ enum class OutputKind {
   Buffer,    // an array of records in a buffer, described by a BufferLayout
 };
 
-enum class Semantic {
-  Color,        // linear RGB in [0,1], shown sRGB-encoded
-  RadianceHDR,  // linear RGB, unbounded, shown tonemapped (exposure 1, Reinhard) and sRGB-encoded
-  Normal,       // unit vectors, shown as n * 0.5 + 0.5
-  Depth,        // scalar distance or depth, shown normalised min..max in false colour
-  Scalar,       // any scalar, shown normalised min..max in false colour
-  Occupancy,    // non-zero means occupied; shown white on black
-  Opacity,      // alpha channel of a radiance volume, shown grey
-  Fraction,     // a scalar in [0,1] (visibility, occlusion), shown grey
-  Points,       // a buffer of records with a position field, shown as a point view
-  ConeSamples,  // a buffer of cone-trace samples for one probed pixel
+// The semantic names what the values mean; it picks the visualiser (src/inspect/visualisers) and
+// the display mapping. It is an open set: a name, compared by its text, so a new kind of data (or a
+// test) adds one with `inline constexpr Semantic kMine{"mine"};` and no change here. The shared
+// ones:
+class Semantic {
+ public:
+  constexpr explicit Semantic(const char* name) : name_(name) {}
+  constexpr const char* name() const { return name_; }
+  bool operator==(const Semantic& o) const { return std::strcmp(name_, o.name_) == 0; }
+  bool operator!=(const Semantic& o) const { return !(*this == o); }
+  bool operator<(const Semantic& o) const { return std::strcmp(name_, o.name_) < 0; }
+
+  static const Semantic Color;        // linear RGB in [0,1], shown sRGB-encoded
+  static const Semantic RadianceHDR;  // linear RGB, unbounded, shown tonemapped (Reinhard) and sRGB-encoded
+  static const Semantic Normal;       // unit vectors, shown as n * 0.5 + 0.5
+  static const Semantic Depth;        // scalar distance or depth, shown normalised min..max in false colour
+  static const Semantic Scalar;       // any scalar, shown normalised min..max in false colour
+  static const Semantic Occupancy;    // non-zero means occupied; shown white on black
+  static const Semantic Opacity;      // alpha channel of a radiance volume, shown grey
+  static const Semantic Fraction;     // a scalar in [0,1] (visibility, occlusion), shown grey
+  static const Semantic Points;       // a buffer of records with a position field, shown as a point view
+  static const Semantic ConeSamples;  // a buffer of cone-trace samples for one probed pixel
+
+ private:
+  const char* name_;  // a string literal (or other text that outlives every OutputDesc)
 };
+inline constexpr Semantic Semantic::Color{"color"};
+inline constexpr Semantic Semantic::RadianceHDR{"radiance-hdr"};
+inline constexpr Semantic Semantic::Normal{"normal"};
+inline constexpr Semantic Semantic::Depth{"depth"};
+inline constexpr Semantic Semantic::Scalar{"scalar"};
+inline constexpr Semantic Semantic::Occupancy{"occupancy"};
+inline constexpr Semantic Semantic::Opacity{"opacity"};
+inline constexpr Semantic Semantic::Fraction{"fraction"};
+inline constexpr Semantic Semantic::Points{"points"};
+inline constexpr Semantic Semantic::ConeSamples{"cone-samples"};
 
 const char* kindName(OutputKind kind);
 const char* semanticName(Semantic semantic);
@@ -51,6 +76,7 @@ struct BufferLayout {
 // How the snapshot suite compares an output with its golden (the numbers live in
 // tests/golden/tolerances.json; this is only the tier).
 enum class CaptureTier {
+  Default,    // the visualiser's tier for the output's kind and semantic (capture/output_handler.h)
   Exact,      // integer/structural: sets and counts compared exactly (canonicalised)
   Tolerance,  // float images/volumes: max abs difference + fraction of texels allowed above it
   None,       // not compared (e.g. nondeterministic debug views)
@@ -63,7 +89,11 @@ struct OutputDesc {
   std::string resource;  // blackboard resource it shows ("" = same as name)
   std::string help;      // one line for the inspector and `voxlab list`
   BufferLayout layout;   // Buffer kind only
-  CaptureTier tier = CaptureTier::Tolerance;
+  CaptureTier tier = CaptureTier::Default;
+  // A probe record: what a stage recorded for the element its probe parameters point at (cone
+  // samples of a pixel, the path of an octree descent, ...). The viewer's Probe tab shows every
+  // probe record of the stages that declare a probe, through the record's visualiser.
+  bool probeRecord = false;
   // "" none; else the reference path tracer mode this output approximates ("full", "direct",
   // "indirect", "indirect-1", ... see reference/path_tracer.h). `voxlab run` compares an Image2D
   // output in linear radiance with tests/golden/reference/<scene>/<mode>.exr when one exists for

@@ -9,11 +9,24 @@ OutputDesc& StageBuilder::output(const std::string& name, OutputKind kind, Seman
   d.kind = kind;
   d.semantic = semantic;
   d.help = help;
-  d.tier = (semantic == Semantic::Occupancy || semantic == Semantic::Points)
-               ? CaptureTier::Exact
-               : CaptureTier::Tolerance;
   decl_.outputs.push_back(d);
   return decl_.outputs.back();
+}
+
+const char* probeSpaceName(ProbeSpace space) {
+  switch (space) {
+    case ProbeSpace::Screen: return "screen";
+    case ProbeSpace::Volume: return "volume";
+    case ProbeSpace::Light: return "light";
+  }
+  return "?";
+}
+
+std::vector<std::string> ProbeDesc::paramNames() const {
+  std::vector<std::string> names;
+  for (const std::string* n : {&x, &y, &z, &level})
+    if (!n->empty()) names.push_back(*n);
+  return names;
 }
 
 }  // namespace voxlab

@@ -21,11 +21,40 @@ class ShaderLibrary;
 // Resource names that are not on the blackboard but still carry dependencies.
 inline constexpr const char* kViewResource = "@view";  // camera and output size
 
+// Probes: parameters that point at one element for a stage to record (its probe-record outputs,
+// OutputDesc::probeRecord). The viewer sets them when the user clicks an image of that space, for
+// every stage that declares a probe there, and re-runs what went stale; no stage is named.
+enum class ProbeSpace {
+  Screen,  // a pixel of the camera images: x, y are fractions of the width / height (y from the top)
+  Volume,  // a cell of a volume at a level: x, y, z cell indices (Int parameters) at 'level'
+  Light,   // a texel of a light-space image (RSM, shadow map): x, y fractions, as Screen
+};
+const char* probeSpaceName(ProbeSpace space);  // "screen", "volume", "light"
+
+struct ProbeDesc {
+  ProbeSpace space = ProbeSpace::Screen;
+  std::string x, y, z;  // names of parameters the stage declares (z: Volume only)
+  std::string level;    // Volume: the parameter holding the cell's level ("" = level 0 cells)
+  // Volume: the volume resource whose cells are meant ("" = any volume); Light: the light-space
+  // image resource (required), e.g. "shadow-map".
+  std::string resource;
+
+  static ProbeDesc screen(std::string x, std::string y) { return {ProbeSpace::Screen, std::move(x), std::move(y), "", "", ""}; }
+  static ProbeDesc volume(std::string x, std::string y, std::string z, std::string level = "", std::string resource = "") {
+    return {ProbeSpace::Volume, std::move(x), std::move(y), std::move(z), std::move(level), std::move(resource)};
+  }
+  static ProbeDesc light(std::string x, std::string y, std::string image) {
+    return {ProbeSpace::Light, std::move(x), std::move(y), "", "", std::move(image)};
+  }
+  std::vector<std::string> paramNames() const;  // the non-empty ones
+};
+
 struct StageDecl {
   std::vector<std::string> reads;     // resources (and kViewResource) this stage reads
   std::vector<std::string> writes;    // resources it writes that are not outputs
   std::vector<OutputDesc> outputs;    // resources it writes that can be inspected
   std::vector<ParamDesc> params;
+  std::vector<ProbeDesc> probes;      // where its probe parameters point
 };
 
 class StageBuilder {
@@ -36,6 +65,8 @@ class StageBuilder {
   StageBuilder& write(const std::string& resource) { decl_.writes.push_back(resource); return *this; }
   OutputDesc& output(const std::string& name, OutputKind kind, Semantic semantic, const std::string& help);
   StageBuilder& param(const ParamDesc& p) { decl_.params.push_back(p); return *this; }
+  // The named parameters (declared with param()) point at one element of 'probe.space'.
+  StageBuilder& probe(const ProbeDesc& p) { decl_.probes.push_back(p); return *this; }
 
  private:
   StageDecl& decl_;

@@ -73,6 +73,21 @@ void Technique::validate() const {
     for (const auto& r : decls_[i].reads)
       if (r != kViewResource && writerOf(r, i) < 0)
         throw Error(id_ + "/" + id + " reads '" + r + "' but no earlier stage writes it");
+    // A probe names parameters of its own stage; a light-space probe names its image.
+    for (const auto& p : decls_[i].probes) {
+      for (const auto& n : p.paramNames()) {
+        bool declared = false;
+        for (const auto& q : decls_[i].params) declared = declared || q.name == n;
+        if (!declared)
+          throw Error(id_ + "/" + id + ": " + probeSpaceName(p.space) + " probe names parameter '" + n +
+                      "', which the stage does not declare");
+      }
+      if (p.x.empty() || p.y.empty() || (p.space == ProbeSpace::Volume && p.z.empty()))
+        throw Error(id_ + "/" + id + ": a " + probeSpaceName(p.space) + " probe needs parameters for x, y" +
+                    (p.space == ProbeSpace::Volume ? " and z" : ""));
+      if (p.space == ProbeSpace::Light && p.resource.empty())
+        throw Error(id_ + "/" + id + ": a light probe names the light-space image it points into");
+    }
   }
   // Each resource has exactly one writer, so an earlier stage's output is never overwritten by a
   // later stage and stays inspectable after the whole technique has run.

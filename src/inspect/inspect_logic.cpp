@@ -9,32 +9,11 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "common/shared.h"
+#include "capture/output_handler.h"
 
 namespace voxlab {
 
 // --- Display mapping -----------------------------------------------------------------------------
-
-namespace {
-
-uint8_t unit8(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
-
-float toSrgb(float x) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
-
-// Dark blue -> teal -> green -> yellow ramp for normalised scalars (voxlab viewer's own stops).
-void ramp(float t, uint8_t* rgb) {
-  static const float stops[4][3] = {{0.05f, 0.03f, 0.25f}, {0.10f, 0.45f, 0.55f}, {0.35f, 0.75f, 0.30f},
-                                    {0.98f, 0.92f, 0.25f}};
-  t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) * 3.0f : 0.0f;
-  int i = std::min(int(t), 2);
-  float f = t - float(i);
-  for (int c = 0; c < 3; ++c) rgb[c] = unit8(stops[i][c] * (1 - f) + stops[i + 1][c] * f);
-}
-
-}  // namespace
 
 SliceSpec sliceToShow(const LevelData& level, const SliceSpec& chosen) {
   if (level.size.z <= 1) return SliceSpec{2, 0};
@@ -73,45 +52,14 @@ void levelRange(const LevelData& d, int c, float& lo, float& hi) {
   }
 }
 
-// RGB of one texel as the slice view shows it.
-void mapTexel(const float* v, int channels, Semantic semantic, int ch, float x, bool normalise, float lo, float hi,
-              uint8_t* o) {
-  auto c = [&](int k) { return k < channels ? v[k] : v[0]; };
+// RGB of one texel as the slice view shows it: one channel in grey, or the semantic's mapping.
+void mapTexel(const float* v, int channels, const TexelMapping& mapping, int ch, float x, float lo, float hi, uint8_t* o) {
   if (ch >= 0) {
-    uint8_t g = normalise ? unit8(hi > lo ? (v[ch] - lo) / (hi - lo) : 0.0f) : unit8(v[ch] * x);
+    uint8_t g = mapping.normalise ? unitToByte(hi > lo ? (v[ch] - lo) / (hi - lo) : 0.0f) : unitToByte(v[ch] * x);
     o[0] = o[1] = o[2] = g;
     return;
   }
-  switch (semantic) {
-    case Semantic::Color:
-      for (int k = 0; k < 3; ++k) o[k] = unit8(toSrgb(c(k) * x));
-      break;
-    case Semantic::RadianceHDR:
-      for (int k = 0; k < 3; ++k) {
-        float y = c(k) * x;
-        o[k] = unit8(toSrgb(y / (1.0f + y)));
-      }
-      break;
-    case Semantic::Normal: {
-      bool zero = c(0) == 0 && c(1) == 0 && c(2) == 0;
-      for (int k = 0; k < 3; ++k) o[k] = zero ? 0 : unit8(c(k) * 0.5f + 0.5f);
-      break;
-    }
-    case Semantic::Occupancy: {
-      bool any = false;
-      for (int k = 0; k < channels; ++k) any = any || v[k] != 0.0f;
-      o[0] = o[1] = o[2] = any ? 255 : 0;
-      break;
-    }
-    case Semantic::Opacity:
-      o[0] = o[1] = o[2] = unit8((channels == 4 ? v[3] : v[0]) * x);
-      break;
-    case Semantic::Fraction:
-      o[0] = o[1] = o[2] = unit8(v[0] * x);
-      break;
-    default:
-      ramp(hi > lo ? (v[0] - lo) / (hi - lo) : 0.0f, o);
-  }
+  mapping.map(v, channels, x, lo, hi, o);
 }
 
 }  // namespace
@@ -125,14 +73,14 @@ SliceImage mapSlice(const LevelData& d, Semantic semantic, const SliceSpec& s, c
   if (d.values.empty() || d.channels == 0) return img;
   int ch = ds.channel >= d.channels ? d.channels - 1 : ds.channel;
   // Scalars are normalised over the whole level so that moving the slice keeps the scale.
-  bool normalise = semantic == Semantic::Depth || semantic == Semantic::Scalar;
+  const TexelMapping& mapping = texelMapping(semantic);
   float lo = 0, hi = 0;
-  if (normalise) levelRange(d, std::max(ch, 0), lo, hi);
+  if (mapping.normalise) levelRange(d, std::max(ch, 0), lo, hi);
   for (int py = 0; py < e.y; ++py)
     for (int px = 0; px < e.x; ++px) {
       glm::ivec3 t = sliceTexel(d, s, px, py);
       const float* v = &d.values[((size_t(t.z) * d.size.y + t.y) * d.size.x + t.x) * d.channels];
-      mapTexel(v, d.channels, semantic, ch, ds.exposure, normalise, lo, hi, &img.rgba[(size_t(py) * e.x + px) * 4]);
+      mapTexel(v, d.channels, mapping, ch, ds.exposure, lo, hi, &img.rgba[(size_t(py) * e.x + px) * 4]);
     }
   return img;
 }
@@ -145,24 +93,23 @@ VolumeRGBA mapVolume(const LevelData& d, Semantic semantic, const DisplaySetting
   vol.rgba.assign(d.texelCount() * 4, 0);
   if (d.values.empty() || d.channels == 0) return vol;
   int ch = ds.channel >= d.channels ? d.channels - 1 : ds.channel;
-  bool normalise = semantic == Semantic::Depth || semantic == Semantic::Scalar;
+  const TexelMapping& mapping = texelMapping(semantic);
   float lo = 0, hi = 0;
-  if (normalise) levelRange(d, std::max(ch, 0), lo, hi);
-  bool alphaIsOpacity = ch < 0 && d.channels == 4 &&
-                        (semantic == Semantic::Color || semantic == Semantic::RadianceHDR || semantic == Semantic::Opacity);
+  if (mapping.normalise) levelRange(d, std::max(ch, 0), lo, hi);
+  bool alphaIsOpacity = ch < 0 && d.channels == 4 && mapping.alphaIsOpacity;
   for (size_t t = 0; t < d.texelCount(); ++t) {
     const float* v = &d.values[t * d.channels];
     uint8_t* o = &vol.rgba[t * 4];
     uint8_t a = 0;
     if (alphaIsOpacity) {
-      a = unit8(v[3]);
+      a = unitToByte(v[3]);
     } else {
       bool any = false;
       for (int k = ch < 0 ? 0 : ch; k < (ch < 0 ? d.channels : ch + 1); ++k) any = any || (v[k] != 0.0f && std::isfinite(v[k]));
       a = any ? 255 : 0;
     }
     if (a == 0) continue;
-    mapTexel(v, d.channels, semantic, ch, ds.exposure, normalise, lo, hi, o);
+    mapTexel(v, d.channels, mapping, ch, ds.exposure, lo, hi, o);
     o[3] = a;
     ++vol.nonEmpty;
   }
@@ -268,63 +215,6 @@ Camera flyCamera(const Camera& c, float right, float up, float forward) {
   return o;
 }
 
-// --- Cone samples ----------------------------------------------------------------------------------
-
-std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out) {
-  std::vector<ConeSeries> cones;
-  uint32_t stride = out.desc.layout.stride ? out.desc.layout.stride : uint32_t(sizeof(gpu::ConeSample));
-  if (stride < sizeof(gpu::ConeSample)) return cones;
-  std::map<int, size_t> index;
-  for (uint32_t r = 0; r < out.recordCount && size_t(r + 1) * stride <= out.records.size(); ++r) {
-    gpu::ConeSample s;
-    std::memcpy(&s, &out.records[size_t(r) * stride], sizeof s);
-    int cone = int(s.info.x);
-    auto it = index.find(cone);
-    if (it == index.end()) {
-      it = index.emplace(cone, cones.size()).first;
-      cones.push_back({});
-      cones.back().cone = cone;
-    }
-    ConeSeries& c = cones[it->second];
-    c.distance.push_back(s.info.y);
-    c.lod.push_back(s.info.z);
-    c.sampleAlpha.push_back(s.info.w);
-    c.diameter.push_back(s.position.w);
-    c.opacity.push_back(s.accumulated.w);
-    c.luminance.push_back(0.2126f * s.accumulated.x + 0.7152f * s.accumulated.y + 0.0722f * s.accumulated.z);
-    c.position.push_back(glm::vec3(s.position.x, s.position.y, s.position.z));
-  }
-  // Records are appended by parallel invocations; order each cone by distance along it.
-  for (auto& c : cones) {
-    std::vector<size_t> order(c.distance.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return c.distance[a] < c.distance[b]; });
-    auto perm = [&](std::vector<float>& v) {
-      std::vector<float> r(v.size());
-      for (size_t i = 0; i < order.size(); ++i) r[i] = v[order[i]];
-      v.swap(r);
-    };
-    perm(c.distance), perm(c.lod), perm(c.opacity), perm(c.luminance), perm(c.diameter), perm(c.sampleAlpha);
-    std::vector<glm::vec3> pos(c.position.size());
-    for (size_t i = 0; i < order.size(); ++i) pos[i] = c.position[order[i]];
-    c.position.swap(pos);
-  }
-  std::sort(cones.begin(), cones.end(), [](const ConeSeries& a, const ConeSeries& b) { return a.cone < b.cone; });
-  return cones;
-}
-
-std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones) {
-  for (const auto& c : cones)
-    for (size_t i = 1; i < c.opacity.size(); ++i)
-      if (c.opacity[i] < c.opacity[i - 1]) {
-        std::ostringstream o;
-        o << "cone " << c.cone << ": accumulated opacity falls from " << c.opacity[i - 1] << " to " << c.opacity[i]
-          << " at sample " << i << " (distance " << c.distance[i] << ")";
-        return o.str();
-      }
-  return "";
-}
-
 // --- Reproduction ----------------------------------------------------------------------------------
 
 std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
@@ -387,7 +277,7 @@ const VerbSpec kVerbs[] = {
     {"runall", 0, 0, "runall"},
     {"next", 0, 0, "next (run and select the next stage)"},
     {"prev", 0, 0, "prev (select the previous stage)"},
-    {"probe", 2, 2, "probe X Y (pixel of the final render, from the top left)"},
+    {"probe", 2, 2, "probe X Y (pixel of the camera images, from the top left: sets every screen-space probe)"},
     {"lesson", 1, 1, "lesson FILE (load it and apply step 1)"},
     {"lesson-next", 0, 0, "lesson-next"},
     {"lesson-prev", 0, 0, "lesson-prev"},
@@ -420,6 +310,16 @@ const VerbSpec kVerbs[] = {
     {"overlay", 2, 2, "overlay bounds|voxels|xray on|off (overlays on camera images)"},
     {"overlay-volume", 2, 2, "overlay-volume STAGE/OUTPUT LEVEL (the volume whose voxels the overlay shows)"},
     {"expect-overlay-pixels", 1, 1, "expect-overlay-pixels MIN (the overlay covers more than MIN pixels)"},
+    {"click", 2, 2, "click X Y (left click on pixel X, Y of the shown 2D view, from its top left: picks, and probes "
+                    "every stage with a probe in that image's space)"},
+    {"expect-probe-records", 1, 1, "expect-probe-records MIN (every probe record has more than MIN elements and "
+                                   "passes its visualiser's check)"},
+    {"expect-visualiser", 1, 1, "expect-visualiser NAME (the shown output's visualiser)"},
+    {"keep-snapshot", 0, 0, "keep-snapshot (keep the shown output to compare with later, as Keep snapshot)"},
+    {"compare-with", 1, 2, "compare-with output STAGE/OUTPUT | snapshot | file PATH | off (the compare view)"},
+    {"compare-mode", 1, 2, "compare-mode side|split|difference [SPLIT] (how the compare view shows both)"},
+    {"print-compare", 0, 1, "print-compare [MIN_RMSE] (prints the compare view's metrics: rmse, psnr, mae, max_abs, "
+                            "ssim; with MIN_RMSE fails unless rmse is above it)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

@@ -1,5 +1,5 @@
 // The viewer's logic that needs no window: display mapping of captured levels (with channel,
-// exposure and volume slices), cone-sample decoding for the pixel probe, the `voxlab run` command
+// exposure and volume slices), the `voxlab run` command
 // line that reproduces a viewer state, and the viewer's script format. Unit-tested in
 // tests/unit/test_lesson.cpp; the ImGui code in viewer.cpp only draws what these return.
 #pragma once
@@ -41,19 +41,6 @@ glm::ivec2 sliceExtent(const LevelData& level, const SliceSpec& slice);
 SliceImage mapSlice(const LevelData& level, Semantic semantic, const SliceSpec& slice, const DisplaySettings& ds);
 // Texel (x, y, z) shown at image pixel (px, py) (top-row-first image coordinates).
 glm::ivec3 sliceTexel(const LevelData& level, const SliceSpec& slice, int px, int py);
-
-// --- Cone samples ----------------------------------------------------------------------------------
-
-// One cone of a probed pixel, samples in the order they were taken (the ConeSample layout of
-// shaders/common/shared.h, which every Semantic::ConeSamples output uses).
-struct ConeSeries {
-  int cone = 0;
-  std::vector<float> distance, lod, opacity, luminance, diameter, sampleAlpha;
-  std::vector<glm::vec3> position;  // sample centres (world units)
-};
-std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out);
-// "" when every cone's accumulated opacity never decreases, else a message naming the cone/sample.
-std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones);
 
 // --- 3D views -------------------------------------------------------------------------------------
 

@@ -23,3 +23,23 @@ voxlab_cli_case(lesson_unknown_param 2 "bad-lesson-param\\.md:9: unknown paramet
   "lesson --check @ROOT@/tests/viewer/bad-lesson-param.md")
 voxlab_cli_case(lesson_unknown_stage 2 "bad-lesson-stage\\.md:3: .*voxelise.*voxelize"
   "lesson --check @ROOT@/tests/viewer/bad-lesson-stage.md")
+
+# The compare view on the final image against the Cornell reference: run_viewer_test.sh checks that
+# the RMSE the viewer reports equals `voxlab compare`'s on the same files.
+add_test(NAME viewer.compare
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/compare.txt ${CMAKE_BINARY_DIR}/viewer-out/compare)
+set_tests_properties(viewer.compare PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+
+# Test-only plug-ins: a technique with a volume-space probe and visualisers for test-only
+# semantics (tests/viewer/plugins/), linked into a test build of the viewer only; the shipped
+# voxlab, `voxlab list`, the snapshot suite and walk_stages never see them.
+file(GLOB VOXLAB_TEST_PLUGIN_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/tests/viewer/plugins/*.cpp)
+add_executable(voxlab_test_viewer ${CMAKE_SOURCE_DIR}/src/app/main.cpp ${VOXLAB_TEST_PLUGIN_SOURCES})
+target_link_libraries(voxlab_test_viewer PRIVATE voxlab_core)
+add_test(NAME viewer.plugins
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab_test_viewer>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/plugins.txt ${CMAKE_BINARY_DIR}/viewer-out/plugins)
+set_tests_properties(viewer.plugins PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/args.h"
+#include "capture/output_handler.h"
 #include "core/paths.h"
 #include "graph/technique.h"
 #include "test_support.h"
@@ -52,14 +53,9 @@ Settings settingsFor(const std::string& technique) {
   return s;
 }
 
-struct Tolerance {
-  double maxAbs = 0.0;
-  double maxFraction = 0.0;
-};
-
-Tolerance toleranceFor(const std::string& address, CaptureTier tier) {
+GoldenTolerance toleranceFor(const std::string& address, CaptureTier tier) {
   static json data = json::parse(readTextFile(projectPath("tests/golden/tolerances.json")));
-  Tolerance t;
+  GoldenTolerance t;
   if (tier == CaptureTier::Exact) return t;
   const json& d = data.at("default");
   t.maxAbs = d.at("max_abs").get<double>();
@@ -83,27 +79,6 @@ std::string failureDir() {
   return d;
 }
 
-std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void writeBytes(const std::string& path, const std::vector<uint8_t>& b) {
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
-}
-
-// Records sorted as byte strings: the canonical form of an append-order-free list.
-std::vector<uint8_t> sortedRecords(const CapturedOutput& c) {
-  size_t stride = c.desc.layout.stride;
-  std::vector<std::vector<uint8_t>> recs(c.recordCount);
-  for (uint32_t i = 0; i < c.recordCount; ++i)
-    recs[i].assign(c.records.begin() + i * stride, c.records.begin() + (i + 1) * stride);
-  std::sort(recs.begin(), recs.end());
-  std::vector<uint8_t> out;
-  for (auto& r : recs) out.insert(out.end(), r.begin(), r.end());
-  return out;
-}
-
 class SnapshotTest : public ::testing::Test {
  public:
   SnapshotTest(std::string technique, std::string stage, std::string output)
@@ -114,99 +89,22 @@ class SnapshotTest : public ::testing::Test {
     HeadlessSession& s = testing_support::session(settings.request);
     CapturedOutput c = testing_support::capture(s, stage_, output_);
     std::string address = technique_ + "/" + stage_ + "/" + output_;
-    std::string dir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
-    std::string prefix = stage_ + "." + output_;
-    Tolerance tol = toleranceFor(address, c.desc.tier);
-    if (c.desc.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
-    if (c.desc.kind == OutputKind::Buffer)
-      compareBuffer(c, dir, prefix, tol);
-    else
-      compareLevels(c, dir, prefix, tol);
+    // The output's visualiser (looked up by kind and semantic) knows its golden files and how to
+    // compare them; the tier is the declared one or the visualiser's default.
+    GoldenRequest q;
+    q.tier = captureTier(c.desc);
+    if (q.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
+    q.goldenDir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
+    q.prefix = stage_ + "." + output_;
+    q.failureDir = failureDir();
+    q.failurePrefix = technique_ + "." + q.prefix;
+    q.tolerance = toleranceFor(address, q.tier);
+    q.update = updating();
+    GoldenResult r = outputHandler(c.desc).compareGolden(c, q);
+    EXPECT_TRUE(r.ok) << r.message;
   }
 
  private:
-  void compareBuffer(const CapturedOutput& c, const std::string& dir, const std::string& prefix, const Tolerance& tol) {
-    std::string golden = dir + "/" + prefix + ".records";
-    std::vector<uint8_t> actual = c.desc.tier == CaptureTier::Exact ? sortedRecords(c) : c.records;
-    if (updating()) {
-      fs::create_directories(dir);
-      writeBytes(golden, actual);
-      return;
-    }
-    ASSERT_TRUE(fileExists(golden)) << "missing golden " << golden << " (run scripts/update-goldens.sh and review)";
-    std::vector<uint8_t> expected = readBytes(golden);
-    std::string actualPath = failureDir() + "/" + technique_ + "." + prefix + ".records";
-    size_t stride = c.desc.layout.stride;
-    if (expected.size() != actual.size()) {
-      writeBytes(actualPath, actual);
-      FAIL() << technique_ << "/" << prefix << ": " << actual.size() / stride << " records, golden has "
-             << expected.size() / stride << " (actual written to " << actualPath << ")";
-    }
-    if (c.desc.tier == CaptureTier::Exact) {
-      if (expected != actual) {
-        writeBytes(actualPath, actual);
-        size_t differing = 0;
-        for (size_t i = 0; i < actual.size(); i += stride)
-          if (std::memcmp(&actual[i], &expected[i], stride) != 0) ++differing;
-        FAIL() << technique_ << "/" << prefix << ": " << differing << " of " << actual.size() / stride
-               << " sorted records differ (actual written to " << actualPath << ")";
-      }
-      return;
-    }
-    // Tolerance tier: every 4-byte field read as float.
-    size_t n = actual.size() / 4, over = 0;
-    double worst = 0;
-    for (size_t i = 0; i < n; ++i) {
-      float a, e;
-      std::memcpy(&a, &actual[i * 4], 4);
-      std::memcpy(&e, &expected[i * 4], 4);
-      double d = std::abs(double(a) - double(e));
-      worst = std::max(worst, d);
-      if (d > tol.maxAbs) ++over;
-    }
-    if (double(over) > tol.maxFraction * double(n)) {
-      writeBytes(actualPath, actual);
-      FAIL() << technique_ << "/" << prefix << ": " << over << " of " << n << " values differ by more than "
-             << tol.maxAbs << " (worst " << worst << "; allowed fraction " << tol.maxFraction << "; actual written to "
-             << actualPath << ")";
-    }
-  }
-
-  void compareLevels(const CapturedOutput& c, const std::string& dir, const std::string& prefix, const Tolerance& tol) {
-    for (size_t l = 0; l < c.levels.size(); ++l) {
-      std::string name = prefix + (c.levels.size() > 1 ? "@" + std::to_string(l) : "") + ".exr";
-      std::string golden = dir + "/" + name;
-      const LevelData& a = c.levels[l];
-      if (updating()) {
-        fs::create_directories(dir);
-        writeLevelExr(a, golden, semanticName(c.desc.semantic));
-        continue;
-      }
-      ASSERT_TRUE(fileExists(golden)) << "missing golden " << golden << " (run scripts/update-goldens.sh and review)";
-      LevelData e = readLevelExr(golden);
-      ASSERT_EQ(a.size, e.size) << name << ": size differs from the golden";
-      ASSERT_EQ(a.channels, e.channels) << name << ": channel count differs from the golden";
-      size_t over = 0;
-      double worst = 0;
-      LevelData diff = a;
-      for (size_t i = 0; i < a.values.size(); ++i) {
-        double d = std::abs(double(a.values[i]) - double(e.values[i]));
-        if (std::isnan(d)) d = INFINITY;
-        diff.values[i] = float(d);
-        worst = std::max(worst, d);
-        if (d > tol.maxAbs) ++over;
-      }
-      if (double(over) > tol.maxFraction * double(a.values.size())) {
-        std::string base = failureDir() + "/" + technique_ + "." + name;
-        writeLevelExr(a, base + ".actual.exr", semanticName(c.desc.semantic));
-        writeLevelExr(diff, base + ".diff.exr", "scalar");
-        FAIL() << technique_ << "/" << name << ": " << over << " of " << a.values.size() << " values differ by more than "
-               << tol.maxAbs << " (worst " << worst << ", allowed fraction " << tol.maxFraction << "); actual: "
-               << base << ".actual.exr, difference: " << base << ".diff.exr, golden: " << golden;
-      }
-    }
-  }
-
   std::string technique_, stage_, output_;
 };
 

@@ -14,6 +14,7 @@
 #include "graph/technique.h"
 #include "app/session.h"
 #include "inspect/inspect_logic.h"
+#include "inspect/visualisers/cone_samples.h"
 #include "lesson/lesson.h"
 
 namespace voxlab {

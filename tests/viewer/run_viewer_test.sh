@@ -30,6 +30,48 @@ case "$script" in
     case "$cmd" in *--look-from*) ;; *) echo "copied command has no free camera: $cmd"; exit 1 ;; esac
     eval "\"$exe\" run $cmd --only vct-grid/composite/final --out \"$out/reproduced\"" >/dev/null
     "$exe" compare "$out/view/composite.final.exr" "$out/reproduced/composite.final.exr" --fail-above rmse=0.0002 ;;
+  *compare*)
+    export VOXLAB_VIEWER_OUT="$out"
+    view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }
+    cat "$out/log.txt"
+    # The RMSE the compare view printed for final vs the reference must be `voxlab compare`'s on
+    # the same files (both compute it with reference::computeMetrics on the same floats; the
+    # viewer prints 9 significant digits, so allow a relative 1e-8 for the printing).
+    ref="$VOXLAB_ROOT/tests/golden/reference/cornell-box/full.exr"
+    shown=$(sed -n 's/^compare final vs .*full\.exr: rmse \([^ ]*\) .*/\1/p' "$out/log.txt" | head -n 1)
+    [ -n "$shown" ] || { echo "the viewer printed no compare metrics for final vs full.exr"; exit 1; }
+    "$exe" compare "$out/view/composite.final.exr" "$ref" --json >"$out/compare.json"
+    python3 - "$shown" "$out/compare.json" <<'PY'
+import json, sys
+viewer = float(sys.argv[1])
+cli = json.load(open(sys.argv[2]))["rmse"]
+print(f"rmse: viewer {viewer!r}, voxlab compare {cli!r}")
+if abs(viewer - cli) > 1e-8 * max(abs(cli), 1e-30):
+    sys.exit(f"the compare view's rmse {viewer} differs from voxlab compare's {cli}")
+PY
+    ;;
+  *plugins*)
+    export VOXLAB_VIEWER_OUT="$out"
+    view
+    # The test-only visualiser's writer ran for the test-only semantic (one line per cell of the
+    # 8^3 volume), next to the files every volume gets.
+    cells="$out/saved/cells.cells.index.txt"
+    [ -f "$cells" ] || { echo "missing $cells: the test visualiser's writer did not run"; exit 1; }
+    [ "$(wc -l <"$cells")" -eq 512 ] || { echo "$cells has $(wc -l <"$cells") lines, expected 512"; exit 1; }
+    grep -qx "3 3 4 283" "$cells" || { echo "$cells lacks cell (3, 3, 4) with index 283"; exit 1; }
+    [ -f "$out/saved/cells.cells.exr" ] && [ -f "$out/saved/record.probed-cell.bin" ] ||
+      { echo "save-output did not write the usual files"; ls "$out/saved"; exit 1; }
+    # The click re-ran the probing stage: its record is the clicked cell (the stage's first run
+    # recorded the parameters' default, cell (0, 0, 0)).
+    python3 - "$out/saved/record.probed-cell.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))["first_records"]
+got = [(int(x["x"]), int(x["y"]), int(x["z"]), x["value"]) for x in r]
+print("probe record:", got)
+if got != [(3, 3, 4, 283.0)]:
+    sys.exit(f"probe record {got}, expected [(3, 3, 4, 283.0)]")
+PY
+    ;;
   *)
     export VOXLAB_VIEWER_OUT="$out"
     view ;;

@@ -105,6 +105,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
   b.param(mipmapModeParam());
   b.readView();
   b.read("radiance");
@@ -128,9 +129,10 @@ void ConeTraceStage::declare(StageBuilder& b) const {
                     {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
                     {"info", FieldType::Vec4, 32, FieldRole::Other}};
   samples.countResource = "cone-samples.count";
-  b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
-           "every sample of the probed pixel's cones (probe.x/probe.y pick the traced pixel): centre+diameter, accumulated radiance+opacity, cone/distance/lod/alpha")
-      .layout = samples;
+  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
+           "every sample of the probed pixel's cones (probe.x/probe.y pick the traced pixel): centre+diameter, accumulated radiance+opacity, cone/distance/lod/alpha");
+  probed.layout = samples;
+  probed.probeRecord = true;  // the records of the pixel the screen probe points at
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {

@@ -1,0 +1,90 @@
+// Lesson tab: the step's narrative (Markdown headings and paragraphs), previous / next; and what a
+// lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations).
+#include <sstream>
+
+#include "core/error.h"
+#include "inspect/viewer_state.h"
+
+namespace voxlab {
+
+void Viewer::applyLessonStep(int i) {
+  if (lesson.steps.empty()) return;
+  i = std::clamp(i, 0, int(lesson.steps.size()) - 1);
+  const LessonStep& s = lesson.steps[i];
+  if (s.technique != cursor->technique().id()) switchTechnique(s.technique);
+  if (s.scene != sceneName && !loadSceneNamed(s.scene))
+    throw Error(lesson.path + ":" + std::to_string(s.line) + ": " + sceneError);
+  ParamSet p = cursor->technique().defaultParams();
+  for (const auto& [n, v] : s.sets) p.setText(n, v);
+  cursor->setParams(p);
+  if (s.camera != cameraIndex || pendingCamera) {
+    cursor->useSceneCamera(s.camera);
+    pendingCamera.reset();
+    cameraIndex = s.camera;
+  }
+  selectStage(cursor->technique().stageIndex(s.stage));
+  if (!s.output.empty()) selectOutput(s.output);
+  view.level = s.level;
+  if (lessonStep < 0) wantTab = "lesson";
+  lessonStep = i;
+  overlayOpt.bounds = s.bounds;
+  overlayOpt.voxels = !s.overlay.empty();
+  if (!s.overlay.empty()) {
+    size_t at = s.overlay.find('@');
+    overlayVolume = s.overlay.substr(0, at);
+    overlayLevel = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
+  }
+  if (s.iterations > 0) {
+    // Stop the stage after that many iterations: run what comes before, then step it.
+    cursor->invalidate(selected);
+    stepIteration(s.iterations);
+    return;
+  }
+  lastRunRequest = selected;
+  requestRun(selected);
+}
+
+void Viewer::drawLesson() {
+  ImGui::TextWrapped("%s", lesson.title.c_str());
+  ImGui::Text("step %d of %zu", lessonStep + 1, lesson.steps.size());
+  if (ImGui::Button("< Previous step")) applyLessonStep(lessonStep - 1);
+  ImGui::SameLine();
+  if (ImGui::Button("Next step >")) applyLessonStep(lessonStep + 1);
+  ImGui::Separator();
+  ImGui::BeginChild("narrative");
+  // Markdown is hard-wrapped: join a paragraph's lines and let ImGui wrap; headings stand alone.
+  auto markdown = [](const std::string& text) {
+    std::istringstream in(text);
+    std::string line, para;
+    auto flush = [&] {
+      if (!para.empty()) ImGui::TextWrapped("%s", para.c_str());
+      para.clear();
+    };
+    while (std::getline(in, line)) {
+      if (line.rfind("#", 0) == 0) {
+        flush();
+        size_t k = line.find_first_not_of('#');
+        ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s", line.substr(std::min(k + 1, line.size())).c_str());
+      } else if (line.find_first_not_of(" \t") == std::string::npos) {
+        flush();
+        ImGui::Spacing();
+      } else {
+        para += (para.empty() ? "" : " ") + line;
+      }
+    }
+    flush();
+  };
+  if (lessonStep >= 0) {
+    markdown(lesson.steps[lessonStep].narrative);
+    if (lessonStep + 1 == int(lesson.steps.size()) && !lesson.epilogue.empty()) {
+      ImGui::Separator();
+      markdown(lesson.epilogue);
+    }
+  }
+  ImGui::EndChild();
+}
+
+VOXLAB_REGISTER_DETAILS_TAB(lesson, "lesson", "Lesson", 40, [](const Viewer& v) { return !v.lesson.steps.empty(); },
+                            [](Viewer& v) { v.drawLesson(); });
+
+}  // namespace voxlab

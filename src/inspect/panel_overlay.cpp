@@ -1,0 +1,139 @@
+// Scene overlays over camera images: the non-empty voxels of a volume level (through their world
+// placement) and the volume's bounds, drawn with the live camera.
+#include <algorithm>
+#include <cstdio>
+
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "inspect/viewer_state.h"
+
+namespace voxlab {
+
+std::vector<std::string> Viewer::overlayVolumes() const {
+  const Technique& t = cursor->technique();
+  std::vector<std::string> names;
+  for (int i = 0; i < t.stageCount(); ++i) {
+    if (cursor->record(i).state == StageState::NotRun) continue;
+    for (const auto& o : t.decl(i).outputs)
+      if (o.kind == OutputKind::Volume3D) names.push_back(std::string(t.stage(i).id()) + "/" + o.name);
+  }
+  return names;
+}
+
+void Viewer::drawOverlayControls() {
+  ImGui::Checkbox("bounds", &overlayOpt.bounds);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the voxel volume's box in the scene");
+  ImGui::SameLine();
+  ImGui::Checkbox("voxels", &overlayOpt.voxels);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the non-empty voxels of a volume level over the image");
+  if (!overlayOpt.voxels) return;
+  auto volumes = overlayVolumes();
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(190);
+  if (ImGui::BeginCombo("##overlayvolume", overlayVolume.empty() ? "(latest volume)" : overlayVolume.c_str())) {
+    for (const auto& v : volumes)
+      if (ImGui::Selectable(v.c_str(), v == overlayVolume)) overlayVolume = v, overlayLevel = -1;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(80);
+  int level = std::max(overlayLevel, 0);
+  if (ImGui::SliderInt("level##overlay", &level, 0, std::max(overlayLevelCount - 1, 0))) overlayLevel = level;
+  ImGui::Checkbox("x-ray", &overlayOpt.xray);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the edges of every voxel, none hidden by surfaces or other voxels");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(90);
+  ImGui::SliderFloat("opacity##overlay", &overlayOpt.opacity, 0.1f, 1.0f, "%.2f");
+  if (!overlayMsg.empty()) {
+    ImGui::SameLine();
+    ImGui::TextColored(kWarningColour, "%s", overlayMsg.c_str());
+  }
+}
+
+void Viewer::updateOverlay() {
+  SceneOverlay::Options o = overlayOpt;
+  o.bounds = o.bounds || pendingCamera.has_value() || flying || orbiting;  // show where the camera goes
+  if (!o.bounds && !o.voxels) {
+    overlayKey.clear();
+    return;
+  }
+  if (!overlay) overlay = std::make_unique<SceneOverlay>(*shaders);
+  const Technique& t = cursor->technique();
+  // The volume: the chosen one, else the latest of a stage up to the selected one.
+  auto volumes = overlayVolumes();
+  std::string volume = overlayVolume;
+  if (std::find(volumes.begin(), volumes.end(), volume) == volumes.end()) {
+    volume.clear();
+    for (const auto& v : volumes)
+      if (t.stageIndex(v.substr(0, v.find('/'))) <= selected || volume.empty()) volume = v;
+  }
+  // Content: re-read the volume only when the data or the choice changed.
+  auto contentKey = [&] {
+    return std::to_string(generation) + "|" + volume + "|" + std::to_string(overlayLevel) + "|" + std::to_string(o.voxels);
+  };
+  if (contentKey() != overlayContentKey) {
+    overlayMsg.clear();
+    std::vector<ViewInstance> cubes;
+    std::optional<WorldBox> box = cursor->board().voxelSpace();
+    if (!volume.empty()) {
+      try {
+        size_t slash = volume.find('/');
+        auto [stage, desc] = t.findOutput(volume.substr(0, slash), volume.substr(slash + 1));
+        (void)stage;
+        if (auto placed = cursor->board().placementOf(desc->resourceName())) box = placed;
+        CapturedOutput c;
+        if (o.voxels) c = captureOutput(cursor->board(), *desc);
+        if (o.voxels && !c.levels.empty()) {
+          int level = overlayLevel;
+          if (level < 0) {  // the finest level with at most 32 texels per axis: blocks large enough to see
+            level = 0;
+            while (level + 1 < int(c.levels.size()) && c.levels[level].size.x > 32) ++level;
+          }
+          level = std::clamp(level, 0, int(c.levels.size()) - 1);
+          overlayLevel = level;
+          overlayLevelCount = int(c.levels.size());
+          const LevelData& L = c.levels[level];
+          if (!c.world) {
+            overlayMsg = volume + " has no world placement (Blackboard::place); showing nothing";
+          } else {
+            VolumeRGBA v = mapVolume(L, desc->semantic, DisplaySettings{});
+            size_t candidates = 0;
+            cubes = volumeCubes(v, c.world->lo, (c.world->hi - c.world->lo) / glm::vec3(L.size), View3D::kCubeLimit,
+                                candidates);
+            char buf[200];
+            if (cubes.empty() && candidates > 0)
+              std::snprintf(buf, sizeof buf, "%zu voxels at level %d, over the limit of %zu: pick a coarser level",
+                            candidates, level, View3D::kCubeLimit);
+            else
+              std::snprintf(buf, sizeof buf, "%s level %d (%dx%dx%d): %zu voxels", volume.c_str(), level, L.size.x,
+                            L.size.y, L.size.z, candidates);
+            overlayMsg = buf;
+          }
+        }
+      } catch (const Error& e) {
+        overlayMsg = e.what();
+      }
+    }
+    overlay->setCubes(cubes);
+    overlay->setBox(box);
+    overlayContentKey = contentKey();  // with the resolved level, so the next frame matches
+    overlayKey.clear();
+  }
+  const Camera& cam = liveCamera();
+  char key[512];
+  std::snprintf(key, sizeof key, "%s|%d%d|%.3f|%g,%g,%g|%g,%g,%g", overlayContentKey.c_str(), o.bounds, o.xray,
+                o.opacity, cam.position.x, cam.position.y, cam.position.z, cam.forward.x, cam.forward.y, cam.forward.z);
+  if (overlayKey == key) return;
+  overlayKey = key;
+  const ViewState& vs = cursor->view();
+  glm::mat4 viewProj = cam.projection(float(vs.width) / float(vs.height)) * cam.view();
+  try {
+    overlayMs = overlay->render(vs.width, vs.height, viewProj, cursor->gpuScene(), o);
+  } catch (const ShaderError& e) {
+    shaderError = e.what();
+    if (scripted) throw;
+  }
+  frameHeavy = true;
+}
+
+}  // namespace voxlab

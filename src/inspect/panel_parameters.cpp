@@ -1,0 +1,74 @@
+// Parameter widgets, generated from the ParamDescs of every stage (grouped by stage, the selected
+// one open); a change marks what it invalidates stale and, with auto re-run, runs it again.
+#include "core/error.h"
+#include "inspect/viewer_state.h"
+
+namespace voxlab {
+
+void Viewer::drawParameters() {
+  Technique& t = cursor->technique();
+  // Parameters, generated from the declarations of every stage.
+  ImGui::Separator();
+  ImGui::Checkbox("auto re-run", &autoRerun);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("after a change, re-run the stale stages up to the last run one");
+  ImGui::SameLine();
+  if (ImGui::Button("Defaults")) {
+    cursor->setParams(t.defaultParams());
+    paramsChanged();
+  }
+  ImGui::BeginChild("params", ImVec2(0, 0), false);
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const auto& decl = t.decl(i);
+    if (decl.params.empty()) continue;
+    bool open = ImGui::TreeNodeEx(t.stage(i).id(), i == selected ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+    if (!open) continue;
+    for (const auto& p : decl.params) {
+      ImGui::PushID((std::to_string(i) + p.name).c_str());
+      double v = cursor->params().value(p.name);
+      double nv = v;
+      switch (p.type) {
+        case ParamType::Int: {
+          int iv = int(v);
+          if (ImGui::SliderInt(p.name.c_str(), &iv, int(p.minValue), int(p.maxValue))) {
+            if (p.powerOfTwo) {
+              int k = 1;
+              while (k < iv) k <<= 1;
+              iv = (k - iv <= iv - k / 2) ? k : k / 2;
+              iv = std::clamp(iv, int(p.minValue), int(p.maxValue));
+            }
+            nv = iv;
+          }
+          break;
+        }
+        case ParamType::Float: {
+          float fv = float(v);
+          if (ImGui::SliderFloat(p.name.c_str(), &fv, float(p.minValue), float(p.maxValue), "%.3f")) nv = fv;
+          break;
+        }
+        case ParamType::Bool: {
+          bool b = v != 0.0;
+          if (ImGui::Checkbox(p.name.c_str(), &b)) nv = b ? 1.0 : 0.0;
+          break;
+        }
+        case ParamType::Choice: {
+          int c = int(v);
+          if (ImGui::BeginCombo(p.name.c_str(), p.choices.at(c).c_str())) {
+            for (size_t k = 0; k < p.choices.size(); ++k)
+              if (ImGui::Selectable(p.choices[k].c_str(), int(k) == c)) nv = double(k);
+            ImGui::EndCombo();
+          }
+          break;
+        }
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s\n%s%s%s", p.help.c_str(), p.rangeText().c_str(), p.unit.empty() ? "" : ", ",
+                          p.unit.c_str());
+      if (nv != v) setParam(p.name, nv);  // marks every stage that declares it (and its readers) stale
+      ImGui::PopID();
+    }
+    ImGui::TreePop();
+  }
+  ImGui::EndChild();
+}
+
+}  // namespace voxlab

@@ -1,0 +1,173 @@
+// The generic probe. Stages declare probe parameters in screen space (a pixel of the camera
+// images), volume space (a cell of a volume at a level) or light space (a texel of a light-space
+// image), and probe-record outputs (StageBuilder::probe, OutputDesc::probeRecord). A click on an
+// image of one of those spaces sets the matching parameters of every stage that declares them and
+// queues what went stale; the Probe tab shows every probe record through its visualiser's record
+// view. Nothing here names a stage, a parameter or a semantic.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.h"
+#include "inspect/viewer_state.h"
+
+namespace voxlab {
+
+std::vector<std::pair<int, const ProbeDesc*>> Viewer::probesFor(ProbeSpace space, const std::string& resource) const {
+  std::vector<std::pair<int, const ProbeDesc*>> found;
+  const Technique& t = cursor->technique();
+  for (int i = 0; i < t.stageCount(); ++i)
+    for (const auto& p : t.decl(i).probes) {
+      if (p.space != space) continue;
+      if (space == ProbeSpace::Volume && !p.resource.empty() && p.resource != resource) continue;
+      if (space == ProbeSpace::Light && p.resource != resource) continue;
+      found.emplace_back(i, &p);
+    }
+  return found;
+}
+
+bool Viewer::hasProbes() const {
+  const Technique& t = cursor->technique();
+  for (int i = 0; i < t.stageCount(); ++i)
+    if (!t.decl(i).probes.empty()) return true;
+  return false;
+}
+
+std::vector<ProbeSpace> Viewer::probeSpacesOfShown() const {
+  std::vector<ProbeSpace> spaces;
+  if (!capError.empty()) return spaces;
+  const std::string& resource = cap.desc.resourceName();
+  if (isCameraImage(selected, cap) && !probesFor(ProbeSpace::Screen, "").empty()) spaces.push_back(ProbeSpace::Screen);
+  if (cap.desc.kind == OutputKind::Volume3D && !probesFor(ProbeSpace::Volume, resource).empty())
+    spaces.push_back(ProbeSpace::Volume);
+  if (cap.desc.kind == OutputKind::Image2D && !probesFor(ProbeSpace::Light, resource).empty())
+    spaces.push_back(ProbeSpace::Light);
+  return spaces;
+}
+
+int Viewer::probeShownAt(const glm::ivec3& texel, int level) {
+  if (cap.levels.empty()) return 0;
+  level = std::clamp(level, 0, int(cap.levels.size()) - 1);
+  const glm::ivec3 size = cap.levels[level].size;
+  const ParamSet& ps = cursor->params();
+  // A parameter takes the value clamped to its declared range.
+  auto set = [&](const std::string& name, double value) {
+    const ParamDesc& d = ps.desc(name);
+    setParam(name, std::clamp(value, d.minValue, d.maxValue));
+  };
+  int probed = 0, last = -1;
+  for (ProbeSpace space : probeSpacesOfShown())
+    for (auto [stage, p] : probesFor(space, cap.desc.resourceName())) {
+      if (space == ProbeSpace::Volume) {
+        set(p->x, texel.x);
+        set(p->y, texel.y);
+        set(p->z, texel.z);
+        if (!p->level.empty()) set(p->level, level);
+      } else {
+        // Fractions of the image, y from the top (image rows are stored bottom-up).
+        set(p->x, (texel.x + 0.5) / size.x);
+        set(p->y, (size.y - 1 - texel.y + 0.5) / size.y);
+      }
+      ++probed;
+      last = std::max(last, stage);
+    }
+  if (probed == 0) return 0;
+  requestRun(std::max(last, std::max(selected, lastRunRequest)));
+  char buf[160];
+  if (size.z > 1)
+    std::snprintf(buf, sizeof buf, "probed cell (%d, %d, %d) at level %d: %d probe(s)", texel.x, texel.y, texel.z, level, probed);
+  else
+    std::snprintf(buf, sizeof buf, "probed pixel %d,%d: %d probe(s)", texel.x, size.y - 1 - texel.y, probed);
+  status = buf;
+  wantTab = "probe";
+  return probed;
+}
+
+void Viewer::probePixel(int x, int y) {
+  auto screen = probesFor(ProbeSpace::Screen, "");
+  if (screen.empty()) throw Error("technique " + cursor->technique().id() + " has no stage that declares a screen-space probe");
+  const ViewState& v = cursor->view();
+  x = std::clamp(x, 0, v.width - 1);
+  y = std::clamp(y, 0, v.height - 1);
+  int last = -1;
+  for (auto [stage, p] : screen) {
+    setParam(p->x, (x + 0.5) / v.width);
+    setParam(p->y, (y + 0.5) / v.height);
+    last = std::max(last, stage);
+  }
+  requestRun(std::max(last, std::max(selected, lastRunRequest)));
+  status = "probed pixel " + std::to_string(x) + "," + std::to_string(y);
+  wantTab = "probe";
+}
+
+const std::vector<Viewer::ProbeRecords>& Viewer::probeRecords() {
+  if (probeCacheKey == generation) return probeCache;
+  probeCacheKey = generation;
+  probeCache.clear();
+  const Technique& t = cursor->technique();
+  for (int i = 0; i < t.stageCount(); ++i) {
+    if (t.decl(i).probes.empty()) continue;
+    for (const auto& o : t.decl(i).outputs) {
+      if (!o.probeRecord) continue;
+      ProbeRecords r;
+      r.stage = i;
+      r.desc = &o;
+      r.out.desc = o;
+      if (cursor->record(i).state == StageState::NotRun) {
+        r.error = std::string("stage ") + t.stage(i).id() + " has not run yet";
+      } else {
+        try {
+          r.out = captureOutput(cursor->board(), o);
+          r.records = o.kind == OutputKind::Buffer ? recordsJson(r.out, 32) : nlohmann::json();
+        } catch (const Error& e) {
+          r.error = e.what();
+        }
+      }
+      probeCache.push_back(std::move(r));
+    }
+  }
+  return probeCache;
+}
+
+void Viewer::drawProbe() {
+  const Technique& t = cursor->technique();
+  const ParamSet& ps = cursor->params();
+  // Where every probe points now.
+  for (int i = 0; i < t.stageCount(); ++i)
+    for (const auto& p : t.decl(i).probes) {
+      char where[160];
+      if (p.space == ProbeSpace::Volume) {
+        std::snprintf(where, sizeof where, "cell (%d, %d, %d)", ps.getInt(p.x), ps.getInt(p.y), ps.getInt(p.z));
+        std::string s = where;
+        if (!p.level.empty()) s += " at level " + std::to_string(ps.getInt(p.level));
+        std::snprintf(where, sizeof where, "%s", s.c_str());
+      } else if (p.space == ProbeSpace::Screen) {
+        std::snprintf(where, sizeof where, "pixel (%.0f, %.0f) of %dx%d", ps.value(p.x) * cursor->view().width - 0.5,
+                      ps.value(p.y) * cursor->view().height - 0.5, cursor->view().width, cursor->view().height);
+      } else {
+        std::snprintf(where, sizeof where, "texel at (%.3f, %.3f) of %s", ps.value(p.x), ps.value(p.y), p.resource.c_str());
+      }
+      ImGui::Text("%s: %s probe, %s", t.stage(i).id(), probeSpaceName(p.space), where);
+    }
+  ImGui::TextDisabled("click a camera image (final, G-buffer, ...), a volume slice or a light-space image to probe");
+  ImGui::BeginChild("probe-records");
+  for (auto& r : const_cast<std::vector<ProbeRecords>&>(probeRecords())) {
+    ImGui::Separator();
+    ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s/%s", t.stage(r.stage).id(), r.desc->name.c_str());
+    if (!r.error.empty()) {
+      ImGui::TextWrapped("%s", r.error.c_str());
+      continue;
+    }
+    const Visualiser& vis = visualiserFor(r.out.desc);
+    nlohmann::json stats;  // the record view needs none
+    ImGui::PushID(r.desc);
+    vis.drawRecordView(VisualiserContext{r.out, stats, r.records, view, nullptr});
+    ImGui::PopID();
+  }
+  ImGui::EndChild();
+}
+
+VOXLAB_REGISTER_DETAILS_TAB(probe, "probe", "Probe", 20, [](const Viewer& v) { return v.hasProbes(); },
+                            [](Viewer& v) { v.drawProbe(); });
+
+}  // namespace voxlab

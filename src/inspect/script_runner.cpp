@@ -1,0 +1,479 @@
+// Script verbs (voxlab view --script): the same actions a user performs with the mouse and the
+// keyboard, plus expectations for the tests in tests/viewer. The verbs and their usage are in
+// inspect_logic.cpp (parseScript); nothing here names a stage, a technique or a semantic.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "capture/image_files.h"
+#include "core/args.h"
+#include "core/error.h"
+#include "core/paths.h"
+#include "inspect/viewer_state.h"
+
+namespace voxlab {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Reads an 8-bit image (PNG) as bytes (channels as stored) for the script's image comparisons.
+std::vector<uint8_t> readImageBytes(const std::string& path, int& w, int& h) {
+  ImageFileData img = readImageFile(path);
+  w = img.width;
+  h = img.height;
+  std::vector<uint8_t> px(img.pixels.size());
+  for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(std::lround(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f));
+  return px;
+}
+
+}  // namespace
+
+void Viewer::scriptFail(const ScriptAction& a, const std::string& msg) const {
+  throw Error(opt.script + ":" + std::to_string(a.line) + ": " + a.verb + ": " + msg);
+}
+
+void Viewer::stepScript() {
+  if (scriptBusy()) return;
+  if (pc >= script.size()) {
+    quit = true;
+    return;
+  }
+  const ScriptAction a = script[pc++];  // a copy: walk-stages inserts actions into script
+  frameHeavy = true;  // script I/O (saving, comparing) is not UI time
+  try {
+    execute(a);
+  } catch (const Error& e) {
+    std::string m = e.what();
+    if (m.rfind(opt.script + ":", 0) == 0) throw;
+    scriptFail(a, m);
+  }
+}
+
+void Viewer::execute(const ScriptAction& a) {
+  const Technique& t = cursor->technique();
+  auto arg = [&](size_t i) -> const std::string& { return a.args.at(i); };
+  auto intArg = [&](size_t i) {
+    try {
+      size_t used = 0;
+      int v = std::stoi(arg(i), &used);
+      if (used != arg(i).size()) throw std::invalid_argument("x");
+      return v;
+    } catch (const std::exception&) {
+      scriptFail(a, "'" + arg(i) + "' is not an integer");
+    }
+  };
+  auto floatArg = [&](size_t i) {
+    try {
+      return std::stof(arg(i));
+    } catch (const std::exception&) {
+      scriptFail(a, "'" + arg(i) + "' is not a number");
+    }
+  };
+  const std::string& v = a.verb;
+  if (v == "technique") {
+    if (arg(0) != t.id()) switchTechnique(arg(0));
+  } else if (v == "scene") {
+    if (!loadSceneNamed(arg(0))) std::printf("scene error: %s\n", sceneError.c_str());
+  } else if (v == "expect-scene-error") {
+    std::string text;
+    for (const auto& w : a.args) text += (text.empty() ? "" : " ") + w;
+    if (sceneError.empty() || sceneError.find(text) == std::string::npos)
+      scriptFail(a, "last scene error is '" + sceneError + "', expected it to contain '" + text + "'");
+  } else if (v == "stage") {
+    selectStage(t.stageIndex(arg(0)));
+  } else if (v == "output") {
+    selectOutput(arg(0));
+  } else if (v == "level") {
+    view.level = intArg(0);
+  } else if (v == "slice") {
+    std::string ax = arg(0);
+    if (ax != "x" && ax != "y" && ax != "z") scriptFail(a, "axis must be x, y or z");
+    view.slice.axis = ax[0] - 'x';
+    view.slice.index = intArg(1);
+  } else if (v == "channel") {
+    view.display.channel = std::clamp(intArg(0), -1, 3);
+  } else if (v == "exposure") {
+    view.display.exposure = floatArg(0);
+  } else if (v == "set") {
+    std::string s = arg(0);
+    size_t eq = s.find('=');
+    if (eq == std::string::npos) scriptFail(a, "expected NAME=VALUE");
+    cursor->setParamText(s.substr(0, eq), s.substr(eq + 1));
+    paramsChanged();
+  } else if (v == "reset-params") {
+    cursor->setParams(t.defaultParams());
+    paramsChanged();
+  } else if (v == "camera") {
+    setCameraIndex(intArg(0));
+  } else if (v == "orbit") {
+    orbit(floatArg(0), floatArg(1));
+  } else if (v == "frame-scene") {
+    frameScene();
+  } else if (v == "size") {
+    Args::parseSize(arg(0), opt.width, opt.height);
+    cursor->setViewSize(opt.width, opt.height);
+    paramsChanged();
+  } else if (v == "run") {
+    lastRunRequest = std::max(lastRunRequest, selected);
+    requestRun(selected);
+  } else if (v == "runall") {
+    lastRunRequest = t.stageCount() - 1;
+    requestRun(lastRunRequest);
+  } else if (v == "next") {
+    selectStage(selected + 1);
+    lastRunRequest = std::max(lastRunRequest, selected);
+    requestRun(selected);
+  } else if (v == "prev") {
+    selectStage(selected - 1);
+  } else if (v == "probe") {
+    probePixel(intArg(0), intArg(1));
+  } else if (v == "lesson") {
+    lesson = loadLesson(arg(0));
+    applyLessonStep(0);
+  } else if (v == "lesson-next" || v == "lesson-prev") {
+    if (lesson.steps.empty()) scriptFail(a, "no lesson is open");
+    int next = lessonStep + (v == "lesson-next" ? 1 : -1);
+    if (next < 0 || next >= int(lesson.steps.size()))
+      scriptFail(a, "no step " + std::to_string(next + 1) + "; the lesson has " + std::to_string(lesson.steps.size()));
+    applyLessonStep(next);
+    std::printf("lesson step %d/%zu: %s/%s\n", next + 1, lesson.steps.size(), lesson.steps[next].stage.c_str(),
+                lesson.steps[next].output.c_str());
+  } else if (v == "lesson-end") {
+    if (lesson.steps.empty()) scriptFail(a, "no lesson is open");
+    if (lessonStep + 1 < int(lesson.steps.size())) {
+      applyLessonStep(lessonStep + 1);
+      std::printf("lesson step %d/%zu: %s/%s\n", lessonStep + 1, lesson.steps.size(),
+                  lesson.steps[lessonStep].stage.c_str(), lesson.steps[lessonStep].output.c_str());
+      --pc;  // repeat this action after the step has run
+    }
+  } else if (v == "save-view") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    if (viewMode != ViewMode::Slice) update3D();
+    else if (isCameraImage(selected, cap)) updateOverlay();
+    fs::path p(arg(0));
+    std::error_code ec;
+    if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
+    writePng(viewportImage(), arg(0));
+    std::printf("saved view %s\n", arg(0).c_str());
+  } else if (v == "screenshot") {
+    pendingScreenshot = arg(0);
+    screenshotDelay = 2;  // let ImGui settle one frame after the last change
+  } else if (v == "save-output" || v == "compare-output") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    std::string prefix = std::string(t.stage(selected).id()) + "." + cap.desc.name;
+    if (v == "save-output") {
+      std::error_code ec;
+      fs::create_directories(arg(0), ec);
+      auto e = writeOutputFiles(cap, arg(0), prefix);
+      std::printf("saved %s: %s\n", prefix.c_str(), e["files"].dump().c_str());
+      return;
+    }
+    double tol = a.args.size() > 2 ? floatArg(2) : 0.0;
+    if (cap.desc.kind == OutputKind::Buffer) {
+      std::string x = readTextFile(arg(0) + "/" + prefix + ".bin"), y = readTextFile(arg(1) + "/" + prefix + ".bin");
+      uint32_t stride = std::max<uint32_t>(cap.desc.layout.stride, 1);
+      if (x.size() != y.size())
+        scriptFail(a, prefix + ": " + std::to_string(x.size() / stride) + " records vs " + std::to_string(y.size() / stride));
+      // Appended records have no fixed order: compare the sorted record sets.
+      auto recs = [&](const std::string& s) {
+        std::vector<std::string> r;
+        for (size_t i = 0; i + stride <= s.size(); i += stride) r.push_back(s.substr(i, stride));
+        std::sort(r.begin(), r.end());
+        return r;
+      };
+      if (recs(x) != recs(y)) scriptFail(a, prefix + ": record sets differ");
+      std::printf("compare-output %s: %zu records identical\n", prefix.c_str(), x.size() / stride);
+      return;
+    }
+    size_t levels = cap.levels.size();
+    for (size_t l = 0; l < levels; ++l) {
+      std::string name = prefix + (levels > 1 ? "@" + std::to_string(l) : "") + ".exr";
+      LevelData p = readLevelExr(arg(0) + "/" + name), q = readLevelExr(arg(1) + "/" + name);
+      if (p.size != q.size || p.channels != q.channels) scriptFail(a, name + ": sizes or channel counts differ");
+      double maxDiff = 0;
+      size_t above = 0;
+      for (size_t i = 0; i < p.values.size(); ++i) {
+        double dd = std::abs(double(p.values[i]) - double(q.values[i]));
+        if (!(dd <= tol)) ++above;
+        if (dd > maxDiff || std::isnan(dd)) maxDiff = dd;
+      }
+      std::printf("compare-output %s: %zu values, max abs diff %g (tolerance %g)\n", name.c_str(), p.values.size(), maxDiff, tol);
+      if (above) scriptFail(a, name + ": " + std::to_string(above) + " values differ by more than " + arg(2 < a.args.size() ? 2 : 0));
+    }
+  } else if (v == "expect-images-differ" || v == "expect-images-equal") {
+    int w1, h1, w2, h2;
+    auto p = readImageBytes(arg(0), w1, h1), q = readImageBytes(arg(1), w2, h2);
+    size_t diff = 0;
+    if (w1 == w2 && h1 == h2 && p.size() == q.size())
+      for (size_t i = 0; i < p.size(); ++i) diff += p[i] != q[i];
+    else
+      diff = std::max(p.size(), q.size());
+    std::printf("%s vs %s: %zu bytes differ\n", arg(0).c_str(), arg(1).c_str(), diff);
+    if (v == "expect-images-differ" && diff == 0) scriptFail(a, "the images are identical");
+    if (v == "expect-images-equal" && diff != 0) scriptFail(a, std::to_string(diff) + " bytes differ");
+  } else if (v == "expect-samples-monotonic" || v == "expect-probe-records") {
+    // Every probe record of every probing stage, checked by its visualiser (cone samples: samples
+    // exist and accumulated opacity never decreases along a cone).
+    const size_t atLeast = v == "expect-probe-records" ? size_t(std::max(intArg(0), 0)) : 0;
+    const auto& records = probeRecords();
+    if (records.empty()) scriptFail(a, "technique " + t.id() + " declares no probe-record output on a probing stage");
+    for (const auto& r : records) {
+      const std::string name = std::string(t.stage(r.stage).id()) + "/" + r.desc->name;
+      if (!r.error.empty()) scriptFail(a, name + ": " + r.error);
+      const Visualiser& vis = visualiserFor(r.out.desc);
+      RecordCheck c = vis.checkRecords(r.out);
+      if (c.elements <= atLeast)
+        scriptFail(a, name + ": " + c.summary + ", expected more than " + std::to_string(atLeast) + " (" + vis.name() + ")");
+      if (!c.error.empty()) scriptFail(a, name + ": " + c.error);
+      std::printf("probe: %s (%s): %s\n", name.c_str(), vis.name(), c.summary.c_str());
+    }
+  } else if (v == "expect-state") {
+    int i = t.stageIndex(arg(0));
+    std::string want = arg(1) == "not-run" ? "not run" : arg(1);
+    std::string got = stageStateName(cursor->record(i).state);
+    if (got != want) scriptFail(a, "stage " + arg(0) + " is " + got + ", expected " + want);
+  } else if (v == "expect-param") {
+    std::string got = cursor->params().desc(arg(0)).format(cursor->params().value(arg(0)));
+    if (got != arg(1)) scriptFail(a, arg(0) + " is " + got + ", expected " + arg(1));
+  } else if (v == "copy-command") {
+    copied = commandLine();
+    glfwSetClipboardString(window->handle(), copied.c_str());
+    std::printf("command: %s\n", copied.c_str());
+  } else if (v == "reload") {
+    reloadShaders();
+    if (!shaderError.empty()) std::printf("shader reload failed: %s\n", shaderError.c_str());
+  } else if (v == "wait") {
+    waitFrames = intArg(0);
+  } else if (v == "tab") {
+    std::vector<std::string> ids;
+    for (const auto& tab : detailsTabs()) ids.push_back(tab.id);
+    if (std::find(ids.begin(), ids.end(), arg(0)) == ids.end())
+      scriptFail(a, "unknown tab '" + arg(0) + "'; valid: " + joinNames(ids));
+    wantTab = arg(0);
+  } else if (v == "view-mode") {
+    if (arg(0) == "slice") viewMode = ViewMode::Slice;
+    else if (arg(0) == "3d") viewMode = ViewMode::Volume;
+    else if (arg(0) == "cubes") viewMode = ViewMode::Cubes;
+    else scriptFail(a, "unknown mode '" + arg(0) + "'; valid: slice, 3d, cubes");
+    if (viewMode != ViewMode::Slice) {
+      refreshCapture();
+      if (capError.empty() && !has3DView())
+        scriptFail(a, "output " + cap.desc.name + " (" + kindName(cap.desc.kind) + ") has no 3D view");
+    }
+  } else if (v == "auto-rerun") {
+    if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
+    autoRerun = arg(0) == "on";
+  } else if (v == "ui-scale") {
+    float s = floatArg(0);
+    if (!(s >= 0.75f && s <= 3.0f)) scriptFail(a, "scale must be in 0.75..3, not " + arg(0));
+    wantUiScale = s;
+    waitFrames = 2;
+  } else if (v == "view-dragging") {
+    if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
+    scriptDragging = arg(0) == "on";
+  } else if (v == "view-orbit") {
+    orbit3d.rotate(floatArg(0), floatArg(1));
+  } else if (v == "expect-view-nonempty") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    if (!update3D()) scriptFail(a, "no 3D view is shown (view-mode 3d|cubes on a volume or a buffer with positions)");
+    if (!msg3d.empty() && msg3d.find("over the limit") != std::string::npos) scriptFail(a, msg3d);
+    size_t n = view3d->nonBackgroundPixels(), want = size_t(std::max(intArg(0), 0));
+    std::printf("view %s of %s: %zu of %d pixels show content (need > %zu); %s; render %.1f ms\n",
+                viewModeName(viewMode), cap.desc.name.c_str(), n, View3D::kSize * View3D::kSize, want, info3d.c_str(),
+                render3dMs.empty() ? 0.0 : render3dMs.back());
+    if (n <= want) scriptFail(a, std::to_string(n) + " content pixels, expected more than " + arg(0));
+  } else if (v == "iterate") {
+    if (cursor->iterations(selected) <= 1) scriptFail(a, std::string("stage ") + t.stage(selected).id() + " is not iterative");
+    stepIteration();
+  } else if (v == "expect-iterations") {
+    const StageRecord& r = cursor->record(t.stageIndex(arg(0)));
+    int want = intArg(1);
+    if (r.iterationsRun != want || (r.state != StageState::Partial && r.state != StageState::Done))
+      scriptFail(a, arg(0) + " is " + stageStateName(r.state) + " after " + std::to_string(r.iterationsRun) + " of " +
+                        std::to_string(r.iterationsTotal) + " iterations, expected " + arg(1));
+    std::printf("%s: %d of %d iterations (%s)\n", arg(0).c_str(), r.iterationsRun, r.iterationsTotal, stageStateName(r.state));
+  } else if (v == "walk-stages") {
+    auto more = walkStagesActions(a);
+    script.insert(script.begin() + long(pc), more.begin(), more.end());
+  } else if (v == "fly") {
+    moveCamera(flyCamera(liveCamera(), floatArg(0), floatArg(1), floatArg(2)));
+  } else if (v == "look") {
+    moveCamera(lookCamera(liveCamera(), floatArg(0), floatArg(1)));
+  } else if (v == "overlay") {
+    if (arg(1) != "on" && arg(1) != "off") scriptFail(a, "expected on or off, not '" + arg(1) + "'");
+    bool on = arg(1) == "on";
+    if (arg(0) == "bounds") overlayOpt.bounds = on;
+    else if (arg(0) == "voxels") overlayOpt.voxels = on;
+    else if (arg(0) == "xray") overlayOpt.xray = on;
+    else scriptFail(a, "unknown overlay '" + arg(0) + "'; valid: bounds, voxels, xray");
+  } else if (v == "overlay-volume") {
+    auto vols = overlayVolumes();
+    if (std::find(vols.begin(), vols.end(), arg(0)) == vols.end())
+      scriptFail(a, "no volume '" + arg(0) + "' has run; valid: " + joinNames(vols));
+    overlayVolume = arg(0);
+    overlayLevel = intArg(1);
+  } else if (v == "expect-overlay-pixels") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    if (!isCameraImage(selected, cap)) scriptFail(a, "output " + cap.desc.name + " is not a camera image; overlays apply to those");
+    updateOverlay();
+    if (overlayKey.empty()) scriptFail(a, "no overlay is on (overlay bounds|voxels on)");
+    size_t n = overlay->coveredPixels(), want = size_t(std::max(intArg(0), 0));
+    std::printf("overlay on %s: %zu pixels covered (need > %zu), %zu voxel cubes, %.1f ms; %s\n", cap.desc.name.c_str(), n,
+                want, overlay->cubeCount(), overlayMs, overlayMsg.c_str());
+    if (n <= want) scriptFail(a, std::to_string(n) + " pixels covered, expected more than " + arg(0));
+  } else if (v == "click") {
+    // A left click on pixel (X, Y) of the shown 2D view (from its top left), as the mouse does.
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    VisualiserContext ctx = visualiserContext();
+    glm::ivec3 element;
+    if (!shownVisualiser()->elementAt(ctx, intArg(0), intArg(1), element))
+      scriptFail(a, "(" + arg(0) + ", " + arg(1) + ") is outside the view of " + cap.desc.name);
+    pickTexel = element;
+    int probed = probeSpacesOfShown().empty() ? 0 : probeShownAt(element, view.level);
+    std::printf("click %s: %s; %d probe(s) set\n", cap.desc.name.c_str(), shownVisualiser()->describeElement(ctx, element).c_str(),
+                probed);
+  } else if (v == "expect-visualiser") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    std::string got = shownVisualiser()->name();
+    if (got != arg(0)) scriptFail(a, "output " + cap.desc.name + " is shown by visualiser '" + got + "', expected '" + arg(0) + "'");
+    std::printf("output %s (%s, %s): visualiser %s\n", cap.desc.name.c_str(), kindName(cap.desc.kind),
+                semanticName(cap.desc.semantic), got.c_str());
+  } else if (v == "keep-snapshot") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    compare.snapshot = cap;
+    compare.snapshotLabel = std::string(t.stage(selected).id()) + "/" + cap.desc.name;
+    for (const auto& [name, value] : cursor->params().formatted())
+      if (t.defaultParams().formatted().at(name) != value) compare.snapshotLabel += " " + name + "=" + value;
+  } else if (v == "compare-with") {
+    const std::string& what = arg(0);
+    compare.on = what != "off";
+    if (what == "output") {
+      if (a.args.size() < 2) scriptFail(a, "compare-with output STAGE/OUTPUT");
+      auto outs = imageOutputs();
+      if (std::find(outs.begin(), outs.end(), arg(1)) == outs.end())
+        scriptFail(a, "no image output '" + arg(1) + "' has run; valid: " + joinNames(outs));
+      compare.source = CompareState::Source::Output;
+      compare.other = arg(1);
+    } else if (what == "snapshot") {
+      if (!compare.snapshot) scriptFail(a, "no snapshot kept (keep-snapshot)");
+      compare.source = CompareState::Source::Snapshot;
+    } else if (what == "file") {
+      if (a.args.size() < 2) scriptFail(a, "compare-with file PATH");
+      if (!fileExists(arg(1))) scriptFail(a, "file '" + arg(1) + "' does not exist");
+      compare.source = CompareState::Source::File;
+      std::snprintf(compare.file, sizeof compare.file, "%s", arg(1).c_str());
+    } else if (what != "off") {
+      scriptFail(a, "unknown source '" + what + "'; valid: output, snapshot, file, off");
+    }
+    compare.key.clear();
+  } else if (v == "compare-mode") {
+    if (arg(0) == "side") compare.mode = CompareState::Mode::SideBySide;
+    else if (arg(0) == "split") compare.mode = CompareState::Mode::Split;
+    else if (arg(0) == "difference") compare.mode = CompareState::Mode::Difference;
+    else scriptFail(a, "unknown mode '" + arg(0) + "'; valid: side, split, difference");
+    if (a.args.size() > 1) compare.split = std::clamp(floatArg(1), 0.0f, 1.0f);
+  } else if (v == "print-compare") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    if (!compare.on) scriptFail(a, "compare is off (compare-with ...)");
+    if (cap.desc.kind != OutputKind::Image2D) scriptFail(a, "output " + cap.desc.name + " is not an image");
+    compare.key.clear();
+    updateCompare();
+    if (!compare.error.empty()) scriptFail(a, compare.error);
+    const auto& m = *compare.metrics;
+    // %.9g: enough digits for the test to compare with `voxlab compare --json`.
+    std::printf("compare %s vs %s: rmse %.9g psnr %.9g mae %.9g max_abs %.9g ssim %.9g\n", cap.desc.name.c_str(),
+                compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim);
+    if (!a.args.empty() && !(m.rmse > floatArg(0)))
+      scriptFail(a, "rmse " + std::to_string(m.rmse) + " is not above " + arg(0));
+  } else if (v == "frame-stats") {
+    printFrameStats();
+  } else if (v == "quit") {
+    quit = true;
+  }
+}
+
+std::vector<ScriptAction> Viewer::walkStagesActions(const ScriptAction& a) const {
+  const Technique& t = cursor->technique();
+  const std::string out = a.args.at(0), run = a.args.at(1);
+  // Per-output tolerances of the snapshot suite: what was measured to vary between runs.
+  nlohmann::json tol = nlohmann::json::parse(readTextFile(a.args.at(2)));
+  auto toleranceOf = [&](const std::string& address) {
+    double d = tol.at("default").at("max_abs").get<double>();
+    if (tol.contains("outputs") && tol["outputs"].contains(address)) d = tol["outputs"][address].value("max_abs", d);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", d);
+    return std::string(buf);
+  };
+  std::vector<ScriptAction> acts;
+  auto add = [&](std::string verb, std::vector<std::string> args) {
+    ScriptAction s;
+    s.verb = std::move(verb);
+    s.args = std::move(args);
+    s.line = a.line;
+    acts.push_back(std::move(s));
+  };
+  std::string previous;
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const std::string id = t.stage(i).id();
+    add("stage", {id});
+    const int n = cursor->iterations(i);
+    if (n > 1)
+      for (int k = 1; k <= n; ++k) {
+        add("iterate", {});
+        add("expect-iterations", {id, std::to_string(k)});
+      }
+    add("run", {});
+    char shot[32];
+    std::snprintf(shot, sizeof shot, "/%02d-", i + 1);
+    std::string png = out + shot + id + ".png";
+    add("screenshot", {png});
+    if (!previous.empty()) add("expect-images-differ", {previous, png});
+    previous = png;
+    for (const auto& o : t.decl(i).outputs) {
+      add("output", {o.name});
+      add("save-output", {out + "/view"});
+      add("compare-output", {out + "/view", run, toleranceOf(t.id() + "/" + id + "/" + o.name)});
+    }
+  }
+  return acts;
+}
+
+void Viewer::printFrameStats() const {
+  if (idleFrameMs.empty()) {
+    std::printf("frame-stats: no idle frames\n");
+    return;
+  }
+  std::vector<double> s = idleFrameMs;
+  std::sort(s.begin(), s.end());
+  double sum = 0;
+  for (double x : s) sum += x;
+  int w, h;
+  window->framebufferSize(w, h);
+  std::printf("frame-stats: %zu idle UI frames at %dx%d: mean %.1f ms, median %.1f ms, p95 %.1f ms, max %.1f ms\n",
+              s.size(), w, h, sum / s.size(), s[s.size() / 2], s[std::min(s.size() - 1, size_t(s.size() * 0.95))],
+              s.back());
+  if (!render3dMs.empty()) {
+    std::vector<double> r = render3dMs;
+    std::sort(r.begin(), r.end());
+    double total = 0;
+    for (double x : r) total += x;
+    std::printf("frame-stats: %zu 3D view renders at %dx%d: mean %.1f ms, median %.1f ms, max %.1f ms\n", r.size(),
+                View3D::kSize, View3D::kSize, total / r.size(), r[r.size() / 2], r.back());
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace voxlab

@@ -1,0 +1,290 @@
+// The viewer's state and the actions on it, shared by its panels. viewer.cpp owns the window, the
+// frame loop and the state changes; each panel is one file that draws from this state and calls
+// its actions:
+//   panel_timeline.cpp    technique / scene pickers, stage timeline, run buttons (left)
+//   panel_parameters.cpp  parameter widgets from the ParamDescs (left)
+//   panel_view.cpp        the view: the output's 2D view through its visualiser, picking, probing
+//   panel_view3d.cpp      the 3D view of the output's visualiser
+//   panel_overlay.cpp     scene overlays over camera images
+//   panel_compare.cpp     compare an image with another output, a snapshot or a reference EXR
+//   panel_inspector.cpp, panel_probe.cpp, panel_timing.cpp, panel_lesson.cpp, panel_export.cpp:
+//                         the Details tabs, each registered with VOXLAB_REGISTER_DETAILS_TAB
+//   script_runner.cpp     the script verbs (tests drive the same actions as the mouse)
+// A new Details tab (a presenter panel, say) is one more file with one registration.
+#pragma once
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include "capture/capture.h"
+#include "gpu/gl.h"
+#include "graph/step_cursor.h"
+#include "inspect/inspect_logic.h"
+#include "inspect/scene_overlay.h"
+#include "inspect/view3d.h"
+#include "inspect/viewer.h"
+#include "inspect/visualiser.h"
+#include "lesson/lesson.h"
+#include "platform/glfw_window.h"
+#include "reference/image_metrics.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+
+class ShaderLibrary;
+
+// A GL texture holding one RGBA8 image for ImGui::Image.
+struct DisplayTexture {
+  GLuint id = 0;
+  int width = 0, height = 0;
+  void upload(int w, int h, const uint8_t* rgba);
+  ImTextureID imgui() const { return reinterpret_cast<ImTextureID>(intptr_t(id)); }
+  DisplayTexture() = default;
+  DisplayTexture(const DisplayTexture&) = delete;
+  DisplayTexture& operator=(const DisplayTexture&) = delete;
+  ~DisplayTexture();
+};
+
+// What the compare view puts next to the shown image (panel_compare.cpp).
+struct CompareState {
+  enum class Source { Output, Snapshot, File };
+  enum class Mode { SideBySide, Split, Difference };
+  bool on = false;
+  Source source = Source::Output;
+  Mode mode = Mode::Split;
+  std::string other;            // Source::Output: "stage/output"
+  char file[512] = {0};         // Source::File: an EXR (or PNG) path
+  std::optional<CapturedOutput> snapshot;  // Source::Snapshot: a kept copy of an output
+  std::string snapshotLabel;    // what was different when it was kept ("cone.count=2")
+  float split = 0.5f;           // Mode::Split: fraction of the width showing the shown image
+  // Result, recomputed when either side changes.
+  std::string key, error, otherLabel;
+  std::optional<reference::ImageMetrics> metrics;
+  float errorScale = 0.0f;
+  DisplayTexture otherTex, diffTex;
+};
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewerOptions& o);
+  ~Viewer();
+  int loop();
+
+  // --- state changes (shared by the UI, the keyboard, lessons and scripts) ---
+  void switchTechnique(const std::string& id);
+  bool loadSceneNamed(const std::string& name);  // false + sceneError on failure
+  void selectStage(int i);
+  void selectOutput(const std::string& name);
+  void requestRun(int stage) { runTarget = std::max(runTarget, std::min(stage, cursor->stageCount() - 1)); }
+  void runSelected() {
+    lastRunRequest = std::max(lastRunRequest, selected);
+    requestRun(selected);
+  }
+  void runAll() {
+    lastRunRequest = cursor->stageCount() - 1;
+    requestRun(lastRunRequest);
+  }
+  void paramsChanged() {
+    if (autoRerun) requestRun(std::max(selected, lastRunRequest));
+  }
+  void setParam(const std::string& name, double value);  // status line on a bad value
+  void setCameraIndex(int i);
+  // Orbit and fly move the live camera at once; the technique's camera follows whenever no stage is
+  // queued, so overlays track the mouse while a slow render catches up.
+  const Camera& liveCamera() const { return pendingCamera ? *pendingCamera : cursor->camera(); }
+  void moveCamera(const Camera& c);
+  void applyPendingCamera();
+  void orbit(float yawDeg, float pitchDeg);
+  void handleFly();  // right mouse over a camera image: mouse looks, W/A/S/D/Q/E move
+  void frameScene();
+  // Queues iterations of the selected stage until 'count' of them have run (after the stages
+  // before it); by default one more than now.
+  void stepIteration(int count = -1);
+  void applyLessonStep(int i);
+  // Rebuilds programs whose files changed. fromWatch: the periodic file check, which stays quiet
+  // when nothing changed.
+  void reloadShaders(bool fromWatch = false);
+  std::string commandLine() const;
+  // An image at the view's size from a stage whose results depend on the camera
+  // (Technique::dependsOnView): screen probes and scene overlays apply to these.
+  bool isCameraImage(int stage, const CapturedOutput& c) const;
+
+  // --- probes (panel_probe.cpp) ---
+  // Stages that declare a probe in 'space' (and, for volume and light probes, for 'resource').
+  std::vector<std::pair<int, const ProbeDesc*>> probesFor(ProbeSpace space, const std::string& resource) const;
+  bool hasProbes() const;
+  // The probe spaces a click on the shown output reaches (none: a click only picks).
+  std::vector<ProbeSpace> probeSpacesOfShown() const;
+  // A click on element 'texel' (image pixel rows from the top for images) of the shown output:
+  // sets the probe parameters of every stage that declares a probe in that output's space and
+  // queues what went stale. Returns the number of stages probed.
+  int probeShownAt(const glm::ivec3& texel, int level);
+  void probePixel(int x, int y);  // screen space: pixel of the camera images (from the top left)
+  // Every probe record output of a probing stage that has run, captured (refreshed per generation).
+  struct ProbeRecords {
+    int stage = -1;
+    const OutputDesc* desc = nullptr;
+    CapturedOutput out;
+    nlohmann::json records;
+    std::string error;
+  };
+  const std::vector<ProbeRecords>& probeRecords();
+
+  // --- per frame ---
+  bool runPendingStage();  // runs at most one stage; true when one ran
+  void refreshCapture();
+  void drawUi();
+  void drawLeftPanel();    // panel_timeline.cpp (+ drawParameters)
+  void drawParameters();   // panel_parameters.cpp
+  void drawView();         // panel_view.cpp
+  void drawRightPanel();   // the Details tabs (detailsTabs())
+  void drawTiming();       // panel_timing.cpp
+  void drawLesson();       // panel_lesson.cpp
+  void drawExport();       // panel_export.cpp
+  void drawProbe();        // panel_probe.cpp
+  VisualiserContext visualiserContext();  // of the shown capture
+  const Visualiser* shownVisualiser() const;  // nullptr when there is no capture
+  bool has3DView() const;
+  bool update3D();  // builds the 3D content and renders it when anything shown changed; false = no 3D view
+  void draw3DView();
+  // Scene overlays over camera images: voxels of a volume level and the volume's bounds.
+  void drawOverlayControls();
+  void updateOverlay();  // re-renders the overlay when anything it shows changed
+  std::vector<std::string> overlayVolumes() const;  // "stage/output" of every volume that has run
+  std::vector<std::string> imageOutputs() const;    // "stage/output" of every image that has run
+  // Compare (panel_compare.cpp).
+  void drawCompareControls();
+  void updateCompare();  // recomputes the other image, the difference and the metrics when stale
+  bool drawCompareImage(ImVec2 origin, ImVec2 size);  // draws the compared view; false when compare is off
+  std::optional<CapturedOutput> compareOther(std::string& label, std::string& error);
+  void handleKeys();
+  void takeScreenshot(const std::string& path);
+  // Rebuilds the font at the scale's size and scales the style (outside a frame); Ctrl+= / Ctrl+-
+  // and the Camera/Export tab change it.
+  void applyUiScale(float scale);
+  // What the view panel shows: the 3D view, or the image with its overlay blended in.
+  DisplayImage viewportImage() const;
+
+  // --- script (script_runner.cpp) ---
+  bool scriptBusy() const {
+    return runTarget >= 0 || iterateStage >= 0 || pendingCamera || !pendingScreenshot.empty() || waitFrames > 0;
+  }
+  void stepScript();
+  void execute(const ScriptAction& a);
+  [[noreturn]] void scriptFail(const ScriptAction& a, const std::string& msg) const;
+  // Expands walk-stages into the actions that walk every stage and output of the technique.
+  std::vector<ScriptAction> walkStagesActions(const ScriptAction& a) const;
+  void printFrameStats() const;
+
+  // --- state ---
+  ViewerOptions opt;
+  std::unique_ptr<GlfwWindow> window;
+  std::unique_ptr<ShaderLibrary> shaders;
+  std::unique_ptr<StepCursor> cursor;
+  std::shared_ptr<const Scene> scene;
+  std::string sceneName;
+  std::string sceneError, shaderError, status;
+  char scenePath[512] = {0};
+  float uiScale = 1.0f, wantUiScale = 1.0f;
+
+  int selected = 0;          // selected stage
+  int outputIndex = 0;       // output of the selected stage
+  ViewSettings view;         // level, slice, channel, exposure of the shown output
+  int cameraIndex = 0;       // scene camera in use (-1 after an orbit or fly)
+  std::optional<Camera> pendingCamera;
+  bool flying = false;
+  double lastFlyTime = 0.0;
+  int runTarget = -1;        // stage to run through, one stage per frame (-1 = idle)
+  int iterateStage = -1;     // stage to run iterations of, after the stages before it (-1 = none)
+  int iterateTo = 0;         // ... until this many of its iterations have run
+  std::vector<std::deque<std::pair<float, float>>> timeHistory;  // per stage: (cpu, gpu) ms of recent runs
+  int lastRunRequest = -1;
+  bool autoRerun = true;
+  bool watchShaders = true;  // rebuild programs when their files change on disk
+  double lastShaderCheck = 0.0;
+  long generation = 0;       // bumps whenever a stage runs or the technique/scene changes
+
+  // Capture of the selected output (refreshed when selection or generation changes).
+  CapturedOutput cap;
+  nlohmann::json capStats, capRecords;  // of cap, computed once per capture (not per frame)
+  std::string capError;
+  long capKey[4] = {-1, -1, -1, -1};
+  long texKey[8] = {0};
+  DisplayTexture viewTex;
+  SliceImage viewImage;
+  bool hover = false;
+  glm::ivec3 hoverTexel{0}, pickTexel{-1};
+  bool dragging = false, orbiting = false;
+  ImVec2 dragStart{0, 0};
+
+  // Probe records (probeRecords()).
+  std::vector<ProbeRecords> probeCache;
+  long probeCacheKey = -1;
+
+  // Scene overlay.
+  std::unique_ptr<SceneOverlay> overlay;
+  SceneOverlay::Options overlayOpt{false, false, false, 0.6f};
+  std::string overlayVolume;  // "stage/output"; "" = the latest volume before the selected stage
+  int overlayLevel = -1;      // -1 = the finest level with at most 32 texels per axis
+  int overlayLevelCount = 1;  // levels of the overlaid volume (for the slider)
+  std::string overlayKey, overlayContentKey, overlayMsg;
+  double overlayMs = 0.0;
+
+  CompareState compare;
+
+  Lesson lesson;
+  int lessonStep = -1;
+
+  std::vector<ScriptAction> script;
+  size_t pc = 0;
+  int waitFrames = 0;
+  std::string pendingScreenshot;
+  int screenshotDelay = 0;
+  bool quit = false;
+  bool scripted = false;
+
+  std::vector<double> idleFrameMs;  // frames where no stage ran and no capture was refreshed
+  bool frameHeavy = false;
+  std::string copied;
+  std::string wantTab;  // tab to bring to front on the next frame ("" = leave as is)
+  char exportDir[256] = "viewer-out";
+
+  // 3D views.
+  ViewMode viewMode = ViewMode::Slice;
+  std::unique_ptr<View3D> view3d;
+  OrbitCamera orbit3d;
+  const Scene* orbitScene = nullptr;  // the orbit starts along the scene camera once per scene
+  long content3dKey[7] = {-1, -1, -1, -1, -1, -1, -1};
+  double render3dKey[6] = {-1, 0, 0, 0, 0, 0};
+  std::string info3d, msg3d;
+  std::vector<double> render3dMs;
+  bool dragging3d = false;
+  bool scriptDragging = false;  // view-dragging on: render as while the mouse drags
+};
+
+// --- Details tabs ------------------------------------------------------------------------------------
+
+struct DetailsTab {
+  const char* id;      // script `tab ID`
+  const char* label;   // shown on the tab
+  int order;           // left to right
+  bool (*visible)(const Viewer&);  // nullptr = always
+  void (*draw)(Viewer&);
+};
+const std::vector<DetailsTab>& detailsTabs();  // sorted by order
+bool registerDetailsTab(const DetailsTab& tab);
+#define VOXLAB_REGISTER_DETAILS_TAB(name, ...) \
+  static const bool voxlabDetailsTab_##name = ::voxlab::registerDetailsTab(::voxlab::DetailsTab{__VA_ARGS__})
+
+// Small helpers the panels share (viewer.cpp).
+std::string formatBytes(size_t bytes);
+inline const ImVec4 kWarningColour{0.95f, 0.75f, 0.3f, 1};
+inline const ImVec4 kErrorColour{1, 0.4f, 0.4f, 1};
+
+}  // namespace voxlab

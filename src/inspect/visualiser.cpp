@@ -1,0 +1,103 @@
+#include "inspect/visualiser.h"
+
+#include <cstdio>
+#include <map>
+
+#include <imgui.h>
+
+#include "core/error.h"
+
+namespace voxlab {
+
+namespace {
+
+std::map<std::pair<int, std::string>, std::unique_ptr<Visualiser>>& visualisers() {
+  static std::map<std::pair<int, std::string>, std::unique_ptr<Visualiser>> m;
+  return m;
+}
+
+}  // namespace
+
+const Visualiser& visualiserFor(OutputKind kind, Semantic semantic) {
+  auto& m = visualisers();
+  auto it = m.find({int(kind), semantic.name()});
+  if (it == m.end()) it = m.find({int(kind), ""});
+  if (it == m.end())
+    throw Error(std::string("no visualiser shows ") + kindName(kind) + " outputs (semantic " + semantic.name() +
+                "); register one with VOXLAB_REGISTER_VISUALISER");
+  return *it->second;
+}
+
+bool registerVisualiser(OutputKind kind, const char* semantic, std::unique_ptr<Visualiser> v) {
+  registerOutputHandler(kind, semantic, v.get());
+  visualisers()[{int(kind), semantic ? semantic : ""}] = std::move(v);
+  return true;
+}
+
+void Visualiser::drawRecordView(const VisualiserContext& ctx) const {
+  ImGui::Text("%u records", ctx.out.recordCount);
+  drawRecordsTable("probe-records", ctx.records, 240.0f);
+}
+
+RecordCheck Visualiser::checkRecords(const CapturedOutput& out) const {
+  RecordCheck c;
+  c.elements = out.recordCount;
+  c.summary = std::to_string(out.recordCount) + " records";
+  return c;
+}
+
+void drawStatisticsTable(const char* id, const nlohmann::json& stats) {
+  if (!stats.is_object() || stats.empty()) return;
+  auto text = [](const nlohmann::json& v) {
+    char buf[48];
+    if (v.is_number()) {
+      std::snprintf(buf, sizeof buf, "%.6g", v.get<double>());
+      return std::string(buf);
+    }
+    if (v.is_array()) {
+      std::string s;
+      for (const auto& e : v) {
+        if (e.is_number()) std::snprintf(buf, sizeof buf, "%.4g", e.get<double>());
+        else std::snprintf(buf, sizeof buf, "%s", e.dump().c_str());
+        s += (s.empty() ? "" : ", ") + std::string(buf);
+      }
+      return s;
+    }
+    return v.is_string() ? v.get<std::string>() : v.dump();
+  };
+  if (ImGui::BeginTable(id, 2, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
+    for (auto it = stats.begin(); it != stats.end(); ++it) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(it.key().c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextWrapped("%s", text(it.value()).c_str());
+    }
+    ImGui::EndTable();
+  }
+}
+
+void drawRecordsTable(const char* id, const nlohmann::json& recs, float height) {
+  if (!recs.is_array() || recs.empty() || !recs[0].is_object()) return;
+  int cols = int(recs[0].size()) + 1;
+  if (!ImGui::BeginTable(id, cols,
+                         ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX |
+                             ImGuiTableFlags_SizingFixedFit,
+                         ImVec2(0, height)))
+    return;
+  ImGui::TableSetupColumn("#");
+  for (auto it = recs[0].begin(); it != recs[0].end(); ++it) ImGui::TableSetupColumn(it.key().c_str());
+  ImGui::TableHeadersRow();
+  for (size_t r = 0; r < recs.size(); ++r) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::Text("%zu", r);
+    for (auto it = recs[r].begin(); it != recs[r].end(); ++it) {
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(it.value().dump().c_str());
+    }
+  }
+  ImGui::EndTable();
+}
+
+}  // namespace voxlab

@@ -1,0 +1,109 @@
+// Visualiser: how one kind of data is shown and saved. One file per visualiser under
+// src/inspect/visualisers/, registered with VOXLAB_REGISTER_VISUALISER by output kind and semantic
+// (or by kind alone, the fallback for every semantic without its own). A visualiser is an
+// OutputHandler (capture/output_handler.h: the files `voxlab run` writes, statistics, the golden
+// tier and comparison, used headless) plus the viewer's views of it:
+//   2D view      the image the view panel shows, the element under the cursor and its value
+//   3D view      content for View3D (ray-marched volume, cubes, points, spheres and lines)
+//   inspector    controls (level, slice, channel, ...) and the statistics / records tables
+//   record view  probe records in the Probe tab (cone plots, a table, ...)
+// The viewer, `voxlab run` and the snapshot suite look visualisers up by (kind, semantic) and
+// never name one; docs/architecture.md says how to add one.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "capture/output_handler.h"
+#include "inspect/inspect_logic.h"
+
+namespace voxlab {
+
+class View3D;
+
+// What the user chose to look at in an output (kept by the viewer across frames).
+struct ViewSettings {
+  int level = 0;
+  SliceSpec slice;
+  DisplaySettings display;
+};
+
+// One captured output and what the viewer knows around it.
+struct VisualiserContext {
+  const CapturedOutput& out;
+  const nlohmann::json& statistics;  // outputStatistics(out), computed once per capture
+  const nlohmann::json& records;     // buffers: the first records decoded (recordsJson)
+  ViewSettings& view;
+  // The latest volume output (of a stage before this one that has run), for data placed in a
+  // volume (buffer positions, cone samples); false when there is none. 'name' is "stage/output".
+  std::function<bool(CapturedOutput& volume, std::string& name)> contextVolume;
+};
+
+// 3D content a visualiser built, in view units (docs in inspect/view3d.h).
+struct Content3D {
+  glm::vec3 lo{0.0f}, hi{1.0f};  // bounds shown as a box and framed by the orbit camera
+  std::string info;              // one line under the view
+  std::string message;           // a warning ("" = none)
+};
+
+// What a probe record check found (script `expect-probe-records`, `expect-samples-monotonic`).
+struct RecordCheck {
+  size_t elements = 0;  // records, samples, nodes, ... (0 fails the check)
+  std::string summary;  // "6 cones, 212 samples"
+  std::string error;    // "" when the records are consistent
+};
+
+class Visualiser : public OutputHandler {
+ public:
+  // --- 2D view ---
+  // The image the view panel shows (RGBA8, top row first); empty (width 0) for none.
+  virtual SliceImage image2D(const VisualiserContext& ctx) const = 0;
+  // The element shown at image pixel (px, py): a texel (x, y, z) for levels; false for none.
+  virtual bool elementAt(const VisualiserContext& ctx, int px, int py, glm::ivec3& element) const { return false; }
+  // "pixel (x, y, z) = (values)" of an element elementAt returned.
+  virtual std::string describeElement(const VisualiserContext& ctx, const glm::ivec3& element) const { return ""; }
+  // One line under the image when nothing is hovered ("" = the viewer's hint).
+  virtual std::string caption(const VisualiserContext& ctx) const { return ""; }
+
+  // --- 3D view ---
+  virtual bool has3D(const OutputDesc& desc) const { return false; }
+  // Fills 'view' (cleared by the caller) and returns its bounds and captions.
+  virtual Content3D build3D(const VisualiserContext& ctx, View3D& view) const { return {}; }
+
+  // --- inspector: controls and tables (ImGui) ---
+  virtual void drawInspector(const VisualiserContext& ctx) const = 0;
+
+  // --- probe records ---
+  // The Probe tab's view of a probe record output (ImGui); the table by default.
+  virtual void drawRecordView(const VisualiserContext& ctx) const;
+  virtual RecordCheck checkRecords(const CapturedOutput& out) const;
+};
+
+// The visualiser for (kind, semantic), else for the kind. Throws Error for a kind without one.
+const Visualiser& visualiserFor(OutputKind kind, Semantic semantic);
+inline const Visualiser& visualiserFor(const OutputDesc& d) { return visualiserFor(d.kind, d.semantic); }
+// Registers in both registries (this one and capture's OutputHandler registry). semantic nullptr:
+// the kind's fallback. Returns true (for the macro's static).
+bool registerVisualiser(OutputKind kind, const char* semantic, std::unique_ptr<Visualiser> visualiser);
+
+inline constexpr const char* kAnySemantic = nullptr;
+
+#define VOXLAB_VISUALISER_CAT2(a, b) a##b
+#define VOXLAB_VISUALISER_CAT(a, b) VOXLAB_VISUALISER_CAT2(a, b)
+// VOXLAB_REGISTER_VISUALISER(ConeSamplesVisualiser, OutputKind::Buffer, Semantic::ConeSamples.name());
+// VOXLAB_REGISTER_VISUALISER(ImageVisualiser, OutputKind::Image2D, kAnySemantic);
+#define VOXLAB_REGISTER_VISUALISER(Class, kind, semantic)                                          \
+  static const bool VOXLAB_VISUALISER_CAT(voxlabVisualiserRegistered_, __LINE__) =                 \
+      ::voxlab::registerVisualiser(kind, semantic, std::make_unique<Class>())
+
+// --- ImGui helpers the visualisers share (visualiser.cpp) ----------------------------------------------
+
+// A two-column table of a statistics object (key, value; arrays joined).
+void drawStatisticsTable(const char* id, const nlohmann::json& stats);
+// A table of decoded records (recordsJson: an array of objects, one column per field).
+void drawRecordsTable(const char* id, const nlohmann::json& records, float height);
+
+}  // namespace voxlab
