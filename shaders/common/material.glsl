@@ -10,3 +10,9 @@ vec3 materialEmission(vec2 uv) {
   vec4 e = materials[u_materialIndex].emissive;
   return e.a > 0.5 ? e.rgb * texture(u_emissiveTexture, uv).rgb : e.rgb;
 }
+// alphaMode MASK: true where the surface is cut away (baseColor.a x texture alpha < alphaCutoff);
+// camera and light rasterization discard such fragments. Voxelization uses alpha_coverage.glsl.
+bool materialCutAway(vec2 uv) {
+  vec4 alpha = materials[u_materialIndex].alpha;
+  return alpha.y > 0.5 && materialAlbedo(uv).a < alpha.x;
+}

@@ -20,6 +20,7 @@
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "voxelization/scene_triangles.glsl"
+#include "common/alpha_coverage.glsl"
 
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
@@ -100,6 +101,12 @@ void main() {
   Edges2D exy = setupEdges(v0.xy, v1.xy, v2.xy, n.z);
   Edges2D eyz = setupEdges(v0.yz, v1.yz, v2.yz, n.x);
   Edges2D ezx = setupEdges(v0.zx, v1.zx, v2.zx, n.y);
+  // alphaMode MASK: a voxel also needs opaque texels near it (common/alpha_coverage.glsl; the
+  // triangle in absolute voxel coordinates, as the raster pass and the CPU reference see it).
+  vec4 alpha = materials[material].alpha;
+  bool masked = coverageMasked(alpha);
+  vec2 t0 = sceneUv(i0), t1 = sceneUv(i1), t2 = sceneUv(i2);
+  uint level = masked ? coverageLevelFor(alpha, w0, w1, w2, t0, t1, t2) : 0u;
 
   // Columns along the dominant axis: the plane's depth over a column spans at most
   // |dz/da| + |dz/db| <= 2 voxels, so only a few voxels per column are candidates.
@@ -130,6 +137,7 @@ void main() {
       float np = dot(n, p);
       if ((np + d1) * (np + d2) > 0.0) continue;
       if (!insideEdges(exy, p.xy) || !insideEdges(eyz, p.yz) || !insideEdges(ezx, p.zx)) continue;
+      if (masked && !coverageAt(alpha, level, w0, w1, w2, t0, t1, t2, ivec3(voxel))) continue;
       appendVoxel(ivec3(voxel), material, normal);
     }
   }

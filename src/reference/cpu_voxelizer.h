@@ -2,7 +2,9 @@
 //
 // A voxel belongs to the set when at least one triangle overlaps its closed box (separating axis
 // test over the 13 axes of Akenine-Moller 2001; touching counts). Degenerate triangles (zero
-// area) are skipped, as the GPU voxelizers skip them. The GPU methods are tested against this.
+// area) are skipped, as the GPU voxelizers skip them. Triangles of alphaMode MASK materials keep
+// only the voxels their alpha coverage allows (scene/alpha_coverage.h, the GPU's rule). The GPU
+// methods are tested against this.
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -21,9 +21,19 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
   indices_ = Buffer("scene.indices", scene.indices.size() * 4, scene.indices.data(), 0);
   triangleCount_ = scene.triangleCount();
 
+  coverage_ = AlphaCoverage::build(scene);
   std::vector<gpu::GpuMaterial> mats;
-  for (const auto& m : scene.materials)
-    mats.push_back({m.baseColor, glm::vec4(m.emissive, m.emissiveTexture >= 0 ? 1.0f : 0.0f)});
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    const bool masked = coverage_.masked(uint32_t(i));
+    mats.push_back({m.baseColor, glm::vec4(m.emissive, m.emissiveTexture >= 0 ? 1.0f : 0.0f),
+                    glm::vec4(m.alphaCutoff, masked ? 1.0f : 0.0f, float(coverage_.firstLevel[i]),
+                              float(coverage_.levelCount[i]))});
+  }
+  coverageBits_ = Buffer("scene.coverage-bits", coverage_.bits.size() * 4, coverage_.bits.data(), 0);
+  std::vector<glm::uvec4> levels;
+  for (const CoverageLevel& L : coverage_.levels) levels.push_back({L.bitOffset, L.width, L.height, 0u});
+  coverageLevels_ = Buffer("scene.coverage-levels", levels.size() * sizeof(glm::uvec4), levels.data(), 0);
   materials_ = Buffer("scene.materials", mats.size() * sizeof(gpu::GpuMaterial), mats.data(), 0);
 
   GLuint vao = vao_.id();
@@ -59,10 +69,16 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
   glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, one);
 }
 
+void GpuScene::bindCoverage() const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_COVERAGE_BITS, coverageBits_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_COVERAGE_LEVELS, coverageLevels_.id());
+}
+
 void GpuScene::draw(GLuint program) const {
   glUseProgram(program);
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, materials_.id());
+  bindCoverage();
   GLint loc = glGetUniformLocation(program, "u_materialIndex");
   GLint firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
   for (const auto& d : scene_.draws) {

@@ -177,6 +177,7 @@ void VoxelizeStage::execute(StageContext& ctx) {
       setUniform(computeProgram, "u_capacity", cap);
       glUseProgram(computeProgram);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
+      ctx.gpuScene.bindCoverage();
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer("triangle-list").id());
@@ -258,7 +259,8 @@ void CompareStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("occupancy");
   b.output("reference", OutputKind::Volume3D, Semantic::Occupancy,
-           "CPU reference voxels: every voxel whose closed box a triangle overlaps (exact SAT, double)");
+           "CPU reference voxels: every voxel whose closed box a triangle overlaps (exact SAT, double; "
+           "alphaMode MASK triangles only where their alpha coverage is opaque)");
   b.output("difference", OutputKind::Volume3D, Semantic::Scalar,
            "0 = method and reference agree, 1 = missed by the method, 2 = added by the method");
 }
