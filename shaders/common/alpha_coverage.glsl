@@ -34,7 +34,8 @@ uint coverageWrap(float i, uint n) {
   return min(uint(m), n - 1u);
 }
 
-bool coverageAt(vec4 alpha, uint level, vec3 a, vec3 b, vec3 c, vec2 ua, vec2 ub, vec2 uc, ivec3 voxel) {
+// Texture coordinates of the voxel centre projected onto the triangle (barycentrics clamped).
+vec2 voxelSampleUv(vec3 a, vec3 b, vec3 c, vec2 ua, vec2 ub, vec2 uc, ivec3 voxel) {
   vec3 e1 = b - a, e2 = c - a, q = vec3(voxel) + 0.5 - a;
   float d00 = dot(e1, e1), d01 = dot(e1, e2), d11 = dot(e2, e2);
   float d20 = dot(q, e1), d21 = dot(q, e2);
@@ -49,7 +50,11 @@ bool coverageAt(vec4 alpha, uint level, vec3 a, vec3 b, vec3 c, vec2 ua, vec2 ub
   wb = max(wb, 0.0);
   wc = max(wc, 0.0);
   float sum = wa + wb + wc;
-  vec2 uv = sum > 0.0 ? (ua * wa + ub * wb + uc * wc) / sum : ua;
+  return sum > 0.0 ? (ua * wa + ub * wb + uc * wc) / sum : ua;
+}
+
+bool coverageAt(vec4 alpha, uint level, vec3 a, vec3 b, vec3 c, vec2 ua, vec2 ub, vec2 uc, ivec3 voxel) {
+  vec2 uv = voxelSampleUv(a, b, c, ua, ub, uc, voxel);
   uvec4 L = coverageLevels[uint(alpha.z) + level];
   float x = uv.x * float(L.y) - 0.5, y = uv.y * float(L.z) - 0.5;
   float fx = floor(x), fy = floor(y);

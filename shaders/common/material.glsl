@@ -6,6 +6,14 @@ layout(binding = VOXLAB_UNIT_EMISSIVE) uniform sampler2D u_emissiveTexture;
 uniform int u_materialIndex;
 
 vec4 materialAlbedo(vec2 uv) { return materials[u_materialIndex].baseColor * texture(u_albedoTexture, uv); }
+// The same at an explicit mip level (compute passes have no derivatives).
+vec4 materialAlbedoLod(vec2 uv, float lod) {
+  return materials[u_materialIndex].baseColor * textureLod(u_albedoTexture, uv, lod);
+}
+vec3 materialEmissionLod(vec2 uv, float lod) {
+  vec4 e = materials[u_materialIndex].emissive;
+  return e.a > 0.5 ? e.rgb * textureLod(u_emissiveTexture, uv, lod).rgb : e.rgb;
+}
 vec3 materialEmission(vec2 uv) {
   vec4 e = materials[u_materialIndex].emissive;
   return e.a > 0.5 ? e.rgb * texture(u_emissiveTexture, uv).rgb : e.rgb;

@@ -74,6 +74,12 @@ void GpuScene::bindCoverage() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_COVERAGE_LEVELS, coverageLevels_.id());
 }
 
+void GpuScene::bindMaterialTextures(uint32_t material) const {
+  const Material& m = scene_.materials[material];
+  glBindTextureUnit(VOXLAB_UNIT_ALBEDO, m.baseColorTexture >= 0 ? textures_[m.baseColorTexture].id() : white_.id());
+  glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
+}
+
 void GpuScene::draw(GLuint program) const {
   glUseProgram(program);
   glBindVertexArray(vao_.id());
@@ -82,11 +88,9 @@ void GpuScene::draw(GLuint program) const {
   GLint loc = glGetUniformLocation(program, "u_materialIndex");
   GLint firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
   for (const auto& d : scene_.draws) {
-    const Material& m = scene_.materials[d.material];
     glProgramUniform1i(program, loc, int(d.material));
     if (firstLoc >= 0) glProgramUniform1i(program, firstLoc, int(d.firstIndex / 3));
-    glBindTextureUnit(VOXLAB_UNIT_ALBEDO, m.baseColorTexture >= 0 ? textures_[m.baseColorTexture].id() : white_.id());
-    glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
+    bindMaterialTextures(d.material);
     glDrawElements(GL_TRIANGLES, GLsizei(d.indexCount), GL_UNSIGNED_INT,
                    reinterpret_cast<const void*>(uintptr_t(d.firstIndex) * 4));
   }

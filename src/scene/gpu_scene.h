@@ -24,6 +24,8 @@ class GpuScene {
   // (bound by draw(); compute passes bind them with bindCoverage()).
   const AlphaCoverage& coverage() const { return coverage_; }
   void bindCoverage() const;
+  // Binds material 'material's base colour and emissive textures (white where it has none).
+  void bindMaterialTextures(uint32_t material) const;
   const Buffer& vertices() const { return vertices_; }
   const Buffer& indices() const { return indices_; }
   GLuint vertexArray() const { return vao_.id(); }
