@@ -74,15 +74,18 @@ struct Tolerance {
   double maxFraction = 0.0;
 };
 
-Tolerance toleranceFor(const std::string& address, CaptureTier tier) {
+// The entry "<address> on <scene>" (e.g. "vct-grid/inject/radiance-injected on sponza") overrides
+// "<address>", which overrides "default".
+Tolerance toleranceFor(const std::string& address, const std::string& scene, CaptureTier tier) {
   static json data = json::parse(readTextFile(projectPath("tests/golden/tolerances.json")));
   Tolerance t;
   if (tier == CaptureTier::Exact) return t;
   const json& d = data.at("default");
   t.maxAbs = d.at("max_abs").get<double>();
   t.maxFraction = d.at("max_fraction").get<double>();
-  if (data.contains("outputs") && data["outputs"].contains(address)) {
-    const json& o = data["outputs"][address];
+  for (const std::string& key : {address, address + " on " + scene}) {
+    if (!data.contains("outputs") || !data["outputs"].contains(key)) continue;
+    const json& o = data["outputs"][key];
     t.maxAbs = o.value("max_abs", t.maxAbs);
     t.maxFraction = o.value("max_fraction", t.maxFraction);
   }
@@ -134,7 +137,7 @@ class SnapshotTest : public ::testing::Test {
     std::string address = technique_ + "/" + stage_ + "/" + output_;
     std::string dir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
     std::string prefix = stage_ + "." + output_;
-    Tolerance tol = toleranceFor(address, c.desc.tier);
+    Tolerance tol = toleranceFor(address, s.cursor().scene().name, c.desc.tier);
     if (c.desc.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
     if (c.desc.kind == OutputKind::Buffer)
       compareBuffer(c, dir, prefix, tol);
