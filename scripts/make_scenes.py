@@ -7,6 +7,13 @@
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
   tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
   tests/data/scenes/huge-triangles.gltf  4 huge triangles at odd angles (voxelization sweep)
+  tests/data/scenes/voxel-ties-R.gltf    (R = 64, 128, 256) geometry exactly on voxel faces, edges
+                                         and corners of the R^3 volume, 45-degree planes (dominant-axis
+                                         ties), small and sliver triangles (voxelization exactness)
+  tests/data/scenes/boundary-quad.gltf   a 1 x 1 m quad in the middle of its volume: at 64^3 its
+                                         plane falls on a voxel boundary up to float rounding
+  tests/data/scenes/long-hall.gltf       strongly non-cubic bounds (4 x 0.5 x 1 m) with tilted,
+                                         small and sliver triangles
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
 """
@@ -161,6 +168,97 @@ def huge_triangles(path):
     b.write(path)
 
 
+def voxel_ties(path, res):
+    """Geometry placed exactly on the voxel grid of a res^3 volume. The scene's bounds are
+    [0, (res-1)/res]^3 (two marker triangles in opposite corners), so VoxelSpace::fromScene gives
+    voxels of exactly 1/res m and voxel coordinate v = res * p + 0.5 for a position p, without
+    rounding (every value below is a small dyadic fraction, exact in float32). The pattern is
+    designed at 64^3 and scaled by res / 64, so every tie stays a tie at every resolution:
+    axis-aligned quads whose planes and edges lie on voxel faces (one per axis), one whose edges
+    lie on voxel centres, 45-degree triangles (normals (1,1,0), (0,1,1), (1,0,1): dominant-axis
+    ties, planes through voxel edges) and (1,1,1) (through voxel corners), small triangles with
+    vertices on voxel corners, edges and faces, and slivers along and across voxel edges."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (voxel ties at %d^3)" % res)
+    grey = b.add_material("grey", (0.7, 0.7, 0.7))
+    s = res // 64
+
+    def p(v):  # voxel coordinates (at 64^3) -> metres in the res^3 volume
+        return tuple((c * s - 0.5) / res for c in v)
+
+    points, tris = [], []
+
+    def tri(a, c, d, scaled=True):
+        base = len(points)
+        for v in (a, c, d):
+            points.append(p(v) if scaled else v)
+        tris.append((base, base + 1, base + 2))
+
+    def quad(a, c, d, e):
+        tri(a, c, d)
+        tri(a, d, e)
+
+    e = (res - 1) / res
+    # Bounds markers: the volume's minimum and maximum corners, off the grid's faces.
+    tri((0.0, 0.0, 0.0), (2.0 / res, 0.0, 0.0), (0.0, 0.0, 2.0 / res), scaled=False)
+    tri((e, e, e), (e, e, e - 2.0 / res), (e - 2.0 / res, e, e), scaled=False)
+    # Axis-aligned quads on voxel faces: plane and all four edges on cell boundaries.
+    quad((8, 8, 20), (24, 8, 20), (24, 24, 20), (8, 24, 20))      # z = 20
+    quad((40, 8, 8), (40, 24, 8), (40, 24, 24), (40, 8, 24))      # x = 40
+    quad((8, 44, 30), (8, 44, 46), (24, 44, 46), (24, 44, 30))    # y = 44
+    # Plane on a voxel face, edges through cell centres.
+    quad((44.5, 40.5, 52), (60.5, 40.5, 52), (60.5, 56.5, 52), (44.5, 56.5, 52))
+    # 45-degree planes: x + y = 70, y + z = 60, x + z = 84; and x + y + z = 120.
+    tri((30, 40, 40), (50, 20, 40), (40, 30, 56))
+    tri((30, 24, 36), (46, 36, 24), (30, 40, 20))
+    tri((48, 48, 36), (56, 56, 28), (60, 44, 24))
+    tri((48, 36, 36), (36, 48, 36), (36, 36, 48))
+    # Small triangles (< 1 voxel^2) with vertices on a corner, an edge and a face of the grid.
+    tri((10, 52, 10), (10.5, 52, 10), (10, 52.5, 10.25))
+    tri((12, 54.25, 12), (12.75, 54, 12), (12, 54.5, 12.5))
+    tri((14.25, 56, 14.5), (14.5, 56.5, 14), (14, 56.75, 14.75))
+    # Slivers: along a voxel edge line, across cells at a shallow angle, and a needle on a corner.
+    tri((4, 30, 4), (28, 30, 4), (4, 30.0625, 4.0625))
+    tri((4.25, 34.25, 6), (28.75, 35.5, 6.5), (4.25, 34.3125, 6))
+    tri((30, 4, 50), (30.03125, 4, 62), (30, 4.03125, 62))
+    b.add_node({"name": "voxel-ties", "mesh": b.add_indexed_mesh("voxel-ties", grey, points, tris)})
+    b.write(path)
+
+
+def boundary_quad(path):
+    """A 1 x 1 m quad at z = 0 facing +z, and two small triangles at z = -0.5 and z = 0.5 that
+    put it in the middle of the volume: at 64^3 its plane lies on the boundary between voxel
+    layers 31 and 32 (up to the float rounding of the volume's placement). Half-open cells give
+    one layer: 64 x 64 = 4096 voxels of the quad (issue 10)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (quad on a voxel boundary)")
+    grey = b.add_material("grey", (0.7, 0.7, 0.7))
+    b.add_mesh_node("quad", grey, [oriented([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0],
+                                             [-0.5, 0.5, 0.0]], [0.0, 0.0, 1.0])])
+    b.add_mesh_node("markers", grey, [[[0.0, 0.0, -0.5], [0.01, 0.0, -0.5], [0.0, 0.01, -0.5]],
+                                      [[0.0, 0.0, 0.5], [0.0, 0.01, 0.5], [0.01, 0.0, 0.5]]])
+    b.write(path)
+
+
+def long_hall(path):
+    """Strongly non-cubic bounds, 4 x 0.5 x 1 m: a floor and a tilted roof, a leaning board,
+    small triangles and slivers. The volume is a cube around the longest axis, so the short axes
+    use only an eighth and a quarter of it."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (long hall)")
+    grey = b.add_material("grey", (0.6, 0.6, 0.6))
+    polys = [
+        oriented([[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 0.0, 1.0], [0.0, 0.0, 1.0]], [0.0, 1.0, 0.0]),
+        oriented([[0.0, 0.45, 0.0], [4.0, 0.5, 0.0], [4.0, 0.38, 1.0], [0.0, 0.41, 1.0]], [0.0, -1.0, 0.0]),
+        [[1.1, 0.02, 0.13], [2.9, 0.31, 0.27], [1.3, 0.4, 0.91]],
+    ]
+    for i in range(12):  # small triangles at odd positions, ~ 2 x 1 cm
+        x, y, z = 0.17 + 0.31 * i, 0.1 + 0.023 * i, 0.07 + 0.071 * i
+        polys.append([[x, y, z], [x + 0.021, y + 0.004, z + 0.003], [x + 0.005, y + 0.011, z + 0.013]])
+    for i in range(4):  # slivers 1 m long, 1 mm wide
+        x, z = 0.3 + 0.8 * i, 0.2 + 0.17 * i
+        polys.append([[x, 0.05, z], [x + 1.0, 0.2 + 0.03 * i, z + 0.3], [x, 0.051, z + 0.001]])
+    b.add_mesh_node("long-hall", grey, polys)
+    b.write(path)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -180,7 +278,10 @@ def main():
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
         (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
-    ]
+        (os.path.join(tests, "boundary-quad.gltf"), boundary_quad),
+        (os.path.join(tests, "long-hall.gltf"), long_hall),
+    ] + [(os.path.join(tests, "voxel-ties-%d.gltf" % r), (lambda r: lambda p: voxel_ties(p, r))(r))
+         for r in (64, 128, 256)]
     for path, fn in outputs:
         fn(path)
         print("wrote", os.path.relpath(path, args.root))

@@ -6,7 +6,8 @@ packages=(
   cmake g++ make pkg-config ccache python3-glad
   libglfw3-dev libimgui-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libopenexr-dev openimageio-tools libosmesa6-dev libgl-dev libegl-dev
-  libgtest-dev libembree-dev xvfb xauth
+  libgtest-dev libembree-dev xvfb xauth libcmark-dev
+  chromium  # headless browser for the handout test (tests/cli/handout.cmake)
 )
 missing=()
 for p in "${packages[@]}"; do

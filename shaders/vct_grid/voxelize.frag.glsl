@@ -62,7 +62,11 @@ void main() {
   vec4 alpha = materials[u_materialIndex].alpha;
   bool masked = coverageMasked(alpha);
   uint level = masked ? coverageLevelFor(alpha, fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2) : 0u;
-  for (float z = floor(zlo); z <= floor(zhi) && z <= floor(zlo) + 3.0; z += 1.0) {
+  // Candidates: the cells whose depth range meets [zlo, zhi], widened by 1e-3 voxel for rounding
+  // (a plane exactly on a cell boundary must reach the cell above it); at most 4. The exact test
+  // decides, with half-open cells (tri_box.glsl).
+  float kLo = floor(zlo - 1e-3), kHi = min(floor(zhi + 1e-3), kLo + 3.0);
+  for (float z = kLo; z <= kHi; z += 1.0) {
     ivec3 voxel = ivec3(fromProjected(vec3(cell, z), fin.axis));
     if (!triangleOverlapsBox(fin.tri0, fin.tri1, fin.tri2, vec3(voxel) + 0.5, vec3(0.5))) continue;
     if (masked && !coverageAt(alpha, level, fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2, voxel)) continue;

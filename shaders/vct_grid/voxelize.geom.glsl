@@ -56,11 +56,15 @@ void main() {
   vec4 bounds = vec4(lo - 0.5, hi + 0.5);
   vec2 outPos[3] = p;
   if (u_conservative != 0) {
-    // Edge lines l.(x,y,1) >= 0 inside; moving each out by half the pixel's extent along its normal.
+    // Edge lines l.(x,y,1) >= 0 inside; moving each out by half the pixel's extent along its normal,
+    // and by 1/64 pixel more: an edge on a pixel boundary puts the grown edge through pixel centres,
+    // where the rasterizer's tie rule (and its 1/256 pixel vertex snapping) would drop the pixels
+    // beyond a right or top edge, whose cells the edge touches on their lower face (half-open cells
+    // include it). Extra pixels cost only a failed exact test.
     vec3 lines[3];
     for (int i = 0; i < 3; ++i) {
       vec3 l = cross(vec3(p[i], 1.0), vec3(p[(i + 1) % 3], 1.0));
-      l.z += 0.5 * (abs(l.x) + abs(l.y));
+      l.z += (0.5 + 1.0 / 64.0) * (abs(l.x) + abs(l.y));
       lines[i] = l;
     }
     for (int i = 0; i < 3; ++i) {

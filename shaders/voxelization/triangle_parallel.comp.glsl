@@ -6,7 +6,9 @@
 // dominant axis; in each column only the voxels the plane can reach within that column (at most
 // 3 when the box is not touched exactly, 4 with touching faces) are tested. A voxel overlaps the
 // triangle when it passes the plane test and all nine edge tests; with the loop's bounding box
-// that is exactly the 13-axis separating axis test of the CPU reference. Each overlapped voxel
+// that is exactly the 13-axis separating axis test of the CPU reference, with the same half-open
+// cells [i, i+1)^3: a test whose critical corner lies on the cell's upper side (a direction with a
+// positive component) is strict, so a triangle only touching an upper face, edge or corner is out. Each overlapped voxel
 // appends one VoxelFragment through the shared atomic counter.
 //
 // The columns are one flat loop split into chunks of u_chunkColumns: invocation (x, y) of the
@@ -40,25 +42,31 @@ uniform uint u_chunkColumns;  // voxel columns per invocation
 uniform uint u_capacity;   // records the fragment list holds
 
 // 2D edge functions of one projection: inside when dot(n[i], p) + d[i] >= 0 for the box corner p
-// with the smallest coordinates (d already moved to the critical corner, box edge 1 voxel).
-struct Edges2D { vec2 n[3]; float d[3]; };
+// with the smallest coordinates (d already moved to the critical corner, box edge 1 voxel); > 0
+// when n[i] has a positive component, as that critical corner lies on an upper face (half-open).
+// In double, like the CPU reference: float products of coordinates near 256 round by ~1e-5 voxel,
+// which decided near-touching voxels differently (docs/voxelization.md, "Ties on voxel faces").
+struct Edges2D { dvec2 n[3]; double d[3]; bool strict[3]; };
 
-Edges2D setupEdges(vec2 a, vec2 b, vec2 c, float normalComponent) {
+Edges2D setupEdges(dvec2 a, dvec2 b, dvec2 c, double normalComponent) {
   Edges2D e;
-  float orientation = normalComponent >= 0.0 ? 1.0 : -1.0;  // make the edge normals point inwards
-  vec2 p[3] = vec2[3](a, b, c);
+  double orientation = normalComponent >= 0.0 ? 1.0 : -1.0;  // make the edge normals point inwards
+  dvec2 p[3] = dvec2[3](a, b, c);
   for (int i = 0; i < 3; ++i) {
-    vec2 edge = p[(i + 1) % 3] - p[i];
-    vec2 n = vec2(-edge.y, edge.x) * orientation;
+    dvec2 edge = p[(i + 1) % 3] - p[i];
+    dvec2 n = dvec2(-edge.y, edge.x) * orientation;
     e.n[i] = n;
     e.d[i] = -dot(n, p[i]) + max(0.0, n.x) + max(0.0, n.y);
+    e.strict[i] = n.x > 0.0 || n.y > 0.0;
   }
   return e;
 }
 
-bool insideEdges(Edges2D e, vec2 p) {
-  return dot(e.n[0], p) + e.d[0] >= 0.0 && dot(e.n[1], p) + e.d[1] >= 0.0 && dot(e.n[2], p) + e.d[2] >= 0.0;
+bool insideEdge(Edges2D e, int i, dvec2 p) {
+  double f = dot(e.n[i], p) + e.d[i];
+  return e.strict[i] ? f > 0.0 : f >= 0.0;
 }
+bool insideEdges(Edges2D e, dvec2 p) { return insideEdge(e, 0, p) && insideEdge(e, 1, p) && insideEdge(e, 2, p); }
 
 // Swizzle so that the projection axis becomes the third coordinate (as voxelize.geom.glsl does).
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
@@ -86,9 +94,9 @@ void main() {
   uint i0 = sceneVertexIndex(t, 0), i1 = sceneVertexIndex(t, 1), i2 = sceneVertexIndex(t, 2);
   vec3 w0 = worldToVoxel(scenePosition(i0)), w1 = worldToVoxel(scenePosition(i1)), w2 = worldToVoxel(scenePosition(i2));
 
-  // Voxel bounding box of the closed triangle (a vertex on a voxel face touches both voxels).
+  // Cells [i, i+1) the triangle's bounding box meets (a vertex on a voxel face is in the upper cell).
   vec3 lo = min(w0, min(w1, w2)), hi = max(w0, max(w1, w2));
-  ivec3 boxLo = clamp(ivec3(ceil(lo)) - 1, ivec3(0), ivec3(u_resolution - 1));
+  ivec3 boxLo = clamp(ivec3(floor(lo)), ivec3(0), ivec3(u_resolution - 1));
   ivec3 boxHi = clamp(ivec3(floor(hi)), ivec3(0), ivec3(u_resolution - 1));
   uvec3 extent = uvec3(boxHi - boxLo + 1);
 
@@ -101,13 +109,20 @@ void main() {
   vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
   vec3 normal = normalize(n) * (dot(n, vertexNormals) < 0.0 ? -1.0 : 1.0);
 
-  // Plane test: the box's critical corner c and its opposite must lie on different sides.
-  vec3 c = vec3(n.x > 0.0 ? 1.0 : 0.0, n.y > 0.0 ? 1.0 : 0.0, n.z > 0.0 ? 1.0 : 0.0);
-  float d1 = dot(n, c - v0), d2 = dot(n, (vec3(1.0) - c) - v0);
+  // Plane test: the box's critical corner c (largest n.p) and its opposite (smallest) must lie on
+  // different sides. c is on an upper face when n has a positive component, its opposite when n has
+  // a negative one; touching such a corner's side is not enough (half-open cells).
+  // Triangle-local in double from the float voxel coordinates: exact (a float minus an integer
+  // needs at most 34 bits), where v1 and v2 above round once a vertex is far from the origin.
+  dvec3 dv0 = dvec3(w0) - dvec3(origin), dv1 = dvec3(w1) - dvec3(origin), dv2 = dvec3(w2) - dvec3(origin);
+  dvec3 dn = cross(dv1 - dv0, dv2 - dv0);
+  dvec3 c = dvec3(dn.x > 0.0 ? 1.0 : 0.0, dn.y > 0.0 ? 1.0 : 0.0, dn.z > 0.0 ? 1.0 : 0.0);
+  double d1 = dot(dn, c - dv0), d2 = dot(dn, (dvec3(1.0) - c) - dv0);
+  bool upperStrict = any(greaterThan(dn, dvec3(0.0))), lowerStrict = any(lessThan(dn, dvec3(0.0)));
   // Edge tests of the three projections: xy (normal part z), yz (x), zx (y).
-  Edges2D exy = setupEdges(v0.xy, v1.xy, v2.xy, n.z);
-  Edges2D eyz = setupEdges(v0.yz, v1.yz, v2.yz, n.x);
-  Edges2D ezx = setupEdges(v0.zx, v1.zx, v2.zx, n.y);
+  Edges2D exy = setupEdges(dv0.xy, dv1.xy, dv2.xy, dn.z);
+  Edges2D eyz = setupEdges(dv0.yz, dv1.yz, dv2.yz, dn.x);
+  Edges2D ezx = setupEdges(dv0.zx, dv1.zx, dv2.zx, dn.y);
   // alphaMode MASK: a voxel also needs opaque texels near it (common/alpha_coverage.glsl; the
   // triangle in absolute voxel coordinates, as the raster pass and the CPU reference see it).
   vec4 alpha = materials[material].alpha;
@@ -144,9 +159,11 @@ void main() {
     float kHi = min(min(floor(zhi + 1e-3) + pOrigin.z, kMaxBox), kLo + 3.0);
     for (float k = kLo; k <= kHi; k += 1.0) {
       vec3 voxel = fromProjected(vec3(a, b, k), axis);
-      vec3 p = voxel - origin;  // box minimum corner, triangle-local
-      float np = dot(n, p);
-      if ((np + d1) * (np + d2) > 0.0) continue;
+      dvec3 p = dvec3(voxel - origin);  // box minimum corner, triangle-local (integers)
+      double np = dot(dn, p);
+      double above = np + d1, below = np + d2;  // n.(corner - v0) at the largest and the smallest corner
+      if (upperStrict ? above <= 0.0 : above < 0.0) continue;
+      if (lowerStrict ? below >= 0.0 : below > 0.0) continue;
       if (!insideEdges(exy, p.xy) || !insideEdges(eyz, p.yz) || !insideEdges(ezx, p.zx)) continue;
       if (masked && !coverageAt(alpha, level, w0, w1, w2, t0, t1, t2, ivec3(voxel))) continue;
       appendVoxel(ivec3(voxel), normal, voxelSampleUv(w0, w1, w2, t0, t1, t2, ivec3(voxel)), lod);

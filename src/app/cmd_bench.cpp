@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/bench_runs.h"
 #include "app/command.h"
 #include "app/session.h"
 #include "core/args.h"
@@ -23,13 +24,6 @@ namespace voxlab {
 namespace {
 
 using nlohmann::json;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Wall time of one child process running argv, in milliseconds; throws if it fails.
 double timeProcess(const std::vector<std::string>& argv) {
@@ -112,28 +106,9 @@ int runBench(const std::vector<std::string>& argv) {
     HeadlessSession session(req);
     StepCursor& cursor = session.cursor();
     int n = cursor.stageCount();
-    std::vector<std::vector<double>> cpu(n), gpu(n);
-    std::vector<double> first(n), totalCpu, totalGpu;
-    for (int run = 0; run <= runs; ++run) {
-      cursor.invalidateAll();
-      cursor.runAll();
-      double tc = 0, tg = 0;
-      for (int i = 0; i < n; ++i) {
-        const StageRecord& rec = cursor.record(i);
-        if (run == 0) {
-          first[i] = rec.cpuMs;  // includes shader compilation
-          continue;
-        }
-        cpu[i].push_back(rec.cpuMs);
-        gpu[i].push_back(rec.gpuMs);
-        tc += rec.cpuMs;
-        tg += rec.gpuMs;
-      }
-      if (run > 0) {
-        totalCpu.push_back(tc);
-        totalGpu.push_back(tg);
-      }
-    }
+    StageTimes times = timeStages(cursor, runs);
+    const auto &cpu = times.cpu, &gpu = times.gpu;
+    const auto &first = times.first, &totalCpu = times.totalCpu, &totalGpu = times.totalGpu;
     json header = session.manifestHeader();
     r["technique"] = req.technique;
     r["scene"] = header["scene"];

@@ -8,11 +8,20 @@
 
 namespace voxlab {
 
+// Voxels are half-open cells [i, i+1) x [j, j+1) x [k, k+1) (docs/voxelization.md, "Ties on voxel
+// faces"). Seen along an axis a, the half-open box's projection [-r, r] (relative to its centre)
+// lacks its upper end when a has a positive component (that end is reached only at the cell's
+// upper faces) and its lower end when a has a negative one. A triangle that only touches a missing
+// end is separated. This is the limit of the closed test against [i, i+1-eps] as eps -> 0, so
+// the 13 axes still decide exactly.
 static bool separatedOn(const glm::dvec3& axis, const glm::dvec3& v0, const glm::dvec3& v1,
                         const glm::dvec3& v2, const glm::dvec3& h) {
   double p0 = glm::dot(v0, axis), p1 = glm::dot(v1, axis), p2 = glm::dot(v2, axis);
   double r = glm::dot(h, glm::abs(axis));
-  return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+  double lo = std::min({p0, p1, p2}), hi = std::max({p0, p1, p2});
+  bool upperOpen = axis.x > 0.0 || axis.y > 0.0 || axis.z > 0.0;
+  bool lowerOpen = axis.x < 0.0 || axis.y < 0.0 || axis.z < 0.0;
+  return (upperOpen ? lo >= r : lo > r) || (lowerOpen ? hi <= -r : hi < -r);
 }
 
 bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
@@ -20,12 +29,13 @@ bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
   glm::dvec3 v0 = a - center, v1 = b - center, v2 = c - center;
   // 1. Box face normals = the triangle's bounding box against the box.
   for (int i = 0; i < 3; ++i) {
-    if (std::min({v0[i], v1[i], v2[i]}) > h[i] || std::max({v0[i], v1[i], v2[i]}) < -h[i]) return false;
+    glm::dvec3 unit(0.0);
+    unit[i] = 1.0;
+    if (separatedOn(unit, v0, v1, v2, h)) return false;
   }
   glm::dvec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
   // 2. Triangle plane.
-  glm::dvec3 n = glm::cross(e[0], e[1]);
-  if (std::abs(glm::dot(n, v0)) > glm::dot(h, glm::abs(n))) return false;
+  if (separatedOn(glm::cross(e[0], e[1]), v0, v1, v2, h)) return false;
   // 3. Cross products of the box axes with the edges.
   for (int i = 0; i < 3; ++i) {
     glm::dvec3 unit(0.0);
@@ -58,8 +68,8 @@ std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& sp
     const bool masked = coverage.masked(material);
     const uint32_t level = masked ? coverageLevelFor(coverage, material, f[0], f[1], f[2], uv[0], uv[1], uv[2]) : 0;
     glm::dvec3 lo = glm::min(v[0], glm::min(v[1], v[2])), hi = glm::max(v[0], glm::max(v[1], v[2]));
-    glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)) - 1, glm::ivec3(0), glm::ivec3(res - 1));
-    glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(hi)) + 1, glm::ivec3(0), glm::ivec3(res - 1));
+    glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)), glm::ivec3(0), glm::ivec3(res - 1));
+    glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(hi)), glm::ivec3(0), glm::ivec3(res - 1));
     for (int z = a.z; z <= b.z; ++z)
       for (int y = a.y; y <= b.y; ++y)
         for (int x = a.x; x <= b.x; ++x) {

@@ -22,6 +22,7 @@ VoxelSpace VoxelSpace::fromScene(const Scene& scene, int resolution) {
 void VoxelSpace::setUniforms(GLuint program) const {
   setUniform(program, "u_volumeOrigin", origin);
   setUniform(program, "u_voxelSize", voxelSize);
+  setUniform(program, "u_voxelsPerMetre", voxelsPerMetre());
   setUniform(program, "u_resolution", resolution);
 }
 

@@ -20,8 +20,12 @@ struct VoxelSpace {
 
   static VoxelSpace fromScene(const Scene& scene, int resolution);
   float edge() const { return voxelSize * float(resolution); }
-  glm::vec3 toVoxel(const glm::vec3& world) const { return (world - origin) / voxelSize; }
-  void setUniforms(GLuint program) const;  // u_volumeOrigin, u_voxelSize, u_resolution
+  // Voxels per metre, the factor every voxelizer (GPU and CPU) multiplies by: a subtraction and a
+  // multiplication are correctly rounded on every GPU (a GLSL division need not be), so a vertex
+  // gets the same float voxel coordinates on both sides and a tie on a voxel face is the same tie.
+  float voxelsPerMetre() const { return 1.0f / voxelSize; }
+  glm::vec3 toVoxel(const glm::vec3& world) const { return (world - origin) * voxelsPerMetre(); }
+  void setUniforms(GLuint program) const;  // u_volumeOrigin, u_voxelSize, u_voxelsPerMetre, u_resolution
   WorldBox box() const { return {origin, origin + glm::vec3(edge())}; }
 };
 

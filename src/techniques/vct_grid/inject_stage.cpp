@@ -111,9 +111,10 @@ void MipmapStage::declare(StageBuilder& b) const {
            "the prefiltered radiance grid: level 0 = the voxels, each further level averages 2x2x2");
   b.output("opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the prefiltered grid per level")
       .resource = "radiance";
+  const std::string prefix = "radiance-dir";  // every directional volume's name is prefix + "+x" etc.
   for (const char* name : kDirectionalVolumes)
     b.output(name, OutputKind::Volume3D, Semantic::Color,
-             std::string("anisotropic levels 1.. as seen by a cone travelling along ") + (name + 13) +
+             "anisotropic levels 1.. as seen by a cone travelling along " + std::string(name).substr(prefix.size()) +
                  " (one voxel, empty, when mipmap.mode is isotropic)");
 }
 

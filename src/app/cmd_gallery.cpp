@@ -1,0 +1,277 @@
+// voxlab gallery --scene S --out DIR: every registered technique against the reference path
+// tracer on one scene, as one HTML page (DIR/<scene>.html, numbers in DIR/<scene>.json).
+//
+// Each technique runs once with its default parameters through HeadlessSession::writeOutputs, the
+// code path of `voxlab run` (so the error images and numbers are those of docs/fidelity.md, which
+// scripts/fidelity.sh makes from `voxlab run` manifests). What is shown comes from the
+// declarations alone: the final output (Technique::finalOutput), and every output tagged with a
+// reference mode (OutputDesc::referenceMode) with the reference image of that mode, the error
+// image and the metrics. An output whose mode counts only indirect light (reference::Mode
+// Indirect or IndirectOne: r >= 2 or r == 2) is the technique's indirect term. The time per frame
+// is the median over --bench-runs runs of all stages, measured as `voxlab bench` measures it.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/bench_runs.h"
+#include "app/command.h"
+#include "app/reference_error.h"
+#include "app/session.h"
+#include "capture/capture.h"
+#include "capture/image_files.h"
+#include "core/args.h"
+#include "core/error.h"
+#include "core/paths.h"
+#include "graph/technique.h"
+#include "lesson/handout.h"
+#include "lesson/step_picture.h"
+#include "reference/path_tracer.h"
+#include "scene/scene.h"
+
+namespace voxlab {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+bool indirectOnly(const std::string& mode) {
+  try {
+    reference::Mode m = reference::parseMode(mode);
+    return m == reference::Mode::Indirect || m == reference::Mode::IndirectOne;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+// The reference EXR shown with the output's own display mapping (same semantic, same tonemap).
+void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png) {
+  ImageFileData f = readImageFile(exr);
+  CapturedOutput c;
+  c.desc = desc;
+  LevelData L;
+  L.size = {f.width, f.height, 1};
+  L.channels = 4;
+  L.values.assign(size_t(f.width) * f.height * 4, 1.0f);
+  for (int y = 0; y < f.height; ++y)  // file rows top first; LevelData rows bottom first (GL order)
+    for (int x = 0; x < f.width; ++x)
+      for (int ch = 0; ch < std::min(f.channels, 3); ++ch)
+        L.values[(size_t(f.height - 1 - y) * f.width + x) * 4 + ch] = f.pixels[(size_t(y) * f.width + x) * f.channels + ch];
+  c.levels.push_back(std::move(L));
+  writePng(displayImage(c, 0), png);
+}
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string pngOf(const json& entry, const std::string& suffix) {
+  for (const auto& f : entry["files"]) {
+    std::string s = f.get<std::string>();
+    if (s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0) return s;
+  }
+  return "";
+}
+
+// A small copy for the documentation: DIR/<scene>.md (a Markdown table per technique) and its
+// pictures, 160 px wide, in DIR/<scene>/ (about 20-40 KB each).
+void writeDocsCopy(const json& page, const std::string& galleryDir, const std::string& dir) {
+  const std::string scene = page["scene"].get<std::string>();
+  fs::create_directories(fs::path(dir) / scene);
+  auto copy = [&](const std::string& rel) {
+    ImageFileData f = readImageFile((fs::path(galleryDir) / rel).string());
+    DisplayImage img;
+    img.width = f.width;
+    img.height = f.height;
+    img.rgb.resize(size_t(f.width) * f.height * 3);
+    for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
+      for (int c = 0; c < 3; ++c)
+        img.rgb[i * 3 + c] = uint8_t(std::lround(255.0f * f.pixels[i * f.channels + std::min(c, f.channels - 1)]));
+    std::string name = rel.substr(rel.find('/') + 1);  // <technique>/<file>
+    std::replace(name.begin(), name.end(), '/', '.');
+    writePng(shrink(img, 160), (fs::path(dir) / scene / name).string());
+    return "![" + name + "](" + scene + "/" + name + ")";
+  };
+  std::string md = "# Gallery: " + scene + "\n\nWritten by `voxlab gallery --scene " + scene + " --docs-copy docs/gallery` " +
+                   "(camera " + std::to_string(page["camera"].get<int>()) + ", " + page["size"].get<std::string>() +
+                   ", default parameters; pictures reduced to 160 px). The full-size page is `<out>/" + scene +
+                   ".html`; docs/fidelity.md explains the numbers.\n";
+  for (const auto& t : page["techniques"]) {
+    md += "\n## " + t["title"].get<std::string>() + " (`" + t["id"].get<std::string>() + "`)\n\nTime per frame " +
+          fmt("%.0f", t["frame_cpu_ms_median"].get<double>()) + " ms (CPU wall, median of " +
+          std::to_string(page["bench_runs"].get<int>()) + " runs, " + t["gl_renderer"].get<std::string>() + ").\n\n" +
+          "| output | image | reference | error | RMSE | SSIM | mean ratio |\n|---|---|---|---|---:|---:|---:|\n";
+    for (const auto& o : t["outputs"]) {
+      md += "| `" + o["address"].get<std::string>() + "` (" + o["role"].get<std::string>() + ") | " + copy(o["image"]) + " | ";
+      if (o.contains("reference_image")) {
+        const json& r = o["reference_error"];
+        md += copy(o["reference_image"]) + " `" + r["mode"].get<std::string>() + "` | " +
+              (o.contains("error_image") ? copy(o["error_image"]) : std::string()) + " | " + fmt("%.4f", r["rmse"].get<double>()) +
+              " | " + fmt("%.3f", r["ssim"].get<double>()) + " | " + fmt("%.3f", r["mean_ratio"].get<double>()) + " |\n";
+      } else {
+        md += "no reference | | | | |\n";
+      }
+    }
+  }
+  std::ofstream(fs::path(dir) / (scene + ".md")) << md;
+}
+
+int runGallery(const std::vector<std::string>& argv) {
+  Args args("gallery", argv,
+            {{"--scene", true, false, "scene name in scenes/ or a glTF path"},
+             {"--camera", true, false, "index of the scene camera (default 0, the references' camera)"},
+             {"--size", true, false, "image size WIDTHxHEIGHT (default 512x512, the references' size)"},
+             {"--bench-runs", true, false, "timed runs of all stages per technique (default 5, as voxlab bench)"},
+             {"--docs-copy", true, false, "also write DIR/<scene>.md with its pictures 160 px wide (docs/gallery)"},
+             {"--out", true, false, "folder for <scene>.html, <scene>.json and <scene>/<technique>/"}});
+  RunRequest base;
+  base.scene = args.require("--scene");
+  if (args.has("--camera")) base.camera = Args::parseInt("--camera", args.get("--camera"), 0, 1000);
+  if (args.has("--size")) Args::parseSize(args.get("--size"), base.width, base.height);
+  const int benchRuns = Args::parseInt("--bench-runs", args.get("--bench-runs", "5"), 1, 1000);
+  const std::string out = args.require("--out");
+  const Scene sceneInfo = loadScene(resolveScenePath(base.scene));  // bad scene: one line, before any GL
+  const std::string scene = sceneInfo.name;
+
+  json page = {{"scene", scene}, {"camera", base.camera}, {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
+               {"bench_runs", benchRuns}, {"techniques", json::array()}};
+  const auto& registry = techniqueRegistry();
+  int k = 0;
+  for (const auto& entry : registry) {
+    ++k;
+    std::fprintf(stderr, "voxlab gallery: %d/%zu %s on %s\n", k, registry.size(), entry.id.c_str(), scene.c_str());
+    RunRequest req = base;
+    req.technique = entry.id;
+    HeadlessSession session(req);
+    const Technique& t = session.cursor().technique();
+    std::vector<OutputAddress> only;
+    only.push_back(OutputAddress::parse(t.id() + "/" + t.finalStage() + "/" + t.finalOutput()));
+    for (int i = 0; i < t.stageCount(); ++i)
+      for (const auto& o : t.decl(i).outputs)
+        if (!o.referenceMode.empty() && !(t.stage(i).id() == t.finalStage() && o.name == t.finalOutput()))
+          only.push_back(OutputAddress::parse(t.id() + "/" + t.stage(i).id() + "/" + o.name));
+    const std::string rel = scene + "/" + t.id();
+    const std::string dir = (fs::path(out) / rel).string();
+    session.run();
+    json manifest = session.writeOutputs(dir, false, only);
+
+    json tj = {{"id", t.id()}, {"title", t.title()}, {"outputs", json::array()}};
+    for (const auto& s : manifest["stages"])
+      for (const auto& e : s["outputs"]) {
+        auto [stage, desc] = t.findOutput(s["id"].get<std::string>(), e["name"].get<std::string>());
+        (void)stage;
+        json oj = {{"address", e["address"]}, {"final", e["final"]}, {"help", e["help"]}};
+        std::string png = pngOf(e, s["id"].get<std::string>() + "." + desc->name + ".png");
+        if (png.empty()) png = pngOf(e, ".png");  // a buffer's point view, a volume's level 0
+        oj["image"] = rel + "/" + png;
+        std::string role = e["final"].get<bool>() ? "final image" : "";
+        if (!desc->referenceMode.empty()) {
+          oj["reference_mode"] = desc->referenceMode;
+          if (indirectOnly(desc->referenceMode)) role += std::string(role.empty() ? "" : ", ") + "indirect term";
+          if (e.contains("reference_error")) {
+            const json& r = e["reference_error"];
+            oj["reference_error"] = r;
+            if (!r.contains("skipped")) {
+              std::string err = pngOf(e, ".error.png");
+              if (!err.empty()) oj["error_image"] = rel + "/" + err;
+              std::string refPng = s["id"].get<std::string>() + "." + desc->name + ".reference.png";
+              writeReferencePng(*desc, projectPath(r["reference"].get<std::string>()), dir + "/" + refPng);
+              oj["reference_image"] = rel + "/" + refPng;
+            }
+          }
+        }
+        oj["role"] = role.empty() ? "compared with the reference" : role;
+        tj["outputs"].push_back(oj);
+      }
+    StageTimes times = timeStages(session.cursor(), benchRuns);
+    tj["frame_cpu_ms_median"] = median(times.totalCpu);
+    tj["frame_gpu_ms_median"] = median(times.totalGpu);
+    tj["gl_renderer"] = manifest["gl"]["renderer"];
+    page["techniques"].push_back(tj);
+  }
+
+  // The page: one section per technique; final image first, then the indirect term, then the rest.
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>voxlab gallery: " +
+                     htmlEscape(scene) + "</title>\n<style>\nbody { font-family: sans-serif; margin: 2em; color: #222; }\n"
+                     "table { border-collapse: collapse; } td, th { padding: 0.3em 0.6em; vertical-align: top; text-align: left; }\n"
+                     "img { width: 256px; height: auto; border: 1px solid #ccc; }\n"
+                     "table.metrics td { padding: 0 0.4em; text-align: right; } code { background: #f3f3f3; }\n"
+                     "</style>\n</head>\n<body>\n";
+  html += "<h1>voxlab gallery: " + htmlEscape(scene) + "</h1>\n<p>Every technique in <code>voxlab list</code> at its default "
+          "parameters, camera " + std::to_string(base.camera) + ", " + page["size"].get<std::string>() +
+          ", against the reference path tracer (<code>voxlab reference</code>; docs/fidelity.md explains the numbers). "
+          "Time per frame: median of " + std::to_string(benchRuns) + " runs of all stages, as <code>voxlab bench</code> "
+          "measures it.</p>\n";
+  for (auto& tj : page["techniques"]) {
+    auto& outs = tj["outputs"];
+    std::stable_sort(outs.begin(), outs.end(), [](const json& a, const json& b) {
+      auto rank = [](const json& o) {
+        std::string r = o["role"].get<std::string>();
+        return r.rfind("final", 0) == 0 ? 0 : r.find("indirect") != std::string::npos ? 1 : 2;
+      };
+      return rank(a) < rank(b);
+    });
+    html += "<section class=\"technique\" id=\"" + htmlEscape(tj["id"].get<std::string>()) + "\">\n<h2>" +
+            htmlEscape(tj["title"].get<std::string>()) + " (<code>" + htmlEscape(tj["id"].get<std::string>()) + "</code>)</h2>\n";
+    html += "<p>Time per frame: " + fmt("%.1f", tj["frame_cpu_ms_median"].get<double>()) + " ms CPU wall, " +
+            fmt("%.1f", tj["frame_gpu_ms_median"].get<double>()) + " ms GPU (" +
+            htmlEscape(tj["gl_renderer"].get<std::string>()) + ").</p>\n";
+    html += "<table>\n<tr><th>output</th><th>image</th><th>reference</th><th>error</th><th>numbers</th></tr>\n";
+    for (const auto& o : outs) {
+      html += "<tr><td><code>" + htmlEscape(o["address"].get<std::string>()) + "</code><br>" +
+              htmlEscape(o["role"].get<std::string>()) + "</td>";
+      html += "<td><img src=\"" + htmlEscape(o["image"].get<std::string>()) + "\" alt=\"output\"></td>";
+      if (o.contains("reference_image")) {
+        const json& r = o["reference_error"];
+        html += "<td><img src=\"" + htmlEscape(o["reference_image"].get<std::string>()) + "\" alt=\"reference\"><br>mode <code>" +
+                htmlEscape(r["mode"].get<std::string>()) + "</code>, " + std::to_string(r.value("spp", 0)) + " spp</td>";
+        html += "<td>" + (o.contains("error_image") ? "<img src=\"" + htmlEscape(o["error_image"].get<std::string>()) +
+                                                          "\" alt=\"error\"><br>|output - reference|, top of ramp " +
+                                                          fmt("%.3g", r.value("error_scale", 0.0))
+                                                    : std::string("")) + "</td>";
+        std::string psnr = r["psnr"].is_null() ? "inf" : fmt("%.2f", r["psnr"].get<double>());
+        html += "<td><table class=\"metrics\"><tr><td>RMSE</td><td>" + fmt("%.4f", r["rmse"].get<double>()) +
+                "</td></tr><tr><td>PSNR (dB)</td><td>" + psnr + "</td></tr><tr><td>MAE</td><td>" +
+                fmt("%.4f", r["mae"].get<double>()) + "</td></tr><tr><td>MRE</td><td>" + fmt("%.3f", r["mre"].get<double>()) +
+                "</td></tr><tr><td>SSIM</td><td>" + fmt("%.3f", r["ssim"].get<double>()) +
+                "</td></tr><tr><td>mean ratio</td><td>" + fmt("%.3f", r["mean_ratio"].get<double>()) + "</td></tr>";
+        if (r.contains("reference_downsampled"))
+          html += "<tr><td colspan=\"2\">1/" + std::to_string(r["reference_downsampled"].get<int>()) +
+                  " res., vs reference box-filtered</td></tr>";
+        html += "</table></td>";
+      } else if (o.contains("reference_error")) {
+        html += "<td colspan=\"3\">reference " + htmlEscape(o["reference_error"]["mode"].get<std::string>()) +
+                " skipped: " + htmlEscape(o["reference_error"].value("skipped", std::string())) + "</td>";
+      } else if (o.contains("reference_mode")) {
+        html += "<td colspan=\"3\">no reference image for mode <code>" + htmlEscape(o["reference_mode"].get<std::string>()) +
+                "</code> on " + htmlEscape(scene) + " (scripts/make-references.sh)</td>";
+      } else {
+        html += "<td colspan=\"3\">no reference mode declared for this output (OutputDesc::referenceMode)</td>";
+      }
+      html += "</tr>\n";
+    }
+    html += "</table>\n</section>\n";
+  }
+  html += "</body>\n</html>\n";
+  fs::create_directories(out);
+  std::ofstream(fs::path(out) / (scene + ".html")) << html;
+  std::ofstream(fs::path(out) / (scene + ".json")) << page.dump(2) << "\n";
+  if (args.has("--docs-copy")) writeDocsCopy(page, out, args.get("--docs-copy"));
+  std::printf("voxlab gallery: %zu techniques on %s, written to %s/%s.html\n", registry.size(), scene.c_str(), out.c_str(),
+              scene.c_str());
+  return 0;
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_COMMAND("gallery",
+                        "voxlab gallery --scene S [--camera N] [--size WxH] [--bench-runs N] --out DIR",
+                        "every technique against the reference on one scene: images, error images, numbers, time per frame",
+                        &runGallery);
+
+}  // namespace voxlab

@@ -1,0 +1,187 @@
+#include "lesson/handout.h"
+
+#include <cmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "capture/capture.h"
+#include "core/error.h"
+#include "lesson/step_picture.h"
+
+namespace voxlab {
+namespace fs = std::filesystem;
+
+std::string markdownToHtml(const std::string& markdown) {
+  // CMARK_OPT_DEFAULT leaves raw HTML out ("<!-- raw HTML omitted -->") and escapes the rest.
+  char* html = cmark_markdown_to_html(markdown.data(), markdown.size(), CMARK_OPT_DEFAULT | CMARK_OPT_SMART);
+  std::string out = html ? html : "";
+  free(html);
+  return out;
+}
+
+std::string htmlEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string progressBar(int done, int total, int width, const std::string& label) {
+  total = std::max(total, 1);
+  done = std::clamp(done, 0, total);
+  int filled = int((long long)done * width / total);
+  std::string bar = "[" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), '.') + "] ";
+  std::string count = std::to_string(done) + "/" + std::to_string(total);
+  std::string pad(std::to_string(total).size() * 2 + 1 - count.size(), ' ');
+  return bar + pad + count + "  " + label;
+}
+
+namespace {
+
+const char* kStyle = R"(
+body { font-family: sans-serif; max-width: 56em; margin: 2em auto; padding: 0 1em; line-height: 1.5; color: #222; }
+code, pre { font-family: monospace; background: #f3f3f3; }
+pre { padding: 0.6em; overflow-x: auto; white-space: pre-wrap; }
+section.step { border-top: 1px solid #ccc; margin-top: 2em; padding-top: 0.5em; }
+.stepno { color: #777; font-size: 0.9em; }
+figure { margin: 1em 0; }
+figure img { max-width: 100%; height: auto; image-rendering: pixelated; border: 1px solid #ccc; }
+figcaption { font-size: 0.9em; color: #444; }
+table.index td { padding: 0.3em 0.8em; vertical-align: middle; }
+table.index img { width: 160px; height: auto; image-rendering: pixelated; border: 1px solid #ccc; }
+)";
+
+std::string pageHead(const std::string& title) {
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + htmlEscape(title) +
+         "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+  if (!f) throw Error("cannot write '" + path + "'");
+}
+
+// Standard deviation of the 8-bit values over every pixel and channel.
+double pixelSpread(const DisplayImage& image) {
+  double sum = 0, sq = 0;
+  for (uint8_t v : image.rgb) {
+    sum += v;
+    sq += double(v) * v;
+  }
+  const double n = std::max<double>(1.0, double(image.rgb.size()));
+  return std::sqrt(std::max(0.0, sq / n - (sum / n) * (sum / n)));
+}
+
+// The lesson's first step narrative repeats the "# title" heading; the page shows it once.
+std::string withoutTitle(const std::string& narrative, const std::string& title) {
+  std::string first = narrative.substr(0, narrative.find('\n'));
+  if (first == "# " + title) return narrative.substr(std::min(narrative.size(), first.size() + 1));
+  return narrative;
+}
+
+}  // namespace
+
+HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRenderer& renderer,
+                         const HandoutProgress& progress) {
+  const std::string stem = fs::path(lesson.path).stem().string();
+  std::error_code ec;
+  fs::create_directories(fs::path(dir) / stem, ec);
+  if (ec) throw Error("cannot create output folder '" + (fs::path(dir) / stem).string() + "': " + ec.message());
+
+  for (const auto& e : fs::directory_iterator(fs::path(dir) / stem, ec))  // pictures of an older, longer version
+    if (e.path().filename().string().rfind("step-", 0) == 0) fs::remove(e.path(), ec);
+
+  HandoutPage page;
+  page.title = lesson.title;
+  page.file = stem + ".html";
+  page.thumbnail = stem + "/thumbnail.png";
+  page.steps = int(lesson.steps.size());
+
+  const int n = int(lesson.steps.size());
+  std::string html = pageHead(lesson.title);
+  html += "<h1>" + htmlEscape(lesson.title) + "</h1>\n";
+  html += "<p class=\"source\">Handout of <code>" + htmlEscape(fs::path(lesson.path).filename().string()) + "</code>, " +
+          std::to_string(n) + " steps. Every picture was rendered by <code>voxlab handout</code>; the line under it " +
+          "reproduces it with <code>voxlab run</code>.</p>\n";
+  DisplayImage thumb;  // the step picture with the most varied pixels: a slice of empty space is a poor thumbnail
+  double thumbSpread = -1.0;
+  for (int i = 0; i < n; ++i) {
+    const LessonStep& step = lesson.steps[i];
+    if (progress) progress(i, n, stem + ": step " + std::to_string(i + 1) + " " + step.stage + "/" + step.output);
+    StepPicture pic = renderer.render(lesson, step);
+    char name[32];
+    std::snprintf(name, sizeof name, "step-%02d.png", i + 1);
+    const std::string rel = stem + "/" + name;
+    writePng(pic.image, (fs::path(dir) / rel).string());
+    const double spread = pixelSpread(pic.image);
+    if (spread >= thumbSpread) {  // ties go to the later step
+      thumbSpread = spread;
+      thumb = pic.image;
+    }
+
+    std::string params = "defaults";
+    if (!pic.changed.empty()) {
+      params.clear();
+      for (const auto& c : pic.changed) params += (params.empty() ? "" : ", ") + ("<code>" + htmlEscape(c) + "</code>");
+      params += " (the others at their defaults)";
+    }
+    html += "<section class=\"step\" id=\"step-" + std::to_string(i + 1) + "\">\n";
+    html += "<p class=\"stepno\">Step " + std::to_string(i + 1) + " of " + std::to_string(n) + "</p>\n";
+    html += markdownToHtml(i == 0 ? withoutTitle(step.narrative, lesson.title) : step.narrative);
+    html += "<figure>\n<img src=\"" + htmlEscape(rel) + "\" width=\"" + std::to_string(pic.image.width * pic.displayScale) +
+            "\" height=\"" + std::to_string(pic.image.height * pic.displayScale) + "\" alt=\"" + htmlEscape(pic.address) +
+            "\">\n<figcaption>\n";
+    html += "<p><code>" + htmlEscape(pic.address) + "</code> on " + htmlEscape(step.scene) + ", camera " +
+            std::to_string(step.camera) + "; parameters: " + params + ".";
+    if (!pic.notes.empty()) html += " " + htmlEscape(pic.notes) + ".";
+    html += "</p>\n<pre class=\"run\"><code>" + htmlEscape(pic.command) + "</code></pre>\n</figcaption>\n</figure>\n";
+    html += "</section>\n";
+  }
+  if (!lesson.epilogue.empty()) html += "<div class=\"epilogue\">\n" + markdownToHtml(lesson.epilogue) + "</div>\n";
+  html += "</body>\n</html>\n";
+  writePng(shrink(thumb, 192), (fs::path(dir) / page.thumbnail).string());
+  writeText((fs::path(dir) / page.file).string(), html);
+  if (progress) progress(n, n, stem + ": written " + page.file);
+  return page;
+}
+
+void writeHandoutIndex(const std::vector<HandoutPage>& pages, const std::string& dir) {
+  std::string html = pageHead("voxlab lessons");
+  html += "<h1>voxlab lessons</h1>\n<p>Handouts written by <code>voxlab handout --all</code>, one per lesson in "
+          "<code>lessons/</code>, in order.</p>\n<table class=\"index\">\n";
+  int k = 0;
+  for (const auto& p : pages) {
+    ++k;
+    html += "<tr><td>" + std::to_string(k) + "</td><td><a href=\"" + htmlEscape(p.file) + "\"><img src=\"" +
+            htmlEscape(p.thumbnail) + "\" alt=\"" + htmlEscape(p.title) + "\"></a></td><td><a href=\"" +
+            htmlEscape(p.file) + "\">" + htmlEscape(p.title) + "</a> (" + std::to_string(p.steps) +
+            " steps)</td></tr>\n";
+  }
+  html += "</table>\n</body>\n</html>\n";
+  writeText((fs::path(dir) / "index.html").string(), html);
+}
+
+std::vector<std::string> lessonFiles(const std::string& folder) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder, ec)) {
+    const fs::path& p = e.path();
+    if (e.is_regular_file() && p.extension() == ".md" && p.filename() != "README.md") files.push_back(p.string());
+  }
+  if (ec) throw Error("cannot read the lesson folder '" + folder + "': " + ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace voxlab

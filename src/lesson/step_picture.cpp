@@ -1,0 +1,224 @@
+#include "lesson/step_picture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app/session.h"
+#include "core/error.h"
+#include "inspect/inspect_logic.h"
+#include "inspect/scene_overlay.h"
+#include "inspect/view3d.h"
+
+namespace voxlab {
+
+bool isCameraImage(const StepCursor& cursor, int stage, const CapturedOutput& c) {
+  if (c.desc.kind != OutputKind::Image2D || c.levels.empty()) return false;
+  if (!cursor.technique().dependsOnView(stage)) return false;
+  return c.levels[0].size.x == cursor.view().width && c.levels[0].size.y == cursor.view().height;
+}
+
+OverlayContent overlayContent(StepCursor& cursor, const std::string& volume, int level, bool voxels) {
+  OverlayContent r;
+  r.box = cursor.board().voxelSpace();
+  if (volume.empty()) return r;
+  const Technique& t = cursor.technique();
+  size_t slash = volume.find('/');
+  auto [stage, desc] = t.findOutput(volume.substr(0, slash), volume.substr(slash + 1));
+  (void)stage;
+  if (auto placed = cursor.board().placementOf(desc->resourceName())) r.box = placed;
+  if (!voxels) return r;
+  CapturedOutput c = captureOutput(cursor.board(), *desc);
+  if (c.levels.empty()) return r;
+  if (level < 0) {  // the finest level with at most 32 texels per axis: blocks large enough to see
+    level = 0;
+    while (level + 1 < int(c.levels.size()) && c.levels[level].size.x > 32) ++level;
+  }
+  r.level = std::clamp(level, 0, int(c.levels.size()) - 1);
+  r.levelCount = int(c.levels.size());
+  const LevelData& L = c.levels[r.level];
+  if (!c.world) {
+    r.message = volume + " has no world placement (Blackboard::place); showing nothing";
+    return r;
+  }
+  VolumeRGBA v = mapVolume(L, desc->semantic, DisplaySettings{});
+  size_t candidates = 0;
+  r.cubes = volumeCubes(v, c.world->lo, (c.world->hi - c.world->lo) / glm::vec3(L.size), View3D::kCubeLimit, candidates);
+  char buf[200];
+  if (r.cubes.empty() && candidates > 0)
+    std::snprintf(buf, sizeof buf, "%zu voxels at level %d, over the limit of %zu: pick a coarser level", candidates,
+                  r.level, View3D::kCubeLimit);
+  else
+    std::snprintf(buf, sizeof buf, "%s level %d (%dx%dx%d): %zu voxels", volume.c_str(), r.level, L.size.x, L.size.y,
+                  L.size.z, candidates);
+  r.message = buf;
+  return r;
+}
+
+void blendOverlay(DisplayImage& image, const std::vector<uint8_t>& over) {
+  if (over.size() != size_t(image.width) * image.height * 4) return;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* o = &over[(size_t(image.height - 1 - y) * image.width + x) * 4];
+      uint8_t* p = &image.rgb[(size_t(y) * image.width + x) * 3];
+      for (int c = 0; c < 3; ++c) {
+        float v = p[c];
+        p[c] = uint8_t(std::lround(v + (o[c] - v) * (o[3] / 255.0f)));
+      }
+    }
+}
+
+DisplayImage shrink(const DisplayImage& image, int width) {
+  if (image.width <= width) return image;
+  DisplayImage out;
+  out.width = width;
+  out.height = std::max(1, int(std::lround(double(image.height) * width / image.width)));
+  out.rgb.resize(size_t(out.width) * out.height * 3);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      int x0 = x * image.width / out.width, x1 = std::max(x0 + 1, (x + 1) * image.width / out.width);
+      int y0 = y * image.height / out.height, y1 = std::max(y0 + 1, (y + 1) * image.height / out.height);
+      for (int c = 0; c < 3; ++c) {
+        long sum = 0;
+        for (int yy = y0; yy < y1; ++yy)
+          for (int xx = x0; xx < x1; ++xx) sum += image.rgb[(size_t(yy) * image.width + xx) * 3 + c];
+        out.rgb[(size_t(y) * out.width + x) * 3 + c] = uint8_t(sum / ((x1 - x0) * (y1 - y0)));
+      }
+    }
+  return out;
+}
+
+StepRenderer::StepRenderer(int width, int height) : width_(width), height_(height) {}
+
+StepRenderer::~StepRenderer() {
+  overlay_.reset();  // its GL objects belong to the session's context
+  session_.reset();
+}
+
+StepPicture StepRenderer::render(const Lesson& lesson, const LessonStep& step) {
+  try {
+    return renderStep(step);
+  } catch (const Error& e) {
+    // A failed step may leave the session half-run; start the next one afresh.
+    overlay_.reset();
+    session_.reset();
+    throw Error(lesson.path + ":" + std::to_string(step.line) + ": " + e.what());
+  }
+}
+
+StepPicture StepRenderer::renderStep(const LessonStep& step) {
+  std::vector<std::string> sets;
+  for (const auto& [n, v] : step.sets) sets.push_back(n + "=" + v);
+  if (!session_ || technique_ != step.technique || scene_ != step.scene) {
+    overlay_.reset();
+    session_.reset();
+    RunRequest req;
+    req.technique = step.technique;
+    req.scene = step.scene;
+    req.sets = sets;
+    req.width = width_;
+    req.height = height_;
+    req.camera = step.camera;
+    session_ = std::make_unique<HeadlessSession>(req);
+    technique_ = step.technique;
+    scene_ = step.scene;
+  }
+  // The step's state is absolute, as the viewer applies it: defaults plus the step's "set".
+  StepCursor& cursor = session_->cursor();
+  const Technique& t = cursor.technique();
+  ParamSet params = t.defaultParams();
+  for (const auto& [n, v] : step.sets) params.setText(n, v);
+  cursor.setParams(params);
+  cursor.useSceneCamera(step.camera);
+
+  const int stage = t.stageIndex(step.stage);
+  if (step.output.empty()) throw Error("stage " + step.stage + " has no outputs to show");
+  auto [outStage, desc] = t.findOutput(step.stage, step.output);
+  (void)outStage;
+  std::string volume;
+  int overlayLevel = -1;
+  if (!step.overlay.empty()) {
+    size_t at = step.overlay.find('@');
+    volume = step.overlay.substr(0, at);
+    if (at != std::string::npos) overlayLevel = std::stoi(step.overlay.substr(at + 1));
+    int writer = t.stageIndex(volume.substr(0, volume.find('/')));
+    if (writer > stage)
+      throw Error("overlay " + step.overlay + " is written by stage " + t.stage(writer).id() +
+                  ", which runs after the step's stage " + step.stage);
+  }
+
+  StepPicture pic;
+  if (step.iterations > 0) {  // stop the stage after that many iterations: earlier stages, then step it
+    if (stage > 0) cursor.runThrough(stage - 1);
+    cursor.invalidate(stage);
+    for (int i = 0; i < step.iterations; ++i) cursor.runIteration(stage);
+    pic.notes = "after " + std::to_string(step.iterations) + " of " + std::to_string(cursor.iterations(stage)) +
+                " iterations of " + step.stage + " (the viewer's I key; the run line runs them all)";
+  } else {
+    cursor.runThrough(stage);
+  }
+
+  CapturedOutput cap = captureOutput(cursor.board(), *desc);
+  const std::string address = t.id() + "/" + step.stage + "/" + step.output;
+  if (desc->kind == OutputKind::Buffer) {
+    bool hasPosition = std::any_of(desc->layout.fields.begin(), desc->layout.fields.end(),
+                                   [](const BufferField& f) { return f.role == FieldRole::Position; });
+    if (!hasPosition)
+      throw Error("output " + address + " is a buffer without a position field; the viewer shows it as a table, "
+                  "a handout needs a picture (choose an image, a volume or a point buffer)");
+    pic.image = pointView(cap, std::max(width_, height_));
+    pic.address = address;
+  } else {
+    if (step.level >= int(cap.levels.size()))
+      throw Error("output " + address + " has levels 0.." + std::to_string(int(cap.levels.size()) - 1) + ", not " +
+                  std::to_string(step.level));
+    const LevelData& L = cap.levels[step.level];
+    SliceSpec slice = sliceToShow(L, SliceSpec{});
+    SliceImage s = mapSlice(L, desc->semantic, slice, DisplaySettings{});
+    pic.image.width = s.width;
+    pic.image.height = s.height;
+    pic.image.rgb.resize(size_t(s.width) * s.height * 3);
+    for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
+      for (int c = 0; c < 3; ++c) pic.image.rgb[i * 3 + c] = s.rgba[i * 4 + c];
+    pic.address = address + "@" + std::to_string(step.level);
+    if (desc->kind == OutputKind::Volume3D) {
+      const char* axis = slice.axis == 0 ? "x" : slice.axis == 1 ? "y" : "z";
+      std::string n = "slice " + std::string(axis) + " = " + std::to_string(slice.index) + " of " +
+                      std::to_string(L.size[slice.axis]) + " (the viewer's default slice)";
+      pic.notes += (pic.notes.empty() ? "" : "; ") + n;
+    }
+  }
+
+  // The viewer fits a picture to its panel with nearest filtering (voxels stay squares); a page
+  // shows a coarse slice enlarged the same way, by a whole factor, up to the picture size.
+  pic.displayScale = std::max(1, std::min(width_ / std::max(pic.image.width, 1), height_ / std::max(pic.image.height, 1)));
+
+  const bool wantsOverlay = step.bounds || !step.overlay.empty();
+  if (wantsOverlay && isCameraImage(cursor, stage, cap)) {
+    OverlayContent content = overlayContent(cursor, volume, overlayLevel, !step.overlay.empty());
+    if (!overlay_) overlay_ = std::make_unique<SceneOverlay>(cursor.shaders());
+    overlay_->setCubes(content.cubes);
+    overlay_->setBox(content.box);
+    SceneOverlay::Options o{!step.overlay.empty(), step.bounds, false, 0.6f};
+    const Camera& cam = cursor.camera();
+    glm::mat4 viewProj = cam.projection(float(width_) / float(height_)) * cam.view();
+    overlay_->render(width_, height_, viewProj, cursor.gpuScene(), o);
+    blendOverlay(pic.image, overlay_->readPixels());
+    std::string n = step.overlay.empty() ? std::string("volume bounds overlaid")
+                                         : "overlay: " + content.message + (step.bounds ? ", with the volume bounds" : "");
+    pic.notes += (pic.notes.empty() ? "" : "; ") + n;
+  } else if (wantsOverlay) {
+    pic.notes += std::string(pic.notes.empty() ? "" : "; ") + "overlay not drawn: " + address +
+                 " is not a camera image";
+  }
+
+  const ParamSet defaults = t.defaultParams();
+  for (const auto& [name, d] : params.descs())
+    if (!defaults.has(name) || defaults.value(name) != params.value(name))
+      pic.changed.push_back(name + "=" + d.format(params.value(name)));
+  std::string until = stage == t.stageCount() - 1 ? "" : step.stage;
+  pic.command = reproduceCommand(t.id(), step.scene, params, defaults, width_, height_, step.camera, until, "out");
+  return pic;
+}
+
+}  // namespace voxlab
