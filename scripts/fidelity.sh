@@ -1,21 +1,26 @@
 #!/usr/bin/env bash
-# Regenerates the fidelity table in docs/fidelity.md: every registered technique (`voxlab list
-# --json`) is run with its default parameters (plus the variants listed below) on the Cornell box,
+# Regenerates the fidelity tables in docs/fidelity.md: every registered technique (`voxlab list
+# --json`) is run with its default parameters (plus the variants listed below) on each scene,
 # camera 0, 512x512, and the "reference_error" entries `voxlab run` writes into its manifest (one
-# per output tagged with a reference mode) become the table's rows.
+# per output tagged with a reference mode) become the table's rows (between the markers
+# <!-- fidelity-table:begin/end --> for the Cornell box, <!-- fidelity-table:<scene>:begin/end -->
+# for the other scenes).
 #
 #   scripts/fidelity.sh [VOXLAB_BINARY]      (default: build/voxlab)
+#   SCENES=sponza scripts/fidelity.sh        (only some scenes; default: cornell-box sponza)
 #
-# Needs the references in tests/golden/reference/cornell-box/ (scripts/make-references.sh).
-# Outputs (and the error images) go to build/fidelity/<technique>[+variant]/.
+# Needs the references in tests/golden/reference/<scene>/ (scripts/make-references.sh).
+# Outputs (and the error images) go to build/fidelity/<scene>/<technique>[+variant]/.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 voxlab="$(realpath "${1:-$root/build/voxlab}")"
-scene=cornell-box
 size=512x512
-work="$root/build/fidelity"
 doc="$root/docs/fidelity.md"
+for scene in ${SCENES:-cornell-box sponza}; do
+work="$root/build/fidelity/$scene"
 mkdir -p "$work"
+marker=fidelity-table
+[[ "$scene" == cornell-box ]] || marker="fidelity-table:$scene"
 
 # Extra rows: "technique name=value[,name=value...]".
 variants=(
@@ -44,9 +49,9 @@ for t in $("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t
   done
 done
 
-python3 - "$doc" "${runs[@]}" <<'PY'
+python3 - "$doc" "$marker" "${runs[@]}" <<'PY'
 import json, sys
-doc, manifests = sys.argv[1], sys.argv[2:]
+doc, marker, manifests = sys.argv[1], sys.argv[2], sys.argv[3:]
 rows = ["| technique | parameters (non-default) | output | reference | RMSE | PSNR (dB) | MAE | MRE | SSIM | mean ratio |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|"]
 notes = {}
@@ -72,7 +77,7 @@ for path in manifests:
             notes[r["mode"]] = (r.get("spp"), r.get("rms_stderr"))
 table = "\n".join(rows) + "\n\nReferences used (spp, RMS standard error): " + ", ".join(
     f"{k} {v[0]} spp / {v[1]:.4g}" for k, v in sorted(notes.items()) if v[1] is not None) + ".\n"
-begin, end = "<!-- fidelity-table:begin -->", "<!-- fidelity-table:end -->"
+begin, end = f"<!-- {marker}:begin -->", f"<!-- {marker}:end -->"
 try:
     text = open(doc).read()
 except FileNotFoundError:
@@ -85,3 +90,4 @@ if begin in text and end in text:
 else:
     print(table)
 PY
+done

@@ -4,39 +4,58 @@
 # same pixels on any thread count.
 #
 #   scripts/make-references.sh [VOXLAB_BINARY]      (default: build/voxlab)
+#   SCENES="sponza" scripts/make-references.sh      (only some scenes; default: cornell-box sponza)
 #
-# Threads: $VOXLAB_THREADS (default: all cores). About 16 minutes on one core.
+# Threads: $VOXLAB_THREADS (default: all cores).
 # The per-pixel standard-error images (<mode>.stderr.exr) stay in build/references/: they are
 # not checked in; their mean and RMS are stored in the references' voxlab:mean_stderr and
-# voxlab:rms_stderr attributes.
+# voxlab:rms_stderr attributes. The EXRs store half floats (zip): rounding error RMSE 6e-5, far
+# below the noise.
 #
-# spp per mode (Cornell box, 512x512, camera 0, pixel centres, seed 0), chosen so that the RMS
-# standard error is about 0.01 (a tenth of the smallest technique RMSE compared with it) while a
-# render takes minutes. Measured (mean / RMS standard error over pixels and channels, seconds on
-# one core of the 2-core dev machine):
+# Cornell box (512x512, camera 0, pixel centres, seed 0): spp chosen so that the RMS standard
+# error is about 0.01 (a tenth of the smallest technique RMSE compared with it) while a render
+# takes minutes. Measured (mean / RMS standard error over pixels and channels, seconds on one
+# core of the 2-core dev machine):
 #   full        512 spp   0.00879 / 0.0115     410 s
 #   direct       32 spp   0.00011 / 0.00020     15 s
 #   indirect    512 spp   0.00879 / 0.0115     296 s
 #   indirect-1  512 spp   0.00623 / 0.0090     246 s
 # direct converges fastest: the spot light is evaluated exactly and the light panel is sampled
-# by MIS. The EXRs store half floats (zip): rounding error RMSE 6e-5, far below the noise.
+# by MIS.
+#
+# Sponza (512x512, camera 0 'nave', pixel centres, seed 0): the sun is the only light and is
+# evaluated exactly, so direct has no noise at all (every spp gives the same pixel); the others
+# were sized from a 128x128, 4 spp trial (full: RMS standard error 0.0145, 0.25 s per spp on 2
+# threads) so that the whole set takes about 12 minutes on 2 free cores and the RMS standard error
+# stays near 0.004, small against an RMSE of 0.02. Measured at 512x512 in docs/fidelity.md.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 voxlab="${1:-$root/build/voxlab}"
-scene=cornell-box
-size=512x512
-golden="$root/tests/golden/reference/$scene"
-work="$root/build/references/$scene"
-mkdir -p "$golden" "$work"
+scenes="${SCENES:-cornell-box sponza}"
 
-render() {  # mode spp
-  nice -n 10 "$voxlab" reference --scene "$scene" --size "$size" --mode "$1" --spp "$2" --half --quiet \
-    --out "$work/$1.exr"
-  cp "$work/$1.exr" "$golden/$1.exr"
+render() {  # scene size mode spp
+  local golden="$root/tests/golden/reference/$1" work="$root/build/references/$1"
+  mkdir -p "$golden" "$work"
+  nice -n 10 "$voxlab" reference --scene "$1" --size "$2" --mode "$3" --spp "$4" --half --quiet \
+    --out "$work/$3.exr"
+  cp "$work/$3.exr" "$golden/$3.exr"
 }
 
-render direct 32
-render indirect-1 512
-render full 512
-render indirect 512
-ls -l "$golden"
+for scene in $scenes; do
+  case "$scene" in
+    cornell-box)
+      render cornell-box 512x512 direct 32
+      render cornell-box 512x512 indirect-1 512
+      render cornell-box 512x512 full 512
+      render cornell-box 512x512 indirect 512
+      ;;
+    sponza)
+      render sponza 512x512 direct 16
+      render sponza 512x512 indirect-1 128
+      render sponza 512x512 full 64
+      render sponza 512x512 indirect 64
+      ;;
+    *) echo "make-references.sh: no reference settings for scene '$scene' (known: cornell-box sponza)" >&2; exit 2 ;;
+  esac
+  ls -l "$root/tests/golden/reference/$scene"
+done

@@ -97,8 +97,25 @@ def main():
     doc["accessors"][0]["count"] = 1000
     files["accessor-out-of-range.gltf"] = doc
 
+    # Base-colour textures: a file that is not there, and one stb cannot decode.
+    def textured(uri):
+        doc = triangle_doc()
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+        doc["textures"] = [{"source": 0}]
+        doc["images"] = [{"uri": uri}]
+        return doc
+    files["missing-texture.gltf"] = textured("missing-texture.png")
+    files["corrupt-texture.gltf"] = textured("corrupt-texture.png")
+
+    # An alphaMode that glTF does not define.
+    doc = triangle_doc()
+    doc["materials"][0]["alphaMode"] = "CUTOUT"
+    files["bad-alpha-mode.gltf"] = doc
+
     for name, doc in files.items():
         write_json(os.path.join(out, name), doc)
+    # Not an image in any format stb_image reads.
+    write_bytes(os.path.join(out, "corrupt-texture.png"), b"\x89PNG\r\n\x1a\n but then nothing of a PNG follows")
 
     # Garbage and an empty file.
     write_bytes(os.path.join(out, "not-json.gltf"),

@@ -25,6 +25,8 @@ using uint = uint32_t;
 #define VOXLAB_BINDING_TRIANGLE_INFO 7    // SSBO: uint per triangle: material (bits 0-23), class (bit 31: 1 = small)
 #define VOXLAB_BINDING_TRIANGLE_LIST 8    // SSBO: uint indices of the triangles a compute voxelizer visits
 #define VOXLAB_BINDING_CLASS_COUNTS 9     // SSBO: uint[8] counters of the triangle classification
+#define VOXLAB_BINDING_COVERAGE_BITS 10   // SSBO: uint[] alpha coverage pyramids, 32 bits per word (scene/alpha_coverage.h)
+#define VOXLAB_BINDING_COVERAGE_LEVELS 11 // SSBO: uvec4[] per pyramid level: first bit, width, height, unused
 
 #define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
 
@@ -42,6 +44,8 @@ using uint = uint32_t;
 struct GpuMaterial {
   vec4 baseColor;  // linear RGBA factor
   vec4 emissive;   // rgb: linear emitted radiance; a: 1 when an emissive texture multiplies it
+  vec4 alpha;      // x: alphaCutoff, y: 1 = alphaMode MASK (else opaque), z: first coverage level,
+                   // w: coverage levels (voxelization's alpha test, scene/alpha_coverage.h)
 };
 
 // One voxel fragment: a surface sample produced by voxelization.

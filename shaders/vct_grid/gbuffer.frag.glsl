@@ -8,6 +8,7 @@ layout(location = 2) out vec4 outAlbedo;
 layout(location = 3) out vec4 outEmission;
 uniform vec3 u_cameraPos;
 void main() {
+  if (materialCutAway(fin.uv)) discard;  // alphaMode MASK
   vec3 n = normalize(fin.normal);
   if (dot(n, u_cameraPos - fin.worldPos) < 0.0) n = -n;
   outPosition = vec4(fin.worldPos, 1.0);

@@ -9,6 +9,7 @@
 #include "common/material.glsl"
 #include "common/packing.glsl"
 #include "common/tri_box.glsl"
+#include "common/alpha_coverage.glsl"
 
 in VoxelData {
   vec3 normal;
@@ -16,6 +17,7 @@ in VoxelData {
   flat vec4 boundsPx;
   flat int axis;
   flat vec3 tri0, tri1, tri2;
+  flat vec2 uv0, uv1, uv2;
 } fin;
 
 layout(binding = VOXLAB_BINDING_FRAGMENT_COUNT, offset = 0) uniform atomic_uint u_fragmentCount;
@@ -43,6 +45,7 @@ void appendVoxel(ivec3 voxel) {
 void main() {
   vec2 px = gl_FragCoord.xy;
   if (u_conservative == 0) {
+    if (materialCutAway(fin.uv)) return;  // alphaMode MASK, tested at the pixel centre like a camera
     appendVoxel(ivec3(fromProjected(vec3(floor(px), floor(gl_FragCoord.z * float(u_resolution))), fin.axis)));
     return;
   }
@@ -55,12 +58,18 @@ void main() {
   float zlo = max(zc - reach, min(s0.z, min(s1.z, s2.z)));
   float zhi = min(zc + reach, max(s0.z, max(s1.z, s2.z)));
   vec2 cell = floor(px);
+  // alphaMode MASK: a voxel also needs opaque texels near it (common/alpha_coverage.glsl).
+  vec4 alpha = materials[u_materialIndex].alpha;
+  bool masked = coverageMasked(alpha);
+  uint level = masked ? coverageLevelFor(alpha, fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2) : 0u;
   // Candidates: the cells whose depth range meets [zlo, zhi], widened by 1e-3 voxel for rounding
   // (a plane exactly on a cell boundary must reach the cell above it); at most 4. The exact test
   // decides, with half-open cells (tri_box.glsl).
   float kLo = floor(zlo - 1e-3), kHi = min(floor(zhi + 1e-3), kLo + 3.0);
   for (float z = kLo; z <= kHi; z += 1.0) {
     ivec3 voxel = ivec3(fromProjected(vec3(cell, z), fin.axis));
-    if (triangleOverlapsBox(fin.tri0, fin.tri1, fin.tri2, vec3(voxel) + 0.5, vec3(0.5))) appendVoxel(voxel);
+    if (!triangleOverlapsBox(fin.tri0, fin.tri1, fin.tri2, vec3(voxel) + 0.5, vec3(0.5))) continue;
+    if (masked && !coverageAt(alpha, level, fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2, voxel)) continue;
+    appendVoxel(voxel);
   }
 }

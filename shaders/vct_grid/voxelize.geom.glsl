@@ -17,6 +17,7 @@ out VoxelData {
   flat vec4 boundsPx;        // triangle bounds in projected pixels, grown by half a pixel
   flat int axis;             // 0 = x, 1 = y, 2 = z: the projection axis
   flat vec3 tri0, tri1, tri2;  // triangle in voxel coordinates (not swizzled)
+  flat vec2 uv0, uv1, uv2;     // its texture coordinates (alphaMode MASK coverage)
 } vout;
 
 layout(std430, binding = VOXLAB_BINDING_AXIS_COUNTS) buffer AxisCounts { uint axisCount[4]; };
@@ -85,6 +86,9 @@ void main() {
     vout.tri0 = v[0];
     vout.tri1 = v[1];
     vout.tri2 = v[2];
+    vout.uv0 = vin[0].uv;
+    vout.uv1 = vin[1].uv;
+    vout.uv2 = vin[2].uv;
     EmitVertex();
   }
   EndPrimitive();

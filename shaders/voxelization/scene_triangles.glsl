@@ -6,6 +6,7 @@ layout(std430, binding = VOXLAB_BINDING_SCENE_INDICES) readonly buffer SceneIndi
 
 uint sceneVertexIndex(uint triangle, int corner) { return sceneIndices[3u * triangle + uint(corner)]; }
 vec3 scenePosition(uint v) { return vec3(sceneVertices[8u * v], sceneVertices[8u * v + 1u], sceneVertices[8u * v + 2u]); }
+vec2 sceneUv(uint v) { return vec2(sceneVertices[8u * v + 6u], sceneVertices[8u * v + 7u]); }
 vec3 sceneNormal(uint v) { return vec3(sceneVertices[8u * v + 3u], sceneVertices[8u * v + 4u], sceneVertices[8u * v + 5u]); }
 
 // Dominant axis of a plane normal: 0 = x, 1 = y, 2 = z (ties as in vct_grid/voxelize.geom.glsl).

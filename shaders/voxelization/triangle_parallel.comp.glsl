@@ -22,15 +22,21 @@
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "voxelization/scene_triangles.glsl"
+#include "common/alpha_coverage.glsl"
 
 layout(local_size_x = 64) in;
-layout(std430, binding = VOXLAB_BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
+#include "common/material.glsl"
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) readonly buffer TriangleInfo { uint triangleInfo[]; };
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_LIST) readonly buffer TriangleList { uint triangleList[]; };
 layout(binding = VOXLAB_BINDING_FRAGMENT_COUNT, offset = 0) uniform atomic_uint u_fragmentCount;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) writeonly buffer Fragments { VoxelFragment fragments[]; };
-uniform uint u_listBase;      // first entry of triangleList this dispatch visits
+uniform uint u_listBase;      // first entry of triangleList this dispatch visits (u_directRange: first triangle)
 uniform uint u_listCount;     // entries it visits
+// 1: invocation x visits triangle u_listBase + x of one draw range (material u_materialIndex,
+// whose textures are bound), skipping triangles the classification left to the raster pass;
+// 0: it visits triangleList[u_listBase + x], skipping triangles of other materials. Either way a
+// dispatch sees one material, so its textures can be sampled (GpuScene binds them per range).
+uniform int u_directRange;
 uniform uint u_firstChunk;    // chunk of invocation y = 0
 uniform uint u_chunkColumns;  // voxel columns per invocation
 uniform uint u_capacity;   // records the fragment list holds
@@ -67,22 +73,24 @@ vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.z
 vec3 fromProjected(vec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
 uvec3 toProjectedU(uvec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 
-void appendVoxel(ivec3 voxel, uint material, vec3 normal) {
+// Albedo and emission come from the material's textures at the voxel centre's projection onto
+// the triangle, at the mip level whose texel is about one voxel (lod = log2 of texels per voxel).
+void appendVoxel(ivec3 voxel, vec3 normal, vec2 uv, float lod) {
   uint index = atomicCounterIncrement(u_fragmentCount);
   if (index >= u_capacity) return;  // the stage sees the count, grows the list and runs again
-  GpuMaterial m = materials[material];
   VoxelFragment f;
   f.position = packVoxel10(uvec3(voxel));
-  f.albedo = packUnorm4x8(vec4(m.baseColor.rgb, 1.0));
+  f.albedo = packUnorm4x8(vec4(materialAlbedoLod(uv, lod).rgb, 1.0));
   f.normal = packSnorm4x8(vec4(normal, 0.0));
-  f.emission = packUnorm4x8(vec4(clamp(m.emissive.rgb, 0.0, 1.0), 1.0));
+  f.emission = packUnorm4x8(vec4(clamp(materialEmissionLod(uv, lod), 0.0, 1.0), 1.0));
   fragments[index] = f;
 }
 
 void main() {
   if (gl_GlobalInvocationID.x >= u_listCount) return;
-  uint t = triangleList[u_listBase + gl_GlobalInvocationID.x];
+  uint t = u_directRange != 0 ? u_listBase + gl_GlobalInvocationID.x : triangleList[u_listBase + gl_GlobalInvocationID.x];
   uint material = triangleInfo[t] & 0x00FFFFFFu;
+  if (u_directRange != 0 ? (triangleInfo[t] & 0x80000000u) == 0u : material != uint(u_materialIndex)) return;
   uint i0 = sceneVertexIndex(t, 0), i1 = sceneVertexIndex(t, 1), i2 = sceneVertexIndex(t, 2);
   vec3 w0 = worldToVoxel(scenePosition(i0)), w1 = worldToVoxel(scenePosition(i1)), w2 = worldToVoxel(scenePosition(i2));
 
@@ -115,6 +123,16 @@ void main() {
   Edges2D exy = setupEdges(dv0.xy, dv1.xy, dv2.xy, dn.z);
   Edges2D eyz = setupEdges(dv0.yz, dv1.yz, dv2.yz, dn.x);
   Edges2D ezx = setupEdges(dv0.zx, dv1.zx, dv2.zx, dn.y);
+  // alphaMode MASK: a voxel also needs opaque texels near it (common/alpha_coverage.glsl; the
+  // triangle in absolute voxel coordinates, as the raster pass and the CPU reference see it).
+  vec4 alpha = materials[material].alpha;
+  bool masked = coverageMasked(alpha);
+  vec2 t0 = sceneUv(i0), t1 = sceneUv(i1), t2 = sceneUv(i2);
+  uint level = masked ? coverageLevelFor(alpha, w0, w1, w2, t0, t1, t2) : 0u;
+  vec2 du = t1 - t0, dv = t2 - t0;
+  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
+  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / length(cross(w1 - w0, w2 - w0));
+  float lod = max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
 
   // Columns along the dominant axis: the plane's depth over a column spans at most
   // |dz/da| + |dz/db| <= 2 voxels, so only a few voxels per column are candidates.
@@ -147,7 +165,8 @@ void main() {
       if (upperStrict ? above <= 0.0 : above < 0.0) continue;
       if (lowerStrict ? below >= 0.0 : below > 0.0) continue;
       if (!insideEdges(exy, p.xy) || !insideEdges(eyz, p.yz) || !insideEdges(ezx, p.zx)) continue;
-      appendVoxel(ivec3(voxel), material, normal);
+      if (masked && !coverageAt(alpha, level, w0, w1, w2, t0, t1, t2, ivec3(voxel))) continue;
+      appendVoxel(ivec3(voxel), normal, voxelSampleUv(w0, w1, w2, t0, t1, t2, ivec3(voxel)), lod);
     }
   }
 }

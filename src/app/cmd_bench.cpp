@@ -52,6 +52,9 @@ std::string markdown(const json& r) {
      << r["view"].get<std::string>() << ", " << r["runs"].get<int>() << " runs)\n\n";
   md << "Renderer: " << r["gl_renderer"].get<std::string>() << ", " << r["gl_version"].get<std::string>() << "\n\n";
   md << "Parameters: " << r["parameters_changed"].get<std::string>() << "\n\n";
+  std::snprintf(line, sizeof line, "Scene load (parse, decode textures, flatten; CPU): %.0f ms for %zu triangles.\n\n",
+                r["scene_load_ms"].get<double>(), r["scene_triangles"].get<size_t>());
+  md << line;
   md << "| stage | median CPU ms | median GPU ms | first run CPU ms |\n|---|---:|---:|---:|\n";
   for (const auto& s : r["stages"]) {
     std::snprintf(line, sizeof line, "| %s | %.1f | %.1f | %.1f |\n", s["id"].get<std::string>().c_str(),
@@ -115,6 +118,8 @@ int runBench(const std::vector<std::string>& argv) {
     r["gl_version"] = header["gl"]["version"];
     r["parameters"] = header["parameters"];
     r["parameters_changed"] = req.sets.empty() ? std::string("defaults") : joinNames(req.sets);
+    r["scene_load_ms"] = session.sceneLoadMs();
+    r["scene_triangles"] = cursor.scene().triangleCount();
     double firstTotal = 0;
     for (int i = 0; i < n; ++i) {
       r["stages"].push_back({{"id", cursor.technique().stage(i).id()},

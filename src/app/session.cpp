@@ -1,5 +1,7 @@
 #include "app/session.h"
 
+#include <chrono>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -34,7 +36,9 @@ HeadlessSession::HeadlessSession(const RunRequest& request) : request_(request) 
   untilStage_ = request.until.empty() ? technique->stageCount() - 1 : technique->stageIndex(request.until);
   ParamSet params = technique->defaultParams();
   for (const auto& s : request.sets) params.setAssignment(s);
+  const auto loadStart = std::chrono::steady_clock::now();
   auto scene = std::make_shared<Scene>(loadScene(resolveScenePath(request.scene)));
+  sceneLoadMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loadStart).count();
   int cameras = int(scene->cameras.size());
   if (request.camera < 0 || request.camera >= cameras)
     throw Error("camera " + std::to_string(request.camera) + " does not exist in " + scene->name +
@@ -64,6 +68,8 @@ json HeadlessSession::manifestHeader() const {
   m["technique"] = t.id();
   m["scene"] = cursor_->scene().name;
   m["scene_path"] = cursor_->scene().path;
+  m["scene_load_ms"] = sceneLoadMs_;  // parsing, decoding textures, flattening (CPU)
+  m["scene_triangles"] = cursor_->scene().triangleCount();
   m["parameters"] = cursor_->params().formatted();
   m["view"] = {{"width", cursor_->view().width}, {"height", cursor_->view().height},
                {"camera", request_.camera}, {"camera_name", cursor_->camera().name}};

@@ -41,6 +41,7 @@ class HeadlessSession {
 
   StepCursor& cursor() { return *cursor_; }
   const RunRequest& request() const { return request_; }
+  double sceneLoadMs() const { return sceneLoadMs_; }  // wall time of loadScene()
   int untilStage() const { return untilStage_; }  // index of the last stage to run
   void run();                                     // runs stages 0..untilStage
 
@@ -53,6 +54,7 @@ class HeadlessSession {
 
  private:
   RunRequest request_;
+  double sceneLoadMs_ = 0.0;
   std::unique_ptr<GLContext> context_;
   std::unique_ptr<ShaderLibrary> shaders_;
   std::unique_ptr<StepCursor> cursor_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/alpha_coverage.h"
 #include "techniques/common/voxel_space.h"
 
 namespace voxlab {
@@ -51,18 +52,32 @@ std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& sp
   std::vector<uint32_t> keys;
   const int res = space.resolution;
   const glm::dvec3 half(0.5);
+  const AlphaCoverage coverage = AlphaCoverage::build(scene);
   for (size_t t = 0; t < scene.triangleCount(); ++t) {
-    glm::dvec3 v[3];
-    for (int k = 0; k < 3; ++k) v[k] = glm::dvec3(space.toVoxel(scene.positions[scene.indices[3 * t + k]]));
+    glm::vec3 f[3];
+    glm::vec2 uv[3];
+    for (int k = 0; k < 3; ++k) {
+      uint32_t i = scene.indices[3 * t + k];
+      f[k] = space.toVoxel(scene.positions[i]);
+      uv[k] = i < scene.uvs.size() ? scene.uvs[i] : glm::vec2(0.0f);
+    }
+    glm::dvec3 v[3] = {glm::dvec3(f[0]), glm::dvec3(f[1]), glm::dvec3(f[2])};
     if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) <= 0.0) continue;
+    // alphaMode MASK: the same coverage rule as the GPU voxelizers (scene/alpha_coverage.h), in float.
+    const uint32_t material = scene.triangleMaterial(t);
+    const bool masked = coverage.masked(material);
+    const uint32_t level = masked ? coverageLevelFor(coverage, material, f[0], f[1], f[2], uv[0], uv[1], uv[2]) : 0;
     glm::dvec3 lo = glm::min(v[0], glm::min(v[1], v[2])), hi = glm::max(v[0], glm::max(v[1], v[2]));
     glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)), glm::ivec3(0), glm::ivec3(res - 1));
     glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(hi)), glm::ivec3(0), glm::ivec3(res - 1));
     for (int z = a.z; z <= b.z; ++z)
       for (int y = a.y; y <= b.y; ++y)
-        for (int x = a.x; x <= b.x; ++x)
-          if (triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half))
-            keys.push_back(packVoxelKey(x, y, z));
+        for (int x = a.x; x <= b.x; ++x) {
+          if (!triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half)) continue;
+          if (masked && !coverageAt(coverage, material, level, f[0], f[1], f[2], uv[0], uv[1], uv[2], {x, y, z}))
+            continue;
+          keys.push_back(packVoxelKey(x, y, z));
+        }
   }
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());

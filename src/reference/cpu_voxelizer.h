@@ -4,7 +4,9 @@
 // (separating axis test over the 13 axes of Akenine-Moller 2001, ties on a cell's upper faces
 // separate: docs/voxelization.md, "Ties on voxel faces"). A plane exactly on a voxel boundary
 // therefore fills one layer, the one above it. Degenerate triangles (zero area) are skipped, as
-// the GPU voxelizers skip them. The GPU methods are tested against this.
+// the GPU voxelizers skip them. Triangles of alphaMode MASK materials keep only the voxels
+// their alpha coverage allows (scene/alpha_coverage.h, the GPU's rule). The GPU methods are
+// tested against this.
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -79,6 +79,19 @@ float srgbToLinear(float c) {
 struct LinearTexture {
   int width = 0, height = 0;
   std::vector<glm::vec3> texels;  // linear RGB, row 0 at the top (v = 0)
+  std::vector<float> alpha;       // alpha / 255, same layout
+  // Bilinear alpha with REPEAT wrap (alphaMode MASK).
+  float sampleAlpha(glm::vec2 uv) const {
+    if (width <= 0 || height <= 0) return 1.0f;
+    float x = uv.x * width - 0.5f, y = uv.y * height - 0.5f;
+    float fx = std::floor(x), fy = std::floor(y);
+    float ax = x - fx, ay = y - fy;
+    auto wrap = [](long i, int n) { long m = i % n; return int(m < 0 ? m + n : m); };
+    int x0 = wrap(long(fx), width), x1 = wrap(long(fx) + 1, width);
+    int y0 = wrap(long(fy), height), y1 = wrap(long(fy) + 1, height);
+    auto at = [&](int xx, int yy) { return alpha[size_t(yy) * width + xx]; };
+    return (at(x0, y0) * (1 - ax) + at(x1, y0) * ax) * (1 - ay) + (at(x0, y1) * (1 - ax) + at(x1, y1) * ax) * ay;
+  }
   glm::vec3 sample(glm::vec2 uv) const {
     if (width <= 0 || height <= 0) return glm::vec3(1.0f);
     float x = uv.x * width - 0.5f, y = uv.y * height - 0.5f;
@@ -186,8 +199,11 @@ struct ReferenceTracer::Impl {
         float lut[256];
         for (int i = 0; i < 256; ++i) lut[i] = srgbToLinear(i / 255.0f);
         lt.texels.resize(size_t(t.width) * t.height);
-        for (size_t i = 0; i < lt.texels.size(); ++i)
+        lt.alpha.resize(lt.texels.size());
+        for (size_t i = 0; i < lt.texels.size(); ++i) {
           lt.texels[i] = {lut[t.rgba8[i * 4]], lut[t.rgba8[i * 4 + 1]], lut[t.rgba8[i * 4 + 2]]};
+          lt.alpha[i] = float(t.rgba8[i * 4 + 3]) / 255.0f;
+        }
       } else {
         lt.width = lt.height = 0;
       }
@@ -248,6 +264,14 @@ struct ReferenceTracer::Impl {
         vb[3 * i + 2] = s.positions[i].z;
       }
       std::copy(s.indices.begin(), s.indices.begin() + 3 * nt, ib);
+      bool anyMasked = false;
+      for (const Material& m : s.materials) anyMasked |= m.alphaMode == AlphaMode::Mask;
+      if (anyMasked) {
+        // alphaMode MASK: every ray (camera, bounce, shadow) passes through cut-away texels.
+        rtcSetGeometryUserData(g, this);
+        rtcSetGeometryIntersectFilterFunction(g, &Impl::alphaFilter);
+        rtcSetGeometryOccludedFilterFunction(g, &Impl::alphaFilter);
+      }
       rtcCommitGeometry(g);
       rtcAttachGeometry(rtc, g);
       rtcReleaseGeometry(g);
@@ -256,6 +280,25 @@ struct ReferenceTracer::Impl {
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
       throw Error("Embree could not build the scene '" + s.name + "'");
   }
+  // True where a MASK triangle has no surface: baseColor.a x texture alpha < alphaCutoff at the
+  // hit's texture coordinates (b1, b2: Embree's barycentrics u, v).
+  bool cutAway(uint32_t tri, float b1, float b2) const {
+    const Material& m = scene.materials[tris[tri].material];
+    if (m.alphaMode != AlphaMode::Mask) return false;
+    float a = m.baseColor.w;
+    if (m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < textures.size())
+      a *= textures[m.baseColorTexture].sampleAlpha(uvAt(tri, b1, b2));
+    return a < m.alphaCutoff;
+  }
+  static void alphaFilter(const RTCFilterFunctionNArguments* args) {
+    const Impl* self = static_cast<const Impl*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] != -1) continue;
+      unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+      if (self->cutAway(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))) args->valid[i] = 0;
+    }
+  }
+
   ~Impl() {
     if (rtc) rtcReleaseScene(rtc);
     if (device) rtcReleaseDevice(device);

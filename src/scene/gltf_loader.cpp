@@ -79,8 +79,10 @@ class Loader {
   // Pass 1
   void readFile();
   void checkJson(const Json& root);
+  void checkMaterialAlpha(const Json& material, const std::string& where);
   void checkCycles(const Json& root);
   void checkExternalFiles(const Json& root);
+  void selectImages(const Json& root);
   // Pass 2
   void parseWithTinygltf();
   // Pass 3
@@ -99,6 +101,7 @@ class Loader {
   bool binary_ = false;
   std::string jsonText_;
   tinygltf::Model model_;
+  detail::ImageDecodeRequest images_;
 
   // Triangles collected per scene material before they are sorted into draw ranges.
   std::vector<std::vector<uint32_t>> trianglesByMaterial_;
@@ -176,6 +179,21 @@ bool isNonNegativeInt(const Json& j) {
   return j.is_number_unsigned() || (j.is_number_integer() && j.get<int64_t>() >= 0);
 }
 
+// alphaMode must be one of the three glTF names, alphaCutoff a number >= 0 (types are checked by
+// the field specs).
+void Loader::checkMaterialAlpha(const Json& material, const std::string& where) {
+  if (auto mode = material.find("alphaMode"); mode != material.end() && mode->is_string()) {
+    std::string m = mode->get<std::string>();
+    if (m != "OPAQUE" && m != "MASK" && m != "BLEND") {
+      fail(where + ".alphaMode '" + oneLine(m, 40) + "' is not one of OPAQUE, MASK, BLEND");
+    }
+  }
+  if (auto cutoff = material.find("alphaCutoff"); cutoff != material.end() && cutoff->is_number()) {
+    double c = cutoff->get<double>();
+    if (!(c >= 0.0)) fail(where + ".alphaCutoff " + cutoff->dump() + " must be a number >= 0");
+  }
+}
+
 void Loader::checkJson(const Json& root) {
   if (!root.is_object()) fail(std::string("JSON root must be an object, got ") + jsonTypeName(root));
 
@@ -212,7 +230,7 @@ void Loader::checkJson(const Json& root) {
        {{"name", Kind::Str}, {"pbrMetallicRoughness", Kind::Obj}, {"emissiveFactor", Kind::NumArr, nullptr, 3},
         {"emissiveTexture", Kind::TexInfo, "textures"}, {"normalTexture", Kind::TexInfo, "textures"},
         {"occlusionTexture", Kind::TexInfo, "textures"}, {"doubleSided", Kind::Bool},
-        {"extensions", Kind::Obj}}},
+        {"alphaMode", Kind::Str}, {"alphaCutoff", Kind::Num}, {"extensions", Kind::Obj}}},
       {"meshes", {{"primitives", Kind::ObjArr}, {"name", Kind::Str}, {"weights", Kind::NumArr}}},
       {"nodes",
        {{"children", Kind::RefArr, "nodes"}, {"mesh", Kind::Ref, "meshes"}, {"camera", Kind::Ref, "cameras"},
@@ -355,8 +373,12 @@ void Loader::checkJson(const Json& root) {
   if (auto mats = root.find("materials"); mats != root.end()) {
     for (size_t m = 0; m < mats->size(); ++m) {
       auto pbr = (*mats)[m].find("pbrMetallicRoughness");
-      if (pbr == (*mats)[m].end()) continue;
+      if (pbr == (*mats)[m].end()) {
+        checkMaterialAlpha((*mats)[m], "materials[" + std::to_string(m) + "]");
+        continue;
+      }
       std::string where = "materials[" + std::to_string(m) + "].pbrMetallicRoughness";
+      checkMaterialAlpha((*mats)[m], "materials[" + std::to_string(m) + "]");
       checkField(*pbr, where, FieldSpec{"baseColorFactor", Kind::NumArr, nullptr, 4});
       checkField(*pbr, where, FieldSpec{"baseColorTexture", Kind::TexInfo, "textures"});
       checkField(*pbr, where, FieldSpec{"metallicFactor", Kind::Num});
@@ -517,11 +539,39 @@ void Loader::checkExternalFiles(const Json& root) {
   }
 }
 
+// Decode only the images that materials use as base colour or emissive textures (the only ones
+// voxlab reads); remember every image's uri for messages. Pass 1 checked the references.
+void Loader::selectImages(const Json& root) {
+  auto images = root.find("images");
+  if (images == root.end()) return;
+  images_.wanted.assign(images->size(), false);
+  images_.uris.assign(images->size(), std::string());
+  for (size_t i = 0; i < images->size(); ++i) {
+    auto uri = (*images)[i].find("uri");
+    if (uri != (*images)[i].end() && uri->get<std::string>().rfind("data:", 0) != 0) images_.uris[i] = uri->get<std::string>();
+  }
+  auto textures = root.find("textures");
+  auto materials = root.find("materials");
+  if (textures == root.end() || materials == root.end()) return;
+  auto want = [&](const Json& info) {
+    size_t t = info.at("index").get<size_t>();
+    auto source = (*textures)[t].find("source");
+    if (source != (*textures)[t].end()) images_.wanted[source->get<size_t>()] = true;
+  };
+  for (const Json& m : *materials) {
+    if (auto e = m.find("emissiveTexture"); e != m.end()) want(*e);
+    auto pbr = m.find("pbrMetallicRoughness");
+    if (pbr == m.end()) continue;
+    if (auto b = pbr->find("baseColorTexture"); b != pbr->end()) want(*b);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Pass 2
 
 void Loader::parseWithTinygltf() {
   tinygltf::TinyGLTF gltf;
+  gltf.SetImageLoader(&detail::decodeImage, &images_);
   std::string err, warn;
   bool ok = false;
   if (bytes_.size() > 0xffffffffull) fail("file is larger than 4 GiB");
@@ -530,6 +580,7 @@ void Loader::parseWithTinygltf() {
   } else {
     ok = gltf.LoadASCIIFromString(&model_, &err, &warn, jsonText_.data(), unsigned(jsonText_.size()), baseDir_);
   }
+  if (!ok && !images_.error.empty()) fail(images_.error);
   if (!ok || !err.empty()) {
     std::string text = oneLine(err.empty() ? warn : err);
     fail("glTF parse error: " + (text.empty() ? std::string("unknown error") : text));
@@ -741,7 +792,10 @@ int Loader::textureFor(Scene& scene, int gltfTexture) {
   std::string label = "image " + std::to_string(source) + (img.uri.empty() || img.uri.rfind("data:", 0) == 0
                                                                ? std::string()
                                                                : " ('" + img.uri + "')");
-  if (img.image.empty() || img.width <= 0 || img.height <= 0) fail(label + " could not be decoded");
+  if (img.image.empty() || img.width <= 0 || img.height <= 0) {
+    fail(label + " could not be read (the file is unreadable or empty); textures must be PNG, JPEG, TGA, BMP, PSD, "
+                 "GIF, HDR, PIC or PNM files");
+  }
   int comp = img.component;
   int bytesPerChannel = img.bits == 16 ? 2 : img.bits == 8 ? 1 : 0;
   if (comp < 1 || comp > 4 || bytesPerChannel == 0) {
@@ -804,6 +858,9 @@ uint32_t Loader::materialFor(Scene& scene, int gltfMaterial) {
     if (s.IsNumber()) m.emissive *= float(s.GetNumberAsDouble());
   }
   m.emissiveTexture = textureFor(scene, src.emissiveTexture.index);
+  m.alphaMode = src.alphaMode == "MASK" ? AlphaMode::Mask : src.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
+  m.alphaCutoff = float(src.alphaCutoff);
+  m.doubleSided = src.doubleSided;
   scene.materials.push_back(m);
   trianglesByMaterial_.emplace_back();
   materialMap_[size_t(gltfMaterial)] = int(scene.materials.size() - 1);
@@ -1076,6 +1133,7 @@ Scene Loader::load() {
   checkJson(root);
   checkCycles(root);
   checkExternalFiles(root);
+  selectImages(root);
   parseWithTinygltf();
   Scene scene;
   scene.path = path_;

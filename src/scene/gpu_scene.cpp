@@ -21,9 +21,19 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
   indices_ = Buffer("scene.indices", scene.indices.size() * 4, scene.indices.data(), 0);
   triangleCount_ = scene.triangleCount();
 
+  coverage_ = AlphaCoverage::build(scene);
   std::vector<gpu::GpuMaterial> mats;
-  for (const auto& m : scene.materials)
-    mats.push_back({m.baseColor, glm::vec4(m.emissive, m.emissiveTexture >= 0 ? 1.0f : 0.0f)});
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    const bool masked = coverage_.masked(uint32_t(i));
+    mats.push_back({m.baseColor, glm::vec4(m.emissive, m.emissiveTexture >= 0 ? 1.0f : 0.0f),
+                    glm::vec4(m.alphaCutoff, masked ? 1.0f : 0.0f, float(coverage_.firstLevel[i]),
+                              float(coverage_.levelCount[i]))});
+  }
+  coverageBits_ = Buffer("scene.coverage-bits", coverage_.bits.size() * 4, coverage_.bits.data(), 0);
+  std::vector<glm::uvec4> levels;
+  for (const CoverageLevel& L : coverage_.levels) levels.push_back({L.bitOffset, L.width, L.height, 0u});
+  coverageLevels_ = Buffer("scene.coverage-levels", levels.size() * sizeof(glm::uvec4), levels.data(), 0);
   materials_ = Buffer("scene.materials", mats.size() * sizeof(gpu::GpuMaterial), mats.data(), 0);
 
   GLuint vao = vao_.id();
@@ -59,18 +69,28 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
   glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, one);
 }
 
+void GpuScene::bindCoverage() const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_COVERAGE_BITS, coverageBits_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_COVERAGE_LEVELS, coverageLevels_.id());
+}
+
+void GpuScene::bindMaterialTextures(uint32_t material) const {
+  const Material& m = scene_.materials[material];
+  glBindTextureUnit(VOXLAB_UNIT_ALBEDO, m.baseColorTexture >= 0 ? textures_[m.baseColorTexture].id() : white_.id());
+  glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
+}
+
 void GpuScene::draw(GLuint program) const {
   glUseProgram(program);
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, materials_.id());
+  bindCoverage();
   GLint loc = glGetUniformLocation(program, "u_materialIndex");
   GLint firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
   for (const auto& d : scene_.draws) {
-    const Material& m = scene_.materials[d.material];
     glProgramUniform1i(program, loc, int(d.material));
     if (firstLoc >= 0) glProgramUniform1i(program, firstLoc, int(d.firstIndex / 3));
-    glBindTextureUnit(VOXLAB_UNIT_ALBEDO, m.baseColorTexture >= 0 ? textures_[m.baseColorTexture].id() : white_.id());
-    glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
+    bindMaterialTextures(d.material);
     glDrawElements(GL_TRIANGLES, GLsizei(d.indexCount), GL_UNSIGNED_INT,
                    reinterpret_cast<const void*>(uintptr_t(d.firstIndex) * 4));
   }

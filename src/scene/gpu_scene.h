@@ -1,11 +1,13 @@
 // GpuScene: a Scene uploaded once for every stage that rasterizes it: one interleaved vertex
 // buffer (position, normal, uv), one index buffer, the materials as an SSBO, base colour and
-// emissive textures. draw() issues one draw per material range.
+// emissive textures, the alpha coverage of MASK materials. draw() issues one draw per material
+// range.
 #pragma once
 #include <memory>
 #include <vector>
 
 #include "gpu/resources.h"
+#include "scene/alpha_coverage.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -18,6 +20,12 @@ class GpuScene {
   // it), binds that material's textures and draws its triangles.
   void draw(GLuint program) const;
   const Buffer& materials() const { return materials_; }
+  // The alpha coverage pyramids of MASK materials (scene/alpha_coverage.h) and their GPU copies
+  // (bound by draw(); compute passes bind them with bindCoverage()).
+  const AlphaCoverage& coverage() const { return coverage_; }
+  void bindCoverage() const;
+  // Binds material 'material's base colour and emissive textures (white where it has none).
+  void bindMaterialTextures(uint32_t material) const;
   const Buffer& vertices() const { return vertices_; }
   const Buffer& indices() const { return indices_; }
   GLuint vertexArray() const { return vao_.id(); }
@@ -25,7 +33,8 @@ class GpuScene {
 
  private:
   const Scene& scene_;
-  Buffer vertices_, indices_, materials_;
+  AlphaCoverage coverage_;
+  Buffer vertices_, indices_, materials_, coverageBits_, coverageLevels_;
   VertexArray vao_;
   std::vector<Texture> textures_;
   Texture white_;

@@ -63,6 +63,16 @@ std::vector<std::string> listScenes() {
   std::error_code ec;
   std::filesystem::directory_iterator it(projectPath("scenes"), ec), end;
   for (; !ec && it != end; it.increment(ec)) {
+    if (it->is_directory(ec)) {
+      // A scene with its own files: scenes/<name>/<name>.gltf (or .glb).
+      std::string name = it->path().filename().string();
+      for (const char* ext : {".gltf", ".glb"})
+        if (fileExists((it->path() / (name + ext)).string())) {
+          names.push_back(name);
+          break;
+        }
+      continue;
+    }
     if (!it->is_regular_file(ec)) continue;
     if (hasSceneExtension(it->path())) names.push_back(it->path().stem().string());
   }
@@ -79,10 +89,11 @@ std::string resolveScenePath(const std::string& nameOrPath) {
   const std::filesystem::path p(nameOrPath);
   bool looksLikeName = nameOrPath.find('/') == std::string::npos && !hasSceneExtension(p);
   if (looksLikeName) {
-    for (const char* ext : {".gltf", ".glb"}) {
-      std::string candidate = projectPath("scenes/" + nameOrPath + ext);
-      if (fileExists(candidate)) return candidate;
-    }
+    for (const std::string& stem : {"scenes/" + nameOrPath, "scenes/" + nameOrPath + "/" + nameOrPath})
+      for (const char* ext : {".gltf", ".glb"}) {
+        std::string candidate = projectPath(stem + ext);
+        if (fileExists(candidate)) return candidate;
+      }
   } else if (nameOrPath.find('/') == std::string::npos) {
     // "cornell-box.gltf": a file name inside scenes/.
     std::string candidate = projectPath("scenes/" + nameOrPath);

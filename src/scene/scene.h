@@ -30,12 +30,21 @@ struct TextureImage {
   std::vector<uint8_t> rgba8;  // width * height * 4, row 0 at the top (glTF UV v = 0)
 };
 
+// glTF alphaMode. BLEND is drawn as OPAQUE: voxlab has no transparency.
+enum class AlphaMode { Opaque, Mask, Blend };
+
 struct Material {
   std::string name;
   glm::vec4 baseColor{1.0f};         // linear RGBA factor (Lambertian albedo = rgb)
   int baseColorTexture = -1;         // index into Scene::textures, -1 = none
   glm::vec3 emissive{0.0f};          // linear emitted radiance (factor * strength)
   int emissiveTexture = -1;          // index into Scene::textures, -1 = none
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;          // MASK: no surface where baseColor.a x texture alpha < this
+  // glTF doubleSided. Every renderer in voxlab lights both sides of every surface (the G-buffer
+  // turns normals to the viewer, the reference tracer reflects on both sides, voxels have no
+  // side), which is what doubleSided = true asks for; single-sided materials are not culled.
+  bool doubleSided = false;
 };
 
 enum class LightType { Directional, Point, Spot };
@@ -105,6 +114,8 @@ Scene loadScene(const std::string& path);
 // Resolves a scene argument: a path to a file, or the name of a scene in scenes/ ("cornell-box").
 // Throws Error listing the scenes in scenes/ when neither exists.
 std::string resolveScenePath(const std::string& nameOrPath);
-std::vector<std::string> listScenes();  // names (file stems) of the .gltf/.glb files in scenes/
+// Names of the scenes in scenes/: the stems of scenes/*.gltf and *.glb, and the folders
+// scenes/<name>/ holding <name>.gltf or <name>.glb (a scene with its own buffer and textures).
+std::vector<std::string> listScenes();
 
 }  // namespace voxlab

@@ -25,6 +25,12 @@ voxlab_cli_case(bad_empty_file 2 "empty-file\\.gltf.*file is empty"
   "run --technique vct-grid --scene @ROOT@/tests/data/bad/empty-file.gltf --out @OUT@")
 voxlab_cli_case(bad_accessor_out_of_range 2 "accessor-out-of-range\\.gltf.*accessor 0.*out of range"
   "run --technique vct-grid --scene @ROOT@/tests/data/bad/accessor-out-of-range.gltf --out @OUT@")
+voxlab_cli_case(bad_missing_texture 2 "missing-texture\\.gltf.*image 0 refers to external file 'missing-texture\\.png' which does not exist"
+  "run --technique vct-grid --scene @ROOT@/tests/data/bad/missing-texture.gltf --out @OUT@")
+voxlab_cli_case(bad_corrupt_texture 2 "corrupt-texture\\.gltf.*image 0 \\('corrupt-texture\\.png'\\) cannot be decoded"
+  "run --technique vct-grid --scene @ROOT@/tests/data/bad/corrupt-texture.gltf --out @OUT@")
+voxlab_cli_case(bad_alpha_mode 2 "bad-alpha-mode\\.gltf.*materials\\[0\\]\\.alphaMode 'CUTOUT' is not one of OPAQUE, MASK, BLEND"
+  "run --technique vct-grid --scene @ROOT@/tests/data/bad/bad-alpha-mode.gltf --out @OUT@")
 voxlab_cli_case(unknown_scene_name 2 "unknown scene 'no-such-scene'.*valid scene names:.*cornell-box"
   "run --technique vct-grid --scene no-such-scene --out @OUT@")
 voxlab_cli_case(missing_scene_file 2 "scene file '.*/does-not-exist\\.gltf' does not exist.*valid scene names:.*cornell-box"

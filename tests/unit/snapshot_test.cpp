@@ -1,7 +1,8 @@
 // Snapshot suite: every declared output of every technique, compared with its golden.
 //
 // For each technique the run settings come from tests/golden/<technique>/settings.json (scene,
-// size, parameter overrides; defaults below when absent). Goldens live in
+// size, parameter overrides; defaults below when absent; {"runs": [...]} for several scenes, the
+// later runs' tests named <technique>_<stage>_<output>_<scene>). Goldens live in
 // tests/golden/<technique>/<scene>/:
 //   images and volumes: <stage>.<output>[@level].exr (values, as `voxlab run` writes them);
 //   buffers:            <stage>.<output>.records (raw records; sorted for the exact tier).
@@ -25,6 +26,7 @@
 #include "capture/output_handler.h"
 #include "core/paths.h"
 #include "graph/technique.h"
+#include "scene/scene.h"
 #include "test_support.h"
 
 namespace voxlab::snapshot {
@@ -37,31 +39,49 @@ struct Settings {
   RunRequest request;
 };
 
-Settings settingsFor(const std::string& technique) {
+// One snapshot run: the defaults (Cornell box, 128x128, voxel.resolution=64 where declared)
+// with what 'j' (one object of settings.json) overrides.
+Settings settingsFrom(const std::string& technique, const json& j) {
   Settings s;
   s.request.technique = technique;
   s.request.width = s.request.height = 128;
-  std::string path = projectPath("tests/golden/" + technique + "/settings.json");
   auto params = createTechnique(technique)->defaultParams();
   if (params.has("voxel.resolution")) s.request.sets.push_back("voxel.resolution=64");
-  if (fileExists(path)) {
-    json j = json::parse(readTextFile(path));
-    s.request.scene = j.value("scene", s.request.scene);
-    if (j.contains("size")) Args::parseSize(j["size"].get<std::string>(), s.request.width, s.request.height);
-    if (j.contains("set")) s.request.sets = j["set"].get<std::vector<std::string>>();
-  }
+  s.request.scene = j.value("scene", s.request.scene);
+  if (j.contains("size")) Args::parseSize(j["size"].get<std::string>(), s.request.width, s.request.height);
+  if (j.contains("set")) s.request.sets = j["set"].get<std::vector<std::string>>();
   return s;
 }
 
-GoldenTolerance toleranceFor(const std::string& address, CaptureTier tier) {
+// The snapshot runs of a technique: tests/golden/<technique>/settings.json holds one settings
+// object, or {"runs": [object, ...]} for several scenes; without the file, one run at the
+// defaults. The first run is the technique's main one (its tests carry no scene suffix).
+std::vector<Settings> runsFor(const std::string& technique) {
+  std::string path = projectPath("tests/golden/" + technique + "/settings.json");
+  json j = fileExists(path) ? json::parse(readTextFile(path)) : json::object();
+  std::vector<Settings> runs;
+  if (j.contains("runs")) {
+    for (const json& r : j["runs"]) runs.push_back(settingsFrom(technique, r));
+  } else {
+    runs.push_back(settingsFrom(technique, j));
+  }
+  return runs;
+}
+
+Settings settingsFor(const std::string& technique) { return runsFor(technique).front(); }
+
+// The entry "<address> on <scene>" (e.g. "vct-grid/inject/radiance-injected on sponza") overrides
+// "<address>", which overrides "default".
+GoldenTolerance toleranceFor(const std::string& address, const std::string& scene, CaptureTier tier) {
   static json data = json::parse(readTextFile(projectPath("tests/golden/tolerances.json")));
   GoldenTolerance t;
   if (tier == CaptureTier::Exact) return t;
   const json& d = data.at("default");
   t.maxAbs = d.at("max_abs").get<double>();
   t.maxFraction = d.at("max_fraction").get<double>();
-  if (data.contains("outputs") && data["outputs"].contains(address)) {
-    const json& o = data["outputs"][address];
+  for (const std::string& key : {address, address + " on " + scene}) {
+    if (!data.contains("outputs") || !data["outputs"].contains(key)) continue;
+    const json& o = data["outputs"][key];
     t.maxAbs = o.value("max_abs", t.maxAbs);
     t.maxFraction = o.value("max_fraction", t.maxFraction);
   }
@@ -81,12 +101,14 @@ std::string failureDir() {
 
 class SnapshotTest : public ::testing::Test {
  public:
-  SnapshotTest(std::string technique, std::string stage, std::string output)
-      : technique_(std::move(technique)), stage_(std::move(stage)), output_(std::move(output)) {}
+  SnapshotTest(std::string technique, std::string stage, std::string output, size_t run)
+      : technique_(std::move(technique)), stage_(std::move(stage)), output_(std::move(output)), run_(run) {}
 
   void TestBody() override {
-    Settings settings = settingsFor(technique_);
+    Settings settings = runsFor(technique_).at(run_);
     HeadlessSession& s = testing_support::session(settings.request);
+    // <technique>[.<scene> for later runs]: names of failure files
+    const std::string failureName = technique_ + (run_ > 0 ? "." + s.cursor().scene().name : std::string());
     CapturedOutput c = testing_support::capture(s, stage_, output_);
     std::string address = technique_ + "/" + stage_ + "/" + output_;
     // The output's visualiser (looked up by kind and semantic) knows its golden files and how to
@@ -97,8 +119,8 @@ class SnapshotTest : public ::testing::Test {
     q.goldenDir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
     q.prefix = stage_ + "." + output_;
     q.failureDir = failureDir();
-    q.failurePrefix = technique_ + "." + q.prefix;
-    q.tolerance = toleranceFor(address, q.tier);
+    q.failurePrefix = failureName + "." + q.prefix;
+    q.tolerance = toleranceFor(address, s.cursor().scene().name, q.tier);
     q.update = updating();
     GoldenResult r = outputHandler(c.desc).compareGolden(c, q);
     EXPECT_TRUE(r.ok) << r.message;
@@ -106,6 +128,7 @@ class SnapshotTest : public ::testing::Test {
 
  private:
   std::string technique_, stage_, output_;
+  size_t run_ = 0;
 };
 
 // An iterative stage stepped one iteration at a time (as the viewer's "Step iteration" does) must
@@ -154,15 +177,18 @@ class IterationTest : public ::testing::Test {
 void registerSnapshotTests() {
   for (const auto& entry : techniqueRegistry()) {
     auto t = createTechnique(entry.id);
-    for (int i = 0; i < t->stageCount(); ++i)
-      for (const auto& o : t->decl(i).outputs) {
-        std::string id = entry.id, stage = t->stage(i).id(), output = o.name;
-        std::string name = id + "/" + stage + "/" + output;
-        std::replace(name.begin(), name.end(), '-', '_');
-        std::replace(name.begin(), name.end(), '/', '_');
-        ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
-                                [=]() -> ::testing::Test* { return new SnapshotTest(id, stage, output); });
-      }
+    const std::vector<Settings> runs = runsFor(entry.id);
+    for (size_t run = 0; run < runs.size(); ++run)
+      for (int i = 0; i < t->stageCount(); ++i)
+        for (const auto& o : t->decl(i).outputs) {
+          std::string id = entry.id, stage = t->stage(i).id(), output = o.name;
+          std::string name = id + "/" + stage + "/" + output;
+          if (run > 0) name += "/" + fs::path(resolveScenePath(runs[run].request.scene)).stem().string();
+          std::replace(name.begin(), name.end(), '-', '_');
+          std::replace(name.begin(), name.end(), '/', '_');
+          ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
+                                  [=]() -> ::testing::Test* { return new SnapshotTest(id, stage, output, run); });
+        }
     ParamSet params = t->defaultParams();
     for (const auto& set : settingsFor(entry.id).request.sets) {
       size_t eq = set.find('=');

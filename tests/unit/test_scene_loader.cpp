@@ -493,7 +493,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCase{"no-triangles.gltf", "contains no triangles"},
                       BadCase{"not-json.gltf", "is not valid JSON"},
                       BadCase{"empty-file.gltf", "file is empty"},
-                      BadCase{"accessor-out-of-range.gltf", "is out of range"}),
+                      BadCase{"accessor-out-of-range.gltf", "is out of range"},
+                      BadCase{"missing-texture.gltf", "image 0 refers to external file 'missing-texture.png' which does not exist"},
+                      BadCase{"corrupt-texture.gltf", "image 0 ('corrupt-texture.png') cannot be decoded (stb_image:"},
+                      BadCase{"bad-alpha-mode.gltf", "materials[0].alphaMode 'CUTOUT' is not one of OPAQUE, MASK, BLEND"}),
     [](const ::testing::TestParamInfo<BadCase>& info) {
       std::string name;
       for (const char* p = info.param.file; *p && *p != '.'; ++p) name += std::isalnum((unsigned char)*p) ? *p : '_';

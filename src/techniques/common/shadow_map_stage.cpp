@@ -34,10 +34,31 @@ void ShadowMapStage::execute(StageContext& ctx) {
     glm::vec3 dir = glm::normalize(L.direction);
     glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     if (L.type == LightType::Directional) {
-      light.positionType = glm::vec4(center - dir * radius * 2.0f, VOXLAB_LIGHT_DIRECTIONAL);
-      glm::mat4 view = glm::lookAt(center - dir * radius * 2.0f, center, up);
-      glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, radius * 0.5f, radius * 3.5f);
+      // Fitted to the part of the voxel volume that holds geometry: the light-space box of the
+      // scene's bounds (the volume contains them), grown by 1% so that surfaces on the bounds
+      // stay inside. For Sponza: 26 x 41 m instead of the bounding sphere's 47 x 47 m.
+      glm::vec3 eye = center - dir * radius * 2.0f;
+      // Up: the world axis most perpendicular to the light, so the map's axes follow the box's.
+      glm::vec3 a = glm::abs(dir);
+      glm::vec3 boxUp = a.x <= a.y && a.x <= a.z ? glm::vec3(1, 0, 0) : (a.y <= a.z ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1));
+      glm::mat4 view = glm::lookAt(eye, center, boxUp);
+      glm::vec3 lo(1e30f), hi(-1e30f);
+      for (int k = 0; k < 8; ++k) {
+        glm::vec3 corner((k & 1) ? scene.bounds.max.x : scene.bounds.min.x, (k & 2) ? scene.bounds.max.y : scene.bounds.min.y,
+                         (k & 4) ? scene.bounds.max.z : scene.bounds.min.z);
+        glm::vec3 v = glm::vec3(view * glm::vec4(corner, 1.0f));
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+      }
+      glm::vec3 pad = 0.01f * (hi - lo) + glm::vec3(1e-3f);
+      lo -= pad;
+      hi += pad;
+      light.positionType = glm::vec4(eye, VOXLAB_LIGHT_DIRECTIONAL);
+      // View space looks down -z: near and far are the negated z range.
+      glm::mat4 proj = glm::ortho(lo.x, hi.x, lo.y, hi.y, -hi.z, -lo.z);
       light.shadowViewProj = proj * view;
+      ctx.stats["shadow_extent_x_m"] = hi.x - lo.x;
+      ctx.stats["shadow_extent_y_m"] = hi.y - lo.y;
       hasShadow = true;
     } else if (L.type == LightType::Spot) {
       light.positionType = glm::vec4(L.position, VOXLAB_LIGHT_SPOT);

@@ -2,7 +2,7 @@
 // light's parameters as a uniform buffer ("light") that later stages shade with.
 //
 // Spot lights get a perspective shadow map covering their outer cone, directional lights an
-// orthographic one covering the scene; point lights are shaded without a shadow map (the
+// orthographic one fitted to the scene's bounds seen from the light; point lights are shaded without a shadow map (the
 // manifest says so in the stage's statistics).
 #pragma once
 #include "graph/stage.h"

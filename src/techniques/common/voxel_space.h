@@ -35,9 +35,13 @@ class Blackboard;
 // the list's capacity (the counter keeps counting past it when the list overflows).
 uint32_t voxelFragmentCount(Blackboard& board);
 
-// Records to allocate for the fragment list before a voxelization pass: a guess of 12 per
-// resolution^2 (at least 65536), or the list's current size if that is larger.
-size_t initialFragmentCapacity(Blackboard& board, int resolution);
+// Records to allocate for the fragment list before a voxelization pass: the larger of a guess of
+// 12 per resolution^2 (at least 65536), estimateFragments() and the list's current size, so that
+// the passes rarely have to run twice.
+size_t initialFragmentCapacity(Blackboard& board, const Scene& scene, int resolution);
+// An estimate of the fragments a conservative voxelization of 'scene' produces (from each
+// triangle's projected area and perimeter in voxels); it errs on the large side.
+size_t estimateFragments(const Scene& scene, const VoxelSpace& space);
 
 // The record layout of the VoxelFragment list (shaders/common/shared.h), for outputs.
 BufferLayout voxelFragmentLayout(const std::string& countResource);

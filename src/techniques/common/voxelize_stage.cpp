@@ -9,6 +9,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/triangle_voxelizer.h"
 #include "techniques/common/voxel_space.h"
 
 namespace voxlab {
@@ -19,12 +20,16 @@ ParamDesc voxelResolutionParam() {
 
 void VoxelizeStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(ParamDesc::boolean("voxelize.conservative", true,
-                             "grow triangles by half a pixel and test voxels exactly, so thin and small "
-                             "triangles leave no holes (off: plain rasterization)"));
+  // The exact methods give the same voxels; triangle-parallel was measured 10x faster than the
+  // geometry-shader raster pass on Sponza at 128^3 with llvmpipe (docs/performance.md).
+  b.param(voxelizeMethodParam(VoxelizeMethod::TriangleParallel));
+  b.param(hybridCutoffParam());
   b.readView();
   b.write("fragments.count");
   b.write("voxelize.axis-counts");
+  b.write("triangle-info");
+  b.write("triangle-list");
+  b.write("triangle-classes");
   b.output("fragments", OutputKind::Buffer, Semantic::Points,
            "voxel fragments: packed voxel coordinates, albedo, normal, emission")
       .layout = voxelFragmentLayout("fragments.count");
@@ -34,23 +39,24 @@ void VoxelizeStage::declare(StageBuilder& b) const {
 
 void VoxelizeStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  const bool conservative = ctx.params.getBool("voxelize.conservative");
+  const VoxelizeMethod method = voxelizeMethodOf(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
   ctx.board.setVoxelSpace(space.box());  // every later volume of the technique sits in this box
 
-  GLuint program = ctx.shaders.program(
-      {"common/world.vert.glsl", "vct_grid/voxelize.geom.glsl", "vct_grid/voxelize.frag.glsl"});
-  space.setUniforms(program);
-  setUniform(program, "u_conservative", conservative ? 1 : 0);
-
+  // The passes the voxelization technique compares (techniques/common/triangle_voxelizer.h).
+  classifyTriangles(ctx, space, method, float(ctx.params.getFloat("voxelize.hybrid-cutoff")));
+  const TriangleClasses classes = readTriangleClasses(ctx);
   size_t capacity = 0;
   const uint32_t produced = fillFragmentList(ctx, res, [&](uint32_t cap) {
-    setUniform(program, "u_capacity", cap);
-    rasterizeVoxelFragments(ctx, program, res);
+    voxelizeTriangles(ctx, space, method, classes, cap);
   }, capacity);
 
+  // Triangles per projection axis: counted by the raster pass's geometry shader, else by the
+  // classification (the same dominant axis).
   const Buffer& axisCounts = ctx.board.buffer("voxelize.axis-counts");
-  const uint32_t axes[3] = {readCounter(axisCounts, 0), readCounter(axisCounts, 4), readCounter(axisCounts, 8)};
+  uint32_t axes[3] = {classes.axis[0], classes.axis[1], classes.axis[2]};
+  if (methodRasterizes(method, classes) && !methodComputes(method, classes))
+    for (int a = 0; a < 3; ++a) axes[a] = readCounter(axisCounts, size_t(a) * 4);
   ctx.stats["fragments"] = produced;
   ctx.stats["fragment_capacity"] = double(capacity);
   ctx.stats["triangles"] = double(ctx.scene.triangleCount());
@@ -73,7 +79,7 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
                           size_t& capacity) {
   Buffer& counter = ctx.board.ensureBuffer("fragments.count", 4);
   Buffer& axisCounts = ctx.board.ensureBuffer("voxelize.axis-counts", 16);
-  capacity = initialFragmentCapacity(ctx.board, resolution);  // a guess; grown below if too small
+  capacity = initialFragmentCapacity(ctx.board, ctx.scene, resolution);  // a guess; grown below if too small
   uint32_t produced = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {
     Buffer& fragments = ctx.board.ensureBuffer("fragments", capacity * sizeof(gpu::VoxelFragment));

@@ -11,26 +11,12 @@
 #include "reference/cpu_voxelizer.h"
 #include "scene/gpu_scene.h"
 #include "techniques/common/voxel_space.h"
+#include "techniques/common/triangle_voxelizer.h"
 #include "techniques/common/voxelize_stage.h"
 
 namespace voxlab::vox {
 
-ParamDesc methodParam() {
-  return ParamDesc::choice("voxelize.method", {"fragment-parallel", "plain", "triangle-parallel", "hybrid"}, 0,
-                           "how triangles become voxels: conservative raster, plain raster (holes), one compute "
-                           "invocation per triangle, or by triangle size (small: compute, large: raster)");
-}
-
-ParamDesc hybridCutoffParam() {
-  // Default from the llvmpipe sweep in docs/performance.md: the compute pass was the faster one on
-  // every scene, huge triangles included, so every triangle goes to it (1e6 voxels^2 exceeds any
-  // triangle's projected area at 512^3). On a GPU a few voxels^2 would be the place to start.
-  return ParamDesc::real("voxelize.hybrid-cutoff", 1.0e6, 0.0, 1.0e6,
-                         "hybrid: triangles whose area projected along the dominant axis is below this go to the "
-                         "triangle-parallel pass, the rest are rasterized (default: all to compute, measured "
-                         "fastest on llvmpipe)",
-                         "voxels^2");
-}
+ParamDesc methodParam() { return voxelizeMethodParam(VoxelizeMethod::FragmentParallel); }
 
 void checkPackableResolution(int resolution) {
   if (resolution > kMaxPackedResolution)
@@ -38,11 +24,6 @@ void checkPackableResolution(int resolution) {
                 "coordinates into 10 bits per axis, so at most " + std::to_string(kMaxPackedResolution) +
                 " voxels per axis");
 }
-
-// Voxel columns one triangle-parallel invocation visits at most (see VoxelizeStage::execute).
-static constexpr uint32_t kChunkColumns = 8192;
-
-static Method methodOf(const ParamSet& params) { return Method(params.getInt("voxelize.method")); }
 
 // --- 1. classify ----------------------------------------------------------------------------------
 
@@ -61,48 +42,17 @@ void ClassifyStage::declare(StageBuilder& b) const {
 void ClassifyStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   checkPackableResolution(res);
-  const Method method = methodOf(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
   ctx.board.setVoxelSpace(space.box());  // every later volume of the technique sits in this box
-  const size_t triangles = ctx.scene.triangleCount();
-
-  // Material index per triangle (bits 0-23); the shader adds the class bit.
-  std::vector<uint32_t> info(std::max<size_t>(triangles, 1), 0u);
-  for (const DrawRange& d : ctx.scene.draws)
-    for (uint32_t t = d.firstIndex / 3; t < (d.firstIndex + d.indexCount) / 3; ++t) info[t] = d.material;
-  Buffer& infoBuffer = ctx.board.ensureBuffer("triangle-info", info.size() * 4);
-  infoBuffer.upload(info.data(), info.size() * 4);
-  // Two lists (classify.comp.glsl): every compute triangle, then those with more than one chunk.
-  Buffer& list = ctx.board.ensureBuffer("triangle-list", info.size() * 8);
-  Buffer& counts = ctx.board.ensureBuffer("triangle-classes", 32);
-  const uint32_t zero[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  counts.upload(zero, 32);
-
-  GLuint program = ctx.shaders.program({"voxelization/classify.comp.glsl"});
-  space.setUniforms(program);
-  setUniform(program, "u_triangleCount", unsigned(triangles));
-  setUniform(program, "u_mode", method == Method::TriangleParallel ? 1 : (method == Method::Hybrid ? 2 : 0));
-  setUniform(program, "u_cutoff", ctx.params.getFloat("voxelize.hybrid-cutoff"));
-  setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
-  glUseProgram(program);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, infoBuffer.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, list.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CLASS_COUNTS, counts.id());
-  dispatchCompute({int(triangles), 1, 1}, {64, 1, 1});
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-
-  uint32_t c[8];
-  auto bytes = counts.download(32);
-  std::memcpy(c, bytes.data(), 32);
-  ctx.stats["triangles"] = double(triangles);
-  ctx.stats["triangles_axis_x"] = c[0];
-  ctx.stats["triangles_axis_y"] = c[1];
-  ctx.stats["triangles_axis_z"] = c[2];
-  ctx.stats["triangles_degenerate"] = c[3];
-  ctx.stats["triangles_small_compute"] = c[4];
-  ctx.stats["triangles_large_raster"] = c[5];
+  classifyTriangles(ctx, space, voxelizeMethodOf(ctx.params), float(ctx.params.getFloat("voxelize.hybrid-cutoff")));
+  const TriangleClasses c = readTriangleClasses(ctx);
+  ctx.stats["triangles"] = double(ctx.scene.triangleCount());
+  ctx.stats["triangles_axis_x"] = c.axis[0];
+  ctx.stats["triangles_axis_y"] = c.axis[1];
+  ctx.stats["triangles_axis_z"] = c.axis[2];
+  ctx.stats["triangles_degenerate"] = c.degenerate;
+  ctx.stats["triangles_small_compute"] = c.compute;
+  ctx.stats["triangles_large_raster"] = c.raster;
 
   renderTriangleAxes(ctx, "triangle-axes");
 }
@@ -124,84 +74,22 @@ void VoxelizeStage::declare(StageBuilder& b) const {
 void VoxelizeStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   checkPackableResolution(res);
-  const Method method = methodOf(ctx.params);
+  const VoxelizeMethod method = voxelizeMethodOf(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
-  // The classification's counters (one readback): [4] triangles listed for the compute pass,
-  // [5] triangles left to the raster pass.
-  uint32_t classes[8];
-  {
-    auto bytes = ctx.board.buffer("triangle-classes").download(32);
-    std::memcpy(classes, bytes.data(), 32);
-  }
-  const uint32_t listCount = classes[4], rasterCount = classes[5];
-  // The compute pass splits each triangle's voxel columns into chunks, one invocation per
-  // (triangle, chunk): llvmpipe ends a shader invocation's loops after 65535 iterations in all, and
-  // a chunk costs at most 5 iterations per column (triangle_parallel.comp.glsl). classes[6] bounds
-  // the columns of the largest listed triangle, classes[7] counts the triangles with more than one
-  // chunk (listed again from entry triangleCount on).
-  const int chunks = int(std::max<uint32_t>(1, (classes[6] + kChunkColumns - 1) / kChunkColumns));
-  const uint32_t multiChunkCount = classes[7];
-  // The hybrid skips a pass that has no triangles: an empty raster pass would still run every
-  // triangle through the vertex and geometry shaders only to drop it there (single-threaded
-  // stages on llvmpipe), and an empty compute pass would cost a dispatch for nothing.
-  const bool raster = method != Method::TriangleParallel && (method != Method::Hybrid || rasterCount > 0);
-  const bool compute = (method == Method::TriangleParallel || method == Method::Hybrid) && listCount > 0;
-
-  GLuint rasterProgram = 0;
-  if (raster) {
-    rasterProgram = ctx.shaders.program(
-        {"common/world.vert.glsl", "vct_grid/voxelize.geom.glsl", "vct_grid/voxelize.frag.glsl"},
-        method == Method::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "");
-    space.setUniforms(rasterProgram);
-    setUniform(rasterProgram, "u_conservative", method == Method::Plain ? 0 : 1);
-  }
-  GLuint computeProgram = 0;
-  if (compute) {
-    computeProgram = ctx.shaders.program({"voxelization/triangle_parallel.comp.glsl"});
-    space.setUniforms(computeProgram);
-    setUniform(computeProgram, "u_chunkColumns", unsigned(kChunkColumns));
-  }
-
+  const TriangleClasses classes = readTriangleClasses(ctx);
   uint32_t afterRaster = 0;
   size_t capacity = 0;
   const uint32_t produced = fillFragmentList(ctx, res, [&](uint32_t cap) {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
-    if (raster) {
-      // Fragment-parallel: the conservative raster pass of vct-grid (hybrid: large triangles only).
-      setUniform(rasterProgram, "u_capacity", cap);
-      rasterizeVoxelFragments(ctx, rasterProgram, res);
-      afterRaster = readCounter(ctx.board.buffer("fragments.count"));
-    }
-    if (compute) {
-      // Triangle-parallel: one invocation per listed triangle, appending to the same list.
-      setUniform(computeProgram, "u_capacity", cap);
-      glUseProgram(computeProgram);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer("triangle-list").id());
-      // Chunk 0 of every listed triangle, then chunks 1.. of those that have more.
-      setUniform(computeProgram, "u_listBase", 0u);
-      setUniform(computeProgram, "u_listCount", unsigned(listCount));
-      setUniform(computeProgram, "u_firstChunk", 0u);
-      dispatchCompute({int(listCount), 1, 1}, {64, 1, 1});
-      if (chunks > 1 && multiChunkCount > 0) {
-        setUniform(computeProgram, "u_listBase", unsigned(ctx.scene.triangleCount()));
-        setUniform(computeProgram, "u_listCount", unsigned(multiChunkCount));
-        setUniform(computeProgram, "u_firstChunk", 1u);
-        dispatchCompute({int(multiChunkCount), chunks - 1, 1}, {64, 1, 1});
-      }
-      glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    }
+    afterRaster = voxelizeTriangles(ctx, space, method, classes, cap);
   }, capacity);
-
+  const bool raster = methodRasterizes(method, classes), compute = methodComputes(method, classes);
   ctx.stats["fragments"] = produced;
   ctx.stats["fragments_raster"] = afterRaster;
   ctx.stats["fragments_compute"] = double(produced - afterRaster);
   ctx.stats["fragment_capacity"] = double(capacity);
   ctx.stats["raster_pass"] = raster ? 1.0 : 0.0;
   ctx.stats["compute_pass"] = compute ? 1.0 : 0.0;
-  ctx.stats["compute_chunks"] = compute ? double(chunks) : 0.0;
+  ctx.stats["compute_chunks"] = compute ? double(classes.chunks()) : 0.0;
   ctx.stats["voxel_size_m"] = space.voxelSize;
 }
 
@@ -258,7 +146,8 @@ void CompareStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("occupancy");
   b.output("reference", OutputKind::Volume3D, Semantic::Occupancy,
-           "CPU reference voxels: every voxel whose closed box a triangle overlaps (exact SAT, double)");
+           "CPU reference voxels: every voxel whose closed box a triangle overlaps (exact SAT, double; "
+           "alphaMode MASK triangles only where their alpha coverage is opaque)");
   b.output("difference", OutputKind::Volume3D, Semantic::Scalar,
            "0 = method and reference agree, 1 = missed by the method, 2 = added by the method");
 }

@@ -1,14 +1,13 @@
 // Stages of the voxelization technique (voxelization.cpp explains the whole).
 #pragma once
 #include "graph/stage.h"
+#include "techniques/common/triangle_voxelizer.h"
 
 namespace voxlab::vox {
 
-// The voxelize.method choices, in ParamDesc order.
-enum class Method { FragmentParallel = 0, Plain = 1, TriangleParallel = 2, Hybrid = 3 };
-
+// voxelize.method as this technique declares it (default fragment-parallel); the choices and
+// the passes are shared with vct-grid (techniques/common/triangle_voxelizer.h).
 ParamDesc methodParam();
-ParamDesc hybridCutoffParam();
 // The 10:10:10 voxel packing addresses at most this many voxels per axis.
 inline constexpr int kMaxPackedResolution = 1024;
 // Throws Error when 'resolution' cannot be packed into 10 bits per axis.

@@ -35,8 +35,12 @@
 //     exactly touches a voxel face. Every fragment of either is one (triangle, voxel) pair: a
 //     voxel lies in exactly one pixel column of a triangle's projection, so duplicates (fragments
 //     minus occupied voxels) count voxels shared by several triangles, not double work.
-//   - The compute pass takes albedo and emission from the material factors only (no texture
-//     lookups) and a face normal oriented like the vertex normals; positions are what is compared.
+//   - The compute pass samples albedo and emission from the material's textures at the voxel
+//     centre's projection onto the triangle (one dispatch per draw range, so one material each)
+//     and writes a face normal oriented like the vertex normals; positions are what is compared.
+//     The passes are shared with vct-grid (techniques/common/triangle_voxelizer.h).
+//   - alphaMode MASK triangles keep a voxel only where their alpha coverage is opaque near it,
+//     by one rule in every pass and in the CPU reference (scene/alpha_coverage.h).
 //   - Time: a triangle-parallel invocation loops over its projected box, so on a GPU one huge
 //     triangle serialises thousands of columns while other lanes idle; rasterization spreads them
 //     over pixels. That is the case the hybrid method exists for. The compute pass splits a box into

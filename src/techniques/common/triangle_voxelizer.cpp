@@ -1,0 +1,161 @@
+#include "techniques/common/triangle_voxelizer.h"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "common/shared.h"
+#include "gpu/shader_library.h"
+#include "scene/gpu_scene.h"
+#include "techniques/common/voxelize_stage.h"
+
+namespace voxlab {
+
+ParamDesc voxelizeMethodParam(VoxelizeMethod defaultMethod) {
+  return ParamDesc::choice("voxelize.method", {"fragment-parallel", "plain", "triangle-parallel", "hybrid"},
+                           int(defaultMethod),
+                           "how triangles become voxels: conservative raster, plain raster (holes), one compute "
+                           "invocation per triangle, or by triangle size (small: compute, large: raster)");
+}
+
+ParamDesc hybridCutoffParam() {
+  // Default from the llvmpipe sweep in docs/performance.md: the compute pass was the faster one on
+  // every scene, huge triangles included, so every triangle goes to it (1e6 voxels^2 exceeds any
+  // triangle's projected area at 512^3). On a GPU a few voxels^2 would be the place to start.
+  return ParamDesc::real("voxelize.hybrid-cutoff", 1.0e6, 0.0, 1.0e6,
+                         "hybrid: triangles whose area projected along the dominant axis is below this go to the "
+                         "triangle-parallel pass, the rest are rasterized (default: all to compute, measured "
+                         "fastest on llvmpipe)",
+                         "voxels^2");
+}
+
+VoxelizeMethod voxelizeMethodOf(const ParamSet& params) { return VoxelizeMethod(params.getInt("voxelize.method")); }
+
+void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, float cutoff) {
+  const size_t triangles = ctx.scene.triangleCount();
+  // Material index per triangle (bits 0-23); the shader adds the class bit.
+  std::vector<uint32_t> info(std::max<size_t>(triangles, 1), 0u);
+  for (const DrawRange& d : ctx.scene.draws)
+    for (uint32_t t = d.firstIndex / 3; t < (d.firstIndex + d.indexCount) / 3; ++t) info[t] = d.material;
+  Buffer& infoBuffer = ctx.board.ensureBuffer("triangle-info", info.size() * 4);
+  infoBuffer.upload(info.data(), info.size() * 4);
+  // Two lists (classify.comp.glsl): every compute triangle, then those with more than one chunk.
+  Buffer& list = ctx.board.ensureBuffer("triangle-list", info.size() * 8);
+  Buffer& counts = ctx.board.ensureBuffer("triangle-classes", 32);
+  const uint32_t zero[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  counts.upload(zero, 32);
+
+  GLuint program = ctx.shaders.program({"voxelization/classify.comp.glsl"});
+  space.setUniforms(program);
+  setUniform(program, "u_triangleCount", unsigned(triangles));
+  setUniform(program, "u_mode",
+             method == VoxelizeMethod::TriangleParallel ? 1 : (method == VoxelizeMethod::Hybrid ? 2 : 0));
+  setUniform(program, "u_cutoff", cutoff);
+  setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, infoBuffer.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, list.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CLASS_COUNTS, counts.id());
+  dispatchCompute({int(triangles), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+TriangleClasses readTriangleClasses(StageContext& ctx) {
+  uint32_t c[8];
+  auto bytes = ctx.board.buffer("triangle-classes").download(32);
+  std::memcpy(c, bytes.data(), 32);
+  TriangleClasses k;
+  k.axis[0] = c[0];
+  k.axis[1] = c[1];
+  k.axis[2] = c[2];
+  k.degenerate = c[3];
+  k.compute = c[4];
+  k.raster = c[5];
+  k.maxColumns = c[6];
+  k.multiChunk = c[7];
+  return k;
+}
+
+bool methodRasterizes(VoxelizeMethod method, const TriangleClasses& classes) {
+  // The hybrid skips a pass that has no triangles: an empty raster pass would still run every
+  // triangle through the vertex and geometry shaders only to drop it there (single-threaded
+  // stages on llvmpipe), and an empty compute pass would cost dispatches for nothing.
+  return method != VoxelizeMethod::TriangleParallel && (method != VoxelizeMethod::Hybrid || classes.raster > 0);
+}
+
+bool methodComputes(VoxelizeMethod method, const TriangleClasses& classes) {
+  return (method == VoxelizeMethod::TriangleParallel || method == VoxelizeMethod::Hybrid) && classes.compute > 0;
+}
+
+void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity) {
+  GLuint program = ctx.shaders.program(
+      {"common/world.vert.glsl", "vct_grid/voxelize.geom.glsl", "vct_grid/voxelize.frag.glsl"},
+      method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "");
+  space.setUniforms(program);
+  setUniform(program, "u_conservative", method == VoxelizeMethod::Plain ? 0 : 1);
+  setUniform(program, "u_capacity", capacity);
+  if (ctx.board.hasBuffer("triangle-info"))
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
+  rasterizeVoxelFragments(ctx, program, space.resolution);
+}
+
+void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const TriangleClasses& classes,
+                              uint32_t capacity) {
+  GLuint program = ctx.shaders.program({"voxelization/triangle_parallel.comp.glsl"});
+  space.setUniforms(program);
+  setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
+  setUniform(program, "u_capacity", capacity);
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer("triangle-list").id());
+  ctx.gpuScene.bindCoverage();
+  const GLint materialLoc = glGetUniformLocation(program, "u_materialIndex");
+  // Chunk 0 of every compute triangle, one dispatch per draw range (one material, its textures).
+  setUniform(program, "u_directRange", 1);
+  setUniform(program, "u_firstChunk", 0u);
+  for (const DrawRange& d : ctx.scene.draws) {
+    if (d.indexCount < 3) continue;
+    glProgramUniform1i(program, materialLoc, int(d.material));
+    ctx.gpuScene.bindMaterialTextures(d.material);
+    setUniform(program, "u_listBase", unsigned(d.firstIndex / 3));
+    setUniform(program, "u_listCount", unsigned(d.indexCount / 3));
+    dispatchCompute({int(d.indexCount / 3), 1, 1}, {64, 1, 1});
+  }
+  // Chunks 1.. of the few triangles that have them (listed from entry triangleCount on), once
+  // per material present.
+  const int chunks = classes.chunks();
+  if (chunks > 1 && classes.multiChunk > 0) {
+    setUniform(program, "u_directRange", 0);
+    setUniform(program, "u_listBase", unsigned(ctx.scene.triangleCount()));
+    setUniform(program, "u_listCount", unsigned(classes.multiChunk));
+    setUniform(program, "u_firstChunk", 1u);
+    std::vector<bool> done(ctx.scene.materials.size(), false);
+    for (const DrawRange& d : ctx.scene.draws) {
+      if (d.material >= done.size() || done[d.material]) continue;
+      done[d.material] = true;
+      glProgramUniform1i(program, materialLoc, int(d.material));
+      ctx.gpuScene.bindMaterialTextures(d.material);
+      dispatchCompute({int(classes.multiChunk), chunks - 1, 1}, {64, 1, 1});
+    }
+  }
+  glMemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+uint32_t voxelizeTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method,
+                           const TriangleClasses& classes, uint32_t capacity) {
+  const bool raster = methodRasterizes(method, classes), compute = methodComputes(method, classes);
+  uint32_t afterRaster = 0;
+  if (raster) {
+    voxelizeTrianglesRaster(ctx, space, method, capacity);
+    afterRaster = readCounter(ctx.board.buffer("fragments.count"));
+  }
+  if (compute) voxelizeTrianglesCompute(ctx, space, classes, capacity);
+  return afterRaster;
+}
+
+}  // namespace voxlab
