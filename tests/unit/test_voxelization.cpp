@@ -468,6 +468,52 @@ TEST(Voxelization, HybridSplitsTrianglesByProjectedArea) {
   EXPECT_GT(small, 10000u);
 }
 
+// Textures: the raster pass (fragment-parallel, and the hybrid's large triangles) samples the base
+// colour texture like vct-grid's voxelizer (VctGridTextures.*); the compute pass does not read
+// textures and writes the material's base colour factor (docs/voxelization.md). On the textured
+// floor (white factor, texture red / green / blue / grey) that is white in every compute fragment,
+// and the raster fragments carry all four texel colours.
+TEST(Voxelization, ComputePassWritesTheMaterialFactorRasterPassTheTexture) {
+  const std::string scene = testScene("textured-floor");
+  auto colours = [&](const char* method) {
+    runMethod(scene, 32, method);
+    auto& s = session([&] {
+      RunRequest r;
+      r.technique = "voxelization";
+      r.scene = scene;
+      r.sets = {"voxel.resolution=32"};
+      r.width = r.height = 64;
+      return r;
+    }());
+    CapturedOutput fragments = capture(s, "voxelize", "fragments");
+    std::set<uint32_t> albedos;
+    for (uint32_t i = 0; i < fragments.recordCount; ++i) {
+      uint32_t albedo;
+      std::memcpy(&albedo, &fragments.records[size_t(i) * fragments.desc.layout.stride + 4], 4);
+      albedos.insert(albedo);
+    }
+    return albedos;
+  };
+  std::set<uint32_t> compute = colours("triangle-parallel");
+  EXPECT_EQ(compute, std::set<uint32_t>{0xFFFFFFFFu});  // RGBA8 (1, 1, 1, 1)
+  std::set<uint32_t> raster = colours("fragment-parallel");
+  // Near each pure texel: bilinear filtering blends the neighbours in; measured at 32^3, the
+  // fragment nearest to pure red, green and blue is 8 RGBA8 steps away in its worst channel
+  // (the voxel centres nearest the texel centres are 0.016 away in uv). Allowed 12.
+  for (int channel = 0; channel < 3; ++channel) {
+    bool found = false;
+    for (uint32_t albedo : raster) {
+      bool near = true;
+      for (int c = 0; c < 3; ++c) {
+        int value = int((albedo >> (8 * c)) & 255u);
+        near = near && std::abs(value - (c == channel ? 255 : 0)) <= 12;
+      }
+      found = found || near;
+    }
+    EXPECT_TRUE(found) << "no raster fragment has the colour of the texel with only channel " << channel;
+  }
+}
+
 TEST(Voxelization, ResolutionBeyondTenBitPackingIsRefused) {
   ParamSet params = createTechnique("voxelization")->defaultParams();
   EXPECT_THROW(params.setText("voxel.resolution", "1024"), Error);
