@@ -278,15 +278,15 @@ def png_rgb(width, height, pixels):
 
 
 def lid_floor(path):
-    """A 4 x 4 m floor at y = 0 (facing up) and a 0.6 x 0.6 m lid at y = 1 above its centre (facing
-    down), nothing else: from the floor's centre the lid fills the sky within 17 degrees of the
-    normal and everything else is open. With uniform injected radiance only cones towards the lid
+    """A 0.5 x 0.5 m floor at y = 0 (facing up) and a 0.4 x 0.4 m lid at y = 1 above its centre
+    (facing down), nothing else: from the floor's centre the lid fills the sky within 11 degrees
+    of the normal and everything else is open. With uniform injected radiance only cones towards the lid
     see light, so the answer depends on how the cones are weighted (cosine or equal)."""
     b = GltfBuilder("voxlab scripts/make_scenes.py (lid over a floor)")
     grey = b.add_material("grey", (0.5, 0.5, 0.5))
-    b.add_mesh_node("floor", grey, [oriented([[-2.0, 0.0, -2.0], [2.0, 0.0, -2.0], [2.0, 0.0, 2.0], [-2.0, 0.0, 2.0]],
+    b.add_mesh_node("floor", grey, [oriented([[-0.25, 0.0, -0.25], [0.25, 0.0, -0.25], [0.25, 0.0, 0.25], [-0.25, 0.0, 0.25]],
                                              [0.0, 1.0, 0.0])])
-    b.add_mesh_node("lid", grey, [oriented([[-0.3, 1.0, -0.3], [0.3, 1.0, -0.3], [0.3, 1.0, 0.3], [-0.3, 1.0, 0.3]],
+    b.add_mesh_node("lid", grey, [oriented([[-0.2, 1.0, -0.2], [0.2, 1.0, -0.2], [0.2, 1.0, 0.2], [-0.2, 1.0, 0.2]],
                                            [0.0, -1.0, 0.0])])
     b.add_camera("camera", (0.0, 0.5, 0.0), LOOK_DOWN, 1.2, aspect=1.0, znear=0.01, zfar=10.0)
     b.write(path)

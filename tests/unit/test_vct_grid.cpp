@@ -139,6 +139,65 @@ TEST(VctGridMipmap, EveryTexelIsTheAverageOfItsChildren) {
   EXPECT_GT(nonEmptyParents, 100u);
 }
 
+// Anisotropic mips against a CPU reference of the rule (Crassin et al.; docs/architecture.md): the
+// volume for travel direction +x at level l+1 composites each pair of children along x front to
+// back (the smaller x in front: c = c0 + (1 - a0) c1, the same for alpha), then averages the four
+// pairs; -x puts the larger x in front; level 0 of every direction is built from the isotropic
+// level-0 voxels, later levels from the direction's own previous level. The Cornell box's walls,
+// blocks and light panel give different colours and (above level 0) fractional opacities side by
+// side, so swapping front and back, the axis or the direction changes many texels. The reference
+// starts from the GPU's stored previous level, so each level carries one rounding only: RGBA8
+// stores the nearest of k/255, half a step from the exact value (measured: worst 0.5/255).
+TEST(VctGridMipmap, AnisotropicTexelsCompositeTheirChildrenFrontToBack) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=32", "mipmap.mode=anisotropic"}, "mipmap", 64));
+  const LevelData base = capture(s, "mipmap", "radiance").levels.at(0);
+  const char* names[6] = {"radiance-dir+x", "radiance-dir-x", "radiance-dir+y", "radiance-dir-y", "radiance-dir+z", "radiance-dir-z"};
+  size_t orderMatters = 0;  // texels where compositing the other way round gives another value
+  for (int d = 0; d < 6; ++d) {
+    CapturedOutput dir = capture(s, "mipmap", names[d]);
+    ASSERT_EQ(dir.levels.size(), 5u) << names[d];  // 16, 8, 4, 2, 1
+    const int axis = d / 2;
+    const bool negative = d % 2 == 1;
+    for (size_t l = 0; l < dir.levels.size(); ++l) {
+      const LevelData& parent = dir.levels[l];
+      const LevelData& child = l == 0 ? base : dir.levels[l - 1];
+      ASSERT_EQ(child.size, parent.size * 2) << names[d] << " level " << l;
+      double worst = 0;
+      for (int z = 0; z < parent.size.z; ++z)
+        for (int y = 0; y < parent.size.y; ++y)
+          for (int x = 0; x < parent.size.x; ++x) {
+            glm::dvec4 sum(0.0), swapped(0.0);
+            for (int i = 0; i < 2; ++i)
+              for (int j = 0; j < 2; ++j) {
+                glm::ivec3 lo(2 * x, 2 * y, 2 * z);
+                lo[(axis + 1) % 3] += i;
+                lo[(axis + 2) % 3] += j;
+                glm::ivec3 hi = lo;
+                hi[axis] += 1;
+                auto texel = [&](glm::ivec3 v) {
+                  return glm::dvec4(child.at(v.x, v.y, v.z, 0), child.at(v.x, v.y, v.z, 1), child.at(v.x, v.y, v.z, 2),
+                                    child.at(v.x, v.y, v.z, 3));
+                };
+                glm::dvec4 front = texel(negative ? hi : lo), back = texel(negative ? lo : hi);
+                sum += front + (1.0 - front.w) * back;
+                swapped += back + (1.0 - back.w) * front;
+              }
+            sum *= 0.25;
+            swapped *= 0.25;
+            bool differs = false;
+            for (int c = 0; c < 4; ++c) {
+              worst = std::max(worst, std::abs(parent.at(x, y, z, c) - sum[c]));
+              differs = differs || std::abs(sum[c] - swapped[c]) > 2.0 / 255.0;
+            }
+            orderMatters += differs;
+          }
+      EXPECT_LE(worst, 0.5 / 255.0 + 1e-6) << names[d] << " level " << l;
+    }
+  }
+  ::testing::Test::RecordProperty("texels_where_order_matters", int(orderMatters));
+  EXPECT_GT(orderMatters, 200u);  // the scene exercises the order (measured: see the property)
+}
+
 // Stepping the mipmap stage builds one level per iteration: after iteration k, levels 0..k+1 of
 // the grid (and 0..k of each anisotropic volume, whose level 0 is hierarchy level 1) have content
 // and every coarser level is still empty.
@@ -211,34 +270,94 @@ TEST(VctGridPlacement, VolumesSitInTheVoxelSpaceUnlessPlaced) {
   EXPECT_EQ(board.placementOf("radiance")->hi, grid.world->hi);  // others keep the voxel space
 }
 
-TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
-  const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
-  auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),
-                            {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform", "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"}, "cone-trace"));
+// White furnace: uniform injected radiance L in a closed box of albedo rho gives indirect diffuse
+// rho * L per channel, whatever the cone weights (they sum to one). Checked on every channel, on
+// the grey box and on a coloured one (0.8, 0.5, 0.2), so a channel read from the wrong place or
+// an albedo applied per channel wrongly shows. Returns the worst |mean - expected| over channels.
+void expectFurnace(const std::string& scene, glm::dvec3 rho) {
+  const double L = 0.5;  // inject.uniform-radiance
+  auto& s = session(request(projectPath(scene), {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform",
+                                                 "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"},
+                            "cone-trace"));
   CapturedOutput indirect = capture(s, "cone-trace", "indirect-diffuse");
   CapturedOutput albedo = capture(s, "gbuffer", "albedo");
   CapturedOutput position = capture(s, "gbuffer", "position");
   const LevelData& ind = indirect.levels[0];
-  double sum = 0, worst = 0;
+  glm::dvec3 sum(0.0), worst(0.0);
   size_t n = 0;
   for (size_t t = 0; t < ind.texelCount(); ++t) {
     if (position.levels[0].values[t * 4 + 3] == 0) continue;
-    ASSERT_NEAR(albedo.levels[0].values[t * 4], rho, 1.0 / 255.0);
-    double v = ind.values[t * 4];
-    sum += v;
-    worst = std::max(worst, std::abs(v - rho * L));
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(albedo.levels[0].values[t * 4 + c], rho[c], 1.0 / 255.0);
+      double v = ind.values[t * 4 + c];
+      sum[c] += v;
+      worst[c] = std::max(worst[c], std::abs(v - rho[c] * L));
+    }
     ++n;
   }
   ASSERT_EQ(n, ind.texelCount());  // the camera is inside the closed box: every pixel sees a wall
-  double mean = sum / double(n);
-  ::testing::Test::RecordProperty("furnace_mean", std::to_string(mean));
-  ::testing::Test::RecordProperty("furnace_worst_abs_error", std::to_string(worst));
-  // Expected rho * L = 0.25. What varies: 0.5 stored in RGBA8 is 128/255 = 0.50196 (+0.4 %), the
-  // anisotropic mips keep the one-voxel walls opaque and every cone ends on a wall. Measured at
-  // 64^3: mean 0.2514, worst pixel off by 0.0037 (RGBA8 rounding in the mips). With isotropic mips
-  // the same box gives a mean near 0.09: coarse levels of thin walls are mostly transparent.
-  EXPECT_NEAR(mean, rho * L, 0.003);
-  EXPECT_LE(worst, 0.006);
+  for (int c = 0; c < 3; ++c) {
+    double mean = sum[c] / double(n);
+    ::testing::Test::RecordProperty("furnace_mean_" + std::to_string(c), std::to_string(mean));
+    ::testing::Test::RecordProperty("furnace_worst_abs_error_" + std::to_string(c), std::to_string(worst[c]));
+    EXPECT_NEAR(mean, rho[c] * L, 0.003) << "channel " << c;
+    EXPECT_LE(worst[c], 0.006) << "channel " << c;
+  }
+}
+
+// Expected rho * L. What varies: 0.5 stored in RGBA8 is 128/255 = 0.50196 (+0.4 %), the
+// anisotropic mips keep the one-voxel walls opaque and every cone ends on a wall. Measured at
+// 64^3, grey box: mean 0.2514, worst pixel off by 0.0037 (RGBA8 rounding in the mips), every
+// channel alike; coloured box: means 0.4007 / 0.2514 / 0.1002 against 0.4 / 0.25 / 0.1, worst
+// pixel 0.0043 / 0.0037 / 0.0011. Allowed: mean 0.003, worst 0.006. With isotropic mips the same box gives a mean
+// near 0.09: coarse levels of thin walls are mostly transparent.
+TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
+  expectFurnace("tests/data/scenes/furnace-box.gltf", glm::dvec3(0.5));
+}
+TEST(VctGridPhysics, ColouredFurnaceGivesAlbedoTimesRadiancePerChannel) {
+  expectFurnace("tests/data/scenes/furnace-colour.gltf", glm::dvec3(0.8, 0.5, 0.2));
+}
+
+// Cone weights, checked where they matter: from the centre of a floor under a small lid (nothing
+// else around, uniform injected radiance), only cones towards the lid see much radiance. A ring of
+// 6 cones of 40 degrees has one cone along the normal and five tilted by 40 degrees (narrower
+// cones than the default 60 so the tilted ones do not graze the floor); cosine weights are
+// 1 / (1 + 5 cos 40) = 0.2070 for the normal cone, equal weights 1/6. A single cone (the normal
+// one, weight 1) measures that cone's value A; the tilted cones' mean B follows from the cosine
+// run C = 0.2070 A + 0.7930 B, and the equal-weight run must then be A / 6 + 5 B / 6.
+// Measured: A = 0.1499, C = 0.04694, equal 0.04172 against the predicted 0.04169 (3e-5 off; both
+// runs read the same cones); C / equal = 1.125. Allowed: prediction within 0.001, C / equal > 1.08.
+TEST(VctGridPhysics, CosineWeightsWeighTheNormalConeMore) {
+  auto centreValue = [](const std::vector<std::string>& extra) {
+    std::vector<std::string> sets = {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform",
+                                     "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic", "cone.aperture=40"};
+    sets.insert(sets.end(), extra.begin(), extra.end());
+    auto& s = session(request(projectPath("tests/data/scenes/lid-floor.gltf"), sets, "cone-trace", 64));
+    const LevelData ind = capture(s, "cone-trace", "indirect-diffuse").levels[0];
+    const LevelData pos = capture(s, "gbuffer", "position").levels[0];
+    // The floor pixel closest to the floor's centre, under the lid.
+    size_t best = 0;
+    float bestDist = 1e30f;
+    for (size_t t = 0; t < pos.texelCount(); ++t) {
+      if (pos.values[t * 4 + 3] == 0) continue;
+      float d = glm::length(glm::vec3(pos.values[t * 4], pos.values[t * 4 + 1], pos.values[t * 4 + 2]));
+      if (d < bestDist) { bestDist = d; best = t; }
+    }
+    EXPECT_LT(bestDist, 0.03f);
+    return double(ind.values[best * 4]);
+  };
+  const double a = centreValue({"cone.count=1"});
+  const double cosine = centreValue({"cone.count=6"});
+  const double equal = centreValue({"cone.count=6", "cone.weighting=equal"});
+  const double w0 = 1.0 / (1.0 + 5.0 * std::cos(40.0 * M_PI / 180.0));
+  const double b = (cosine - w0 * a) / (1.0 - w0);
+  ::testing::Test::RecordProperty("normal_cone", std::to_string(a));
+  ::testing::Test::RecordProperty("cosine", std::to_string(cosine));
+  ::testing::Test::RecordProperty("equal", std::to_string(equal));
+  ::testing::Test::RecordProperty("tilted_cones_mean", std::to_string(b));
+  EXPECT_GT(a, 0.05);  // the normal cone sees the lid
+  EXPECT_NEAR(equal, a / 6.0 + 5.0 * b / 6.0, 0.001);
+  EXPECT_GT(cosine, 1.08 * equal);
 }
 
 // Cosine-weighted visible fraction at a floor point (normal +y) in front of the wall rectangle
@@ -266,11 +385,11 @@ double visibleFractionNextToWall(double px, double pz) {
 }
 
 // Ambient occlusion of floor points at distance d from the wall, measured with the given mips.
-std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode) {
-  auto& s = session(request(projectPath("tests/data/scenes/wall-floor.gltf"),
-                            {"voxel.resolution=128", "cone.resolution=full", "mipmap.mode=" + mipmapMode, "ao.range=2", "cone.count=16",
-                             "cone.layout=fibonacci", "cone.weighting=equal", "cone.aperture=30"},
-                            "cone-trace", 256));
+// 'cones' empty: the default cones (a ring of 6 of 60 degrees, cosine weights).
+std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode, std::vector<std::string> cones) {
+  std::vector<std::string> sets = {"voxel.resolution=128", "cone.resolution=full", "mipmap.mode=" + mipmapMode, "ao.range=2"};
+  sets.insert(sets.end(), cones.begin(), cones.end());
+  auto& s = session(request(projectPath("tests/data/scenes/wall-floor.gltf"), sets, "cone-trace", 256));
   CapturedOutput ao = capture(s, "cone-trace", "ambient-occlusion");
   CapturedOutput position = capture(s, "gbuffer", "position");
   const LevelData& pos = position.levels[0];
@@ -293,26 +412,51 @@ std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMod
     // The 2 m wide wall hides a little less than the infinitely long one of the formula.
     EXPECT_GE(expected, infiniteWall - 1e-3);
     double measured = ao.levels[0].values[best];
-    ::testing::Test::RecordProperty(mipmapMode + "_ao_d" + std::to_string(d),
+    ::testing::Test::RecordProperty(mipmapMode + (cones.empty() ? "_default" : "") + "_ao_d" + std::to_string(d),
                                     std::to_string(measured) + " vs " + std::to_string(expected));
     out.push_back({measured, expected});
   }
   return out;
 }
 
+const std::vector<std::string> kSpiralCones = {"cone.count=16", "cone.layout=fibonacci", "cone.weighting=equal",
+                                               "cone.aperture=30"};
+
 TEST(VctGridPhysics, AmbientOcclusionNextToAWallMatchesQuadrature) {
-  // 16 cones of 30 degrees on a cosine-distributed spiral, anisotropic mips, 128^3 voxels.
-  // Measured (LP_NUM_THREADS 1 and 2 alike): 0.5444/0.5551, 0.6074/0.6127, 0.6997/0.7091,
-  // 0.7666/0.7896 (cones/quadrature at d = 0.15, 0.3, 0.6, 0.9 m): largest error 0.023, at the
-  // farthest point, where coarse mips blur the wall's top edge. Tolerance 0.04.
-  for (auto [measured, expected] : aoNextToWall("anisotropic")) EXPECT_NEAR(measured, expected, 0.04);
+  // 16 cones of 30 degrees on a cosine-distributed spiral (equal weights: the directions already
+  // carry the cosine), anisotropic mips, 128^3 voxels. Measured (LP_NUM_THREADS 1 and 2 alike):
+  // 0.5444/0.5551, 0.6074/0.6127, 0.6997/0.7091, 0.7666/0.7896 (cones/quadrature at d = 0.15,
+  // 0.3, 0.6, 0.9 m): errors 0.0106, 0.0053, 0.0094, 0.0230, largest at the farthest point, where
+  // coarse mips blur the wall's top edge. Allowed per distance: the measured error + 0.003.
+  const double allowed[4] = {0.014, 0.008, 0.013, 0.026};
+  auto ao = aoNextToWall("anisotropic", kSpiralCones);
+  for (size_t k = 0; k < ao.size(); ++k) EXPECT_NEAR(ao[k].first, ao[k].second, allowed[k]) << "distance " << k;
+}
+
+TEST(VctGridPhysics, AmbientOcclusionWithTheDefaultConesIsDarkenedByTheFloor) {
+  // The default cones (a ring of 6 of 60 degrees, the five outer ones tilted by 60 degrees, cosine
+  // weights): the outer cones' lower edges run along the floor, so their footprints sample the
+  // floor's own voxels and the open floor occludes itself. Measured 0.2441, 0.3088, 0.3354, 0.3745
+  // against quadrature 0.555, 0.613, 0.709, 0.790 (LP_NUM_THREADS 1 and 2 alike). A known defect
+  // of the default layout (docs/testing.md), pinned within 0.01 so that a fix or a regression shows.
+  const double measured[4] = {0.2441, 0.3088, 0.3354, 0.3745};
+  auto ao = aoNextToWall("anisotropic", {});
+  for (size_t k = 0; k < ao.size(); ++k) {
+    EXPECT_NEAR(ao[k].first, measured[k], 0.01) << "distance " << k;
+    EXPECT_LT(ao[k].first, ao[k].second - 0.2) << "distance " << k;
+  }
 }
 
 TEST(VctGridPhysics, IsotropicMipsLeakThroughAThinWall) {
   // Averaging a one-voxel wall into coarser levels makes it half as opaque per level, so wide
-  // cones see through it: isotropic AO next to the wall is far too open (measured 0.78..0.95
-  // against 0.56..0.79). This documents the known leak the anisotropic mips fix.
-  for (auto [measured, expected] : aoNextToWall("isotropic")) EXPECT_GT(measured, expected + 0.1);
+  // cones see through it: isotropic AO next to the wall is far too open. Measured 0.7803, 0.8745,
+  // 0.9268, 0.9473 against 0.5551, 0.6127, 0.7091, 0.7896: leaks of 0.225, 0.262, 0.218, 0.158
+  // (LP_NUM_THREADS 1 and 2 alike). The known leak the anisotropic mips fix, asserted within 0.02
+  // of what was measured (fully transparent mips would give AO near 1, leaks of 0.45, 0.39, 0.29,
+  // 0.21).
+  const double leak[4] = {0.225, 0.262, 0.218, 0.158};
+  auto ao = aoNextToWall("isotropic", kSpiralCones);
+  for (size_t k = 0; k < ao.size(); ++k) EXPECT_NEAR(ao[k].first - ao[k].second, leak[k], 0.02) << "distance " << k;
 }
 
 // --- Textures (tests/data/scenes/textured-floor.gltf) --------------------------------------------
