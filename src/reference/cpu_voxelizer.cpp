@@ -47,8 +47,9 @@ bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
   return true;
 }
 
-std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space) {
-  std::vector<uint32_t> keys;
+// Calls visit(key) for every (triangle, voxel) pair of the scene, triangle by triangle.
+template <typename Visit>
+static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, Visit visit) {
   const int res = space.resolution;
   const glm::dvec3 half(0.5);
   for (size_t t = 0; t < scene.triangleCount(); ++t) {
@@ -61,12 +62,22 @@ std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& sp
     for (int z = a.z; z <= b.z; ++z)
       for (int y = a.y; y <= b.y; ++y)
         for (int x = a.x; x <= b.x; ++x)
-          if (triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half))
-            keys.push_back(packVoxelKey(x, y, z));
+          if (triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half)) visit(packVoxelKey(x, y, z));
   }
+}
+
+std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space) {
+  std::vector<uint32_t> keys;
+  forEachReferencePair(scene, space, [&](uint32_t key) { keys.push_back(key); });
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
+}
+
+size_t referencePairCount(const Scene& scene, const VoxelSpace& space) {
+  size_t pairs = 0;
+  forEachReferencePair(scene, space, [&](uint32_t) { ++pairs; });
+  return pairs;
 }
 
 }  // namespace voxlab
