@@ -12,6 +12,7 @@
 #include <set>
 
 #include "core/paths.h"
+#include "graph/technique.h"
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
@@ -198,6 +199,22 @@ TEST(VctGridMipmap, AnisotropicTexelsCompositeTheirChildrenFrontToBack) {
   }
   ::testing::Test::RecordProperty("texels_where_order_matters", int(orderMatters));
   EXPECT_GT(orderMatters, 200u);  // the scene exercises the order (measured: see the property)
+}
+
+// The help of each directional volume names its travel direction with its sign (`voxlab list`
+// said "travelling along x" for both radiance-dir+x and radiance-dir-x).
+TEST(VctGridMipmap, DirectionalVolumesNameTheirDirection) {
+  auto technique = createTechnique("vct-grid");
+  const StageDecl& mipmap = technique->decl(technique->stageIndex("mipmap"));
+  size_t named = 0;
+  for (const OutputDesc& out : mipmap.outputs) {
+    const std::string prefix = "radiance-dir";
+    if (out.name.rfind(prefix, 0) != 0) continue;
+    const std::string direction = out.name.substr(prefix.size());  // "+x", "-x", ...
+    EXPECT_NE(out.help.find("travelling along " + direction + " "), std::string::npos) << out.name << ": " << out.help;
+    ++named;
+  }
+  EXPECT_EQ(named, 6u);
 }
 
 // Stepping the mipmap stage builds one level per iteration: after iteration k, levels 0..k+1 of
