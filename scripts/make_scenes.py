@@ -14,14 +14,21 @@
                                          plane falls on a voxel boundary up to float rounding
   tests/data/scenes/long-hall.gltf       strongly non-cubic bounds (4 x 0.5 x 1 m) with tilted,
                                          small and sliver triangles
+  tests/data/scenes/furnace-colour.gltf  the furnace box with albedo (0.8, 0.5, 0.2) (one answer per channel)
+  tests/data/scenes/lid-floor.gltf       a floor under a small lid, open around (cone weighting test)
+  tests/data/scenes/textured-floor.gltf  a floor with a 2 x 2 texture (red, green, blue, grey 128)
+                                         under a point light, seen from above (texture paths)
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
 """
 
 import argparse
+import base64
 import math
 import os
+import struct
 import sys
+import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from gltf_writer import (GltfBuilder, axis_box_polygons, box_polygons, centroid, oriented,  # noqa: E402
@@ -90,9 +97,11 @@ def cornell_box(path):
 
 
 def furnace_box(path, albedo):
-    """Closed unit cube [-0.5, 0.5]^3 with inward faces, uniform albedo, no emission, no lights."""
+    """Closed unit cube [-0.5, 0.5]^3 with inward faces, uniform albedo (a number or an RGB
+    triple), no emission, no lights."""
     b = GltfBuilder("voxlab scripts/make_scenes.py (white furnace box)")
-    mat = b.add_material("furnace-white", (albedo, albedo, albedo))
+    rgb = tuple(albedo) if isinstance(albedo, tuple) else (albedo, albedo, albedo)
+    mat = b.add_material("furnace-white", rgb)
     b.add_mesh_node("furnace-room", mat, axis_box_polygons([-0.5, -0.5, -0.5], [0.5, 0.5, 0.5],
                                                            faces_outward=False))
     b.add_camera("camera", (0.0, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0), 1.2, aspect=1.0, znear=0.01, zfar=10.0)
@@ -259,6 +268,64 @@ def long_hall(path):
     b.write(path)
 
 
+def png_rgb(width, height, pixels):
+    """A PNG (8-bit RGB, no filter) of rows of (r, g, b) tuples, top row first."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in pixels)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def lid_floor(path):
+    """A 0.5 x 0.5 m floor at y = 0 (facing up) and a 0.4 x 0.4 m lid at y = 1 above its centre
+    (facing down), nothing else: from the floor's centre the lid fills the sky within 11 degrees
+    of the normal and everything else is open. With uniform injected radiance only cones towards the lid
+    see light, so the answer depends on how the cones are weighted (cosine or equal)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (lid over a floor)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    b.add_mesh_node("floor", grey, [oriented([[-0.25, 0.0, -0.25], [0.25, 0.0, -0.25], [0.25, 0.0, 0.25], [-0.25, 0.0, 0.25]],
+                                             [0.0, 1.0, 0.0])])
+    b.add_mesh_node("lid", grey, [oriented([[-0.2, 1.0, -0.2], [0.2, 1.0, -0.2], [0.2, 1.0, 0.2], [-0.2, 1.0, 0.2]],
+                                           [0.0, -1.0, 0.0])])
+    b.add_camera("camera", (0.0, 0.5, 0.0), LOOK_DOWN, 1.2, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+TEXTURE_QUADRANTS = [[(255, 0, 0), (0, 255, 0)], [(0, 0, 255), (128, 128, 128)]]  # top row first
+
+
+def textured_floor(path):
+    """A 1 x 1 m floor at y = 0 facing up whose base colour is a 2 x 2 texture (nearest filtering):
+    red at u < 0.5, v < 0.5, green at u > 0.5, v < 0.5, blue at u < 0.5, v > 0.5, grey 128 (sRGB,
+    linear 0.2158) at u, v > 0.5, with u = x + 0.5 and v = z + 0.5. A point light 0.8 m above the
+    centre, a camera 1.2 m above looking down. The texture paths (raster voxelizer, G-buffer,
+    inject) must reproduce the four quadrants."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (textured floor)")
+    d = b.doc
+    png = png_rgb(2, 2, TEXTURE_QUADRANTS)
+    d["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png).decode("ascii")}]
+    d["samplers"] = [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}]
+    d["textures"] = [{"source": 0, "sampler": 0}]
+    d["materials"].append({"name": "quadrants", "pbrMetallicRoughness": {
+        "baseColorFactor": [1.0, 1.0, 1.0, 1.0], "baseColorTexture": {"index": 0},
+        "metallicFactor": 0.0, "roughnessFactor": 1.0}})
+    corners = [(-0.5, -0.5), (-0.5, 0.5), (0.5, 0.5), (0.5, -0.5)]  # counter-clockwise seen from +y
+    positions = [v for x, z in corners for v in (x, 0.0, z)]
+    normals = [v for _ in corners for v in (0.0, 1.0, 0.0)]
+    uvs = [v for x, z in corners for v in (x + 0.5, z + 0.5)]
+    pos = b.add_accessor(positions, "VEC3", 5126, 4, with_bounds=True, target=34962)
+    nrm = b.add_accessor(normals, "VEC3", 5126, 4, target=34962)
+    uv = b.add_accessor(uvs, "VEC2", 5126, 4, target=34962)
+    idx = b.add_accessor([0, 1, 2, 0, 2, 3], "SCALAR", 5123, 6, target=34963)
+    d["meshes"].append({"name": "textured-floor", "primitives": [{
+        "attributes": {"POSITION": pos, "NORMAL": nrm, "TEXCOORD_0": uv}, "indices": idx, "material": 0, "mode": 4}]})
+    b.add_node({"name": "textured-floor", "mesh": len(d["meshes"]) - 1})
+    b.add_light("above", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 1.0}, (0.0, 0.8, 0.0))
+    b.add_camera("camera", (0.0, 1.2, 0.0), LOOK_DOWN, 0.9, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -280,6 +347,9 @@ def main():
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
         (os.path.join(tests, "boundary-quad.gltf"), boundary_quad),
         (os.path.join(tests, "long-hall.gltf"), long_hall),
+        (os.path.join(tests, "furnace-colour.gltf"), lambda p: furnace_box(p, (0.8, 0.5, 0.2))),
+        (os.path.join(tests, "lid-floor.gltf"), lid_floor),
+        (os.path.join(tests, "textured-floor.gltf"), textured_floor),
     ] + [(os.path.join(tests, "voxel-ties-%d.gltf" % r), (lambda r: lambda p: voxel_ties(p, r))(r))
          for r in (64, 128, 256)]
     for path, fn in outputs:

@@ -1,5 +1,8 @@
 # Runs one command-line case: voxlab ARGS must exit with EXPECT_CODE, print exactly one line on
 # stderr, and that line must match EXPECT_REGEX. Invoked by voxlab_cli_case() in cli_cases.cmake.
+# Optional (voxlab_cli_case_output()): stdout must match EXPECT_STDOUT, the files in EXPECT_FILES
+# (|-separated) must exist and be non-empty, and a follow-up command voxlab THEN_ARGS must exit
+# with THEN_CODE with its stdout and stderr together matching THEN_REGEX.
 separate_arguments(arg_list UNIX_COMMAND "${ARGS}")
 execute_process(COMMAND ${EXE} ${arg_list}
   WORKING_DIRECTORY ${WORKDIR}
@@ -15,5 +18,30 @@ if(NOT err_stripped MATCHES "${EXPECT_REGEX}")
 endif()
 if(newline_count GREATER 0)
   message(FATAL_ERROR "expected one line on stderr, got:\n${err}")
+endif()
+if(DEFINED EXPECT_STDOUT AND NOT out MATCHES "${EXPECT_STDOUT}")
+  message(FATAL_ERROR "stdout does not match '${EXPECT_STDOUT}':\n${out}")
+endif()
+string(REPLACE "|" ";" expect_files "${EXPECT_FILES}")
+foreach(f ${expect_files})
+  if(NOT EXISTS "${f}")
+    message(FATAL_ERROR "expected file ${f} was not written")
+  endif()
+  file(SIZE "${f}" size)
+  if(size EQUAL 0)
+    message(FATAL_ERROR "expected file ${f} is empty")
+  endif()
+endforeach()
+if(DEFINED THEN_ARGS)
+  separate_arguments(then_list UNIX_COMMAND "${THEN_ARGS}")
+  execute_process(COMMAND ${EXE} ${then_list}
+    WORKING_DIRECTORY ${WORKDIR}
+    RESULT_VARIABLE then_rc OUTPUT_VARIABLE then_out ERROR_VARIABLE then_err TIMEOUT 120)
+  if(NOT "${then_rc}" STREQUAL "${THEN_CODE}")
+    message(FATAL_ERROR "follow-up 'voxlab ${THEN_ARGS}': exit status ${then_rc}, expected ${THEN_CODE}\n${then_out}${then_err}")
+  endif()
+  if(NOT "${then_out}${then_err}" MATCHES "${THEN_REGEX}")
+    message(FATAL_ERROR "follow-up 'voxlab ${THEN_ARGS}' does not match '${THEN_REGEX}':\n${then_out}${then_err}")
+  endif()
 endif()
 message(STATUS "ok: ${err_stripped}")

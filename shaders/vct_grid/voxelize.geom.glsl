@@ -78,9 +78,15 @@ void main() {
     vec2 xy = outPos[i];
     float z = s[0].z - (ns.x * (xy.x - s[0].x) + ns.y * (xy.y - s[0].y)) / ns.z;
     gl_Position = vec4(xy / float(u_resolution) * 2.0 - 1.0, clamp(z / float(u_resolution) * 2.0 - 1.0, -1.0, 1.0), 1.0);
-    int k = order[i];
-    vout.normal = vin[k].normal;
-    vout.uv = vin[k].uv;
+    // Attributes at the grown vertex: extrapolated with its barycentric coordinates in the
+    // original projected triangle, so a fragment's uv is the uv at its pixel centre (giving the
+    // grown vertex the original vertex's uv would squeeze the texture into the grown triangle).
+    vec2 d1 = p[1] - p[0], d2 = p[2] - p[0], dq = xy - p[0];
+    float area = d1.x * d2.y - d1.y * d2.x;
+    float b1 = (dq.x * d2.y - dq.y * d2.x) / area, b2 = (d1.x * dq.y - d1.y * dq.x) / area;
+    vec3 bary = u_conservative != 0 ? vec3(1.0 - b1 - b2, b1, b2) : vec3(i == 0, i == 1, i == 2);
+    vout.normal = bary.x * vin[order[0]].normal + bary.y * vin[order[1]].normal + bary.z * vin[order[2]].normal;
+    vout.uv = bary.x * vin[order[0]].uv + bary.y * vin[order[1]].uv + bary.z * vin[order[2]].uv;
     vout.boundsPx = bounds;
     vout.axis = axis;
     vout.tri0 = v[0];

@@ -48,8 +48,9 @@ bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
   return true;
 }
 
-std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space) {
-  std::vector<uint32_t> keys;
+// Calls visit(key) for every (triangle, voxel) pair of the scene, triangle by triangle.
+template <typename Visit>
+static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, Visit visit) {
   const int res = space.resolution;
   const glm::dvec3 half(0.5);
   const AlphaCoverage coverage = AlphaCoverage::build(scene);
@@ -76,12 +77,23 @@ std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& sp
           if (!triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half)) continue;
           if (masked && !coverageAt(coverage, material, level, f[0], f[1], f[2], uv[0], uv[1], uv[2], {x, y, z}))
             continue;
-          keys.push_back(packVoxelKey(x, y, z));
+          visit(packVoxelKey(x, y, z));
         }
   }
+}
+
+std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space) {
+  std::vector<uint32_t> keys;
+  forEachReferencePair(scene, space, [&](uint32_t key) { keys.push_back(key); });
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
+}
+
+size_t referencePairCount(const Scene& scene, const VoxelSpace& space) {
+  size_t pairs = 0;
+  forEachReferencePair(scene, space, [&](uint32_t) { ++pairs; });
+  return pairs;
 }
 
 }  // namespace voxlab

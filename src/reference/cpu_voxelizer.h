@@ -25,6 +25,9 @@ bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
 // Sorted, unique voxel keys (x | y << 10 | z << 20, the 10:10:10 packing) overlapped by the
 // scene's triangles in the given voxel space.
 std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space);
+// The number of (triangle, voxel) pairs: the fragments an exact voxelizer appends (one per
+// triangle per voxel it meets).
+size_t referencePairCount(const Scene& scene, const VoxelSpace& space);
 
 inline uint32_t packVoxelKey(int x, int y, int z) { return uint32_t(x) | (uint32_t(y) << 10) | (uint32_t(z) << 20); }
 inline glm::ivec3 unpackVoxelKey(uint32_t k) { return {int(k & 1023u), int((k >> 10) & 1023u), int((k >> 20) & 1023u)}; }

@@ -11,8 +11,14 @@ voxlab_cli_case(reference_out_not_exr 2 "--out '.*x.png' must end in .exr"
   "reference --scene cornell-box --spp 1 --out @OUT@/x.png")
 voxlab_cli_case(reference_ao_radius_needs_ao 2 "--ao-radius only applies to --mode ao"
   "reference --scene cornell-box --spp 1 --ao-radius 0.5 --out @OUT@/x.exr")
-voxlab_cli_case(reference_tiny_render 0 "^$"
-  "reference --scene cornell-box --size 8x6 --spp 2 --quiet --out @OUT@/tiny.exr")
+# A tiny render: it reports what it wrote, and the file is an 8x6 EXR (compare reads it and names
+# its size when refusing a 4x4 partner).
+voxlab_cli_case_output(reference_tiny_render 0 "^$"
+  "reference --scene cornell-box --size 8x6 --spp 2 --quiet --out @OUT@/tiny.exr"
+  "wrote [^\n]*tiny\\.exr \\(8x6, 2 spp, mode full, camera 'camera'\\)"
+  "@OUT@/tiny.exr|@OUT@/tiny.stderr.exr"
+  2 "image sizes differ: A is 8x6, B is 4x4"
+  "compare @OUT@/tiny.exr ${_refdata}/grey50_4x4.exr")
 voxlab_cli_case(compare_size_mismatch 2 "image sizes differ: A is 4x4, B is 4x3"
   "compare ${_refdata}/grey50_4x4.exr ${_refdata}/grey50_4x3.exr")
 voxlab_cli_case(compare_unknown_metric 2 "unknown metric 'l2'; valid metrics: rmse, mae, mre, max_abs, dssim"
@@ -22,5 +28,9 @@ voxlab_cli_case(compare_missing_file 2 "cannot read image '.*nothere.exr'"
 # Constant images 0.5 vs 0.25: rmse is exactly 0.25 > 0.1 -> exit 1, one line naming the metric.
 voxlab_cli_case(compare_fail_above 1 "rmse = 0.25 is above the limit 0.1"
   "compare ${_refdata}/grey50_4x4.exr ${_refdata}/grey25_4x4.exr --fail-above rmse=0.1")
-voxlab_cli_case(compare_within_limit 0 "^$"
-  "compare ${_refdata}/grey50_4x4.exr ${_refdata}/grey25_4x4.exr --fail-above rmse=0.3 --out @OUT@/diff.png")
+# Within the limit: exit 0, the metrics printed (0.5 against 0.25 everywhere: rmse, mae and max_abs
+# are exactly 0.25) and the error image written.
+voxlab_cli_case_output(compare_within_limit 0 "^$"
+  "compare ${_refdata}/grey50_4x4.exr ${_refdata}/grey25_4x4.exr --fail-above rmse=0.3 --out @OUT@/diff.png"
+  "rmse +0\\.25\n[^\n]*\nmae +0\\.25\n[^\n]*\nmax_abs +0\\.25\n.*error image: [^\n]*diff\\.png"
+  "@OUT@/diff.png" 0 "" "")

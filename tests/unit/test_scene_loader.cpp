@@ -241,10 +241,15 @@ TEST(SceneLoader, CornellBoxLightAndCamera) {
 }
 
 TEST(SceneLoader, TestScenesLoad) {
-  for (const char* name : {"furnace-box", "wall-floor", "thin-wall"}) {
+  // Triangle counts from scripts/make_scenes.py: a quad is 2 triangles, a box 12.
+  const std::pair<const char*, size_t> counts[] = {
+      {"furnace-box", 12},     {"furnace-colour", 12}, {"wall-floor", 4},      {"thin-wall", 24},
+      {"lid-floor", 4},        {"textured-floor", 2},  {"boundary-quad", 4},   {"long-hall", 2 * 2 + 1 + 12 + 4},
+      {"voxel-ties-64", 20},   {"voxel-ties-256", 20}, {"dense-sheet", 2 * 96 * 96 + 2}, {"huge-triangles", 4}};
+  for (auto [name, triangles] : counts) {
     Scene s = loadScene(projectPath(std::string("tests/data/scenes/") + name + ".gltf"));
-    EXPECT_GT(s.triangleCount(), 0u) << name;
-    EXPECT_FALSE(s.cameras.empty()) << name;
+    EXPECT_EQ(s.triangleCount(), triangles) << name;
+    EXPECT_FALSE(s.cameras.empty()) << name;  // its own or one framing the bounds
   }
   Scene furnace = loadScene(projectPath("tests/data/scenes/furnace-box.gltf"));
   EXPECT_EQ(furnace.triangleCount(), 12u);

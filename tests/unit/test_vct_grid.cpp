@@ -12,6 +12,7 @@
 #include <set>
 
 #include "core/paths.h"
+#include "graph/technique.h"
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
@@ -109,9 +110,11 @@ TEST(VctGridVoxelize, TrianglesPerAxisMatchCpuPlaneNormals) {
   EXPECT_EQ(stats.at("triangles_axis_x"), counts[0]);
   EXPECT_EQ(stats.at("triangles_axis_y"), counts[1]);
   EXPECT_EQ(stats.at("triangles_axis_z"), counts[2]);
-  // The reported fragment count is the number of records the list really holds.
-  EXPECT_EQ(stats.at("fragments"), double(capture(s, "voxelize", "fragments").recordCount));
-  EXPECT_GT(stats.at("fragments"), 0.0);
+  // One fragment per (triangle, voxel) pair, counted on the CPU with the exact test (measured: the
+  // GPU appends exactly these 27770 on the Cornell box at 64^3); the list holds that many records.
+  const double pairs = double(referencePairCount(scene, VoxelSpace::fromScene(scene, 64)));
+  EXPECT_EQ(stats.at("fragments"), pairs);
+  EXPECT_EQ(double(capture(s, "voxelize", "fragments").recordCount), pairs);
 }
 
 TEST(VctGridMipmap, EveryTexelIsTheAverageOfItsChildren) {
@@ -137,6 +140,81 @@ TEST(VctGridMipmap, EveryTexelIsTheAverageOfItsChildren) {
     EXPECT_LE(worst, 0.5 / 255.0 + 1e-6) << "level " << l;
   }
   EXPECT_GT(nonEmptyParents, 100u);
+}
+
+// Anisotropic mips against a CPU reference of the rule (Crassin et al.; docs/architecture.md): the
+// volume for travel direction +x at level l+1 composites each pair of children along x front to
+// back (the smaller x in front: c = c0 + (1 - a0) c1, the same for alpha), then averages the four
+// pairs; -x puts the larger x in front; level 0 of every direction is built from the isotropic
+// level-0 voxels, later levels from the direction's own previous level. The Cornell box's walls,
+// blocks and light panel give different colours and (above level 0) fractional opacities side by
+// side, so swapping front and back, the axis or the direction changes many texels. The reference
+// starts from the GPU's stored previous level, so each level carries one rounding only: RGBA8
+// stores the nearest of k/255, half a step from the exact value (measured: worst 0.5/255).
+TEST(VctGridMipmap, AnisotropicTexelsCompositeTheirChildrenFrontToBack) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=32", "mipmap.mode=anisotropic"}, "mipmap", 64));
+  const LevelData base = capture(s, "mipmap", "radiance").levels.at(0);
+  const char* names[6] = {"radiance-dir+x", "radiance-dir-x", "radiance-dir+y", "radiance-dir-y", "radiance-dir+z", "radiance-dir-z"};
+  size_t orderMatters = 0;  // texels where compositing the other way round gives another value
+  for (int d = 0; d < 6; ++d) {
+    CapturedOutput dir = capture(s, "mipmap", names[d]);
+    ASSERT_EQ(dir.levels.size(), 5u) << names[d];  // 16, 8, 4, 2, 1
+    const int axis = d / 2;
+    const bool negative = d % 2 == 1;
+    for (size_t l = 0; l < dir.levels.size(); ++l) {
+      const LevelData& parent = dir.levels[l];
+      const LevelData& child = l == 0 ? base : dir.levels[l - 1];
+      ASSERT_EQ(child.size, parent.size * 2) << names[d] << " level " << l;
+      double worst = 0;
+      for (int z = 0; z < parent.size.z; ++z)
+        for (int y = 0; y < parent.size.y; ++y)
+          for (int x = 0; x < parent.size.x; ++x) {
+            glm::dvec4 sum(0.0), swapped(0.0);
+            for (int i = 0; i < 2; ++i)
+              for (int j = 0; j < 2; ++j) {
+                glm::ivec3 lo(2 * x, 2 * y, 2 * z);
+                lo[(axis + 1) % 3] += i;
+                lo[(axis + 2) % 3] += j;
+                glm::ivec3 hi = lo;
+                hi[axis] += 1;
+                auto texel = [&](glm::ivec3 v) {
+                  return glm::dvec4(child.at(v.x, v.y, v.z, 0), child.at(v.x, v.y, v.z, 1), child.at(v.x, v.y, v.z, 2),
+                                    child.at(v.x, v.y, v.z, 3));
+                };
+                glm::dvec4 front = texel(negative ? hi : lo), back = texel(negative ? lo : hi);
+                sum += front + (1.0 - front.w) * back;
+                swapped += back + (1.0 - back.w) * front;
+              }
+            sum *= 0.25;
+            swapped *= 0.25;
+            bool differs = false;
+            for (int c = 0; c < 4; ++c) {
+              worst = std::max(worst, std::abs(parent.at(x, y, z, c) - sum[c]));
+              differs = differs || std::abs(sum[c] - swapped[c]) > 2.0 / 255.0;
+            }
+            orderMatters += differs;
+          }
+      EXPECT_LE(worst, 0.5 / 255.0 + 1e-6) << names[d] << " level " << l;
+    }
+  }
+  ::testing::Test::RecordProperty("texels_where_order_matters", int(orderMatters));
+  EXPECT_GT(orderMatters, 200u);  // the scene exercises the order (measured: see the property)
+}
+
+// The help of each directional volume names its travel direction with its sign (`voxlab list`
+// said "travelling along x" for both radiance-dir+x and radiance-dir-x).
+TEST(VctGridMipmap, DirectionalVolumesNameTheirDirection) {
+  auto technique = createTechnique("vct-grid");
+  const StageDecl& mipmap = technique->decl(technique->stageIndex("mipmap"));
+  size_t named = 0;
+  for (const OutputDesc& out : mipmap.outputs) {
+    const std::string prefix = "radiance-dir";
+    if (out.name.rfind(prefix, 0) != 0) continue;
+    const std::string direction = out.name.substr(prefix.size());  // "+x", "-x", ...
+    EXPECT_NE(out.help.find("travelling along " + direction + " "), std::string::npos) << out.name << ": " << out.help;
+    ++named;
+  }
+  EXPECT_EQ(named, 6u);
 }
 
 // Stepping the mipmap stage builds one level per iteration: after iteration k, levels 0..k+1 of
@@ -194,14 +272,19 @@ TEST(VctGridConeTrace, FirstIterationTracesTheTopBand) {
 TEST(VctGridPlacement, VolumesSitInTheVoxelSpaceUnlessPlaced) {
   auto& s = session(request("cornell-box", {"voxel.resolution=32"}, "mipmap"));
   Blackboard& board = s.cursor().board();
-  const VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), 32);
   CapturedOutput grid = capture(s, "mipmap", "radiance");
   ASSERT_TRUE(grid.world.has_value());
+  // The documented placement (voxel_space.h), from the Cornell box's published bounds
+  // (x 0..0.556, y 0..0.5488, z 0..0.5592 m): a cube centred on the bounds whose largest extent,
+  // z, spans resolution - 1 = 31 voxels, so the edge is 0.5592 * 32 / 31 m.
+  const glm::vec3 lo(0.0f), hi(0.556f, 0.5488f, 0.5592f);
+  const double edge = 0.5592 * 32.0 / 31.0;
   for (int k = 0; k < 3; ++k) {
-    EXPECT_FLOAT_EQ(grid.world->lo[k], space.origin[k]);
-    EXPECT_FLOAT_EQ(grid.world->hi[k], space.origin[k] + space.edge());
-    EXPECT_LE(grid.world->lo[k], s.cursor().scene().bounds.min[k]);  // the scene lies inside
-    EXPECT_GE(grid.world->hi[k], s.cursor().scene().bounds.max[k]);
+    EXPECT_NEAR(s.cursor().scene().bounds.min[k], lo[k], 1e-6);
+    EXPECT_NEAR(s.cursor().scene().bounds.max[k], hi[k], 1e-6);
+    const double centre = 0.5 * (lo[k] + hi[k]);
+    EXPECT_NEAR(grid.world->lo[k], centre - 0.5 * edge, 1e-6) << "axis " << k;
+    EXPECT_NEAR(grid.world->hi[k], centre + 0.5 * edge, 1e-6) << "axis " << k;
   }
   EXPECT_FALSE(board.placementOf("shadow-map").has_value());
   EXPECT_FALSE(board.placementOf("no-such-texture").has_value());
@@ -211,34 +294,94 @@ TEST(VctGridPlacement, VolumesSitInTheVoxelSpaceUnlessPlaced) {
   EXPECT_EQ(board.placementOf("radiance")->hi, grid.world->hi);  // others keep the voxel space
 }
 
-TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
-  const double L = 0.5, rho = 0.5;  // inject.uniform-radiance and the furnace box's albedo
-  auto& s = session(request(projectPath("tests/data/scenes/furnace-box.gltf"),
-                            {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform", "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"}, "cone-trace"));
+// White furnace: uniform injected radiance L in a closed box of albedo rho gives indirect diffuse
+// rho * L per channel, whatever the cone weights (they sum to one). Checked on every channel, on
+// the grey box and on a coloured one (0.8, 0.5, 0.2), so a channel read from the wrong place or
+// an albedo applied per channel wrongly shows. Returns the worst |mean - expected| over channels.
+void expectFurnace(const std::string& scene, glm::dvec3 rho) {
+  const double L = 0.5;  // inject.uniform-radiance
+  auto& s = session(request(projectPath(scene), {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform",
+                                                 "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic"},
+                            "cone-trace"));
   CapturedOutput indirect = capture(s, "cone-trace", "indirect-diffuse");
   CapturedOutput albedo = capture(s, "gbuffer", "albedo");
   CapturedOutput position = capture(s, "gbuffer", "position");
   const LevelData& ind = indirect.levels[0];
-  double sum = 0, worst = 0;
+  glm::dvec3 sum(0.0), worst(0.0);
   size_t n = 0;
   for (size_t t = 0; t < ind.texelCount(); ++t) {
     if (position.levels[0].values[t * 4 + 3] == 0) continue;
-    ASSERT_NEAR(albedo.levels[0].values[t * 4], rho, 1.0 / 255.0);
-    double v = ind.values[t * 4];
-    sum += v;
-    worst = std::max(worst, std::abs(v - rho * L));
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(albedo.levels[0].values[t * 4 + c], rho[c], 1.0 / 255.0);
+      double v = ind.values[t * 4 + c];
+      sum[c] += v;
+      worst[c] = std::max(worst[c], std::abs(v - rho[c] * L));
+    }
     ++n;
   }
   ASSERT_EQ(n, ind.texelCount());  // the camera is inside the closed box: every pixel sees a wall
-  double mean = sum / double(n);
-  ::testing::Test::RecordProperty("furnace_mean", std::to_string(mean));
-  ::testing::Test::RecordProperty("furnace_worst_abs_error", std::to_string(worst));
-  // Expected rho * L = 0.25. What varies: 0.5 stored in RGBA8 is 128/255 = 0.50196 (+0.4 %), the
-  // anisotropic mips keep the one-voxel walls opaque and every cone ends on a wall. Measured at
-  // 64^3: mean 0.2514, worst pixel off by 0.0037 (RGBA8 rounding in the mips). With isotropic mips
-  // the same box gives a mean near 0.09: coarse levels of thin walls are mostly transparent.
-  EXPECT_NEAR(mean, rho * L, 0.003);
-  EXPECT_LE(worst, 0.006);
+  for (int c = 0; c < 3; ++c) {
+    double mean = sum[c] / double(n);
+    ::testing::Test::RecordProperty("furnace_mean_" + std::to_string(c), std::to_string(mean));
+    ::testing::Test::RecordProperty("furnace_worst_abs_error_" + std::to_string(c), std::to_string(worst[c]));
+    EXPECT_NEAR(mean, rho[c] * L, 0.003) << "channel " << c;
+    EXPECT_LE(worst[c], 0.006) << "channel " << c;
+  }
+}
+
+// Expected rho * L. What varies: 0.5 stored in RGBA8 is 128/255 = 0.50196 (+0.4 %), the
+// anisotropic mips keep the one-voxel walls opaque and every cone ends on a wall. Measured at
+// 64^3, grey box: mean 0.2514, worst pixel off by 0.0037 (RGBA8 rounding in the mips), every
+// channel alike; coloured box: means 0.4007 / 0.2514 / 0.1002 against 0.4 / 0.25 / 0.1, worst
+// pixel 0.0043 / 0.0037 / 0.0011. Allowed: mean 0.003, worst 0.006. With isotropic mips the same box gives a mean
+// near 0.09: coarse levels of thin walls are mostly transparent.
+TEST(VctGridPhysics, WhiteFurnaceIndirectDiffuseIsAlbedoTimesRadiance) {
+  expectFurnace("tests/data/scenes/furnace-box.gltf", glm::dvec3(0.5));
+}
+TEST(VctGridPhysics, ColouredFurnaceGivesAlbedoTimesRadiancePerChannel) {
+  expectFurnace("tests/data/scenes/furnace-colour.gltf", glm::dvec3(0.8, 0.5, 0.2));
+}
+
+// Cone weights, checked where they matter: from the centre of a floor under a small lid (nothing
+// else around, uniform injected radiance), only cones towards the lid see much radiance. A ring of
+// 6 cones of 40 degrees has one cone along the normal and five tilted by 40 degrees (narrower
+// cones than the default 60 so the tilted ones do not graze the floor); cosine weights are
+// 1 / (1 + 5 cos 40) = 0.2070 for the normal cone, equal weights 1/6. A single cone (the normal
+// one, weight 1) measures that cone's value A; the tilted cones' mean B follows from the cosine
+// run C = 0.2070 A + 0.7930 B, and the equal-weight run must then be A / 6 + 5 B / 6.
+// Measured: A = 0.1499, C = 0.04694, equal 0.04172 against the predicted 0.04169 (3e-5 off; both
+// runs read the same cones); C / equal = 1.125. Allowed: prediction within 0.001, C / equal > 1.08.
+TEST(VctGridPhysics, CosineWeightsWeighTheNormalConeMore) {
+  auto centreValue = [](const std::vector<std::string>& extra) {
+    std::vector<std::string> sets = {"voxel.resolution=64", "cone.resolution=full", "inject.mode=uniform",
+                                     "inject.uniform-radiance=0.5", "mipmap.mode=anisotropic", "cone.aperture=40"};
+    sets.insert(sets.end(), extra.begin(), extra.end());
+    auto& s = session(request(projectPath("tests/data/scenes/lid-floor.gltf"), sets, "cone-trace", 64));
+    const LevelData ind = capture(s, "cone-trace", "indirect-diffuse").levels[0];
+    const LevelData pos = capture(s, "gbuffer", "position").levels[0];
+    // The floor pixel closest to the floor's centre, under the lid.
+    size_t best = 0;
+    float bestDist = 1e30f;
+    for (size_t t = 0; t < pos.texelCount(); ++t) {
+      if (pos.values[t * 4 + 3] == 0) continue;
+      float d = glm::length(glm::vec3(pos.values[t * 4], pos.values[t * 4 + 1], pos.values[t * 4 + 2]));
+      if (d < bestDist) { bestDist = d; best = t; }
+    }
+    EXPECT_LT(bestDist, 0.03f);
+    return double(ind.values[best * 4]);
+  };
+  const double a = centreValue({"cone.count=1"});
+  const double cosine = centreValue({"cone.count=6"});
+  const double equal = centreValue({"cone.count=6", "cone.weighting=equal"});
+  const double w0 = 1.0 / (1.0 + 5.0 * std::cos(40.0 * M_PI / 180.0));
+  const double b = (cosine - w0 * a) / (1.0 - w0);
+  ::testing::Test::RecordProperty("normal_cone", std::to_string(a));
+  ::testing::Test::RecordProperty("cosine", std::to_string(cosine));
+  ::testing::Test::RecordProperty("equal", std::to_string(equal));
+  ::testing::Test::RecordProperty("tilted_cones_mean", std::to_string(b));
+  EXPECT_GT(a, 0.05);  // the normal cone sees the lid
+  EXPECT_NEAR(equal, a / 6.0 + 5.0 * b / 6.0, 0.001);
+  EXPECT_GT(cosine, 1.08 * equal);
 }
 
 // Cosine-weighted visible fraction at a floor point (normal +y) in front of the wall rectangle
@@ -266,11 +409,11 @@ double visibleFractionNextToWall(double px, double pz) {
 }
 
 // Ambient occlusion of floor points at distance d from the wall, measured with the given mips.
-std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode) {
-  auto& s = session(request(projectPath("tests/data/scenes/wall-floor.gltf"),
-                            {"voxel.resolution=128", "cone.resolution=full", "mipmap.mode=" + mipmapMode, "ao.range=2", "cone.count=16",
-                             "cone.layout=fibonacci", "cone.weighting=equal", "cone.aperture=30"},
-                            "cone-trace", 256));
+// 'cones' empty: the default cones (a ring of 6 of 60 degrees, cosine weights).
+std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode, std::vector<std::string> cones) {
+  std::vector<std::string> sets = {"voxel.resolution=128", "cone.resolution=full", "mipmap.mode=" + mipmapMode, "ao.range=2"};
+  sets.insert(sets.end(), cones.begin(), cones.end());
+  auto& s = session(request(projectPath("tests/data/scenes/wall-floor.gltf"), sets, "cone-trace", 256));
   CapturedOutput ao = capture(s, "cone-trace", "ambient-occlusion");
   CapturedOutput position = capture(s, "gbuffer", "position");
   const LevelData& pos = position.levels[0];
@@ -293,26 +436,185 @@ std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMod
     // The 2 m wide wall hides a little less than the infinitely long one of the formula.
     EXPECT_GE(expected, infiniteWall - 1e-3);
     double measured = ao.levels[0].values[best];
-    ::testing::Test::RecordProperty(mipmapMode + "_ao_d" + std::to_string(d),
+    ::testing::Test::RecordProperty(mipmapMode + (cones.empty() ? "_default" : "") + "_ao_d" + std::to_string(d),
                                     std::to_string(measured) + " vs " + std::to_string(expected));
     out.push_back({measured, expected});
   }
   return out;
 }
 
+const std::vector<std::string> kSpiralCones = {"cone.count=16", "cone.layout=fibonacci", "cone.weighting=equal",
+                                               "cone.aperture=30"};
+
 TEST(VctGridPhysics, AmbientOcclusionNextToAWallMatchesQuadrature) {
-  // 16 cones of 30 degrees on a cosine-distributed spiral, anisotropic mips, 128^3 voxels.
-  // Measured (LP_NUM_THREADS 1 and 2 alike): 0.5444/0.5551, 0.6074/0.6127, 0.6997/0.7091,
-  // 0.7666/0.7896 (cones/quadrature at d = 0.15, 0.3, 0.6, 0.9 m): largest error 0.023, at the
-  // farthest point, where coarse mips blur the wall's top edge. Tolerance 0.04.
-  for (auto [measured, expected] : aoNextToWall("anisotropic")) EXPECT_NEAR(measured, expected, 0.04);
+  // 16 cones of 30 degrees on a cosine-distributed spiral (equal weights: the directions already
+  // carry the cosine), anisotropic mips, 128^3 voxels. Measured (LP_NUM_THREADS 1 and 2 alike):
+  // 0.5444/0.5551, 0.6074/0.6127, 0.6997/0.7091, 0.7666/0.7896 (cones/quadrature at d = 0.15,
+  // 0.3, 0.6, 0.9 m): errors 0.0106, 0.0053, 0.0094, 0.0230, largest at the farthest point, where
+  // coarse mips blur the wall's top edge. Allowed per distance: the measured error + 0.003.
+  const double allowed[4] = {0.014, 0.008, 0.013, 0.026};
+  auto ao = aoNextToWall("anisotropic", kSpiralCones);
+  for (size_t k = 0; k < ao.size(); ++k) EXPECT_NEAR(ao[k].first, ao[k].second, allowed[k]) << "distance " << k;
+}
+
+TEST(VctGridPhysics, AmbientOcclusionWithTheDefaultConesIsDarkenedByTheFloor) {
+  // The default cones (a ring of 6 of 60 degrees, the five outer ones tilted by 60 degrees, cosine
+  // weights): the outer cones' lower edges run along the floor, so their footprints sample the
+  // floor's own voxels and the open floor occludes itself. Measured 0.2441, 0.3088, 0.3354, 0.3745
+  // against quadrature 0.555, 0.613, 0.709, 0.790 (LP_NUM_THREADS 1 and 2 alike). A known defect
+  // of the default layout (docs/testing.md), pinned within 0.01 so that a fix or a regression shows.
+  const double measured[4] = {0.2441, 0.3088, 0.3354, 0.3745};
+  auto ao = aoNextToWall("anisotropic", {});
+  for (size_t k = 0; k < ao.size(); ++k) {
+    EXPECT_NEAR(ao[k].first, measured[k], 0.01) << "distance " << k;
+    EXPECT_LT(ao[k].first, ao[k].second - 0.2) << "distance " << k;
+  }
 }
 
 TEST(VctGridPhysics, IsotropicMipsLeakThroughAThinWall) {
   // Averaging a one-voxel wall into coarser levels makes it half as opaque per level, so wide
-  // cones see through it: isotropic AO next to the wall is far too open (measured 0.78..0.95
-  // against 0.56..0.79). This documents the known leak the anisotropic mips fix.
-  for (auto [measured, expected] : aoNextToWall("isotropic")) EXPECT_GT(measured, expected + 0.1);
+  // cones see through it: isotropic AO next to the wall is far too open. Measured 0.7803, 0.8745,
+  // 0.9268, 0.9473 against 0.5551, 0.6127, 0.7091, 0.7896: leaks of 0.225, 0.262, 0.218, 0.158
+  // (LP_NUM_THREADS 1 and 2 alike). The known leak the anisotropic mips fix, asserted within 0.02
+  // of what was measured (fully transparent mips would give AO near 1, leaks of 0.45, 0.39, 0.29,
+  // 0.21).
+  const double leak[4] = {0.225, 0.262, 0.218, 0.158};
+  auto ao = aoNextToWall("isotropic", kSpiralCones);
+  for (size_t k = 0; k < ao.size(); ++k) EXPECT_NEAR(ao[k].first - ao[k].second, leak[k], 0.02) << "distance " << k;
+}
+
+// --- Textures (tests/data/scenes/textured-floor.gltf) --------------------------------------------
+
+// The floor's 2 x 2 base colour texture, linear (sRGB decoded), row 0 = v < 0.5:
+// red, green / blue, grey 128 (sRGB 128/255 = linear 0.2158).
+glm::vec3 floorTexel(int i, int j) {
+  const double grey = std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4);
+  const glm::vec3 texels[2][2] = {{{1, 0, 0}, {0, 1, 0}}, {{0, 0, 1}, {float(grey), float(grey), float(grey)}}};
+  return texels[j][i];
+}
+
+// The texel whose centre (u, v in {0.25, 0.75}) lies within 'radius' of (u, v), if any.
+bool nearTexelCentre(double u, double v, double radius, int& i, int& j) {
+  i = u < 0.5 ? 0 : 1;
+  j = v < 0.5 ? 0 : 1;
+  return std::abs(u - (0.25 + 0.5 * i)) <= radius && std::abs(v - (0.25 + 0.5 * j)) <= radius;
+}
+
+// Distance of a sampled colour from the texture at (u, v): the smallest of its distances from the
+// nearest texel and from the bilinear blend (in linear space) with clamp-to-edge or repeat
+// wrapping, so the check holds whichever filter and wrap mode the loader picks (the file asks for
+// nearest and clamp; the loader uses bilinear and repeat today).
+double textureError(glm::vec3 got, double u, double v) {
+  auto distance = [&](glm::dvec3 expected) {
+    double e = 0;
+    for (int c = 0; c < 3; ++c) e = std::max(e, std::abs(got[c] - expected[c]));
+    return e;
+  };
+  double best = distance(glm::dvec3(floorTexel(u < 0.5 ? 0 : 1, v < 0.5 ? 0 : 1)));
+  for (bool repeat : {false, true}) {
+    auto wrap = [&](int k) { return repeat ? (k % 2 + 2) % 2 : std::min(std::max(k, 0), 1); };
+    double x = u * 2.0 - 0.5, y = v * 2.0 - 0.5;
+    int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    double fx = x - x0, fy = y - y0;
+    glm::dvec3 bilinear(0.0);
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx)
+        bilinear += glm::dvec3(floorTexel(wrap(x0 + dx), wrap(y0 + dy))) * (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+    best = std::min(best, distance(bilinear));
+  }
+  return best;
+}
+
+glm::vec4 unpackUnorm4x8(uint32_t v) {
+  return glm::vec4(float(v & 255u), float((v >> 8) & 255u), float((v >> 16) & 255u), float(v >> 24)) / 255.0f;
+}
+
+// The raster voxelizer samples the base colour texture at each fragment's uv: voxels near the
+// texel centres carry the texel's colour. The grown triangle's vertices get extrapolated uvs
+// (voxelize.geom.glsl); with the original vertices' uvs the error was 0.0625. Measured at 32^3
+// (voxel centres within 0.02 of a texel centre in uv): worst channel error 0.0026 (RGBA8 and the
+// sRGB table); allowed two RGBA8 steps.
+TEST(VctGridTextures, RasterVoxelizerReadsTheBaseColourTexture) {
+  auto& s = session(request(projectPath("tests/data/scenes/textured-floor.gltf"), {"voxel.resolution=32"}, "gbuffer", 64));
+  CapturedOutput fragments = capture(s, "voxelize", "fragments");
+  const VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), 32);
+  size_t checked[2][2] = {{0, 0}, {0, 0}};
+  double worst = 0;
+  for (uint32_t r = 0; r < fragments.recordCount; ++r) {
+    uint32_t packed, albedo;
+    std::memcpy(&packed, &fragments.records[size_t(r) * fragments.desc.layout.stride], 4);
+    std::memcpy(&albedo, &fragments.records[size_t(r) * fragments.desc.layout.stride + 4], 4);
+    glm::vec3 centre = space.origin + (glm::vec3(unpackVoxelKey(packed)) + 0.5f) * space.voxelSize;
+    int i, j;
+    if (!nearTexelCentre(centre.x + 0.5, centre.z + 0.5, 0.02, i, j)) continue;
+    worst = std::max(worst, textureError(glm::vec3(unpackUnorm4x8(albedo)), centre.x + 0.5, centre.z + 0.5));
+    ++checked[j][i];
+  }
+  ::testing::Test::RecordProperty("worst_texture_error", std::to_string(worst));
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) EXPECT_GT(checked[j][i], 0u) << "no voxel near texel " << i << "," << j;
+  EXPECT_LE(worst, 2.0 / 255.0);
+}
+
+// The G-buffer samples the texture per pixel; the inject stage lights the voxels' (textured)
+// albedo, so injected radiance per channel follows the texel: the four quadrant centres are lit
+// nearly alike by the light above the floor's centre, so radiance / albedo is about one number.
+// Measured (64x64, 32^3, LP_NUM_THREADS 1 and 2): G-buffer worst channel error 0.0021 within 0.02
+// of a texel centre (allowed two RGBA8 steps); radiance / albedo of the four quadrant voxels within
+// 6.1 % of each other (allowed 10 %: the quadrants' voxel centres sit at slightly different angles
+// and the grey one's RGBA8 value is small); channels the texel lacks at most 0.0078 (a neighbour's
+// fragment in the same voxel; allowed 0.012).
+TEST(VctGridTextures, GBufferAndInjectFollowTheTexture) {
+  auto& s = session(request(projectPath("tests/data/scenes/textured-floor.gltf"), {"voxel.resolution=32"}, "gbuffer", 64));
+  CapturedOutput albedo = capture(s, "gbuffer", "albedo"), position = capture(s, "gbuffer", "position");
+  const LevelData &A = albedo.levels[0], &P = position.levels[0];
+  size_t checked[2][2] = {{0, 0}, {0, 0}};
+  double worst = 0;
+  for (size_t t = 0; t < A.texelCount(); ++t) {
+    if (P.values[t * 4 + 3] == 0) continue;
+    int i, j;
+    if (!nearTexelCentre(P.values[t * 4] + 0.5, P.values[t * 4 + 2] + 0.5, 0.02, i, j)) continue;
+    glm::vec3 got(A.values[t * 4], A.values[t * 4 + 1], A.values[t * 4 + 2]);
+    worst = std::max(worst, textureError(got, P.values[t * 4] + 0.5, P.values[t * 4 + 2] + 0.5));
+    ++checked[j][i];
+  }
+  ::testing::Test::RecordProperty("gbuffer_worst_texture_error", std::to_string(worst));
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) EXPECT_GT(checked[j][i], 0u) << "no pixel near texel " << i << "," << j;
+  EXPECT_LE(worst, 2.0 / 255.0);
+
+  CapturedOutput radiance = capture(s, "inject", "radiance-injected");
+  const LevelData& R = radiance.levels[0];
+  const VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), 32);
+  // The voxel under each texel centre (the floor's layer).
+  double ratio[2][2], absent = 0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      glm::vec3 world(-0.25f + 0.5f * i, 0.0f, -0.25f + 0.5f * j);
+      glm::ivec3 v = glm::ivec3(glm::floor(space.toVoxel(world)));
+      glm::vec3 texel = floorTexel(i, j);
+      double sum = 0, weight = 0;
+      for (int c = 0; c < 3; ++c) {
+        float value = R.at(v.x, v.y, v.z, c);
+        if (texel[c] == 0.0f) {
+          absent = std::max(absent, double(value));
+          EXPECT_LE(value, 0.012f) << "texel " << i << "," << j << " channel " << c;
+        } else {
+          sum += value;
+          weight += texel[c];
+        }
+      }
+      ratio[j][i] = sum / weight;
+      EXPECT_GT(ratio[j][i], 0.05) << "texel " << i << "," << j << " is not lit";
+    }
+  double spread = 0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      spread = std::max(spread, std::abs(ratio[j][i] / ratio[0][0] - 1.0));
+      EXPECT_NEAR(ratio[j][i] / ratio[0][0], 1.0, 0.1) << "texel " << i << "," << j;
+    }
+  ::testing::Test::RecordProperty("radiance_ratio_spread", std::to_string(spread));
+  ::testing::Test::RecordProperty("radiance_absent_channel", std::to_string(absent));
 }
 
 }  // namespace

@@ -146,7 +146,7 @@ void CompareStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("occupancy");
   b.output("reference", OutputKind::Volume3D, Semantic::Occupancy,
-           "CPU reference voxels: every voxel whose closed box a triangle overlaps (exact SAT, double; "
+           "CPU reference voxels: every voxel whose half-open cell a triangle meets (exact SAT, double; "
            "alphaMode MASK triangles only where their alpha coverage is opaque)");
   b.output("difference", OutputKind::Volume3D, Semantic::Scalar,
            "0 = method and reference agree, 1 = missed by the method, 2 = added by the method");
