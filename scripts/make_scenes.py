@@ -7,6 +7,9 @@
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
   tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
   tests/data/scenes/huge-triangles.gltf  4 huge triangles at odd angles (voxelization sweep)
+  tests/data/scenes/sunlit-floor.gltf    a floor under a sun shining straight down (volumetric tests)
+  tests/data/scenes/sunlit-floor-bright.gltf  the same with a sun 2.5 times as bright
+  tests/data/scenes/half-roof.gltf       the floor with a roof over its -x half (volumetric shadow tests)
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
 """
@@ -161,6 +164,28 @@ def huge_triangles(path):
     b.write(path)
 
 
+def sunlit_floor(path, irradiance, roof):
+    """Floor 2 x 2 m at y = 0 lit by a sun shining straight down with irradiance E (W/m^2); with
+    'roof', a roof over the floor's -x half (x -1..0) at y = 1 puts the air under it in shadow.
+    The camera, inside the medium below the roof's height, looks along +z at 24 degrees below the
+    horizon; its top rows see no surface. Without a roof all air is lit; with one, the camera
+    sits 5 cm inside the shadow, so rays leaving it towards -x stay in shadow all the way."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (sunlit floor)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    floor = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]]
+    b.add_mesh_node("floor", grey, [oriented(floor, [0.0, 1.0, 0.0])])
+    if roof:
+        top = [[-1.0, 1.0, -1.0], [0.0, 1.0, -1.0], [0.0, 1.0, 1.0], [-1.0, 1.0, 1.0]]
+        b.add_mesh_node("roof", grey, [oriented(top, [0.0, -1.0, 0.0])])
+    b.add_light("sun", {"type": "directional", "color": [1.0, 1.0, 1.0], "intensity": irradiance},
+                (0.0, 3.0, 0.0), LOOK_DOWN)
+    tilt = math.radians(24.0)  # turn -Z to +Z (180 deg about y), then tilt down about x
+    b.add_camera("camera", (-0.05 if roof else 0.0, 0.8, -0.9),
+                 (0.0, round(math.cos(tilt / 2), 6), round(math.sin(tilt / 2), 6), 0.0),
+                 0.7, aspect=1.0, znear=0.01, zfar=20.0)
+    b.write(path)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -180,6 +205,9 @@ def main():
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
         (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
+        (os.path.join(tests, "sunlit-floor.gltf"), lambda p: sunlit_floor(p, 1.0, False)),
+        (os.path.join(tests, "sunlit-floor-bright.gltf"), lambda p: sunlit_floor(p, 2.5, False)),
+        (os.path.join(tests, "half-roof.gltf"), lambda p: sunlit_floor(p, 1.0, True)),
     ]
     for path, fn in outputs:
         fn(path)
