@@ -32,10 +32,10 @@ void main() {
   }
   if (px.x >= u_plotSize.x || px.y >= u_plotSize.y) return;
   float y = float(px.y) + 0.5;
-  vec3 c = vec3(0.08);
+  vec3 c = vec3(0.01);
   for (int k = int(LOG_MIN); k <= int(LOG_MAX); ++k)
-    if (abs(y - rowOf(pow(10.0, float(k)))) < 0.5) c = vec3(0.22);
-  if (px.x == u_plotSize.x / 2) c = vec3(0.22);
+    if (px.y == min(int(floor(rowOf(pow(10.0, float(k))))), u_plotSize.y - 1)) c = vec3(0.06);
+  if (px.x == u_plotSize.x / 2) c = vec3(0.06);
   if (onCurve(px.x, y, 2)) c = vec3(0.5);
   if (onCurve(px.x, y, 1)) c = vec3(0.9, 0.15, 0.1);
   if (onCurve(px.x, y, 0)) c = vec3(1.0);
