@@ -260,7 +260,7 @@ void MarchStage::declare(StageBuilder& b) const {
                 {"world+offset", FieldType::Vec4, 16, FieldRole::Other},
                 {"lit,sigma_s,sigma_t,count", FieldType::Vec4, 32, FieldRole::Other},
                 {"mu,phase,E,T", FieldType::Vec4, 48, FieldRole::Other},
-                {"contribution+sum", FieldType::Vec4, 64, FieldRole::Color}};
+                {"contribution+sum", FieldType::Vec4, 64, FieldRole::Other}};
   rec.countResource = "ray-samples.count";
   OutputDesc& samples = b.output(
       "ray-samples", OutputKind::Buffer, Semantic::Points,
