@@ -268,6 +268,9 @@ void MarchStage::declare(StageBuilder& b) const {
       "position and start offset, lit/sigma_s/sigma_t/particle count, mu/p(mu)/E/T, contribution and running sum");
   samples.layout = rec;
   samples.tier = CaptureTier::Tolerance;  // float fields, compared with the tolerances
+  b.output("ray-plot", OutputKind::Image2D, Semantic::Color,
+           "the probed ray, one column band per sample: contribution over the largest (yellow bars; red tick: "
+           "shadowed), transmittance T (blue) and running sum over its final value (green), 0..1");
 }
 
 int MarchStage::iterations(const ParamSet& params) const { return params.getInt("march.steps"); }
@@ -316,6 +319,14 @@ void MarchStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_RAY_RECORDS, records.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_RAY_RECORD_COUNT, recordCount.id());
   dispatchCompute({low.x, low.y, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  // The plot of the probed ray, redrawn from the records taken so far.
+  Texture& plot = ctx.board.ensureTexture("ray-plot", imageDesc({kPlotWidth, kPlotHeight}, GL_RGBA8));
+  GLuint plotProgram = ctx.shaders.program({"volumetric/ray_plot.comp.glsl"});
+  setUniform(plotProgram, "u_steps", ctx.params.getInt("march.steps"));
+  glUseProgram(plotProgram);
+  glBindImageTexture(0, plot.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({kPlotWidth, kPlotHeight, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   ctx.stats["marched_pixels"] = double(low.x) * low.y;
   ctx.stats["steps"] = ctx.params.getInt("march.steps");
