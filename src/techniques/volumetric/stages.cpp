@@ -104,6 +104,7 @@ void DensityStage::execute(StageContext& ctx) {
   const int res = space.resolution;
   const uint32_t count = uint32_t(ctx.params.getInt("particles.count"));
   // The grids carry their own placement (a technique this is appended to may define another voxel space).
+  if (definesVoxelSpace_) ctx.board.setVoxelSpace(space.box());
   ctx.board.place("particle-count", space.box());
   ctx.board.place("scattering", space.box());
 

@@ -7,8 +7,12 @@
 
 namespace voxlab::volumetric {
 
+// definesVoxelSpace: the density grid is the technique's voxel space (the viewer places the
+// particles' and the ray record's voxel coordinates in it); false when appended to a technique
+// that has its own (volumetric.h).
 class DensityStage : public Stage {
  public:
+  explicit DensityStage(bool definesVoxelSpace = true) : definesVoxelSpace_(definesVoxelSpace) {}
   const char* id() const override { return "density"; }
   const char* title() const override { return "Deposit smoke particles into a density grid"; }
   const char* summary() const override {
@@ -17,6 +21,9 @@ class DensityStage : public Stage {
   }
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;
+
+ private:
+  bool definesVoxelSpace_;
 };
 
 class PhaseStage : public Stage {

@@ -72,7 +72,7 @@
 namespace voxlab::volumetric {
 
 void appendVolumetricStages(Technique& t, const std::string& surfaceResource) {
-  t.add<DensityStage>();
+  t.add<DensityStage>(false);
   t.add<PhaseStage>();
   t.add<MarchStage>();
   t.add<BlurStage>();
