@@ -114,12 +114,17 @@ SingleScatteringResult SingleScatteringReference::integrate(const glm::vec3& ori
   t1 = std::min(t1, double(hit));
   r.length = std::max(t1 - t0, 0.0);
   r.transmittance = std::exp(-m.sigmaT * r.length);
-  if (r.length <= 0.0 || impl_->scene.lights.empty() || samples <= 0) return r;
-  const Light& light = impl_->scene.lights[0];
+  if (r.length <= 0.0 || samples <= 0) return r;
   const double dt = r.length / samples;
+  double depth = 0.0;  // optical depth of the extra medium up to the current interval's start
   for (int i = 0; i < samples; ++i) {
     double t = t0 + (i + 0.5) * dt;
     glm::vec3 x = origin + float(t) * dir;
+    double extra = m.extraScattering ? m.extraScattering(x) : 0.0;
+    double extraDepth = depth + 0.5 * m.extinctionRatio * extra * dt;  // to the interval's midpoint
+    depth += m.extinctionRatio * extra * dt;
+    if (impl_->scene.lights.empty()) continue;
+    const Light& light = impl_->scene.lights[0];
     LightSample ls = sampleLight(light, x);
     glm::vec3 irradiance = ls.irradianceAtNormalIncidence;
     if (irradiance == glm::vec3(0.0f)) continue;
@@ -127,9 +132,11 @@ SingleScatteringResult SingleScatteringReference::integrate(const glm::vec3& ori
     float reach = std::isfinite(ls.distance) ? ls.distance * (1.0f - 1e-4f) : INFINITY;
     if (impl_->occluded(x, ls.toLight, reach)) continue;
     double mu = glm::dot(glm::dvec3(dir), glm::dvec3(ls.toLight));
-    double w = std::exp(-m.sigmaT * (t - t0)) * m.sigmaS * henyeyGreenstein(std::clamp(mu, -1.0, 1.0), m.g) * dt;
+    double w = std::exp(-m.sigmaT * (t - t0) - extraDepth) * (m.sigmaS + extra) *
+               henyeyGreenstein(std::clamp(mu, -1.0, 1.0), m.g) * dt;
     r.inscatter += w * glm::dvec3(irradiance);
   }
+  r.transmittance *= std::exp(-depth);
   return r;
 }
 

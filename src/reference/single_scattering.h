@@ -12,6 +12,7 @@
 // intervals (exact visibility per sample; the only approximation is where V or E change within
 // an interval). Like the GPU technique, light on its way to a sample is not attenuated.
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -36,6 +37,11 @@ struct HomogeneousMedium {
   double sigmaS = 0.0;                   // scattering coefficient, 1/m
   double sigmaT = 0.0;                   // extinction coefficient, 1/m
   double g = 0.0;                        // Henyey-Greenstein anisotropy
+  // Optional: a scattering coefficient added at each point (e.g. smoke particles' sigma_s,
+  // 1/m), with extinction extinctionRatio times it. The medium is then not homogeneous: the
+  // transmittance integrates sigma_t along the ray with the same midpoint samples.
+  std::function<double(const glm::vec3&)> extraScattering;
+  double extinctionRatio = 1.0;
 };
 
 struct SingleScatteringResult {

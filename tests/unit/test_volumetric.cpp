@@ -626,6 +626,77 @@ TEST(VolumetricReference, CornellHazeMatchesTheEmbreeQuadrature) {
   EXPECT_GT(mean, 0.01);
 }
 
+// sigma_s of the scattering volume at world point p, filtered as the GPU's sampler does: trilinear
+// between texel centres, zero outside (clamp to a zero border).
+double trilinearScattering(const LevelData& v, const VoxelSpace& space, const glm::vec3& p) {
+  glm::vec3 f = space.toVoxel(p) - 0.5f;
+  glm::ivec3 b = glm::ivec3(glm::floor(f));
+  glm::vec3 w = f - glm::vec3(b);
+  double sum = 0;
+  for (int i = 0; i < 8; ++i) {
+    glm::ivec3 q = b + glm::ivec3(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+    if (glm::any(glm::lessThan(q, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(q, v.size))) continue;
+    double weight = ((i & 1) ? w.x : 1 - w.x) * ((i >> 1 & 1) ? w.y : 1 - w.y) * ((i >> 2 & 1) ? w.z : 1 - w.z);
+    sum += weight * v.at(q.x, q.y, q.z, 0);
+  }
+  return sum;
+}
+
+TEST(VolumetricReference, CornellSmokeMatchesTheEmbreeQuadrature) {
+  // The default plume (a heterogeneous medium: transmittance accumulated sample by sample) in
+  // haze; the reference reads the same sigma_s volume with the same filter.
+  auto& s = session(request("cornell-box", {"march.resolution=full", "march.steps=64", "blur.radius=0"}, "march"));
+  const Scene& scene = s.cursor().scene();
+  const ViewState& view = s.cursor().view();
+  const VoxelSpace space = VoxelSpace::fromScene(scene, s.cursor().params().getInt("density.resolution"));
+  const LevelData sigma = capture(s, "density", "scattering").levels[0];
+  reference::SingleScatteringReference ref(scene);
+  reference::HomogeneousMedium medium{space.origin, space.origin + glm::vec3(space.edge()), 0.6, 0.6, 0.3};
+  medium.extraScattering = [&](const glm::vec3& p) { return trilinearScattering(sigma, space, p); };
+  const LevelData L = capture(s, "march", "inscatter").levels[0];
+  const LevelData T = capture(s, "march", "transmittance").levels[0];
+  glm::mat4 inv = glm::inverse(view.viewProjection());
+  const int block = 8;
+  std::vector<std::pair<double, double>> blocks;
+  double sumGpu = 0, sumRef = 0, worstT = 0;
+  for (int by = 0; by < L.size.y / block; ++by)
+    for (int bx = 0; bx < L.size.x / block; ++bx) {
+      double g0 = 0, r0 = 0;
+      for (int y = by * block; y < (by + 1) * block; ++y)
+        for (int x = bx * block; x < (bx + 1) * block; ++x) {
+          glm::vec4 far = inv * glm::vec4((x + 0.5f) / L.size.x * 2 - 1, (y + 0.5f) / L.size.y * 2 - 1, 1, 1);
+          glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - view.position);
+          auto result = ref.integrate(view.position, dir, medium, 256);
+          g0 += L.at(x, y, 0, 0);
+          r0 += result.inscatter.x;
+          worstT = std::max(worstT, std::abs(T.at(x, y, 0, 0) - result.transmittance));
+        }
+      blocks.push_back({g0 / (block * block), r0 / (block * block)});
+      sumGpu += g0;
+      sumRef += r0;
+    }
+  const double mean = sumRef / L.texelCount();
+  double worstRelative = 0, worstAbsolute = 0;
+  for (auto [gpuMean, refMean] : blocks) {
+    worstAbsolute = std::max(worstAbsolute, std::abs(gpuMean - refMean) / mean);
+    if (refMean >= 0.1 * mean) worstRelative = std::max(worstRelative, std::abs(gpuMean - refMean) / refMean);
+  }
+  ::testing::Test::RecordProperty("image_relative_error", std::to_string(std::abs(sumGpu - sumRef) / sumRef));
+  ::testing::Test::RecordProperty("worst_block_relative_error", std::to_string(worstRelative));
+  ::testing::Test::RecordProperty("worst_block_error_over_mean", std::to_string(worstAbsolute));
+  ::testing::Test::RecordProperty("worst_transmittance_error", std::to_string(worstT));
+  // Besides the haze test's differences: 64 samples of the plume's trilinear sigma_s against 256
+  // (the plume is 2 to 5 voxels of 1.8 cm wide), and the march's transmittance sums sigma_t
+  // sample by sample. Measured at 64x64 (LP_NUM_THREADS 1 and 2): image mean 0.21 %, blocks with
+  // a tenth of the mean 2.4 %, any block 1.6 % of the mean, transmittance 0.004 at worst.
+  // Allowed: 0.5 %, 5 %, 3 % of the mean, 0.01.
+  EXPECT_LT(std::abs(sumGpu - sumRef) / sumRef, 0.005);
+  EXPECT_LT(worstRelative, 0.05);
+  EXPECT_LT(worstAbsolute, 0.03);
+  EXPECT_LT(worstT, 0.01);
+  EXPECT_GT(mean, 0.01);
+}
+
 // --- Composing over another technique --------------------------------------------------------------
 
 TEST(VolumetricCompose, AppendedToVctGridItComposesOverItsImage) {
