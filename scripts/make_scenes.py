@@ -18,6 +18,9 @@
   tests/data/scenes/lid-floor.gltf       a floor under a small lid, open around (cone weighting test)
   tests/data/scenes/textured-floor.gltf  a floor with a 2 x 2 texture (red, green, blue, grey 128)
                                          under a point light, seen from above (texture paths)
+  tests/data/scenes/sunlit-floor.gltf    a floor under a sun shining straight down (volumetric tests)
+  tests/data/scenes/sunlit-floor-bright.gltf  the same with a sun 2.5 times as bright
+  tests/data/scenes/half-roof.gltf       the floor with a roof over its -x half (volumetric shadow tests)
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
 """
@@ -323,6 +326,25 @@ def textured_floor(path):
     b.add_node({"name": "textured-floor", "mesh": len(d["meshes"]) - 1})
     b.add_light("above", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 1.0}, (0.0, 0.8, 0.0))
     b.add_camera("camera", (0.0, 1.2, 0.0), LOOK_DOWN, 0.9, aspect=1.0, znear=0.01, zfar=10.0)
+def sunlit_floor(path, irradiance, roof):
+    """Floor 2 x 2 m at y = 0 lit by a sun shining straight down with irradiance E (W/m^2); with
+    'roof', a roof over the floor's -x half (x -1..0) at y = 1 puts the air under it in shadow.
+    The camera, inside the medium below the roof's height, looks along +z at 24 degrees below the
+    horizon; its top rows see no surface. Without a roof all air is lit; with one, the camera
+    sits 5 cm inside the shadow, so rays leaving it towards -x stay in shadow all the way."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (sunlit floor)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    floor = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]]
+    b.add_mesh_node("floor", grey, [oriented(floor, [0.0, 1.0, 0.0])])
+    if roof:
+        top = [[-1.0, 1.0, -1.0], [0.0, 1.0, -1.0], [0.0, 1.0, 1.0], [-1.0, 1.0, 1.0]]
+        b.add_mesh_node("roof", grey, [oriented(top, [0.0, -1.0, 0.0])])
+    b.add_light("sun", {"type": "directional", "color": [1.0, 1.0, 1.0], "intensity": irradiance},
+                (0.0, 3.0, 0.0), LOOK_DOWN)
+    tilt = math.radians(24.0)  # turn -Z to +Z (180 deg about y), then tilt down about x
+    b.add_camera("camera", (-0.05 if roof else 0.0, 0.8, -0.9),
+                 (0.0, round(math.cos(tilt / 2), 6), round(math.sin(tilt / 2), 6), 0.0),
+                 0.7, aspect=1.0, znear=0.01, zfar=20.0)
     b.write(path)
 
 
@@ -350,6 +372,9 @@ def main():
         (os.path.join(tests, "furnace-colour.gltf"), lambda p: furnace_box(p, (0.8, 0.5, 0.2))),
         (os.path.join(tests, "lid-floor.gltf"), lid_floor),
         (os.path.join(tests, "textured-floor.gltf"), textured_floor),
+        (os.path.join(tests, "sunlit-floor.gltf"), lambda p: sunlit_floor(p, 1.0, False)),
+        (os.path.join(tests, "sunlit-floor-bright.gltf"), lambda p: sunlit_floor(p, 2.5, False)),
+        (os.path.join(tests, "half-roof.gltf"), lambda p: sunlit_floor(p, 1.0, True)),
     ] + [(os.path.join(tests, "voxel-ties-%d.gltf" % r), (lambda r: lambda p: voxel_ties(p, r))(r))
          for r in (64, 128, 256)]
     for path, fn in outputs:

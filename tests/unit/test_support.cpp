@@ -2,6 +2,8 @@
 
 #include <map>
 
+#include <glm/gtx/string_cast.hpp>
+
 namespace voxlab::testing_support {
 
 HeadlessSession& session(const RunRequest& r) {
@@ -9,6 +11,7 @@ HeadlessSession& session(const RunRequest& r) {
   std::string key = r.technique + "|" + r.scene + "|" + r.until + "|" + std::to_string(r.width) + "x" +
                     std::to_string(r.height) + "|" + std::to_string(r.camera);
   for (const auto& s : r.sets) key += "|" + s;
+  if (r.lookFrom) key += "|from " + glm::to_string(*r.lookFrom) + " at " + glm::to_string(*r.lookAt);
   auto& slot = sessions[key];
   if (!slot) {
     // One GL context per process: drop the others first (each session owns its context).

@@ -44,17 +44,6 @@ class MipmapStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
-class GBufferStage : public Stage {
- public:
-  const char* id() const override { return "gbuffer"; }
-  const char* title() const override { return "G-buffer from the camera"; }
-  const char* summary() const override {
-    return "Rasterize the visible surface per pixel: position, normal, albedo, emission and depth.";
-  }
-  void declare(StageBuilder& b) const override;
-  void execute(StageContext& ctx) override;
-};
-
 class ConeTraceStage : public Stage {
  public:
   const char* id() const override { return "cone-trace"; }

@@ -31,6 +31,7 @@
 //   minimal dense-grid VCT with 6 diffuse cones and 1 specular cone); Crassin, Neyret, Sainz,
 //   Green, Eisemann, "Interactive Indirect Illumination Using Voxel Cone Tracing", 2011.
 #include "graph/technique.h"
+#include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/stages.h"
@@ -46,7 +47,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
   t->add<vct::InjectStage>();
   t->add<vct::OcclusionFixStage>();
   t->add<vct::MipmapStage>();
-  t->add<vct::GBufferStage>();
+  t->add<GBufferStage>();
   t->add<vct::ConeTraceStage>();
   t->add<vct::CompositeStage>();
   t->setFinalOutput("composite", "final");
