@@ -547,3 +547,101 @@ TEST(LpvGpu, LitBorderCellNeverReadsOutside) {
 
 }  // namespace
 }  // namespace voxlab::lpv
+
+// --- Physics: the Cornell box's colour bleeding against the reference path tracer ----------------
+
+namespace voxlab::lpv {
+namespace {
+
+struct Probe {
+  const char* name;
+  glm::vec3 p, n;
+};
+// Floor and ceiling points next to the red (x = 0.55) and the green (x = 0) wall, clear of the blocks.
+const Probe kProbes[] = {{"floor-red", {0.50f, 0.0f, 0.12f}, {0, 1, 0}},
+                         {"floor-green", {0.05f, 0.0f, 0.40f}, {0, 1, 0}},
+                         {"ceiling-red", {0.50f, 0.5488f, 0.30f}, {0, -1, 0}},
+                         {"ceiling-green", {0.05f, 0.5488f, 0.30f}, {0, -1, 0}}};
+
+// LPV indirect irradiance at a point, as gi.comp.glsl computes it from the fine cascade (the probes
+// lie inside its blend shell), with gi.radiance-scale = 1.
+glm::dvec3 lpvIrradiance(const ShField& f, const gpu::LpvGrid& g, const Probe& pr) {
+  float s = g.originCell.w;
+  glm::vec3 cellPos = (pr.p + pr.n * (0.5f * s) - glm::vec3(g.originCell)) / s;
+  auto sh = sampleTrilinear(f, cellPos);
+  glm::dvec3 e;
+  for (int ch = 0; ch < 3; ++ch) e[ch] = std::max(0.0f, shDotLobe(sh[ch], -pr.n)) / (s * s);
+  return e;
+}
+double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+struct Bleeding {
+  glm::dvec3 e[4];
+};
+Bleeding lpvBleeding(std::vector<std::string> sets) {
+  auto& s = session(request(std::move(sets)));
+  auto gridsOut = capture(s, "place", "grids");
+  gpu::LpvGrid fine;
+  std::memcpy(&fine, gridsOut.records.data(), sizeof(fine));
+  ShField light = fieldOf(s, "light", 0, "propagate");
+  Bleeding b;
+  for (int i = 0; i < 4; ++i) b.e[i] = lpvIrradiance(light, fine, kProbes[i]);
+  return b;
+}
+const Bleeding& referenceBleeding() {
+  static Bleeding b = [] {
+    auto& s = session(request({}, "place"));
+    reference::ReferenceTracer tracer(s.cursor().scene());
+    Bleeding r;
+    for (int i = 0; i < 4; ++i)
+      r.e[i] = tracer.estimateIrradiance(kProbes[i].p, kProbes[i].n, reference::Mode::IndirectOne, 16384, 17 + i, 0).mean;
+    return r;
+  }();
+  return b;
+}
+double redness(const glm::dvec3& e) { return e.x / e.y; }
+
+// Measured (16384 samples per reference point; docs/fidelity.md): the reference's red-channel
+// irradiance ratio floor-red / floor-green is 1.202; LPV gives 1.084 (defaults), 1.094 (16 steps),
+// 1.150 (16^3). The floor-calibrated scale ref/LPV (luminance) is 0.40 at the defaults, 0.32 and
+// 0.44 in the other two. The ceiling gets 1e-4 of the reference at the defaults: 8 steps of 2.6 cm
+// cells travel 21 cm and the lit floor is 55 cm away (the sign is still right).
+TEST(LpvPhysics, CornellBleedingSignAndRatio) {
+  const Bleeding& ref = referenceBleeding();
+  for (int i = 0; i < 4; ++i)
+    RecordProperty(std::string("ref_") + kProbes[i].name,
+                   std::to_string(ref.e[i].x) + " " + std::to_string(ref.e[i].y) + " " + std::to_string(ref.e[i].z));
+  const double refRatio = ref.e[0].x / ref.e[1].x;
+  EXPECT_NEAR(refRatio, 1.202, 0.03);  // the reference itself: 16384 samples, standard error about 1 %
+  const std::vector<std::vector<std::string>> configs = {{}, {"lpv.steps=16"}, {"lpv.resolution=16"}};
+  double calibrated = 0;
+  for (size_t c = 0; c < configs.size(); ++c) {
+    Bleeding lpv = lpvBleeding(configs[c]);
+    std::string tag = "cfg" + std::to_string(c) + "_";
+    for (int i = 0; i < 4; ++i)
+      RecordProperty(tag + kProbes[i].name,
+                     std::to_string(lpv.e[i].x) + " " + std::to_string(lpv.e[i].y) + " " + std::to_string(lpv.e[i].z));
+    // Sign of the red/green gradient on floor and ceiling: redder next to the red wall.
+    for (int surface : {0, 2}) {
+      EXPECT_GT(redness(ref.e[surface]), redness(ref.e[surface + 1])) << kProbes[surface].name;
+      EXPECT_GT(redness(lpv.e[surface]), redness(lpv.e[surface + 1])) << tag << kProbes[surface].name;
+    }
+    // Ratio of the red irradiance between the two floor points: measured worst 10 % low.
+    double ratio = lpv.e[0].x / lpv.e[1].x;
+    RecordProperty(tag + "floor_red_ratio", std::to_string(ratio));
+    EXPECT_NEAR(ratio / refRatio, 1.0, 0.15) << tag;
+    // One scale calibrated on the defaults' floor points; the others agree with it within 30 %
+    // (measured 0.79 and 1.09 of it).
+    double scale = (luminance(ref.e[0]) / luminance(lpv.e[0]) + luminance(ref.e[1]) / luminance(lpv.e[1])) / 2;
+    RecordProperty(tag + "floor_luminance_scale", std::to_string(scale));
+    if (c == 0) {
+      calibrated = scale;
+      EXPECT_NEAR(scale, 0.40, 0.05);
+    } else {
+      EXPECT_NEAR(scale / calibrated, 1.0, 0.3) << tag;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace voxlab::lpv
