@@ -18,6 +18,8 @@ using uint = uint32_t;
 #define LPV_BINDING_ENERGY 11      // SSBO: LpvEnergy[] (two per step: fine, coarse)
 #define LPV_BINDING_PROBE 12       // SSBO: LpvProbe (one record)
 #define LPV_BINDING_GRIDS 13       // SSBO: LpvGrid[2] (fine, coarse)
+#define LPV_BINDING_STATE_IN 14    // SSBO: vec4[6][res^3] propagation state read (light r,g,b, wavefront r,g,b)
+#define LPV_BINDING_STATE_OUT 15   // SSBO: the same, written
 
 // One cell of an LPV voxel grid (Listings 4.27-4.29 of seed 000, plus a fragment count).
 struct LpvVoxel {

@@ -11,12 +11,11 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = LPV_BINDING_VOXELS) readonly buffer Voxels { LpvVoxel voxels[]; };
 layout(std430, binding = LPV_BINDING_PROBE) writeonly buffer Probe { LpvProbe probe; };
-layout(binding = 0) uniform sampler3D u_prevLight[3];
-layout(binding = 3) uniform sampler3D u_prevWave[3];
-layout(rgba32f, binding = 0) uniform writeonly image3D u_outLight[3];
-layout(rgba32f, binding = 3) uniform writeonly image3D u_outWave[3];
-layout(rgba32f, binding = 6) uniform writeonly image3D u_nextLight[3];  // the same values, read by the next step
-layout(rgba32f, binding = 9) uniform writeonly image3D u_nextWave[3];
+// The state lives in buffers (llvmpipe loads and stores them far faster than images); the stage
+// copies each step's result into the output volumes. Section s of a state holds cells s * res^3...:
+// 0-2 light r, g, b (what the lookup reads), 3-5 wavefront r, g, b.
+layout(std430, binding = LPV_BINDING_STATE_IN) readonly buffer StateIn { vec4 stateIn[]; };
+layout(std430, binding = LPV_BINDING_STATE_OUT) writeonly buffer StateOut { vec4 stateOut[]; };
 uniform int u_step;
 uniform int u_thesisScheme;        // 1: propagate everything so far; 0: only the last wavefront
 uniform float u_weightScale;       // 1/pi (flux-consistent) or fluxAmplifier/(4 pi) (thesis)
@@ -51,9 +50,8 @@ float transmission(vec3 n, vec3 d) {
   return 1.0 - min(max(blocked, 0.0), 1.0);
 }
 
-vec4 sourceAt(int ch, ivec3 n) {
-  return u_thesisScheme == 1 ? texelFetch(u_prevLight[ch], n, 0) : texelFetch(u_prevWave[ch], n, 0);
-}
+int cells() { return u_gridRes * u_gridRes * u_gridRes; }
+vec4 sourceAt(int ch, ivec3 n) { return stateIn[(u_thesisScheme == 1 ? ch : 3 + ch) * cells() + cellIndex(n)]; }
 
 void gatherNeighbour(ivec3 cell, int i, inout vec4 acc[3], out float meanTransmission) {
   meanTransmission = 1.0;
@@ -100,15 +98,13 @@ void main() {
   }
   vec4 total[3];
   for (int ch = 0; ch < 3; ++ch) {
-    precise vec4 sum = texelFetch(u_prevLight[ch], c, 0) + acc[ch];
+    precise vec4 sum = stateIn[ch * cells() + cellIndex(c)] + acc[ch];
     total[ch] = sum;
   }
   if (u_probeMode == 0) {
     for (int ch = 0; ch < 3; ++ch) {
-      imageStore(u_outWave[ch], c, acc[ch]);
-      imageStore(u_outLight[ch], c, total[ch]);
-      imageStore(u_nextWave[ch], c, acc[ch]);
-      imageStore(u_nextLight[ch], c, total[ch]);
+      stateOut[ch * cells() + cellIndex(c)] = total[ch];
+      stateOut[(3 + ch) * cells() + cellIndex(c)] = acc[ch];
     }
     return;
   }

@@ -387,24 +387,30 @@ void PropagateStage::execute(StageContext& ctx) {
   GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
   GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
   for (int c = 0; c < kCascades; ++c) {
-    // Step k reads what step k-1 wrote (step 0: the injected VPLs) from one of two internal copies
-    // and writes both the outputs and the other copy, so no texture is ever copied.
-    Texture *light[3], *wave[3], *prevLight[3], *prevWave[3], *nextLight[3], *nextWave[3];
+    // Step k reads the state step k-1 wrote (step 0: the injected VPLs, packed into state 0) and
+    // writes the other state, then copies it into the output volumes (buffer -> texture copies).
+    const size_t cells = size_t(res) * res * res, section = cells * 16;
+    Buffer* state[2];
+    for (int p = 0; p < 2; ++p)
+      state[p] = &ctx.board.ensureBuffer("propagate.state" + std::to_string(p) + "-" + kCascadeNames[c], 6 * section);
+    Buffer& in = *state[k % 2];
+    Buffer& out = *state[(k + 1) % 2];
+    Texture *light[3], *wave[3];
     for (int ch = 0; ch < 3; ++ch) {
       light[ch] = &ctx.board.ensureTexture(shVolume("light", c, ch), shDesc(res));
       wave[ch] = &ctx.board.ensureTexture(shVolume("wavefront", c, ch), shDesc(res));
-      Texture* copies[2][2];
-      for (int p = 0; p < 2; ++p) {
-        copies[p][0] = &ctx.board.ensureTexture("propagate.step" + std::to_string(p) + "-" + shVolume("light", c, ch), shDesc(res));
-        copies[p][1] = &ctx.board.ensureTexture("propagate.step" + std::to_string(p) + "-" + shVolume("wavefront", c, ch), shDesc(res));
-      }
-      Texture& vpl = ctx.board.texture(shVolume("vpl", c, ch));
-      prevLight[ch] = k == 0 ? &vpl : copies[k % 2][0];
-      prevWave[ch] = k == 0 ? &vpl : copies[k % 2][1];
-      nextLight[ch] = copies[(k + 1) % 2][0];
-      nextWave[ch] = copies[(k + 1) % 2][1];
     }
-    barrier();
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    if (k == 0) {
+      glBindBuffer(GL_PIXEL_PACK_BUFFER, in.id());
+      for (int ch = 0; ch < 3; ++ch)
+        for (int part = 0; part < 2; ++part)
+          glGetTextureImage(ctx.board.texture(shVolume("vpl", c, ch)).id(), 0, GL_RGBA, GL_FLOAT, GLsizei(section),
+                            reinterpret_cast<void*>((part * 3 + ch) * section));
+      glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+      barrier();
+    }
     auto bindCommon = [&](GLuint program) {
       setUniform(program, "u_gridRes", res);
       setUniform(program, "u_step", k);
@@ -415,21 +421,20 @@ void PropagateStage::execute(StageContext& ctx) {
       setUniform(program, "u_occlusionAmplifier", ctx.params.getFloat("lpv.occlusion-amplifier"));
       setUniform(program, "u_firstStepUnoccluded", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0);
       glUseProgram(program);
-      for (int ch = 0; ch < 3; ++ch) {
-        glBindTextureUnit(ch, prevLight[ch]->id());
-        glBindTextureUnit(3 + ch, prevWave[ch]->id());
-      }
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_IN, in.id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, out.id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
     };
     bindCommon(prop);
     setUniform(prop, "u_probeMode", 0);
-    for (int ch = 0; ch < 3; ++ch) {
-      glBindImageTexture(ch, light[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      glBindImageTexture(3 + ch, wave[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      glBindImageTexture(6 + ch, nextLight[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-      glBindImageTexture(9 + ch, nextWave[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    }
     dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, out.id());
+    for (int ch = 0; ch < 3; ++ch) {
+      glTextureSubImage3D(light[ch]->id(), 0, 0, 0, 0, res, res, res, GL_RGBA, GL_FLOAT, reinterpret_cast<void*>(ch * section));
+      glTextureSubImage3D(wave[ch]->id(), 0, 0, 0, 0, res, res, res, GL_RGBA, GL_FLOAT, reinterpret_cast<void*>((3 + ch) * section));
+    }
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     barrier();
     if (c == probeCascade) {
       bindCommon(prop);
@@ -461,13 +466,18 @@ void PropagateStage::execute(StageContext& ctx) {
       dispatchCompute({1, 1, 1}, {8, 8, 1});
       barrier();
     };
-    if (k == 0) sumEnergy(prevLight, prevWave, 0, c);
+    if (k == 0) {
+      Texture* vpl[3];
+      for (int ch = 0; ch < 3; ++ch) vpl[ch] = &ctx.board.texture(shVolume("vpl", c, ch));
+      sumEnergy(vpl, vpl, 0, c);
+    }
     sumEnergy(light, wave, k + 1, (k + 1) * kCascades + c);
   }
   uint32_t records = uint32_t((k + 2) * kCascades);
   energyCount.upload(&records, 4);
   ctx.stats["steps_done"] = k + 1;
-  ctx.stats["bytes_sh_volumes"] = double(res) * res * res * 16.0 * 3 * 5 * kCascades;
+  // Per cascade: VPL, light and wavefront volumes (3 channels each) and two states of 6 sections.
+  ctx.stats["bytes_sh_per_cascade"] = double(res) * res * res * 16.0 * (9 + 12);
 }
 
 // --- gi ------------------------------------------------------------------------------------------
