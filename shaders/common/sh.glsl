@@ -35,6 +35,26 @@ float shEvaluate(vec4 sh, vec3 d) {
   precise float r = ((a + b) + c) + e;
   return r;
 }
+// shEvaluate for a direction with zero components (a face direction): the zero terms are left out
+// and the others added in shEvaluate's order (y, z, x), so the value is the same, with fewer
+// operations once the direction is a constant.
+float shEvaluateSparse(vec4 sh, vec3 d) {
+  precise float r = sh.x * SH_Y00;
+  if (d.y != 0.0) { precise float t = r + sh.y * (-SH_Y1 * d.y); r = t; }
+  if (d.z != 0.0) { precise float t = r + sh.z * (SH_Y1 * d.z); r = t; }
+  if (d.x != 0.0) { precise float t = r + sh.w * (-SH_Y1 * d.x); r = t; }
+  return r;
+}
+// acc + f * lobe(o) for an axis direction o: only c00 and the axis' coefficient change.
+vec4 shAddAxisLobe(vec4 acc, float f, ivec3 o) {
+  precise float c0 = acc.x + f * SH_LOBE0;
+  vec4 r = acc;
+  r.x = c0;
+  if (o.y != 0) { precise float t = acc.y + f * (-SH_LOBE1 * float(o.y)); r.y = t; }
+  if (o.z != 0) { precise float t = acc.z + f * (SH_LOBE1 * float(o.z)); r.z = t; }
+  if (o.x != 0) { precise float t = acc.w + f * (-SH_LOBE1 * float(o.x)); r.w = t; }
+  return r;
+}
 // <sh, lobe(n)>: the field convolved with a clamped cosine around n.
 float shDotLobe(vec4 sh, vec3 n) {
   precise float a = sh.x * SH_LOBE0;

@@ -69,13 +69,12 @@ void gatherNeighbour(ivec3 cell, int i, inout vec4 acc[3], out float meanTransmi
     float omega = lpvFaceSolidAngle(i, j);
     float occ = blocks ? transmission(blockNormal, d) : 1.0;
     sumT += occ;
-    vec4 lobe = shLobe(vec3(lpvOffset(j)));
+    ivec3 oj = lpvOffset(j);
     for (int ch = 0; ch < 3; ++ch) {
-      float e = shEvaluate(src[ch], d);
+      float e = shEvaluateSparse(src[ch], d);
       if (u_clampFaces == 1) e = max(e, 0.0);
       precise float f = ((e * omega) * occ) * u_weightScale;
-      precise vec4 sum = acc[ch] + f * lobe;
-      acc[ch] = sum;
+      acc[ch] = shAddAxisLobe(acc[ch], f, oj);
     }
   }
   meanTransmission = sumT / 5.0;
