@@ -23,3 +23,10 @@ voxlab_cli_case(lesson_unknown_param 2 "bad-lesson-param\\.md:9: unknown paramet
   "lesson --check @ROOT@/tests/viewer/bad-lesson-param.md")
 voxlab_cli_case(lesson_unknown_stage 2 "bad-lesson-stage\\.md:3: .*voxelise.*voxelize"
   "lesson --check @ROOT@/tests/viewer/bad-lesson-stage.md")
+
+# Lesson 05 (lpv) played to its end, propagation stepped one iteration at a time.
+add_test(NAME viewer.lesson_lpv
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/lesson_lpv.txt ${CMAKE_BINARY_DIR}/viewer-out/lesson_lpv)
+set_tests_properties(viewer.lesson_lpv PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
