@@ -21,6 +21,8 @@ mkdir -p "$work"
 variants=(
   "vct-grid cone.resolution=full"
   "vct-grid mipmap.mode=anisotropic"
+  "lpv gi.lookup-sign=plus-n"
+  "lpv lpv.scheme=thesis,lpv.weighting=thesis"
 )
 
 runs=()
