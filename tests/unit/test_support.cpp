@@ -9,6 +9,10 @@ HeadlessSession& session(const RunRequest& r) {
   std::string key = r.technique + "|" + r.scene + "|" + r.until + "|" + std::to_string(r.width) + "x" +
                     std::to_string(r.height) + "|" + std::to_string(r.camera);
   for (const auto& s : r.sets) key += "|" + s;
+  auto point = [](const std::optional<glm::vec3>& v) {
+    return v ? std::to_string(v->x) + "," + std::to_string(v->y) + "," + std::to_string(v->z) : std::string("-");
+  };
+  key += "|from " + point(r.lookFrom) + "|at " + point(r.lookAt);
   auto& slot = sessions[key];
   if (!slot) {
     // One GL context per process: drop the others first (each session owns its context).
