@@ -1,5 +1,6 @@
 #version 450
-// Composite: direct light (Lambert, shadow map) + emission + indirect diffuse from the LPV, in
+// Composite: direct light (Lambert, shadow map) + emission + indirect diffuse from the LPV (+ the
+// glossy cone times its weight), in
 // linear radiance ("combined"), then exposure and x / (1 + x) ("final").
 #include "common/shared.h"
 #include "common/lights.glsl"
@@ -10,11 +11,13 @@ layout(binding = 3) uniform sampler2D u_albedo;
 layout(binding = 4) uniform sampler2D u_emission;
 layout(binding = 5) uniform sampler2D u_indirect;
 layout(binding = 6) uniform sampler2D u_shadowMap;
+layout(binding = 7) uniform sampler2D u_glossy;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_direct;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_combined;
 layout(rgba8, binding = 2) uniform writeonly image2D u_final;
 uniform float u_indirectWeight;
 uniform float u_exposure;
+uniform float u_glossyWeight;
 const float PI = 3.14159265358979;
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -28,7 +31,7 @@ void main() {
     lightDirection(pos.xyz, toLight, dist);
     direct = texelFetch(u_albedo, px, 0).rgb / PI * lightIrradiance(pos.xyz) * max(dot(n, toLight), 0.0) *
              shadowVisibility(u_shadowMap, pos.xyz, n) + texelFetch(u_emission, px, 0).rgb;
-    combined = direct + u_indirectWeight * texelFetch(u_indirect, px, 0).rgb;
+    combined = direct + u_indirectWeight * texelFetch(u_indirect, px, 0).rgb + u_glossyWeight * texelFetch(u_glossy, px, 0).rgb;
   }
   vec3 mapped = u_exposure * combined;
   imageStore(u_direct, px, vec4(direct, 1.0));

@@ -17,6 +17,13 @@ layout(rgba32f, binding = 0) uniform writeonly image2D u_fine;
 layout(rgba32f, binding = 1) uniform writeonly image2D u_coarse;
 layout(r32f, binding = 2) uniform writeonly image2D u_blend;
 layout(rgba32f, binding = 3) uniform writeonly image2D u_indirect;
+layout(rgba16f, binding = 4) uniform writeonly image2D u_glossy;
+layout(binding = 9) uniform sampler3D u_reflection;  // over the fine cascade's box, with mips
+uniform float u_reflectionVoxel;   // metres
+uniform float u_reflectionLevels;
+uniform float u_glossyTan;         // tan(half aperture)
+uniform float u_glossyDistance;    // metres
+uniform vec3 u_cameraPos;
 uniform float u_lookupSign;
 uniform float u_lookupOffset;
 uniform float u_radianceScale;
@@ -33,12 +40,38 @@ vec3 irradiance(int c, vec3 p, vec3 n) {
   return e * (u_radianceScale / (s * s));
 }
 
+// One cone along the mirrored view direction through the reflection grid (the glossy half of
+// Listing 4.37): starts one voxel off the surface, samples every half diameter at the mip level
+// whose voxel equals the diameter, composites front to back, stops when opaque, outside the grid
+// or past u_glossyDistance. (The thesis' listing uses log2(diameter / 0.25), two levels finer, and
+// fades samples in with distance: not reproduced.)
+vec3 glossyCone(vec3 p, vec3 n) {
+  vec3 v = normalize(p - u_cameraPos);
+  vec3 r = reflect(v, n);
+  vec3 origin = grids[0].originCell.xyz;
+  float edge = grids[0].originCell.w * grids[0].centreRes.w;
+  vec3 colour = vec3(0.0);
+  float alpha = 0.0;
+  float t = u_reflectionVoxel;
+  for (int i = 0; i < 256 && alpha < 1.0 && t < u_glossyDistance; ++i) {
+    float diameter = max(u_reflectionVoxel, 2.0 * u_glossyTan * t);
+    vec3 uvw = (p + n * u_reflectionVoxel + r * t - origin) / edge;
+    if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) break;
+    float lod = min(log2(diameter / u_reflectionVoxel), u_reflectionLevels - 1.0);
+    vec4 s = textureLod(u_reflection, uvw, lod);
+    colour += (1.0 - alpha) * s.rgb;
+    alpha += (1.0 - alpha) * s.a;
+    t += 0.5 * diameter;
+  }
+  return colour;
+}
+
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = textureSize(u_position, 0);
   if (px.x >= size.x || px.y >= size.y) return;
   vec4 pos = texelFetch(u_position, px, 0);
-  vec3 ef = vec3(0.0), ec = vec3(0.0), indirect = vec3(0.0);
+  vec3 ef = vec3(0.0), ec = vec3(0.0), indirect = vec3(0.0), glossy = vec3(0.0);
   float t = 0.0;
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
@@ -50,9 +83,11 @@ void main() {
     float d = max(q.x, max(q.y, q.z));
     t = clamp((d - (0.5 * res - 0.5 - u_blendWidth)) / u_blendWidth, 0.0, 1.0);
     indirect = texelFetch(u_albedo, px, 0).rgb / PI * mix(ef, ec, t);
+    glossy = glossyCone(pos.xyz, n);
   }
   imageStore(u_fine, px, vec4(ef, 1.0));
   imageStore(u_coarse, px, vec4(ec, 1.0));
   imageStore(u_blend, px, vec4(t));
   imageStore(u_indirect, px, vec4(indirect, 1.0));
+  imageStore(u_glossy, px, vec4(glossy, 1.0));
 }

@@ -679,6 +679,30 @@ TEST(LpvGpu, LookupAndBlendEqualCpu) {
   EXPECT_LE(worst, 1e-5 * scale);
 }
 
+TEST(LpvGpu, ReflectionMipIsTheMeanOfItsChildren) {
+  auto& s = session(request({"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=2", "reflection.resolution=32"},
+                            "reflection"));
+  auto refl = capture(s, "reflection", "reflection");
+  ASSERT_EQ(refl.levels.size(), 6u);
+  size_t nonEmpty = 0;
+  for (size_t L = 1; L < refl.levels.size(); ++L) {
+    const LevelData &child = refl.levels[L - 1], &parent = refl.levels[L];
+    for (int z = 0; z < parent.size.z; ++z)
+      for (int y = 0; y < parent.size.y; ++y)
+        for (int x = 0; x < parent.size.x; ++x)
+          for (int c = 0; c < 4; ++c) {
+            double mean = 0;
+            for (int i = 0; i < 8; ++i) mean += child.at(2 * x + (i & 1), 2 * y + ((i >> 1) & 1), 2 * z + (i >> 2), c) / 8.0;
+            float v = parent.at(x, y, z, c);
+            nonEmpty += c == 3 && v > 0;
+            // RGBA16F: the mean rounded to a half float, one ulp = 2^-10 of the value (plus the
+            // smallest subnormal).
+            ASSERT_NEAR(v, mean, std::abs(mean) * (1.0 / 1024) + 6e-8) << L << " " << x << "," << y << "," << z;
+          }
+  }
+  EXPECT_GT(nonEmpty, 100u);
+}
+
 }  // namespace
 }  // namespace voxlab::lpv
 

@@ -19,11 +19,14 @@
 //   5. inject      each occupied cell lit through its most light-facing normal -> a VPL in L1 SH
 //   6. propagate   one gather step per iteration in both cascades (propagate#k), the energy per step,
 //                  the picked cell's record
-//   7. gbuffer     position, normal, albedo from the camera (vct-grid's stage, reused as is)
-//   8. gi          trilinear SH lookup per cascade, cosine convolution, cascade blend
-//   9. composite   direct + indirect diffuse, tonemapped
-//   Not built yet: the 256^3 reflection grid with its mips and the glossy cone (seed 000 4.3.4 and
-//   the glossy half of 4.3.5), and the half-cell VPL shift along the normal (K&D); see the issue.
+//   7. reflection  a finer colour grid over the fine cascade's box lit by its L0 light (Listing
+//                  4.34), then one mip level per iteration (reflection@L, mean of 8 children)
+//   8. gbuffer     position, normal, albedo from the camera (vct-grid's stage, reused as is)
+//   9. gi          trilinear SH lookup per cascade, cosine convolution, cascade blend; one glossy
+//                  cone through the reflection grid's mips
+//  10. composite   direct + indirect diffuse (+ composite.glossy x glossy), tonemapped
+//   Not built: the half-cell VPL shift along the normal (K&D; a scatter that would need atomics);
+//   gi.lookup-offset reads the grid half a cell off the surface instead.
 //
 // Details (every constant and default; the technical note is guide/techniques/lpv.md)
 //   - SH storage (c00, c1-1, c10, c11), Condon-Shortley signs, intensity indexed by the direction of
@@ -80,6 +83,13 @@
 //     reference propagation, and the energy records are meaningful. 32^3 x 16 B = 512 KiB per volume;
 //     per cascade 3 channels x (VPL, light, wavefront and two previous-step copies) = 7.5 MiB, plus
 //     1 MiB of LPV voxel records.
+//   - Reflection grid: reflection.resolution 64 by default (the thesis: 256^3, 128 MiB for level 0
+//     in RGBA16F, too large for llvmpipe runs), RGBA16F, the colour word of Listing 4.27 per voxel,
+//     radiance albedo / pi x the fine cascade's L0 irradiance (direction ignored, as the thesis),
+//     sampled at the voxel centre (Listing 4.34's z + 0.0 is a 2D-array port error). The glossy
+//     cone uses the mip level whose voxel equals its diameter (the thesis' log2(d / 0.25) is two
+//     levels finer) and starts one voxel off the surface; composite.glossy is 0 because the scenes
+//     and the reference path tracer are Lambertian.
 //   - Bad input: parameters are range-checked before any GPU work (lpv.resolution 8..64, a power of
 //     two: at most 2 x 15 volumes of 4 MiB); fragments outside a grid are counted in the bin stage's
 //     statistics (fragments_outside_fine/coarse) and dropped.
@@ -110,6 +120,7 @@ static std::unique_ptr<Technique> makeLpv() {
   t->add<lpv::BinStage>();
   t->add<lpv::InjectStage>();
   t->add<lpv::PropagateStage>();
+  t->add<lpv::ReflectionStage>();
   t->add<vct::GBufferStage>();
   t->add<lpv::GiStage>();
   t->add<lpv::CompositeStage>();

@@ -146,6 +146,10 @@ void PlaceStage::execute(StageContext& ctx) {
     float edge = grids[c].originCell.w * grids[c].centreRes.w;
     WorldBox box{glm::vec3(grids[c].originCell), glm::vec3(grids[c].originCell) + glm::vec3(edge)};
     ctx.board.place(voxelColourVolume(c), box);
+    if (c == 0) {
+      ctx.board.place("reflection", box);
+      ctx.board.place("reflection-colour", box);
+    }
     for (const char* prefix : {"vpl", "light", "wavefront"})
       for (int ch = 0; ch < 3; ++ch) ctx.board.place(shVolume(prefix, c, ch), box);
     ctx.stats[std::string(kCascadeNames[c]) + "_cell_m"] = grids[c].originCell.w;
@@ -480,14 +484,107 @@ void PropagateStage::execute(StageContext& ctx) {
   ctx.stats["bytes_sh_per_cascade"] = double(res) * res * res * 16.0 * (9 + 12);
 }
 
-// --- gi ------------------------------------------------------------------------------------------
+// --- reflection ----------------------------------------------------------------------------------
 
-// lpv.radiance-scale was calibrated once against the reference path tracer (tests/unit/test_lpv.cpp,
-// LpvPhysics.*; docs/fidelity.md): see lpv.cpp's Details.
+// Incident radiance from intensity (lpv.cpp, Details; docs/fidelity.md has the measured calibration).
 static ParamDesc radianceScaleParam() {
   return ParamDesc::real("gi.radiance-scale", 1.0, 0.0, 64.0,
                          "incident radiance = scale * intensity / cell^2 (1: a cell face radiating its intensity)");
 }
+
+static ParamDesc reflectionResolutionParam() {
+  return ParamDesc::integer("reflection.resolution", 64, 16, 256,
+                            "voxels along each axis of the reflection grid over the fine cascade's box (the thesis "
+                            "uses 256: 146 MiB with mips in RGBA16F)", "voxels")
+      .pow2();
+}
+
+void ReflectionStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(resolutionParam());
+  b.param(reflectionResolutionParam());
+  b.param(radianceScaleParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  b.read("lpv-grids");
+  for (int ch = 0; ch < 3; ++ch) b.read(shVolume("light", 0, ch));
+  b.output("reflection-colour", OutputKind::Volume3D, Semantic::Occupancy,
+           "the reflection grid's colour/contrast/occupancy words (Listing 4.27), white = occupied");
+  b.output("reflection", OutputKind::Volume3D, Semantic::RadianceHDR,
+           "outgoing radiance per reflection voxel (L0 of the fine cascade's light), alpha = occupancy; level k = mean "
+           "of 8 texels of level k-1");
+}
+
+int ReflectionStage::iterations(const ParamSet& params) const {
+  int res = params.getInt("reflection.resolution"), levels = 1;
+  while (res > 1) res >>= 1, ++levels;
+  return levels;
+}
+
+void ReflectionStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("reflection.resolution");
+  const int k = ctx.iteration;
+  auto grids = readGrids(ctx.board);
+  TextureDesc cd;
+  cd.target = GL_TEXTURE_3D;
+  cd.format = GL_R32UI;
+  cd.size = {res, res, res};
+  cd.minFilter = cd.magFilter = GL_NEAREST;
+  Texture& colour = ctx.board.ensureTexture("reflection-colour", cd);
+  TextureDesc rd = cd;
+  rd.format = GL_RGBA16F;
+  rd.levels = iterations(ctx.params);
+  rd.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  rd.magFilter = GL_LINEAR;
+  Texture& grid = ctx.board.ensureTexture("reflection", rd);
+  if (k == 0) {
+    const uint32_t zero = 0;
+    glClearTexImage(colour.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    const float none[4] = {0, 0, 0, 0};
+    for (int level = 0; level < grid.levels(); ++level) glClearTexImage(grid.id(), level, GL_RGBA, GL_FLOAT, none);
+    // Same footprint as the fine cascade, res voxels along each axis.
+    gpu::LpvGrid g = grids[0];
+    const float fineEdge = g.originCell.w * g.centreRes.w;
+    gpu::LpvGrid r = g;
+    r.originCell.w = fineEdge / float(res);
+    r.centreRes.w = float(res);
+    VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
+    uint32_t count = voxelFragmentCount(ctx.board);
+    GLuint bin = ctx.shaders.program({"lpv/reflection_bin.comp.glsl"});
+    space.setUniforms(bin);
+    setGridUniforms(bin, r);
+    setUniform(bin, "u_fragmentCount", unsigned(count));
+    glUseProgram(bin);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+    glBindImageTexture(0, colour.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+    barrier();
+    GLuint light = ctx.shaders.program({"lpv/reflection_light.comp.glsl"});
+    setGridUniforms(light, r);
+    setUniform(light, "u_fineOrigin", glm::vec3(g.originCell));
+    setUniform(light, "u_fineCell", g.originCell.w);
+    setUniform(light, "u_fineRes", g.centreRes.w);
+    setUniform(light, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
+    glUseProgram(light);
+    for (int ch = 0; ch < 3; ++ch) glBindTextureUnit(ch, ctx.board.texture(shVolume("light", 0, ch)).id());
+    glBindImageTexture(0, colour.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindImageTexture(1, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+  } else {
+    GLuint mip = ctx.shaders.program({"lpv/reflection_mip.comp.glsl"});
+    setUniform(mip, "u_sourceLevel", k - 1);
+    glUseProgram(mip);
+    glBindTextureUnit(0, grid.id());
+    glBindImageTexture(0, grid.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    dispatchCompute(grid.levelSize(k), {4, 4, 4});
+    barrier();
+  }
+  ctx.stats["levels_built"] = k + 1;
+  ctx.stats["bytes"] = double(grid.byteSize() + colour.byteSize());
+}
+
+// --- gi ------------------------------------------------------------------------------------------
 
 void GiStage::declare(StageBuilder& b) const {
   b.param(resolutionParam());
@@ -496,6 +593,11 @@ void GiStage::declare(StageBuilder& b) const {
                             "injection) or +n as the thesis listings (a surface sees light leaving it)"));
   b.param(lookupOffsetParam());
   b.param(radianceScaleParam());
+  b.param(reflectionResolutionParam());
+  b.param(ParamDesc::real("gi.glossy-aperture", 10.0, 1.0, 60.0,
+                          "full opening angle of the glossy cone through the reflection grid", "degrees"));
+  b.param(ParamDesc::real("gi.glossy-distance", 0.5, 0.05, 1.0,
+                          "longest glossy cone, as a fraction of the fine grid's edge"));
   b.param(ParamDesc::real("gi.blend-width", 4.0, 0.5, 8.0,
                           "width of the shell at the fine grid's edge where fine fades into coarse", "fine cells"));
   b.readView();
@@ -505,12 +607,15 @@ void GiStage::declare(StageBuilder& b) const {
   b.read("albedo");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch) b.read(shVolume("light", c, ch));
+  b.read("reflection");
   b.output("irradiance-fine", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the fine cascade (W/m^2)");
   b.output("irradiance-coarse", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the coarse cascade (W/m^2)");
   b.output("cascade-blend", OutputKind::Image2D, Semantic::Fraction, "weight of the coarse cascade (0 fine only, 1 coarse only)");
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo / pi * blended irradiance")
       .referenceMode = "indirect-1";
+  b.output("glossy", OutputKind::Image2D, Semantic::RadianceHDR,
+           "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips");
 }
 
 void GiStage::execute(StageContext& ctx) {
@@ -519,7 +624,15 @@ void GiStage::execute(StageContext& ctx) {
   Texture& coarse = ctx.board.ensureTexture("irradiance-coarse", screenDesc(ctx.view, GL_RGBA32F));
   Texture& blend = ctx.board.ensureTexture("cascade-blend", screenDesc(ctx.view, GL_R32F));
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", screenDesc(ctx.view, GL_RGBA32F));
+  Texture& glossy = ctx.board.ensureTexture("glossy", screenDesc(ctx.view, GL_RGBA16F));
   GLuint program = ctx.shaders.program({"lpv/gi.comp.glsl"});
+  const float fineEdge = grids[0].originCell.w * grids[0].centreRes.w;
+  const int reflRes = ctx.params.getInt("reflection.resolution");
+  setUniform(program, "u_reflectionVoxel", fineEdge / float(reflRes));
+  setUniform(program, "u_reflectionLevels", float(ctx.board.texture("reflection").levels()));
+  setUniform(program, "u_glossyTan", std::tan(0.5f * ctx.params.getFloat("gi.glossy-aperture") * float(kPi) / 180.0f));
+  setUniform(program, "u_glossyDistance", ctx.params.getFloat("gi.glossy-distance") * fineEdge);
+  setUniform(program, "u_cameraPos", ctx.view.position);
   setUniform(program, "u_lookupSign", ctx.params.getChoice("gi.lookup-sign") == "minus-n" ? -1.0f : 1.0f);
   setUniform(program, "u_lookupOffset", ctx.params.getFloat("gi.lookup-offset"));
   setUniform(program, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
@@ -535,9 +648,10 @@ void GiStage::execute(StageContext& ctx) {
   glBindImageTexture(1, coarse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, blend.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glBindImageTexture(3, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(4, glossy.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindTextureUnit(9, ctx.board.texture("reflection").id());
   dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
   barrier();
-  (void)grids;
 }
 
 // --- composite -----------------------------------------------------------------------------------
@@ -545,11 +659,14 @@ void GiStage::execute(StageContext& ctx) {
 void CompositeStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
   b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
+  b.param(ParamDesc::real("composite.glossy", 0.0, 0.0, 1.0,
+                          "weight of the glossy term (0: the scenes are Lambertian, as the reference path tracer)"));
   b.read("position");
   b.read("normal");
   b.read("albedo");
   b.read("emission");
   b.read("indirect-diffuse");
+  b.read("glossy");
   b.read("shadow-map");
   b.read("light");
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
@@ -566,9 +683,10 @@ void CompositeStage::execute(StageContext& ctx) {
   GLuint program = ctx.shaders.program({"lpv/composite.comp.glsl"});
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  setUniform(program, "u_glossyWeight", ctx.params.getFloat("composite.glossy"));
   glUseProgram(program);
-  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map"};
-  for (int i = 0; i < 6; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
+  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map", "glossy"};
+  for (int i = 0; i < 7; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);

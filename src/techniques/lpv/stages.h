@@ -72,6 +72,19 @@ class PropagateStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+class ReflectionStage : public Stage {
+ public:
+  const char* id() const override { return "reflection"; }
+  const char* title() const override { return "Reflection grid and its mips"; }
+  const char* summary() const override {
+    return "A finer colour grid over the fine cascade's box, lit from the fine cascade's L0 light, then one mip "
+           "level per iteration (each texel the mean of its 8 children) for glossy cones.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
 class GiStage : public Stage {
  public:
   const char* id() const override { return "gi"; }
