@@ -26,6 +26,8 @@ marker=fidelity-table
 variants=(
   "vct-grid cone.resolution=full"
   "vct-grid mipmap.mode=anisotropic"
+  "lpv gi.lookup-sign=plus-n"
+  "lpv lpv.scheme=thesis,lpv.weighting=thesis"
 )
 
 runs=()

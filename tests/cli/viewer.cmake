@@ -43,3 +43,10 @@ add_test(NAME viewer.plugins
           ${CMAKE_SOURCE_DIR}/tests/viewer/plugins.txt ${CMAKE_BINARY_DIR}/viewer-out/plugins)
 set_tests_properties(viewer.plugins PROPERTIES
   ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+
+# Lesson 05 (lpv) played to its end, propagation stepped one iteration at a time.
+add_test(NAME viewer.lesson_lpv
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/lesson_lpv.txt ${CMAKE_BINARY_DIR}/viewer-out/lesson_lpv)
+set_tests_properties(viewer.lesson_lpv PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)

@@ -1,0 +1,133 @@
+// lpv: light propagation volumes with voxel VPLs (Doghramachi's variant, as seed 000 implements it).
+//
+// Intro
+//   The indirect light of a scene is kept as low-order spherical harmonics (L1: 4 coefficients per
+//   colour channel) in two coarse nested lattices (cascades, 32^3 each). The lit voxels of the
+//   scene become virtual point lights (VPLs) whose clamped-cosine lobes are injected into the
+//   lattice; the light then spreads by a fixed number of local gather steps to the 6 face
+//   neighbours of each cell, blocked by the voxels themselves, and every visible surface reads its
+//   indirect irradiance from the lattice. Kaplanyan & Dachsbacher 2010 give the physical reading
+//   that the defaults here follow; the thesis' variants are parameters a lesson can switch to.
+//
+// Overview (the stages, in order)
+//   1. voxelize    triangles -> voxel fragment list (the shared stage of src/techniques/common)
+//   2. shadow-map  depth from the light (shared)
+//   3. place       fine and coarse grid boxes, centred on the scene or ahead of the camera, snapped to
+//                  a multiple of their cell size
+//   4. bin         the fragments binned into each cascade: colour/contrast/occupancy and four
+//                  tetrahedron-channel normals by atomicMax (Listings 4.27-4.29), fragment counts
+//   5. inject      each occupied cell lit through its most light-facing normal -> a VPL in L1 SH
+//   6. propagate   one gather step per iteration in both cascades (propagate#k), the energy per step,
+//                  the picked cell's record
+//   7. reflection  a finer colour grid over the fine cascade's box lit by its L0 light (Listing
+//                  4.34), then one mip level per iteration (reflection@L, mean of 8 children)
+//   8. gbuffer     position, normal, albedo from the camera (vct-grid's stage, reused as is)
+//   9. gi          trilinear SH lookup per cascade, cosine convolution, cascade blend; one glossy
+//                  cone through the reflection grid's mips
+//  10. composite   direct + indirect diffuse (+ composite.glossy x glossy), tonemapped
+//   Not built: the half-cell VPL shift along the normal (K&D; a scatter that would need atomics);
+//   gi.lookup-offset reads the grid half a cell off the surface instead.
+//
+// Details (every constant and default; the technical note is guide/techniques/lpv.md)
+//   - SH storage (c00, c1-1, c10, c11), Condon-Shortley signs, intensity indexed by the direction of
+//     travel: shaders/common/sh.glsl, its C++ twin sh.h. A VPL on a surface of normal n is lobe(+n).
+//   - Cells: cell i of a cascade covers origin + [i, i+1) s; the origin is the snapped centre
+//     floor(C / s) s minus res/2 cells, so cell boundaries lie on multiples of s: a camera move of
+//     less than a cell leaves every grid bit-identical, a move of one cell shifts it by one cell.
+//   - Fine cell = lpv.fine-extent (1.5) x the scene's largest extent / res: on the Cornell box the
+//     fine grid holds the whole box inside its blend shell (1.1 would put the walls in the shell,
+//     where the coarse cascade takes over); coarse cell = lpv.cascade-ratio (2, the thesis' "8 times the
+//     volume") x fine. lpv.centre=scene by default: a scene that fits in the fine grid is best
+//     covered around its own centre; camera is GPU Pro 4's placement for large scenes.
+//   - Injection (physical, K&D): flux Phi = albedo * E * A with A = fragments in the cell x
+//     fragment voxel^2 (exact for axis-aligned surfaces, larger for oblique ones, whose
+//     conservative fragments overlap), intensity (Phi / pi) lobe(n). The thesis omits A and scales
+//     by an unexplained lightMultiplier instead. The shadow map is tested half a cell along the
+//     normal from the cell centre (the centre may lie behind the surface).
+//   - Propagation weights: lpv.weighting=flux-consistent (default) re-emits the flux F = Omega I(d)
+//     through face j as (F / pi) lobe(o_j), so without the face clamp the total flux is conserved
+//     exactly (30 solid angles sum to 4 pi). thesis = Omega / (4 pi) x lpv.flux-amplifier (GPU Pro
+//     4: 1.75) with the lobe not divided by pi: flux-consistent x amplifier / 4 = 0.4375.
+//     The thesis' "fluxAmplifier" thus stands for the 4 pi vs pi normalisation, the missing surface
+//     area at injection, the missing radiance conversion at lookup and the iteration scheme.
+//   - Face solid angles 4 asin(0.1) = 0.4006697 (far) and (2 pi / 3 - far) / 4 = 0.4234314 (side);
+//     the 0.4234413544 of several public implementations is a typo (a test pins the value).
+//   - lpv.scheme=wavefront (default, K&D): w_{k+1} = P w_k and the lookup reads sum_k w_k, so every
+//     path length is counted once. thesis: x_{k+1} = x_k + P x_k = (I + P)^{k+1} x_0, which counts a
+//     path of j cells C(K, j) times and grows geometrically (the tests show both).
+//   - lpv.clamp-faces (on): max(0, .) on each face evaluation, as every source does; it drops
+//     negative back lobes and so adds flux (+13.8 % on the first step of an axis lobe, none once the
+//     field is broad). Off gives the linear operator, which conserves flux per step exactly.
+//   - Occlusion from the source cell's voxel (the thesis' scheme, no separate geometry volume):
+//     transmission 1 - clamp(A (0.25 + 0.5 n.d)) with the stored normal nearest the travel
+//     direction; lpv.occlusion=two-sided (default) also flips normals facing away, so a wall blocks
+//     light from both sides (the thesis blocks only light travelling along the normal, which lets
+//     light hitting a one-sided wall's front through, pitfall 4 of the note). Empty normal channels
+//     are skipped, not decoded to the zero vector. A = lpv.occlusion-amplifier 1 (GPU Pro 4): 25 %
+//     passes head on. The first step is unoccluded (GPU Pro 4, the NVIDIA sample, K&D ports) so a
+//     VPL's own voxel does not block its own light.
+//   - lpv.steps 8 (K&D-style implementations; GPU Pro 4 uses 10): light travels one cell per step,
+//     so 8 steps reach a quarter of a 32-cell grid; LPV brightness far from a VPL depends on it.
+//   - Lookup: incident radiance L = gi.radiance-scale x I / s^2 (a cell face of area s^2 radiating
+//     intensity I; K&D's text uses (s/2)^2, i.e. scale 4; the scale is calibrated once against the
+//     reference path tracer, tests/unit/test_lpv.cpp, and recorded in docs/fidelity.md), E =
+//     max(0, <L, lobe(-n)>) (gi.lookup-sign=minus-n: light arriving at the surface travels along
+//     -n). The thesis listings convolve with lobe(+n): surfaces then see light leaving them, their own
+//     VPL included; the facing-plates test decides the sign. Surfaces read the grid gi.lookup-offset
+//     (0.5) cells along their normal, against self-illumination.
+//   - Cascade blend: coarse weight 0 up to 4 fine cells (gi.blend-width) inside the fine grid's
+//     edge, 1 from half a cell inside it (trilinear reads stay inside), by the max norm from the
+//     fine grid's snapped centre (the grid is a box; the thesis' Euclidean 12..16 cells uses only
+//     the inscribed ball of the fine grid).
+//   - Storage: RGBA32F (the thesis uses RGBA16F, 10-bit mantissa): the GPU matches the CPU
+//     reference propagation, and the energy records are meaningful. 32^3 x 16 B = 512 KiB per volume;
+//     per cascade 3 channels x (VPL, light, wavefront and two previous-step copies) = 7.5 MiB, plus
+//     1 MiB of LPV voxel records.
+//   - Reflection grid: reflection.resolution 64 by default (the thesis: 256^3, 128 MiB for level 0
+//     in RGBA16F, too large for llvmpipe runs), RGBA16F, the colour word of Listing 4.27 per voxel,
+//     radiance albedo / pi x the fine cascade's L0 irradiance (direction ignored, as the thesis),
+//     sampled at the voxel centre (Listing 4.34's z + 0.0 is a 2D-array port error). The glossy
+//     cone uses the mip level whose voxel equals its diameter (the thesis' log2(d / 0.25) is two
+//     levels finer) and starts one voxel off the surface; composite.glossy is 0 because the scenes
+//     and the reference path tracer are Lambertian.
+//   - Bad input: parameters are range-checked before any GPU work (lpv.resolution 8..64, a power of
+//     two: at most 2 x 15 volumes of 4 MiB); fragments outside a grid are counted in the bin stage's
+//     statistics (fragments_outside_fine/coarse) and dropped.
+//
+// References
+//   seed 000 (Gomes, 000_3aa83555395ffea9.txt): section 2.2 (RSMs and K&D's LPV, lines 465-480);
+//   section 3.4 (the technique, lines 933-1048: 3.4.1 voxelization and grid placement, 3.4.2
+//   injection, 3.4.3 propagation, 3.4.4 reflection grid, 3.4.5 GI rendering); section 4.3 (the
+//   implementation, lines 2231-2908, Listings 4.26-4.37); section 4.6 Table 4 (performance).
+//   Kaplanyan & Dachsbacher, "Cascaded Light Propagation Volumes for Real-Time Indirect
+//   Illumination", I3D 2010. Doghramachi, "Rasterized Voxel-based Dynamic Global Illumination",
+//   GPU Pro 4. The technical note ../shared/guide/techniques/lpv.md (invariants 1-13, pitfalls).
+#include "graph/technique.h"
+#include "techniques/common/shadow_map_stage.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/lpv/stages.h"
+#include "techniques/vct_grid/stages.h"
+
+namespace voxlab {
+
+static std::unique_ptr<Technique> makeLpv() {
+  auto t = std::make_unique<Technique>(
+      "lpv", "Light propagation volumes with voxel VPLs",
+      "Lit voxels become VPLs in L1 SH grids; light spreads cell by cell, blocked by the voxels; surfaces read it back.");
+  t->add<VoxelizeStage>();
+  t->add<ShadowMapStage>();
+  t->add<lpv::PlaceStage>();
+  t->add<lpv::BinStage>();
+  t->add<lpv::InjectStage>();
+  t->add<lpv::PropagateStage>();
+  t->add<lpv::ReflectionStage>();
+  t->add<vct::GBufferStage>();
+  t->add<lpv::GiStage>();
+  t->add<lpv::CompositeStage>();
+  t->setFinalOutput("composite", "final");
+  return t;
+}
+
+VOXLAB_REGISTER_TECHNIQUE("lpv", "Light propagation volumes with voxel VPLs", makeLpv);
+
+}  // namespace voxlab

@@ -1,0 +1,71 @@
+// The CPU reference of lpv: binning voxel fragments into an LPV voxel grid, a point VPL, the
+// propagation steps and the irradiance lookup, in the same fp32 maths as the shaders (sh.h is the
+// twin of shaders/common/sh.glsl). The exact tests compare the GPU stages with these functions;
+// the invariant tests of the technical note (guide/techniques/lpv.md section 4) run on them.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "lpv/lpv_shared.h"
+#include "techniques/lpv/sh.h"
+
+namespace voxlab::lpv {
+
+// SH per colour channel of every cell, index (z * res + y) * res + x.
+struct ShField {
+  int res = 0;
+  std::vector<std::array<SH, 3>> cells;
+  explicit ShField(int r = 0) : res(r), cells(size_t(r) * r * r, {SH(0.0f), SH(0.0f), SH(0.0f)}) {}
+  size_t index(glm::ivec3 c) const { return (size_t(c.z) * res + c.y) * res + c.x; }
+  bool inside(glm::ivec3 c) const { return glm::all(glm::greaterThanEqual(c, glm::ivec3(0))) && glm::all(glm::lessThan(c, glm::ivec3(res))); }
+  std::array<SH, 3>& at(glm::ivec3 c) { return cells[index(c)]; }
+  const std::array<SH, 3>& at(glm::ivec3 c) const { return cells[index(c)]; }
+  glm::dvec3 flux() const;  // sum of c00 * 2 sqrt(pi) per channel
+};
+
+enum class Occlusion { TwoSided, Thesis, None };
+enum class Scheme { Wavefront, Thesis };
+
+struct PropagationSettings {
+  Scheme scheme = Scheme::Wavefront;
+  float weightScale = float(1.0 / kPi);  // flux-consistent 1/pi; thesis fluxAmplifier / (4 pi)
+  bool clampFaces = true;                // max(0, .) of each face evaluation
+  Occlusion occlusion = Occlusion::TwoSided;
+  float occlusionAmplifier = 1.0f;
+  bool firstStepUnoccluded = true;
+};
+
+// Transmission of the face evaluation along d of light leaving a cell whose voxel is 'v'
+// towards the neighbour at -offset (travel direction 'travel'), at 'step'.
+float faceTransmission(const gpu::LpvVoxel* v, const glm::vec3& travel, const glm::vec3& d,
+                       const PropagationSettings& s, int step);
+
+// One step: gathers into every cell from its 6 neighbours (5 faces each) of 'source'.
+// wave = gathered light, total = totalIn + gathered. 'voxels' may be empty (no occlusion).
+void propagateStep(const ShField& source, const ShField& totalIn, const std::vector<gpu::LpvVoxel>& voxels,
+                   const PropagationSettings& s, int step, ShField& wave, ShField& total);
+
+struct PropagationResult {
+  ShField total, wave;
+  std::vector<glm::dvec3> waveFlux, totalFlux;  // index 0: injected, k+1: after step k
+};
+PropagationResult propagate(const ShField& injected, const std::vector<gpu::LpvVoxel>& voxels,
+                            const PropagationSettings& s, int steps);
+
+// Gathered contribution of neighbour i to 'cell' in one step (the probe's per-neighbour record).
+std::array<SH, 3> gatherFrom(const ShField& source, const std::vector<gpu::LpvVoxel>& voxels, glm::ivec3 cell,
+                             int i, const PropagationSettings& s, int step);
+
+// Bins voxel fragments (voxel coordinates packed 10:10:10, albedo RGBA8, normal snorm8) of a
+// fragment voxel space (origin, voxel size) into a grid at 'gridOrigin' with 'cellSize'.
+struct FragmentRecord { uint32_t position, albedo, normal, emission; };
+std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin,
+                                        float fragVoxel, glm::vec3 gridOrigin, float cellSize, int res);
+
+// Trilinear SH at a point given in cell units (cell centres at i + 0.5), clamped to the edge texels.
+std::array<SH, 3> sampleTrilinear(const ShField& f, glm::vec3 cellPos);
+
+}  // namespace voxlab::lpv

@@ -1,0 +1,698 @@
+// The stages of lpv (see lpv.cpp for the overview and the choice of every default).
+#include "techniques/lpv/stages.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "scene/scene.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/lpv/sh.h"
+
+namespace voxlab::lpv {
+
+const char* const kCascadeNames[kCascades] = {"fine", "coarse"};
+const char* const kChannelNames[3] = {"red", "green", "blue"};
+
+std::string shVolume(const char* prefix, int cascade, int channel) {
+  return std::string(prefix) + "-" + kCascadeNames[cascade] + "-" + kChannelNames[channel];
+}
+static std::string voxelBuffer(int cascade) { return std::string("voxels-") + kCascadeNames[cascade]; }
+static std::string voxelColourVolume(int cascade) { return std::string("voxel-colour-") + kCascadeNames[cascade]; }
+
+// --- Parameters (one definition each; every stage that needs one declares the same) -------------
+
+static ParamDesc resolutionParam() {
+  return ParamDesc::integer("lpv.resolution", 32, 8, 64, "cells along each axis of each cascade", "cells").pow2();
+}
+static ParamDesc fineExtentParam() {
+  return ParamDesc::real("lpv.fine-extent", 1.5, 0.25, 4.0,
+                         "edge of the fine grid as a multiple of the scene's largest extent (1.5: the whole scene "
+                         "inside the cascade blend shell)");
+}
+static ParamDesc cascadeRatioParam() {
+  return ParamDesc::real("lpv.cascade-ratio", 2.0, 1.25, 4.0,
+                         "coarse cell / fine cell (2: the thesis' 8x volume; GPU Pro 4 uses 1.6)");
+}
+static ParamDesc centreParam() {
+  return ParamDesc::choice("lpv.centre", {"scene", "camera"}, 0,
+                           "centre of the grids: the scene's bounds, or ahead of the camera as GPU Pro 4 "
+                           "(fine at camera + forward * half its extent)");
+}
+static ParamDesc stepsParam() {
+  return ParamDesc::integer("lpv.steps", 8, 1, 64, "propagation steps (iterations); light travels one cell per step", "steps");
+}
+static ParamDesc probeParam(const char* axis) {
+  return ParamDesc::real(std::string("probe.cell-") + axis, 0.5, 0.0, 1.0,
+                         std::string("picked cell along ") + axis + " as a fraction of the grid (0 first cell, 1 last)");
+}
+static ParamDesc probeCascadeParam() {
+  return ParamDesc::choice("probe.cascade", {"fine", "coarse"}, 0, "cascade of the picked cell");
+}
+static ParamDesc lookupOffsetParam() {
+  return ParamDesc::real("gi.lookup-offset", 0.5, 0.0, 1.0,
+                         "surfaces read the grid this far along their normal (against self-illumination)", "cells");
+}
+
+static glm::ivec3 probeCell(const ParamSet& p) {
+  int res = p.getInt("lpv.resolution");
+  auto c = [&](const char* n) { return std::min(int(p.getFloat(n) * float(res)), res - 1); };
+  return {c("probe.cell-x"), c("probe.cell-y"), c("probe.cell-z")};
+}
+
+static TextureDesc shDesc(int res) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA32F;
+  d.size = {res, res, res};
+  d.minFilter = d.magFilter = GL_LINEAR;
+  return d;
+}
+static TextureDesc screenDesc(const ViewState& view, GLenum format) {
+  TextureDesc d;
+  d.format = format;
+  d.size = {view.width, view.height, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+static void barrier() {
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                  GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+static std::array<gpu::LpvGrid, kCascades> readGrids(Blackboard& board) {
+  std::array<gpu::LpvGrid, kCascades> g;
+  auto bytes = board.buffer("lpv-grids").download(sizeof(g));
+  std::memcpy(g.data(), bytes.data(), sizeof(g));
+  return g;
+}
+static void setGridUniforms(GLuint program, const gpu::LpvGrid& g) {
+  setUniform(program, "u_gridOrigin", glm::vec3(g.originCell));
+  setUniform(program, "u_cellSize", g.originCell.w);
+  setUniform(program, "u_gridRes", int(g.centreRes.w));
+}
+
+// --- place ---------------------------------------------------------------------------------------
+
+std::array<gpu::LpvGrid, kCascades> placeGrids(const Scene& scene, const ViewState& view, const ParamSet& params) {
+  const int res = params.getInt("lpv.resolution");
+  glm::vec3 ext = scene.bounds.max - scene.bounds.min;
+  float largest = std::max({ext.x, ext.y, ext.z, 1e-3f});
+  float fineEdge = params.getFloat("lpv.fine-extent") * largest;
+  float cell[kCascades] = {fineEdge / float(res), fineEdge / float(res) * params.getFloat("lpv.cascade-ratio")};
+  glm::vec3 centre[kCascades];
+  if (params.getChoice("lpv.centre") == "camera") {
+    glm::vec3 forward = -glm::vec3(view.view[0][2], view.view[1][2], view.view[2][2]);
+    float halfFine = 0.5f * cell[0] * float(res), halfCoarse = 0.5f * cell[1] * float(res);
+    centre[0] = view.position + forward * (0.5f * halfFine);
+    centre[1] = view.position + forward * (halfCoarse - 0.5f * halfFine);
+  } else {
+    centre[0] = centre[1] = 0.5f * (scene.bounds.min + scene.bounds.max);
+  }
+  std::array<gpu::LpvGrid, kCascades> g;
+  for (int c = 0; c < kCascades; ++c) {
+    glm::vec3 snapped = glm::floor(centre[c] / cell[c]) * cell[c];
+    g[c].originCell = glm::vec4(snapped - float(res / 2) * cell[c], cell[c]);
+    g[c].centreRes = glm::vec4(centre[c], float(res));
+  }
+  return g;
+}
+
+void PlaceStage::declare(StageBuilder& b) const {
+  b.param(resolutionParam());
+  b.param(fineExtentParam());
+  b.param(cascadeRatioParam());
+  b.param(centreParam());
+  b.readView();
+  BufferLayout layout;
+  layout.stride = sizeof(gpu::LpvGrid);
+  layout.fields = {{"origin-cell", FieldType::Vec4, 0, FieldRole::Other}, {"centre", FieldType::Vec4, 16, FieldRole::Position}};
+  OutputDesc& o = b.output("grids", OutputKind::Buffer, Semantic::Points,
+                           "per cascade (fine, coarse): snapped minimum corner + cell size (m), unsnapped centre + "
+                           "cells per axis");
+  o.layout = layout;
+  o.resource = "lpv-grids";
+}
+
+void PlaceStage::execute(StageContext& ctx) {
+  auto grids = placeGrids(ctx.scene, ctx.view, ctx.params);
+  ctx.board.ensureBuffer("lpv-grids", sizeof(grids)).upload(grids.data(), sizeof(grids));
+  // Every volume of a cascade sits in that cascade's box.
+  for (int c = 0; c < kCascades; ++c) {
+    float edge = grids[c].originCell.w * grids[c].centreRes.w;
+    WorldBox box{glm::vec3(grids[c].originCell), glm::vec3(grids[c].originCell) + glm::vec3(edge)};
+    ctx.board.place(voxelColourVolume(c), box);
+    if (c == 0) {
+      ctx.board.place("reflection", box);
+      ctx.board.place("reflection-colour", box);
+    }
+    for (const char* prefix : {"vpl", "light", "wavefront"})
+      for (int ch = 0; ch < 3; ++ch) ctx.board.place(shVolume(prefix, c, ch), box);
+    ctx.stats[std::string(kCascadeNames[c]) + "_cell_m"] = grids[c].originCell.w;
+  }
+}
+
+// --- bin -----------------------------------------------------------------------------------------
+
+static BufferLayout voxelLayout() {
+  BufferLayout l;
+  l.stride = sizeof(gpu::LpvVoxel);
+  l.fields = {{"color-occlusion", FieldType::U32, 0, FieldRole::Other},
+              {"fragments", FieldType::U32, 4, FieldRole::Other},
+              {"cell", FieldType::Packed10_10_10, 8, FieldRole::Position},
+              {"normal-0", FieldType::U32, 16, FieldRole::Other},
+              {"normal-1", FieldType::U32, 20, FieldRole::Other},
+              {"normal-2", FieldType::U32, 24, FieldRole::Other},
+              {"normal-3", FieldType::U32, 28, FieldRole::Other}};
+  return l;
+}
+
+void BinStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(resolutionParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  b.read("lpv-grids");
+  for (int c = 0; c < kCascades; ++c) {
+    b.output(voxelBuffer(c), OutputKind::Buffer, Semantic::Points,
+             std::string("the ") + kCascadeNames[c] +
+                 " LPV voxel grid, one record per cell: colour/contrast/occupancy word (Listing 4.27), fragment "
+                 "count, cell, four tetrahedron-channel normal masks (Listings 4.28/4.29)")
+        .layout = voxelLayout();
+    b.output(voxelColourVolume(c), OutputKind::Volume3D, Semantic::Color,
+             std::string("decoded ") + kCascadeNames[c] + " cells: stored linear albedo, alpha = occupied");
+  }
+}
+
+void BinStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("lpv.resolution");
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
+  auto grids = readGrids(ctx.board);
+  uint32_t count = voxelFragmentCount(ctx.board);
+  Buffer& outside = ctx.board.ensureBuffer("bin.outside", 4 * kCascades);
+  const uint32_t zeros[kCascades] = {0, 0};
+  outside.upload(zeros, sizeof(zeros));
+  for (int c = 0; c < kCascades; ++c) {
+    Buffer& voxels = ctx.board.ensureBuffer(voxelBuffer(c), sizeof(gpu::LpvVoxel) * size_t(res) * res * res);
+    GLuint clear = ctx.shaders.program({"lpv/bin_clear.comp.glsl"});
+    setUniform(clear, "u_gridRes", res);
+    glUseProgram(clear);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, voxels.id());
+    dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+
+    GLuint program = ctx.shaders.program({"lpv/bin.comp.glsl"});
+    space.setUniforms(program);
+    setGridUniforms(program, grids[c]);
+    setUniform(program, "u_fragmentCount", unsigned(count));
+    setUniform(program, "u_cascade", c);
+    glUseProgram(program);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, voxels.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, outside.id());
+    if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+    barrier();
+
+    TextureDesc cd = shDesc(res);
+    cd.format = GL_RGBA8;
+    cd.minFilter = cd.magFilter = GL_NEAREST;
+    Texture& colour = ctx.board.ensureTexture(voxelColourVolume(c), cd);
+    GLuint decode = ctx.shaders.program({"lpv/bin_decode.comp.glsl"});
+    setUniform(decode, "u_gridRes", res);
+    glUseProgram(decode);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, voxels.id());
+    glBindImageTexture(0, colour.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+  }
+  // Fragments outside a grid are dropped (the coarse grid should contain the fine one): reported.
+  auto out = outside.download(sizeof(zeros));
+  uint32_t dropped[kCascades];
+  std::memcpy(dropped, out.data(), sizeof(dropped));
+  ctx.stats["fragments"] = count;
+  for (int c = 0; c < kCascades; ++c) ctx.stats[std::string("fragments_outside_") + kCascadeNames[c]] = dropped[c];
+  ctx.stats["bytes_per_grid"] = double(sizeof(gpu::LpvVoxel)) * res * res * res;
+}
+
+// --- inject --------------------------------------------------------------------------------------
+
+static ParamDesc injectSourceParam() {
+  return ParamDesc::choice("inject.source", {"direct-light", "point-vpl"}, 0,
+                           "VPLs from the lit voxels, or one VPL of flux pi (per channel) in the picked cell "
+                           "(probe.cell-x/y/z) for watching propagation alone");
+}
+static ParamDesc vplDirectionParam() {
+  return ParamDesc::choice("inject.vpl-direction", {"+x", "-x", "+y", "-y", "+z", "-z"}, 4,
+                           "normal of the point VPL's clamped-cosine lobe");
+}
+
+void InjectStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(resolutionParam());
+  b.param(injectSourceParam());
+  b.param(vplDirectionParam());
+  b.param(probeParam("x"));
+  b.param(probeParam("y"));
+  b.param(probeParam("z"));
+  b.read("lpv-grids");
+  b.read("shadow-map");
+  b.read("light");
+  for (int c = 0; c < kCascades; ++c) b.read(voxelBuffer(c));
+  for (int c = 0; c < kCascades; ++c)
+    for (int ch = 0; ch < 3; ++ch)
+      b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+               std::string("sh-l1: injected VPL intensity (W/sr) of the ") + kChannelNames[ch] + " channel, " +
+                   kCascadeNames[c] + " cascade, as L1 SH (c00, c1-1, c10, c11); shown as c00");
+}
+
+void InjectStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("lpv.resolution");
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
+  auto grids = readGrids(ctx.board);
+  const bool point = ctx.params.getChoice("inject.source") == "point-vpl";
+  glm::ivec3 probe = probeCell(ctx.params);
+  glm::vec3 probeWorld = glm::vec3(grids[0].originCell) + (glm::vec3(probe) + 0.5f) * grids[0].originCell.w;
+  GLuint program = ctx.shaders.program({"lpv/inject.comp.glsl"});
+  for (int c = 0; c < kCascades; ++c) {
+    Texture* out[3];
+    for (int ch = 0; ch < 3; ++ch) out[ch] = &ctx.board.ensureTexture(shVolume("vpl", c, ch), shDesc(res));
+    glm::ivec3 vplCell = glm::ivec3(glm::floor((probeWorld - glm::vec3(grids[c].originCell)) / grids[c].originCell.w));
+    setGridUniforms(program, grids[c]);
+    setUniform(program, "u_fragmentArea", space.voxelSize * space.voxelSize);
+    setUniform(program, "u_pointVpl", point ? 1 : 0);
+    setUniform(program, "u_vplCell", vplCell);
+    setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
+    glUseProgram(program);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+    glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+    for (int ch = 0; ch < 3; ++ch) glBindImageTexture(ch, out[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+  }
+  ctx.stats["point_vpl"] = point ? 1 : 0;
+}
+
+// --- propagate -----------------------------------------------------------------------------------
+
+static ParamDesc schemeParam() {
+  return ParamDesc::choice("lpv.scheme", {"wavefront", "thesis"}, 0,
+                           "wavefront (Kaplanyan-Dachsbacher): each step propagates only the last step's light and the "
+                           "lookup sums all steps; thesis: each step propagates everything so far (energy grows "
+                           "geometrically, near light counted many times)");
+}
+
+void PropagateStage::declare(StageBuilder& b) const {
+  b.param(resolutionParam());
+  b.param(stepsParam());
+  b.param(schemeParam());
+  b.param(ParamDesc::choice("lpv.weighting", {"flux-consistent", "thesis"}, 0,
+                            "face weight: solid angle / pi (a face of flux F re-emits F / pi times a cosine lobe), or "
+                            "solid angle / 4 pi times lpv.flux-amplifier as the thesis"));
+  b.param(ParamDesc::real("lpv.flux-amplifier", 1.75, 0.0, 8.0,
+                          "thesis weighting only: the factor GPU Pro 4 multiplies solid angle / 4 pi by (1.75)"));
+  b.param(ParamDesc::boolean("lpv.clamp-faces", true,
+                             "clamp each face's evaluated intensity at 0 (off: the linear operator, which conserves "
+                             "flux exactly; on: negative back lobes are dropped, about +14 % on a first step)"));
+  b.param(ParamDesc::choice("lpv.occlusion", {"two-sided", "thesis", "none"}, 0,
+                            "blocking by the source cell's voxel: a surface blocks both ways, as the thesis (only light "
+                            "travelling along its stored normal), or not at all"));
+  b.param(ParamDesc::real("lpv.occlusion-amplifier", 1.0, 0.0, 4.0,
+                          "blocked fraction = amplifier * (0.25 + 0.5 n.d), clamped to 1: 1 lets 25 % through head "
+                          "on, 4/3 blocks all"));
+  b.param(ParamDesc::boolean("lpv.first-step-unoccluded", true,
+                             "the first step ignores occlusion, so a VPL's own voxel does not block its light"));
+  b.param(probeParam("x"));
+  b.param(probeParam("y"));
+  b.param(probeParam("z"));
+  b.param(probeCascadeParam());
+  for (int c = 0; c < kCascades; ++c) {
+    b.read(voxelBuffer(c));
+    for (int ch = 0; ch < 3; ++ch) b.read(shVolume("vpl", c, ch));
+  }
+  b.write("propagate.steps");
+  for (int c = 0; c < kCascades; ++c)
+    for (int ch = 0; ch < 3; ++ch)
+      b.output(shVolume("light", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+               std::string("sh-l1: intensity (W/sr) the lookup reads, ") + kChannelNames[ch] + " channel, " +
+                   kCascadeNames[c] + " cascade, after the steps so far; shown as c00");
+  for (int c = 0; c < kCascades; ++c)
+    for (int ch = 0; ch < 3; ++ch)
+      b.output(shVolume("wavefront", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+               std::string("sh-l1: light that moved in the last step, ") + kChannelNames[ch] + ", " + kCascadeNames[c] +
+                   " (the L1 diamond); shown as c00");
+  BufferLayout energy;
+  energy.stride = sizeof(gpu::LpvEnergy);
+  energy.fields = {{"wavefront", FieldType::Vec4, 0, FieldRole::Other}, {"total", FieldType::Vec4, 16, FieldRole::Other}};
+  energy.countResource = "energy.count";
+  b.output("energy", OutputKind::Buffer, Semantic::Scalar,
+           "per step (0 = injected) and cascade: flux of the wavefront (rgb, step) and of the grid (rgb, cascade), W")
+      .layout = energy;
+  BufferLayout probe;
+  probe.stride = sizeof(gpu::LpvProbe);
+  probe.fields = {{"cell", FieldType::I32, 0}, {"cell-y", FieldType::I32, 4}, {"cell-z", FieldType::I32, 8},
+                  {"cascade", FieldType::I32, 12}};
+  const char* rgb[3] = {"r", "g", "b"};
+  for (int ch = 0; ch < 3; ++ch) probe.fields.push_back({std::string("light-") + rgb[ch], FieldType::Vec4, uint32_t(16 + 16 * ch)});
+  for (int ch = 0; ch < 3; ++ch) probe.fields.push_back({std::string("wavefront-") + rgb[ch], FieldType::Vec4, uint32_t(64 + 16 * ch)});
+  probe.fields.push_back({"color-occlusion", FieldType::U32, 112});
+  probe.fields.push_back({"fragments", FieldType::U32, 116});
+  probe.fields.push_back({"step", FieldType::U32, 120});
+  for (int k = 0; k < 4; ++k) probe.fields.push_back({"normal-" + std::to_string(k), FieldType::U32, uint32_t(128 + 4 * k)});
+  const char* dirs[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  for (int i = 0; i < 6; ++i) probe.fields.push_back({std::string("from") + dirs[i], FieldType::Vec4, uint32_t(144 + 16 * i)});
+  b.output("probe-cell", OutputKind::Buffer, Semantic::Scalar,
+           "the picked cell (probe.cell-x/y/z, probe.cascade) after the current step: SH per channel, its voxel's "
+           "words, and c00 gained from each neighbour (a: mean face transmission)")
+      .layout = probe;
+}
+
+int PropagateStage::iterations(const ParamSet& params) const { return params.getInt("lpv.steps"); }
+
+void PropagateStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("lpv.resolution");
+  const int steps = ctx.params.getInt("lpv.steps");
+  const int k = ctx.iteration;
+  const bool thesisScheme = ctx.params.getChoice("lpv.scheme") == "thesis";
+  const double pi = kPi;
+  const float weightScale = ctx.params.getChoice("lpv.weighting") == "thesis"
+                                ? float(ctx.params.getFloat("lpv.flux-amplifier") / (4.0 * pi))
+                                : float(1.0 / pi);
+  const int occlusion = ctx.params.getInt("lpv.occlusion");  // 0 two-sided, 1 thesis, 2 none
+  Buffer& energy = ctx.board.ensureBuffer("energy", sizeof(gpu::LpvEnergy) * kCascades * size_t(steps + 1));
+  Buffer& energyCount = ctx.board.ensureBuffer("energy.count", 4);
+  Buffer& probe = ctx.board.ensureBuffer("probe-cell", sizeof(gpu::LpvProbe));
+  const int probeCascade = ctx.params.getInt("probe.cascade");
+
+  GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
+  GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
+  for (int c = 0; c < kCascades; ++c) {
+    // Step k reads the state step k-1 wrote (step 0: the injected VPLs, packed into state 0) and
+    // writes the other state, then copies it into the output volumes (buffer -> texture copies).
+    const size_t cells = size_t(res) * res * res, section = cells * 16;
+    Buffer* state[2];
+    for (int p = 0; p < 2; ++p)
+      state[p] = &ctx.board.ensureBuffer("propagate.state" + std::to_string(p) + "-" + kCascadeNames[c], 6 * section);
+    Buffer& in = *state[k % 2];
+    Buffer& out = *state[(k + 1) % 2];
+    Texture *light[3], *wave[3];
+    for (int ch = 0; ch < 3; ++ch) {
+      light[ch] = &ctx.board.ensureTexture(shVolume("light", c, ch), shDesc(res));
+      wave[ch] = &ctx.board.ensureTexture(shVolume("wavefront", c, ch), shDesc(res));
+    }
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    if (k == 0) {
+      glBindBuffer(GL_PIXEL_PACK_BUFFER, in.id());
+      for (int ch = 0; ch < 3; ++ch)
+        for (int part = 0; part < 2; ++part)
+          glGetTextureImage(ctx.board.texture(shVolume("vpl", c, ch)).id(), 0, GL_RGBA, GL_FLOAT, GLsizei(section),
+                            reinterpret_cast<void*>((part * 3 + ch) * section));
+      glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+      barrier();
+    }
+    auto bindCommon = [&](GLuint program) {
+      setUniform(program, "u_gridRes", res);
+      setUniform(program, "u_step", k);
+      setUniform(program, "u_thesisScheme", thesisScheme ? 1 : 0);
+      setUniform(program, "u_weightScale", weightScale);
+      setUniform(program, "u_clampFaces", ctx.params.getBool("lpv.clamp-faces") ? 1 : 0);
+      setUniform(program, "u_occlusion", occlusion);
+      setUniform(program, "u_occlusionAmplifier", ctx.params.getFloat("lpv.occlusion-amplifier"));
+      setUniform(program, "u_firstStepUnoccluded", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0);
+      glUseProgram(program);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_IN, in.id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, out.id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
+    };
+    bindCommon(prop);
+    setUniform(prop, "u_probeMode", 0);
+    dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, out.id());
+    for (int ch = 0; ch < 3; ++ch) {
+      glTextureSubImage3D(light[ch]->id(), 0, 0, 0, 0, res, res, res, GL_RGBA, GL_FLOAT, reinterpret_cast<void*>(ch * section));
+      glTextureSubImage3D(wave[ch]->id(), 0, 0, 0, 0, res, res, res, GL_RGBA, GL_FLOAT, reinterpret_cast<void*>((3 + ch) * section));
+    }
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    barrier();
+    if (c == probeCascade) {
+      bindCommon(prop);
+      setUniform(prop, "u_probeMode", 1);
+      setUniform(prop, "u_probeCell", probeCell(ctx.params));
+      setUniform(prop, "u_cascade", c);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, probe.id());
+      dispatchCompute({1, 1, 1}, {4, 4, 4});
+      barrier();
+    }
+    // Energy: step 0 (injected) once, then the step just made.
+    Buffer& partials = ctx.board.ensureBuffer("propagate.energy-rows", 32 * size_t(res) * res);
+    auto sumEnergy = [&](Texture* const* l, Texture* const* w, int step, int record) {
+      setUniform(sum, "u_gridRes", res);
+      setUniform(sum, "u_cascade", c);
+      setUniform(sum, "u_step", step);
+      setUniform(sum, "u_record", record);
+      glUseProgram(sum);
+      for (int ch = 0; ch < 3; ++ch) {
+        glBindTextureUnit(ch, l[ch]->id());
+        glBindTextureUnit(3 + ch, w[ch]->id());
+      }
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, energy.id());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, partials.id());
+      setUniform(sum, "u_pass", 0);
+      dispatchCompute({res, res, 1}, {8, 8, 1});
+      barrier();
+      setUniform(sum, "u_pass", 1);
+      dispatchCompute({1, 1, 1}, {8, 8, 1});
+      barrier();
+    };
+    if (k == 0) {
+      Texture* vpl[3];
+      for (int ch = 0; ch < 3; ++ch) vpl[ch] = &ctx.board.texture(shVolume("vpl", c, ch));
+      sumEnergy(vpl, vpl, 0, c);
+    }
+    sumEnergy(light, wave, k + 1, (k + 1) * kCascades + c);
+  }
+  uint32_t records = uint32_t((k + 2) * kCascades);
+  energyCount.upload(&records, 4);
+  ctx.stats["steps_done"] = k + 1;
+  // Per cascade: VPL, light and wavefront volumes (3 channels each) and two states of 6 sections.
+  ctx.stats["bytes_sh_per_cascade"] = double(res) * res * res * 16.0 * (9 + 12);
+}
+
+// --- reflection ----------------------------------------------------------------------------------
+
+// Incident radiance from intensity (lpv.cpp, Details; docs/fidelity.md has the measured calibration).
+static ParamDesc radianceScaleParam() {
+  return ParamDesc::real("gi.radiance-scale", 1.0, 0.0, 64.0,
+                         "incident radiance = scale * intensity / cell^2 (1: a cell face radiating its intensity)");
+}
+
+static ParamDesc reflectionResolutionParam() {
+  return ParamDesc::integer("reflection.resolution", 64, 16, 256,
+                            "voxels along each axis of the reflection grid over the fine cascade's box (the thesis "
+                            "uses 256: 146 MiB with mips in RGBA16F)", "voxels")
+      .pow2();
+}
+
+void ReflectionStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(resolutionParam());
+  b.param(reflectionResolutionParam());
+  b.param(radianceScaleParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  b.read("lpv-grids");
+  for (int ch = 0; ch < 3; ++ch) b.read(shVolume("light", 0, ch));
+  b.output("reflection-colour", OutputKind::Volume3D, Semantic::Occupancy,
+           "the reflection grid's colour/contrast/occupancy words (Listing 4.27), white = occupied");
+  b.output("reflection", OutputKind::Volume3D, Semantic::RadianceHDR,
+           "outgoing radiance per reflection voxel (L0 of the fine cascade's light), alpha = occupancy; level k = mean "
+           "of 8 texels of level k-1");
+}
+
+int ReflectionStage::iterations(const ParamSet& params) const {
+  int res = params.getInt("reflection.resolution"), levels = 1;
+  while (res > 1) res >>= 1, ++levels;
+  return levels;
+}
+
+void ReflectionStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("reflection.resolution");
+  const int k = ctx.iteration;
+  auto grids = readGrids(ctx.board);
+  TextureDesc cd;
+  cd.target = GL_TEXTURE_3D;
+  cd.format = GL_R32UI;
+  cd.size = {res, res, res};
+  cd.minFilter = cd.magFilter = GL_NEAREST;
+  Texture& colour = ctx.board.ensureTexture("reflection-colour", cd);
+  TextureDesc rd = cd;
+  rd.format = GL_RGBA16F;
+  rd.levels = iterations(ctx.params);
+  rd.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  rd.magFilter = GL_LINEAR;
+  Texture& grid = ctx.board.ensureTexture("reflection", rd);
+  if (k == 0) {
+    const uint32_t zero = 0;
+    glClearTexImage(colour.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    const float none[4] = {0, 0, 0, 0};
+    for (int level = 0; level < grid.levels(); ++level) glClearTexImage(grid.id(), level, GL_RGBA, GL_FLOAT, none);
+    // Same footprint as the fine cascade, res voxels along each axis.
+    gpu::LpvGrid g = grids[0];
+    const float fineEdge = g.originCell.w * g.centreRes.w;
+    gpu::LpvGrid r = g;
+    r.originCell.w = fineEdge / float(res);
+    r.centreRes.w = float(res);
+    VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
+    uint32_t count = voxelFragmentCount(ctx.board);
+    GLuint bin = ctx.shaders.program({"lpv/reflection_bin.comp.glsl"});
+    space.setUniforms(bin);
+    setGridUniforms(bin, r);
+    setUniform(bin, "u_fragmentCount", unsigned(count));
+    glUseProgram(bin);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+    glBindImageTexture(0, colour.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+    barrier();
+    GLuint light = ctx.shaders.program({"lpv/reflection_light.comp.glsl"});
+    setGridUniforms(light, r);
+    setUniform(light, "u_fineOrigin", glm::vec3(g.originCell));
+    setUniform(light, "u_fineCell", g.originCell.w);
+    setUniform(light, "u_fineRes", g.centreRes.w);
+    setUniform(light, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
+    glUseProgram(light);
+    for (int ch = 0; ch < 3; ++ch) glBindTextureUnit(ch, ctx.board.texture(shVolume("light", 0, ch)).id());
+    glBindImageTexture(0, colour.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindImageTexture(1, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    dispatchCompute({res, res, res}, {4, 4, 4});
+    barrier();
+  } else {
+    GLuint mip = ctx.shaders.program({"lpv/reflection_mip.comp.glsl"});
+    setUniform(mip, "u_sourceLevel", k - 1);
+    glUseProgram(mip);
+    glBindTextureUnit(0, grid.id());
+    glBindImageTexture(0, grid.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    dispatchCompute(grid.levelSize(k), {4, 4, 4});
+    barrier();
+  }
+  ctx.stats["levels_built"] = k + 1;
+  ctx.stats["bytes"] = double(grid.byteSize() + colour.byteSize());
+}
+
+// --- gi ------------------------------------------------------------------------------------------
+
+void GiStage::declare(StageBuilder& b) const {
+  b.param(resolutionParam());
+  b.param(ParamDesc::choice("gi.lookup-sign", {"minus-n", "plus-n"}, 0,
+                            "convolve with the cosine around -n (light arriving at the surface, consistent with "
+                            "injection) or +n as the thesis listings (a surface sees light leaving it)"));
+  b.param(lookupOffsetParam());
+  b.param(radianceScaleParam());
+  b.param(reflectionResolutionParam());
+  b.param(ParamDesc::real("gi.glossy-aperture", 10.0, 1.0, 60.0,
+                          "full opening angle of the glossy cone through the reflection grid", "degrees"));
+  b.param(ParamDesc::real("gi.glossy-distance", 0.5, 0.05, 1.0,
+                          "longest glossy cone, as a fraction of the fine grid's edge"));
+  b.param(ParamDesc::real("gi.blend-width", 4.0, 0.5, 8.0,
+                          "width of the shell at the fine grid's edge where fine fades into coarse", "fine cells"));
+  b.readView();
+  b.read("lpv-grids");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  for (int c = 0; c < kCascades; ++c)
+    for (int ch = 0; ch < 3; ++ch) b.read(shVolume("light", c, ch));
+  b.read("reflection");
+  b.output("irradiance-fine", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the fine cascade (W/m^2)");
+  b.output("irradiance-coarse", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the coarse cascade (W/m^2)");
+  b.output("cascade-blend", OutputKind::Image2D, Semantic::Fraction, "weight of the coarse cascade (0 fine only, 1 coarse only)");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing indirect diffuse radiance: albedo / pi * blended irradiance")
+      .referenceMode = "indirect-1";
+  b.output("glossy", OutputKind::Image2D, Semantic::RadianceHDR,
+           "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips");
+}
+
+void GiStage::execute(StageContext& ctx) {
+  auto grids = readGrids(ctx.board);
+  Texture& fine = ctx.board.ensureTexture("irradiance-fine", screenDesc(ctx.view, GL_RGBA32F));
+  Texture& coarse = ctx.board.ensureTexture("irradiance-coarse", screenDesc(ctx.view, GL_RGBA32F));
+  Texture& blend = ctx.board.ensureTexture("cascade-blend", screenDesc(ctx.view, GL_R32F));
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", screenDesc(ctx.view, GL_RGBA32F));
+  Texture& glossy = ctx.board.ensureTexture("glossy", screenDesc(ctx.view, GL_RGBA16F));
+  GLuint program = ctx.shaders.program({"lpv/gi.comp.glsl"});
+  const float fineEdge = grids[0].originCell.w * grids[0].centreRes.w;
+  const int reflRes = ctx.params.getInt("reflection.resolution");
+  setUniform(program, "u_reflectionVoxel", fineEdge / float(reflRes));
+  setUniform(program, "u_reflectionLevels", float(ctx.board.texture("reflection").levels()));
+  setUniform(program, "u_glossyTan", std::tan(0.5f * ctx.params.getFloat("gi.glossy-aperture") * float(kPi) / 180.0f));
+  setUniform(program, "u_glossyDistance", ctx.params.getFloat("gi.glossy-distance") * fineEdge);
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  setUniform(program, "u_lookupSign", ctx.params.getChoice("gi.lookup-sign") == "minus-n" ? -1.0f : 1.0f);
+  setUniform(program, "u_lookupOffset", ctx.params.getFloat("gi.lookup-offset"));
+  setUniform(program, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
+  setUniform(program, "u_blendWidth", ctx.params.getFloat("gi.blend-width"));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_GRIDS, ctx.board.buffer("lpv-grids").id());
+  glBindTextureUnit(0, ctx.board.texture("position").id());
+  glBindTextureUnit(1, ctx.board.texture("normal").id());
+  glBindTextureUnit(2, ctx.board.texture("albedo").id());
+  for (int c = 0; c < kCascades; ++c)
+    for (int ch = 0; ch < 3; ++ch) glBindTextureUnit(3 + c * 3 + ch, ctx.board.texture(shVolume("light", c, ch)).id());
+  glBindImageTexture(0, fine.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, coarse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(2, blend.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  glBindImageTexture(3, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(4, glossy.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindTextureUnit(9, ctx.board.texture("reflection").id());
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  barrier();
+}
+
+// --- composite -----------------------------------------------------------------------------------
+
+void CompositeStage::declare(StageBuilder& b) const {
+  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
+  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
+  b.param(ParamDesc::real("composite.glossy", 0.0, 0.0, 1.0,
+                          "weight of the glossy term (0: the scenes are Lambertian, as the reference path tracer)"));
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("emission");
+  b.read("indirect-diffuse");
+  b.read("glossy");
+  b.read("shadow-map");
+  b.read("light");
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR,
+           "direct + indirect diffuse (one bounce), linear radiance")
+      .referenceMode = "full";
+  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+}
+
+void CompositeStage::execute(StageContext& ctx) {
+  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
+  GLuint program = ctx.shaders.program({"lpv/composite.comp.glsl"});
+  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
+  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  setUniform(program, "u_glossyWeight", ctx.params.getFloat("composite.glossy"));
+  glUseProgram(program);
+  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map", "glossy"};
+  for (int i = 0; i < 7; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace voxlab::lpv
