@@ -52,7 +52,9 @@ RunRequest request(std::vector<std::string> sets, const std::string& until = "",
 }
 
 // The snapshot suite's settings (tests/golden/near-field/settings.json), so the runs are shared.
-RunRequest snapshotRequest() { return request({"voxel.resolution=64", "rays.count=4"}); }
+RunRequest snapshotRequest() {
+  return request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256"});
+}
 
 std::vector<BitColumn> readLevel(HeadlessSession& s, const std::string& texture, int level) {
   Texture& t = s.cursor().board().texture(texture);
@@ -361,7 +363,7 @@ TEST(NearFieldTraversal, OriginsOutsideTheVolumeGiveNoHitThroughTheGuard) {
 TEST(NearFieldTraversal, ProbeRecordsChangeLevelByOneAndHitOnlyAtLevelZero) {
   // Probe a floor pixel whose first ray hits (checked below), several rays of the run.
   for (int ray = 0; ray < 4; ++ray) {
-    auto& s = session(request({"voxel.resolution=64", "rays.count=4", "probe.x=0.3", "probe.y=0.8",
+    auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256", "probe.x=0.3", "probe.y=0.8",
                                "probe.ray=" + std::to_string(ray)}));
     CapturedOutput steps = capture(s, "rays", "traversal-steps");
     ASSERT_GT(steps.recordCount, 0u);
@@ -424,6 +426,200 @@ TEST(NearFieldSelfIntersection, PlaneRaysNeverHitThePlanesOwnVoxels) {
   EXPECT_EQ(floorSelfHits(s, 0.8f, 0.6f), 0) << "with the default offsets";
   // The test can fail: without offsets the rays start inside the floor's voxels.
   EXPECT_GT(floorSelfHits(s, 0.0f, 0.0f), 100);
+}
+
+
+// --- Physics --------------------------------------------------------------------------------------
+
+// The near-field estimator on the CPU, on Embree: for a receiver p (normal n, albedo rho), cosine
+// rays with the rays stage's start offsets and radius; at the first hit within the radius, the
+// reflected direct radiance rho_hit/pi * E * |cos| of the shared light model with an exact shadow
+// ray, counted when the receiver lies on the lit side of the hit surface. No voxels, no RSM.
+class NearFieldOracle {
+ public:
+  explicit NearFieldOracle(const Scene& scene) : scene_(scene) {
+    device_ = rtcNewDevice(nullptr);
+    rtc_ = rtcNewScene(device_);
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), scene.positions.size()));
+    for (size_t i = 0; i < scene.positions.size(); ++i)
+      for (int c = 0; c < 3; ++c) vb[3 * i + c] = scene.positions[i][c];
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), scene.triangleCount()));
+    for (size_t i = 0; i < scene.indices.size(); ++i) ib[i] = scene.indices[i];
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(rtc_, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(rtc_);
+  }
+  ~NearFieldOracle() {
+    rtcReleaseScene(rtc_);
+    rtcReleaseDevice(device_);
+  }
+
+  // Reflected direct radiance arriving at o along d from the first surface within tMax (0 = none).
+  glm::vec3 radianceAlong(glm::vec3 o, glm::vec3 d, float tMax, glm::vec3 receiver) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh{};
+    rh.ray.org_x = o.x; rh.ray.org_y = o.y; rh.ray.org_z = o.z;
+    rh.ray.dir_x = d.x; rh.ray.dir_y = d.y; rh.ray.dir_z = d.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = tMax;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rtc_, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return glm::vec3(0.0f);
+    glm::vec3 x = o + d * rh.ray.tfar;
+    glm::vec3 ng = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    const Light& light = scene_.lights.at(0);
+    LightSample ls = sampleLight(light, x);
+    float cosL = glm::dot(ng, ls.toLight);
+    if (cosL == 0.0f || (cosL > 0.0f) != (glm::dot(ng, receiver - x) > 0.0f)) return glm::vec3(0.0f);
+    glm::vec3 side = cosL > 0.0f ? ng : -ng;
+    RTCRay shadow{};
+    glm::vec3 so = x + side * 1e-4f;
+    shadow.org_x = so.x; shadow.org_y = so.y; shadow.org_z = so.z;
+    shadow.dir_x = ls.toLight.x; shadow.dir_y = ls.toLight.y; shadow.dir_z = ls.toLight.z;
+    shadow.tnear = 0.0f;
+    shadow.tfar = std::isinf(ls.distance) ? 1e30f : ls.distance - 2e-4f;
+    shadow.mask = 0xFFFFFFFFu;
+    rtcOccluded1(rtc_, &ctx, &shadow);
+    if (shadow.tfar < 0.0f) return glm::vec3(0.0f);  // occluded
+    glm::vec3 rho(scene_.materials[scene_.triangleMaterial(rh.hit.primID)].baseColor);
+    return rho / 3.14159265f * ls.irradianceAtNormalIncidence * std::abs(cosL);
+  }
+
+ private:
+  const Scene& scene_;
+  RTCDevice device_ = nullptr;
+  RTCScene rtc_ = nullptr;
+};
+
+struct Readback {
+  int w = 0, h = 0, channels = 4;
+  std::vector<float> v;
+  const float* at(int x, int y) const { return &v[(size_t(y) * w + x) * channels]; }
+};
+
+Readback readFloat(HeadlessSession& s, const std::string& name) {
+  Texture& t = s.cursor().board().texture(name);
+  Readback r;
+  r.w = t.levelSize(0).x;
+  r.h = t.levelSize(0).y;
+  r.v.resize(size_t(r.w) * r.h * 4);
+  glGetTextureImage(t.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(r.v.size() * 4), r.v.data());
+  return r;
+}
+
+// --- RSM ------------------------------------------------------------------------------------------
+
+TEST(NearFieldRsm, ReflectedRadianceIsAlbedoOverPiTimesTheLightModelsIrradiance) {
+  auto& s = session(snapshotRequest());
+  const Scene& scene = s.cursor().scene();
+  Readback pos = readFloat(s, "rsm-position"), nrm = readFloat(s, "rsm-normal"), rad = readFloat(s, "rsm-radiance");
+  int checked = 0, unmatched = 0;
+  for (size_t t = 0; t < size_t(pos.w) * pos.h; t += 7) {
+    const float* p = &pos.v[t * 4];
+    if (p[3] == 0.0f) continue;
+    glm::vec3 P(p[0], p[1], p[2]), N(nrm.v[t * 4], nrm.v[t * 4 + 1], nrm.v[t * 4 + 2]);
+    LightSample ls = sampleLight(scene.lights.at(0), P);
+    float cosL = glm::dot(glm::normalize(N), ls.toLight);
+    EXPECT_GE(cosL, -1e-3f) << "RSM normal on the unlit side";
+    glm::vec3 e = ls.irradianceAtNormalIncidence * std::max(cosL, 0.0f) / 3.14159265f;
+    if (e.x < 1e-3f) continue;
+    glm::vec3 albedo = glm::vec3(rad.v[t * 4], rad.v[t * 4 + 1], rad.v[t * 4 + 2]) / e;
+    // RGBA16F storage: relative error below 1e-3; the light model runs in float on both sides.
+    bool match = false;
+    for (const auto& m : scene.materials)
+      match = match || glm::all(glm::lessThan(glm::abs(albedo - glm::vec3(m.baseColor)), glm::vec3(3e-3f)));
+    unmatched += !match;
+    ++checked;
+  }
+  EXPECT_GT(checked, 500);
+  // Texels on a triangle edge can take the neighbour's position after interpolation: measured 0.
+  EXPECT_EQ(unmatched, 0) << "of " << checked << " texels, radiance / (E cos / pi) is no material's albedo";
+}
+
+TEST(NearFieldPhysics, IndirectAgreesWithCpuNearFieldEstimatorAndLosesOnlyBeyondTheRadius) {
+  const int size = 64, rays = 64;
+  auto& s = session(request({"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full"}, "",
+                            size));
+  const Scene& scene = s.cursor().scene();
+  BinaryGridGeometry g = BinaryGridGeometry::of(scene, 128);
+  const float radius = 0.5f * g.edge;  // rays.radius default
+  Readback pos = readFloat(s, "position"), nrm = readFloat(s, "normal"), alb = readFloat(s, "albedo");
+  Readback ind = readFloat(s, "indirect");
+  NearFieldOracle oracle(scene);
+  // Region means over 4 x 4 blocks of 16 x 16 pixels, luminance-free per channel sums.
+  const int blocks = 4, bs = size / blocks, cpuRays = 256;
+  std::vector<glm::dvec3> gpuSum(blocks * blocks, glm::dvec3(0)), cpuSum(blocks * blocks, glm::dvec3(0));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const float* p = pos.at(x, y);
+      if (p[3] == 0.0f) continue;
+      glm::vec3 P(p[0], p[1], p[2]), N = glm::normalize(glm::vec3(nrm.at(x, y)[0], nrm.at(x, y)[1], nrm.at(x, y)[2]));
+      glm::vec3 rho(alb.at(x, y)[0], alb.at(x, y)[1], alb.at(x, y)[2]);
+      glm::vec3 T = glm::normalize(std::abs(N.x) > 0.9f ? glm::cross(N, glm::vec3(0, 1, 0)) : glm::cross(N, glm::vec3(1, 0, 0)));
+      glm::vec3 B = glm::cross(N, T);
+      glm::vec3 sum(0.0f);
+      for (int i = 0; i < cpuRays; ++i) {
+        float u1 = u(rng), u2 = u(rng);
+        float cosT = std::sqrt(1.0f - u1), sinT = std::sqrt(u1), phi = 6.2831853f * u2;
+        glm::vec3 d = glm::normalize(T * (sinT * std::cos(phi)) + B * (sinT * std::sin(phi)) + N * cosT);
+        float along = 0.6f * g.voxelDiagonal / std::max(cosT, 1e-3f);
+        if (along >= radius) continue;
+        glm::vec3 o = P + N * (0.8f * g.voxelDiagonal) + d * along;
+        sum += oracle.radianceAlong(o, d, radius - along, P);
+      }
+      glm::vec3 cpu = rho * sum / float(cpuRays);  // (rho / N) sum L~ for cosine sampling
+      int b = (y / bs) * blocks + x / bs;
+      cpuSum[b] += glm::dvec3(cpu);
+      gpuSum[b] += glm::dvec3(ind.at(x, y)[0], ind.at(x, y)[1], ind.at(x, y)[2]);
+    }
+  glm::dvec3 gpuAll(0), cpuAll(0);
+  double worstRel = 0;
+  for (int b = 0; b < blocks * blocks; ++b) {
+    gpuAll += gpuSum[b];
+    cpuAll += cpuSum[b];
+    double c = cpuSum[b].x + cpuSum[b].y + cpuSum[b].z, gv = gpuSum[b].x + gpuSum[b].y + gpuSum[b].z;
+    if (c > 0.02 * (cpuAll.x + 1e-9)) worstRel = std::max(worstRel, std::abs(gv - c) / c);
+  }
+  double ratio = (gpuAll.x + gpuAll.y + gpuAll.z) / (cpuAll.x + cpuAll.y + cpuAll.z);
+  RecordProperty("gpu_over_cpu", std::to_string(ratio));
+  RecordProperty("worst_region_relative_difference", std::to_string(worstRel));
+  std::printf("near-field GPU / CPU estimator: %.4f (r %.4f g %.4f b %.4f), worst region %.3f\n", ratio,
+              gpuAll.x / cpuAll.x, gpuAll.y / cpuAll.y, gpuAll.z / cpuAll.z, worstRel);
+  // Measured 0.995 overall (per channel 0.994..0.996) and 0.093 in the worst 16 x 16 region: the
+  // remaining differences are voxel hit points (up to a voxel off the surface), epsilon rejections
+  // and Monte Carlo noise (64 GPU and 256 CPU rays per pixel; the whole-image mean's standard error
+  // is about 0.5 %). A missing pi (the printed (rho/pi)/N form) gives 0.32, GP3's contrast 2 gives 2.
+  EXPECT_NEAR(ratio, 1.0, 0.04);
+  EXPECT_LT(worstRel, 0.2);
+  // Full one-bounce reference (indirect-1 at 512 x 512, box-filtered to 64 x 64): the near-field
+  // estimate misses what arrives from beyond the radius, so it must lie below it.
+  reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect-1.exr"));
+  double refSum = 0, gpuLum = 0;
+  const int f = ref.width / size;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      if (pos.at(x, y)[3] == 0.0f) continue;
+      for (int j = 0; j < f * f; ++j) {
+        const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
+        refSum += (r[0] + r[1] + r[2]) / double(f * f);
+      }
+      gpuLum += ind.at(x, y)[0] + ind.at(x, y)[1] + ind.at(x, y)[2];
+    }
+  RecordProperty("near_field_over_one_bounce", std::to_string(gpuLum / refSum));
+  std::printf("near-field / full one-bounce reference: %.4f\n", gpuLum / refSum);
+  // Measured 0.467 with the default radius (half the volume edge): the rest of the one-bounce light
+  // comes from farther away. Bounded on both sides so neither "all lost" nor "more than the whole
+  // bounce" passes.
+  EXPECT_GT(gpuLum / refSum, 0.25);
+  EXPECT_LT(gpuLum / refSum, 0.9);
 }
 
 }  // namespace
