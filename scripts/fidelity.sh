@@ -21,6 +21,8 @@ mkdir -p "$work"
 variants=(
   "vct-grid cone.resolution=full"
   "vct-grid mipmap.mode=anisotropic"
+  "near-field rays.radius=2"
+  "near-field rays.count=32"
 )
 
 runs=()

@@ -339,7 +339,7 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.read("light");
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + near-field indirect, linear radiance")
-      .referenceMode = "one-bounce";
+      .referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
 }
 
