@@ -94,6 +94,23 @@ TEST(NearFieldTables, OrAndXorInvariants) {
   EXPECT_EQ(orT[127][3], 1u);
 }
 
+TEST(NearFieldTables, VoxelSizesFollowResolutionAndTheFixed128Slices) {
+  auto& s = session(snapshotRequest());
+  const Scene& scene = s.cursor().scene();
+  for (int res : {16, 64, 128, 512}) {
+    BinaryGridGeometry g = BinaryGridGeometry::of(scene, res);
+    VoxelSpace space = VoxelSpace::fromScene(scene, res);
+    EXPECT_FLOAT_EQ(g.columnSize, space.voxelSize) << res;
+    EXPECT_FLOAT_EQ(g.sliceDepth, space.edge() / 128.0f) << res;  // 128 slices whatever the resolution
+    EXPECT_FLOAT_EQ(g.voxelDiagonal, std::sqrt(2 * g.columnSize * g.columnSize + g.sliceDepth * g.sliceDepth));
+    int first, last;
+    slicesOfVoxel(res - 1, res, first, last);
+    EXPECT_EQ(last, 127) << "the last voxel of a column must reach slice 127 at " << res;
+    slicesOfVoxel(0, res, first, last);
+    EXPECT_EQ(first, 0);
+  }
+}
+
 TEST(NearFieldTables, GpuTablesEqualCpuIncludingRow127) {
   auto& s = session(snapshotRequest());
   auto orGpu = readLevel(s, "or-table", 0);
