@@ -323,6 +323,54 @@ void RaysStage::execute(StageContext& ctx) {
   ctx.stats["probe_y_from_top"] = th - 1 - probeY;
 }
 
+// --- Filter ------------------------------------------------------------------------------------
+
+void FilterStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::integer("filter.passes", 2, 0, 5,
+                             "a-trous passes (holes 1, 2, 4, ... traced pixels; 5x5 taps each); 0 = no filter"));
+  b.read("indirect");
+  b.read("position");
+  b.read("normal");
+  b.write("filter.scratch");
+  b.output("indirect-filtered", OutputKind::Image2D, Semantic::RadianceHDR,
+           "the indirect light after the passes so far (at rays.resolution)")
+      .referenceMode = "indirect-1";
+}
+
+int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }
+
+void FilterStage::execute(StageContext& ctx) {
+  Texture& source = ctx.board.texture("indirect");
+  const glm::ivec3 size = source.desc().size;
+  Texture& filtered = ctx.board.ensureTexture("indirect-filtered", screenDesc(size.x, size.y, GL_RGBA32F));
+  Texture& scratch = ctx.board.ensureTexture("filter.scratch", screenDesc(size.x, size.y, GL_RGBA32F));
+  // Each pass reads the previous result (the ray sum for the first) and writes indirect-filtered.
+  Texture& input = ctx.iteration == 0 ? source : scratch;
+  if (ctx.iteration > 0)
+    glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, scratch.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
+                       size.y, 1);
+  if (ctx.params.getInt("filter.passes") == 0) {
+    glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
+                       size.y, 1);
+    return;
+  }
+  GLuint program = ctx.shaders.program({"near_field/filter.comp.glsl"});
+  setUniform(program, "u_step", 1 << ctx.iteration);
+  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  // Neighbours more than two columns off the centre's plane belong to another surface.
+  setUniform(program, "u_planeDistance",
+             2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
+  glUseProgram(program);
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, input.id());
+  glBindImageTexture(0, filtered.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchCompute({size.x, size.y, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
 // --- Composite -----------------------------------------------------------------------------------
 
 void CompositeStage::declare(StageBuilder& b) const {
@@ -334,7 +382,7 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("emission");
-  b.read("indirect");
+  b.read("indirect-filtered");
   b.read("shadow-map");
   b.read("light");
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
@@ -355,7 +403,7 @@ void CompositeStage::execute(StageContext& ctx) {
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
   glUseProgram(program);
-  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect", "shadow-map"};
+  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-filtered", "shadow-map"};
   for (int i = 0; i < 6; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);

@@ -43,6 +43,19 @@ class RaysStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+class FilterStage : public Stage {
+ public:
+  const char* id() const override { return "filter"; }
+  const char* title() const override { return "Geometry-aware filter"; }
+  const char* summary() const override {
+    return "Average the noisy indirect light over neighbours on the same surface (a-trous passes with growing "
+           "holes, weighted by plane distance and normal agreement). One pass per iteration; 0 passes copies.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
 class CompositeStage : public Stage {
  public:
   const char* id() const override { return "composite"; }
