@@ -28,6 +28,8 @@ variants=(
   "vct-grid mipmap.mode=anisotropic"
   "lpv gi.lookup-sign=plus-n"
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"
+  "near-field rays.radius=2"
+  "near-field rays.count=32"
 )
 
 runs=()

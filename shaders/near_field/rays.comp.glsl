@@ -1,0 +1,134 @@
+#version 450
+// One ray per traced pixel (ray index u_rayIndex of u_rayCount): cosine-distributed direction,
+// start offsets, hierarchical traversal to the first set voxel, RSM lookup of the hit, and the
+// estimator (rho * spread / N) * sum of the reflected radiance L~ of valid hits (seed 000
+// section 3.2.3 / 4.4.6, Listings 4.45-4.49; the printed (rho/pi)/N form lacks the pi that the
+// cosine pdf cos/pi cancels; see src/techniques/near_field/near_field.cpp).
+#define NF_RECORD_STEPS
+#include "common/shared.h"
+#include "common/lights.glsl"
+#include "near_field/traversal.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 1) uniform sampler2D u_position;    // G-buffer: xyz, w = 1 covered
+layout(binding = 2) uniform sampler2D u_normal;
+layout(binding = 3) uniform sampler2D u_albedo;
+layout(binding = 6) uniform sampler2D u_rsmPosition; // xyz, w = footprint (0 = empty)
+layout(binding = 7) uniform sampler2D u_rsmNormal;
+layout(binding = 8) uniform sampler2D u_rsmRadiance;
+layout(rgba32f, binding = 0) uniform image2D u_indirect;        // running (rho * spread / N) * sum L~
+layout(r32ui, binding = 1) uniform writeonly uimage2D u_category;  // NF_CAT_* of this ray
+layout(r32ui, binding = 2) uniform uimage2D u_steps;            // traversal steps, summed over rays
+layout(rgba32f, binding = 3) uniform writeonly image2D u_hitPosition;  // this ray's hit (w = 1)
+layout(std430, binding = NF_BINDING_PROBE_RAY) buffer Probe { ProbeRay probe; };
+
+uniform int u_rayIndex, u_rayCount, u_traceScale, u_budget, u_shift, u_normalCheck;
+uniform float u_radius, u_normalOffset, u_rayOffset, u_spread, u_voxelDiagonal, u_epsilonScale;
+uniform vec3 u_volumeOrigin;
+uniform float u_volumeEdge;
+uniform ivec2 u_probePixel;
+uniform int u_probeRay;
+const float PI = 3.14159265358979;
+
+// Hammersley point i of n: ((i + 0.5) / n, radical inverse of i).
+vec2 hammersley(int i, int n) {
+  return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(uint(i))) * 2.3283064365386963e-10);
+}
+// Per-pixel shift (Cranley-Patterson rotation), a hash of the pixel.
+vec2 pixelShift(ivec2 px) {
+  uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
+  h = (h ^ 61u) ^ (h >> 16u); h *= 9u; h ^= h >> 4u; h *= 0x27d4eb2du; h ^= h >> 15u;
+  uint g = h * 747796405u + 2891336453u;
+  g = ((g >> ((g >> 28u) + 4u)) ^ g) * 277803737u; g = (g >> 22u) ^ g;
+  return vec2(float(h >> 8u), float(g >> 8u)) / 16777216.0;
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 traced = imageSize(u_indirect);
+  if (any(greaterThanEqual(px, traced))) return;
+  ivec2 g = min(px * u_traceScale, textureSize(u_position, 0) - 1);
+  bool probing = px == u_probePixel && u_rayIndex == u_probeRay;
+  vec4 pos = texelFetch(u_position, g, 0);
+  uint category = NF_CAT_NO_RECEIVER;
+  vec4 hitOut = vec4(0.0);
+  Walk w;
+  w.end = NF_END_LEFT; w.steps = 0; w.voxel = ivec3(-1); w.tHit = 1.0;
+  vec3 dir = vec3(0.0), origin = vec3(0.0), hit = vec3(0.0), radiance = vec3(0.0);
+  float cosTheta = 0.0, radiusLeft = 0.0, dist = 0.0, epsilon = 0.0, facing = 0.0;
+  vec2 rsmTexel = vec2(-1.0);
+  if (pos.w != 0.0) {
+    vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
+    // Cosine-distributed direction in the cone of the hemisphere that 'spread' keeps.
+    vec2 u = hammersley(u_rayIndex, u_rayCount);
+    if (u_shift != 0) u = fract(u + pixelShift(px));
+    float sin2 = u.x * u_spread;
+    cosTheta = sqrt(max(1.0 - sin2, 0.0));
+    float sinTheta = sqrt(sin2), phi = 2.0 * PI * u.y;
+    vec3 t = normalize(abs(n.x) > 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
+    vec3 b = cross(n, t);
+    dir = normalize(t * (sinTheta * cos(phi)) + b * (sinTheta * sin(phi)) + n * cosTheta);
+    // Start offsets against self-intersection: along the normal, and along the ray growing as
+    // 1/cos (GP3's voxelOffsetNormalScale / voxelOffsetCosThetaScale, in voxel diagonals).
+    float along = u_rayOffset * u_voxelDiagonal / max(cosTheta, 1e-3);
+    origin = pos.xyz + n * (u_normalOffset * u_voxelDiagonal) + dir * along;
+    radiusLeft = u_radius - along;
+    if (radiusLeft <= 0.0) {
+      w.end = NF_END_DROPPED;
+      category = NF_CAT_DROPPED;
+    } else {
+      vec3 o = (origin - u_volumeOrigin) / u_volumeEdge;
+      vec3 e = (origin + dir * radiusLeft - u_volumeOrigin) / u_volumeEdge;
+      w = traverse(o, e, u_budget, probing);
+      if (w.end == NF_END_BUDGET) category = NF_CAT_BUDGET;
+      else if (w.end != NF_END_HIT) category = NF_CAT_NO_HIT;
+      else {
+        hit = u_volumeOrigin + u_volumeEdge * (o + w.tHit * (e - o));
+        hitOut = vec4(hit, 1.0);
+        // RSM lookup: is the RSM texel the surface the ray hit, and does it face the receiver?
+        vec4 clip = u_light.shadowViewProj * vec4(hit, 1.0);
+        vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+        category = NF_CAT_NOT_IN_RSM;
+        if (u_light.spot.w > 0.5 && clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) {
+          ivec2 texel = ivec2(uv * vec2(textureSize(u_rsmPosition, 0)));
+          rsmTexel = vec2(texel);
+          vec4 sender = texelFetch(u_rsmPosition, texel, 0);
+          if (sender.w > 0.0) {
+            dist = length(hit - sender.xyz);
+            // epsilon = max(voxel diagonal, texel footprint) (the paper's max(v, s/cos a * z/znear):
+            // the footprint already includes 1/cos a and the distance), capped at 4 diagonals (GP3).
+            epsilon = min(4.0 * u_voxelDiagonal, max(u_voxelDiagonal, sender.w * u_epsilonScale));
+            vec3 ns = texelFetch(u_rsmNormal, texel, 0).xyz;
+            facing = dot(ns, normalize(pos.xyz - hit));
+            if (dist > epsilon) category = NF_CAT_TOO_FAR;
+            else if (u_normalCheck != 0 && facing < 0.0) category = NF_CAT_WRONG_FACING;
+            else {
+              category = NF_CAT_VALID;
+              radiance = texelFetch(u_rsmRadiance, texel, 0).rgb;
+            }
+          }
+        }
+      }
+    }
+    if (category == NF_CAT_VALID) {
+      vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
+      vec4 sum = imageLoad(u_indirect, px);
+      imageStore(u_indirect, px, vec4(sum.rgb + albedo * u_spread / float(u_rayCount) * radiance, 1.0));
+    }
+    imageStore(u_steps, px, imageLoad(u_steps, px) + uvec4(uint(w.steps)));
+    atomicAdd(counters[1 + category], 1u);
+    atomicAdd(counters[16 + min(w.steps, 255)], 1u);
+  }
+  imageStore(u_category, px, uvec4(category));
+  imageStore(u_hitPosition, px, hitOut);
+  if (probing) {
+    probe.receiver = vec4(pos.xyz, pos.w != 0.0 ? 1.0 : 0.0);
+    probe.direction = vec4(dir, cosTheta);
+    probe.origin = vec4(origin, radiusLeft);
+    probe.hitPoint = vec4(hit, w.tHit * max(radiusLeft, 0.0));
+    probe.result = uvec4(uvec3(max(w.voxel, ivec3(0))), w.end);
+    probe.rsmSample = vec4(rsmTexel, dist, epsilon);
+    probe.rsmRadiance = vec4(radiance, float(category));
+    probe.steps = vec4(float(w.steps), float(u_budget), facing, 0.0);
+  }
+}

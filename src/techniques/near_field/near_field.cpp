@@ -1,0 +1,92 @@
+// near-field: near-field indirect light from a binary voxel model (Thiedemann et al. 2011).
+//
+// Intro
+//   One bounce of indirect light within a radius, with occlusion, from a binary voxel grid: the
+//   scene's voxels are bits in a 2D texture of 128-bit columns, a 2D OR mip hierarchy of those
+//   columns lets a ray skip empty space, and each pixel shoots a few cosine-distributed rays of
+//   limited length through it. Where a ray hits a voxel, the hit is looked up in the light's
+//   reflective shadow map: if the RSM sees that very surface, its reflected radiance is the light
+//   arriving along the ray.
+//
+// Overview (the stages, in order)
+//   1. voxelize        triangles -> conservative voxel fragment list (shared with vct-grid)
+//   2. binary-voxels   fragments -> RGBA32UI columns, one bit per slice (imageAtomicOr; shared)
+//   3. bitmask-tables  OR[k], XOR[k] (129 entries) on the CPU; ray masks XOR[i]^XOR[j+1] on the GPU
+//   4. hierarchy       2D OR mips, all 128 slices kept, one level per iteration
+//   5. shadow-map      depth from the light and the light's parameters (shared)
+//   6. rsm             position, normal, reflected radiance and flux seen from the light (shared)
+//   7. gbuffer         position, normal, albedo from the camera (vct-grid's stage)
+//   8. rays            one ray index per iteration: direction, offsets, traversal, RSM lookup, sum
+//   9. filter          geometry-aware a-trous passes over the indirect light, one per iteration
+//  10. composite       direct + filtered indirect, tonemapped
+//
+// Details
+//   - Bit order: slice k = bit 31 - (k & 31) of channel k >> 5 (MSB first), as GP3's OR table and
+//     its voxel visualiser have it; slices run along the voxel volume's +z axis, which is the
+//     voxelization axis (src/techniques/common/binary_voxels_stage.h).
+//   - Estimator: directions are cosine distributed (pdf cos/pi) within the part of the hemisphere
+//     that rays.spread keeps (pdf cos/(pi spread)), so the outgoing radiance of a Lambertian
+//     receiver is L_o = (rho/pi) * (1/N) sum L~_i * cos / pdf = (rho * spread / N) * sum L~_i.
+//     The thesis prints (rho/pi)/N sum L~_i [seed 000 line 869], a factor pi too small, and GP3
+//     multiplies by a user "contrast" of 2 (5 in its Sibenik set) instead; neither is used here.
+//     L~ is the RSM's albedo/pi * E * cos: the Lambertian radiance the hit surface reflects.
+//   - Validity of an RSM sample: the hit projects into the map, the texel is covered, the
+//     distance from the hit to the RSM's position is below epsilon = max(voxel diagonal,
+//     distance-scale * texel footprint), at most 4 voxel diagonals (the footprint, measured per
+//     texel from screen derivatives, is the paper's s/cos(alpha) * z/z_near), and the sender's
+//     lit side faces the receiver. Each ray's outcome is a category (ray-category output and the
+//     stage's counters), including "step budget spent", which the public code counts as a miss.
+//   - Ray set-up: Hammersley point ((i + 0.5)/N, radical inverse of i) rotated per pixel
+//     (Cranley-Patterson); origin = p + n * normal-offset + d * ray-offset / cos(theta) (voxel
+//     diagonals, GP3's 0.8 and 0.6); the segment ends radius from p along d, and a ray whose
+//     offset exceeds the radius is dropped (counted). Origins outside the volume are "no hit"
+//     through a guard, never a fetch outside the textures.
+//   - Traversal (shaders/near_field/traversal.glsl): starts at level min(3, top), descends on a
+//     non-empty AND, steps to the exit face of the texel and ascends by one on an empty one;
+//     exact face stepping instead of GP3's 0.25-texel offset, so it equals a brute-force DDA over
+//     the grid except at corner ties (tested). Hits only at level 0; the hit slice is the first
+//     set bit along the ray (findMSB toward +z, findLSB toward -z), and the hit point is the ray's
+//     entry into that slice within the column (the thesis uses the column entry point).
+//   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact
+//     and already there) and voxel path tracing (section 3.2.4): left for later (docs/fidelity.md).
+//   - The filter is voxlab's own (an a-trous pass per iteration, weights from the G-buffer); GP3's
+//     filter (radius 8, 2 iterations, distance limit 0.8) is off by default there.
+//
+// References
+//   seed 000 (Gomes): section 2.2 (reflective shadow maps), 3.2 (near-field GI on a voxel model,
+//   after Thiedemann et al. 2011), 4.4 (its implementation: bitmasks 4.4.1, voxel grid 4.4.4, mipmap
+//   4.4.5, rays and intersection 4.4.6, RSM lookup), 4.6 table 5 (timings); Thiedemann, Henrich,
+//   Grosch, Mueller, "Voxel-based Global Illumination", I3D 2011, and their GPU Pro 3 chapter;
+//   Dachsbacher and Stamminger, "Reflective Shadow Maps", I3D 2005; Forest, Barthe, Paulin,
+//   "Real-time hierarchical binary-scene voxelization", JGT 2009.
+#include "graph/technique.h"
+#include "techniques/common/binary_voxels_stage.h"
+#include "techniques/common/rsm_stage.h"
+#include "techniques/common/shadow_map_stage.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/near_field/stages.h"
+#include "techniques/vct_grid/stages.h"
+
+namespace voxlab {
+
+static std::unique_ptr<Technique> makeNearField() {
+  auto t = std::make_unique<Technique>(
+      "near-field", "Near-field GI on binary voxels",
+      "Binary voxel columns, a 2D OR mip hierarchy, short cosine rays and a reflective shadow map lookup.");
+  t->add<VoxelizeStage>();
+  t->add<BinaryVoxelsStage>();
+  t->add<nearfield::BitmaskTablesStage>();
+  t->add<nearfield::HierarchyStage>();
+  t->add<ShadowMapStage>();
+  t->add<RsmStage>();
+  t->add<vct::GBufferStage>();
+  t->add<nearfield::RaysStage>();
+  t->add<nearfield::FilterStage>();
+  t->add<nearfield::CompositeStage>();
+  t->setFinalOutput("composite", "final");
+  return t;
+}
+
+VOXLAB_REGISTER_TECHNIQUE("near-field", "Near-field GI on binary voxels", makeNearField);
+
+}  // namespace voxlab

@@ -1,0 +1,416 @@
+#include "techniques/near_field/stages.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "near_field/near_field_shared.h"
+#include "techniques/common/binary_voxels_stage.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/near_field/bitmask.h"
+#include "techniques/near_field/near_field.h"
+
+namespace voxlab::nearfield {
+
+int maxLevelOf(int res) {
+  int l = 0;
+  while ((1 << l) < res) ++l;
+  return l;
+}
+
+BinaryGridGeometry BinaryGridGeometry::of(const Scene& scene, int res) {
+  BinaryGridGeometry g;
+  VoxelSpace space = VoxelSpace::fromScene(scene, res);
+  g.origin = space.origin;
+  g.edge = space.edge();
+  g.resolution = res;
+  g.columnSize = g.edge / float(res);
+  g.sliceDepth = g.edge / float(kBinarySlices);
+  g.voxelDiagonal = std::sqrt(2.0f * g.columnSize * g.columnSize + g.sliceDepth * g.sliceDepth);
+  return g;
+}
+
+static TextureDesc screenDesc(int w, int h, GLenum format) {
+  TextureDesc d;
+  d.format = format;
+  d.size = {w, h, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+static ParamDesc traceResolutionParam() {
+  return ParamDesc::choice("rays.resolution", {"half", "full"}, 0,
+                           "trace rays for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
+                           "upsamples along surfaces)");
+}
+static int traceScale(const ParamSet& p) { return p.getChoice("rays.resolution") == "half" ? 2 : 1; }
+
+// --- Bitmask tables ------------------------------------------------------------------------------
+
+void BitmaskTablesStage::declare(StageBuilder& b) const {
+  auto& orT = b.output("or-table", OutputKind::Image2D, Semantic::Occupancy,
+                       "128 x 1 RGBA32UI: texel k has only slice k set (MSB first in channel k >> 5)");
+  orT.tier = CaptureTier::Exact;
+  auto& xorT = b.output("xor-table", OutputKind::Image2D, Semantic::Occupancy,
+                        "129 x 1 RGBA32UI: texel k has slices k..127 set; texel 128 is all zero");
+  xorT.tier = CaptureTier::Exact;
+  auto& rays = b.output("ray-masks", OutputKind::Image2D, Semantic::Occupancy,
+                        "128 x 128 RGBA32UI: texel (i, j) = XOR[i] ^ XOR[j+1], the slices i..j (used only for i <= j)");
+  rays.tier = CaptureTier::Exact;
+  auto& pc = b.output("ray-mask-popcount", OutputKind::Image2D, Semantic::Scalar,
+                      "set slices per ray mask: j - i + 1 above the diagonal; below it the unused i > j half");
+  pc.tier = CaptureTier::Exact;
+}
+
+void BitmaskTablesStage::execute(StageContext& ctx) {
+  TextureDesc d = screenDesc(kBinarySlices, 1, GL_RGBA32UI);
+  Texture& orTex = ctx.board.ensureTexture("or-table", d);
+  d.size = {kBinarySlices + 1, 1, 1};
+  Texture& xorTex = ctx.board.ensureTexture("xor-table", d);
+  d.size = {kBinarySlices, kBinarySlices, 1};
+  Texture& rayTex = ctx.board.ensureTexture("ray-masks", d);
+  Texture& pcTex = ctx.board.ensureTexture("ray-mask-popcount", screenDesc(kBinarySlices, kBinarySlices, GL_R32UI));
+  auto orT = orTable();
+  auto xorT = xorTable();
+  glTextureSubImage2D(orTex.id(), 0, 0, 0, kBinarySlices, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, orT.data());
+  glTextureSubImage2D(xorTex.id(), 0, 0, 0, kBinarySlices + 1, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, xorT.data());
+  GLuint program = ctx.shaders.program({"near_field/ray_masks.comp.glsl"});
+  glUseProgram(program);
+  glBindImageTexture(0, xorTex.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
+  glBindImageTexture(1, rayTex.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+  glBindImageTexture(2, pcTex.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  dispatchCompute({kBinarySlices, kBinarySlices, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["table_bytes"] = double(orTex.byteSize() + xorTex.byteSize() + rayTex.byteSize());
+}
+
+// --- Hierarchy -----------------------------------------------------------------------------------
+
+void HierarchyStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("binary-voxels");
+  b.read("binary-popcount");
+  auto& h = b.output("bitmask-hierarchy", OutputKind::Image2D, Semantic::Occupancy,
+                     "RGBA32UI columns per level: level l+1 texel = OR of its 2x2 children at level l (all 128 slices)");
+  h.tier = CaptureTier::Exact;
+  auto& pc = b.output("hierarchy-popcount", OutputKind::Image2D, Semantic::Scalar,
+                      "set slices per column at every level (never decreases from a level to the next)");
+  pc.tier = CaptureTier::Exact;
+}
+
+int HierarchyStage::iterations(const ParamSet& params) const {
+  return std::max(maxLevelOf(params.getInt("voxel.resolution")), 1);
+}
+
+void HierarchyStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  const int maxLevel = maxLevelOf(res);
+  TextureDesc d = screenDesc(res, res, GL_RGBA32UI);
+  d.levels = maxLevel + 1;
+  d.minFilter = GL_NEAREST_MIPMAP_NEAREST;  // integer textures need NEAREST filters to be complete
+  Texture& h = ctx.board.ensureTexture("bitmask-hierarchy", d);
+  d.format = GL_R32UI;
+  Texture& pc = ctx.board.ensureTexture("hierarchy-popcount", d);
+  if (ctx.iteration == 0) {
+    const uint32_t zero[4] = {0, 0, 0, 0};
+    for (int l = 1; l <= maxLevel; ++l) {
+      glClearTexImage(h.id(), l, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zero);
+      glClearTexImage(pc.id(), l, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);
+    }
+    glCopyImageSubData(ctx.board.texture("binary-voxels").id(), GL_TEXTURE_2D, 0, 0, 0, 0, h.id(), GL_TEXTURE_2D, 0,
+                       0, 0, 0, res, res, 1);
+    glCopyImageSubData(ctx.board.texture("binary-popcount").id(), GL_TEXTURE_2D, 0, 0, 0, 0, pc.id(), GL_TEXTURE_2D,
+                       0, 0, 0, 0, res, res, 1);
+  }
+  const int fine = ctx.iteration;
+  if (fine < maxLevel) {
+    const int coarseRes = res >> (fine + 1);
+    GLuint program = ctx.shaders.program({"near_field/mipmap.comp.glsl"});
+    setUniform(program, "u_coarseRes", coarseRes);
+    glUseProgram(program);
+    glBindImageTexture(0, h.id(), fine, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32UI);
+    glBindImageTexture(1, h.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+    glBindImageTexture(2, pc.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+    dispatchCompute({coarseRes, coarseRes, 1}, {8, 8, 1});
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  }
+  ctx.stats["levels"] = maxLevel + 1;
+  ctx.stats["hierarchy_bytes"] = double(h.byteSize());
+}
+
+// --- Rays ----------------------------------------------------------------------------------------
+
+void RaysStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::integer("rays.count", 8, 1, 256, "rays per pixel, one per iteration", "rays"));
+  b.param(ParamDesc::real("rays.radius", 0.5, 0.01, 2.0,
+                          "longest ray (near-field radius), as a fraction of the voxel volume's edge"));
+  b.param(ParamDesc::integer("rays.steps", 64, 1, 1024,
+                             "traversal step budget per ray (texels visited); running out is counted, not a miss",
+                             "steps"));
+  b.param(ParamDesc::integer("rays.start-level", 3, 0, 9, "hierarchy level a walk starts at (clamped to the top)"));
+  b.param(ParamDesc::real("rays.spread", 1.0, 0.05, 1.0,
+                          "fraction of the cosine-weighted hemisphere sampled (1 = all); the estimator is scaled by it"));
+  b.param(ParamDesc::real("rays.normal-offset", 0.8, 0.0, 4.0, "ray origin offset along the normal", "voxel diagonals"));
+  b.param(ParamDesc::real("rays.ray-offset", 0.6, 0.0, 4.0,
+                          "ray origin offset along the ray, divided by cos(theta)", "voxel diagonals"));
+  b.param(ParamDesc::boolean("rays.pixel-shift", true, "rotate each pixel's Hammersley set by a per-pixel shift"));
+  b.param(ParamDesc::real("rsm.distance-scale", 1.0, 0.0, 8.0,
+                          "RSM validity: a hit is the RSM's surface when closer than max(voxel diagonal, scale * texel footprint), at most 4 diagonals"));
+  b.param(ParamDesc::boolean("rsm.normal-check", true, "RSM validity: the sender must face the receiver"));
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
+  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
+  b.readView();
+  b.read("bitmask-hierarchy");
+  b.read("ray-masks");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("rsm-position");
+  b.read("rsm-normal");
+  b.read("rsm-radiance");
+  b.read("light");
+  b.write("rays.counters");
+  b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
+           "near-field indirect radiance so far: (albedo / N) * sum of valid hits' reflected radiance (at rays.resolution)")
+      .referenceMode = "indirect-1";
+  auto& cat = b.output("ray-category", OutputKind::Image2D, Semantic::Scalar,
+                       "the last ray's outcome: 0 valid, 1 no hit, 2 not in the RSM, 3 too far from the RSM's surface, "
+                       "4 wrong facing, 5 step budget spent, 6 dropped (offset > radius), 7 no receiver");
+  cat.tier = CaptureTier::Exact;
+  auto& steps = b.output("ray-steps", OutputKind::Image2D, Semantic::Scalar, "traversal steps per pixel, summed over the rays so far");
+  steps.tier = CaptureTier::Exact;
+  b.output("hit-position", OutputKind::Image2D, Semantic::Scalar, "the last ray's hit point (world xyz), w = 1 where it hit");
+  BufferLayout sl;
+  sl.stride = sizeof(gpu::TraversalStep);
+  const char* u32Names[] = {"step", "level", "texel-x", "texel-y", "first-slice", "last-slice", "action", "hit-slice",
+                            "ray-mask-r", "ray-mask-g", "ray-mask-b", "ray-mask-a",
+                            "and-r", "and-g", "and-b", "and-a"};
+  for (int i = 0; i < 16; ++i) sl.fields.push_back({u32Names[i], FieldType::U32, uint32_t(4 * i), FieldRole::Other});
+  sl.fields.push_back({"t-enter", FieldType::F32, 64, FieldRole::Other});
+  sl.fields.push_back({"t-exit", FieldType::F32, 68, FieldRole::Other});
+  sl.fields.push_back({"t-end", FieldType::F32, 72, FieldRole::Other});
+  sl.countResource = "rays.counters";
+  sl.countOffset = 0;
+  auto& st = b.output("traversal-steps", OutputKind::Buffer, Semantic::Scalar,
+                      "every step of the probed pixel's probe.ray walk: level, texel, slice range, ray mask, AND, "
+                      "action (8 descend, 9 advance, 0 hit)");
+  st.layout = sl;
+  st.tier = CaptureTier::Exact;
+  BufferLayout pl;
+  pl.stride = sizeof(gpu::ProbeRay);
+  pl.fields = {{"receiver", FieldType::Vec4, 0, FieldRole::Position},
+               {"direction", FieldType::Vec4, 16, FieldRole::Other},
+               {"origin", FieldType::Vec4, 32, FieldRole::Other},
+               {"hit-point", FieldType::Vec4, 48, FieldRole::Other},
+               {"hit-x", FieldType::U32, 64, FieldRole::Other},
+               {"hit-y", FieldType::U32, 68, FieldRole::Other},
+               {"hit-slice", FieldType::U32, 72, FieldRole::Other},
+               {"termination", FieldType::U32, 76, FieldRole::Other},
+               {"rsm-sample", FieldType::Vec4, 80, FieldRole::Other},
+               {"rsm-radiance", FieldType::Vec4, 96, FieldRole::Color},
+               {"steps", FieldType::Vec4, 112, FieldRole::Other}};
+  b.output("probe-ray", OutputKind::Buffer, Semantic::Scalar,
+           "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
+           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps")
+      .layout = pl;
+}
+
+int RaysStage::iterations(const ParamSet& params) const { return params.getInt("rays.count"); }
+
+void RaysStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  const int rayCount = ctx.params.getInt("rays.count");
+  const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
+  const int s = traceScale(ctx.params);
+  const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
+  Texture& category = ctx.board.ensureTexture("ray-category", screenDesc(tw, th, GL_R32UI));
+  Texture& steps = ctx.board.ensureTexture("ray-steps", screenDesc(tw, th, GL_R32UI));
+  Texture& hits = ctx.board.ensureTexture("hit-position", screenDesc(tw, th, GL_RGBA32F));
+  Buffer& records = ctx.board.ensureBuffer("traversal-steps", sizeof(gpu::TraversalStep) * NF_MAX_TRAVERSAL_STEPS);
+  Buffer& probe = ctx.board.ensureBuffer("probe-ray", sizeof(gpu::ProbeRay));
+  constexpr int kCounters = 16 + 256;  // [0] step records, [1 + category], [16 + steps] histogram
+  Buffer& counters = ctx.board.ensureBuffer("rays.counters", kCounters * 4);
+  if (ctx.iteration == 0) {
+    const float none[4] = {0, 0, 0, 0};
+    const uint32_t zero[4] = {0, 0, 0, 0};
+    glClearTexImage(indirect.id(), 0, GL_RGBA, GL_FLOAT, none);
+    glClearTexImage(hits.id(), 0, GL_RGBA, GL_FLOAT, none);
+    glClearTexImage(steps.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);
+    std::vector<uint32_t> z(kCounters, 0);
+    counters.upload(z.data(), z.size() * 4);
+    gpu::ProbeRay empty{};
+    probe.upload(&empty, sizeof(empty));
+  }
+  int probeX = std::min(int(ctx.params.getFloat("probe.x") * tw), tw - 1);
+  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * th), th - 1);
+
+  GLuint program = ctx.shaders.program({"near_field/rays.comp.glsl"});
+  setUniform(program, "u_rayIndex", ctx.iteration);
+  setUniform(program, "u_rayCount", rayCount);
+  setUniform(program, "u_traceScale", s);
+  setUniform(program, "u_budget", ctx.params.getInt("rays.steps"));
+  setUniform(program, "u_shift", ctx.params.getBool("rays.pixel-shift") ? 1 : 0);
+  setUniform(program, "u_normalCheck", ctx.params.getBool("rsm.normal-check") ? 1 : 0);
+  setUniform(program, "u_radius", ctx.params.getFloat("rays.radius") * geo.edge);
+  setUniform(program, "u_normalOffset", ctx.params.getFloat("rays.normal-offset"));
+  setUniform(program, "u_rayOffset", ctx.params.getFloat("rays.ray-offset"));
+  setUniform(program, "u_spread", ctx.params.getFloat("rays.spread"));
+  setUniform(program, "u_voxelDiagonal", geo.voxelDiagonal);
+  setUniform(program, "u_epsilonScale", ctx.params.getFloat("rsm.distance-scale"));
+  setUniform(program, "u_volumeOrigin", geo.origin);
+  setUniform(program, "u_volumeEdge", geo.edge);
+  setUniform(program, "u_gridRes", res);
+  setUniform(program, "u_maxLevel", maxLevelOf(res));
+  setUniform(program, "u_startLevel", ctx.params.getInt("rays.start-level"));
+  setUniform(program, "u_probeRay", ctx.params.getInt("probe.ray"));
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  glUseProgram(program);
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindTextureUnit(4, ctx.board.texture("bitmask-hierarchy").id());
+  glBindTextureUnit(5, ctx.board.texture("ray-masks").id());
+  glBindTextureUnit(6, ctx.board.texture("rsm-position").id());
+  glBindTextureUnit(7, ctx.board.texture("rsm-normal").id());
+  glBindTextureUnit(8, ctx.board.texture("rsm-radiance").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, NF_BINDING_TRAVERSAL_STEPS, records.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, NF_BINDING_PROBE_RAY, probe.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, NF_BINDING_RAY_COUNTERS, counters.id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(1, category.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  glBindImageTexture(2, steps.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(3, hits.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchCompute({tw, th, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+
+  if (ctx.iteration == rayCount - 1) {
+    std::vector<uint32_t> c(kCounters);
+    auto bytes = counters.download(kCounters * 4);
+    std::memcpy(c.data(), bytes.data(), bytes.size());
+    const char* names[NF_CATEGORIES] = {"valid", "no_hit", "not_in_rsm", "too_far", "wrong_facing", "budget_spent",
+                                        "dropped", "no_receiver"};
+    double rays = 0;
+    for (int k = 0; k < NF_CATEGORIES; ++k) {
+      ctx.stats[std::string("rays_") + names[k]] = c[1 + k];
+      rays += c[1 + k];
+    }
+    double stepSum = 0, seen = 0;
+    int p99 = 0;
+    for (int k = 0; k < 256; ++k) stepSum += double(k) * c[16 + k];
+    for (int k = 0; k < 256; ++k) {
+      seen += c[16 + k];
+      if (seen >= 0.99 * rays) { p99 = k; break; }
+    }
+    ctx.stats["rays_traced"] = rays;
+    ctx.stats["steps_per_ray_mean"] = rays > 0 ? stepSum / rays : 0;
+    ctx.stats["steps_per_ray_p99"] = p99;  // 255 = 255 or more
+    ctx.stats["probe_step_records"] = c[0];
+    ctx.stats["probe_step_records_dropped"] = c[0] > NF_MAX_TRAVERSAL_STEPS ? c[0] - NF_MAX_TRAVERSAL_STEPS : 0;
+    ctx.stats["voxel_diagonal_m"] = geo.voxelDiagonal;
+    ctx.stats["radius_m"] = ctx.params.getFloat("rays.radius") * geo.edge;
+  }
+  ctx.stats["probe_x"] = probeX;
+  ctx.stats["probe_y_from_top"] = th - 1 - probeY;
+}
+
+// --- Filter ------------------------------------------------------------------------------------
+
+void FilterStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::integer("filter.passes", 2, 0, 5,
+                             "a-trous passes (holes 1, 2, 4, ... traced pixels; 5x5 taps each); 0 = no filter"));
+  b.read("indirect");
+  b.read("position");
+  b.read("normal");
+  b.write("filter.scratch");
+  b.output("indirect-filtered", OutputKind::Image2D, Semantic::RadianceHDR,
+           "the indirect light after the passes so far (at rays.resolution)")
+      .referenceMode = "indirect-1";
+}
+
+int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }
+
+void FilterStage::execute(StageContext& ctx) {
+  Texture& source = ctx.board.texture("indirect");
+  const glm::ivec3 size = source.desc().size;
+  Texture& filtered = ctx.board.ensureTexture("indirect-filtered", screenDesc(size.x, size.y, GL_RGBA32F));
+  Texture& scratch = ctx.board.ensureTexture("filter.scratch", screenDesc(size.x, size.y, GL_RGBA32F));
+  // Each pass reads the previous result (the ray sum for the first) and writes indirect-filtered.
+  Texture& input = ctx.iteration == 0 ? source : scratch;
+  if (ctx.iteration > 0)
+    glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, scratch.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
+                       size.y, 1);
+  if (ctx.params.getInt("filter.passes") == 0) {
+    glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
+                       size.y, 1);
+    return;
+  }
+  GLuint program = ctx.shaders.program({"near_field/filter.comp.glsl"});
+  setUniform(program, "u_step", 1 << ctx.iteration);
+  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  // Neighbours more than two columns off the centre's plane belong to another surface.
+  setUniform(program, "u_planeDistance",
+             2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
+  glUseProgram(program);
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, input.id());
+  glBindImageTexture(0, filtered.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  dispatchCompute({size.x, size.y, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+// --- Composite -----------------------------------------------------------------------------------
+
+void CompositeStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
+  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)"));
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("emission");
+  b.read("indirect-filtered");
+  b.read("shadow-map");
+  b.read("light");
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + near-field indirect, linear radiance")
+      .referenceMode = "full";
+  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+}
+
+void CompositeStage::execute(StageContext& ctx) {
+  const int w = ctx.view.width, h = ctx.view.height;
+  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(w, h, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(w, h, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", screenDesc(w, h, GL_RGBA8));
+  GLuint program = ctx.shaders.program({"near_field/composite.comp.glsl"});
+  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  setUniform(program, "u_planeDistance",
+             2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
+  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
+  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  glUseProgram(program);
+  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-filtered", "shadow-map"};
+  for (int i = 0; i < 6; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({w, h, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace voxlab::nearfield

@@ -1,0 +1,68 @@
+// The stages of near-field after the shared ones (see near_field.cpp for the overview).
+#pragma once
+#include "graph/stage.h"
+
+namespace voxlab::nearfield {
+
+class BitmaskTablesStage : public Stage {
+ public:
+  const char* id() const override { return "bitmask-tables"; }
+  const char* title() const override { return "Bitmask tables"; }
+  const char* summary() const override {
+    return "OR[k] (slice k alone) and XOR[k] (slices k..127, with a 129th all-zero entry) on the CPU, then "
+           "the 128x128 ray-mask table XOR[i] ^ XOR[j+1] (slices i..j) on the GPU.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class HierarchyStage : public Stage {
+ public:
+  const char* id() const override { return "hierarchy"; }
+  const char* title() const override { return "2D OR mip hierarchy"; }
+  const char* summary() const override {
+    return "OR each 2x2 block of columns into the next level, keeping all 128 slices: a quadtree of full-depth "
+           "columns. One level per iteration.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class RaysStage : public Stage {
+ public:
+  const char* id() const override { return "rays"; }
+  const char* title() const override { return "Near-field rays and RSM lookup"; }
+  const char* summary() const override {
+    return "Per pixel, one cosine-distributed ray per iteration walks the hierarchy to its first voxel; the hit is "
+           "looked up in the reflective shadow map and, if the RSM sees that surface facing the receiver, its "
+           "reflected radiance is added: (albedo / N) * sum.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class FilterStage : public Stage {
+ public:
+  const char* id() const override { return "filter"; }
+  const char* title() const override { return "Geometry-aware filter"; }
+  const char* summary() const override {
+    return "Average the noisy indirect light over neighbours on the same surface (a-trous passes with growing "
+           "holes, weighted by plane distance and normal agreement). One pass per iteration; 0 passes copies.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class CompositeStage : public Stage {
+ public:
+  const char* id() const override { return "composite"; }
+  const char* title() const override { return "Composite the final image"; }
+  const char* summary() const override { return "Add the direct light and the near-field indirect light, then tonemap."; }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+}  // namespace voxlab::nearfield

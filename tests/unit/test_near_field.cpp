@@ -1,0 +1,674 @@
+// near-field checks against answers that do not come from the code under test (testing.md):
+//  - exact: the OR / XOR / ray-mask tables (CPU invariants and the GPU table against the CPU, row
+//    127 included: the public code's XOR[128] fetch), the GPU first-bit function on all single
+//    bits and adversarial masks, the binary grid against the fragment list and the CPU reference
+//    voxelizer, every mip level against the CPU OR of its children, the hierarchical traversal
+//    against a brute-force DDA over the grid, the probe's step records (levels change by one per
+//    step, hits only at level 0), the guard for origins outside the volume, and the R32UI view of
+//    an RGBA32UI texture being refused (why the grid is built in a separate word texture);
+//  - self-intersection: rays from a plane never hit the plane's own voxels, over all angles;
+//  - physics: the indirect image against a CPU near-field estimator on Embree (same receivers,
+//    same offsets and radius, the shared light model, an exact shadow ray), and against the full
+//    one-bounce reference (the loss beyond the radius is reported).
+#include <gtest/gtest.h>
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <set>
+
+#include "common/shared.h"
+#include "core/paths.h"
+#include "gpu/shader_library.h"
+#include "near_field/near_field_shared.h"
+#include "reference/cpu_voxelizer.h"
+#include "reference/image_io.h"
+#include "scene/light_model.h"
+#include "techniques/common/binary_voxels_stage.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/near_field/bitmask.h"
+#include "techniques/near_field/near_field.h"
+#include "test_support.h"
+
+namespace voxlab {
+namespace {
+
+using namespace nearfield;
+using testing_support::capture;
+using testing_support::session;
+
+RunRequest request(std::vector<std::string> sets, const std::string& until = "", int size = 128,
+                   const std::string& scene = "cornell-box") {
+  RunRequest r;
+  r.technique = "near-field";
+  r.scene = scene;
+  r.until = until;
+  r.sets = std::move(sets);
+  r.width = r.height = size;
+  return r;
+}
+
+// The snapshot suite's settings (tests/golden/near-field/settings.json), so the runs are shared.
+RunRequest snapshotRequest() {
+  return request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256"});
+}
+
+std::vector<BitColumn> readLevel(HeadlessSession& s, const std::string& texture, int level) {
+  Texture& t = s.cursor().board().texture(texture);
+  glm::ivec3 size = t.levelSize(level);
+  return readBitColumns(t.id(), level, size.x, size.y);
+}
+
+bool sameColumn(const BitColumn& a, const BitColumn& b) { return a == b; }
+
+// --- Tables --------------------------------------------------------------------------------------
+
+TEST(NearFieldTables, OrAndXorInvariants) {
+  auto orT = orTable();
+  auto xorT = xorTable();
+  ASSERT_EQ(orT.size(), 128u);
+  ASSERT_EQ(xorT.size(), 129u);
+  BitColumn all{0, 0, 0, 0};
+  for (int k = 0; k < 128; ++k) {
+    EXPECT_EQ(popcount(orT[k]), 1) << k;
+    EXPECT_TRUE(hasSlice(orT[k], k)) << k;
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_EQ(all[c] & orT[k][c], 0u) << "OR[" << k << "] overlaps an earlier entry";
+      all[c] |= orT[k][c];
+    }
+    EXPECT_EQ(popcount(xorT[k]), 128 - k) << k;
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(xorT[k][c], orT[k][c] | xorT[k + 1][c]) << "XOR[" << k << "] channel " << c;
+  }
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(all[c], 0xFFFFFFFFu);
+    EXPECT_EQ(xorT[0][c], 0xFFFFFFFFu);  // thesis Listing 4.39's comment says 0x7FFFFFFF
+    EXPECT_EQ(xorT[128][c], 0u);
+  }
+  // Bit order: slice 0 is R's MSB, slice 31 R's bit 0, slice 32 G's MSB, slice 127 A's bit 0.
+  EXPECT_EQ(orT[0][0], 0x80000000u);
+  EXPECT_EQ(orT[31][0], 1u);
+  EXPECT_EQ(orT[32][1], 0x80000000u);
+  EXPECT_EQ(orT[127][3], 1u);
+}
+
+TEST(NearFieldTables, VoxelSizesFollowResolutionAndTheFixed128Slices) {
+  auto& s = session(snapshotRequest());
+  const Scene& scene = s.cursor().scene();
+  for (int res : {16, 64, 128, 512}) {
+    BinaryGridGeometry g = BinaryGridGeometry::of(scene, res);
+    VoxelSpace space = VoxelSpace::fromScene(scene, res);
+    EXPECT_FLOAT_EQ(g.columnSize, space.voxelSize) << res;
+    EXPECT_FLOAT_EQ(g.sliceDepth, space.edge() / 128.0f) << res;  // 128 slices whatever the resolution
+    EXPECT_FLOAT_EQ(g.voxelDiagonal, std::sqrt(2 * g.columnSize * g.columnSize + g.sliceDepth * g.sliceDepth));
+    int first, last;
+    slicesOfVoxel(res - 1, res, first, last);
+    EXPECT_EQ(last, 127) << "the last voxel of a column must reach slice 127 at " << res;
+    slicesOfVoxel(0, res, first, last);
+    EXPECT_EQ(first, 0);
+  }
+}
+
+TEST(NearFieldTables, GpuTablesEqualCpuIncludingRow127) {
+  auto& s = session(snapshotRequest());
+  auto orGpu = readLevel(s, "or-table", 0);
+  auto xorGpu = readLevel(s, "xor-table", 0);
+  auto rays = readLevel(s, "ray-masks", 0);
+  auto orT = orTable();
+  auto xorT = xorTable();
+  for (int k = 0; k < 128; ++k) EXPECT_TRUE(sameColumn(orGpu[k], orT[k])) << "OR[" << k << "]";
+  for (int k = 0; k <= 128; ++k) EXPECT_TRUE(sameColumn(xorGpu[k], xorT[k])) << "XOR[" << k << "]";
+  int wrong = 0;
+  for (int j = 0; j < 128; ++j)
+    for (int i = 0; i <= j; ++i) {
+      const BitColumn& m = rays[size_t(j) * 128 + i];
+      BitColumn expect{0, 0, 0, 0};
+      for (int k = i; k <= j; ++k) setSlice(expect, k);
+      if (m != expect || popcount(m) != j - i + 1) ++wrong;
+    }
+  EXPECT_EQ(wrong, 0) << "ray masks (i <= j) that are not the OR of slices i..j";
+  // Row 127 needs XOR[128] = 0: the public code fetches texel 128 of a 128-texel table there.
+  for (int i = 0; i < 128; ++i) EXPECT_TRUE(sameColumn(rays[size_t(127) * 128 + i], xorT[i])) << "row 127, i = " << i;
+}
+
+// Runs masks through the GPU's firstSliceAlong (shaders/near_field/traversal.glsl).
+std::vector<glm::uvec4> gpuKernel(HeadlessSession& s, int mode, const void* input, size_t inputBytes, int count,
+                                  int budget = 0) {
+  GLuint program = s.cursor().shaders().program({"near_field/segments.comp.glsl"});
+  Buffer in("test.segments", std::max<size_t>(inputBytes, 16), input);
+  Buffer out("test.hits", size_t(count) * 16 + 16);
+  int res = s.cursor().params().getInt("voxel.resolution");
+  setUniform(program, "u_count", count);
+  setUniform(program, "u_mode", mode);
+  setUniform(program, "u_budget", budget);
+  setUniform(program, "u_gridRes", res);
+  setUniform(program, "u_maxLevel", maxLevelOf(res));
+  setUniform(program, "u_startLevel", 3);
+  glUseProgram(program);
+  glBindTextureUnit(4, s.cursor().board().texture("bitmask-hierarchy").id());
+  glBindTextureUnit(5, s.cursor().board().texture("ray-masks").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, NF_BINDING_SEGMENTS, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, NF_BINDING_SEGMENT_HITS, out.id());
+  dispatchCompute({count, 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  std::vector<glm::uvec4> result(count);
+  auto bytes = out.download(size_t(count) * 16);
+  std::memcpy(result.data(), bytes.data(), bytes.size());
+  return result;
+}
+
+// GP3 / thesis Listing 4.48: bit position by int(log2(float(int(x)))) (non-reversed rays).
+int gp3HighestBit(uint32_t x) {
+  float f = float(int32_t(x));
+  float l = std::log2(f);
+  return std::isnan(l) ? -1000 : int(l);
+}
+
+TEST(NearFieldTables, GpuFirstSliceEqualsCpuOnSingleBitsAndAdversarialMasks) {
+  auto& s = session(snapshotRequest());
+  std::vector<BitColumn> masks;
+  for (int k = 0; k < 128; ++k) masks.push_back(orMask(k));
+  // Channels whose bit 31 is set (int(x) < 0 in GP3's formula), values >= 2^24 that float rounds,
+  // lowest-bit-at-31 channels for reversed rays, and random patterns.
+  const uint32_t adversarial[] = {0x80000000u, 0x80000001u, 0xFFFFFFFFu, 0x01FFFFFFu, 0x00FFFFFFu, 0x7FFFFFFFu,
+                                  0x00000001u, 0x40000000u, 0x03FFFFFFu, 0x0FFFFFFFu};
+  for (uint32_t a : adversarial)
+    for (int c = 0; c < 4; ++c) {
+      BitColumn m{0, 0, 0, 0};
+      m[c] = a;
+      masks.push_back(m);
+      m[3 - c] |= 0x80000000u;
+      masks.push_back(m);
+    }
+  std::mt19937 rng(7);
+  for (int i = 0; i < 200; ++i) {
+    uint32_t a = uint32_t(rng() & rng()), b = uint32_t(rng() & rng() & rng()), c = uint32_t(rng() & rng()), d = uint32_t(rng());
+    masks.push_back({a, b, c, d});
+  }
+  auto r = gpuKernel(s, 1, masks.data(), masks.size() * 16, int(masks.size()));
+  for (size_t i = 0; i < masks.size(); ++i) {
+    EXPECT_EQ(int(r[i].x) - 1, firstSliceAlong(masks[i], false)) << "mask " << i << " toward +z";
+    EXPECT_EQ(int(r[i].y) - 1, firstSliceAlong(masks[i], true)) << "mask " << i << " toward -z";
+  }
+  // The listing's float formula is wrong where this test looks: a set bit 31 gives NaN, and
+  // 0x01FFFFFF rounds up to 2^25 (slice off by one). findMSB has neither problem.
+  EXPECT_NE(gp3HighestBit(0x80000000u), 31);
+  EXPECT_NE(gp3HighestBit(0x01FFFFFFu), 24);
+}
+
+// --- Binary grid and hierarchy --------------------------------------------------------------------
+
+std::vector<uint32_t> fragmentKeys(HeadlessSession& s) {
+  CapturedOutput f = capture(s, "voxelize", "fragments");
+  std::vector<uint32_t> keys;
+  for (uint32_t i = 0; i < f.recordCount; ++i) {
+    uint32_t k;
+    std::memcpy(&k, &f.records[size_t(i) * f.desc.layout.stride], 4);
+    keys.push_back(k);
+  }
+  return keys;
+}
+
+TEST(NearFieldGrid, BinaryGridEqualsFragmentListBitForBit) {
+  auto& s = session(snapshotRequest());
+  const int res = 64;
+  auto gpu = readLevel(s, "binary-voxels", 0);
+  auto cpu = binaryGridFromVoxelKeys(fragmentKeys(s), res);
+  ASSERT_EQ(gpu.size(), cpu.size());
+  size_t differing = 0, setBits = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    differing += gpu[i] != cpu[i];
+    setBits += size_t(popcount(gpu[i]));
+  }
+  EXPECT_GT(setBits, 10000u);
+  EXPECT_EQ(differing, 0u) << "columns that differ from the CPU OR of the fragment list";
+  // Popcount output = popcount of each column.
+  Texture& pc = s.cursor().board().texture("binary-popcount");
+  std::vector<uint32_t> counts(size_t(res) * res);
+  glGetTextureImage(pc.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(counts.size() * 4), counts.data());
+  for (size_t i = 0; i < counts.size(); ++i) ASSERT_EQ(int(counts[i]), popcount(gpu[i])) << "column " << i;
+}
+
+TEST(NearFieldGrid, BinaryGridAt128EqualsCpuReferenceVoxelizer) {
+  auto& s = session(request({"voxel.resolution=128"}, "hierarchy", 64));
+  const Scene& scene = s.cursor().scene();
+  auto gpu = readLevel(s, "binary-voxels", 0);
+  auto ref = binaryGridFromVoxelKeys(referenceVoxelSet(scene, VoxelSpace::fromScene(scene, 128)), 128);
+  // At 128 one slice is one voxel: bit (x, y, k) <=> the dense occupancy of voxel (x, y, z = k).
+  size_t missing = 0, extra = 0, total = 0;
+  for (size_t i = 0; i < gpu.size(); ++i)
+    for (int k = 0; k < 128; ++k) {
+      bool g = hasSlice(gpu[i], k), r = hasSlice(ref[i], k);
+      total += r;
+      missing += r && !g;
+      extra += g && !r;
+    }
+  EXPECT_GT(total, 50000u);
+  EXPECT_EQ(missing, 0u);
+  // The conservative voxelizer's set equals the reference (measured 0 extra on the Cornell box at
+  // 128, docs/testing.md); allow the 0.1 % of float-rounding face touches that test allows.
+  EXPECT_LE(extra, total / 1000);
+}
+
+TEST(NearFieldGrid, EveryMipLevelIsTheOrOfItsChildren) {
+  auto& s = session(snapshotRequest());
+  const int res = 64;
+  auto chain = orMipChain(readLevel(s, "binary-voxels", 0), res);
+  ASSERT_EQ(int(chain.size()), maxLevelOf(res) + 1);
+  for (int l = 0; l < int(chain.size()); ++l) {
+    auto gpu = readLevel(s, "bitmask-hierarchy", l);
+    size_t differing = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) differing += gpu[i] != chain[l][i];
+    EXPECT_EQ(differing, 0u) << "level " << l;
+    if (l > 0) {
+      const int r = res >> l;
+      for (int y = 0; y < r; ++y)
+        for (int x = 0; x < r; ++x)
+          for (int j = 0; j < 4; ++j)
+            ASSERT_GE(popcount(gpu[size_t(y) * r + x]),
+                      popcount(chain[l - 1][size_t(2 * y + (j >> 1)) * (2 * r) + 2 * x + (j & 1)]));
+    }
+  }
+  // The top texel is the OR of everything.
+  BitColumn all{0, 0, 0, 0};
+  for (const auto& c : chain[0])
+    for (int i = 0; i < 4; ++i) all[i] |= c[i];
+  EXPECT_EQ(readLevel(s, "bitmask-hierarchy", maxLevelOf(res))[0], all);
+}
+
+TEST(NearFieldGrid, RgbaUintColumnsHaveNoR32uiView) {
+  auto& s = session(snapshotRequest());
+  (void)s;
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  TextureDesc d;
+  d.format = GL_RGBA32UI;
+  d.size = {4, 4, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  Texture columns("test.columns", d);
+  GLuint view = 0;
+  glGenTextures(1, &view);
+  glTextureView(view, GL_TEXTURE_2D, columns.id(), GL_R32UI, 0, 1, 0, 1);
+  GLenum err = glGetError();
+  glDeleteTextures(1, &view);
+  // GL 4.5 table 8.22: RGBA32UI is in the 128-bit view class, R32UI in the 32-bit one.
+  EXPECT_EQ(err, GLenum(GL_INVALID_OPERATION));
+}
+
+// --- Traversal ------------------------------------------------------------------------------------
+
+struct SegmentRun {
+  std::vector<glm::vec4> segs;
+  std::vector<glm::uvec4> hits;
+};
+
+SegmentRun runSegments(HeadlessSession& s, int count, int budget, uint32_t seed, float maxLength, bool inside = true) {
+  SegmentRun r;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < count; ++i) {
+    glm::vec3 o(u(rng), u(rng), u(rng));
+    if (!inside) o = glm::vec3(u(rng) * 3 - 1, u(rng) * 3 - 1, u(rng) * 3 - 1);
+    glm::vec3 d = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+    r.segs.push_back(glm::vec4(o, 0));
+    r.segs.push_back(glm::vec4(o + d * (maxLength * u(rng)), 0));
+  }
+  r.hits = gpuKernel(s, 0, r.segs.data(), r.segs.size() * 16, count, budget);
+  return r;
+}
+
+TEST(NearFieldTraversal, HierarchicalWalkEqualsBruteForceDda) {
+  auto& s = session(snapshotRequest());
+  const int res = 64;
+  auto grid = readLevel(s, "binary-voxels", 0);
+  const int n = 20000;
+  SegmentRun r = runSegments(s, n, 1024, 11, 0.6f);
+  int hits = 0, mismatches = 0, tieMismatches = 0, exhausted = 0;
+  for (int i = 0; i < n; ++i) {
+    uint32_t end = r.hits[i].w & 0xFFu;
+    if (end == NF_END_BUDGET) { ++exhausted; continue; }
+    DdaResult dda = bruteForceDda(grid, res, glm::vec3(r.segs[2 * i]), glm::vec3(r.segs[2 * i + 1]));
+    bool gpuHit = end == NF_END_HIT;
+    hits += dda.hit;
+    bool same = gpuHit == dda.hit && (!gpuHit || glm::ivec3(r.hits[i]) == dda.voxel);
+    if (!same) (dda.tie ? tieMismatches : mismatches) += 1;
+  }
+  RecordProperty("hits", hits);
+  RecordProperty("tie_mismatches", tieMismatches);
+  EXPECT_GT(hits, n / 10);  // the segments do meet the Cornell box's walls
+  EXPECT_EQ(exhausted, 0) << "walks that ran out of 1024 steps";
+  EXPECT_EQ(mismatches, 0) << "walks that disagree with the DDA where no corner/edge tie explains it";
+  // Ties (two faces crossed within 1e-5 in t) are measure-zero up to float rounding: measured 0
+  // of 20000; a handful would still be rounding, not a traversal error.
+  EXPECT_LE(tieMismatches, n / 1000);
+}
+
+TEST(NearFieldTraversal, StepBudgetExhaustionIsReportedNotAMiss) {
+  auto& s = session(snapshotRequest());
+  SegmentRun r = runSegments(s, 4000, 2, 12, 1.0f);
+  int exhausted = 0, hits = 0;
+  for (const auto& h : r.hits) {
+    exhausted += (h.w & 0xFFu) == NF_END_BUDGET;
+    hits += (h.w & 0xFFu) == NF_END_HIT;
+    EXPECT_LE(h.w >> 8, 2u) << "a walk took more steps than its budget";
+  }
+  EXPECT_GT(exhausted, 1000) << "two steps cannot reach level 0 from level 3: most walks must exhaust";
+  EXPECT_EQ(hits, 0);
+}
+
+TEST(NearFieldTraversal, OriginsOutsideTheVolumeGiveNoHitThroughTheGuard) {
+  auto& s = session(snapshotRequest());
+  SegmentRun r = runSegments(s, 4000, 256, 13, 1.0f, false);
+  int outside = 0;
+  for (int i = 0; i < 4000; ++i) {
+    glm::vec3 o(r.segs[2 * i]);
+    bool out = glm::any(glm::lessThan(o, glm::vec3(0))) || glm::any(glm::greaterThanEqual(o, glm::vec3(1)));
+    uint32_t end = r.hits[i].w & 0xFFu;
+    if (out) {
+      ++outside;
+      EXPECT_EQ(end, NF_END_OUTSIDE) << "segment " << i;
+      EXPECT_EQ(r.hits[i].w >> 8, 0u) << "an outside origin must not fetch (0 steps)";
+    } else {
+      EXPECT_NE(end, NF_END_OUTSIDE);
+    }
+  }
+  EXPECT_GT(outside, 2000);
+}
+
+TEST(NearFieldTraversal, ProbeRecordsChangeLevelByOneAndHitOnlyAtLevelZero) {
+  // Probe a floor pixel whose first ray hits (checked below), several rays of the run.
+  for (int ray = 0; ray < 4; ++ray) {
+    auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256", "probe.x=0.3", "probe.y=0.8",
+                               "probe.ray=" + std::to_string(ray)}));
+    CapturedOutput steps = capture(s, "rays", "traversal-steps");
+    ASSERT_GT(steps.recordCount, 0u);
+    std::vector<gpu::TraversalStep> rec(steps.recordCount);
+    std::memcpy(rec.data(), steps.records.data(), rec.size() * sizeof(gpu::TraversalStep));
+    const int top = maxLevelOf(64);
+    for (size_t i = 0; i < rec.size(); ++i) {
+      EXPECT_EQ(rec[i].where.x, uint32_t(i)) << "records in walk order";
+      EXPECT_LE(rec[i].slices.x, rec[i].slices.y) << "a ray mask with first > last slice (the table's unused half)";
+      uint32_t action = rec[i].slices.z;
+      if (action == NF_END_HIT) {
+        EXPECT_EQ(rec[i].where.y, 0u) << "hit above level 0";
+        EXPECT_EQ(i + 1, rec.size()) << "a hit ends the walk";
+      }
+      if (i + 1 < rec.size()) {
+        int expected = action == NF_STEP_DESCEND ? int(rec[i].where.y) - 1 : std::min(int(rec[i].where.y) + 1, top);
+        EXPECT_EQ(int(rec[i + 1].where.y), expected) << "step " << i;
+      }
+    }
+    CapturedOutput probe = capture(s, "rays", "probe-ray");
+    gpu::ProbeRay p;
+    std::memcpy(&p, probe.records.data(), sizeof(p));
+    EXPECT_EQ(p.receiver.w, 1.0f);
+    EXPECT_EQ(uint32_t(p.steps.x), steps.recordCount);
+    if (p.result.w == NF_END_HIT) EXPECT_EQ(rec.back().slices.z, NF_END_HIT);
+  }
+}
+
+// --- Self-intersection ----------------------------------------------------------------------------
+
+// Rays from points of the wall-floor scene's floor (y = 0, normal +y), far enough from the wall
+// that a ray within the radius can only meet the floor, with the rays stage's start offsets.
+int floorSelfHits(HeadlessSession& s, float normalOffset, float rayOffset) {
+  const Scene& scene = s.cursor().scene();
+  const int res = 128;
+  BinaryGridGeometry g = BinaryGridGeometry::of(scene, res);
+  const float radius = 0.5f * 0.3f;  // metres; the wall is at z = 0.1, points at z <= -0.5
+  std::vector<glm::vec4> segs;
+  for (int a = 0; a < 90; ++a) {          // theta 0..89 degrees
+    for (int p = 0; p < 16; ++p) {        // azimuths and positions
+      float theta = float(a) * 3.14159265f / 180.0f, phi = float(p) * 0.3927f + 0.1f;
+      glm::vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      glm::vec3 pt(-0.6f + 0.07f * float(p), 0.0f, -0.55f - 0.013f * float(a % 7));
+      float along = rayOffset * g.voxelDiagonal / std::max(std::cos(theta), 1e-3f);
+      if (along >= radius) continue;
+      glm::vec3 o = pt + glm::vec3(0, 1, 0) * (normalOffset * g.voxelDiagonal) + d * along;
+      glm::vec3 e = o + d * (radius - along);
+      segs.push_back(glm::vec4((o - g.origin) / g.edge, 0));
+      segs.push_back(glm::vec4((e - g.origin) / g.edge, 0));
+    }
+  }
+  auto hits = gpuKernel(s, 0, segs.data(), segs.size() * 16, int(segs.size() / 2), 1024);
+  int n = 0;
+  for (const auto& h : hits) n += (h.w & 0xFFu) == NF_END_HIT;
+  return n;
+}
+
+TEST(NearFieldSelfIntersection, PlaneRaysNeverHitThePlanesOwnVoxels) {
+  auto& s = session(request({"voxel.resolution=128"}, "hierarchy", 64, projectPath("tests/data/scenes/wall-floor.gltf")));
+  EXPECT_EQ(floorSelfHits(s, 0.8f, 0.6f), 0) << "with the default offsets";
+  // The test can fail: without offsets the rays start inside the floor's voxels.
+  EXPECT_GT(floorSelfHits(s, 0.0f, 0.0f), 100);
+}
+
+
+// --- Physics --------------------------------------------------------------------------------------
+
+// The near-field estimator on the CPU, on Embree: for a receiver p (normal n, albedo rho), cosine
+// rays with the rays stage's start offsets and radius; at the first hit within the radius, the
+// reflected direct radiance rho_hit/pi * E * |cos| of the shared light model with an exact shadow
+// ray, counted when the receiver lies on the lit side of the hit surface. No voxels, no RSM.
+class NearFieldOracle {
+ public:
+  explicit NearFieldOracle(const Scene& scene) : scene_(scene) {
+    device_ = rtcNewDevice(nullptr);
+    rtc_ = rtcNewScene(device_);
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), scene.positions.size()));
+    for (size_t i = 0; i < scene.positions.size(); ++i)
+      for (int c = 0; c < 3; ++c) vb[3 * i + c] = scene.positions[i][c];
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), scene.triangleCount()));
+    for (size_t i = 0; i < scene.indices.size(); ++i) ib[i] = scene.indices[i];
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(rtc_, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(rtc_);
+  }
+  ~NearFieldOracle() {
+    rtcReleaseScene(rtc_);
+    rtcReleaseDevice(device_);
+  }
+
+  // Reflected direct radiance arriving at o along d from the first surface within tMax (0 = none).
+  glm::vec3 radianceAlong(glm::vec3 o, glm::vec3 d, float tMax, glm::vec3 receiver) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh{};
+    rh.ray.org_x = o.x; rh.ray.org_y = o.y; rh.ray.org_z = o.z;
+    rh.ray.dir_x = d.x; rh.ray.dir_y = d.y; rh.ray.dir_z = d.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = tMax;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rtc_, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return glm::vec3(0.0f);
+    glm::vec3 x = o + d * rh.ray.tfar;
+    glm::vec3 ng = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    const Light& light = scene_.lights.at(0);
+    LightSample ls = sampleLight(light, x);
+    float cosL = glm::dot(ng, ls.toLight);
+    if (cosL == 0.0f || (cosL > 0.0f) != (glm::dot(ng, receiver - x) > 0.0f)) return glm::vec3(0.0f);
+    glm::vec3 side = cosL > 0.0f ? ng : -ng;
+    RTCRay shadow{};
+    glm::vec3 so = x + side * 1e-4f;
+    shadow.org_x = so.x; shadow.org_y = so.y; shadow.org_z = so.z;
+    shadow.dir_x = ls.toLight.x; shadow.dir_y = ls.toLight.y; shadow.dir_z = ls.toLight.z;
+    shadow.tnear = 0.0f;
+    shadow.tfar = std::isinf(ls.distance) ? 1e30f : ls.distance - 2e-4f;
+    shadow.mask = 0xFFFFFFFFu;
+    rtcOccluded1(rtc_, &ctx, &shadow);
+    if (shadow.tfar < 0.0f) return glm::vec3(0.0f);  // occluded
+    glm::vec3 rho(scene_.materials[scene_.triangleMaterial(rh.hit.primID)].baseColor);
+    return rho / 3.14159265f * ls.irradianceAtNormalIncidence * std::abs(cosL);
+  }
+
+ private:
+  const Scene& scene_;
+  RTCDevice device_ = nullptr;
+  RTCScene rtc_ = nullptr;
+};
+
+struct Readback {
+  int w = 0, h = 0, channels = 4;
+  std::vector<float> v;
+  const float* at(int x, int y) const { return &v[(size_t(y) * w + x) * channels]; }
+};
+
+Readback readFloat(HeadlessSession& s, const std::string& name) {
+  Texture& t = s.cursor().board().texture(name);
+  Readback r;
+  r.w = t.levelSize(0).x;
+  r.h = t.levelSize(0).y;
+  r.v.resize(size_t(r.w) * r.h * 4);
+  glGetTextureImage(t.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(r.v.size() * 4), r.v.data());
+  return r;
+}
+
+// --- RSM ------------------------------------------------------------------------------------------
+
+TEST(NearFieldRsm, ReflectedRadianceIsAlbedoOverPiTimesTheLightModelsIrradiance) {
+  auto& s = session(snapshotRequest());
+  const Scene& scene = s.cursor().scene();
+  Readback pos = readFloat(s, "rsm-position"), nrm = readFloat(s, "rsm-normal"), rad = readFloat(s, "rsm-radiance");
+  int checked = 0, unmatched = 0;
+  for (size_t t = 0; t < size_t(pos.w) * pos.h; t += 7) {
+    const float* p = &pos.v[t * 4];
+    if (p[3] == 0.0f) continue;
+    glm::vec3 P(p[0], p[1], p[2]), N(nrm.v[t * 4], nrm.v[t * 4 + 1], nrm.v[t * 4 + 2]);
+    LightSample ls = sampleLight(scene.lights.at(0), P);
+    float cosL = glm::dot(glm::normalize(N), ls.toLight);
+    EXPECT_GE(cosL, -1e-3f) << "RSM normal on the unlit side";
+    glm::vec3 e = ls.irradianceAtNormalIncidence * std::max(cosL, 0.0f) / 3.14159265f;
+    if (e.x < 1e-3f) continue;
+    glm::vec3 albedo = glm::vec3(rad.v[t * 4], rad.v[t * 4 + 1], rad.v[t * 4 + 2]) / e;
+    // RGBA16F storage: relative error below 1e-3; the light model runs in float on both sides.
+    bool match = false;
+    for (const auto& m : scene.materials)
+      match = match || glm::all(glm::lessThan(glm::abs(albedo - glm::vec3(m.baseColor)), glm::vec3(3e-3f)));
+    unmatched += !match;
+    ++checked;
+  }
+  EXPECT_GT(checked, 500);
+  // Texels on a triangle edge can take the neighbour's position after interpolation: measured 0.
+  EXPECT_EQ(unmatched, 0) << "of " << checked << " texels, radiance / (E cos / pi) is no material's albedo";
+}
+
+struct PhysicsResult {
+  double ratio = 0, worstRegion = 0, nearOverOneBounce = 0;
+};
+
+// GPU near-field indirect (64 rays, full resolution, 64 x 64) against the CPU estimator with the
+// same cone of directions ('spread') and the same (rho * spread / N) scale.
+PhysicsResult comparePhysics(float spread) {
+  PhysicsResult result;
+  const int size = 64, rays = 64;
+  auto& s = session(request({"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full",
+                             "rays.spread=" + std::to_string(spread)},
+                            "", size));
+  const Scene& scene = s.cursor().scene();
+  BinaryGridGeometry g = BinaryGridGeometry::of(scene, 128);
+  const float radius = 0.5f * g.edge;  // rays.radius default
+  Readback pos = readFloat(s, "position"), nrm = readFloat(s, "normal"), alb = readFloat(s, "albedo");
+  Readback ind = readFloat(s, "indirect");
+  NearFieldOracle oracle(scene);
+  // Region means over 4 x 4 blocks of 16 x 16 pixels, luminance-free per channel sums.
+  const int blocks = 4, bs = size / blocks, cpuRays = 256;
+  std::vector<glm::dvec3> gpuSum(blocks * blocks, glm::dvec3(0)), cpuSum(blocks * blocks, glm::dvec3(0));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const float* p = pos.at(x, y);
+      if (p[3] == 0.0f) continue;
+      glm::vec3 P(p[0], p[1], p[2]), N = glm::normalize(glm::vec3(nrm.at(x, y)[0], nrm.at(x, y)[1], nrm.at(x, y)[2]));
+      glm::vec3 rho(alb.at(x, y)[0], alb.at(x, y)[1], alb.at(x, y)[2]);
+      glm::vec3 T = glm::normalize(std::abs(N.x) > 0.9f ? glm::cross(N, glm::vec3(0, 1, 0)) : glm::cross(N, glm::vec3(1, 0, 0)));
+      glm::vec3 B = glm::cross(N, T);
+      glm::vec3 sum(0.0f);
+      for (int i = 0; i < cpuRays; ++i) {
+        float u1 = u(rng) * spread, u2 = u(rng);
+        float cosT = std::sqrt(1.0f - u1), sinT = std::sqrt(u1), phi = 6.2831853f * u2;
+        glm::vec3 d = glm::normalize(T * (sinT * std::cos(phi)) + B * (sinT * std::sin(phi)) + N * cosT);
+        float along = 0.6f * g.voxelDiagonal / std::max(cosT, 1e-3f);
+        if (along >= radius) continue;
+        glm::vec3 o = P + N * (0.8f * g.voxelDiagonal) + d * along;
+        sum += oracle.radianceAlong(o, d, radius - along, P);
+      }
+      glm::vec3 cpu = rho * spread * sum / float(cpuRays);  // (rho * spread / N) sum L~, cosine sampling
+      int b = (y / bs) * blocks + x / bs;
+      cpuSum[b] += glm::dvec3(cpu);
+      gpuSum[b] += glm::dvec3(ind.at(x, y)[0], ind.at(x, y)[1], ind.at(x, y)[2]);
+    }
+  glm::dvec3 gpuAll(0), cpuAll(0);
+  double worstRel = 0;
+  for (int b = 0; b < blocks * blocks; ++b) {
+    gpuAll += gpuSum[b];
+    cpuAll += cpuSum[b];
+  }
+  const double cpuTotal = cpuAll.x + cpuAll.y + cpuAll.z;
+  // Worst region among those holding at least 2 % of the light (darker ones are mostly noise).
+  for (int b = 0; b < blocks * blocks; ++b) {
+    double c = cpuSum[b].x + cpuSum[b].y + cpuSum[b].z, gv = gpuSum[b].x + gpuSum[b].y + gpuSum[b].z;
+    if (c > 0.02 * cpuTotal) worstRel = std::max(worstRel, std::abs(gv - c) / c);
+  }
+  double ratio = (gpuAll.x + gpuAll.y + gpuAll.z) / cpuTotal;
+  std::printf("near-field GPU / CPU estimator (spread %.2f): %.4f (r %.4f g %.4f b %.4f), worst region %.3f\n",
+              spread, ratio, gpuAll.x / cpuAll.x, gpuAll.y / cpuAll.y, gpuAll.z / cpuAll.z, worstRel);
+  result.ratio = ratio;
+  result.worstRegion = worstRel;
+  // Full one-bounce reference (indirect-1 at 512 x 512, box-filtered to 64 x 64): the near-field
+  // estimate misses what arrives from beyond the radius, so it must lie below it.
+  reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect-1.exr"));
+  double refSum = 0, gpuLum = 0;
+  const int f = ref.width / size;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      if (pos.at(x, y)[3] == 0.0f) continue;
+      for (int j = 0; j < f * f; ++j) {
+        const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
+        refSum += (r[0] + r[1] + r[2]) / double(f * f);
+      }
+      gpuLum += ind.at(x, y)[0] + ind.at(x, y)[1] + ind.at(x, y)[2];
+    }
+  result.nearOverOneBounce = gpuLum / refSum;
+  return result;
+}
+
+
+TEST(NearFieldPhysics, IndirectAgreesWithCpuNearFieldEstimatorAndLosesOnlyBeyondTheRadius) {
+  PhysicsResult r = comparePhysics(1.0f);
+  const double ratio = r.ratio, worstRel = r.worstRegion;
+  RecordProperty("gpu_over_cpu", std::to_string(ratio));
+  RecordProperty("worst_region_relative_difference", std::to_string(worstRel));
+  // Measured 0.995 overall (per channel 0.994..0.996) and 0.093 in the worst 16 x 16 region: the
+  // remaining differences are voxel hit points (up to a voxel off the surface), epsilon rejections
+  // and Monte Carlo noise (64 GPU and 256 CPU rays per pixel; the whole-image mean's standard error
+  // is about 0.5 %). A missing pi (the printed (rho/pi)/N form) gives 0.32, GP3's contrast 2 gives 2.
+  EXPECT_NEAR(ratio, 1.0, 0.04);
+  EXPECT_LT(worstRel, 0.2);
+  std::printf("near-field / full one-bounce reference: %.4f\n", r.nearOverOneBounce);
+  RecordProperty("near_field_over_one_bounce", std::to_string(r.nearOverOneBounce));
+  // Measured 0.467 with the default radius (half the volume edge): the rest of the one-bounce light
+  // comes from farther away. Bounded on both sides so neither "all lost" nor "more than the whole
+  // bounce" passes.
+  EXPECT_GT(r.nearOverOneBounce, 0.25);
+  EXPECT_LT(r.nearOverOneBounce, 0.9);
+}
+
+TEST(NearFieldPhysics, ReducedSpreadIsCompensatedInTheEstimator) {
+  // Rays only within the cone that keeps half of the cosine-weighted hemisphere: the pdf is
+  // cos / (pi * spread), so the estimate is scaled by spread (GP3 leaves it uncompensated, which
+  // here would read about 0.5). Measured 0.99; same noise argument as above, fewer valid hits.
+  PhysicsResult r = comparePhysics(0.5f);
+  RecordProperty("gpu_over_cpu", std::to_string(r.ratio));
+  EXPECT_NEAR(r.ratio, 1.0, 0.05);
+}
+
+}  // namespace
+}  // namespace voxlab
