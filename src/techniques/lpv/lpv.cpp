@@ -103,6 +103,7 @@
 //   Illumination", I3D 2010. Doghramachi, "Rasterized Voxel-based Dynamic Global Illumination",
 //   GPU Pro 4. The technical note ../shared/guide/techniques/lpv.md (invariants 1-13, pitfalls).
 #include "graph/technique.h"
+#include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/lpv/stages.h"
@@ -121,7 +122,7 @@ static std::unique_ptr<Technique> makeLpv() {
   t->add<lpv::InjectStage>();
   t->add<lpv::PropagateStage>();
   t->add<lpv::ReflectionStage>();
-  t->add<vct::GBufferStage>();
+  t->add<GBufferStage>();
   t->add<lpv::GiStage>();
   t->add<lpv::CompositeStage>();
   t->setFinalOutput("composite", "final");

@@ -62,6 +62,7 @@
 #include "graph/technique.h"
 #include "techniques/common/binary_voxels_stage.h"
 #include "techniques/common/rsm_stage.h"
+#include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/stages.h"
@@ -79,7 +80,7 @@ static std::unique_ptr<Technique> makeNearField() {
   t->add<nearfield::HierarchyStage>();
   t->add<ShadowMapStage>();
   t->add<RsmStage>();
-  t->add<vct::GBufferStage>();
+  t->add<GBufferStage>();
   t->add<nearfield::RaysStage>();
   t->add<nearfield::FilterStage>();
   t->add<nearfield::CompositeStage>();
