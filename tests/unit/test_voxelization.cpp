@@ -481,12 +481,13 @@ TEST(Voxelization, HybridSplitsTrianglesByProjectedArea) {
   EXPECT_GT(small, 10000u);
 }
 
-// Textures: the raster pass (fragment-parallel, and the hybrid's large triangles) samples the base
-// colour texture like vct-grid's voxelizer (VctGridTextures.*); the compute pass does not read
-// textures and writes the material's base colour factor (docs/voxelization.md). On the textured
-// floor (white factor, texture red / green / blue / grey) that is white in every compute fragment,
-// and the raster fragments carry all four texel colours.
-TEST(Voxelization, ComputePassWritesTheMaterialFactorRasterPassTheTexture) {
+// Textures: both passes sample the base colour texture (times the factor) like vct-grid's
+// voxelizer (VctGridTextures.*): the raster pass (fragment-parallel, and the hybrid's large
+// triangles) per fragment, the compute pass per voxel it writes, drawing per draw range so that it
+// knows each triangle's material (docs/voxelization.md). On the textured floor (white factor,
+// texture red / green / blue / grey) the fragments of either pass carry all four texel colours;
+// a compute pass that wrote only the factor would give white everywhere.
+TEST(Voxelization, BothPassesSampleTheBaseColourTexture) {
   const std::string scene = testScene("textured-floor");
   auto colours = [&](const char* method) {
     runMethod(scene, 32, method);
@@ -507,23 +508,24 @@ TEST(Voxelization, ComputePassWritesTheMaterialFactorRasterPassTheTexture) {
     }
     return albedos;
   };
-  std::set<uint32_t> compute = colours("triangle-parallel");
-  EXPECT_EQ(compute, std::set<uint32_t>{0xFFFFFFFFu});  // RGBA8 (1, 1, 1, 1)
-  std::set<uint32_t> raster = colours("fragment-parallel");
-  // Near each pure texel: bilinear filtering blends the neighbours in; measured at 32^3, the
-  // fragment nearest to pure red, green and blue is 8 RGBA8 steps away in its worst channel
-  // (the voxel centres nearest the texel centres are 0.016 away in uv). Allowed 12.
-  for (int channel = 0; channel < 3; ++channel) {
-    bool found = false;
-    for (uint32_t albedo : raster) {
-      bool near = true;
-      for (int c = 0; c < 3; ++c) {
-        int value = int((albedo >> (8 * c)) & 255u);
-        near = near && std::abs(value - (c == channel ? 255 : 0)) <= 12;
+  for (const char* method : {"triangle-parallel", "fragment-parallel"}) {
+    std::set<uint32_t> albedos = colours(method);
+    EXPECT_EQ(albedos.count(0xFFFFFFFFu), 0u) << method << ": a fragment has the white factor, not a texel";
+    // Near each pure texel: bilinear filtering blends the neighbours in; measured at 32^3, the
+    // fragment nearest to pure red, green and blue is 8 RGBA8 steps away in its worst channel
+    // (the voxel centres nearest the texel centres are 0.016 away in uv). Allowed 12.
+    for (int channel = 0; channel < 3; ++channel) {
+      bool found = false;
+      for (uint32_t albedo : albedos) {
+        bool near = true;
+        for (int c = 0; c < 3; ++c) {
+          int value = int((albedo >> (8 * c)) & 255u);
+          near = near && std::abs(value - (c == channel ? 255 : 0)) <= 12;
+        }
+        found = found || near;
       }
-      found = found || near;
+      EXPECT_TRUE(found) << method << ": no fragment has the colour of the texel with only channel " << channel;
     }
-    EXPECT_TRUE(found) << "no raster fragment has the colour of the texel with only channel " << channel;
   }
 }
 
