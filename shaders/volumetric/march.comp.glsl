@@ -44,15 +44,13 @@ float ditherOffset(ivec2 q) {
 
 // Lit (1) or shadowed (0) by the shadow map, one hard compare; 1 without a shadow map. A spot's
 // map covers its cone: outside its frustum 0. A directional light's map covers the scene's bounds,
-// not the whole medium: directionalShadowLookup (common/lights.glsl) decides outside them.
+// not the whole medium: shadowMapDecides (common/lights.glsl) decides outside them.
 float visibility(vec3 p) {
   if (u_light.spot.w < 0.5) return 1.0;
   vec4 clip = u_light.shadowViewProj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
   vec3 uvz = clip.xyz / clip.w * 0.5 + 0.5;
-  if (u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL) {
-    if (!directionalShadowLookup(uvz)) return 1.0;
-  } else if (any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz, vec3(1.0)))) return 0.0;
+  if (!shadowMapDecides(uvz)) return u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL ? 1.0 : 0.0;
   return texture(u_shadowMap, uvz.xy).r >= uvz.z - 1e-4 ? 1.0 : 0.0;
 }
 
