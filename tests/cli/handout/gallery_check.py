@@ -26,6 +26,12 @@ if [t["id"] for t in page["techniques"]] != listed:
 # docs/fidelity.md rows at defaults: technique, output (stage/output), mode, numbers.
 table = {}
 doc = open(os.path.join(root, "docs", "fidelity.md")).read()
+# Only the Cornell box's table: the other scenes' tables (<!-- fidelity-table:<scene>:begin -->)
+# have rows of the same techniques and outputs.
+begin, end = "<!-- fidelity-table:begin -->", "<!-- fidelity-table:end -->"
+if begin not in doc or end not in doc:
+    fail(f"docs/fidelity.md has no {begin} ... {end} table")
+doc = doc.split(begin, 1)[-1].split(end, 1)[0]
 for line in doc.splitlines():
     cells = [c.strip() for c in line.strip().strip("|").split("|")]
     if len(cells) != 10 or cells[1] != "defaults":
