@@ -1,7 +1,7 @@
 // The viewer's logic that needs no window: display mapping of captured levels (with channel,
 // exposure and volume slices), the `voxlab run` command
 // line that reproduces a viewer state, and the viewer's script format. Unit-tested in
-// tests/unit/test_lesson.cpp; the ImGui code in viewer.cpp only draws what these return.
+// tests/unit/test_lesson.cpp; the viewer's panels and visualisers only draw what these return.
 #pragma once
 #include <cstdint>
 #include <string>

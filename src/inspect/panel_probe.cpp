@@ -151,7 +151,7 @@ void Viewer::drawProbe() {
     }
   ImGui::TextDisabled("click a camera image (final, G-buffer, ...), a volume slice or a light-space image to probe");
   ImGui::BeginChild("probe-records");
-  for (auto& r : const_cast<std::vector<ProbeRecords>&>(probeRecords())) {
+  for (const auto& r : probeRecords()) {
     ImGui::Separator();
     ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s/%s", t.stage(r.stage).id(), r.desc->name.c_str());
     if (!r.error.empty()) {

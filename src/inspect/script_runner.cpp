@@ -2,6 +2,7 @@
 // keyboard, plus expectations for the tests in tests/viewer. The verbs and their usage are in
 // inspect_logic.cpp (parseScript); nothing here names a stage, a technique or a semantic.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -390,12 +391,14 @@ void Viewer::execute(const ScriptAction& a) {
     if (!compare.on) scriptFail(a, "compare is off (compare-with ...)");
     if (cap.desc.kind != OutputKind::Image2D) scriptFail(a, "output " + cap.desc.name + " is not an image");
     compare.key.clear();
+    const auto t0 = std::chrono::steady_clock::now();
     updateCompare();
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (!compare.error.empty()) scriptFail(a, compare.error);
     const auto& m = *compare.metrics;
     // %.9g: enough digits for the test to compare with `voxlab compare --json`.
-    std::printf("compare %s vs %s: rmse %.9g psnr %.9g mae %.9g max_abs %.9g ssim %.9g\n", cap.desc.name.c_str(),
-                compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim);
+    std::printf("compare %s vs %s: rmse %.9g psnr %.9g mae %.9g max_abs %.9g ssim %.9g (%.1f ms)\n", cap.desc.name.c_str(),
+                compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim, ms);
     if (!a.args.empty() && !(m.rmse > floatArg(0)))
       scriptFail(a, "rmse " + std::to_string(m.rmse) + " is not above " + arg(0));
   } else if (v == "frame-stats") {
