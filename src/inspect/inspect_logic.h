@@ -36,6 +36,7 @@ struct DisplaySettings {
 struct SliceImage {
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;
+  std::vector<int32_t> pick;  // optional, per pixel: the element drawn there (-1 none), e.g. a record
 };
 glm::ivec2 sliceExtent(const LevelData& level, const SliceSpec& slice);
 SliceImage mapSlice(const LevelData& level, Semantic semantic, const SliceSpec& slice, const DisplaySettings& ds);

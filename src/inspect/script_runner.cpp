@@ -337,8 +337,17 @@ void Viewer::execute(const ScriptAction& a) {
     if (!capError.empty()) scriptFail(a, capError);
     VisualiserContext ctx = visualiserContext();
     glm::ivec3 element;
-    if (!shownVisualiser()->elementAt(ctx, intArg(0), intArg(1), element))
-      scriptFail(a, "(" + arg(0) + ", " + arg(1) + ") is outside the view of " + cap.desc.name);
+    const int x = intArg(0), y = intArg(1);
+    SliceImage img = shownVisualiser()->image2D(ctx);
+    bool found = false;
+    if (!img.pick.empty()) {  // a pick map (point views): the element drawn at that pixel
+      int id = x >= 0 && y >= 0 && x < img.width && y < img.height ? img.pick[size_t(y) * img.width + x] : -1;
+      found = id >= 0;
+      element = glm::ivec3(id, 0, 0);
+    } else {
+      found = shownVisualiser()->elementAt(ctx, x, y, element);
+    }
+    if (!found) scriptFail(a, "nothing of " + cap.desc.name + " is shown at (" + arg(0) + ", " + arg(1) + ")");
     pickTexel = element;
     int probed = probeSpacesOfShown().empty() ? 0 : probeShownAt(element, view.level);
     std::printf("click %s: %s; %d probe(s) set\n", cap.desc.name.c_str(), shownVisualiser()->describeElement(ctx, element).c_str(),
