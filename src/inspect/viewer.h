@@ -15,7 +15,7 @@
 namespace voxlab {
 
 struct ViewerOptions {
-  std::string technique = "vct-grid";
+  std::string technique;   // technique id to open (voxlab view defaults it)
   std::string scene = "cornell-box";
   std::string lesson;      // lesson file to open (optional)
   std::string script;      // script file to replay (optional); the viewer quits at its end
