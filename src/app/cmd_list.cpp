@@ -5,6 +5,7 @@
 
 #include "app/command.h"
 #include "core/args.h"
+#include "core/error.h"
 #include "graph/technique.h"
 #include "scene/scene.h"
 
@@ -31,7 +32,13 @@ json describeTechnique(const Technique& t) {
       json oj = {{"name", o.name}, {"address", t.id() + "/" + t.stage(i).id() + "/" + o.name},
                  {"kind", kindName(o.kind)}, {"semantic", semanticName(o.semantic)}, {"help", o.help}};
       if (!o.referenceMode.empty()) oj["reference_mode"] = o.referenceMode;
+      if (o.probeRecord) oj["probe_record"] = true;
       s["outputs"].push_back(oj);
+    }
+    for (const auto& p : d.probes) {
+      json pj = {{"space", probeSpaceName(p.space)}, {"parameters", p.paramNames()}};
+      if (!p.resource.empty()) pj["resource"] = p.resource;
+      s["probes"].push_back(pj);
     }
     for (const auto& p : d.params)
       s["parameters"].push_back({{"name", p.name}, {"type", p.typeName()}, {"default", p.format(p.defaultValue)},
@@ -63,6 +70,10 @@ int runList(const std::vector<std::string>& argv) {
           std::printf("       output %-22s %-9s %-13s %s\n", o["name"].get<std::string>().c_str(),
                       o["kind"].get<std::string>().c_str(), o["semantic"].get<std::string>().c_str(),
                       o["help"].get<std::string>().c_str());
+      if (s.contains("probes"))
+        for (const auto& p : s["probes"])
+          std::printf("       probe  %-22s %s%s\n", p["space"].get<std::string>().c_str(), joinNames(p["parameters"].get<std::vector<std::string>>()).c_str(),
+                      p.contains("resource") ? (" in " + p["resource"].get<std::string>()).c_str() : "");
       if (s.contains("parameters"))
         for (const auto& p : s["parameters"])
           std::printf("       param  %-22s = %-8s [%s%s%s] %s\n", p["name"].get<std::string>().c_str(),

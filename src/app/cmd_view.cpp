@@ -26,7 +26,7 @@ int runView(const std::vector<std::string>& argv) {
              {"--window", true, false, "window size WIDTHxHEIGHT (default 1280x720)"},
              {"--ui-scale", true, false, "size of text and widgets, 0.75..3 (default 1; 1.5-2 for a projector)"}});
   ViewerOptions o;
-  o.technique = args.get("--technique", o.technique);
+  o.technique = args.get("--technique", "vct-grid");  // the documented default of `voxlab view`
   o.scene = args.get("--scene", o.scene);
   o.lesson = args.get("--lesson");
   o.script = args.get("--script");

@@ -198,10 +198,11 @@ DisplayImage displayImage(const CapturedOutput& out, int level) {
   return img;
 }
 
-DisplayImage pointView(const CapturedOutput& out, int size) {
+DisplayImage pointView(const CapturedOutput& out, int size, std::vector<int32_t>* pick) {
   DisplayImage img;
   img.width = img.height = size;
   img.rgb.assign(size_t(size) * size * 3, 24);
+  if (pick) pick->assign(size_t(size) * size, -1);
   const auto& L = out.desc.layout;
   const BufferField* pos = nullptr;
   const BufferField* col = nullptr;
@@ -242,6 +243,7 @@ DisplayImage pointView(const CapturedOutput& out, int size) {
         if (z2 >= depth[i]) continue;
         depth[i] = z2;
         std::memcpy(&img.rgb[i * 3], rgb, 3);
+        if (pick) (*pick)[i] = int32_t(r);
       }
   }
   return img;
@@ -314,21 +316,24 @@ LevelData readLevelExr(const std::string& path) {
   return d;
 }
 
+json recordJson(const CapturedOutput& out, uint32_t r) {
+  json rec;
+  const auto& L = out.desc.layout;
+  if (r >= out.recordCount || size_t(r + 1) * L.stride > out.records.size()) return rec;
+  for (const auto& f : L.fields) {
+    int nc = fieldComponents(f.type);
+    if (nc == 1) {
+      rec[f.name] = fieldScalar(&out.records[size_t(r) * L.stride], f, 0);
+    } else {
+      for (int c = 0; c < nc; ++c) rec[f.name].push_back(fieldScalar(&out.records[size_t(r) * L.stride], f, c));
+    }
+  }
+  return rec;
+}
+
 json recordsJson(const CapturedOutput& out, size_t limit) {
   json arr = json::array();
-  const auto& L = out.desc.layout;
-  for (uint32_t r = 0; r < std::min<size_t>(out.recordCount, limit); ++r) {
-    json rec;
-    for (const auto& f : L.fields) {
-      int nc = fieldComponents(f.type);
-      if (nc == 1) {
-        rec[f.name] = fieldScalar(&out.records[size_t(r) * L.stride], f, 0);
-      } else {
-        for (int c = 0; c < nc; ++c) rec[f.name].push_back(fieldScalar(&out.records[size_t(r) * L.stride], f, c));
-      }
-    }
-    arr.push_back(rec);
-  }
+  for (uint32_t r = 0; r < std::min<size_t>(out.recordCount, limit); ++r) arr.push_back(recordJson(out, r));
   return arr;
 }
 

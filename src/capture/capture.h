@@ -52,7 +52,11 @@ struct DisplayImage {
   std::vector<uint8_t> rgb;
 };
 DisplayImage displayImage(const CapturedOutput& out, int level);
-DisplayImage pointView(const CapturedOutput& out, int size = 512);  // buffers with a Position field
+// Buffers with a Position field, as splats from a fixed three-quarter view. 'pick' (optional)
+// receives, per pixel (top row first), the index of the record drawn there or -1.
+DisplayImage pointView(const CapturedOutput& out, int size = 512, std::vector<int32_t>* pick = nullptr);
+// Record 'index' of a buffer, decoded by its layout (as one element of recordsJson).
+nlohmann::json recordJson(const CapturedOutput& out, uint32_t index);
 
 // Records of a buffer with a Position field as points: position (times layout.positionScale) and
 // the Color field's first three components (linear; 0.9 grey without one), the Normal field (zero

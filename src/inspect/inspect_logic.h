@@ -1,7 +1,7 @@
 // The viewer's logic that needs no window: display mapping of captured levels (with channel,
 // exposure and volume slices), the `voxlab run` command
 // line that reproduces a viewer state, and the viewer's script format. Unit-tested in
-// tests/unit/test_lesson.cpp; the ImGui code in viewer.cpp only draws what these return.
+// tests/unit/test_lesson.cpp; the viewer's panels and visualisers only draw what these return.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -36,6 +36,7 @@ struct DisplaySettings {
 struct SliceImage {
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;
+  std::vector<int32_t> pick;  // optional, per pixel: the element drawn there (-1 none), e.g. a record
 };
 glm::ivec2 sliceExtent(const LevelData& level, const SliceSpec& slice);
 SliceImage mapSlice(const LevelData& level, Semantic semantic, const SliceSpec& slice, const DisplaySettings& ds);

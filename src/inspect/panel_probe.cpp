@@ -59,9 +59,16 @@ int Viewer::probeShownAt(const glm::ivec3& texel, int level) {
   for (ProbeSpace space : probeSpacesOfShown())
     for (auto [stage, p] : probesFor(space, cap.desc.resourceName())) {
       if (space == ProbeSpace::Volume) {
-        set(p->x, texel.x);
-        set(p->y, texel.y);
-        set(p->z, texel.z);
+        // Without a level parameter the probe means level-0 cells: the centre cell of the clicked
+        // texel's footprint (a level-L texel covers size0 / sizeL cells per axis).
+        glm::ivec3 cell = texel;
+        if (p->level.empty() && level > 0) {
+          const glm::ivec3 span = cap.levels[0].size / glm::max(size, glm::ivec3(1));
+          cell = texel * span + span / 2;
+        }
+        set(p->x, cell.x);
+        set(p->y, cell.y);
+        set(p->z, cell.z);
         if (!p->level.empty()) set(p->level, level);
       } else {
         // Fractions of the image, y from the top (image rows are stored bottom-up).
@@ -151,7 +158,7 @@ void Viewer::drawProbe() {
     }
   ImGui::TextDisabled("click a camera image (final, G-buffer, ...), a volume slice or a light-space image to probe");
   ImGui::BeginChild("probe-records");
-  for (auto& r : const_cast<std::vector<ProbeRecords>&>(probeRecords())) {
+  for (const auto& r : probeRecords()) {
     ImGui::Separator();
     ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s/%s", t.stage(r.stage).id(), r.desc->name.c_str());
     if (!r.error.empty()) {

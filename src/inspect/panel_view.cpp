@@ -88,7 +88,12 @@ void Viewer::drawView() {
   ImVec2 m = ImGui::GetIO().MousePos;
   int px = int(std::floor((m.x - origin.x) / scale)), py = int(std::floor((m.y - origin.y) / scale));
   glm::ivec3 element;
-  if (imageHovered && vis.elementAt(ctx, px, py, element)) {
+  const bool inside = px >= 0 && py >= 0 && px < viewImage.width && py < viewImage.height;
+  if (imageHovered && !viewImage.pick.empty()) {
+    // The visualiser drew a pick map: the element under the cursor is the one drawn there.
+    int id = inside ? viewImage.pick[size_t(py) * viewImage.width + px] : -1;
+    if (id >= 0) hover = true, hoverTexel = glm::ivec3(id, 0, 0);
+  } else if (imageHovered && vis.elementAt(ctx, px, py, element)) {
     hover = true;
     hoverTexel = element;
   }
@@ -156,7 +161,7 @@ void Viewer::drawView() {
 
   // Value under the cursor and the picked element.
   if (hover) {
-    ImGui::TextUnformatted(vis.describeElement(ctx, hoverTexel).c_str());
+    ImGui::TextWrapped("%s", vis.describeElement(ctx, hoverTexel).c_str());
   } else {
     std::string caption = vis.caption(ctx);
     const char* click = probeSpaces.empty() ? "pick" : "probe";
@@ -169,7 +174,7 @@ void Viewer::drawView() {
   }
   if (pickTexel.x >= 0) {
     std::string picked = vis.describeElement(ctx, pickTexel);
-    if (!picked.empty()) ImGui::Text("picked %s", picked.c_str());
+    if (!picked.empty()) ImGui::TextWrapped("picked %s", picked.c_str());
   }
   if (pendingCamera) ImGui::TextColored(kWarningColour, "camera moving: the image follows when the stages have re-run");
   if (!status.empty()) ImGui::TextDisabled("%s", status.c_str());

@@ -2,6 +2,7 @@
 // keyboard, plus expectations for the tests in tests/viewer. The verbs and their usage are in
 // inspect_logic.cpp (parseScript); nothing here names a stage, a technique or a semantic.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -336,8 +337,17 @@ void Viewer::execute(const ScriptAction& a) {
     if (!capError.empty()) scriptFail(a, capError);
     VisualiserContext ctx = visualiserContext();
     glm::ivec3 element;
-    if (!shownVisualiser()->elementAt(ctx, intArg(0), intArg(1), element))
-      scriptFail(a, "(" + arg(0) + ", " + arg(1) + ") is outside the view of " + cap.desc.name);
+    const int x = intArg(0), y = intArg(1);
+    SliceImage img = shownVisualiser()->image2D(ctx);
+    bool found = false;
+    if (!img.pick.empty()) {  // a pick map (point views): the element drawn at that pixel
+      int id = x >= 0 && y >= 0 && x < img.width && y < img.height ? img.pick[size_t(y) * img.width + x] : -1;
+      found = id >= 0;
+      element = glm::ivec3(id, 0, 0);
+    } else {
+      found = shownVisualiser()->elementAt(ctx, x, y, element);
+    }
+    if (!found) scriptFail(a, "nothing of " + cap.desc.name + " is shown at (" + arg(0) + ", " + arg(1) + ")");
     pickTexel = element;
     int probed = probeSpacesOfShown().empty() ? 0 : probeShownAt(element, view.level);
     std::printf("click %s: %s; %d probe(s) set\n", cap.desc.name.c_str(), shownVisualiser()->describeElement(ctx, element).c_str(),
@@ -390,12 +400,14 @@ void Viewer::execute(const ScriptAction& a) {
     if (!compare.on) scriptFail(a, "compare is off (compare-with ...)");
     if (cap.desc.kind != OutputKind::Image2D) scriptFail(a, "output " + cap.desc.name + " is not an image");
     compare.key.clear();
+    const auto t0 = std::chrono::steady_clock::now();
     updateCompare();
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (!compare.error.empty()) scriptFail(a, compare.error);
     const auto& m = *compare.metrics;
     // %.9g: enough digits for the test to compare with `voxlab compare --json`.
-    std::printf("compare %s vs %s: rmse %.9g psnr %.9g mae %.9g max_abs %.9g ssim %.9g\n", cap.desc.name.c_str(),
-                compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim);
+    std::printf("compare %s vs %s: rmse %.9g psnr %.9g mae %.9g max_abs %.9g ssim %.9g (%.1f ms)\n", cap.desc.name.c_str(),
+                compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim, ms);
     if (!a.args.empty() && !(m.rmse > floatArg(0)))
       scriptFail(a, "rmse " + std::to_string(m.rmse) + " is not above " + arg(0));
   } else if (v == "frame-stats") {

@@ -1,8 +1,9 @@
 // Viewer: the interactive front end (`voxlab view`). It steps any technique stage by stage and
 // inspects every declared output, working from the stage declarations alone: the timeline comes
-// from the stage list, the parameter panel from the ParamDescs, the inspector from each
-// OutputDesc's kind and semantic, and the pixel probe from any stage that declares a
-// Semantic::ConeSamples output and the parameters probe.x / probe.y. No stage-specific code.
+// from the stage list, the parameter panel from the ParamDescs, every view of an output from the
+// visualiser of its kind and semantic (src/inspect/visualisers), and the probes from the stages'
+// probe declarations (StageBuilder::probe, OutputDesc::probeRecord). No stage-specific code.
+// The panels are one file each around the state in viewer_state.h.
 //
 // Stages run on the GL thread one per frame (StepCursor::runThrough to the next stage only), so
 // the UI is drawn between stages and never freezes for a whole technique. A script (--script)
@@ -14,7 +15,7 @@
 namespace voxlab {
 
 struct ViewerOptions {
-  std::string technique = "vct-grid";
+  std::string technique;   // technique id to open (voxlab view defaults it)
   std::string scene = "cornell-box";
   std::string lesson;      // lesson file to open (optional)
   std::string script;      // script file to replay (optional); the viewer quits at its end

@@ -54,12 +54,12 @@ PY
     export VOXLAB_VIEWER_OUT="$out"
     view
     # The test-only visualiser's writer ran for the test-only semantic (one line per cell of the
-    # 8^3 volume), next to the files every volume gets.
+    # 8^3 level 0), next to the files every volume gets (one EXR per level).
     cells="$out/saved/cells.cells.index.txt"
     [ -f "$cells" ] || { echo "missing $cells: the test visualiser's writer did not run"; exit 1; }
     [ "$(wc -l <"$cells")" -eq 512 ] || { echo "$cells has $(wc -l <"$cells") lines, expected 512"; exit 1; }
     grep -qx "3 3 4 283" "$cells" || { echo "$cells lacks cell (3, 3, 4) with index 283"; exit 1; }
-    [ -f "$out/saved/cells.cells.exr" ] && [ -f "$out/saved/record.probed-cell.bin" ] ||
+    [ -f "$out/saved/cells.cells@1.exr" ] && [ -f "$out/saved/record.probed-cell.bin" ] ||
       { echo "save-output did not write the usual files"; ls "$out/saved"; exit 1; }
     # The click re-ran the probing stage: its record is the clicked cell (the stage's first run
     # recorded the parameters' default, cell (0, 0, 0)).

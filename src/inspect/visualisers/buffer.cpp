@@ -46,7 +46,7 @@ GoldenResult BufferVisualiser::compareGolden(const CapturedOutput& out, const Go
 SliceImage BufferVisualiser::image2D(const VisualiserContext& ctx) const {
   SliceImage img;
   if (!hasPositions(ctx.out.desc)) return img;
-  DisplayImage pv = pointView(ctx.out, 512);
+  DisplayImage pv = pointView(ctx.out, 512, &img.pick);
   img.width = pv.width;
   img.height = pv.height;
   img.rgba.resize(size_t(pv.width) * pv.height * 4);
@@ -57,8 +57,25 @@ SliceImage BufferVisualiser::image2D(const VisualiserContext& ctx) const {
   return img;
 }
 
+std::string BufferVisualiser::describeElement(const VisualiserContext& ctx, const glm::ivec3& element) const {
+  if (element.x < 0 || uint32_t(element.x) >= ctx.out.recordCount) return "";
+  std::string s = "record " + std::to_string(element.x) + ":";
+  nlohmann::json r = recordJson(ctx.out, uint32_t(element.x));
+  for (auto it = r.begin(); it != r.end(); ++it) {
+    std::string v;
+    char buf[32];
+    for (const auto& c : it.value().is_array() ? it.value() : nlohmann::json::array({it.value()})) {
+      std::snprintf(buf, sizeof buf, "%s%.4g", v.empty() ? "" : ", ", c.get<double>());
+      v += buf;
+    }
+    s += " " + it.key() + " (" + v + ")";
+  }
+  return s;
+}
+
 std::string BufferVisualiser::caption(const VisualiserContext& ctx) const {
-  return std::to_string(ctx.out.recordCount) + " records" + (hasPositions(ctx.out.desc) ? " (point view)" : "");
+  return std::to_string(ctx.out.recordCount) + " records" +
+         (hasPositions(ctx.out.desc) ? " (point view; hover or click a point for its record)" : "");
 }
 
 Content3D BufferVisualiser::build3D(const VisualiserContext& ctx, View3D& view) const {

@@ -16,6 +16,8 @@ class BufferVisualiser : public Visualiser {
   GoldenResult compareGolden(const CapturedOutput& out, const GoldenRequest& request) const override;
 
   SliceImage image2D(const VisualiserContext& ctx) const override;  // the point view, or none
+  // A record picked in the point view: element.x is its index.
+  std::string describeElement(const VisualiserContext& ctx, const glm::ivec3& element) const override;
   std::string caption(const VisualiserContext& ctx) const override;
   bool has3D(const OutputDesc& desc) const override { return hasPositions(desc); }
   Content3D build3D(const VisualiserContext& ctx, View3D& view) const override;

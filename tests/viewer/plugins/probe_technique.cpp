@@ -29,10 +29,12 @@ class CellsStage : public Stage {
     d.target = GL_TEXTURE_3D;
     d.format = GL_R32F;
     d.size = {kEdge, kEdge, kEdge};
+    d.levels = 2;  // level 1 (4^3) is there to click on: the probe means level-0 cells
     Texture& t = ctx.board.ensureTexture("cells", d);
     std::vector<float> v(kEdge * kEdge * kEdge);
     for (size_t i = 0; i < v.size(); ++i) v[i] = float(i);
     glTextureSubImage3D(t.id(), 0, 0, 0, 0, kEdge, kEdge, kEdge, GL_RED, GL_FLOAT, v.data());
+    glGenerateTextureMipmap(t.id());
     ctx.board.place("cells", WorldBox{glm::vec3(0.0f), glm::vec3(1.0f)});
     TextureDesc l;
     l.format = GL_R32F;
