@@ -16,6 +16,8 @@
                                          small and sliver triangles
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
+
+scenes/sponza/ (Crytek Sponza) comes from the shared source files instead: scripts/make_sponza.py.
 """
 
 import argparse
