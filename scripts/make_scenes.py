@@ -23,6 +23,8 @@
   tests/data/scenes/half-roof.gltf       the floor with a roof over its -x half (volumetric shadow tests)
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
+
+scenes/sponza/ (Crytek Sponza) comes from the shared source files instead: scripts/make_sponza.py.
 """
 
 import argparse

@@ -12,8 +12,11 @@
 // appends one VoxelFragment through the shared atomic counter.
 //
 // The columns are one flat loop split into chunks of u_chunkColumns: invocation (x, y) of the
-// dispatch does chunk u_firstChunk + y of triangle triangleList[u_listBase + x]. The stage runs
-// chunk 0 of every listed triangle, then the further chunks of the few triangles that have them. llvmpipe ends every shader invocation's loops after
+// dispatch does chunk u_firstChunk + y of one triangle. The stage (techniques/common/
+// triangle_voxelizer.cpp) runs chunk 0 of every compute triangle, one dispatch per draw range
+// (u_directRange = 1: triangle u_listBase + x), then the further chunks of the few triangles
+// that have them (triangleList[u_listBase + x]), once per material; every dispatch sees one
+// material (u_materialIndex), whose textures it samples. llvmpipe ends every shader invocation's loops after
 // 65535 iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops of the shader), so an
 // unsplit loop silently dropped the rest of any triangle with more than ~20000 columns (the
 // Cornell box's walls at 256^3). A chunk of C columns costs at most C iterations of the column

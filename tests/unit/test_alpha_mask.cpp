@@ -252,6 +252,42 @@ TEST(AlphaMask, MaskedQuadLeavesNoVoxelsWhereTransparent) {
   }
 }
 
+// Both voxelizers take a fragment's albedo from the material's texture (the compute pass samples
+// it per draw range at the voxel centre's projection): on the opaque variant of the scene every
+// quad texel has sRGB colour (200, 100, 50), linear (0.578, 0.127, 0.032), and the small triangle
+// (no texture, factor 1) is white. RGBA8 fragments: within 1.5/255 (texture filtering and
+// 8-bit rounding, measured worst 1/255).
+TEST(AlphaMask, VoxelFragmentsCarryTextureAlbedo) {
+  for (const char* method : {"fragment-parallel", "triangle-parallel"}) {
+    RunRequest r;
+    r.technique = "voxelization";
+    r.scene = opaqueScene();
+    r.sets = {"voxel.resolution=" + std::to_string(kResolution)};
+    r.width = r.height = 64;
+    HeadlessSession& s = testing_support::session(r);
+    s.cursor().setParamText("voxelize.method", method);
+    s.cursor().runAll();
+    CapturedOutput fragments = testing_support::capture(s, "voxelize", "fragments");
+    const VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), kResolution);
+    const int quadLayer = int(std::floor(space.toVoxel(glm::vec3(0, 0, kQuadZ)).z));
+    size_t quad = 0, white = 0, wrong = 0;
+    for (uint32_t i = 0; i < fragments.recordCount; ++i) {
+      const uint8_t* rec = &fragments.records[size_t(i) * fragments.desc.layout.stride];
+      uint32_t packed;
+      std::memcpy(&packed, rec, 4);
+      const uint8_t* albedo = rec + 4;
+      const bool onQuad = int(unpackVoxelKey(packed).z) <= quadLayer + 1;
+      const glm::vec3 expected = onQuad ? glm::vec3(0.578f, 0.127f, 0.032f) : glm::vec3(1.0f);
+      const glm::vec3 got(albedo[0] / 255.0f, albedo[1] / 255.0f, albedo[2] / 255.0f);
+      (onQuad ? quad : white) += 1;
+      if (glm::any(glm::greaterThan(glm::abs(got - expected), glm::vec3(1.5f / 255.0f)))) ++wrong;
+    }
+    EXPECT_GT(quad, 3000u) << method;
+    EXPECT_GT(white, 10u) << method;
+    EXPECT_EQ(wrong, 0u) << method;
+  }
+}
+
 // The G-buffer discards cut-away fragments: looking at the quad, the transparent half shows the
 // far plane (depth 1), the opaque half the quad.
 TEST(AlphaMask, GBufferSeesThroughTransparentHalf) {

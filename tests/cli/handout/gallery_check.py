@@ -83,8 +83,7 @@ for key in table:
     if key not in seen:
         fail(f"docs/fidelity.md row {key} is not in the gallery")
 
-# A scene without checked-in references (any scene `voxlab list` names works; Sponza will have none
-# until scripts/make-references.sh renders them): every technique still gets its row, and each
+# A scene without checked-in references (any scene file works): every technique still gets its row, and each
 # tagged output says that no reference exists instead of showing numbers.
 other = os.path.join(out, "no-reference")
 subprocess.run([exe, "gallery", "--scene", os.path.join(root, "tests/data/scenes/furnace-box.gltf"), "--size", "64x64",
