@@ -33,23 +33,55 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct Settings {
+  std::string name;  // "" for the main configuration, else the name of one in "configurations"
   RunRequest request;
+  std::string goldenSuffix() const { return name.empty() ? "" : "." + name; }  // of <scene> in golden paths
+  std::string testPrefix(const std::string& technique) const { return technique + (name.empty() ? "" : "_" + name); }
+  ParamSet params() const {
+    ParamSet p = createTechnique(request.technique)->defaultParams();
+    for (const auto& set : request.sets) {
+      size_t eq = set.find('=');
+      p.setText(set.substr(0, eq), set.substr(eq + 1));
+    }
+    return p;
+  }
 };
 
-Settings settingsFor(const std::string& technique) {
+// The main configuration (top-level "scene", "size", "set"), then each entry of the optional
+// "configurations" list (its own "name", and "scene", "size", "set" replacing the main ones), e.g.
+// vct-grid's anisotropic mips at reduced size. Goldens of a named configuration live in
+// tests/golden/<technique>/<scene>.<name>/.
+std::vector<Settings> configurationsFor(const std::string& technique) {
   Settings s;
   s.request.technique = technique;
   s.request.width = s.request.height = 128;
   std::string path = projectPath("tests/golden/" + technique + "/settings.json");
   auto params = createTechnique(technique)->defaultParams();
   if (params.has("voxel.resolution")) s.request.sets.push_back("voxel.resolution=64");
-  if (fileExists(path)) {
-    json j = json::parse(readTextFile(path));
-    s.request.scene = j.value("scene", s.request.scene);
-    if (j.contains("size")) Args::parseSize(j["size"].get<std::string>(), s.request.width, s.request.height);
-    if (j.contains("set")) s.request.sets = j["set"].get<std::vector<std::string>>();
+  std::vector<Settings> out;
+  json j = fileExists(path) ? json::parse(readTextFile(path)) : json::object();
+  auto apply = [](Settings& t, const json& o) {
+    t.request.scene = o.value("scene", t.request.scene);
+    if (o.contains("size")) Args::parseSize(o["size"].get<std::string>(), t.request.width, t.request.height);
+    if (o.contains("set")) t.request.sets = o["set"].get<std::vector<std::string>>();
+  };
+  apply(s, j);
+  out.push_back(s);
+  for (const json& c : j.value("configurations", json::array())) {
+    Settings t = s;
+    t.name = c.at("name").get<std::string>();
+    apply(t, c);
+    out.push_back(t);
   }
-  return s;
+  return out;
+}
+
+// Whether the output is only a placeholder under these parameters (OutputDesc::placeholderUnless,
+// a choice parameter).
+bool isPlaceholder(const OutputDesc& desc, const ParamSet& params) {
+  if (desc.placeholderUnless.empty()) return false;
+  size_t eq = desc.placeholderUnless.find('=');
+  return params.getChoice(desc.placeholderUnless.substr(0, eq)) != desc.placeholderUnless.substr(eq + 1);
 }
 
 struct Tolerance {
@@ -106,18 +138,26 @@ std::vector<uint8_t> sortedRecords(const CapturedOutput& c) {
 
 class SnapshotTest : public ::testing::Test {
  public:
-  SnapshotTest(std::string technique, std::string stage, std::string output)
-      : technique_(std::move(technique)), stage_(std::move(stage)), output_(std::move(output)) {}
+  SnapshotTest(Settings settings, std::string stage, std::string output)
+      : settings_(std::move(settings)), technique_(settings_.request.technique), stage_(std::move(stage)),
+        output_(std::move(output)) {}
 
   void TestBody() override {
-    Settings settings = settingsFor(technique_);
-    HeadlessSession& s = testing_support::session(settings.request);
+    HeadlessSession& s = testing_support::session(settings_.request);
     CapturedOutput c = testing_support::capture(s, stage_, output_);
     std::string address = technique_ + "/" + stage_ + "/" + output_;
-    std::string dir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
+    std::string dir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name + settings_.goldenSuffix());
     std::string prefix = stage_ + "." + output_;
     Tolerance tol = toleranceFor(address, c.desc.tier);
     if (c.desc.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
+    if (isPlaceholder(c.desc, settings_.params())) {
+      // Declared a placeholder under these parameters: it must be one empty texel, no golden.
+      for (const LevelData& level : c.levels) {
+        EXPECT_EQ(level.texelCount(), 1u) << address << " is a placeholder unless " << c.desc.placeholderUnless;
+        for (float v : level.values) EXPECT_EQ(v, 0.0f) << address << " is a placeholder but not empty";
+      }
+      return;
+    }
     if (c.desc.kind == OutputKind::Buffer)
       compareBuffer(c, dir, prefix, tol);
     else
@@ -207,6 +247,7 @@ class SnapshotTest : public ::testing::Test {
     }
   }
 
+  Settings settings_;
   std::string technique_, stage_, output_;
 };
 
@@ -215,9 +256,9 @@ class SnapshotTest : public ::testing::Test {
 // of the stage produces from the same inputs. Exact: the same programs on the same data.
 class IterationTest : public ::testing::Test {
  public:
-  IterationTest(std::string technique, std::string stage) : technique_(std::move(technique)), stage_(std::move(stage)) {}
+  IterationTest(Settings settings, std::string stage) : settings_(std::move(settings)), stage_(std::move(stage)) {}
   void TestBody() override {
-    HeadlessSession& s = testing_support::session(settingsFor(technique_).request);
+    HeadlessSession& s = testing_support::session(settings_.request);
     StepCursor& c = s.cursor();
     const Technique& t = c.technique();
     const int stage = t.stageIndex(stage_);
@@ -248,7 +289,8 @@ class IterationTest : public ::testing::Test {
   }
 
  private:
-  std::string technique_, stage_;
+  Settings settings_;
+  std::string stage_;
 };
 
 }  // namespace
@@ -256,28 +298,27 @@ class IterationTest : public ::testing::Test {
 void registerSnapshotTests() {
   for (const auto& entry : techniqueRegistry()) {
     auto t = createTechnique(entry.id);
-    for (int i = 0; i < t->stageCount(); ++i)
-      for (const auto& o : t->decl(i).outputs) {
-        std::string id = entry.id, stage = t->stage(i).id(), output = o.name;
-        std::string name = id + "/" + stage + "/" + output;
-        std::replace(name.begin(), name.end(), '-', '_');
-        std::replace(name.begin(), name.end(), '/', '_');
-        ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
-                                [=]() -> ::testing::Test* { return new SnapshotTest(id, stage, output); });
-      }
-    ParamSet params = t->defaultParams();
-    for (const auto& set : settingsFor(entry.id).request.sets) {
-      size_t eq = set.find('=');
-      params.setText(set.substr(0, eq), set.substr(eq + 1));
+    for (const Settings& settings : configurationsFor(entry.id)) {
+      const std::string prefix = settings.testPrefix(entry.id);
+      for (int i = 0; i < t->stageCount(); ++i)
+        for (const auto& o : t->decl(i).outputs) {
+          std::string stage = t->stage(i).id(), output = o.name;
+          std::string name = prefix + "/" + stage + "/" + output;
+          std::replace(name.begin(), name.end(), '-', '_');
+          std::replace(name.begin(), name.end(), '/', '_');
+          ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
+                                  [=]() -> ::testing::Test* { return new SnapshotTest(settings, stage, output); });
+        }
+      ParamSet params = settings.params();
+      for (int i = 0; i < t->stageCount(); ++i)
+        if (t->stage(i).iterations(params) > 1) {
+          std::string stage = t->stage(i).id();
+          std::string name = prefix + "_" + stage;
+          std::replace(name.begin(), name.end(), '-', '_');
+          ::testing::RegisterTest("Iterations", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
+                                  [=]() -> ::testing::Test* { return new IterationTest(settings, stage); });
+        }
     }
-    for (int i = 0; i < t->stageCount(); ++i)
-      if (t->stage(i).iterations(params) > 1) {
-        std::string id = entry.id, stage = t->stage(i).id();
-        std::string name = id + "_" + stage;
-        std::replace(name.begin(), name.end(), '-', '_');
-        ::testing::RegisterTest("Iterations", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
-                                [=]() -> ::testing::Test* { return new IterationTest(id, stage); });
-      }
   }
 }
 
