@@ -82,7 +82,8 @@ for f in files:
     os.makedirs(os.path.dirname(dst), exist_ok=True)
     src = os.path.join(root, f)
     if not os.path.exists(dst) or open(src, "rb").read() != open(dst, "rb").read():
-        shutil.copy2(src, dst)
+        shutil.copyfile(src, dst)  # a fresh mtime, so that make rebuilds what depends on it
+        shutil.copymode(src, dst)
 print("mutation-check: building the copy in %s" % build, flush=True)
 rc, out = run(["cmake", "-S", tree, "-B", build, "-DCMAKE_BUILD_TYPE=Release"])
 rc2, out2 = run(["cmake", "--build", build, "-j2", "--target", "voxlab_tests", "voxlab"]) if rc == 0 else (rc, "")
@@ -114,7 +115,7 @@ cppDirty = False
 for m in mutations:
     t0 = time.time()
     path = os.path.join(tree, m["file"])
-    original = open(os.path.join(root, m["file"]), encoding="utf-8").read()
+    original = open(path, encoding="utf-8").read()  # the copy's text (the tree as it was copied)
     n = original.count(m["find"])
     if n != 1:
         results.append((m, "does not apply (%d occurrences)" % n, 0.0))

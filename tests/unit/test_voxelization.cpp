@@ -479,6 +479,32 @@ TEST(Voxelization, HybridSplitsTrianglesByProjectedArea) {
   EXPECT_EQ(m.largeTriangles, double(large));
   EXPECT_EQ(large, 2u);
   EXPECT_GT(small, 10000u);
+
+  // A cutoff of 1.5 times the median sheet triangle's area: most sheet triangles (their projected
+  // areas are nearly all equal, the sheet being a regular grid seen from above) lie between half
+  // the cutoff and the cutoff, so a cutoff applied at half its value, or compared the wrong way,
+  // moves thousands of triangles.
+  std::vector<double> areas;
+  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+    glm::dvec3 v[3];
+    for (int k = 0; k < 3; ++k) v[k] = glm::dvec3(space.toVoxel(scene.positions[scene.indices[3 * t + k]]));
+    glm::dvec3 n = glm::abs(glm::cross(v[1] - v[0], v[2] - v[0]));
+    areas.push_back(0.5 * std::max({n.x, n.y, n.z}));
+  }
+  std::vector<double> sorted = areas;
+  std::sort(sorted.begin(), sorted.end());
+  char cutoffText[32];
+  std::snprintf(cutoffText, sizeof cutoffText, "%.9g", 1.5 * sorted[sorted.size() / 2]);
+  const double cutoffUsed = std::stod(cutoffText);
+  size_t below = 0, nearCutoff = 0;
+  for (double a : areas) {
+    below += a > 0 && a < cutoffUsed;
+    nearCutoff += std::abs(a - cutoffUsed) < 1e-6;  // float rounding on the GPU is ~1e-8 here
+  }
+  ASSERT_EQ(nearCutoff, 0u);
+  MethodResult split = runMethod(denseScene(), 64, "hybrid", {"voxelize.hybrid-cutoff=64"}, cutoffText);
+  EXPECT_EQ(split.smallTriangles, double(below)) << "cutoff " << cutoffText;
+  EXPECT_GT(below, 10000u);
 }
 
 // Textures: the raster pass (fragment-parallel, and the hybrid's large triangles) samples the base
