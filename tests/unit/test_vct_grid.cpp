@@ -1,9 +1,12 @@
 // vct-grid checks that do not come from the code under test (testing.md tiers 1 and 3):
-//  - the conservative voxelizer's voxel set against the CPU triangle/box reference;
-//  - triangles per projection axis against a CPU count (the plane normal comes from positions);
-//  - every mip texel against the CPU average of its 8 children;
-//  - white furnace: uniform injected radiance L in a closed box of albedo rho gives rho * L;
-//  - ambient occlusion of floor points next to a wall against numerical quadrature.
+//  - the conservative voxelizer's voxel set against the CPU reference (ties, non-cubic bounds),
+//    fragments against the CPU pair count, triangles per projection axis (ties included);
+//  - every mip texel against CPU references of the isotropic and the anisotropic rules;
+//  - white furnace per channel (grey and coloured): uniform radiance L in a closed box of albedo
+//    rho gives rho * L; the cone weights on a floor under a lid;
+//  - ambient occlusion of floor points next to a wall against numerical quadrature;
+//  - textures in the raster voxelizer, the G-buffer and inject; a look-from/look-at camera;
+//  - the volume's placement from the scene's published bounds.
 #include <gtest/gtest.h>
 
 #include <cmath>

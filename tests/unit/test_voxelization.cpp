@@ -1,11 +1,15 @@
-// voxelization checks (testing.md tier 1, exact): every conservative method's voxel set against
-// the CPU triangle/box reference on four scenes, the plain method's holes, the stages' own
-// statistics against counts made here, and the 10-bit packing limit on voxel.resolution.
+// voxelization checks (testing.md tier 1, exact): every conservative method's voxel set and pair
+// count against the CPU reference (half-open cells, docs/voxelization.md), the tie convention
+// against cells listed by hand, dominant-axis ties, the hybrid's split, the compare stage on a
+// hand-made list, textures in the raster and compute passes, the plain method's holes, and the
+// 10-bit packing limit on voxel.resolution.
 //
 // Scenes: the Cornell box (large axis-aligned quads), thin-wall (a 1 cm wall, thinner than a
-// voxel), a tilted 1 cm slab, a dense wavy sheet of sub-voxel triangles on a two-triangle floor (both hybrid classes),
-// and a few huge triangles at odd angles crossing the whole volume. The last two are generated
-// here and written as temporary .gltf files (as are the tilted slab's).
+// voxel), a tilted 1 cm slab, a dense wavy sheet of sub-voxel triangles on a two-triangle floor
+// (both hybrid classes) and a few huge triangles at odd angles crossing the whole volume (these
+// three generated here as temporary .gltf files), and from tests/data/scenes (scripts/make_scenes.py):
+// voxel-ties-{64,128,256} (geometry on voxel faces, edges and corners, 45-degree planes, small and
+// sliver triangles), long-hall (non-cubic bounds), boundary-quad and textured-floor.
 #include <gtest/gtest.h>
 
 #include <algorithm>
