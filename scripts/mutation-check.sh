@@ -66,8 +66,8 @@ mutations.sort(key=lambda m: (not isShader(m)))  # shaders first: no rebuilds in
 start = time.time()
 tree, build = os.path.join(work, "tree"), os.path.join(work, "build")
 
-def run(cmd, env=None, timeout=1800):
-    p = subprocess.run(cmd, cwd=root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
+def run(cmd, env=None, timeout=1800, cwd=None):
+    p = subprocess.run(cmd, cwd=cwd or root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
     return p.returncode, p.stdout.decode("utf-8", "replace")
 
 # 1. The copy: tracked and untracked-but-not-ignored files.
@@ -96,7 +96,7 @@ env = dict(os.environ, VOXLAB_ROOT=tree, LP_NUM_THREADS=os.environ.get("LP_NUM_T
 testBinary = os.path.join(build, "voxlab_tests")
 
 def gtest(filter_):
-    rc, out = run([testBinary, "--gtest_filter=" + filter_], env=env)
+    rc, out = run([testBinary, "--gtest_filter=" + filter_], env=env, cwd=build)  # snapshot-failures/ go there
     m = re.search(r"\[==========\] (\d+) tests? from", out)
     return rc, (int(m.group(1)) if m else 0), out
 
