@@ -66,8 +66,8 @@ mutations.sort(key=lambda m: (not isShader(m)))  # shaders first: no rebuilds in
 start = time.time()
 tree, build = os.path.join(work, "tree"), os.path.join(work, "build")
 
-def run(cmd, env=None, timeout=1800):
-    p = subprocess.run(cmd, cwd=root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
+def run(cmd, env=None, timeout=1800, cwd=None):
+    p = subprocess.run(cmd, cwd=cwd or root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
     return p.returncode, p.stdout.decode("utf-8", "replace")
 
 # 1. The copy: tracked and untracked-but-not-ignored files.
@@ -82,7 +82,8 @@ for f in files:
     os.makedirs(os.path.dirname(dst), exist_ok=True)
     src = os.path.join(root, f)
     if not os.path.exists(dst) or open(src, "rb").read() != open(dst, "rb").read():
-        shutil.copy2(src, dst)
+        shutil.copyfile(src, dst)  # a fresh mtime, so that make rebuilds what depends on it
+        shutil.copymode(src, dst)
 print("mutation-check: building the copy in %s" % build, flush=True)
 rc, out = run(["cmake", "-S", tree, "-B", build, "-DCMAKE_BUILD_TYPE=Release"])
 rc2, out2 = run(["cmake", "--build", build, "-j2", "--target", "voxlab_tests", "voxlab"]) if rc == 0 else (rc, "")
@@ -95,7 +96,7 @@ env = dict(os.environ, VOXLAB_ROOT=tree, LP_NUM_THREADS=os.environ.get("LP_NUM_T
 testBinary = os.path.join(build, "voxlab_tests")
 
 def gtest(filter_):
-    rc, out = run([testBinary, "--gtest_filter=" + filter_], env=env)
+    rc, out = run([testBinary, "--gtest_filter=" + filter_], env=env, cwd=build)  # snapshot-failures/ go there
     m = re.search(r"\[==========\] (\d+) tests? from", out)
     return rc, (int(m.group(1)) if m else 0), out
 
@@ -114,7 +115,7 @@ cppDirty = False
 for m in mutations:
     t0 = time.time()
     path = os.path.join(tree, m["file"])
-    original = open(os.path.join(root, m["file"]), encoding="utf-8").read()
+    original = open(path, encoding="utf-8").read()  # the copy's text (the tree as it was copied)
     n = original.count(m["find"])
     if n != 1:
         results.append((m, "does not apply (%d occurrences)" % n, 0.0))

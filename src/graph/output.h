@@ -99,6 +99,10 @@ struct OutputDesc {
   // output in linear radiance with tests/golden/reference/<scene>/<mode>.exr when one exists for
   // the same scene, camera and size (app/reference_error.h).
   std::string referenceMode;
+  // "" always real; else "param=value": under any other value of that parameter the stage writes
+  // only a placeholder here (one empty texel), e.g. the anisotropic volumes under isotropic mips.
+  // The snapshot suite then checks it is empty instead of comparing it with a golden.
+  std::string placeholderUnless;
 
   const std::string& resourceName() const { return resource.empty() ? name : resource; }
 };

@@ -36,26 +36,50 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct Settings {
+  std::string name;   // "" for the scene runs, else the name of one of "configurations"
+  std::string scene;  // "" for the main run and configurations, else the scene's stem (later runs)
   RunRequest request;
+  std::string goldenSuffix() const { return name.empty() ? "" : "." + name; }  // of <scene> in golden paths
+  std::string testPrefix(const std::string& technique) const { return technique + (name.empty() ? "" : "_" + name); }
+  std::string failureName(const std::string& technique) const {
+    return testPrefix(technique) + (scene.empty() ? "" : "." + scene);
+  }
+  ParamSet params() const {
+    ParamSet p = createTechnique(request.technique)->defaultParams();
+    for (const auto& set : request.sets) {
+      size_t eq = set.find('=');
+      p.setText(set.substr(0, eq), set.substr(eq + 1));
+    }
+    return p;
+  }
 };
 
+// What 'j' (one object of settings.json) overrides: "scene", "size", "set" (replacing the list).
+void applyOverrides(Settings& s, const json& j) {
+  s.request.scene = j.value("scene", s.request.scene);
+  if (j.contains("size")) Args::parseSize(j["size"].get<std::string>(), s.request.width, s.request.height);
+  if (j.contains("set")) s.request.sets = j["set"].get<std::vector<std::string>>();
+}
+
 // One snapshot run: the defaults (Cornell box, 128x128, voxel.resolution=64 where declared)
-// with what 'j' (one object of settings.json) overrides.
+// with what 'j' overrides.
 Settings settingsFrom(const std::string& technique, const json& j) {
   Settings s;
   s.request.technique = technique;
   s.request.width = s.request.height = 128;
   auto params = createTechnique(technique)->defaultParams();
   if (params.has("voxel.resolution")) s.request.sets.push_back("voxel.resolution=64");
-  s.request.scene = j.value("scene", s.request.scene);
-  if (j.contains("size")) Args::parseSize(j["size"].get<std::string>(), s.request.width, s.request.height);
-  if (j.contains("set")) s.request.sets = j["set"].get<std::vector<std::string>>();
+  applyOverrides(s, j);
   return s;
 }
 
 // The snapshot runs of a technique: tests/golden/<technique>/settings.json holds one settings
 // object, or {"runs": [object, ...]} for several scenes; without the file, one run at the
-// defaults. The first run is the technique's main one (its tests carry no scene suffix).
+// defaults. The first run is the technique's main one (its tests carry no scene suffix; later
+// runs' tests end in the scene's name). Then each entry of the optional "configurations" list:
+// the main run with its own "name" and what it overrides, e.g. vct-grid's anisotropic mips at
+// reduced size; its tests are named <technique>_<name>_..., its goldens live in
+// tests/golden/<technique>/<scene>.<name>/.
 std::vector<Settings> runsFor(const std::string& technique) {
   std::string path = projectPath("tests/golden/" + technique + "/settings.json");
   json j = fileExists(path) ? json::parse(readTextFile(path)) : json::object();
@@ -65,10 +89,24 @@ std::vector<Settings> runsFor(const std::string& technique) {
   } else {
     runs.push_back(settingsFrom(technique, j));
   }
+  for (size_t i = 1; i < runs.size(); ++i) runs[i].scene = fs::path(resolveScenePath(runs[i].request.scene)).stem().string();
+  const Settings main = runs.front();
+  for (const json& c : j.value("configurations", json::array())) {
+    Settings t = main;
+    t.name = c.at("name").get<std::string>();
+    applyOverrides(t, c);
+    runs.push_back(t);
+  }
   return runs;
 }
 
-Settings settingsFor(const std::string& technique) { return runsFor(technique).front(); }
+// Whether the output is only a placeholder under these parameters (OutputDesc::placeholderUnless,
+// a choice parameter).
+bool isPlaceholder(const OutputDesc& desc, const ParamSet& params) {
+  if (desc.placeholderUnless.empty()) return false;
+  size_t eq = desc.placeholderUnless.find('=');
+  return params.getChoice(desc.placeholderUnless.substr(0, eq)) != desc.placeholderUnless.substr(eq + 1);
+}
 
 // The entry "<address> on <scene>" (e.g. "vct-grid/inject/radiance-injected on sponza") overrides
 // "<address>", which overrides "default".
@@ -101,14 +139,14 @@ std::string failureDir() {
 
 class SnapshotTest : public ::testing::Test {
  public:
-  SnapshotTest(std::string technique, std::string stage, std::string output, size_t run)
-      : technique_(std::move(technique)), stage_(std::move(stage)), output_(std::move(output)), run_(run) {}
+  SnapshotTest(Settings settings, std::string stage, std::string output)
+      : settings_(std::move(settings)), technique_(settings_.request.technique), stage_(std::move(stage)),
+        output_(std::move(output)) {}
 
   void TestBody() override {
-    Settings settings = runsFor(technique_).at(run_);
-    HeadlessSession& s = testing_support::session(settings.request);
-    // <technique>[.<scene> for later runs]: names of failure files
-    const std::string failureName = technique_ + (run_ > 0 ? "." + s.cursor().scene().name : std::string());
+    HeadlessSession& s = testing_support::session(settings_.request);
+    // <technique>[_<configuration>][.<scene> for later runs]: names of failure files
+    const std::string failureName = settings_.failureName(technique_);
     CapturedOutput c = testing_support::capture(s, stage_, output_);
     std::string address = technique_ + "/" + stage_ + "/" + output_;
     // The output's visualiser (looked up by kind and semantic) knows its golden files and how to
@@ -116,7 +154,15 @@ class SnapshotTest : public ::testing::Test {
     GoldenRequest q;
     q.tier = captureTier(c.desc);
     if (q.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
-    q.goldenDir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name);
+    if (isPlaceholder(c.desc, settings_.params())) {
+      // Declared a placeholder under these parameters: it must be one empty texel, no golden.
+      for (const LevelData& level : c.levels) {
+        EXPECT_EQ(level.texelCount(), 1u) << address << " is a placeholder unless " << c.desc.placeholderUnless;
+        for (float v : level.values) EXPECT_EQ(v, 0.0f) << address << " is a placeholder but not empty";
+      }
+      return;
+    }
+    q.goldenDir = projectPath("tests/golden/" + technique_ + "/" + s.cursor().scene().name + settings_.goldenSuffix());
     q.prefix = stage_ + "." + output_;
     q.failureDir = failureDir();
     q.failurePrefix = failureName + "." + q.prefix;
@@ -127,8 +173,8 @@ class SnapshotTest : public ::testing::Test {
   }
 
  private:
+  Settings settings_;
   std::string technique_, stage_, output_;
-  size_t run_ = 0;
 };
 
 // An iterative stage stepped one iteration at a time (as the viewer's "Step iteration" does) must
@@ -136,9 +182,9 @@ class SnapshotTest : public ::testing::Test {
 // of the stage produces from the same inputs. Exact: the same programs on the same data.
 class IterationTest : public ::testing::Test {
  public:
-  IterationTest(std::string technique, std::string stage) : technique_(std::move(technique)), stage_(std::move(stage)) {}
+  IterationTest(Settings settings, std::string stage) : settings_(std::move(settings)), stage_(std::move(stage)) {}
   void TestBody() override {
-    HeadlessSession& s = testing_support::session(settingsFor(technique_).request);
+    HeadlessSession& s = testing_support::session(settings_.request);
     StepCursor& c = s.cursor();
     const Technique& t = c.technique();
     const int stage = t.stageIndex(stage_);
@@ -169,7 +215,8 @@ class IterationTest : public ::testing::Test {
   }
 
  private:
-  std::string technique_, stage_;
+  Settings settings_;
+  std::string stage_;
 };
 
 }  // namespace
@@ -177,31 +224,29 @@ class IterationTest : public ::testing::Test {
 void registerSnapshotTests() {
   for (const auto& entry : techniqueRegistry()) {
     auto t = createTechnique(entry.id);
-    const std::vector<Settings> runs = runsFor(entry.id);
-    for (size_t run = 0; run < runs.size(); ++run)
+    for (const Settings& settings : runsFor(entry.id)) {
+      const std::string prefix = settings.testPrefix(entry.id);
       for (int i = 0; i < t->stageCount(); ++i)
         for (const auto& o : t->decl(i).outputs) {
-          std::string id = entry.id, stage = t->stage(i).id(), output = o.name;
-          std::string name = id + "/" + stage + "/" + output;
-          if (run > 0) name += "/" + fs::path(resolveScenePath(runs[run].request.scene)).stem().string();
+          std::string stage = t->stage(i).id(), output = o.name;
+          std::string name = prefix + "/" + stage + "/" + output;
+          if (!settings.scene.empty()) name += "/" + settings.scene;
           std::replace(name.begin(), name.end(), '-', '_');
           std::replace(name.begin(), name.end(), '/', '_');
           ::testing::RegisterTest("Snapshot", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
-                                  [=]() -> ::testing::Test* { return new SnapshotTest(id, stage, output, run); });
+                                  [=]() -> ::testing::Test* { return new SnapshotTest(settings, stage, output); });
         }
-    ParamSet params = t->defaultParams();
-    for (const auto& set : settingsFor(entry.id).request.sets) {
-      size_t eq = set.find('=');
-      params.setText(set.substr(0, eq), set.substr(eq + 1));
+      if (!settings.scene.empty()) continue;  // iterations: the main run and the configurations
+      ParamSet params = settings.params();
+      for (int i = 0; i < t->stageCount(); ++i)
+        if (t->stage(i).iterations(params) > 1) {
+          std::string stage = t->stage(i).id();
+          std::string name = prefix + "_" + stage;
+          std::replace(name.begin(), name.end(), '-', '_');
+          ::testing::RegisterTest("Iterations", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
+                                  [=]() -> ::testing::Test* { return new IterationTest(settings, stage); });
+        }
     }
-    for (int i = 0; i < t->stageCount(); ++i)
-      if (t->stage(i).iterations(params) > 1) {
-        std::string id = entry.id, stage = t->stage(i).id();
-        std::string name = id + "_" + stage;
-        std::replace(name.begin(), name.end(), '-', '_');
-        ::testing::RegisterTest("Iterations", name.c_str(), nullptr, nullptr, __FILE__, __LINE__,
-                                [=]() -> ::testing::Test* { return new IterationTest(id, stage); });
-      }
   }
 }
 

@@ -1,11 +1,15 @@
-// voxelization checks (testing.md tier 1, exact): every conservative method's voxel set against
-// the CPU triangle/box reference on four scenes, the plain method's holes, the stages' own
-// statistics against counts made here, and the 10-bit packing limit on voxel.resolution.
+// voxelization checks (testing.md tier 1, exact): every conservative method's voxel set and pair
+// count against the CPU reference (half-open cells, docs/voxelization.md), the tie convention
+// against cells listed by hand, dominant-axis ties, the hybrid's split, the compare stage on a
+// hand-made list, textures in the raster and compute passes, the plain method's holes, and the
+// 10-bit packing limit on voxel.resolution.
 //
 // Scenes: the Cornell box (large axis-aligned quads), thin-wall (a 1 cm wall, thinner than a
-// voxel), a tilted 1 cm slab, a dense wavy sheet of sub-voxel triangles on a two-triangle floor (both hybrid classes),
-// and a few huge triangles at odd angles crossing the whole volume. The last two are generated
-// here and written as temporary .gltf files (as are the tilted slab's).
+// voxel), a tilted 1 cm slab, a dense wavy sheet of sub-voxel triangles on a two-triangle floor
+// (both hybrid classes) and a few huge triangles at odd angles crossing the whole volume (these
+// three generated here as temporary .gltf files), and from tests/data/scenes (scripts/make_scenes.py):
+// voxel-ties-{64,128,256} (geometry on voxel faces, edges and corners, 45-degree planes, small and
+// sliver triangles), long-hall (non-cubic bounds), boundary-quad and textured-floor.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -479,6 +483,32 @@ TEST(Voxelization, HybridSplitsTrianglesByProjectedArea) {
   EXPECT_EQ(m.largeTriangles, double(large));
   EXPECT_EQ(large, 2u);
   EXPECT_GT(small, 10000u);
+
+  // A cutoff of 1.5 times the median sheet triangle's area: most sheet triangles (their projected
+  // areas are nearly all equal, the sheet being a regular grid seen from above) lie between half
+  // the cutoff and the cutoff, so a cutoff applied at half its value, or compared the wrong way,
+  // moves thousands of triangles.
+  std::vector<double> areas;
+  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+    glm::dvec3 v[3];
+    for (int k = 0; k < 3; ++k) v[k] = glm::dvec3(space.toVoxel(scene.positions[scene.indices[3 * t + k]]));
+    glm::dvec3 n = glm::abs(glm::cross(v[1] - v[0], v[2] - v[0]));
+    areas.push_back(0.5 * std::max({n.x, n.y, n.z}));
+  }
+  std::vector<double> sorted = areas;
+  std::sort(sorted.begin(), sorted.end());
+  char cutoffText[32];
+  std::snprintf(cutoffText, sizeof cutoffText, "%.9g", 1.5 * sorted[sorted.size() / 2]);
+  const double cutoffUsed = std::stod(cutoffText);
+  size_t below = 0, nearCutoff = 0;
+  for (double a : areas) {
+    below += a > 0 && a < cutoffUsed;
+    nearCutoff += std::abs(a - cutoffUsed) < 1e-6;  // float rounding on the GPU is ~1e-8 here
+  }
+  ASSERT_EQ(nearCutoff, 0u);
+  MethodResult split = runMethod(denseScene(), 64, "hybrid", {"voxelize.hybrid-cutoff=64"}, cutoffText);
+  EXPECT_EQ(split.smallTriangles, double(below)) << "cutoff " << cutoffText;
+  EXPECT_GT(below, 10000u);
 }
 
 // Textures: both passes sample the base colour texture (times the factor) like vct-grid's

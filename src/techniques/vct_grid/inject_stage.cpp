@@ -115,7 +115,8 @@ void MipmapStage::declare(StageBuilder& b) const {
   for (const char* name : kDirectionalVolumes)
     b.output(name, OutputKind::Volume3D, Semantic::Color,
              "anisotropic levels 1.. as seen by a cone travelling along " + std::string(name).substr(prefix.size()) +
-                 " (one voxel, empty, when mipmap.mode is isotropic)");
+                 " (one voxel, empty, when mipmap.mode is isotropic)")
+        .placeholderUnless = "mipmap.mode=anisotropic";
 }
 
 // One iteration per level: iteration k builds level k+1 of the grid from level k (and, with
