@@ -22,7 +22,7 @@ layout(r32ui, binding = 2) uniform uimage2D u_steps;            // traversal ste
 layout(rgba32f, binding = 3) uniform writeonly image2D u_hitPosition;  // this ray's hit (w = 1)
 layout(std430, binding = NF_BINDING_PROBE_RAY) buffer Probe { ProbeRay probe; };
 
-uniform int u_rayIndex, u_rayCount, u_traceScale, u_budget, u_shift, u_normalCheck;
+uniform int u_rayIndex, u_rayCount, u_traceScale, u_budget, u_shift, u_normalCheck, u_planeTest;
 uniform float u_radius, u_normalOffset, u_rayOffset, u_spread, u_voxelDiagonal, u_epsilonScale;
 uniform vec3 u_volumeOrigin;
 uniform float u_volumeEdge;
@@ -94,11 +94,19 @@ void main() {
           rsmTexel = vec2(texel);
           vec4 sender = texelFetch(u_rsmPosition, texel, 0);
           if (sender.w > 0.0) {
-            dist = length(hit - sender.xyz);
-            // epsilon = max(voxel diagonal, texel footprint) (the paper's max(v, s/cos a * z/znear):
-            // the footprint already includes 1/cos a and the distance), capped at 4 diagonals (GP3).
-            epsilon = min(4.0 * u_voxelDiagonal, max(u_voxelDiagonal, sender.w * u_epsilonScale));
             vec3 ns = texelFetch(u_rsmNormal, texel, 0).xyz;
+            // Paper: |hit - sender| < epsilon = max(voxel diagonal, texel footprint) (its max(v,
+            // s/cos a * z/znear): the footprint includes 1/cos a and the distance), capped at 4
+            // diagonals (GP3). Plane test: the hit lies within a voxel diagonal of the sender's
+            // plane (its distance along the plane is at most the footprint plus the cap).
+            if (u_planeTest != 0) {
+              dist = abs(dot(ns, hit - sender.xyz));
+              epsilon = u_voxelDiagonal;
+              if (length(hit - sender.xyz) > 4.0 * u_voxelDiagonal + sender.w * u_epsilonScale) dist = 1e30;
+            } else {
+              dist = length(hit - sender.xyz);
+              epsilon = min(4.0 * u_voxelDiagonal, max(u_voxelDiagonal, sender.w * u_epsilonScale));
+            }
             facing = dot(ns, normalize(pos.xyz - hit));
             if (dist > epsilon) category = NF_CAT_TOO_FAR;
             else if (u_normalCheck != 0 && facing < 0.0) category = NF_CAT_WRONG_FACING;

@@ -13,6 +13,11 @@
 #include <gtest/gtest.h>
 
 #include <embree3/rtcore.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <glm/gtx/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -565,12 +570,14 @@ struct PhysicsResult {
 
 // GPU near-field indirect (64 rays, full resolution, 64 x 64) against the CPU estimator with the
 // same cone of directions ('spread') and the same (rho * spread / N) scale.
-PhysicsResult comparePhysics(float spread) {
+PhysicsResult comparePhysics(float spread, const std::string& scenePath = "cornell-box",
+                             std::vector<std::string> extraSets = {}) {
   PhysicsResult result;
   const int size = 64, rays = 64;
-  auto& s = session(request({"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full",
-                             "rays.spread=" + std::to_string(spread)},
-                            "", size));
+  std::vector<std::string> sets = {"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full",
+                                   "rays.spread=" + std::to_string(spread)};
+  sets.insert(sets.end(), extraSets.begin(), extraSets.end());
+  auto& s = session(request(sets, "", size, scenePath));
   const Scene& scene = s.cursor().scene();
   BinaryGridGeometry g = BinaryGridGeometry::of(scene, 128);
   const float radius = 0.5f * g.edge;  // rays.radius default
@@ -624,6 +631,7 @@ PhysicsResult comparePhysics(float spread) {
   result.worstRegion = worstRel;
   // Full one-bounce reference (indirect-1 at 512 x 512, box-filtered to 64 x 64): the near-field
   // estimate misses what arrives from beyond the radius, so it must lie below it.
+  if (scenePath != "cornell-box") return result;
   reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect-1.exr"));
   double refSum = 0, gpuLum = 0;
   const int f = ref.width / size;
@@ -668,6 +676,61 @@ TEST(NearFieldPhysics, ReducedSpreadIsCompensatedInTheEstimator) {
   PhysicsResult r = comparePhysics(0.5f);
   RecordProperty("gpu_over_cpu", std::to_string(r.ratio));
   EXPECT_NEAR(r.ratio, 1.0, 0.05);
+}
+
+
+// The Cornell box lit by a directional light (3 W/m^2) through its open front, travelling down
+// and into the box, instead of the spot: the RSM and the lookup must follow the shared light model
+// for both kinds (written once to the temporary directory).
+std::string sunlitCornellBox() {
+  std::string out = (std::filesystem::temp_directory_path() / "voxlab-near-field-sun.gltf").string();
+  nlohmann::json g = nlohmann::json::parse(std::ifstream(projectPath("scenes/cornell-box.gltf")));
+  auto& light = g["extensions"]["KHR_lights_punctual"]["lights"][0];
+  light = {{"type", "directional"}, {"color", {1.0, 0.95, 0.85}}, {"intensity", 3.0}, {"name", "sun"}};
+  glm::quat q = glm::rotation(glm::vec3(0, 0, -1), glm::normalize(glm::vec3(0.2f, -0.6f, 1.0f)));
+  for (auto& n : g["nodes"])
+    if (n.contains("extensions")) n["rotation"] = {q.x, q.y, q.z, q.w};
+  std::ofstream(out) << g.dump();
+  return out;
+}
+
+TEST(NearFieldRsm, DirectionalLightRsmAndEstimatorFollowTheSharedLightModel) {
+  const std::string scene = sunlitCornellBox();
+  {
+    auto& s = session(request({"voxel.resolution=64", "rsm.resolution=128"}, "rsm", 64, scene));
+    ASSERT_EQ(s.cursor().scene().lights.at(0).type, LightType::Directional);
+    Readback pos = readFloat(s, "rsm-position"), nrm = readFloat(s, "rsm-normal"), rad = readFloat(s, "rsm-radiance");
+    int checked = 0, unmatched = 0;
+    for (size_t t = 0; t < size_t(pos.w) * pos.h; t += 7) {
+      if (pos.v[t * 4 + 3] == 0.0f) continue;
+      glm::vec3 P(pos.v[t * 4], pos.v[t * 4 + 1], pos.v[t * 4 + 2]), N(nrm.v[t * 4], nrm.v[t * 4 + 1], nrm.v[t * 4 + 2]);
+      LightSample ls = sampleLight(s.cursor().scene().lights.at(0), P);
+      glm::vec3 e = ls.irradianceAtNormalIncidence * std::max(glm::dot(glm::normalize(N), ls.toLight), 0.0f) / 3.14159265f;
+      if (e.x < 1e-3f) continue;
+      glm::vec3 albedo = glm::vec3(rad.v[t * 4], rad.v[t * 4 + 1], rad.v[t * 4 + 2]) / e;
+      bool match = false;
+      for (const auto& m : s.cursor().scene().materials)
+        match = match || glm::all(glm::lessThan(glm::abs(albedo - glm::vec3(m.baseColor)), glm::vec3(3e-3f)));
+      unmatched += !match;
+      ++checked;
+    }
+    EXPECT_GT(checked, 500);
+    EXPECT_EQ(unmatched, 0) << "of " << checked;  // measured 0, as for the spot
+  }
+  // The estimator under the sun. The sun grazes the red wall (cos 0.17): a hit point a voxel off
+  // the wall projects into an RSM texel about a voxel / 0.17 away along it, beyond the paper's
+  // epsilon, so the distance test rejects true hits there: measured GPU / CPU 0.919 (red 0.890),
+  // worst region 0.42. rsm.validity=plane (the hit within a voxel diagonal of the sender's plane)
+  // measured 1.042, worst region 0.070: it keeps those hits and admits a few more than the exact
+  // shadow ray does (hits within a voxel of a shadow boundary).
+  PhysicsResult plane = comparePhysics(1.0f, scene, {"rsm.validity=plane"});
+  RecordProperty("plane_gpu_over_cpu", std::to_string(plane.ratio));
+  EXPECT_NEAR(plane.ratio, 1.0, 0.07);
+  EXPECT_LT(plane.worstRegion, 0.2);
+  PhysicsResult distance = comparePhysics(1.0f, scene);
+  RecordProperty("distance_gpu_over_cpu", std::to_string(distance.ratio));
+  EXPECT_GT(distance.ratio, 0.85);
+  EXPECT_LT(distance.ratio, plane.ratio) << "the distance test should lose grazing hits the plane test keeps";
 }
 
 }  // namespace

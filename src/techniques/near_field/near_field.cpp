@@ -34,7 +34,9 @@
 //     distance from the hit to the RSM's position is below epsilon = max(voxel diagonal,
 //     distance-scale * texel footprint), at most 4 voxel diagonals (the footprint, measured per
 //     texel from screen derivatives, is the paper's s/cos(alpha) * z/z_near), and the sender's
-//     lit side faces the receiver. Each ray's outcome is a category (ray-category output and the
+//     lit side faces the receiver. rsm.validity=plane replaces the distance by the distance to
+//     the sender's plane (< a voxel diagonal): the paper's test rejects true hits where the light
+//     grazes the sender (docs/fidelity.md, measured under a directional light). Each ray's outcome is a category (ray-category output and the
 //     stage's counters), including "step budget spent", which the public code counts as a miss.
 //   - Ray set-up: Hammersley point ((i + 0.5)/N, radical inverse of i) rotated per pixel
 //     (Cranley-Patterson); origin = p + n * normal-offset + d * ray-offset / cos(theta) (voxel

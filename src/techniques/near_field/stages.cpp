@@ -164,6 +164,9 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("rsm.distance-scale", 1.0, 0.0, 8.0,
                           "RSM validity: a hit is the RSM's surface when closer than max(voxel diagonal, scale * texel footprint), at most 4 diagonals"));
   b.param(ParamDesc::boolean("rsm.normal-check", true, "RSM validity: the sender must face the receiver"));
+  b.param(ParamDesc::choice("rsm.validity", {"distance", "plane"}, 0,
+                            "distance: |hit - RSM position| < epsilon (the paper); plane: the hit lies within a voxel "
+                            "diagonal of the RSM surface's plane (robust where light grazes the sender)"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
@@ -260,6 +263,7 @@ void RaysStage::execute(StageContext& ctx) {
   setUniform(program, "u_budget", ctx.params.getInt("rays.steps"));
   setUniform(program, "u_shift", ctx.params.getBool("rays.pixel-shift") ? 1 : 0);
   setUniform(program, "u_normalCheck", ctx.params.getBool("rsm.normal-check") ? 1 : 0);
+  setUniform(program, "u_planeTest", ctx.params.getChoice("rsm.validity") == "plane" ? 1 : 0);
   setUniform(program, "u_radius", ctx.params.getFloat("rays.radius") * geo.edge);
   setUniform(program, "u_normalOffset", ctx.params.getFloat("rays.normal-offset"));
   setUniform(program, "u_rayOffset", ctx.params.getFloat("rays.ray-offset"));
