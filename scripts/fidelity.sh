@@ -23,6 +23,9 @@ variants=(
   "vct-grid mipmap.mode=anisotropic"
   "near-field rays.radius=2"
   "near-field rays.count=32"
+  "voxel-path-tracing paths.bounces=1"
+  "voxel-path-tracing paths.bounces=4"
+  "voxel-path-tracing paths.count=16"
 )
 
 runs=()

@@ -50,7 +50,8 @@
 //     set bit along the ray (findMSB toward +z, findLSB toward -z), and the hit point is the ray's
 //     entry into that slice within the column (the thesis uses the column entry point).
 //   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact
-//     and already there) and voxel path tracing (section 3.2.4): left for later (docs/fidelity.md).
+//     and already there). Voxel path tracing (section 3.2.4) is the technique voxel-path-tracing
+//     (voxel_path_tracing.cpp) on these stages.
 //   - The filter is voxlab's own (an a-trous pass per iteration, weights from the G-buffer); GP3's
 //     filter (radius 8, 2 iterations, distance limit 0.8) is off by default there.
 //
