@@ -283,6 +283,48 @@ TEST(NearFieldGrid, EveryMipLevelIsTheOrOfItsChildren) {
   EXPECT_EQ(readLevel(s, "bitmask-hierarchy", maxLevelOf(res))[0], all);
 }
 
+TEST(NearFieldGrid, LogicOpOrMergesPointsIntoOneColumn) {
+  // The thesis' path (seed 000 Listing 4.43): points into an RGBA32UI target with glLogicOp(GL_OR).
+  // Two points in the same texel with different slices must leave both bits set (pitfall 5.8);
+  // measured on llvmpipe: it works, so both the logic op and imageAtomicOr (what binary-voxels
+  // uses, on its own R32UI words texture) are available there.
+  auto& s = session(snapshotRequest());
+  TextureDesc d;
+  d.format = GL_RGBA32UI;
+  d.size = {4, 4, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  Texture target("test.logic-or", d);
+  const uint32_t zero[4] = {0, 0, 0, 0};
+  glClearTexImage(target.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zero);
+  Framebuffer fb("test.logic-or.fbo");
+  fb.attach(GL_COLOR_ATTACHMENT0, target);
+  fb.setDrawBuffers(1);
+  fb.checkComplete();
+  GLuint program = s.cursor().shaders().program({"near_field/logic_or_points.vert.glsl", "near_field/logic_or_points.frag.glsl"});
+  const int texels[8] = {1, 2, 1, 2, 1, 2, 3, 0};  // (x, y) pairs: three points at (1, 2), one at (3, 0)
+  const int slices[4] = {0, 77, 127, 40};
+  glProgramUniform2iv(program, glGetUniformLocation(program, "u_texel"), 4, texels);
+  glProgramUniform1iv(program, glGetUniformLocation(program, "u_slice"), 4, slices);
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_size"), 4, 4);
+  VertexArray vao;
+  glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
+  glViewport(0, 0, 4, 4);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_COLOR_LOGIC_OP);
+  glLogicOp(GL_OR);
+  glUseProgram(program);
+  glBindVertexArray(vao.id());
+  glDrawArrays(GL_POINTS, 0, 4);
+  glDisable(GL_COLOR_LOGIC_OP);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  auto cols = readBitColumns(target.id(), 0, 4, 4);
+  BitColumn expect{0, 0, 0, 0};
+  for (int k : {0, 77, 127}) setSlice(expect, k);
+  EXPECT_EQ(cols[2 * 4 + 1], expect) << "the three points of texel (1, 2)";
+  EXPECT_EQ(cols[0 * 4 + 3], orMask(40));
+  EXPECT_EQ(popcount(cols[0]), 0);
+}
+
 TEST(NearFieldGrid, RgbaUintColumnsHaveNoR32uiView) {
   auto& s = session(snapshotRequest());
   (void)s;
