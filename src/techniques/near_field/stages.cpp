@@ -81,6 +81,15 @@ static void setWalkUniforms(GLuint program, const ParamSet& params, const Binary
   setUniform(program, "u_startLevel", params.getInt("rays.start-level"));
 }
 
+// Refuses, before anything is allocated, traced images beyond 1 GiB in all (one line naming the
+// size and what would fit).
+static void checkTracedBytes(const char* stage, int tw, int th, int bytesPerTexel) {
+  const double mib = double(tw) * th * bytesPerTexel / (1024.0 * 1024.0);
+  if (mib > 1024.0)
+    throw Error(std::string(stage) + ": " + std::to_string(tw) + "x" + std::to_string(th) + " traced pixels need " +
+                std::to_string(int(mib)) + " MiB of images, more than 1024 MiB; use rays.resolution=half or a smaller --size");
+}
+
 static int traceScale(const ParamSet& p) { return p.getChoice("rays.resolution") == "half" ? 2 : 1; }
 
 // --- Bitmask tables ------------------------------------------------------------------------------
@@ -255,6 +264,7 @@ void RaysStage::execute(StageContext& ctx) {
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
   const int s = traceScale(ctx.params);
   const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  checkTracedBytes("rays", tw, th, 16 + 4 + 4 + 16);
   Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
   Texture& category = ctx.board.ensureTexture("ray-category", screenDesc(tw, th, GL_R32UI));
   Texture& steps = ctx.board.ensureTexture("ray-steps", screenDesc(tw, th, GL_R32UI));
@@ -418,6 +428,7 @@ void PathsStage::execute(StageContext& ctx) {
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
   const int s = traceScale(ctx.params);
   const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  checkTracedBytes("paths", tw, th, 4 * 16);
   Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
   Texture& vertex = ctx.board.ensureTexture("path-vertex", screenDesc(tw, th, GL_RGBA32F));
   Texture& normal = ctx.board.ensureTexture("paths.normal", screenDesc(tw, th, GL_RGBA32F));
