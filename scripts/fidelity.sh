@@ -30,6 +30,9 @@ variants=(
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"
   "near-field rays.radius=2"
   "near-field rays.count=32"
+  "voxel-path-tracing paths.bounces=1"
+  "voxel-path-tracing paths.bounces=4"
+  "voxel-path-tracing paths.count=16"
 )
 
 runs=()

@@ -8,40 +8,24 @@
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "near_field/traversal.glsl"
+#include "near_field/ray_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;    // G-buffer: xyz, w = 1 covered
 layout(binding = 2) uniform sampler2D u_normal;
 layout(binding = 3) uniform sampler2D u_albedo;
-layout(binding = 6) uniform sampler2D u_rsmPosition; // xyz, w = footprint (0 = empty)
-layout(binding = 7) uniform sampler2D u_rsmNormal;
-layout(binding = 8) uniform sampler2D u_rsmRadiance;
 layout(rgba32f, binding = 0) uniform image2D u_indirect;        // running (rho * spread / N) * sum L~
 layout(r32ui, binding = 1) uniform writeonly uimage2D u_category;  // NF_CAT_* of this ray
 layout(r32ui, binding = 2) uniform uimage2D u_steps;            // traversal steps, summed over rays
 layout(rgba32f, binding = 3) uniform writeonly image2D u_hitPosition;  // this ray's hit (w = 1)
 layout(std430, binding = NF_BINDING_PROBE_RAY) buffer Probe { ProbeRay probe; };
 
-uniform int u_rayIndex, u_rayCount, u_traceScale, u_budget, u_shift, u_normalCheck;
-uniform float u_radius, u_normalOffset, u_rayOffset, u_spread, u_voxelDiagonal, u_epsilonScale;
+uniform int u_rayIndex, u_rayCount, u_traceScale, u_budget, u_shift;
+uniform float u_radius, u_normalOffset, u_rayOffset, u_spread;
 uniform vec3 u_volumeOrigin;
 uniform float u_volumeEdge;
 uniform ivec2 u_probePixel;
 uniform int u_probeRay;
-const float PI = 3.14159265358979;
-
-// Hammersley point i of n: ((i + 0.5) / n, radical inverse of i).
-vec2 hammersley(int i, int n) {
-  return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(uint(i))) * 2.3283064365386963e-10);
-}
-// Per-pixel shift (Cranley-Patterson rotation), a hash of the pixel.
-vec2 pixelShift(ivec2 px) {
-  uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
-  h = (h ^ 61u) ^ (h >> 16u); h *= 9u; h ^= h >> 4u; h *= 0x27d4eb2du; h ^= h >> 15u;
-  uint g = h * 747796405u + 2891336453u;
-  g = ((g >> ((g >> 28u) + 4u)) ^ g) * 277803737u; g = (g >> 22u) ^ g;
-  return vec2(float(h >> 8u), float(g >> 8u)) / 16777216.0;
-}
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -62,12 +46,7 @@ void main() {
     // Cosine-distributed direction in the cone of the hemisphere that 'spread' keeps.
     vec2 u = hammersley(u_rayIndex, u_rayCount);
     if (u_shift != 0) u = fract(u + pixelShift(px));
-    float sin2 = u.x * u_spread;
-    cosTheta = sqrt(max(1.0 - sin2, 0.0));
-    float sinTheta = sqrt(sin2), phi = 2.0 * PI * u.y;
-    vec3 t = normalize(abs(n.x) > 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
-    vec3 b = cross(n, t);
-    dir = normalize(t * (sinTheta * cos(phi)) + b * (sinTheta * sin(phi)) + n * cosTheta);
+    dir = cosineDirection(n, u, u_spread, cosTheta);
     // Start offsets against self-intersection: along the normal, and along the ray growing as
     // 1/cos (GP3's voxelOffsetNormalScale / voxelOffsetCosThetaScale, in voxel diagonals).
     float along = u_rayOffset * u_voxelDiagonal / max(cosTheta, 1e-3);
@@ -85,29 +64,13 @@ void main() {
       else {
         hit = u_volumeOrigin + u_volumeEdge * (o + w.tHit * (e - o));
         hitOut = vec4(hit, 1.0);
-        // RSM lookup: is the RSM texel the surface the ray hit, and does it face the receiver?
-        vec4 clip = u_light.shadowViewProj * vec4(hit, 1.0);
-        vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-        category = NF_CAT_NOT_IN_RSM;
-        if (u_light.spot.w > 0.5 && clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) {
-          ivec2 texel = ivec2(uv * vec2(textureSize(u_rsmPosition, 0)));
-          rsmTexel = vec2(texel);
-          vec4 sender = texelFetch(u_rsmPosition, texel, 0);
-          if (sender.w > 0.0) {
-            dist = length(hit - sender.xyz);
-            // epsilon = max(voxel diagonal, texel footprint) (the paper's max(v, s/cos a * z/znear):
-            // the footprint already includes 1/cos a and the distance), capped at 4 diagonals (GP3).
-            epsilon = min(4.0 * u_voxelDiagonal, max(u_voxelDiagonal, sender.w * u_epsilonScale));
-            vec3 ns = texelFetch(u_rsmNormal, texel, 0).xyz;
-            facing = dot(ns, normalize(pos.xyz - hit));
-            if (dist > epsilon) category = NF_CAT_TOO_FAR;
-            else if (u_normalCheck != 0 && facing < 0.0) category = NF_CAT_WRONG_FACING;
-            else {
-              category = NF_CAT_VALID;
-              radiance = texelFetch(u_rsmRadiance, texel, 0).rgb;
-            }
-          }
-        }
+        RsmLookup look = lookupRsm(hit, pos.xyz);
+        category = look.category;
+        radiance = look.radiance;
+        rsmTexel = look.texel;
+        dist = look.dist;
+        epsilon = look.epsilon;
+        facing = look.facing;
       }
     }
     if (category == NF_CAT_VALID) {

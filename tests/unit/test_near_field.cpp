@@ -13,6 +13,11 @@
 #include <gtest/gtest.h>
 
 #include <embree3/rtcore.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <glm/gtx/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -276,6 +281,48 @@ TEST(NearFieldGrid, EveryMipLevelIsTheOrOfItsChildren) {
   for (const auto& c : chain[0])
     for (int i = 0; i < 4; ++i) all[i] |= c[i];
   EXPECT_EQ(readLevel(s, "bitmask-hierarchy", maxLevelOf(res))[0], all);
+}
+
+TEST(NearFieldGrid, LogicOpOrMergesPointsIntoOneColumn) {
+  // The thesis' path (seed 000 Listing 4.43): points into an RGBA32UI target with glLogicOp(GL_OR).
+  // Two points in the same texel with different slices must leave both bits set (pitfall 5.8);
+  // measured on llvmpipe: it works, so both the logic op and imageAtomicOr (what binary-voxels
+  // uses, on its own R32UI words texture) are available there.
+  auto& s = session(snapshotRequest());
+  TextureDesc d;
+  d.format = GL_RGBA32UI;
+  d.size = {4, 4, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  Texture target("test.logic-or", d);
+  const uint32_t zero[4] = {0, 0, 0, 0};
+  glClearTexImage(target.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zero);
+  Framebuffer fb("test.logic-or.fbo");
+  fb.attach(GL_COLOR_ATTACHMENT0, target);
+  fb.setDrawBuffers(1);
+  fb.checkComplete();
+  GLuint program = s.cursor().shaders().program({"near_field/logic_or_points.vert.glsl", "near_field/logic_or_points.frag.glsl"});
+  const int texels[8] = {1, 2, 1, 2, 1, 2, 3, 0};  // (x, y) pairs: three points at (1, 2), one at (3, 0)
+  const int slices[4] = {0, 77, 127, 40};
+  glProgramUniform2iv(program, glGetUniformLocation(program, "u_texel"), 4, texels);
+  glProgramUniform1iv(program, glGetUniformLocation(program, "u_slice"), 4, slices);
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_size"), 4, 4);
+  VertexArray vao;
+  glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
+  glViewport(0, 0, 4, 4);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_COLOR_LOGIC_OP);
+  glLogicOp(GL_OR);
+  glUseProgram(program);
+  glBindVertexArray(vao.id());
+  glDrawArrays(GL_POINTS, 0, 4);
+  glDisable(GL_COLOR_LOGIC_OP);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  auto cols = readBitColumns(target.id(), 0, 4, 4);
+  BitColumn expect{0, 0, 0, 0};
+  for (int k : {0, 77, 127}) setSlice(expect, k);
+  EXPECT_EQ(cols[2 * 4 + 1], expect) << "the three points of texel (1, 2)";
+  EXPECT_EQ(cols[0 * 4 + 3], orMask(40));
+  EXPECT_EQ(popcount(cols[0]), 0);
 }
 
 TEST(NearFieldGrid, RgbaUintColumnsHaveNoR32uiView) {
@@ -565,12 +612,14 @@ struct PhysicsResult {
 
 // GPU near-field indirect (64 rays, full resolution, 64 x 64) against the CPU estimator with the
 // same cone of directions ('spread') and the same (rho * spread / N) scale.
-PhysicsResult comparePhysics(float spread) {
+PhysicsResult comparePhysics(float spread, const std::string& scenePath = "cornell-box",
+                             std::vector<std::string> extraSets = {}) {
   PhysicsResult result;
   const int size = 64, rays = 64;
-  auto& s = session(request({"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full",
-                             "rays.spread=" + std::to_string(spread)},
-                            "", size));
+  std::vector<std::string> sets = {"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full",
+                                   "rays.spread=" + std::to_string(spread)};
+  sets.insert(sets.end(), extraSets.begin(), extraSets.end());
+  auto& s = session(request(sets, "", size, scenePath));
   const Scene& scene = s.cursor().scene();
   BinaryGridGeometry g = BinaryGridGeometry::of(scene, 128);
   const float radius = 0.5f * g.edge;  // rays.radius default
@@ -624,6 +673,7 @@ PhysicsResult comparePhysics(float spread) {
   result.worstRegion = worstRel;
   // Full one-bounce reference (indirect-1 at 512 x 512, box-filtered to 64 x 64): the near-field
   // estimate misses what arrives from beyond the radius, so it must lie below it.
+  if (scenePath != "cornell-box") return result;
   reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect-1.exr"));
   double refSum = 0, gpuLum = 0;
   const int f = ref.width / size;
@@ -668,6 +718,138 @@ TEST(NearFieldPhysics, ReducedSpreadIsCompensatedInTheEstimator) {
   PhysicsResult r = comparePhysics(0.5f);
   RecordProperty("gpu_over_cpu", std::to_string(r.ratio));
   EXPECT_NEAR(r.ratio, 1.0, 0.05);
+}
+
+
+// The Cornell box lit by a directional light (3 W/m^2) through its open front, travelling down
+// and into the box, instead of the spot: the RSM and the lookup must follow the shared light model
+// for both kinds (written once to the temporary directory).
+std::string sunlitCornellBox() {
+  std::string out = (std::filesystem::temp_directory_path() / "voxlab-near-field-sun.gltf").string();
+  nlohmann::json g = nlohmann::json::parse(std::ifstream(projectPath("scenes/cornell-box.gltf")));
+  auto& light = g["extensions"]["KHR_lights_punctual"]["lights"][0];
+  light = {{"type", "directional"}, {"color", {1.0, 0.95, 0.85}}, {"intensity", 3.0}, {"name", "sun"}};
+  glm::quat q = glm::rotation(glm::vec3(0, 0, -1), glm::normalize(glm::vec3(0.2f, -0.6f, 1.0f)));
+  for (auto& n : g["nodes"])
+    if (n.contains("extensions")) n["rotation"] = {q.x, q.y, q.z, q.w};
+  std::ofstream(out) << g.dump();
+  return out;
+}
+
+TEST(NearFieldRsm, DirectionalLightRsmAndEstimatorFollowTheSharedLightModel) {
+  const std::string scene = sunlitCornellBox();
+  {
+    auto& s = session(request({"voxel.resolution=64", "rsm.resolution=128"}, "rsm", 64, scene));
+    ASSERT_EQ(s.cursor().scene().lights.at(0).type, LightType::Directional);
+    Readback pos = readFloat(s, "rsm-position"), nrm = readFloat(s, "rsm-normal"), rad = readFloat(s, "rsm-radiance");
+    int checked = 0, unmatched = 0;
+    for (size_t t = 0; t < size_t(pos.w) * pos.h; t += 7) {
+      if (pos.v[t * 4 + 3] == 0.0f) continue;
+      glm::vec3 P(pos.v[t * 4], pos.v[t * 4 + 1], pos.v[t * 4 + 2]), N(nrm.v[t * 4], nrm.v[t * 4 + 1], nrm.v[t * 4 + 2]);
+      LightSample ls = sampleLight(s.cursor().scene().lights.at(0), P);
+      glm::vec3 e = ls.irradianceAtNormalIncidence * std::max(glm::dot(glm::normalize(N), ls.toLight), 0.0f) / 3.14159265f;
+      if (e.x < 1e-3f) continue;
+      glm::vec3 albedo = glm::vec3(rad.v[t * 4], rad.v[t * 4 + 1], rad.v[t * 4 + 2]) / e;
+      bool match = false;
+      for (const auto& m : s.cursor().scene().materials)
+        match = match || glm::all(glm::lessThan(glm::abs(albedo - glm::vec3(m.baseColor)), glm::vec3(3e-3f)));
+      unmatched += !match;
+      ++checked;
+    }
+    EXPECT_GT(checked, 500);
+    EXPECT_EQ(unmatched, 0) << "of " << checked;  // measured 0, as for the spot
+  }
+  // The estimator under the sun. The sun grazes the red wall (cos 0.17): a hit point a voxel off
+  // the wall projects into an RSM texel about a voxel / 0.17 away along it, beyond the paper's
+  // epsilon, so the distance test rejects true hits there: measured GPU / CPU 0.919 (red 0.890),
+  // worst region 0.42. rsm.validity=plane (the hit within a voxel diagonal of the sender's plane)
+  // measured 1.042, worst region 0.070: it keeps those hits and admits a few more than the exact
+  // shadow ray does (hits within a voxel of a shadow boundary).
+  PhysicsResult plane = comparePhysics(1.0f, scene, {"rsm.validity=plane"});
+  RecordProperty("plane_gpu_over_cpu", std::to_string(plane.ratio));
+  EXPECT_NEAR(plane.ratio, 1.0, 0.07);
+  EXPECT_LT(plane.worstRegion, 0.2);
+  PhysicsResult distance = comparePhysics(1.0f, scene);
+  RecordProperty("distance_gpu_over_cpu", std::to_string(distance.ratio));
+  EXPECT_GT(distance.ratio, 0.85);
+  EXPECT_LT(distance.ratio, plane.ratio) << "the distance test should lose grazing hits the plane test keeps";
+}
+
+
+// --- Voxel path tracing ---------------------------------------------------------------------------
+
+RunRequest vptRequest(int bounces, int paths) {
+  RunRequest r = request({"voxel.resolution=128", "paths.count=" + std::to_string(paths),
+                          "paths.bounces=" + std::to_string(bounces), "rays.resolution=full"},
+                         "paths", 64);
+  r.technique = "voxel-path-tracing";
+  return r;
+}
+
+TEST(VoxelPathTracing, OneBounceEqualsNearFieldWithoutARadius) {
+  // One bounce, bounce 0 uses near-field's directions (same Hammersley points and pixel shift) and
+  // offsets; near-field's radius 2 volume edges exceeds the volume's diagonal, so both walk the
+  // same rays to the volume's edge: the same hits, the same lookups, the same sum.
+  Readback nf;
+  {
+    auto& s = session(request({"voxel.resolution=128", "rays.count=16", "rays.resolution=full", "rays.radius=2"},
+                              "rays", 64));
+    nf = readFloat(s, "indirect");
+  }
+  auto& s = session(vptRequest(1, 16));
+  Readback vpt = readFloat(s, "indirect");
+  ASSERT_EQ(nf.v.size(), vpt.v.size());
+  double worst = 0, sum = 0, nfSum = 0;
+  size_t differing = 0, values = 0;
+  for (size_t i = 0; i < nf.v.size(); i += 4)
+    for (int c = 0; c < 3; ++c) {
+      double d = std::abs(nf.v[i + c] - vpt.v[i + c]);
+      worst = std::max(worst, d);
+      differing += d > 1e-5;
+      ++values;
+      sum += vpt.v[i + c];
+      nfSum += nf.v[i + c];
+    }
+  std::printf("one bounce vs near-field: worst %.3g, %zu of %zu values differ by more than 1e-5, means %.6f %.6f\n",
+              worst, differing, values, sum / values, nfSum / values);
+  EXPECT_GT(sum, 1.0);
+  // The segments end at different lengths (radius vs volume diagonal), so a hit's point can round
+  // into a neighbouring RSM texel: measured worst 6.2e-5 in a few values, means equal to 1e-6.
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_LE(differing, values / 200);
+  EXPECT_NEAR(sum / nfSum, 1.0, 1e-4);
+}
+
+TEST(VoxelPathTracing, MoreBouncesApproachTheAllBounceReference) {
+  // Mean over the image of the indirect light against the reference's "indirect" (all bounces,
+  // 512 x 512 box-filtered to 64 x 64); near-field misses the bounces after the first.
+  reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect.exr"));
+  std::vector<double> ratios;
+  for (int bounces : {1, 3}) {
+    auto& s = session(vptRequest(bounces, 16));
+    Readback pos = readFloat(s, "position"), ind = readFloat(s, "indirect");
+    const int size = 64, f = ref.width / size;
+    double refSum = 0, sum = 0;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        if (pos.at(x, y)[3] == 0.0f) continue;
+        for (int j = 0; j < f * f; ++j) {
+          const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
+          refSum += (r[0] + r[1] + r[2]) / double(f * f);
+        }
+        sum += ind.at(x, y)[0] + ind.at(x, y)[1] + ind.at(x, y)[2];
+      }
+    ratios.push_back(sum / refSum);
+    std::printf("voxel path tracing, %d bounce(s): %.4f of the all-bounce reference\n", bounces, sum / refSum);
+  }
+  RecordProperty("one_bounce_ratio", std::to_string(ratios[0]));
+  RecordProperty("three_bounce_ratio", std::to_string(ratios[1]));
+  // Measured 0.513 (one bounce: the reference's indirect is about twice its first bounce) and 0.849
+  // (three bounces): later bounces add light, and the estimate stays below the reference (no
+  // emission carried, RSM rejections, voxel albedo instead of the surface's).
+  EXPECT_GT(ratios[1], ratios[0] + 0.15);
+  EXPECT_LT(ratios[1], 1.0);
+  EXPECT_GT(ratios[0], 0.35);
 }
 
 }  // namespace

@@ -15,7 +15,9 @@
 // texels wide per column ("binary-voxels.words"), then a pass packs the four words into the
 // RGBA32UI grid. An R32UI *view* of the RGBA32UI texture is not allowed (GL 4.5 table 8.22: the
 // 128-bit and 32-bit view classes differ; tests/unit/test_near_field.cpp checks the error), so
-// the words live in their own texture.
+// the words live in their own texture. On llvmpipe both this and the thesis' logic-op OR (points
+// into an RGBA32UI target with glLogicOp(GL_OR)) work (tests: NearFieldGrid.*); the atomics need
+// no point list and no framebuffer.
 //
 // Reads "fragments", "fragments.count". Outputs "binary-voxels" (RGBA32UI columns) and
 // "binary-popcount" (set slices per column).

@@ -105,14 +105,4 @@ DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3
   return r;
 }
 
-glm::vec2 hammersley(int i, int n) {
-  uint32_t b = uint32_t(i);
-  b = (b << 16u) | (b >> 16u);
-  b = ((b & 0x55555555u) << 1u) | ((b & 0xAAAAAAAAu) >> 1u);
-  b = ((b & 0x33333333u) << 2u) | ((b & 0xCCCCCCCCu) >> 2u);
-  b = ((b & 0x0F0F0F0Fu) << 4u) | ((b & 0xF0F0F0F0u) >> 4u);
-  b = ((b & 0x00FF00FFu) << 8u) | ((b & 0xFF00FF00u) >> 8u);
-  return glm::vec2((float(i) + 0.5f) / float(n), float(b) * 2.3283064365386963e-10f);
-}
-
 }  // namespace voxlab::nearfield

@@ -39,7 +39,4 @@ struct DdaResult {
 };
 DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3 o, glm::vec3 e);
 
-// Hammersley point i of n (i in [0, n)): ((i + 0.5) / n, radical inverse base 2 of i).
-glm::vec2 hammersley(int i, int n);
-
 }  // namespace voxlab::nearfield

@@ -34,7 +34,9 @@
 //     distance from the hit to the RSM's position is below epsilon = max(voxel diagonal,
 //     distance-scale * texel footprint), at most 4 voxel diagonals (the footprint, measured per
 //     texel from screen derivatives, is the paper's s/cos(alpha) * z/z_near), and the sender's
-//     lit side faces the receiver. Each ray's outcome is a category (ray-category output and the
+//     lit side faces the receiver. rsm.validity=plane replaces the distance by the distance to
+//     the sender's plane (< a voxel diagonal): the paper's test rejects true hits where the light
+//     grazes the sender (docs/fidelity.md, measured under a directional light). Each ray's outcome is a category (ray-category output and the
 //     stage's counters), including "step budget spent", which the public code counts as a miss.
 //   - Ray set-up: Hammersley point ((i + 0.5)/N, radical inverse of i) rotated per pixel
 //     (Cranley-Patterson); origin = p + n * normal-offset + d * ray-offset / cos(theta) (voxel
@@ -48,7 +50,8 @@
 //     set bit along the ray (findMSB toward +z, findLSB toward -z), and the hit point is the ray's
 //     entry into that slice within the column (the thesis uses the column entry point).
 //   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact
-//     and already there) and voxel path tracing (section 3.2.4): left for later (docs/fidelity.md).
+//     and already there). Voxel path tracing (section 3.2.4) is the technique voxel-path-tracing
+//     (voxel_path_tracing.cpp) on these stages.
 //   - The filter is voxlab's own (an a-trous pass per iteration, weights from the G-buffer); GP3's
 //     filter (radius 8, 2 iterations, distance limit 0.8) is off by default there.
 //

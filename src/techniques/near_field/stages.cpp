@@ -48,6 +48,48 @@ static ParamDesc traceResolutionParam() {
                            "trace rays for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                            "upsamples along surfaces)");
 }
+// Parameters of a walk from a surface and its RSM lookup, shared by rays and paths.
+static void declareWalkParams(StageBuilder& b) {
+  b.param(ParamDesc::integer("rays.steps", 64, 1, 1024,
+                             "traversal step budget per ray (texels visited); running out is counted, not a miss",
+                             "steps"));
+  b.param(ParamDesc::integer("rays.start-level", 3, 0, 9, "hierarchy level a walk starts at (clamped to the top)"));
+  b.param(ParamDesc::real("rays.normal-offset", 0.8, 0.0, 4.0, "ray origin offset along the normal", "voxel diagonals"));
+  b.param(ParamDesc::real("rays.ray-offset", 0.6, 0.0, 4.0,
+                          "ray origin offset along the ray, divided by cos(theta)", "voxel diagonals"));
+  b.param(ParamDesc::real("rsm.distance-scale", 1.0, 0.0, 8.0,
+                          "RSM validity: a hit is the RSM's surface when closer than max(voxel diagonal, scale * texel footprint), at most 4 diagonals"));
+  b.param(ParamDesc::boolean("rsm.normal-check", true, "RSM validity: the sender must face the receiver"));
+  b.param(ParamDesc::choice("rsm.validity", {"distance", "plane"}, 0,
+                            "distance: |hit - RSM position| < epsilon (the paper); plane: the hit lies within a voxel "
+                            "diagonal of the RSM surface's plane (robust where light grazes the sender)"));
+}
+
+// Uniforms of ray_common.glsl and traversal.glsl from those parameters.
+static void setWalkUniforms(GLuint program, const ParamSet& params, const BinaryGridGeometry& geo) {
+  setUniform(program, "u_budget", params.getInt("rays.steps"));
+  setUniform(program, "u_normalCheck", params.getBool("rsm.normal-check") ? 1 : 0);
+  setUniform(program, "u_planeTest", params.getChoice("rsm.validity") == "plane" ? 1 : 0);
+  setUniform(program, "u_normalOffset", params.getFloat("rays.normal-offset"));
+  setUniform(program, "u_rayOffset", params.getFloat("rays.ray-offset"));
+  setUniform(program, "u_voxelDiagonal", geo.voxelDiagonal);
+  setUniform(program, "u_epsilonScale", params.getFloat("rsm.distance-scale"));
+  setUniform(program, "u_volumeOrigin", geo.origin);
+  setUniform(program, "u_volumeEdge", geo.edge);
+  setUniform(program, "u_gridRes", geo.resolution);
+  setUniform(program, "u_maxLevel", maxLevelOf(geo.resolution));
+  setUniform(program, "u_startLevel", params.getInt("rays.start-level"));
+}
+
+// Refuses, before anything is allocated, traced images beyond 1 GiB in all (one line naming the
+// size and what would fit).
+static void checkTracedBytes(const char* stage, int tw, int th, int bytesPerTexel) {
+  const double mib = double(tw) * th * bytesPerTexel / (1024.0 * 1024.0);
+  if (mib > 1024.0)
+    throw Error(std::string(stage) + ": " + std::to_string(tw) + "x" + std::to_string(th) + " traced pixels need " +
+                std::to_string(int(mib)) + " MiB of images, more than 1024 MiB; use rays.resolution=half or a smaller --size");
+}
+
 static int traceScale(const ParamSet& p) { return p.getChoice("rays.resolution") == "half" ? 2 : 1; }
 
 // --- Bitmask tables ------------------------------------------------------------------------------
@@ -151,19 +193,10 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::integer("rays.count", 8, 1, 256, "rays per pixel, one per iteration", "rays"));
   b.param(ParamDesc::real("rays.radius", 0.5, 0.01, 2.0,
                           "longest ray (near-field radius), as a fraction of the voxel volume's edge"));
-  b.param(ParamDesc::integer("rays.steps", 64, 1, 1024,
-                             "traversal step budget per ray (texels visited); running out is counted, not a miss",
-                             "steps"));
-  b.param(ParamDesc::integer("rays.start-level", 3, 0, 9, "hierarchy level a walk starts at (clamped to the top)"));
+  declareWalkParams(b);
   b.param(ParamDesc::real("rays.spread", 1.0, 0.05, 1.0,
                           "fraction of the cosine-weighted hemisphere sampled (1 = all); the estimator is scaled by it"));
-  b.param(ParamDesc::real("rays.normal-offset", 0.8, 0.0, 4.0, "ray origin offset along the normal", "voxel diagonals"));
-  b.param(ParamDesc::real("rays.ray-offset", 0.6, 0.0, 4.0,
-                          "ray origin offset along the ray, divided by cos(theta)", "voxel diagonals"));
   b.param(ParamDesc::boolean("rays.pixel-shift", true, "rotate each pixel's Hammersley set by a per-pixel shift"));
-  b.param(ParamDesc::real("rsm.distance-scale", 1.0, 0.0, 8.0,
-                          "RSM validity: a hit is the RSM's surface when closer than max(voxel diagonal, scale * texel footprint), at most 4 diagonals"));
-  b.param(ParamDesc::boolean("rsm.normal-check", true, "RSM validity: the sender must face the receiver"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
@@ -231,6 +264,7 @@ void RaysStage::execute(StageContext& ctx) {
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
   const int s = traceScale(ctx.params);
   const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  checkTracedBytes("rays", tw, th, 16 + 4 + 4 + 16);
   Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
   Texture& category = ctx.board.ensureTexture("ray-category", screenDesc(tw, th, GL_R32UI));
   Texture& steps = ctx.board.ensureTexture("ray-steps", screenDesc(tw, th, GL_R32UI));
@@ -257,20 +291,10 @@ void RaysStage::execute(StageContext& ctx) {
   setUniform(program, "u_rayIndex", ctx.iteration);
   setUniform(program, "u_rayCount", rayCount);
   setUniform(program, "u_traceScale", s);
-  setUniform(program, "u_budget", ctx.params.getInt("rays.steps"));
+  setWalkUniforms(program, ctx.params, geo);
   setUniform(program, "u_shift", ctx.params.getBool("rays.pixel-shift") ? 1 : 0);
-  setUniform(program, "u_normalCheck", ctx.params.getBool("rsm.normal-check") ? 1 : 0);
   setUniform(program, "u_radius", ctx.params.getFloat("rays.radius") * geo.edge);
-  setUniform(program, "u_normalOffset", ctx.params.getFloat("rays.normal-offset"));
-  setUniform(program, "u_rayOffset", ctx.params.getFloat("rays.ray-offset"));
   setUniform(program, "u_spread", ctx.params.getFloat("rays.spread"));
-  setUniform(program, "u_voxelDiagonal", geo.voxelDiagonal);
-  setUniform(program, "u_epsilonScale", ctx.params.getFloat("rsm.distance-scale"));
-  setUniform(program, "u_volumeOrigin", geo.origin);
-  setUniform(program, "u_volumeEdge", geo.edge);
-  setUniform(program, "u_gridRes", res);
-  setUniform(program, "u_maxLevel", maxLevelOf(res));
-  setUniform(program, "u_startLevel", ctx.params.getInt("rays.start-level"));
   setUniform(program, "u_probeRay", ctx.params.getInt("probe.ray"));
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
   glUseProgram(program);
@@ -323,6 +347,126 @@ void RaysStage::execute(StageContext& ctx) {
   ctx.stats["probe_y_from_top"] = th - 1 - probeY;
 }
 
+// --- Voxel path tracing ---------------------------------------------------------------------------
+
+void VoxelAttributesStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  b.output("voxel-albedo", OutputKind::Volume3D, Semantic::Color,
+           "albedo per voxel (RGBA8, a = 1 where occupied): the largest packed value of its fragments");
+  b.output("voxel-normal", OutputKind::Volume3D, Semantic::Color,
+           "normal per voxel, stored as n * 0.5 + 0.5 (RGBA8, a = 1 where occupied)");
+}
+
+void VoxelAttributesStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {res, res, res};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  Texture& albedo = ctx.board.ensureTexture("voxel-albedo", d);
+  Texture& normal = ctx.board.ensureTexture("voxel-normal", d);
+  const uint32_t zero = 0;
+  glClearTexImage(albedo.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, &zero);
+  glClearTexImage(normal.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, &zero);
+  // r32ui views for the atomics (RGBA8 and R32UI share the 32-bit view class).
+  GLuint views[2];
+  glGenTextures(2, views);
+  glTextureView(views[0], GL_TEXTURE_3D, albedo.id(), GL_R32UI, 0, 1, 0, 1);
+  glTextureView(views[1], GL_TEXTURE_3D, normal.id(), GL_R32UI, 0, 1, 0, 1);
+  const uint32_t fragments = voxelFragmentCount(ctx.board);
+  GLuint program = ctx.shaders.program({"near_field/voxel_attributes.comp.glsl"});
+  setUniform(program, "u_fragmentCount", fragments);
+  setUniform(program, "u_resolution", res);
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  glBindImageTexture(0, views[0], 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(1, views[1], 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  if (fragments > 0) dispatchCompute({int(fragments), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  glDeleteTextures(2, views);
+  ctx.stats["fragments_read"] = fragments;
+}
+
+void PathsStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::integer("paths.count", 4, 1, 64, "paths per traced pixel", "paths"));
+  b.param(ParamDesc::integer("paths.bounces", 2, 1, 8,
+                             "diffuse bounces per path (1 = one indirect bounce, as near-field without a radius)"));
+  declareWalkParams(b);
+  b.readView();
+  b.read("bitmask-hierarchy");
+  b.read("ray-masks");
+  b.read("voxel-albedo");
+  b.read("voxel-normal");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("rsm-position");
+  b.read("rsm-normal");
+  b.read("rsm-radiance");
+  b.read("light");
+  b.write("paths.normal");
+  b.write("paths.weight");
+  b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
+           "indirect radiance of paths.bounces diffuse bounces so far: (1/P) sum over paths of sum_k W_k L~_k")
+      .referenceMode = "indirect";
+  b.output("path-vertex", OutputKind::Image2D, Semantic::Scalar,
+           "the current path vertex per pixel (world xyz), w = 1 while the path is alive");
+}
+
+int PathsStage::iterations(const ParamSet& params) const {
+  return params.getInt("paths.count") * params.getInt("paths.bounces");
+}
+
+void PathsStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  const int paths = ctx.params.getInt("paths.count"), bounces = ctx.params.getInt("paths.bounces");
+  const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
+  const int s = traceScale(ctx.params);
+  const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  checkTracedBytes("paths", tw, th, 4 * 16);
+  Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
+  Texture& vertex = ctx.board.ensureTexture("path-vertex", screenDesc(tw, th, GL_RGBA32F));
+  Texture& normal = ctx.board.ensureTexture("paths.normal", screenDesc(tw, th, GL_RGBA32F));
+  Texture& weight = ctx.board.ensureTexture("paths.weight", screenDesc(tw, th, GL_RGBA32F));
+  if (ctx.iteration == 0) {
+    const float none[4] = {0, 0, 0, 0};
+    glClearTexImage(indirect.id(), 0, GL_RGBA, GL_FLOAT, none);
+  }
+  GLuint program = ctx.shaders.program({"near_field/paths.comp.glsl"});
+  setWalkUniforms(program, ctx.params, geo);
+  setUniform(program, "u_path", ctx.iteration / bounces);
+  setUniform(program, "u_pathCount", paths);
+  setUniform(program, "u_bounce", ctx.iteration % bounces);
+  setUniform(program, "u_traceScale", s);
+  // A bounce's ray may cross the whole volume (its diagonal); the walk clips it to the volume.
+  setUniform(program, "u_maxLength", std::sqrt(3.0f) * geo.edge);
+  glUseProgram(program);
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindTextureUnit(4, ctx.board.texture("bitmask-hierarchy").id());
+  glBindTextureUnit(5, ctx.board.texture("ray-masks").id());
+  glBindTextureUnit(6, ctx.board.texture("rsm-position").id());
+  glBindTextureUnit(7, ctx.board.texture("rsm-normal").id());
+  glBindTextureUnit(8, ctx.board.texture("rsm-radiance").id());
+  glBindTextureUnit(9, ctx.board.texture("voxel-albedo").id());
+  glBindTextureUnit(10, ctx.board.texture("voxel-normal").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(1, vertex.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(2, normal.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(3, weight.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  dispatchCompute({tw, th, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["paths_per_pixel"] = paths;
+  ctx.stats["bounces"] = bounces;
+}
+
 // --- Filter ------------------------------------------------------------------------------------
 
 void FilterStage::declare(StageBuilder& b) const {
@@ -336,7 +480,7 @@ void FilterStage::declare(StageBuilder& b) const {
   b.write("filter.scratch");
   b.output("indirect-filtered", OutputKind::Image2D, Semantic::RadianceHDR,
            "the indirect light after the passes so far (at rays.resolution)")
-      .referenceMode = "indirect-1";
+      .referenceMode = referenceMode_;
 }
 
 int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }

@@ -43,8 +43,38 @@ class RaysStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+// Voxel path tracing (seed 000 section 3.2.4): the voxel attributes its path vertices need where
+// the RSM does not see them, and the paths, one bounce of one path per iteration.
+class VoxelAttributesStage : public Stage {
+ public:
+  const char* id() const override { return "voxel-attributes"; }
+  const char* title() const override { return "Voxel albedo and normal"; }
+  const char* summary() const override {
+    return "One albedo and one normal per voxel of the fragment list (atomic max of the packed values), for path "
+           "vertices the light's map does not see.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class PathsStage : public Stage {
+ public:
+  const char* id() const override { return "paths"; }
+  const char* title() const override { return "Voxel path tracing"; }
+  const char* summary() const override {
+    return "Per pixel, paths of up to K diffuse bounces through the binary voxels; each hit the RSM sees lit adds "
+           "its reflected radiance times the product of the albedos so far. One bounce of one path per iteration.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
 class FilterStage : public Stage {
  public:
+  // 'referenceMode': what the filtered image approximates ("indirect-1" for near-field's one
+  // bounce, "indirect" for voxel path tracing's several).
+  explicit FilterStage(const char* referenceMode = "indirect-1") : referenceMode_(referenceMode) {}
   const char* id() const override { return "filter"; }
   const char* title() const override { return "Geometry-aware filter"; }
   const char* summary() const override {
@@ -54,6 +84,9 @@ class FilterStage : public Stage {
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override;
   void execute(StageContext& ctx) override;
+
+ private:
+  const char* referenceMode_;
 };
 
 class CompositeStage : public Stage {

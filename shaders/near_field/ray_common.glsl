@@ -1,0 +1,83 @@
+// Ray set-up and RSM lookup shared by the near-field rays and the voxel path tracer.
+// Needs common/lights.glsl (u_light) before it.
+#include "near_field/near_field_shared.h"
+
+layout(binding = 6) uniform sampler2D u_rsmPosition; // xyz, w = footprint (0 = empty)
+layout(binding = 7) uniform sampler2D u_rsmNormal;
+layout(binding = 8) uniform sampler2D u_rsmRadiance;
+uniform int u_normalCheck, u_planeTest;
+uniform float u_voxelDiagonal, u_epsilonScale;
+const float PI = 3.14159265358979;
+
+// Hammersley point i of n: ((i + 0.5) / n, radical inverse of i).
+vec2 hammersley(int i, int n) {
+  return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(uint(i))) * 2.3283064365386963e-10);
+}
+// Per-pixel shift (Cranley-Patterson rotation), a hash of the pixel.
+vec2 pixelShift(ivec2 px) {
+  uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
+  h = (h ^ 61u) ^ (h >> 16u); h *= 9u; h ^= h >> 4u; h *= 0x27d4eb2du; h ^= h >> 15u;
+  uint g = h * 747796405u + 2891336453u;
+  g = ((g >> ((g >> 28u) + 4u)) ^ g) * 277803737u; g = (g >> 22u) ^ g;
+  return vec2(float(h >> 8u), float(g >> 8u)) / 16777216.0;
+}
+
+// Cosine-distributed direction around n within the part of the hemisphere 'spread' keeps
+// (sin^2 theta = u.x * spread, phi = 2 pi u.y).
+vec3 cosineDirection(vec3 n, vec2 u, float spread, out float cosTheta) {
+  float sin2 = u.x * spread;
+  cosTheta = sqrt(max(1.0 - sin2, 0.0));
+  float sinTheta = sqrt(sin2), phi = 2.0 * PI * u.y;
+  vec3 t = normalize(abs(n.x) > 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
+  vec3 b = cross(n, t);
+  return normalize(t * (sinTheta * cos(phi)) + b * (sinTheta * sin(phi)) + n * cosTheta);
+}
+
+struct RsmLookup {
+  uint category;   // NF_CAT_VALID, NF_CAT_NOT_IN_RSM, NF_CAT_TOO_FAR or NF_CAT_WRONG_FACING
+  vec3 radiance;   // reflected radiance of the sender (valid only)
+  vec3 normal;     // sender's lit-side normal (when the texel is covered)
+  vec2 texel;      // RSM texel (-1 outside)
+  float dist, epsilon, facing;
+};
+
+// Is the RSM's surface at the hit's texel the surface that was hit, lit on the receiver's side?
+RsmLookup lookupRsm(vec3 hit, vec3 receiver) {
+  RsmLookup r;
+  r.category = NF_CAT_NOT_IN_RSM;
+  r.radiance = vec3(0.0);
+  r.normal = vec3(0.0);
+  r.texel = vec2(-1.0);
+  r.dist = 0.0; r.epsilon = 0.0; r.facing = 0.0;
+  vec4 clip = u_light.shadowViewProj * vec4(hit, 1.0);
+  vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+  if (u_light.spot.w > 0.5 && clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) {
+    ivec2 texel = ivec2(uv * vec2(textureSize(u_rsmPosition, 0)));
+    r.texel = vec2(texel);
+    vec4 sender = texelFetch(u_rsmPosition, texel, 0);
+    if (sender.w > 0.0) {
+      vec3 ns = texelFetch(u_rsmNormal, texel, 0).xyz;
+      r.normal = ns;
+      // Paper: |hit - sender| < epsilon = max(voxel diagonal, texel footprint) (its max(v,
+      // s/cos a * z/znear): the footprint includes 1/cos a and the distance), capped at 4
+      // diagonals (GP3). Plane test: the hit lies within a voxel diagonal of the sender's
+      // plane (its distance along the plane is at most the footprint plus the cap).
+      if (u_planeTest != 0) {
+        r.dist = abs(dot(ns, hit - sender.xyz));
+        r.epsilon = u_voxelDiagonal;
+        if (length(hit - sender.xyz) > 4.0 * u_voxelDiagonal + sender.w * u_epsilonScale) r.dist = 1e30;
+      } else {
+        r.dist = length(hit - sender.xyz);
+        r.epsilon = min(4.0 * u_voxelDiagonal, max(u_voxelDiagonal, sender.w * u_epsilonScale));
+      }
+      r.facing = dot(ns, normalize(receiver - hit));
+      if (r.dist > r.epsilon) r.category = NF_CAT_TOO_FAR;
+      else if (u_normalCheck != 0 && r.facing < 0.0) r.category = NF_CAT_WRONG_FACING;
+      else {
+        r.category = NF_CAT_VALID;
+        r.radiance = texelFetch(u_rsmRadiance, texel, 0).rgb;
+      }
+    }
+  }
+  return r;
+}
