@@ -31,6 +31,10 @@ namespace {
 
 using Json = nlohmann::json;
 
+// An accessor without a buffer view is all zeros (sparse values may replace some): nothing in the
+// file backs its count, so it is bounded (2^24 elements) rather than allocated as claimed.
+constexpr size_t kMaxAccessorCountWithoutData = size_t(1) << 24;
+
 const std::vector<std::string> kSupportedExtensions = {"KHR_lights_punctual",
                                                        "KHR_materials_emissive_strength"};
 
@@ -664,10 +668,16 @@ std::vector<float> Loader::readAccessor(int accessorIndex, int wantType, const s
   int nc = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
   size_t count = acc.count;
   if (count > (size_t(1) << 31)) fail(label + " count " + std::to_string(count) + " is too large");
-  std::vector<float> out(count * size_t(nc), 0.0f);
+  if (acc.bufferView < 0 && count > kMaxAccessorCountWithoutData)
+    fail(label + " count " + std::to_string(count) + " has no buffer view; at most " +
+         std::to_string(kMaxAccessorCountWithoutData) + " elements may be implied zeros");
   size_t elementSize = size_t(csize) * size_t(nc);
+  // The buffer view is checked before the output is allocated: a count the data cannot back must
+  // not allocate (fuzzing: an accessor claiming 2e9 elements of a 12-byte view).
+  ByteView v{};
+  if (acc.bufferView >= 0) v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, elementSize, label, failFn);
+  std::vector<float> out(count * size_t(nc), 0.0f);
   if (acc.bufferView >= 0) {
-    ByteView v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, elementSize, label, failFn);
     for (size_t i = 0; i < count; ++i) {
       const uint8_t* e = v.data + i * v.stride;
       for (int c = 0; c < nc; ++c) out[i * nc + c] = readComponent(e + c * csize, acc.componentType, acc.normalized);
@@ -720,10 +730,15 @@ std::vector<uint32_t> Loader::readIndices(int accessorIndex, const std::string& 
   }
   size_t count = acc.count;
   if (count > (size_t(1) << 31)) fail(label + " count " + std::to_string(count) + " is too large");
-  std::vector<uint32_t> out(count, 0);
-  if (acc.bufferView < 0) return out;
+  if (acc.bufferView < 0) {
+    if (count > kMaxAccessorCountWithoutData)
+      fail(label + " count " + std::to_string(count) + " has no buffer view; at most " +
+           std::to_string(kMaxAccessorCountWithoutData) + " elements may be implied zeros");
+    return std::vector<uint32_t>(count, 0);
+  }
   int csize = componentSize(ct);
   ByteView v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, size_t(csize), label, failFn);
+  std::vector<uint32_t> out(count, 0);  // after the range check: the view backs 'count' elements
   for (size_t i = 0; i < count; ++i) out[i] = readIndexComponent(v.data + i * v.stride, ct);
   return out;
 }
@@ -1057,8 +1072,34 @@ void Loader::buildScene(Scene& scene) {
   if (scene.cameras.empty()) scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
 }
 
+// Deepest nesting of arrays and objects in JSON text (strings skipped). tinygltf converts
+// "extras" and extension values recursively, so deep nesting must be refused before it parses.
+size_t jsonNestingDepth(const std::string& text) {
+  size_t depth = 0, deepest = 0;
+  bool inString = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\') ++i;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+constexpr size_t kMaxJsonNesting = 128;
+
 Scene Loader::load() {
   readFile();
+  if (size_t depth = jsonNestingDepth(jsonText_); depth > kMaxJsonNesting)
+    fail("JSON nests " + std::to_string(depth) + " levels deep; at most " + std::to_string(kMaxJsonNesting) +
+         " are accepted");
   Json root;
   try {
     root = Json::parse(jsonText_);

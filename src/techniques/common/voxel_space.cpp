@@ -34,8 +34,10 @@ uint32_t voxelFragmentCount(Blackboard& board) {
   return std::min(count, capacity);
 }
 
+size_t fragmentPoolStart(int resolution) { return std::max<size_t>(size_t(resolution) * resolution * 12, 1 << 16); }
+
 size_t initialFragmentCapacity(Blackboard& board, int resolution) {
-  size_t capacity = std::max<size_t>(size_t(resolution) * resolution * 12, 1 << 16);
+  size_t capacity = fragmentPoolStart(resolution);
   if (board.hasBuffer("fragments"))
     capacity = std::max(capacity, board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
   return capacity;

@@ -38,6 +38,8 @@ uint32_t voxelFragmentCount(Blackboard& board);
 // Records to allocate for the fragment list before a voxelization pass: a guess of 12 per
 // resolution^2 (at least 65536), or the list's current size if that is larger.
 size_t initialFragmentCapacity(Blackboard& board, int resolution);
+// Fragments the pool starts with at a resolution (before it grows to what a scene produces).
+size_t fragmentPoolStart(int resolution);
 
 // The record layout of the VoxelFragment list (shaders/common/shared.h), for outputs.
 BufferLayout voxelFragmentLayout(const std::string& countResource);
