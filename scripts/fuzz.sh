@@ -20,7 +20,7 @@ mkdir -p "$build/fuzz-corpus" "$build/fuzz-findings"
 # Limits that make "allocates without bound" and "hangs" findings: one input may not take more
 # than 10 s nor allocate more than 1 GiB at once (2 GiB resident in all).
 limits=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 -max_len=65536)
-regressions=("$root"/tests/data/fuzz/*)
+regressions=("$root"/tests/data/fuzz/*.gl*)
 if [ -e "${regressions[0]}" ]; then
   echo "== fuzz: ${#regressions[@]} regression files of tests/data/fuzz"
   "$fuzzer" "${limits[@]}" "${regressions[@]}" 2>&1 | tail -n 3

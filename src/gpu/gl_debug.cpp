@@ -64,7 +64,10 @@ void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sev
   while (!m.text.empty() && (m.text.back() == '\n' || m.text.back() == ' ')) m.text.pop_back();
   m.scope = currentScope();
   const std::string line = m.describe();
-  const bool failure = severity == GL_DEBUG_SEVERITY_HIGH || severity == GL_DEBUG_SEVERITY_MEDIUM;
+  // The shader compiler's messages repeat the info log, which ShaderLibrary reports itself as
+  // file:line errors (a failed compile is an Error there, a kept last good program in the viewer).
+  const bool compiler = source == GL_DEBUG_SOURCE_SHADER_COMPILER;
+  const bool failure = !compiler && (severity == GL_DEBUG_SEVERITY_HIGH || severity == GL_DEBUG_SEVERITY_MEDIUM);
   bool first = false;
   {
     DebugState& s = state();
@@ -80,6 +83,7 @@ void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sev
   }
   if (!first) return;  // each distinct message is printed once
   if (failure) log::warn(line);
+  else if (compiler) log::debug(line);
   else log::info(line);
 }
 

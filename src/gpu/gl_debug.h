@@ -3,7 +3,8 @@
 // distinct message, and errors of severity high or medium are kept so that tests fail on them.
 //
 // - Headless and windowed runs: each distinct message is printed once to stderr (high/medium as
-//   warnings, low at VOXLAB_LOG=info); notifications are ignored.
+//   warnings, low at VOXLAB_LOG=info); notifications are ignored, and the shader compiler's
+//   messages are not failures (ShaderLibrary reports compile errors as file:line Errors).
 // - Tests: tests/unit/test_main.cpp fails any test after which takeGLFailures() is not empty;
 //   commands exit with status 3 at the end when VOXLAB_GL_ERRORS_FATAL=1 (set for every CTest
 //   test) and a high/medium message arrived (app/main.cpp).

@@ -83,7 +83,7 @@ def main():
         written += 1
         try:
             doc = json.loads(raw)
-        except ValueError:
+        except (ValueError, RecursionError):
             continue
         (out / (name + ".min")).write_text(json.dumps(doc, separators=(",", ":")))
         written += 1
