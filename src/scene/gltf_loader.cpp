@@ -32,8 +32,11 @@ namespace {
 using Json = nlohmann::json;
 
 // An accessor without a buffer view is all zeros (sparse values may replace some): nothing in the
-// file backs its count, so it is bounded (2^24 elements) rather than allocated as claimed.
-constexpr size_t kMaxAccessorCountWithoutData = size_t(1) << 24;
+// file backs its count, so it is bounded (2^20 elements) rather than allocated as claimed.
+constexpr size_t kMaxAccessorCountWithoutData = size_t(1) << 20;
+// Vertices and triangles of the flattened, world-space scene: 2^23 (8.4 M) each, at most about
+// 1 GiB while loading (Sponza has 0.26 M triangles).
+constexpr size_t kMaxSceneElements = size_t(1) << 23;
 
 const std::vector<std::string> kSupportedExtensions = {"KHR_lights_punctual",
                                                        "KHR_materials_emissive_strength"};
@@ -921,7 +924,14 @@ void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm:
   glm::mat3 normalMatrix = invertible ? glm::transpose(glm::inverse(linear)) : glm::mat3(1.0f);
 
   const uint32_t base = uint32_t(scene.positions.size());
-  if (uint64_t(base) + vertexCount > UINT32_MAX) fail("scene has more than 2^32 vertices");
+  // Bounded output: node instancing (and node graphs that are not trees) repeat a primitive's
+  // data, so the flattened scene is capped rather than the file trusted (found by reasoning about
+  // the fuzzer's limits: a 2^20-element accessor instanced by many nodes).
+  size_t trianglesSoFar = 0;
+  for (const auto& t : trianglesByMaterial_) trianglesSoFar += t.size() / 3;
+  if (scene.positions.size() + vertexCount > kMaxSceneElements || trianglesSoFar + tris.size() / 3 > kMaxSceneElements)
+    fail(label + ": the flattened scene would have more than " + std::to_string(kMaxSceneElements) +
+         " vertices or triangles (nodes instance its meshes); at most that many are loaded");
   for (size_t v = 0; v < vertexCount; ++v) {
     glm::vec3 p(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]);
     glm::vec3 wp = glm::vec3(world * glm::vec4(p, 1.0f));

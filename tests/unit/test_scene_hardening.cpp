@@ -82,6 +82,10 @@ TEST(SceneHardening, AccessorWithoutDataIsBounded) {
   expectRejected(writeScene("no-view.gltf", text), "implied zeros");
 }
 
+TEST(SceneHardening, InstancingIsBounded) {
+  expectRejected(projectPath("tests/data/fuzz/instanced-implied-zeros-12x2e20.gltf"), "flattened scene would have more than");
+}
+
 TEST(SceneHardening, DeepNodeChainLoads) {
   // 50000 nodes, each the only child of the previous one; the mesh sits at the bottom.
   const int depth = 50000;
