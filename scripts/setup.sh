@@ -7,6 +7,7 @@ packages=(
   libglfw3-dev libimgui-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libopenexr-dev openimageio-tools libosmesa6-dev libgl-dev libegl-dev
   libgtest-dev libembree-dev xvfb xauth libcmark-dev
+  clang libclang-rt-dev llvm  # sanitized build and the libFuzzer target (scripts/build-asan.sh)
   chromium  # headless browser for the handout test (tests/cli/handout.cmake)
   python3-pil  # scripts/make_sponza.py reduces Sponza's textures (only to regenerate scenes/sponza)
 )

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the whole test suite (CTest: unit, snapshot, physics,
 # command-line and viewer tests), once with llvmpipe on one thread and once on two, because
-# atomics and work distribution differ between them (testing.md).
+# atomics and work distribution differ between them (testing.md). Then the sanitized pass
+# (docs/testing.md#guards): the unit, command-line and snapshot tests once more, built with
+# AddressSanitizer + UndefinedBehaviorSanitizer (Clang, build-asan/), and the scene-loader
+# fuzzer for VOXLAB_FUZZ_SECONDS (default 90). VOXLAB_SANITIZED=0 skips that pass.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
@@ -11,3 +14,14 @@ for threads in 1 2; do
   echo "== ctest with LP_NUM_THREADS=$threads"
   LP_NUM_THREADS=$threads ctest --output-on-failure -j1 --timeout 600
 done
+
+[ "${VOXLAB_SANITIZED:-1}" = 0 ] && exit 0
+echo "== sanitized build (ASan + UBSan, Clang)"
+"$root/scripts/build-asan.sh"
+source "$root/scripts/sanitizer-env.sh"
+cd "$root/build-asan"
+# Viewer, handout (Chromium) and platform tests are left out: they exercise GLFW/Xvfb and a
+# browser more than voxlab's code, and would double the sanitized pass (docs/testing.md#guards).
+echo "== sanitized ctest with LP_NUM_THREADS=2 (unit, command line, snapshots)"
+LP_NUM_THREADS=2 ctest --output-on-failure -j1 --timeout 1200 -E '^(viewer|handout|gallery|platform)\.'
+"$root/scripts/fuzz.sh" "${VOXLAB_FUZZ_SECONDS:-90}"

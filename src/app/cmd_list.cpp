@@ -6,6 +6,7 @@
 #include "app/command.h"
 #include "core/args.h"
 #include "core/error.h"
+#include "graph/resource_budget.h"
 #include "graph/technique.h"
 #include "scene/scene.h"
 
@@ -13,6 +14,41 @@ namespace voxlab {
 namespace {
 
 using nlohmann::json;
+
+// What the technique allocates (graph/resource_budget.h) for a 512x512 view: at the defaults, per
+// resource, and the total at every value of each power-of-two parameter that changes it.
+json describeResources(const Technique& t) {
+  ViewState view;  // 512x512, as `voxlab run` by default
+  const ParamSet defaults = t.defaultParams();
+  auto totalJson = [](const ResourceEstimate& e) { return json(e.totalBytes); };
+  const ResourceEstimate atDefaults = estimateResources(t, defaults, view);
+  json r;
+  r["view"] = {view.width, view.height};
+  r["memory_budget_bytes"] = size_t(defaults.getInt(memoryBudgetParam().name)) << 20;
+  r["total_bytes"] = atDefaults.totalBytes;
+  r["total"] = formatBytes(atDefaults.totalBytes);
+  for (const auto& item : atDefaults.items) {
+    json i = {{"stage", item.stage}, {"resource", item.resource}, {"bytes", item.bytes}};
+    if (item.isTexture) i["size"] = item.is3D ? json{item.size.x, item.size.y, item.size.z} : json{item.size.x, item.size.y};
+    if (item.pool) i["pool"] = true;  // a starting size: grows with the scene
+    r["resources"].push_back(i);
+  }
+  for (const auto& [name, desc] : defaults.descs()) {
+    if (desc.type != ParamType::Int || !desc.powerOfTwo) continue;
+    json byValue = json::object();
+    bool changes = false;
+    for (long long v = 1; v <= (long long)desc.maxValue; v *= 2) {
+      if (v < (long long)desc.minValue) continue;
+      ParamSet p = defaults;
+      p.set(name, double(v));
+      const ResourceEstimate e = estimateResources(t, p, view);
+      changes = changes || e.totalBytes != atDefaults.totalBytes;
+      byValue[std::to_string(v)] = totalJson(e);
+    }
+    if (changes) r["total_bytes_by_parameter"][name] = byValue;
+  }
+  return r;
+}
 
 json describeTechnique(const Technique& t) {
   json j;
@@ -45,6 +81,7 @@ json describeTechnique(const Technique& t) {
                                  {"range", p.rangeText()}, {"unit", p.unit}, {"help", p.help}});
     j["stages"].push_back(s);
   }
+  j["resource_estimate"] = describeResources(t);
   return j;
 }
 
@@ -58,8 +95,10 @@ int runList(const std::vector<std::string>& argv) {
     return 0;
   }
   for (const auto& t : all["techniques"]) {
-    std::printf("%s  %s\n  final output: %s\n", t["id"].get<std::string>().c_str(),
-                t["title"].get<std::string>().c_str(), t["final_output"].get<std::string>().c_str());
+    std::printf("%s  %s\n  final output: %s\n  GPU memory at the defaults (512x512): %s\n",
+                t["id"].get<std::string>().c_str(), t["title"].get<std::string>().c_str(),
+                t["final_output"].get<std::string>().c_str(),
+                t["resource_estimate"]["total"].get<std::string>().c_str());
     int n = 1;
     for (const auto& s : t["stages"]) {
       const int iterations = s["iterations"].get<int>();

@@ -2,12 +2,25 @@
 // main() only dispatches to the commands registered in src/app/cmd_*.cpp.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "app/command.h"
 #include "core/error.h"
+#include "gpu/gl_debug.h"
+
+// With VOXLAB_GL_ERRORS_FATAL=1 (every CTest test sets it) a command that caused GL messages of
+// severity high or medium exits with status 3 after naming the first one; each was printed once.
+static int failOnGLErrors(const char* command, int status) {
+  const char* fatal = std::getenv("VOXLAB_GL_ERRORS_FATAL");
+  if (!fatal || std::string(fatal) != "1") return status;
+  const size_t count = voxlab::glFailureCount();
+  if (count == 0) return status;
+  std::fprintf(stderr, "voxlab %s: %zu GL message(s) of severity high or medium (printed above)\n", command, count);
+  return 3;
+}
 
 static void printUsage() {
   std::printf("usage: voxlab COMMAND [options]\n\ncommands:\n");
@@ -37,10 +50,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     try {
-      return c.run(rest);
+      return failOnGLErrors(c.name, c.run(rest));
     } catch (const voxlab::Error& e) {
       std::fprintf(stderr, "voxlab %s: %s\n", c.name, e.what());
-      return 2;
+      return failOnGLErrors(c.name, 2);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "voxlab %s: internal error: %s\n", c.name, e.what());
       return 3;

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "gpu/gl_debug.h"
 
 namespace voxlab {
 
@@ -65,6 +66,7 @@ static int fullMipCount(glm::ivec3 s) {
 }
 
 Texture::Texture(const std::string& label, const TextureDesc& desc) : desc_(desc), label_(label) {
+  GLDebugScope scope("texture '" + label + "'");
   if (desc_.levels <= 0) desc_.levels = fullMipCount(desc_.size);
   GLuint id = 0;
   glCreateTextures(desc_.target, 1, &id);
@@ -110,6 +112,7 @@ bool Texture::matches(const TextureDesc& d) const {
 
 Buffer::Buffer(const std::string& label, size_t bytes, const void* data, GLbitfield flags)
     : size_(bytes), label_(label) {
+  GLDebugScope scope("buffer '" + label + "'");
   GLuint id = 0;
   glCreateBuffers(1, &id);
   handle_ = GLHandle<BufferDeleter>(id);
@@ -118,6 +121,7 @@ Buffer::Buffer(const std::string& label, size_t bytes, const void* data, GLbitfi
 }
 
 void Buffer::upload(const void* data, size_t bytes, size_t offset) {
+  GLDebugScope scope("buffer '" + label_ + "' upload");
   glNamedBufferSubData(id(), offset, bytes, data);
 }
 
@@ -141,6 +145,7 @@ Framebuffer::Framebuffer(const std::string& label) : label_(label) {
 }
 
 void Framebuffer::attach(GLenum attachment, const Texture& texture, int level) {
+  GLDebugScope scope("framebuffer '" + label_ + "' attach '" + texture.label() + "'");
   glNamedFramebufferTexture(id(), attachment, texture.id(), level);
 }
 
@@ -159,19 +164,22 @@ void Framebuffer::checkComplete() const {
     throw Error("framebuffer '" + label_ + "' is incomplete (status 0x" + std::to_string(status) + ")");
 }
 
-VertexArray::VertexArray() {
+VertexArray::VertexArray(const std::string& label) {
   GLuint id = 0;
   glCreateVertexArrays(1, &id);
   handle_ = GLHandle<VertexArrayDeleter>(id);
+  glObjectLabel(GL_VERTEX_ARRAY, id, -1, label.c_str());
 }
 
 // --- Timer ---------------------------------------------------------------------------------------
 
-GpuTimer::GpuTimer() {
+GpuTimer::GpuTimer(const std::string& label) {
   GLuint ids[2] = {0, 0};
   glCreateQueries(GL_TIMESTAMP, 2, ids);
   start_ = GLHandle<QueryDeleter>(ids[0]);
   stop_ = GLHandle<QueryDeleter>(ids[1]);
+  glObjectLabel(GL_QUERY, ids[0], -1, (label + ".start").c_str());
+  glObjectLabel(GL_QUERY, ids[1], -1, (label + ".stop").c_str());
 }
 
 void GpuTimer::begin() { glQueryCounter(start_.id(), GL_TIMESTAMP); }
@@ -190,23 +198,6 @@ double GpuTimer::milliseconds() {
     pending_ = false;
   }
   return last_;
-}
-
-// --- Debug output --------------------------------------------------------------------------------
-
-static void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei,
-                                      const GLchar* message, const void*) {
-  if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
-  if (type == GL_DEBUG_TYPE_ERROR)
-    log::error(std::string("GL: ") + message);
-  else
-    log::debug(std::string("GL: ") + message);
-}
-
-void installDebugOutput() {
-  glEnable(GL_DEBUG_OUTPUT);
-  glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-  glDebugMessageCallback(onDebugMessage, nullptr);
 }
 
 }  // namespace voxlab

@@ -1,6 +1,7 @@
 // RAII wrappers over GL 4.5 direct-state-access objects. Every object carries a label (shown by
-// GL debuggers and used as its name on the blackboard) and knows its own shape, so outputs can be
-// read back and described without stage-specific code.
+// GL debuggers, named by GL debug messages: gpu/gl_debug.h, and used as its name on the
+// blackboard) and knows its own shape, so outputs can be read back and described without
+// stage-specific code.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -117,7 +118,8 @@ class Framebuffer {
 
 class VertexArray {
  public:
-  VertexArray();
+  VertexArray() : VertexArray("vertex-array") {}  // owners with a better name relabel it
+  explicit VertexArray(const std::string& label);
   GLuint id() const { return handle_.id(); }
 
  private:
@@ -128,7 +130,7 @@ class VertexArray {
 // spans a synchronising readback), without stalling until the result is asked for.
 class GpuTimer {
  public:
-  GpuTimer();
+  explicit GpuTimer(const std::string& label);
   void begin();
   void end();
   double milliseconds();  // waits for the result
@@ -138,8 +140,5 @@ class GpuTimer {
   bool pending_ = false;
   double last_ = 0.0;
 };
-
-// Enables GL debug output: errors become log lines (and throw in debug builds).
-void installDebugOutput();
 
 }  // namespace voxlab

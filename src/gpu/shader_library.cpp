@@ -142,6 +142,12 @@ std::string ShaderLibrary::expand(const std::string& file, const std::string& de
 GLuint ShaderLibrary::build(const std::vector<std::string>& files, const std::string& defines,
                             std::map<std::string, fs::file_time_type>& sources) {
   GLuint program = glCreateProgram();
+  {
+    std::string label;
+    for (const auto& f : files) label += (label.empty() ? "" : " + ") + f;
+    label = label.substr(0, 255);  // GL_MAX_LABEL_LENGTH is at least 256 (with the terminator)
+    glObjectLabel(GL_PROGRAM, program, -1, label.c_str());
+  }
   std::vector<GLuint> shaders;
   std::string errors;
   for (const auto& file : files) {
@@ -158,6 +164,7 @@ GLuint ShaderLibrary::build(const std::vector<std::string>& files, const std::st
       sources[f] = fs::last_write_time(root_ + "/" + f, ec);
     }
     GLuint shader = glCreateShader(stageTypeOf(file));
+    glObjectLabel(GL_SHADER, shader, -1, file.c_str());
     const char* ptr = src.c_str();
     glShaderSource(shader, 1, &ptr, nullptr);
     glCompileShader(shader);

@@ -2,6 +2,7 @@
 // (its outputs) and which parameters it takes; the viewer, the CLI, the snapshot suite, the
 // benchmark and the lessons all work from that declaration alone.
 #pragma once
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -49,12 +50,26 @@ struct ProbeDesc {
   std::vector<std::string> paramNames() const;  // the non-empty ones
 };
 
+struct ViewState;
+
+// What a stage will allocate on the blackboard for given parameters and view, declared so that
+// the whole technique can be sized (graph/resource_budget.h) before any GL allocation. A texture
+// gives the exact TextureDesc its execute() passes to ensureTexture; a buffer its byte size. A
+// pool's size is where it starts: it may grow to what the scene needs (e.g. voxel fragments).
+struct ResourceDecl {
+  std::string resource;
+  std::function<TextureDesc(const ParamSet&, const ViewState&)> texture;  // set for textures
+  std::function<size_t(const ParamSet&, const ViewState&)> bufferBytes;   // set for buffers
+  bool pool = false;
+};
+
 struct StageDecl {
   std::vector<std::string> reads;     // resources (and kViewResource) this stage reads
   std::vector<std::string> writes;    // resources it writes that are not outputs
   std::vector<OutputDesc> outputs;    // resources it writes that can be inspected
   std::vector<ParamDesc> params;
   std::vector<ProbeDesc> probes;      // where its probe parameters point
+  std::vector<ResourceDecl> resources;  // blackboard allocations, for the resource budget
 };
 
 class StageBuilder {
@@ -67,6 +82,17 @@ class StageBuilder {
   StageBuilder& param(const ParamDesc& p) { decl_.params.push_back(p); return *this; }
   // The named parameters (declared with param()) point at one element of 'probe.space'.
   StageBuilder& probe(const ProbeDesc& p) { decl_.probes.push_back(p); return *this; }
+  // The blackboard texture / buffer 'resource' this stage allocates (see ResourceDecl).
+  StageBuilder& texture(const std::string& resource,
+                        std::function<TextureDesc(const ParamSet&, const ViewState&)> desc) {
+    decl_.resources.push_back({resource, std::move(desc), nullptr, false});
+    return *this;
+  }
+  StageBuilder& buffer(const std::string& resource, std::function<size_t(const ParamSet&, const ViewState&)> bytes,
+                       bool pool = false) {
+    decl_.resources.push_back({resource, nullptr, std::move(bytes), pool});
+    return *this;
+  }
 
  private:
   StageDecl& decl_;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "gpu/gl_debug.h"
 #include "gpu/shader_library.h"
 
 namespace voxlab {
@@ -120,8 +121,16 @@ void StepCursor::useSceneCamera(int index) {
   setCamera(scene_->cameras[index]);
 }
 
+ResourceEstimate StepCursor::resourceEstimate() const { return estimateResources(*technique_, params_, view_); }
+
+std::string StepCursor::resourceBudgetExcess() const {
+  if (!limits_) limits_ = ResourceLimits::query();
+  return checkResourceBudget(*technique_, params_, view_, *limits_);
+}
+
 void StepCursor::runThrough(int last) {
   if (!scene_) throw Error("no scene loaded");
+  if (std::string excess = resourceBudgetExcess(); !excess.empty()) throw Error(excess);
   last = std::min(last, stageCount() - 1);
   for (int i = 0; i <= last; ++i)
     if (records_[i].state != StageState::Done) runStage(i, std::numeric_limits<int>::max());
@@ -129,6 +138,7 @@ void StepCursor::runThrough(int last) {
 
 int StepCursor::runIteration(int stage) {
   if (!scene_) throw Error("no scene loaded");
+  if (std::string excess = resourceBudgetExcess(); !excess.empty()) throw Error(excess);
   if (stage > 0) runThrough(stage - 1);
   int next = records_.at(stage).state == StageState::Partial ? records_[stage].iterationsRun : 0;
   runStage(stage, next + 1);
@@ -150,7 +160,8 @@ void StepCursor::runStage(int i, int untilIteration) {
   r.iterationsTotal = total;
   untilIteration = std::min(untilIteration, total);
   StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0};
-  GpuTimer timer;
+  GLDebugScope scope("stage " + technique_->id() + "/" + stage.id());
+  GpuTimer timer(technique_->id() + "/" + stage.id() + ".timer");
   auto t0 = std::chrono::steady_clock::now();
   timer.begin();
   for (int it = first; it < untilIteration; ++it) {

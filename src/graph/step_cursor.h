@@ -7,9 +7,11 @@
 // soon as the stage that wrote one of its reads is stale. A new scene makes everything "not run".
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "graph/resource_budget.h"
 #include "graph/technique.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
@@ -72,6 +74,11 @@ class StepCursor {
   ShaderLibrary& shaders() { return shaders_; }
   void invalidateAll();  // e.g. after a shader reload
   void invalidate(int stage);  // that stage and every stage reading what it wrote become Stale
+  // The resources the current parameters and view need, from the stages' declarations, and the
+  // refusal line when they do not fit the GL limits and gpu.memory-budget ("" = they fit). Every
+  // run checks it first and throws Error with that line before allocating anything.
+  ResourceEstimate resourceEstimate() const;
+  std::string resourceBudgetExcess() const;
 
  private:
   void markStale(int stage);
@@ -91,6 +98,7 @@ class StepCursor {
   ViewState view_;
   Blackboard board_;
   std::vector<StageRecord> records_;
+  mutable std::optional<ResourceLimits> limits_;  // queried from GL on first use
 };
 
 }  // namespace voxlab

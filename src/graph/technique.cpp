@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "graph/resource_budget.h"
 
 namespace voxlab {
 
@@ -40,6 +41,7 @@ ParamSet Technique::defaultParams() const {
   ParamSet p;
   for (const auto& d : decls_)
     for (const auto& param : d.params) p.declare(param);
+  p.declare(memoryBudgetParam());  // every technique: the resource budget (graph/resource_budget.h)
   return p;
 }
 

@@ -27,14 +27,6 @@ namespace {
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 }  // namespace
 
-std::string formatBytes(size_t b) {
-  char buf[64];
-  if (b >= (1u << 20)) std::snprintf(buf, sizeof buf, "%.1f MiB", double(b) / (1 << 20));
-  else if (b >= 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", double(b) / 1024);
-  else std::snprintf(buf, sizeof buf, "%zu B", b);
-  return buf;
-}
-
 void DisplayTexture::upload(int w, int h, const uint8_t* rgba) {
   if (id == 0 || w != width || h != height) {
     if (id) glDeleteTextures(1, &id);

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "capture/capture.h"
+#include "graph/resource_budget.h"
 #include "gpu/gl.h"
 #include "graph/step_cursor.h"
 #include "inspect/inspect_logic.h"
@@ -282,8 +283,7 @@ bool registerDetailsTab(const DetailsTab& tab);
 #define VOXLAB_REGISTER_DETAILS_TAB(name, ...) \
   static const bool voxlabDetailsTab_##name = ::voxlab::registerDetailsTab(::voxlab::DetailsTab{__VA_ARGS__})
 
-// Small helpers the panels share (viewer.cpp).
-std::string formatBytes(size_t bytes);
+// Small helpers the panels share (viewer.cpp); formatBytes comes from graph/resource_budget.h.
 inline const ImVec4 kWarningColour{0.95f, 0.75f, 0.3f, 1};
 inline const ImVec4 kErrorColour{1, 0.4f, 0.4f, 1};
 

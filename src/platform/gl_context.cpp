@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "gpu/gl.h"
+#include "gpu/gl_debug.h"
 
 namespace voxlab {
 
@@ -32,6 +33,7 @@ void loadGL(void* (*getProc)(const char*)) {
   if (major < 4 || (major == 4 && minor < 5))
     throw Error("OpenGL 4.5 core is needed, the context offers " + std::to_string(major) + "." +
                 std::to_string(minor));
+  installDebugOutput();  // every context: KHR_debug messages are collected (gpu/gl_debug.h)
 }
 
 std::string glRenderer() {

@@ -31,6 +31,13 @@ namespace {
 
 using Json = nlohmann::json;
 
+// An accessor without a buffer view is all zeros (sparse values may replace some): nothing in the
+// file backs its count, so it is bounded (2^20 elements) rather than allocated as claimed.
+constexpr size_t kMaxAccessorCountWithoutData = size_t(1) << 20;
+// Vertices and triangles of the flattened, world-space scene: 2^23 (8.4 M) each, at most about
+// 1 GiB while loading (Sponza has 0.26 M triangles).
+constexpr size_t kMaxSceneElements = size_t(1) << 23;
+
 const std::vector<std::string> kSupportedExtensions = {"KHR_lights_punctual",
                                                        "KHR_materials_emissive_strength"};
 
@@ -715,10 +722,16 @@ std::vector<float> Loader::readAccessor(int accessorIndex, int wantType, const s
   int nc = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
   size_t count = acc.count;
   if (count > (size_t(1) << 31)) fail(label + " count " + std::to_string(count) + " is too large");
-  std::vector<float> out(count * size_t(nc), 0.0f);
+  if (acc.bufferView < 0 && count > kMaxAccessorCountWithoutData)
+    fail(label + " count " + std::to_string(count) + " has no buffer view; at most " +
+         std::to_string(kMaxAccessorCountWithoutData) + " elements may be implied zeros");
   size_t elementSize = size_t(csize) * size_t(nc);
+  // The buffer view is checked before the output is allocated: a count the data cannot back must
+  // not allocate (fuzzing: an accessor claiming 2e9 elements of a 12-byte view).
+  ByteView v{};
+  if (acc.bufferView >= 0) v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, elementSize, label, failFn);
+  std::vector<float> out(count * size_t(nc), 0.0f);
   if (acc.bufferView >= 0) {
-    ByteView v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, elementSize, label, failFn);
     for (size_t i = 0; i < count; ++i) {
       const uint8_t* e = v.data + i * v.stride;
       for (int c = 0; c < nc; ++c) out[i * nc + c] = readComponent(e + c * csize, acc.componentType, acc.normalized);
@@ -771,10 +784,15 @@ std::vector<uint32_t> Loader::readIndices(int accessorIndex, const std::string& 
   }
   size_t count = acc.count;
   if (count > (size_t(1) << 31)) fail(label + " count " + std::to_string(count) + " is too large");
-  std::vector<uint32_t> out(count, 0);
-  if (acc.bufferView < 0) return out;
+  if (acc.bufferView < 0) {
+    if (count > kMaxAccessorCountWithoutData)
+      fail(label + " count " + std::to_string(count) + " has no buffer view; at most " +
+           std::to_string(kMaxAccessorCountWithoutData) + " elements may be implied zeros");
+    return std::vector<uint32_t>(count, 0);
+  }
   int csize = componentSize(ct);
   ByteView v = viewBytes(model_, acc.bufferView, acc.byteOffset, count, size_t(csize), label, failFn);
+  std::vector<uint32_t> out(count, 0);  // after the range check: the view backs 'count' elements
   for (size_t i = 0; i < count; ++i) out[i] = readIndexComponent(v.data + i * v.stride, ct);
   return out;
 }
@@ -963,7 +981,14 @@ void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm:
   glm::mat3 normalMatrix = invertible ? glm::transpose(glm::inverse(linear)) : glm::mat3(1.0f);
 
   const uint32_t base = uint32_t(scene.positions.size());
-  if (uint64_t(base) + vertexCount > UINT32_MAX) fail("scene has more than 2^32 vertices");
+  // Bounded output: node instancing (and node graphs that are not trees) repeat a primitive's
+  // data, so the flattened scene is capped rather than the file trusted (found by reasoning about
+  // the fuzzer's limits: a 2^20-element accessor instanced by many nodes).
+  size_t trianglesSoFar = 0;
+  for (const auto& t : trianglesByMaterial_) trianglesSoFar += t.size() / 3;
+  if (scene.positions.size() + vertexCount > kMaxSceneElements || trianglesSoFar + tris.size() / 3 > kMaxSceneElements)
+    fail(label + ": the flattened scene would have more than " + std::to_string(kMaxSceneElements) +
+         " vertices or triangles (nodes instance its meshes); at most that many are loaded");
   for (size_t v = 0; v < vertexCount; ++v) {
     glm::vec3 p(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]);
     glm::vec3 wp = glm::vec3(world * glm::vec4(p, 1.0f));
@@ -1114,8 +1139,34 @@ void Loader::buildScene(Scene& scene) {
   if (scene.cameras.empty()) scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
 }
 
+// Deepest nesting of arrays and objects in JSON text (strings skipped). tinygltf converts
+// "extras" and extension values recursively, so deep nesting must be refused before it parses.
+size_t jsonNestingDepth(const std::string& text) {
+  size_t depth = 0, deepest = 0;
+  bool inString = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\') ++i;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+constexpr size_t kMaxJsonNesting = 128;
+
 Scene Loader::load() {
   readFile();
+  if (size_t depth = jsonNestingDepth(jsonText_); depth > kMaxJsonNesting)
+    fail("JSON nests " + std::to_string(depth) + " levels deep; at most " + std::to_string(kMaxJsonNesting) +
+         " are accepted");
   Json root;
   try {
     root = Json::parse(jsonText_);

@@ -11,6 +11,10 @@
 #pragma GCC diagnostic ignored "-Wunused-but-set-variable"
 #endif
 #define STB_IMAGE_STATIC
+// Images wider or taller than 8192 pixels are refused by stb before it allocates their pixels: a
+// PNG header may claim any size, and stb allocates width * height * channels before it reads one
+// pixel (so at most 256 MiB for 8-bit RGBA). Real scenes' textures are at most 4096 wide.
+#define STBI_MAX_DIMENSIONS 8192
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 #if defined(__GNUC__)

@@ -1,5 +1,7 @@
 #include "techniques/common/gbuffer_stage.h"
 
+#include <utility>
+
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
 
@@ -20,6 +22,11 @@ void GBufferStage::declare(StageBuilder& b) const {
   b.output("albedo", OutputKind::Image2D, Semantic::Color, "Lambertian albedo (base colour)");
   b.output("emission", OutputKind::Image2D, Semantic::RadianceHDR, "emitted radiance");
   b.output("depth", OutputKind::Image2D, Semantic::Depth, "depth buffer (0 near, 1 far)");
+  const std::pair<const char*, GLenum> images[] = {{"position", GL_RGBA32F}, {"normal", GL_RGBA16F},
+                                                   {"albedo", GL_RGBA8}, {"emission", GL_RGBA16F},
+                                                   {"depth", GL_DEPTH_COMPONENT32F}};
+  for (const auto& [name, format] : images)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
 }
 
 void GBufferStage::execute(StageContext& ctx) {

@@ -11,6 +11,14 @@
 
 namespace voxlab {
 
+static TextureDesc shadowMapDesc(int size) {
+  TextureDesc d;
+  d.format = GL_DEPTH_COMPONENT32F;
+  d.size = {size, size, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
 void ShadowMapStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::integer("shadow.resolution", 1024, 128, 4096, "shadow map width and height", "px").pow2());
   b.param(ParamDesc::real("shadow.normal-offset", 0.01, 0.0, 0.2,
@@ -18,6 +26,7 @@ void ShadowMapStage::declare(StageBuilder& b) const {
                           "lights: at least half a shadow-map texel)", "m"));
   b.write("light");
   b.output("shadow-map", OutputKind::Image2D, Semantic::Depth, "depth seen from the light (0 near, 1 far)");
+  b.texture("shadow-map", [](const ParamSet& p, const ViewState&) { return shadowMapDesc(p.getInt("shadow.resolution")); });
 }
 
 void ShadowMapStage::execute(StageContext& ctx) {
@@ -91,11 +100,7 @@ void ShadowMapStage::execute(StageContext& ctx) {
   Buffer& ubo = ctx.board.ensureBuffer("light", sizeof(gpu::GpuLight));
   ubo.upload(&light, sizeof(light));
 
-  TextureDesc d;
-  d.format = GL_DEPTH_COMPONENT32F;
-  d.size = {size, size, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  Texture& depth = ctx.board.ensureTexture("shadow-map", d);
+  Texture& depth = ctx.board.ensureTexture("shadow-map", shadowMapDesc(size));
   Framebuffer fb("shadow-map.fbo");
   fb.attach(GL_DEPTH_ATTACHMENT, depth);
   fb.setDrawBuffers(0);

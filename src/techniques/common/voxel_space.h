@@ -42,6 +42,8 @@ size_t initialFragmentCapacity(Blackboard& board, const Scene& scene, int resolu
 // An estimate of the fragments a conservative voxelization of 'scene' produces (from each
 // triangle's projected area and perimeter in voxels); it errs on the large side.
 size_t estimateFragments(const Scene& scene, const VoxelSpace& space);
+// Fragments the pool starts with at a resolution (before it grows to what a scene produces).
+size_t fragmentPoolStart(int resolution);
 
 // The record layout of the VoxelFragment list (shaders/common/shared.h), for outputs.
 BufferLayout voxelFragmentLayout(const std::string& countResource);

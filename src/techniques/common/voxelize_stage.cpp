@@ -35,6 +35,20 @@ void VoxelizeStage::declare(StageBuilder& b) const {
       .layout = voxelFragmentLayout("fragments.count");
   b.output("triangle-axes", OutputKind::Image2D, Semantic::Color,
            "triangles coloured by the axis they are projected along (x red, y green, z blue)");
+  declareFragmentPool(b);
+  b.texture("triangle-axes", [](const ParamSet&, const ViewState& v) { return triangleAxesDesc(v); });
+}
+
+void declareFragmentPool(StageBuilder& b) {
+  b.buffer("fragments", [](const ParamSet& p, const ViewState&) {
+    return fragmentPoolStart(p.getInt("voxel.resolution")) * sizeof(gpu::VoxelFragment);
+  }, /*pool=*/true);
+}
+
+TextureDesc triangleAxesDesc(const ViewState& view) {
+  TextureDesc color;
+  color.size = {view.width, view.height, 1};
+  return color;
 }
 
 void VoxelizeStage::execute(StageContext& ctx) {
@@ -100,6 +114,7 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
 void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution) {
   GLuint fbo = 0;
   glCreateFramebuffers(1, &fbo);
+  glObjectLabel(GL_FRAMEBUFFER, fbo, -1, "voxelize.fbo");
   glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, resolution);
   glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, resolution);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -115,8 +130,7 @@ void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution) 
 }
 
 void renderTriangleAxes(StageContext& ctx, const std::string& resource) {
-  TextureDesc color;
-  color.size = {ctx.view.width, ctx.view.height, 1};
+  TextureDesc color = triangleAxesDesc(ctx.view);
   Texture& image = ctx.board.ensureTexture(resource, color);
   TextureDesc depthDesc;
   depthDesc.format = GL_DEPTH_COMPONENT32F;

@@ -47,6 +47,11 @@ uint32_t readCounter(const Buffer& buffer, size_t offset = 0);
 // Renders the scene from the camera into the 2D texture 'resource', each triangle coloured by the
 // axis voxelization projects it along (x red, y green, z blue).
 void renderTriangleAxes(StageContext& ctx, const std::string& resource);
+TextureDesc triangleAxesDesc(const ViewState& view);
+
+// Declares the "fragments" pool (its starting size; it grows to what the scene produces) for the
+// resource budget: every stage that fills it through fillFragmentList calls this in declare().
+void declareFragmentPool(StageBuilder& b);
 
 // Parameter shared by every stage that needs the voxel grid size.
 ParamDesc voxelResolutionParam();

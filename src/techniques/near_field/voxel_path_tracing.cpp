@@ -31,11 +31,11 @@
 //   near-field references in near_field.cpp.
 #include "graph/technique.h"
 #include "techniques/common/binary_voxels_stage.h"
+#include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/rsm_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/stages.h"
-#include "techniques/vct_grid/stages.h"
 
 namespace voxlab {
 
@@ -50,7 +50,7 @@ static std::unique_ptr<Technique> makeVoxelPathTracing() {
   t->add<nearfield::HierarchyStage>();
   t->add<ShadowMapStage>();
   t->add<RsmStage>();
-  t->add<vct::GBufferStage>();
+  t->add<GBufferStage>();
   t->add<nearfield::PathsStage>();
   t->add<nearfield::FilterStage>("indirect");
   t->add<nearfield::CompositeStage>();

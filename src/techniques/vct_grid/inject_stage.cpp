@@ -33,6 +33,9 @@ void InjectStage::declare(StageBuilder& b) const {
   b.read("light");
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
            "averaged outgoing radiance per voxel; alpha = fragments averaged / 255");
+  b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
+    return radianceGridDesc(p.getInt("voxel.resolution"), 1);
+  });
 }
 
 void InjectStage::execute(StageContext& ctx) {
@@ -74,6 +77,9 @@ void OcclusionFixStage::declare(StageBuilder& b) const {
   b.read("fragments.count");
   b.output("radiance-opaque", OutputKind::Volume3D, Semantic::Color,
            "radiance per voxel with alpha 1 in every occupied voxel");
+  b.texture("radiance-opaque", [](const ParamSet& p, const ViewState&) {
+    return radianceGridDesc(p.getInt("voxel.resolution"), 1);
+  });
 }
 
 void OcclusionFixStage::execute(StageContext& ctx) {
@@ -103,6 +109,11 @@ ParamDesc mipmapModeParam() {
                            "compositing front to back before averaging (Crassin et al.)");
 }
 
+// Edge of the six directional volumes: half the grid with anisotropic mips, one voxel without.
+static int directionalSize(const ParamSet& p) {
+  return p.getChoice("mipmap.mode") == "anisotropic" ? std::max(p.getInt("voxel.resolution") / 2, 1) : 1;
+}
+
 void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(mipmapModeParam());
@@ -117,6 +128,11 @@ void MipmapStage::declare(StageBuilder& b) const {
              "anisotropic levels 1.. as seen by a cone travelling along " + std::string(name).substr(prefix.size()) +
                  " (one voxel, empty, when mipmap.mode is isotropic)")
         .placeholderUnless = "mipmap.mode=anisotropic";
+  b.texture("radiance", [](const ParamSet& p, const ViewState&) {
+    return radianceGridDesc(p.getInt("voxel.resolution"), 0);
+  });
+  for (const char* name : kDirectionalVolumes)
+    b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceGridDesc(directionalSize(p), 0); });
 }
 
 // One iteration per level: iteration k builds level k+1 of the grid from level k (and, with
@@ -132,7 +148,7 @@ int MipmapStage::iterations(const ParamSet& params) const {
 void MipmapStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
-  const int half = anisotropic ? std::max(res / 2, 1) : 1;
+  const int half = directionalSize(ctx.params);
   const int k = ctx.iteration;
   const uint8_t zero[4] = {0, 0, 0, 0};
   Texture& src = ctx.board.texture("radiance-opaque");

@@ -93,6 +93,13 @@ void ConeTraceStage::declare(StageBuilder& b) const {
            "every sample of the probed pixel's cones (probe.x/probe.y pick the traced pixel): centre+diameter, accumulated radiance+opacity, cone/distance/lod/alpha");
   probed.layout = samples;
   probed.probeRecord = true;  // the records of the pixel the screen probe points at
+  const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
+                                                   {"ambient-occlusion", GL_R16F}, {"soft-shadow", GL_R16F}};
+  for (const auto& [name, format] : traced)
+    b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
+  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) {
+    return sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
+  });
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {
@@ -192,6 +199,9 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
       .referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  const std::pair<const char*, GLenum> images[] = {{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
+  for (const auto& [name, format] : images)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
 }
 
 void CompositeStage::execute(StageContext& ctx) {

@@ -37,6 +37,7 @@ void ClassifyStage::declare(StageBuilder& b) const {
   b.write("triangle-classes");
   b.output("triangle-axes", OutputKind::Image2D, Semantic::Color,
            "triangles coloured by the axis they are projected along (x red, y green, z blue)");
+  b.texture("triangle-axes", [](const ParamSet&, const ViewState& v) { return triangleAxesDesc(v); });
 }
 
 void ClassifyStage::execute(StageContext& ctx) {
@@ -69,6 +70,7 @@ void VoxelizeStage::declare(StageBuilder& b) const {
   b.output("fragments", OutputKind::Buffer, Semantic::Points,
            "voxel fragments: packed voxel coordinates, albedo, normal, emission")
       .layout = voxelFragmentLayout("fragments.count");
+  declareFragmentPool(b);
 }
 
 void VoxelizeStage::execute(StageContext& ctx) {
@@ -112,6 +114,9 @@ void OccupancyStage::declare(StageBuilder& b) const {
   b.write("occupancy.unique");
   b.output("occupancy", OutputKind::Volume3D, Semantic::Occupancy,
            "fragments per voxel (r32ui); non-zero = occupied");
+  b.texture("occupancy", [](const ParamSet& p, const ViewState&) {
+    return volumeDesc(p.getInt("voxel.resolution"), GL_R32UI);
+  });
 }
 
 void OccupancyStage::execute(StageContext& ctx) {
@@ -150,6 +155,10 @@ void CompareStage::declare(StageBuilder& b) const {
            "alphaMode MASK triangles only where their alpha coverage is opaque)");
   b.output("difference", OutputKind::Volume3D, Semantic::Scalar,
            "0 = method and reference agree, 1 = missed by the method, 2 = added by the method");
+  b.texture("reference", [](const ParamSet& p, const ViewState&) { return volumeDesc(p.getInt("voxel.resolution"), GL_R8); });
+  b.texture("difference", [](const ParamSet& p, const ViewState&) {
+    return volumeDesc(p.getInt("voxel.resolution"), GL_R32F);
+  });
 }
 
 void CompareStage::execute(StageContext& ctx) {

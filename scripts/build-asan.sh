@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Configures and builds the sanitized tree build-asan/: every target with AddressSanitizer and
+# UndefinedBehaviorSanitizer (VOXLAB_SANITIZE), plus the libFuzzer scene-loader target
+# (VOXLAB_FUZZ), with Clang from Debian. Used by scripts/test.sh and scripts/fuzz.sh.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cmake -S "$root" -B "$root/build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DVOXLAB_SANITIZE=ON -DVOXLAB_FUZZ=ON >/dev/null
+cmake --build "$root/build-asan" -j"$(nproc)"
