@@ -309,6 +309,98 @@ TEST(SvoConeTrace, AmbientOcclusionEqualsVctGrid) {
   EXPECT_LT(worst, 0.01);
 }
 
+// Cosine-weighted visible fraction at a floor point (normal +y) in front of the wall rectangle
+// x in [-1, 1], y in [0, 2] at z = 0.1 of tests/data/scenes/wall-floor.gltf (midpoint quadrature
+// over the hemisphere; the same integral as test_vct_grid.cpp's).
+double visibleFractionNextToWall(double px, double pz) {
+  const int nTheta = 300, nPhi = 600;
+  double visible = 0, total = 0;
+  for (int i = 0; i < nTheta; ++i) {
+    double theta = (i + 0.5) / nTheta * M_PI / 2;
+    for (int j = 0; j < nPhi; ++j) {
+      double phi = (j + 0.5) / nPhi * 2 * M_PI;
+      double dx = std::sin(theta) * std::cos(phi), dy = std::cos(theta), dz = std::sin(theta) * std::sin(phi);
+      double w = std::cos(theta) * std::sin(theta);
+      total += w;
+      bool blocked = false;
+      if (dz > 0) {
+        double t = (0.1 - pz) / dz;
+        double x = px + t * dx, y = t * dy;
+        blocked = x >= -1 && x <= 1 && y >= 0 && y <= 2;
+      }
+      if (!blocked) visible += w;
+    }
+  }
+  return visible / total;
+}
+
+TEST(SvoPhysics, AmbientOcclusionNextToAWallAgainstQuadrature) {
+  // 16 cones of 30 degrees on a cosine spiral, 128^3, dilation: the octree's AO at floor points
+  // 0.15 .. 0.9 m from the wall. Its mips are isotropic (box), so like vct-grid's isotropic mips
+  // (VctGridPhysics.IsotropicMipsLeakThroughAThinWall: leaks 0.225, 0.262, 0.218, 0.158) the
+  // one-voxel wall turns half transparent per level and the AO is too open. Measured leaks
+  // (AO - quadrature) 0.2149, 0.2613, 0.2094, 0.1559: within 0.01 of vct-grid's. Allowed: 0.02
+  // around our measurement and 0.015 around vct-grid's (its 256x256 image picks slightly
+  // different floor points than our 128x128 one).
+  auto& s = session(request("svo", projectPath("tests/data/scenes/wall-floor.gltf"),
+                            {"voxel.resolution=128", "cone.resolution=full", "ao.range=2", "svo.dilate=true",
+                             "cone.count=16", "cone.layout=fibonacci", "cone.weighting=equal", "cone.aperture=30"},
+                            "svo-cone-trace", 128));
+  CapturedOutput ao = capture(s, "svo-cone-trace", "ambient-occlusion");
+  CapturedOutput position = capture(s, "gbuffer", "position");
+  const LevelData& pos = position.levels[0];
+  const double vctLeak[4] = {0.225, 0.262, 0.218, 0.158};
+  const double svoLeak[4] = {0.2149, 0.2613, 0.2094, 0.1559};
+  int k = 0;
+  for (double d : {0.15, 0.3, 0.6, 0.9}) {
+    glm::vec3 target(0.0f, 0.0f, float(0.1 - d));
+    size_t best = 0;
+    float bestDist = 1e30f;
+    for (size_t t = 0; t < pos.texelCount(); ++t) {
+      if (pos.values[t * 4 + 3] == 0 || std::abs(pos.values[t * 4 + 1]) > 1e-3f) continue;
+      glm::vec3 p(pos.values[t * 4], pos.values[t * 4 + 1], pos.values[t * 4 + 2]);
+      float dist = glm::length(p - target);
+      if (dist < bestDist) { bestDist = dist; best = t; }
+    }
+    EXPECT_LT(bestDist, 0.03f);
+    double expected = visibleFractionNextToWall(pos.values[best * 4], pos.values[best * 4 + 2]);
+    double measured = ao.levels[0].values[best];
+    ::testing::Test::RecordProperty("leak_d" + std::to_string(d), std::to_string(measured - expected));
+    EXPECT_GE(measured, 0.0);
+    EXPECT_LE(measured, 1.0);
+    EXPECT_NEAR(measured - expected, svoLeak[k], 0.02) << "distance " << d;
+    EXPECT_NEAR(measured - expected, vctLeak[k], 0.015) << "distance " << d;
+    ++k;
+  }
+}
+
+TEST(SvoPhysics, FalloffAndBasgierConstellationsStayInRangeAndFalloffNeverDarkens) {
+  const std::vector<std::string> base = {"voxel.resolution=32", "cone.resolution=full"};
+  auto run = [&](std::vector<std::string> extra) {
+    std::vector<std::string> sets = base;
+    sets.insert(sets.end(), extra.begin(), extra.end());
+    return capture(session(request("svo", "cornell-box", sets, "svo-cone-trace", 48)), "svo-cone-trace",
+                   "ambient-occlusion");
+  };
+  CapturedOutput plain = run({"ao.cones=basgier-5"});
+  CapturedOutput falloff = run({"ao.cones=basgier-5", "ao.falloff=0.2"});
+  CapturedOutput eight = run({"ao.cones=basgier-8"});
+  CapturedOutput three = run({"ao.cones=basgier-3"});
+  double meanPlain = 0, meanFalloff = 0;
+  for (size_t i = 0; i < plain.levels[0].values.size(); ++i) {
+    float a = plain.levels[0].values[i], b = falloff.levels[0].values[i];
+    for (const CapturedOutput* o : {&plain, &falloff, &eight, &three}) {
+      EXPECT_GE(o->levels[0].values[i], 0.0f);
+      EXPECT_LE(o->levels[0].values[i], 1.0f);
+    }
+    // 1 / (1 + lambda r) <= 1 scales every sample's opacity down: never more occlusion (fp16: 1e-3).
+    EXPECT_GE(b, a - 1e-3f) << "pixel " << i;
+    meanPlain += a;
+    meanFalloff += b;
+  }
+  EXPECT_GT(meanFalloff, meanPlain * 1.01) << "the falloff must open the AO up";
+}
+
 // --- Robustness ------------------------------------------------------------------------------------
 
 TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
