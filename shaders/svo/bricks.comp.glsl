@@ -42,39 +42,71 @@ void main() {
     }
     return;
   }
-  if (!tagged) { brickIndex[n] = 0u; return; }
-  uint rank = groups[gl_WorkGroupID.x];
-  for (uint m = gl_WorkGroupID.x * 64u; m < n; ++m)
-    if ((nodes[m].word & SVO_TAG) != 0u) ++rank;
-  uint brick = 1u + rank;
-  if (brick >= u_brickCapacity) {
-    atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u);
-    brickIndex[n] = 0u;
-    return;
+  // Pass 1 runs per tile: invocation n fills the bricks of node n's 8 children (and, for n = 0,
+  // the root's). The children's 3x3x3 neighbourhoods lie among the children of the parent's own
+  // 3x3x3 neighbourhood, so 26 neighbour lookups per tile replace 26 per node.
+  if (n == 0u) {
+    if (tagged) {
+      brickIndex[0] = 1u;  // the root is the first tagged node: rank 0
+      ivec3 origin = brickOrigin(1u);
+      if (1u >= u_brickCapacity) { atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u); brickIndex[0] = 0u; }
+      else for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), values[0]);
+    } else {
+      brickIndex[0] = 0u;
+    }
   }
-  brickIndex[n] = brick;
-  int level = int(nodes[n].level);
-  ivec3 c = ivec3(unpackVoxel10(nodes[n].coords));
-  int cells = 1 << level;
-  vec4 around[27];  // centre values of the 3x3x3 same-level cells around the node (clamped)
+  uint first = nodes[n].word & SVO_CHILD_MASK;
+  if (first == 0u) return;
+  int parentLevel = int(nodes[n].level);
+  ivec3 pc = ivec3(unpackVoxel10(nodes[n].coords));
+  int parentCells = 1 << parentLevel;
+  uint around[27];  // first child of each node in the parent's 3x3x3 neighbourhood (0 = none)
   for (int k = 0; k < 27; ++k) {
-    ivec3 m = clamp(c + ivec3(k % 3, (k / 3) % 3, k / 9) - 1, ivec3(0), ivec3(cells - 1));
-    uint other = svoNeighbour(n, uvec3(c), uvec3(m));
-    around[k] = other == SVO_ABSENT ? vec4(0.0) : values[other];
+    ivec3 q = pc + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
+    uint other = k == 13 ? n
+               : any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(parentCells))) ? SVO_ABSENT
+               : svoNeighbour(n, uvec3(pc), uvec3(q));
+    around[k] = other == SVO_ABSENT ? 0u : (nodes[other].word & SVO_CHILD_MASK);
   }
-  ivec3 origin = brickOrigin(brick);
-  for (int t = 0; t < 27; ++t) {
-    ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
-    // Cells sharing the texel's point, per axis: texel 0 -> offsets {-1, 0}, 1 -> {0}, 2 -> {0, +1}.
-    ivec3 lo = min(tx - 1, ivec3(0)), hi = max(tx - 1, ivec3(0));
-    vec4 sum = vec4(0.0);
-    float count = 0.0;
-    for (int z = lo.z; z <= hi.z; ++z)
-      for (int y = lo.y; y <= hi.y; ++y)
-        for (int x = lo.x; x <= hi.x; ++x) {
-          sum += around[(x + 1) + 3 * (y + 1) + 9 * (z + 1)];
-          count += 1.0;
-        }
-    imageStore(u_brickPool, origin + tx, sum / count);
+  int cells = 2 * parentCells;
+  // Rank of the first child among all tagged nodes; the others follow.
+  uint rank = groups[first / 64u];
+  for (uint m = (first / 64u) * 64u; m < first; ++m)
+    if ((nodes[m].word & SVO_TAG) != 0u) ++rank;
+  for (uint k = 0u; k < 8u; ++k) {
+    uint child = first + k;
+    if ((nodes[child].word & SVO_TAG) == 0u) { brickIndex[child] = 0u; continue; }
+    uint brick = 1u + rank;
+    ++rank;
+    if (brick >= u_brickCapacity) {
+      atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u);
+      brickIndex[child] = 0u;
+      continue;
+    }
+    brickIndex[child] = brick;
+    ivec3 c = 2 * pc + ivec3(k & 1u, (k >> 1) & 1u, (k >> 2) & 1u);
+    vec4 nb[27];  // centre values of the child's 3x3x3 same-level cells (clamped to the volume)
+    for (int j = 0; j < 27; ++j) {
+      ivec3 m = clamp(c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, ivec3(0), ivec3(cells - 1));
+      ivec3 o = (m >> 1) - pc + 1;
+      uint f = around[o.x + 3 * o.y + 9 * o.z];
+      ivec3 bit = m & 1;
+      nb[j] = f == 0u ? vec4(0.0) : values[f + uint(bit.x + 2 * bit.y + 4 * bit.z)];
+    }
+    ivec3 origin = brickOrigin(brick);
+    for (int t = 0; t < 27; ++t) {
+      ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
+      // Cells sharing the texel's point, per axis: texel 0 -> offsets {-1, 0}, 1 -> {0}, 2 -> {0, +1}.
+      ivec3 lo = min(tx - 1, ivec3(0)), hi = max(tx - 1, ivec3(0));
+      vec4 sum = vec4(0.0);
+      float count = 0.0;
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            sum += nb[(x + 1) + 3 * (y + 1) + 9 * (z + 1)];
+            count += 1.0;
+          }
+      imageStore(u_brickPool, origin + tx, sum / count);
+    }
   }
 }
