@@ -30,6 +30,7 @@ variants=(
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"
   "near-field rays.radius=2"
   "near-field rays.count=32"
+  "svo svo.dilate=true"
 )
 
 runs=()
