@@ -15,7 +15,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <array>
 #include <map>
+#include <random>
 #include <set>
 #include <tuple>
 
@@ -24,6 +26,7 @@
 #include "graph/technique.h"
 #include "inspect/visualiser.h"
 #include "svo/svo_shared.h"
+#include "techniques/common/voxelize_stage.h"
 #include "test_support.h"
 
 namespace voxlab {
@@ -197,6 +200,37 @@ TEST(SvoBuild, MatchesCpuReferenceCornell64) { expectOctreeMatchesReference("cor
 TEST(SvoBuild, MatchesCpuReferenceCornell64Dilated) { expectOctreeMatchesReference("cornell-box", 64, true); }
 TEST(SvoBuild, MatchesCpuReferenceOnVoxelTies) {
   expectOctreeMatchesReference(projectPath("tests/data/scenes/voxel-ties-64.gltf"), 64, true);
+}
+
+// I4 / I16: the pools follow from the set of tagged cells alone (ranks, not atomic order), so a
+// random permutation of the fragment list with every fragment duplicated (two fragments per voxel
+// at least: Basgier's "toggled" tag bit would cancel, source error P12) gives the same pool, bit
+// for bit.
+TEST(SvoBuild, PoolIsIndependentOfFragmentOrderAndDuplicates) {
+  RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.dilate=true"}, "svo-build");
+  HeadlessSession s(r);
+  s.run();
+  StepCursor& c = s.cursor();
+  CapturedOutput before = captureOutput(c.board(), c.technique().decl(c.technique().stageIndex("svo-build")).outputs[0]);
+  Buffer& fragments = c.board().buffer("fragments");
+  uint32_t count = readCounter(c.board().buffer("fragments.count"));
+  std::vector<uint8_t> bytes = fragments.download(size_t(count) * 16);
+  std::vector<std::array<uint8_t, 16>> records(count);
+  std::memcpy(records.data(), bytes.data(), bytes.size());
+  records.insert(records.end(), records.begin(), records.end());
+  std::mt19937 rng(12);
+  std::shuffle(records.begin(), records.end(), rng);
+  Buffer& grown = c.board().ensureBuffer("fragments", records.size() * 16);
+  grown.upload(records.data(), records.size() * 16);
+  const uint32_t doubled = uint32_t(records.size());
+  c.board().buffer("fragments.count").upload(&doubled, 4);
+  const int build = c.technique().stageIndex("svo-build");
+  c.invalidate(build);
+  c.runThrough(build);
+  CapturedOutput after = captureOutput(c.board(), c.technique().decl(build).outputs[0]);
+  EXPECT_GT(after.recordCount, 1000u);
+  EXPECT_EQ(after.recordCount, before.recordCount);
+  EXPECT_TRUE(after.records == before.records) << "the node pool changed with the fragment order";
 }
 
 // --- Values ----------------------------------------------------------------------------------------
