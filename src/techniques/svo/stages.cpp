@@ -130,6 +130,9 @@ void BuildStage::declare(StageBuilder& b) const {
   b.output("svo-levels", OutputKind::Buffer, kOctreeLevels,
            "per level: first node, nodes, non-empty nodes (distinct occupied cells), tagged (subdivided / with a brick)")
       .layout = levels;
+  b.output("svo-structure", OutputKind::Volume3D, Semantic::Fraction,
+           "the octree's nodes as a volume: mip m shows level D - m (1 non-empty, 0.6 dilated, 0.3 empty sibling, "
+           "0 no node); overlay a level on the camera images to see its node boxes in the scene");
   b.output("svo-counters", OutputKind::Buffer, Semantic::Scalar,
            "counters: tiles, overflow flag, level non-empty, level tagged, bricks, -, nodes written")
       .layout = BufferLayout{4, {{"value", FieldType::U32, 0}}, "", 0, 1.0f};
@@ -217,6 +220,30 @@ void BuildStage::execute(StageContext& ctx) {
     levels[level + 1] = {used, 8u * levels[level].tagged, 0, 0};
   }
   levelBuffer.upload(levels.data(), levels.size() * sizeof(SvoLevel));
+  // The structure view of this level (mip D - level), now that its flags are final.
+  {
+    const int res = ctx.params.getInt("voxel.resolution");
+    TextureDesc d;
+    d.target = GL_TEXTURE_3D;
+    d.format = GL_R8;
+    d.size = {res, res, res};
+    d.levels = 0;
+    d.minFilter = GL_NEAREST_MIPMAP_NEAREST;
+    d.magFilter = GL_NEAREST;
+    Texture& structure = ctx.board.ensureTexture("svo-structure", d);
+    if (level == 0) {
+      const uint8_t zero = 0;
+      for (int m = 0; m < structure.levels(); ++m) glClearTexImage(structure.id(), m, GL_RED, GL_UNSIGNED_BYTE, &zero);
+    }
+    GLuint view = ctx.shaders.program({"svo/structure.comp.glsl"});
+    setUniform(view, "u_depth", depth);
+    setUniform(view, "u_level", level);
+    glUseProgram(view);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, pool->id());
+    glBindImageTexture(0, structure.id(), depth - level, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8);
+    dispatchCompute(structure.levelSize(depth - level), {4, 4, 4});
+    barrierAll();
+  }
   const uint32_t total = nodeCount(levels);
   counters.upload(&total, 4, 6 * 4);
   barrierAll();
