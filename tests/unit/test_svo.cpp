@@ -267,6 +267,57 @@ TEST(SvoValues, LeavesAreExactAndEveryMipIsTheBoxFilterOfItsChildren) {
   EXPECT_GT(values[0].w, 0.0f);
 }
 
+// I7: every texel two bricks share (the face between two same-level neighbours) is identical in
+// both, and each brick's centre is its node's value. A separable x -> y -> z border transfer
+// (Basgier, Gomes) breaks the first where a face neighbour is absent but a diagonal one exists
+// (source error P3); the gather sums the same cells in the same order for both bricks.
+void expectSharedBrickTexelsAgree(bool dilate) {
+  auto& s = session(request("svo", "cornell-box", {"voxel.resolution=32", std::string("svo.dilate=") + (dilate ? "true" : "false")},
+                            "svo-bricks"));
+  std::vector<SvoNode> nodes = records<SvoNode>(capture(s, "svo-build", "svo-nodes"));
+  std::vector<glm::vec4> values = records<glm::vec4>(capture(s, "svo-mipmap", "svo-values"));
+  std::vector<uint32_t> brickOf = records<uint32_t>(capture(s, "svo-bricks", "svo-brick-index"));
+  CapturedOutput pool = capture(s, "svo-bricks", "svo-brick-pool");
+  const LevelData& P = pool.levels[0];
+  const glm::ivec3 axis = P.size / 3;
+  auto texel = [&](uint32_t brick, glm::ivec3 t) {
+    glm::ivec3 o = 3 * glm::ivec3(brick % axis.x, (brick / axis.x) % axis.y, brick / (axis.x * axis.y)) + t;
+    return glm::vec4(P.at(o.x, o.y, o.z, 0), P.at(o.x, o.y, o.z, 1), P.at(o.x, o.y, o.z, 2), P.at(o.x, o.y, o.z, 3));
+  };
+  std::map<std::tuple<uint32_t, Cell>, uint32_t> byCell;
+  for (uint32_t i = 0; i < nodes.size(); ++i) byCell[{nodes[i].level, cellOf(nodes[i].coords)}] = i;
+  size_t faces = 0, differing = 0, centres = 0;
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    if (!brickOf[i]) continue;
+    // The centre texel is the node's value (RGBA8: within half a step).
+    glm::vec4 c = texel(brickOf[i], {1, 1, 1});
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(c[k], values[i][k], 0.5 / 255 + 1e-6);
+    ++centres;
+    auto [x, y, z] = cellOf(nodes[i].coords);
+    for (int a = 0; a < 3; ++a) {
+      Cell next = {x + (a == 0), y + (a == 1), z + (a == 2)};
+      auto it = byCell.find({nodes[i].level, next});
+      if (it == byCell.end() || !brickOf[it->second]) continue;
+      for (int u = 0; u < 3; ++u)
+        for (int v = 0; v < 3; ++v) {
+          glm::ivec3 here(u, v, v), there(u, v, v);
+          here[a] = 2, there[a] = 0;
+          here[(a + 1) % 3] = u, here[(a + 2) % 3] = v;
+          there[(a + 1) % 3] = u, there[(a + 2) % 3] = v;
+          if (texel(brickOf[i], here) != texel(brickOf[it->second], there)) ++differing;
+        }
+      ++faces;
+    }
+  }
+  ::testing::Test::RecordProperty("shared_faces", int(faces));
+  EXPECT_GT(centres, 1000u);
+  EXPECT_GT(faces, 1000u);
+  EXPECT_EQ(differing, 0u) << "of " << faces << " shared faces";
+}
+
+TEST(SvoBricks, SharedTexelsAgreeAndCentresAreNodeValues) { expectSharedBrickTexelsAgree(false); }
+TEST(SvoBricks, SharedTexelsAgreeAndCentresAreNodeValuesDilated) { expectSharedBrickTexelsAgree(true); }
+
 // I9 at texel centres: the octree resampled into a dense view equals vct-grid's mip chain at every
 // level. Both use direct light; vct-grid averages fragments with the RGBA8 compare-and-swap loop
 // and rounds every mip level to 8 bits, the octree sums exactly and rounds once.
