@@ -33,6 +33,7 @@ variants=(
   "voxel-path-tracing paths.bounces=1"
   "voxel-path-tracing paths.bounces=4"
   "voxel-path-tracing paths.count=16"
+  "svo svo.dilate=true"
 )
 
 runs=()

@@ -1,0 +1,112 @@
+#version 450
+// svo-bricks, one invocation per node. u_pass 0: count the tagged nodes of each work group of 64
+// (the CPU makes exclusive prefix sums of them). u_pass 1: every tagged node (non-empty, or
+// dilated) takes the 3x3x3 brick (Layout N: node-centred, borders included) whose number is 1 +
+// its rank among the tagged nodes (brick 0 is the reserved all-zero brick; ranks instead of an
+// atomic counter keep the pool identical on every run), after checking the pool's capacity. Texel t in {0,1,2}^3 lies at
+// node.min + t * size / 2; it gets the mean of the centre values of the 1, 2, 4 or 8 same-level
+// cells that share that point, found by position (a gather: exact where the separable x, y, z
+// transfer of Basgier and Gomes is not, source error P3; absent cells count 0; cells beyond the
+// volume are clamped to the edge, as vct-grid's CLAMP_TO_EDGE sampling is). Trilinear filtering
+// inside the brick then reproduces the dense grid's trilinear sample exactly inside the node.
+#include "common/packing.glsl"
+#include "svo/svo_shared.h"
+
+layout(local_size_x = 64) in;
+layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
+layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
+layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint counters[]; };
+layout(std430, binding = SVO_BINDING_BRICK_INDEX) writeonly buffer BrickIndex { uint brickIndex[]; };
+layout(std430, binding = SVO_BINDING_GROUPS) coherent buffer Groups { uint groups[]; };
+layout(rgba8, binding = 0) uniform writeonly image3D u_brickPool;
+uniform uint u_nodeCount;
+uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
+uniform ivec3 u_bricksPerAxis;
+uniform int u_depth;
+uniform int u_pass;
+#include "svo/octree.glsl"
+
+ivec3 brickOrigin(uint b) {
+  uint bx = uint(u_bricksPerAxis.x), by = uint(u_bricksPerAxis.y);
+  return 3 * ivec3(b % bx, (b / bx) % by, b / (bx * by));
+}
+
+void main() {
+  uint n = gl_GlobalInvocationID.x;
+  if (n >= u_nodeCount) return;
+  bool tagged = (nodes[n].word & SVO_TAG) != 0u;
+  if (u_pass == 0) {
+    if (tagged) {
+      atomicAdd(groups[gl_WorkGroupID.x], 1u);
+      atomicAdd(counters[SVO_COUNTER_BRICKS], 1u);
+    }
+    return;
+  }
+  // Pass 1 runs per tile: invocation n fills the bricks of node n's 8 children (and, for n = 0,
+  // the root's). The children's 3x3x3 neighbourhoods lie among the children of the parent's own
+  // 3x3x3 neighbourhood, so 26 neighbour lookups per tile replace 26 per node.
+  if (n == 0u) {
+    if (tagged) {
+      brickIndex[0] = 1u;  // the root is the first tagged node: rank 0
+      ivec3 origin = brickOrigin(1u);
+      if (1u >= u_brickCapacity) { atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u); brickIndex[0] = 0u; }
+      else for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), values[0]);
+    } else {
+      brickIndex[0] = 0u;
+    }
+  }
+  uint first = nodes[n].word & SVO_CHILD_MASK;
+  if (first == 0u) return;
+  int parentLevel = int(nodes[n].level);
+  ivec3 pc = ivec3(unpackVoxel10(nodes[n].coords));
+  int parentCells = 1 << parentLevel;
+  uint around[27];  // first child of each node in the parent's 3x3x3 neighbourhood (0 = none)
+  for (int k = 0; k < 27; ++k) {
+    ivec3 q = pc + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
+    uint other = k == 13 ? n
+               : any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(parentCells))) ? SVO_ABSENT
+               : svoNeighbour(n, uvec3(pc), uvec3(q));
+    around[k] = other == SVO_ABSENT ? 0u : (nodes[other].word & SVO_CHILD_MASK);
+  }
+  int cells = 2 * parentCells;
+  // Rank of the first child among all tagged nodes; the others follow.
+  uint rank = groups[first / 64u];
+  for (uint m = (first / 64u) * 64u; m < first; ++m)
+    if ((nodes[m].word & SVO_TAG) != 0u) ++rank;
+  for (uint k = 0u; k < 8u; ++k) {
+    uint child = first + k;
+    if ((nodes[child].word & SVO_TAG) == 0u) { brickIndex[child] = 0u; continue; }
+    uint brick = 1u + rank;
+    ++rank;
+    if (brick >= u_brickCapacity) {
+      atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u);
+      brickIndex[child] = 0u;
+      continue;
+    }
+    brickIndex[child] = brick;
+    ivec3 c = 2 * pc + ivec3(k & 1u, (k >> 1) & 1u, (k >> 2) & 1u);
+    vec4 nb[27];  // centre values of the child's 3x3x3 same-level cells (clamped to the volume)
+    for (int j = 0; j < 27; ++j) {
+      ivec3 m = clamp(c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, ivec3(0), ivec3(cells - 1));
+      ivec3 o = (m >> 1) - pc + 1;
+      uint f = around[o.x + 3 * o.y + 9 * o.z];
+      ivec3 bit = m & 1;
+      nb[j] = f == 0u ? vec4(0.0) : values[f + uint(bit.x + 2 * bit.y + 4 * bit.z)];
+    }
+    ivec3 origin = brickOrigin(brick);
+    for (int t = 0; t < 27; ++t) {
+      ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
+      // Cells sharing the texel's point, per axis: texel 0 -> offsets {-1, 0}, 1 -> {0}, 2 -> {0, +1}.
+      ivec3 lo = min(tx - 1, ivec3(0)), hi = max(tx - 1, ivec3(0));
+      vec4 sum = vec4(0.0);
+      float count = 0.0;
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            sum += nb[(x + 1) + 3 * (y + 1) + 9 * (z + 1)];
+            count += 1.0;
+          }
+      imageStore(u_brickPool, origin + tx, sum / count);
+    }
+  }
+}

@@ -1,0 +1,195 @@
+#version 450
+// svo-cone-trace, one invocation per traced pixel: the cones of vct-grid's cone-trace (diffuse
+// cones with their AO, one specular cone, one soft-shadow cone), sampling the octree instead of a
+// dense mip chain. Each sample descends from the root to the level of its diameter and blends two
+// levels (quadrilinear, svoFineWeight in svo_shared.h); inside a node the brick's 3x3x3 texels are
+// filtered by the hardware (texel coordinate 3 * brick + 0.5 + 2u, u the position in the node).
+// Ambient occlusion can use its own constellation (Basgier's 3, 5 or 8 cones) and weights each
+// sample's opacity by the falloff f(r) = 1 / (1 + lambda r), r in voxels (lambda 0: vct-grid's
+// plain range cut). For the probed pixel every sample and every level of its descent is recorded.
+#include "common/shared.h"
+#include "common/voxel_space.glsl"
+#include "common/packing.glsl"
+#include "common/lights.glsl"
+#include "svo/svo_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
+layout(std430, binding = SVO_BINDING_BRICK_INDEX) readonly buffer BrickIndex { uint brickIndex[]; };
+layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
+layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
+layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDescentStep descent[]; };
+layout(std430, binding = SVO_BINDING_DESCENT_COUNT) buffer DescentCount { uint descentCount; };
+layout(binding = 0) uniform sampler3D u_brickPool;
+layout(binding = 1) uniform sampler2D u_position;
+layout(binding = 2) uniform sampler2D u_normal;
+layout(binding = 3) uniform sampler2D u_albedo;
+layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
+layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
+layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
+layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
+
+uniform int u_depth;
+uniform ivec3 u_bricksPerAxis;
+uniform int u_dilated;            // 1: empty neighbours have nodes, so an absent node is exactly 0
+uniform int u_coneCount;
+uniform vec4 u_cones[VOXLAB_MAX_CONES];    // xyz: tangent-space direction (z = normal), w: weight
+uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
+uniform vec4 u_aoCones[VOXLAB_MAX_CONES];
+uniform float u_aoAperture;
+uniform float u_aoFalloff;                 // lambda, per voxel
+uniform float u_diffuseAperture;
+uniform float u_specularAperture;
+uniform float u_shadowAperture;
+uniform float u_startOffset;
+uniform float u_maxDistance;
+uniform float u_aoRange;
+uniform float u_stepScale;
+uniform float u_lodBias;
+uniform int u_maxSteps;
+uniform vec3 u_cameraPos;
+uniform ivec2 u_probePixel;
+uniform int u_scale;
+#include "svo/octree.glsl"
+
+// The trilinear sample of the brick of 'node' (at 'level', holding voxel 'voxel') at voxel-space
+// point v (clamped into the node). The node's cell follows from the voxel: no pool read for it.
+vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
+  uint b = brickIndex[node];
+  if (b == 0u) return vec4(0.0);
+  uint bx = uint(u_bricksPerAxis.x), by = uint(u_bricksPerAxis.y);
+  vec3 origin = 3.0 * vec3(b % bx, (b / bx) % by, b / (bx * by));
+  float cell = exp2(float(u_depth - level));
+  vec3 u = clamp(v / cell - vec3(voxel >> uint(u_depth - level)), 0.0, 1.0);
+  return textureLod(u_brickPool, (origin + 0.5 + 2.0 * u) / vec3(textureSize(u_brickPool, 0)), 0.0);
+}
+
+// The octree at voxel-space point v and fractional level levelStar (0 = root .. D = voxels): one
+// descent from the root to the fine level, keeping the node one level above as the coarse one.
+vec4 svoSample(vec3 v, float levelStar, bool record, uint sampleIndex) {
+  int fine = int(svoFineLevel(levelStar, float(u_depth)));
+  float w = svoFineWeight(levelStar, float(u_depth));
+  uvec3 voxel = uvec3(clamp(ivec3(floor(v)), ivec3(0), ivec3(u_resolution - 1)));
+  uint node = 0u, coarseNode = SVO_ABSENT, fineNode = SVO_ABSENT;
+  for (int l = 0; l <= fine; ++l) {
+    if (l > 0) {
+      uint first = nodes[node].word & SVO_CHILD_MASK;
+      if (first == 0u) {
+        node = SVO_ABSENT;
+      } else {
+        uvec3 bit = (voxel >> uint(u_depth - l)) & 1u;
+        node = first + bit.x + 2u * bit.y + 4u * bit.z;
+      }
+    }
+    if (l == fine - 1) coarseNode = node;
+    if (l == fine) fineNode = node;
+    if (record) {
+      uint k = atomicAdd(descentCount, 1u);
+      vec4 value = node == SVO_ABSENT ? vec4(0.0) : brickSample(node, l, voxel, v);
+      if (k < SVO_MAX_DESCENT_STEPS)
+        descent[k] = SvoDescentStep(sampleIndex, uint(l), node, packVoxel10(voxel >> uint(u_depth - l)),
+                                    float[4](value.r, value.g, value.b, value.a));
+    }
+    if (node == SVO_ABSENT) break;  // the record ends at the first absent node
+  }
+  vec4 coarse = coarseNode == SVO_ABSENT ? vec4(0.0) : brickSample(coarseNode, fine - 1, voxel, v);
+  if (fineNode == SVO_ABSENT) {
+    // Without dilation an absent fine node next to a filled one is not exactly empty: use the
+    // coarse level alone there (the note's fallback for source error P2).
+    if (u_dilated == 0) return coarse;
+    return (1.0 - w) * coarse;
+  }
+  return mix(coarse, brickSample(fineNode, fine, voxel, v), w);
+}
+
+struct ConeResult {
+  vec3 radiance;
+  float opacity;
+  float occlusion;  // opacity with the AO falloff, accumulated up to markDistance
+};
+
+ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
+                     float markDistance, int coneIndex, bool record) {
+  float tanHalf = tan(0.5 * aperture);
+  float t = startDistance;
+  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
+  for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
+    float diameter = max(2.0 * tanHalf * t, u_voxelSize);
+    float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
+    float levelStar = clamp(float(u_depth) - lod, 0.0, float(u_depth));
+    vec3 p = origin + dir * t;
+    vec3 v = worldToVoxel(p);
+    float margin = 0.5 * diameter / u_voxelSize;
+    if (any(lessThan(v, vec3(-margin))) || any(greaterThan(v, vec3(float(u_resolution) + margin)))) break;
+    uint k = 0u;
+    if (record) k = atomicAdd(coneSampleCount, 1u);
+    vec4 s = svoSample(v, levelStar, record, k);
+    float stepLength = diameter * u_stepScale;
+    float texelSize = u_voxelSize * exp2(lod);
+    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+    vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
+    r.radiance += (1.0 - r.opacity) * c;
+    if (t <= markDistance) {
+      float falloff = 1.0 / (1.0 + u_aoFalloff * t / u_voxelSize);
+      r.occlusion += (1.0 - r.occlusion) * a * falloff;
+    }
+    r.opacity += (1.0 - r.opacity) * a;
+    if (record && k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
+      coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, lod, a));
+    t += stepLength;
+  }
+  return r;
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
+  ivec2 g = min(px * u_scale, textureSize(u_position, 0) - 1);
+  vec4 pos = texelFetch(u_position, g, 0);
+  if (pos.w == 0.0) {
+    imageStore(u_indirectDiffuse, px, vec4(0.0));
+    imageStore(u_indirectSpecular, px, vec4(0.0));
+    imageStore(u_ambientOcclusion, px, vec4(0.0));
+    imageStore(u_softShadow, px, vec4(0.0));
+    return;
+  }
+  bool record = px == u_probePixel;
+  vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
+  vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
+  vec3 origin = pos.xyz + n * u_startOffset;
+  float start = u_voxelSize;
+  vec3 t = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
+  vec3 b = cross(n, t);
+  vec3 incoming = vec3(0.0);
+  float occlusion = 0.0;
+  for (int i = 0; i < u_coneCount; ++i) {
+    vec3 d = normalize(u_cones[i].x * t + u_cones[i].y * b + u_cones[i].z * n);
+    ConeResult c = traceCone(origin, d, u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record);
+    incoming += u_cones[i].w * c.radiance;
+    occlusion += u_cones[i].w * c.occlusion;
+  }
+  if (u_aoConeCount > 0) {
+    occlusion = 0.0;
+    for (int i = 0; i < u_aoConeCount; ++i) {
+      vec3 d = normalize(u_aoCones[i].x * t + u_aoCones[i].y * b + u_aoCones[i].z * n);
+      ConeResult c = traceCone(origin, d, u_aoAperture, start, u_aoRange, u_aoRange, u_coneCount + 2 + i, record);
+      occlusion += u_aoCones[i].w * c.occlusion;
+    }
+  }
+  imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
+  imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
+
+  vec3 view = normalize(pos.xyz - u_cameraPos);
+  ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, u_maxDistance,
+                              u_coneCount, record);
+  imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+  vec3 toLight; float dist;
+  lightDirection(pos.xyz, toLight, dist);
+  float shadowVis = 0.0;
+  if (dot(n, toLight) > 0.0) {
+    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(dist, u_maxDistance), 0.0,
+                              u_coneCount + 1, record);
+    shadowVis = 1.0 - sh.opacity;
+  }
+  imageStore(u_softShadow, px, vec4(shadowVis));
+}

@@ -1,0 +1,61 @@
+#version 450
+// svo-leaves. u_pass 0, one invocation per voxel fragment: light the fragment exactly as
+// vct-grid's inject does (Lambert, shadow-mapped, plus emission; or one uniform radiance) and add
+// it to its leaf's fixed-point sums with atomicAdd (exact and order-independent: no RGBA8
+// compare-and-swap average, whose counter wraps and whose truncation biases the mean, source
+// error P8). u_pass 1, one invocation per leaf node: mean = sums / count, opacity 1.
+#include "common/shared.h"
+#include "common/voxel_space.glsl"
+#include "common/packing.glsl"
+#include "common/lights.glsl"
+#include "svo/svo_shared.h"
+
+layout(local_size_x = 64) in;
+layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
+layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
+layout(std430, binding = SVO_BINDING_LEAF_SUMS) coherent buffer LeafSums { uvec4 sums[]; };
+layout(std430, binding = SVO_BINDING_VALUES) writeonly buffer Values { vec4 values[]; };
+layout(binding = 2) uniform sampler2D u_shadowMap;
+uniform uint u_fragmentCount;
+uniform uint u_start;  // the leaf level's nodes (pass 1)
+uniform uint u_count;
+uniform int u_depth;
+uniform int u_pass;
+uniform int u_mode;               // 0 = direct light, 1 = uniform radiance (furnace tests)
+uniform vec3 u_uniformRadiance;
+const float PI = 3.14159265358979;
+const float kFixedPoint = 65535.0;  // 16 fractional bits: sums of up to 65536 fragments fit in 32 bits
+#include "svo/octree.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (u_pass == 1) {
+    if (i >= u_count) return;
+    uvec4 s = sums[u_start + i];
+    values[u_start + i] = s.w == 0u ? vec4(0.0) : vec4(vec3(s.xyz) / (kFixedPoint * float(s.w)), 1.0);
+    return;
+  }
+  if (i >= u_fragmentCount) return;
+  VoxelFragment f = fragments[i];
+  uvec3 voxel = unpackVoxel10(f.position);
+  uint leaf = svoFind(voxel, u_depth);
+  if (leaf == SVO_ABSENT) return;
+  vec3 radiance;
+  if (u_mode == 1) {
+    radiance = u_uniformRadiance;
+  } else {
+    vec3 albedo = unpackUnorm4x8(f.albedo).rgb;
+    vec3 n = normalize(unpackSnorm4x8(f.normal).xyz);
+    vec3 p = voxelToWorld(vec3(voxel) + 0.5);
+    vec3 toLight; float dist;
+    lightDirection(p, toLight, dist);
+    float cosine = max(dot(n, toLight), 0.0);
+    vec3 irradiance = lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, n);
+    radiance = albedo / PI * irradiance + unpackUnorm4x8(f.emission).rgb;
+  }
+  uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * kFixedPoint + 0.5);
+  atomicAdd(sums[leaf].x, fixedPoint.x);
+  atomicAdd(sums[leaf].y, fixedPoint.y);
+  atomicAdd(sums[leaf].z, fixedPoint.z);
+  atomicAdd(sums[leaf].w, 1u);
+}

@@ -1,0 +1,676 @@
+// The octree stages of svo (overview and references in svo.cpp).
+#include "techniques/svo/stages.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/common/voxelize_stage.h"
+#include "techniques/vct_grid/cone_layout.h"
+
+namespace voxlab::svo {
+
+static constexpr float kDegrees = 3.14159265358979f / 180.0f;
+// Nodes of sentinel words kept after the node pool's capacity: a pass that wrote past the end
+// would change them (tests/unit/test_svo.cpp checks they survive an overflow).
+static constexpr uint32_t kGuardNodes = 8;
+static constexpr uint32_t kGuardWord = 0xA5A5A5A5u;
+
+int octreeDepth(const ParamSet& params) {
+  int res = params.getInt("voxel.resolution"), depth = 0;
+  while ((1 << depth) < res) ++depth;
+  return depth;
+}
+
+std::vector<SvoLevel> readLevels(Blackboard& board) {
+  const Buffer& b = board.buffer("svo-levels");
+  std::vector<uint8_t> bytes = b.download();
+  std::vector<SvoLevel> levels(bytes.size() / sizeof(SvoLevel));
+  std::memcpy(levels.data(), bytes.data(), levels.size() * sizeof(SvoLevel));
+  return levels;
+}
+
+uint32_t nodeCount(const std::vector<SvoLevel>& levels) {
+  uint32_t end = 0;
+  for (const auto& l : levels) end = std::max(end, l.start + l.count);
+  return end;
+}
+
+static std::vector<uint32_t> readCounters(Blackboard& board) {
+  std::vector<uint8_t> bytes = board.buffer("svo-counters").download(SVO_COUNTER_WORDS * 4);
+  std::vector<uint32_t> c(SVO_COUNTER_WORDS);
+  std::memcpy(c.data(), bytes.data(), c.size() * 4);
+  return c;
+}
+
+static ParamDesc poolFractionParam() {
+  return ParamDesc::real("svo.pool-fraction", 1.0, 0.01, 1.0,
+                         "fraction of the exactly counted size the node and brick pools get (1 = exact; below 1 "
+                         "only to see the overflow check fail)");
+}
+static ParamDesc dilateParam() {
+  return ParamDesc::boolean("svo.dilate", false,
+                            "also subdivide the 26 neighbours of every non-empty node, so the octree equals the "
+                            "dense grid everywhere (off: Basgier's octree, with quad-like artefacts at its borders)");
+}
+
+static void barrierAll() { glMemoryBarrier(GL_ALL_BARRIER_BITS); }
+
+// "svo-groups": one zeroed counter per work group of 64 items.
+static Buffer& zeroGroups(Blackboard& board, uint32_t items) {
+  const uint32_t groups = std::max(1u, (items + 63) / 64);
+  Buffer& b = board.ensureBuffer("svo-groups", size_t(groups) * 4);
+  std::vector<uint32_t> zero(groups, 0u);
+  b.upload(zero.data(), zero.size() * 4);
+  return b;
+}
+// Turns the per-group counts into exclusive prefix sums (in place).
+static void scanGroups(Buffer& b, uint32_t items) {
+  const uint32_t groups = std::max(1u, (items + 63) / 64);
+  std::vector<uint8_t> bytes = b.download(size_t(groups) * 4);
+  std::vector<uint32_t> v(groups);
+  std::memcpy(v.data(), bytes.data(), v.size() * 4);
+  uint32_t sum = 0;
+  for (auto& x : v) {
+    uint32_t c = x;
+    x = sum;
+    sum += c;
+  }
+  b.upload(v.data(), v.size() * 4);
+}
+
+// The node pool "svo-nodes" with room for 'capacity' nodes plus the guard, keeping its first
+// 'used' nodes when it has to grow.
+static Buffer& ensureNodePool(Blackboard& board, uint32_t used, uint32_t capacity) {
+  const size_t bytes = size_t(capacity + kGuardNodes) * sizeof(SvoNode);
+  if (!board.hasBuffer("svo-nodes") || board.buffer("svo-nodes").size() < bytes) {
+    const size_t keep = size_t(used) * sizeof(SvoNode);
+    Buffer copy;
+    if (keep && board.hasBuffer("svo-nodes")) {
+      copy = Buffer("svo-nodes.grow", keep);
+      glCopyNamedBufferSubData(board.buffer("svo-nodes").id(), copy.id(), 0, 0, GLsizeiptr(keep));
+    }
+    Buffer& pool = board.ensureBuffer("svo-nodes", bytes);
+    if (copy.id()) glCopyNamedBufferSubData(copy.id(), pool.id(), 0, 0, GLsizeiptr(keep));
+  }
+  Buffer& pool = board.buffer("svo-nodes");
+  std::vector<uint32_t> guard(kGuardNodes * 4, kGuardWord);
+  pool.upload(guard.data(), guard.size() * 4, size_t(capacity) * sizeof(SvoNode));
+  return pool;
+}
+
+// --- svo-build -------------------------------------------------------------------------------------
+
+void BuildStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(dilateParam());
+  b.param(poolFractionParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  b.write("svo-groups");
+  BufferLayout nodes;
+  nodes.stride = sizeof(SvoNode);
+  nodes.fields = {{"word", FieldType::U32, 0}, {"coords", FieldType::Packed10_10_10, 4},
+                  {"level", FieldType::U32, 8}, {"parent", FieldType::U32, 12}};
+  nodes.countResource = "svo-counters";
+  nodes.countOffset = 4 * 6;  // SVO_COUNTER_WORDS slot 6: nodes written (set by the stage)
+  b.output("svo-nodes", OutputKind::Buffer, kOctreeNodes,
+           "the node pool: flags (31 tag, 30 non-empty) + first child, cell at its level, level, parent; levels "
+           "contiguous, root = node 0")
+      .layout = nodes;
+  BufferLayout levels;
+  levels.stride = sizeof(SvoLevel);
+  levels.fields = {{"start", FieldType::U32, 0}, {"count", FieldType::U32, 4}, {"non_empty", FieldType::U32, 8},
+                   {"tagged", FieldType::U32, 12}};
+  b.output("svo-levels", OutputKind::Buffer, kOctreeLevels,
+           "per level: first node, nodes, non-empty nodes (distinct occupied cells), tagged (subdivided / with a brick)")
+      .layout = levels;
+  b.output("svo-structure", OutputKind::Volume3D, Semantic::Fraction,
+           "the octree's nodes as a volume: mip m shows level D - m (1 non-empty, 0.6 dilated, 0.3 empty sibling, "
+           "0 no node); overlay a level on the camera images to see its node boxes in the scene");
+  b.output("svo-counters", OutputKind::Buffer, Semantic::Scalar,
+           "counters: tiles, overflow flag, level non-empty, level tagged, bricks, -, nodes written")
+      .layout = BufferLayout{4, {{"value", FieldType::U32, 0}}, "", 0, 1.0f};
+}
+
+void BuildStage::execute(StageContext& ctx) {
+  const int depth = octreeDepth(ctx.params);
+  const int level = ctx.iteration;
+  const bool dilate = ctx.params.getBool("svo.dilate");
+  const double fraction = ctx.params.getFloat("svo.pool-fraction");
+  Buffer& counters = ctx.board.ensureBuffer("svo-counters", SVO_COUNTER_WORDS * 4);
+  Buffer& levelBuffer = ctx.board.ensureBuffer("svo-levels", sizeof(SvoLevel) * size_t(depth + 1));
+  std::vector<SvoLevel> levels(depth + 1, SvoLevel{0, 0, 0, 0});
+  if (level == 0) {
+    // svo-init: the root alone, every counter 0.
+    std::vector<uint32_t> zero(SVO_COUNTER_WORDS, 0u);
+    counters.upload(zero.data(), zero.size() * 4);
+    levels[0] = {0, 1, 0, 0};
+    levelBuffer.upload(levels.data(), levels.size() * sizeof(SvoLevel));
+    Buffer& pool = ensureNodePool(ctx.board, 0, 1);
+    SvoNode root{0, 0, 0, 0};
+    pool.upload(&root, sizeof root);
+  } else {
+    levels = readLevels(ctx.board);
+  }
+  const SvoLevel current = levels[level];
+  const uint32_t fragments = voxelFragmentCount(ctx.board);
+  Buffer* pool = &ctx.board.buffer("svo-nodes");
+
+  Buffer& groups = zeroGroups(ctx.board, current.count);
+  auto bindAll = [&](GLuint program) {
+    glUseProgram(program);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, groups.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, pool->id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
+  };
+  // 1. flag: the nodes of this level holding fragments.
+  GLuint flag = ctx.shaders.program({"svo/flag.comp.glsl"});
+  setUniform(flag, "u_fragmentCount", unsigned(fragments));
+  setUniform(flag, "u_depth", depth);
+  setUniform(flag, "u_level", level);
+  bindAll(flag);
+  if (fragments) dispatchCompute({int(fragments), 1, 1}, {64, 1, 1});
+  barrierAll();
+
+  GLuint pass = ctx.shaders.program({"svo/level_pass.comp.glsl"});
+  setUniform(pass, "u_start", unsigned(current.start));
+  setUniform(pass, "u_count", unsigned(current.count));
+  setUniform(pass, "u_depth", depth);
+  setUniform(pass, "u_level", level);
+  auto runPass = [&](int which, uint32_t capacity) {
+    setUniform(pass, "u_pass", which);
+    setUniform(pass, "u_capacity", unsigned(capacity));
+    bindAll(pass);
+    dispatchCompute({int(current.count), 1, 1}, {64, 1, 1});
+    barrierAll();
+  };
+  // 2. dilate (optional): their neighbours too.
+  if (dilate) runPass(0, 0);
+  // 3. count: non-empty and tagged nodes of the level.
+  const uint32_t zeros[2] = {0, 0};
+  counters.upload(zeros, 8, SVO_COUNTER_NON_EMPTY * 4);
+  runPass(1, 0);
+  std::vector<uint32_t> c = readCounters(ctx.board);
+  scanGroups(groups, current.count);
+  levels[level].nonEmpty = c[SVO_COUNTER_NON_EMPTY];
+  levels[level].tagged = c[SVO_COUNTER_TAGGED];
+  const uint32_t used = current.start + current.count;
+  // 4. allocate + init: the next level, in a pool sized from the count just made.
+  if (level < depth) {
+    const uint32_t needed = used + 8u * levels[level].tagged;
+    const uint32_t capacity = fraction >= 1.0 ? needed : std::max(used, uint32_t(std::floor(needed * fraction)));
+    pool = &ensureNodePool(ctx.board, used, capacity);
+    setUniform(pass, "u_tilesBefore", unsigned((used - 1) / 8));
+    runPass(2, capacity);
+    const uint32_t tiles = (used - 1) / 8 + levels[level].tagged;
+    counters.upload(&tiles, 4, SVO_COUNTER_TILES * 4);
+    c = readCounters(ctx.board);
+    if (c[SVO_COUNTER_OVERFLOW])
+      throw Error("svo-build: node pool overflow at level " + std::to_string(level + 1) + ": it holds " +
+                  std::to_string(capacity) + " nodes, the level needs " + std::to_string(1 + 8 * c[SVO_COUNTER_TILES]) +
+                  " (svo.pool-fraction=" + ctx.params.desc("svo.pool-fraction").format(fraction) +
+                  "; 1 sizes the pool exactly)");
+    levels[level + 1] = {used, 8u * levels[level].tagged, 0, 0};
+  }
+  levelBuffer.upload(levels.data(), levels.size() * sizeof(SvoLevel));
+  // The structure view of this level (mip D - level), now that its flags are final.
+  {
+    const int res = ctx.params.getInt("voxel.resolution");
+    TextureDesc d;
+    d.target = GL_TEXTURE_3D;
+    d.format = GL_R8;
+    d.size = {res, res, res};
+    d.levels = 0;
+    d.minFilter = GL_NEAREST_MIPMAP_NEAREST;
+    d.magFilter = GL_NEAREST;
+    Texture& structure = ctx.board.ensureTexture("svo-structure", d);
+    if (level == 0) {
+      const uint8_t zero = 0;
+      for (int m = 0; m < structure.levels(); ++m) glClearTexImage(structure.id(), m, GL_RED, GL_UNSIGNED_BYTE, &zero);
+    }
+    GLuint view = ctx.shaders.program({"svo/structure.comp.glsl"});
+    setUniform(view, "u_depth", depth);
+    setUniform(view, "u_level", level);
+    glUseProgram(view);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, pool->id());
+    glBindImageTexture(0, structure.id(), depth - level, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8);
+    dispatchCompute(structure.levelSize(depth - level), {4, 4, 4});
+    barrierAll();
+  }
+  const uint32_t total = nodeCount(levels);
+  counters.upload(&total, 4, 6 * 4);
+  barrierAll();
+
+  ctx.stats["depth"] = depth;
+  ctx.stats["level"] = level;
+  ctx.stats["level_nodes"] = current.count;
+  ctx.stats["level_non_empty"] = levels[level].nonEmpty;
+  ctx.stats["level_tagged"] = levels[level].tagged;
+  ctx.stats["nodes"] = total;
+  ctx.stats["node_pool_bytes"] = double(total) * sizeof(SvoNode);
+  for (int l = 0; l <= level; ++l)
+    ctx.stats["non_empty_level_" + std::to_string(l)] = levels[l].nonEmpty;
+}
+
+// --- svo-leaves ------------------------------------------------------------------------------------
+
+static BufferLayout valueLayout() {
+  BufferLayout v;
+  v.stride = 16;
+  v.fields = {{"value", FieldType::Vec4, 0, FieldRole::Color}};
+  v.countResource = "svo-counters";
+  v.countOffset = 4 * 6;
+  return v;
+}
+
+void LeavesStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
+                            "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"));
+  b.param(ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0,
+                          "radiance every voxel gets in uniform mode", "W/(m^2 sr)"));
+  b.read("fragments");
+  b.read("fragments.count");
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-counters");
+  b.read("shadow-map");
+  b.read("light");
+  b.write("svo-leaf-sums");
+  b.output("svo-leaf-values", OutputKind::Buffer, Semantic::Color,
+           "per node: its leaf's mean outgoing radiance (premultiplied) and opacity 1; 0 for inner nodes")
+      .layout = valueLayout();
+}
+
+void LeavesStage::execute(StageContext& ctx) {
+  const int depth = octreeDepth(ctx.params);
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
+  std::vector<SvoLevel> levels = readLevels(ctx.board);
+  const uint32_t nodes = nodeCount(levels);
+  Buffer& sums = ctx.board.ensureBuffer("svo-leaf-sums", size_t(nodes) * 16);
+  Buffer& values = ctx.board.ensureBuffer("svo-leaf-values", size_t(nodes) * 16);
+  glClearNamedBufferData(sums.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glClearNamedBufferData(values.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  const uint32_t fragments = voxelFragmentCount(ctx.board);
+  GLuint program = ctx.shaders.program({"svo/leaves.comp.glsl"});
+  space.setUniforms(program);
+  setUniform(program, "u_fragmentCount", unsigned(fragments));
+  setUniform(program, "u_depth", depth);
+  setUniform(program, "u_start", unsigned(levels[depth].start));
+  setUniform(program, "u_count", unsigned(levels[depth].count));
+  setUniform(program, "u_mode", ctx.params.getInt("inject.mode"));
+  setUniform(program, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_LEAF_SUMS, sums.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+  setUniform(program, "u_pass", 0);
+  if (fragments) dispatchCompute({int(fragments), 1, 1}, {64, 1, 1});
+  barrierAll();
+  setUniform(program, "u_pass", 1);
+  glUseProgram(program);
+  dispatchCompute({int(levels[depth].count), 1, 1}, {64, 1, 1});
+  barrierAll();
+  ctx.stats["fragments"] = fragments;
+  ctx.stats["leaves"] = levels[depth].nonEmpty;
+}
+
+// --- svo-mipmap ------------------------------------------------------------------------------------
+
+void MipmapStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-counters");
+  b.read("svo-leaf-values");
+  b.output("svo-values", OutputKind::Buffer, Semantic::Color,
+           "per node: the filtered premultiplied radiance and opacity at its centre (leaves: svo-leaf-values)")
+      .layout = valueLayout();
+  b.output("svo-dense", OutputKind::Volume3D, Semantic::Color,
+           "the octree resampled into a dense view: mip m holds the node values of level D - m (0 where no node), "
+           "so it can be set beside vct-grid's radiance");
+  b.output("svo-dense-opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the dense view per level").resource =
+      "svo-dense";
+}
+
+void MipmapStage::execute(StageContext& ctx) {
+  const int depth = octreeDepth(ctx.params);
+  const int res = ctx.params.getInt("voxel.resolution");
+  const int k = ctx.iteration;
+  std::vector<SvoLevel> levels = readLevels(ctx.board);
+  const uint32_t nodes = nodeCount(levels);
+  Buffer& values = ctx.board.ensureBuffer("svo-values", size_t(nodes) * 16);
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {res, res, res};
+  d.levels = 0;
+  d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  Texture& dense = ctx.board.ensureTexture("svo-dense", d);
+  Buffer& nodePool = ctx.board.buffer("svo-nodes");
+  GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"});
+  auto writeDense = [&](int mip) {
+    setUniform(resample, "u_depth", depth);
+    setUniform(resample, "u_level", depth - mip);
+    glUseProgram(resample);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
+    glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute(dense.levelSize(mip), {4, 4, 4});
+    barrierAll();
+  };
+  if (k == 0) {
+    glCopyNamedBufferSubData(ctx.board.buffer("svo-leaf-values").id(), values.id(), 0, 0, GLsizeiptr(nodes) * 16);
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    for (int m = 1; m < dense.levels(); ++m) glClearTexImage(dense.id(), m, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    barrierAll();
+    writeDense(0);
+  }
+  const int level = depth - 1 - k;
+  GLuint program = ctx.shaders.program({"svo/mipmap.comp.glsl"});
+  setUniform(program, "u_start", unsigned(levels[level].start));
+  setUniform(program, "u_count", unsigned(levels[level].count));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
+  dispatchCompute({int(levels[level].count), 1, 1}, {64, 1, 1});
+  barrierAll();
+  writeDense(k + 1);
+  ctx.stats["level_filtered"] = level;
+  ctx.stats["levels_done"] = k + 2;
+}
+
+// --- svo-bricks ------------------------------------------------------------------------------------
+
+static glm::ivec3 bricksPerAxis(uint32_t bricks) {
+  int side = std::max(1, int(std::ceil(std::cbrt(double(bricks)) - 1e-9)));
+  while (uint64_t(side) * side * side < bricks) ++side;
+  int z = int((bricks + uint64_t(side) * side - 1) / (uint64_t(side) * side));
+  return {side, side, std::max(z, 1)};
+}
+
+void BricksStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(poolFractionParam());
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-counters");
+  b.read("svo-values");
+  b.write("svo-brick-counters");
+  b.write("svo-brick-groups");
+  b.output("svo-brick-index", OutputKind::Buffer, Semantic::Scalar,
+           "per node: its brick in the pool (0 = the reserved zero brick: untagged nodes)")
+      .layout = BufferLayout{4, {{"brick", FieldType::U32, 0}}, "svo-counters", 4 * 6, 1.0f};
+  b.output("svo-brick-pool", OutputKind::Volume3D, Semantic::Color,
+           "the brick pool: 3x3x3 texels per brick (brick b at 3 * (b mod X, b / X mod Y, b / XY)), premultiplied "
+           "radiance + opacity; borders = means of the nodes sharing the texel");
+}
+
+void BricksStage::execute(StageContext& ctx) {
+  const int depth = octreeDepth(ctx.params);
+  std::vector<SvoLevel> levels = readLevels(ctx.board);
+  const uint32_t nodes = nodeCount(levels);
+  uint32_t tagged = 0;
+  for (const auto& l : levels) tagged += l.tagged;
+  const uint32_t needed = tagged + 1;  // + the zero brick
+  const double fraction = ctx.params.getFloat("svo.pool-fraction");
+  const uint32_t capacity = fraction >= 1.0 ? needed : std::max(1u, uint32_t(std::floor(needed * fraction)));
+  glm::ivec3 axis = bricksPerAxis(capacity);
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
+  if (3 * std::max(axis.x, axis.z) > maxSize)
+    throw Error("svo-bricks: the brick pool needs " + std::to_string(capacity) + " bricks, " +
+                std::to_string(3 * std::max(axis.x, axis.z)) + " texels along an axis, beyond GL_MAX_3D_TEXTURE_SIZE " +
+                std::to_string(maxSize) + " (use a lower voxel.resolution)");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = 3 * axis;
+  d.levels = 1;
+  d.minFilter = d.magFilter = GL_LINEAR;
+  Texture& pool = ctx.board.ensureTexture("svo-brick-pool", d);
+  const uint8_t zero[4] = {0, 0, 0, 0};
+  glClearTexImage(pool.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  Buffer& index = ctx.board.ensureBuffer("svo-brick-index", size_t(nodes) * 4);
+  Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", SVO_COUNTER_WORDS * 4);
+  std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
+  counters.upload(c.data(), c.size() * 4);
+  Buffer& groups = ctx.board.ensureBuffer("svo-brick-groups", size_t((nodes + 63) / 64 + 1) * 4);
+  std::vector<uint32_t> zeroGroupCounts((nodes + 63) / 64 + 1, 0u);
+  groups.upload(zeroGroupCounts.data(), zeroGroupCounts.size() * 4);
+  GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"});
+  setUniform(program, "u_nodeCount", unsigned(nodes));
+  setUniform(program, "u_brickCapacity", unsigned(capacity));
+  setUniform(program, "u_bricksPerAxis", axis);
+  setUniform(program, "u_depth", depth);
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, index.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, groups.id());
+  glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  setUniform(program, "u_pass", 0);
+  glUseProgram(program);
+  dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+  barrierAll();
+  // Exclusive prefix sums of the per-group counts (svo-groups is the build's; this stage has its own).
+  {
+    std::vector<uint8_t> g = groups.download(zeroGroupCounts.size() * 4);
+    std::vector<uint32_t> v(zeroGroupCounts.size());
+    std::memcpy(v.data(), g.data(), v.size() * 4);
+    uint32_t sum = 0;
+    for (auto& x : v) { uint32_t k = x; x = sum; sum += k; }
+    groups.upload(v.data(), v.size() * 4);
+  }
+  setUniform(program, "u_pass", 1);
+  glUseProgram(program);
+  dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+  barrierAll();
+  std::vector<uint8_t> bytes = counters.download(SVO_COUNTER_WORDS * 4);
+  std::memcpy(c.data(), bytes.data(), c.size() * 4);
+  if (c[SVO_COUNTER_OVERFLOW])
+    throw Error("svo-bricks: brick pool overflow: it holds " + std::to_string(capacity) + " bricks, the octree needs " +
+                std::to_string(1 + c[SVO_COUNTER_BRICKS]) + " (svo.pool-fraction=" +
+                ctx.params.desc("svo.pool-fraction").format(fraction) + "; 1 sizes the pool exactly)");
+  ctx.stats["bricks"] = c[SVO_COUNTER_BRICKS];
+  ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
+  ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
+  ctx.stats["octree_bytes"] = double(pool.byteSize()) + double(nodes) * (sizeof(SvoNode) + 4);
+}
+
+// --- svo-cone-trace --------------------------------------------------------------------------------
+// The parameters shared with vct-grid's cone-trace keep its names, defaults and ranges, so the two
+// techniques trace the same cones for the same settings (the AO cross-check relies on it).
+
+static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
+  TextureDesc d;
+  d.format = format;
+  d.size = {(view.width + scale - 1) / scale, (view.height + scale - 1) / scale, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+void ConeTraceStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(dilateParam());
+  b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
+                            "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
+                            "upsamples along surfaces)"));
+  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
+  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
+  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
+                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
+  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
+                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
+  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
+                          "cones start this far from the surface along its normal (avoids self-occlusion)", "voxels"));
+  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
+  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
+                          "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
+  b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
+  b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
+                          "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
+  b.param(ParamDesc::choice("ao.cones", {"diffuse", "basgier-3", "basgier-5", "basgier-8"}, 0,
+                            "AO from the diffuse cones (as vct-grid), or Basgier's constellations: 3 cones of 100 deg, "
+                            "5 of 90 deg, 8 of 60 deg, ring layout, equal weights"));
+  b.param(ParamDesc::real("ao.falloff", 0.0, 0.0, 2.0,
+                          "Basgier's distance falloff lambda: each AO sample's opacity is scaled by 1 / (1 + lambda r), "
+                          "r in voxels (0: none, vct-grid's plain range cut)", "1/voxel"));
+  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
+                          "specular cone aperture = max(2, 90 * roughness) degrees"));
+  b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
+  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  b.readView();
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-counters");
+  b.read("svo-brick-index");
+  b.read("svo-brick-pool");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("light");
+  b.write("cone-samples.count");
+  b.write("svo-descent.count");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones (at cone.resolution)")
+      .referenceMode = "indirect-1";
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
+           "weighted visible fraction within ao.range (1 = open)");
+  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the octree (1 = lit)");
+  BufferLayout samples;
+  samples.stride = sizeof(gpu::ConeSample);
+  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
+                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
+                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
+  samples.countResource = "cone-samples.count";
+  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
+                                "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                                "cone/distance/mip/alpha");
+  probed.layout = samples;
+  probed.probeRecord = true;
+  BufferLayout steps;
+  steps.stride = sizeof(SvoDescentStep);
+  steps.fields = {{"sample", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"node", FieldType::U32, 8},
+                  {"cell", FieldType::Packed10_10_10, 12}, {"value", FieldType::Vec4, 16, FieldRole::Color}};
+  steps.countResource = "svo-descent.count";
+  OutputDesc& descent = b.output("svo-descent", OutputKind::Buffer, kOctreeDescent,
+                                 "for every sample of the probed pixel: the node visited at each level from the root "
+                                 "to the sample's fine level (0xffffffff = absent), its cell, its brick's value there");
+  descent.layout = steps;
+  descent.probeRecord = true;
+}
+
+void ConeTraceStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  const int depth = octreeDepth(ctx.params);
+  VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  const int scale = ctx.params.getChoice("cone.resolution") == "half" ? 2 : 1;
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, scale, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, scale, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, scale, GL_R16F));
+  Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, scale, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  Buffer& descent = ctx.board.ensureBuffer("svo-descent", sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS);
+  Buffer& descentCount = ctx.board.ensureBuffer("svo-descent.count", 4);
+  const uint32_t zero = 0;
+  sampleCount.upload(&zero, 4);
+  descentCount.upload(&zero, 4);
+  glm::ivec3 traced = indirect.desc().size;
+
+  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
+  auto pack = [](const std::vector<vct::Cone>& cones) {
+    std::vector<glm::vec4> packed;
+    for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
+    return packed;
+  };
+  std::vector<glm::vec4> cones = pack(vct::diffuseCones(ctx.params.getInt("cone.count"), aperture,
+                                                        ctx.params.getChoice("cone.layout"),
+                                                        ctx.params.getChoice("cone.weighting")));
+  // Basgier's constellations (seed 002 section 6): 5 cones of 90 deg and 8 of 60 deg as published;
+  // the 3-cone aperture (100 deg) and all directions (our ring layout) are our choice, the seed
+  // gives neither. Equal weights, as his average.
+  const std::string aoCones = ctx.params.getChoice("ao.cones");
+  int aoCount = 0;
+  float aoAperture = aperture;
+  if (aoCones != "diffuse") {
+    aoCount = aoCones == "basgier-3" ? 3 : aoCones == "basgier-5" ? 5 : 8;
+    aoAperture = (aoCount == 3 ? 100.0f : aoCount == 5 ? 90.0f : 60.0f) * kDegrees;
+  }
+  std::vector<glm::vec4> ao4 = aoCount ? pack(vct::diffuseCones(aoCount, aoAperture, "ring", "equal"))
+                                       : std::vector<glm::vec4>(1, glm::vec4(0.0f));
+
+  const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;
+  GLuint program = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
+  space.setUniforms(program);
+  setUniform(program, "u_depth", depth);
+  setUniform(program, "u_bricksPerAxis", brickAxis);
+  setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
+  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(cones.size()), &cones[0].x);
+  setUniform(program, "u_coneCount", int(cones.size()));
+  glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
+  setUniform(program, "u_aoConeCount", aoCount);
+  setUniform(program, "u_aoAperture", aoAperture);
+  setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
+  setUniform(program, "u_diffuseAperture", aperture);
+  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
+  setUniform(program, "u_shadowAperture", ctx.params.getFloat("shadow.cone-aperture") * kDegrees);
+  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset") * space.voxelSize);
+  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
+  setUniform(program, "u_maxSteps", 512);
+  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * space.edge());
+  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * space.edge());
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
+  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
+  setUniform(program, "u_scale", scale);
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  glUseProgram(program);
+  glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DESCENT, descent.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DESCENT_COUNT, descentCount.id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(3, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  barrierAll();
+  // Cap the recorded counts at the buffers' capacities (the shader counts on past them).
+  auto cap = [](Buffer& count, uint32_t capacity) {
+    uint32_t n = readCounter(count);
+    if (n > capacity) count.upload(&capacity, 4);
+  };
+  cap(sampleCount, VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  cap(descentCount, SVO_MAX_DESCENT_STEPS);
+  ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["ao_cones"] = aoCount ? aoCount : double(cones.size());
+  ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
+  ctx.stats["probe_x"] = probeX;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
+}
+
+}  // namespace voxlab::svo
