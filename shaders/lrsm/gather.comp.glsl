@@ -25,6 +25,7 @@ layout(std430, binding = LRSM_BINDING_GATHER_COUNT) buffer GatherCount { uint ga
 layout(std430, binding = LRSM_BINDING_CONE_RESULTS) writeonly buffer Cones { LrsmConeResult coneResults[]; };
 
 uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_smoothFalloff, u_maxSteps, u_traceScale;
+uniform int u_normalised;  // 1: divide L by the sum of its weights f * alpha * V * N (Eq. 2's denominator)
 uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
 uniform float u_diffuseTanHalf, u_specularTanHalf, u_shadowTanHalf;
 uniform vec3 u_cameraPos;
@@ -71,6 +72,7 @@ vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
   float zc = lightDepth(xc);
   vec3 vc = normalize(p - xc);
   vec3 L = vec3(0.0);
+  float weights = 0.0;
   for (int d = 0; d < u_depthIntervals; ++d) {
     float f = layerFalloff(d, zc, u_smoothFalloff == 1);
     float lo, hi;
@@ -93,6 +95,7 @@ vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
             V = gaussianVisibility(zw, rw, mu, sigma2);
             ar = fetchLayer(u_lrsmRadiance, l, level, uv);
             if (V > 0.0) add = f * ar.rgb * V * N;
+            if (V > 0.0) weights += f * alpha * V * N;
           }
         }
       }
@@ -106,7 +109,7 @@ vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
       }
     }
   }
-  return L;
+  return u_normalised == 1 ? (weights > 1e-6 ? L / weights : vec3(0.0)) : L;
 }
 
 // Marches one cone from p (normal n) along dir; returns I (rgb, Eq. 1) and the opacity (a).

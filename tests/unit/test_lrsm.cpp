@@ -425,20 +425,34 @@ TEST(LrsmGather, ProbeRecordsPassTheirCheckAndVisibilityIsTheErfForm) {
   EXPECT_GT(sc.elements, 20u);
 }
 
-TEST(LrsmPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
-  auto& s = session(snapshotRequest());
+double indirectMeanRatio(const RunRequest& req) {
+  auto& s = session(req);
   CapturedOutput out = capture(s, "cone-gather", "indirect-diffuse");
   const nlohmann::json e = compareWithReference(out, "cornell-box", 0, testing::TempDir(), "lrsm-indirect");
-  ASSERT_FALSE(e.is_null());
-  ASSERT_FALSE(e.contains("skipped")) << e.dump();
-  const double ratio = e["mean_ratio"].get<double>();
-  ::testing::Test::RecordProperty("mean_ratio", std::to_string(ratio));
-  // Measured 0.022 at these settings (docs/fidelity.md explains the loss: alpha_i of thin walls at
-  // coarse isotropic mips times V times N). The band, 0.015..0.035, keeps the measured value and
-  // fails on a missing or extra pi, a lost layer or a lost cone.
-  EXPECT_GT(ratio, 0.015);
-  EXPECT_LT(ratio, 0.035);
-  std::printf("lrsm indirect-1 mean ratio %.3f, rmse %.4f\n", ratio, e["rmse"].get<double>());
+  EXPECT_FALSE(e.is_null());
+  EXPECT_FALSE(e.contains("skipped")) << e.dump();
+  if (e.is_null() || e.contains("skipped")) return -1.0;
+  std::printf("lrsm indirect-1 mean ratio %.3f, rmse %.4f, ssim %.3f\n", e["mean_ratio"].get<double>(),
+              e["rmse"].get<double>(), e["ssim"].get<double>());
+  return e["mean_ratio"].get<double>();
+}
+
+TEST(LrsmPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
+  // Normalised estimator (the default): measured 0.290 at these settings; docs/fidelity.md says
+  // where the rest goes (isotropic alpha of thin walls at coarse mips, missing senders). The band
+  // 0.22..0.36 keeps it and fails on a missing or extra pi, a lost layer or a lost cone (6 cones,
+  // the central one carries 1/3.2 of the weight).
+  const double normalised = indirectMeanRatio(snapshotRequest());
+  EXPECT_GT(normalised, 0.22);
+  EXPECT_LT(normalised, 0.36);
+  // Algorithm 1 as printed (L_i = sum f A*R V N, no division): measured 0.022; alpha_i V N
+  // compound. The two differ by more than 10x, so the estimator choice is visible here.
+  RunRequest paper = snapshotRequest();
+  paper.sets.push_back("lrsm.estimator=paper");
+  const double printed = indirectMeanRatio(paper);
+  EXPECT_GT(printed, 0.015);
+  EXPECT_LT(printed, 0.035);
+  EXPECT_GT(normalised, 5.0 * printed);
 }
 
 }  // namespace

@@ -28,6 +28,12 @@
 //                  can move E[z^2] - mu^2 at alpha = 1/4).
 //   Eq. 12         Phi from erf (Abramowitz-Stegun 7.1.26, |error| < 1.5e-7) instead of a table.
 //   normal term    N = <n_mip/alpha . v_c> without renormalising n (Algorithm 1 divides by alpha only).
+//   estimator      Eq. 2 defines L as a weighted *mean* (divided by the integral of w' = w V <n.v>);
+//                  Algorithm 1 returns the numerator only (L += f A*R V N), which multiplies alpha_i
+//                  by two more fractions. Default lrsm.estimator=normalised: Algorithm 1's sum divided
+//                  by sum_l f alpha_l V_l N_l, Eq. 2's mean radiance of the surface in the sphere;
+//                  lrsm.estimator=paper keeps the sum as printed. Measured on the Cornell box against
+//                  the path tracer's indirect-1 (64^3, RSM 128, 128x128): mean ratio 0.29 vs 0.022.
 //   cones          6 diffuse cones of 60 degrees (full apex angle), one along the normal and five at
 //                  60 degrees from it; weights pi * cos(tilt) / sum cos(tilt): each is proportional
 //                  to the cone cap's exact cosine integral pi sin^2(half) cos(tilt), and they sum

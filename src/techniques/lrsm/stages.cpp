@@ -289,6 +289,9 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                             "k of Eq. 15 across an overlap (both satisfy k(t) + k(1 - t) = 1)"));
   b.param(ParamDesc::real("lrsm.min-variance", kDefaultMinVariance, 1e-7, 0.01,
                           "floor of sigma^2 in warped depth units (UNORM16 moments move E[z^2] - mu^2 by up to 9.2e-5)"));
+  b.param(ParamDesc::choice("lrsm.estimator", {"paper", "normalised"}, 1,
+                            "L_i as Algorithm 1 sums it (paper: f A*R V N) or divided by the sum of f alpha V N "
+                            "(normalised: Eq. 2's mean radiance of the surface in the sphere)"));
   b.param(ParamDesc::real("cone.step", 0.5, 0.1, 2.0, "step between sphere samples as a fraction of the diameter"));
   b.param(ParamDesc::real("cone.start", 1.5, 0.0, 8.0, "distance of the first sample from the surface", "voxels"));
   b.param(ParamDesc::real("cone.lod-bias", 0.0, -2.0, 2.0, "added to the voxel mip log2(diameter / voxel)"));
@@ -386,6 +389,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_smoothFalloff", ctx.params.getChoice("lrsm.falloff") == "smoothstep" ? 1 : 0);
   setUniform(program, "u_minVariance", ctx.params.getFloat("lrsm.min-variance"));
   setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_normalised", ctx.params.getChoice("lrsm.estimator") == "normalised" ? 1 : 0);
   setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
   setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
   setUniform(program, "u_maxSteps", ctx.params.getInt("cone.max-steps"));
