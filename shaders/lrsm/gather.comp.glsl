@@ -25,6 +25,7 @@ layout(std430, binding = LRSM_BINDING_GATHER_COUNT) buffer GatherCount { uint ga
 layout(std430, binding = LRSM_BINDING_CONE_RESULTS) writeonly buffer Cones { LrsmConeResult coneResults[]; };
 
 uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_smoothFalloff, u_maxSteps, u_traceScale;
+uniform int u_traceSpecular;  // 1: trace the specular cone
 uniform int u_normalised;  // 1: divide L by the sum of its weights f * alpha * V * N (Eq. 2's denominator)
 uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
 uniform float u_diffuseTanHalf, u_specularTanHalf, u_shadowTanHalf;
@@ -37,19 +38,14 @@ bool g_record = false;
 int g_cone = 0, g_step = 0;
 float g_voxelMip = 0.0, g_alpha = 0.0, g_transmittance = 1.0;
 
-// Bilinear fetch of one layer's tile at an LRSM level, clamped inside the tile.
+// Bilinear fetch of one layer's tile at an LRSM level, clamped half a texel inside the tile so
+// that the filter never reaches a neighbouring layer (the texture filters GL_LINEAR within the
+// level, GL_LINEAR_MIPMAP_NEAREST picks exactly 'level').
 vec4 fetchLayer(sampler2D s, int layer, int level, vec2 uv) {
-  int w = max(u_layerWidth >> level, 1);
-  vec2 f = uv * float(w) - 0.5;
-  ivec2 b = ivec2(floor(f));
-  vec2 fr = f - vec2(b);
-  vec4 sum = vec4(0.0);
-  for (int i = 0; i < 4; ++i) {
-    ivec2 q = clamp(b + ivec2(i & 1, i >> 1), ivec2(0), ivec2(w - 1));
-    float wt = ((i & 1) == 1 ? fr.x : 1.0 - fr.x) * ((i >> 1) == 1 ? fr.y : 1.0 - fr.y);
-    sum += wt * texelFetch(s, ivec2(q.x + layer * w, q.y), level);
-  }
-  return sum;
+  float w = float(max(u_layerWidth >> level, 1));
+  float layers = float(u_depthIntervals * u_normalIntervals);
+  vec2 inTile = clamp(uv, vec2(0.5 / w), vec2(1.0 - 0.5 / w));
+  return textureLod(s, vec2((float(layer) + inTile.x) / layers, inTile.y), float(level));
 }
 
 vec2 lightUV(vec3 p) {
@@ -174,7 +170,7 @@ void main() {
   }
   vec3 view = normalize(p - u_cameraPos);
   vec3 mirror = reflect(view, n);
-  vec4 spec = traceCone(p, n, mirror, u_specularTanHalf, true, far, 6, record);
+  vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, true, far, 6, record) : vec4(0.0);
   if (record) coneResults[6].info.zw = vec2(2.0 * atan(u_specularTanHalf), 1.0);
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);

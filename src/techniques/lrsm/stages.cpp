@@ -63,7 +63,7 @@ static TextureDesc texDesc(glm::ivec3 size, GLenum format, int levels = 1, GLenu
   d.size = size;
   d.levels = levels;
   d.minFilter = filter;
-  d.magFilter = filter == GL_LINEAR_MIPMAP_LINEAR ? GL_LINEAR : filter;
+  d.magFilter = filter == GL_LINEAR_MIPMAP_LINEAR || filter == GL_LINEAR_MIPMAP_NEAREST ? GL_LINEAR : filter;
   return d;
 }
 
@@ -247,9 +247,10 @@ void LrsmMipsStage::execute(StageContext& ctx) {
   Texture& baseRad = ctx.board.texture("layer-radiance");
   const glm::ivec3 base = baseRad.desc().size;
   const int w = base.y, n = base.x / base.y, levels = lrsmLevels(w);
-  Texture& rad = ctx.board.ensureTexture("lrsm-radiance", texDesc(base, GL_RGBA16F, levels));
-  Texture& nor = ctx.board.ensureTexture("lrsm-normal", texDesc(base, GL_RGBA16F, levels));
-  Texture& dep = ctx.board.ensureTexture("lrsm-depth", texDesc(base, GL_RGBA16, levels));
+  // Filtered within a level (the gather's bilinear lookups), never across levels.
+  Texture& rad = ctx.board.ensureTexture("lrsm-radiance", texDesc(base, GL_RGBA16F, levels, GL_LINEAR_MIPMAP_NEAREST));
+  Texture& nor = ctx.board.ensureTexture("lrsm-normal", texDesc(base, GL_RGBA16F, levels, GL_LINEAR_MIPMAP_NEAREST));
+  Texture& dep = ctx.board.ensureTexture("lrsm-depth", texDesc(base, GL_RGBA16, levels, GL_LINEAR_MIPMAP_NEAREST));
   Texture& sum = ctx.board.ensureTexture("coverage-sum", texDesc({w, w, 1}, GL_R16F, levels));
   const int level = ctx.iteration;
   if (level == 0) {
@@ -292,11 +293,16 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("lrsm.estimator", {"paper", "normalised"}, 1,
                             "L_i as Algorithm 1 sums it (paper: f A*R V N) or divided by the sum of f alpha V N "
                             "(normalised: Eq. 2's mean radiance of the surface in the sphere)"));
-  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 2.0, "step between sphere samples as a fraction of the diameter"));
+  b.param(ParamDesc::real("cone.step", 1.0, 0.1, 2.0,
+                          "step between sphere samples as a fraction of the diameter (1: touching spheres, as SRS14 Fig. 4)"));
   b.param(ParamDesc::real("cone.start", 1.5, 0.0, 8.0, "distance of the first sample from the surface", "voxels"));
   b.param(ParamDesc::real("cone.lod-bias", 0.0, -2.0, 2.0, "added to the voxel mip log2(diameter / voxel)"));
   b.param(ParamDesc::integer("cone.max-steps", 48, 1, LRSM_MAX_STEPS, "sphere samples per cone at most"));
-  b.param(ParamDesc::real("cone.shadow-aperture", 4.0, 0.5, 30.0, "full apex angle of the shadow cone", "deg"));
+  b.param(ParamDesc::boolean("cone.specular", false,
+                             "trace the 10-degree specular cone for every pixel (the paper traces it only where a pixel "
+                             "has a specular component; voxlab's materials are Lambertian, so off by default)"));
+  b.param(ParamDesc::real("cone.shadow-aperture", 10.0, 0.5, 30.0,
+                          "full apex angle of the shadow cone (10: reaches across the volume within cone.max-steps)", "deg"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "probed pixel, fraction of the width"));
   b.param(ParamDesc::real("probe.y", 0.6, 0.0, 1.0, "probed pixel, fraction of the height from the top"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
@@ -397,6 +403,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_specularTanHalf", std::tan(0.5f * kSpecularAperture));
   setUniform(program, "u_shadowTanHalf", std::tan(0.5f * ctx.params.getFloat("cone.shadow-aperture") * kDegrees));
   setUniform(program, "u_traceScale", s);
+  setUniform(program, "u_traceSpecular", ctx.params.getBool("cone.specular") ? 1 : 0);
   setUniform(program, "u_cameraPos", ctx.view.position);
   for (int k = 0; k < kDiffuseCones; ++k) {
     const std::string name = "u_diffuseCones[" + std::to_string(k) + "]";
