@@ -10,12 +10,14 @@
 //    mip at level m + 1 (the sum identity), at every level; the base = the CPU layer build;
 //    moments in range; the probe's per-layer records pass their visualiser's check and their V
 //    equals the erf form of their own mu, sigma^2, z', r';
+//  - Algorithm 1 against a brute-force sum over the RSM texels of the footprint (Eq. 3 / 7);
 //  - physics: one-bounce indirect against the reference path tracer's indirect-1 (Cornell box).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <set>
 
 #include "app/reference_error.h"
@@ -425,6 +427,74 @@ TEST(LrsmGather, ProbeRecordsPassTheirCheckAndVisibilityIsTheErfForm) {
   EXPECT_GT(sc.elements, 20u);
 }
 
+
+TEST(LrsmGather, Algorithm1AgainstABruteForceSumOverTheFootprint) {
+  // Algorithm 1 as printed (the numerator sum_l f A*R V N) for every sample of the probed pixel,
+  // against Eq. 3 / 7 summed directly over the RSM texels the sample's circle covers: the mean over
+  // the footprint (a square of side d_circle LRSM texels around the sample's uv) of
+  // R * H(r_c - |x - x_c|) * [<n . v_c> > 0] * <n . v_c>, invalid texels counting 0.
+  RunRequest req = snapshotRequest();
+  req.sets = {"voxel.resolution=64", "rsm.resolution=128", "shadow.resolution=256", "lrsm.estimator=paper",
+              "probe.x=0.3", "probe.y=0.9"};
+  auto& s = session(req);
+  CapturedOutput g = capture(s, "cone-gather", "gather-records");
+  CapturedOutput pos = capture(s, "rsm", "rsm-position");
+  CapturedOutput nor = capture(s, "rsm", "rsm-normal");
+  CapturedOutput rad = capture(s, "rsm", "rsm-radiance");
+  CapturedOutput gp = capture(s, "gbuffer", "position");
+  const int rsm = pos.levels[0].size.x;
+  std::map<std::pair<int, int>, std::pair<gpu::LrsmGatherRecord, double>> samples;  // (cone, step) -> record, sum
+  for (uint32_t i = 0; i < g.recordCount; ++i) {
+    gpu::LrsmGatherRecord r;
+    std::memcpy(&r, &g.records[size_t(i) * sizeof r], sizeof r);
+    auto& e = samples[{int(r.cone.x), int(r.cone.y)}];
+    e.first = r;
+    e.second += r.contribution.x + r.contribution.y + r.contribution.z;
+  }
+  // The receiver: the probed traced pixel's G-buffer position (half resolution: pixel 2x, 2y).
+  const int tw = 64, th = 64;
+  const int px = std::min(int(0.3f * tw), tw - 1), py = std::min(int((1.0f - 0.9f) * th), th - 1);
+  const glm::vec3 p(gp.levels[0].at(2 * px, 2 * py, 0, 0), gp.levels[0].at(2 * px, 2 * py, 0, 1), gp.levels[0].at(2 * px, 2 * py, 0, 2));
+  std::vector<double> ratios;
+  double sumGather = 0, sumBrute = 0;
+  for (const auto& [key, e] : samples) {
+    const auto& r = e.first;
+    const glm::vec3 xc(r.centre), vc = glm::normalize(p - xc);
+    const float rc = r.centre.w;
+    const int half = std::max(1, int(std::ceil(r.footprint.x)));
+    const int cx = int(r.march.y * rsm), cy = int(r.march.z * rsm);
+    double brute = 0;
+    int texels = 0;
+    for (int y = cy - half; y < cy + half; ++y)
+      for (int x = cx - half; x < cx + half; ++x) {
+        ++texels;
+        if (x < 0 || y < 0 || x >= rsm || y >= rsm || nor.levels[0].at(x, y, 0, 3) < 0.5f) continue;
+        const glm::vec3 xs(pos.levels[0].at(x, y, 0, 0), pos.levels[0].at(x, y, 0, 1), pos.levels[0].at(x, y, 0, 2));
+        const glm::vec3 ns(nor.levels[0].at(x, y, 0, 0), nor.levels[0].at(x, y, 0, 1), nor.levels[0].at(x, y, 0, 2));
+        const float nv = glm::dot(ns, vc);
+        if (glm::length(xs - xc) > rc || nv <= 0.0f) continue;
+        brute += (rad.levels[0].at(x, y, 0, 0) + rad.levels[0].at(x, y, 0, 1) + rad.levels[0].at(x, y, 0, 2)) * nv;
+      }
+    brute /= std::max(texels, 1);
+    sumGather += e.second;
+    sumBrute += brute;
+    if (brute > 1e-3 && e.second > 1e-3) ratios.push_back(e.second / brute);
+  }
+  ASSERT_GT(samples.size(), 5u);
+  std::sort(ratios.begin(), ratios.end());
+  const double median = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+  std::printf("Algorithm 1 vs brute force: %zu samples, %zu with both non-zero, median ratio %.3f, sums %.4f vs %.4f\n",
+              samples.size(), ratios.size(), median, sumGather, sumBrute);
+  ::testing::Test::RecordProperty("median_ratio", std::to_string(median));
+  // Measured over the 33 samples of this pixel: sums 0.522 (Algorithm 1) vs 0.533 (brute force),
+  // ratio 0.98; per sample the median ratio is 1.30 (the Gaussian V smooths the sphere's hard
+  // edge and the bilinear mip lookup widens the footprint, so single samples diverge at depth
+  // steps while the totals agree). The band 0.6..1.6 on the totals fails without V (x 2.4) or N.
+  EXPECT_GT(sumBrute, 0.0);
+  EXPECT_GT(sumGather / sumBrute, 0.6);
+  EXPECT_LT(sumGather / sumBrute, 1.6);
+}
+
 double indirectMeanRatio(const RunRequest& req) {
   auto& s = session(req);
   CapturedOutput out = capture(s, "cone-gather", "indirect-diffuse");
@@ -453,6 +523,38 @@ TEST(LrsmPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
   EXPECT_GT(printed, 0.015);
   EXPECT_LT(printed, 0.035);
   EXPECT_GT(normalised, 5.0 * printed);
+}
+
+}  // namespace
+}  // namespace voxlab
+
+namespace voxlab {
+namespace {
+
+TEST(LrsmVisualisers, LayeredDataAndGatherRecordsHaveTheirOwnVisualisers) {
+  using namespace lrsm;
+  EXPECT_STREQ(visualiserFor(OutputKind::Image2D, kLayerRadiance).name(), "lrsm-layers");
+  EXPECT_STREQ(visualiserFor(OutputKind::Image2D, kLayerNormal).name(), "lrsm-layers");
+  EXPECT_STREQ(visualiserFor(OutputKind::Image2D, kLayerDepth).name(), "lrsm-layers");
+  EXPECT_STREQ(visualiserFor(OutputKind::Buffer, kGatherRecords).name(), "lrsm-gather");
+  EXPECT_TRUE(texelMapping(kLayerId).exact);
+  // The layer statistics: per level, each layer's mean coverage; summed they are the RSM's covered
+  // fraction at that level (the sum identity seen through the visualiser).
+  auto& s = testing_support::session(snapshotRequest());
+  CapturedOutput rad = testing_support::capture(s, "lrsm-mips", "lrsm-radiance");
+  CapturedOutput sum = testing_support::capture(s, "lrsm-mips", "coverage-sum");
+  const nlohmann::json st = visualiserFor(rad.desc).statistics(rad);
+  ASSERT_EQ(st["layers"].get<int>(), 4);
+  ASSERT_EQ(st["layer_coverage_per_level"].size(), rad.levels.size());
+  for (size_t m = 0; m < rad.levels.size(); ++m) {
+    double total = 0, expect = 0;
+    for (const auto& v : st["layer_coverage_per_level"][m]) total += v.get<double>();
+    const LevelData& L = sum.levels[m];
+    for (float v : L.values) expect += v;
+    expect /= double(L.values.size());
+    // fp16 alphas summed per texel and averaged: measured 1e-4.
+    EXPECT_NEAR(total, expect, 2e-3) << "level " << m;
+  }
 }
 
 }  // namespace
