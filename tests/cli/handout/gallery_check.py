@@ -26,6 +26,9 @@ if [t["id"] for t in page["techniques"]] != listed:
 # docs/fidelity.md rows at defaults: technique, output (stage/output), mode, numbers.
 table = {}
 doc = open(os.path.join(root, "docs", "fidelity.md")).read()
+# The gallery renders the Cornell box: only its table (other scenes' tables follow it).
+if "<!-- fidelity-table:begin -->" in doc:
+    doc = doc.split("<!-- fidelity-table:begin -->", 1)[1].split("<!-- fidelity-table:end -->", 1)[0]
 for line in doc.splitlines():
     cells = [c.strip() for c in line.strip().strip("|").split("|")]
     if len(cells) != 10 or cells[1] != "defaults":
