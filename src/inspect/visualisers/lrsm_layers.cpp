@@ -163,8 +163,30 @@ void layerIdColour(const float* v, int, float, float, float, uint8_t* o) {
   for (int k = 0; k < 3; ++k) o[k] = uint8_t(float(c[k]) * shade);
 }
 
+// The files `voxlab run` writes (PNG per level) show what the default 2D view shows: A*R
+// tonemapped, the mean normal n / alpha, mu = E[z'] in grey; black where a layer is empty.
+void layerRadianceColour(const float* v, int n, float x, float, float, uint8_t* o) {
+  for (int k = 0; k < 3; ++k) {
+    const float y = (k < n ? v[k] : 0.0f) * x;
+    o[k] = unitToByte(srgbEncode(y / (1.0f + y)));
+  }
+}
+void layerNormalColour(const float* v, int n, float, float, float, uint8_t* o) {
+  const float a = n >= 4 ? v[3] : 0.0f;
+  for (int k = 0; k < 3; ++k) o[k] = a > 0.0f ? unitToByte(v[k] / a * 0.5f + 0.5f) : 0;
+}
+void layerDepthColour(const float* v, int n, float, float, float, uint8_t* o) {
+  const float a = n >= 3 ? v[2] : 0.0f;
+  o[0] = o[1] = o[2] = a > 0.0f ? unitToByte(v[0] / a) : 0;
+}
+
 struct Registration {
-  Registration() { registerTexelMapping(Semantic(kLayerIdName), {&layerIdColour, false, false, true}); }
+  Registration() {
+    registerTexelMapping(Semantic(kLayerIdName), {&layerIdColour, false, false, true});
+    registerTexelMapping(Semantic(kRadiance), {&layerRadianceColour, false, false, false});
+    registerTexelMapping(Semantic(kNormal), {&layerNormalColour, false, false, false});
+    registerTexelMapping(Semantic(kDepth), {&layerDepthColour, false, false, false});
+  }
 } registration;
 
 }  // namespace
