@@ -23,6 +23,7 @@ FormatInfo formatInfo(GLenum f) {
     case GL_RGBA32F: return {4, 16, false, true, false, GL_RGBA};
     case GL_R11F_G11F_B10F: return {3, 4, false, true, false, GL_RGB};
     case GL_RGB10_A2: return {4, 4, false, false, false, GL_RGBA};
+    case GL_RGBA16: return {4, 8, false, false, false, GL_RGBA};
     case GL_R32UI: return {1, 4, true, false, false, GL_RED_INTEGER};
     case GL_RG32UI: return {2, 8, true, false, false, GL_RG_INTEGER};
     case GL_RGBA32UI: return {4, 16, true, false, false, GL_RGBA_INTEGER};
@@ -47,6 +48,7 @@ const char* formatName(GLenum f) {
     case GL_RGBA32F: return "rgba32f";
     case GL_R11F_G11F_B10F: return "r11f_g11f_b10f";
     case GL_RGB10_A2: return "rgb10_a2";
+    case GL_RGBA16: return "rgba16";
     case GL_R32UI: return "r32ui";
     case GL_RG32UI: return "rg32ui";
     case GL_RGBA32UI: return "rgba32ui";

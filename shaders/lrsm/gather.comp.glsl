@@ -1,0 +1,184 @@
+#version 450
+// Cone gathering (src/techniques/lrsm/lrsm.h): per traced pixel, 6 diffuse cones, 1 specular
+// cone and 1 shadow cone march sphere samples; alpha_i comes from the isotropic occlusion mips,
+// L_i from the layered RSM by Algorithm 1, composited front to back with Eq. 1.
+#include "common/shared.h"
+#include "common/lights.glsl"
+#include "common/voxel_space.glsl"
+#include "lrsm/lrsm_shared.h"
+#include "lrsm/lrsm_common.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler3D u_occlusion;
+layout(binding = 1) uniform sampler2D u_lrsmRadiance;
+layout(binding = 2) uniform sampler2D u_lrsmNormal;
+layout(binding = 3) uniform sampler2D u_lrsmMoments;
+layout(binding = 4) uniform sampler2D u_position;
+layout(binding = 5) uniform sampler2D u_normal;
+layout(binding = 6) uniform sampler2D u_albedo;
+layout(rgba16f, binding = 0) uniform writeonly image2D u_diffuse;
+layout(rgba16f, binding = 1) uniform writeonly image2D u_specular;
+layout(r16f, binding = 2) uniform writeonly image2D u_shadow;
+layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
+layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
+layout(std430, binding = LRSM_BINDING_GATHER) writeonly buffer Gather { LrsmGatherRecord gather[]; };
+layout(std430, binding = LRSM_BINDING_GATHER_COUNT) buffer GatherCount { uint gatherCount; };
+layout(std430, binding = LRSM_BINDING_CONE_RESULTS) writeonly buffer Cones { LrsmConeResult coneResults[]; };
+
+uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_smoothFalloff, u_maxSteps, u_traceScale;
+uniform int u_traceSpecular;  // 1: trace the specular cone
+uniform int u_normalised;  // 1: divide L by the sum of its weights f * alpha * V * N (Eq. 2's denominator)
+uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
+uniform float u_diffuseTanHalf, u_specularTanHalf, u_shadowTanHalf;
+uniform vec3 u_cameraPos;
+uniform vec4 u_diffuseCones[6];  // tangent space direction, weight (sum pi)
+uniform ivec2 u_probePixel;
+const float PI = 3.14159265358979;
+
+bool g_record = false;
+int g_cone = 0, g_step = 0;
+float g_voxelMip = 0.0, g_alpha = 0.0, g_transmittance = 1.0;
+
+// Bilinear fetch of one layer's tile at an LRSM level, clamped half a texel inside the tile so
+// that the filter never reaches a neighbouring layer (the texture filters GL_LINEAR within the
+// level, GL_LINEAR_MIPMAP_NEAREST picks exactly 'level').
+vec4 fetchLayer(sampler2D s, int layer, int level, vec2 uv) {
+  float w = float(max(u_layerWidth >> level, 1));
+  float layers = float(u_depthIntervals * u_normalIntervals);
+  vec2 inTile = clamp(uv, vec2(0.5 / w), vec2(1.0 - 0.5 / w));
+  return textureLod(s, vec2((float(layer) + inTile.x) / layers, inTile.y), float(level));
+}
+
+vec2 lightUV(vec3 p) {
+  vec4 c = u_light.shadowViewProj * vec4(p, 1.0);
+  return c.xy / c.w * 0.5 + 0.5;
+}
+
+// Algorithm 1: the radiance L_i of the sphere (xc, rc) toward the receiver p.
+vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
+  vec2 uv = lightUV(xc);
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+  // Two directions perpendicular to the light ray through xc; the projected radius is their mean.
+  vec3 ray = u_light.positionType.w > VOXLAB_LIGHT_POINT + 0.5 ? normalize(xc - u_light.positionType.xyz)
+                                                                 : u_light.directionRange.xyz;
+  vec3 e1 = normalize(cross(ray, abs(ray.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
+  vec3 e2 = cross(ray, e1);
+  float uvRadius = 0.5 * (length(lightUV(xc + rc * e1) - uv) + length(lightUV(xc + rc * e2) - uv));
+  float dCircle = 2.0 * uvRadius * float(u_layerWidth);
+  int level = clamp(int(ceil(log2(max(dCircle, 1.0)))), 0, u_lrsmLevels - 1);
+  float zc = lightDepth(xc);
+  vec3 vc = normalize(p - xc);
+  vec3 L = vec3(0.0);
+  float weights = 0.0;
+  for (int d = 0; d < u_depthIntervals; ++d) {
+    float f = layerFalloff(d, zc, u_smoothFalloff == 1);
+    float lo, hi;
+    layerRange(d, lo, hi);
+    float zw = (zc - lo) / (hi - lo), rw = rc / (hi - lo);
+    for (int m = 0; m < u_normalIntervals; ++m) {
+      int l = d * u_normalIntervals + m;
+      float N = 0.0, mu = 0.0, sigma2 = 0.0, V = 0.0;
+      vec4 ar = vec4(0.0);
+      vec3 add = vec3(0.0);
+      if (f > 0.0) {
+        vec4 nm = fetchLayer(u_lrsmNormal, l, level, uv);
+        float alpha = nm.w;
+        if (alpha > 1e-4) {
+          N = dot(nm.xyz / alpha, vc);
+          vec4 mo = fetchLayer(u_lrsmMoments, l, level, uv);
+          mu = mo.x / alpha;
+          sigma2 = max(mo.y / alpha - mu * mu, u_minVariance);
+          if (N > 0.0) {
+            V = gaussianVisibility(zw, rw, mu, sigma2);
+            ar = fetchLayer(u_lrsmRadiance, l, level, uv);
+            if (V > 0.0) add = f * ar.rgb * V * N;
+            if (V > 0.0) weights += f * alpha * V * N;
+          }
+        }
+      }
+      L += add;
+      if (g_record) {
+        uint k = atomicAdd(gatherCount, 1u);
+        if (k < uint(LRSM_MAX_GATHER_RECORDS))
+          gather[k] = LrsmGatherRecord(vec4(xc, rc), vec4(float(g_cone), float(g_step), g_voxelMip, g_alpha),
+                                       vec4(g_transmittance, uv, float(level)), vec4(float(l), f > 0.0 ? 1.0 : 0.0, f, N),
+                                       vec4(mu, sigma2, V, zw), ar, vec4(add, rw), vec4(dCircle, zc, 0.0, 1.0));
+      }
+    }
+  }
+  return u_normalised == 1 ? (weights > 1e-6 ? L / weights : vec3(0.0)) : L;
+}
+
+// Marches one cone from p (normal n) along dir; returns I (rgb, Eq. 1) and the opacity (a).
+// radiance = false: the shadow cone (occlusion only, until the light or the volume's edge).
+vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, bool radiance, float maxDistance, int coneIndex, bool record) {
+  vec3 origin = p + n * u_voxelSize;
+  float t = u_startVoxels * u_voxelSize;
+  vec3 I = vec3(0.0);
+  float T = 1.0;
+  int steps = 0;
+  for (int step = 0; step < u_maxSteps && T > 0.01 && t < maxDistance; ++step) {
+    float diameter = max(2.0 * tanHalf * t, u_voxelSize);
+    vec3 x = origin + dir * t;
+    vec3 uvw = worldToVolumeUV(x);
+    float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
+    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) break;
+    float mip = clamp(log2(diameter / u_voxelSize) + u_lodBias, 0.0, float(u_voxelLevels - 1));
+    float a = textureLod(u_occlusion, uvw, mip).r;
+    float stepLength = diameter * u_stepScale;
+    a = 1.0 - pow(max(1.0 - a, 0.0), stepLength / (u_voxelSize * exp2(mip)));
+    g_record = record; g_cone = coneIndex; g_step = step; g_voxelMip = mip; g_alpha = a; g_transmittance = T;
+    if (radiance && a > 0.0) I += T * a * sampleLrsm(x, 0.5 * diameter, p);
+    T *= 1.0 - a;
+    steps = step + 1;
+    if (record) {
+      uint k = atomicAdd(coneSampleCount, 1u);
+      if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
+        coneSamples[k] = ConeSample(vec4(x, diameter), vec4(I, 1.0 - T), vec4(float(coneIndex), t, mip, a));
+    }
+    t += stepLength;
+  }
+  g_record = false;
+  if (record) coneResults[coneIndex] = LrsmConeResult(vec4(dir, 0.0), vec4(I, 1.0 - T), vec4(float(coneIndex), float(steps), 0.0, 0.0));
+  return vec4(I, 1.0 - T);
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = imageSize(u_diffuse);
+  if (any(greaterThanEqual(px, size))) return;
+  ivec2 g = min(px * u_traceScale, textureSize(u_position, 0) - 1);
+  vec4 pos = texelFetch(u_position, g, 0);
+  if (pos.w == 0.0) {
+    imageStore(u_diffuse, px, vec4(0.0));
+    imageStore(u_specular, px, vec4(0.0));
+    imageStore(u_shadow, px, vec4(1.0));
+    return;
+  }
+  bool record = px == u_probePixel;
+  vec3 p = pos.xyz;
+  vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
+  vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
+  vec3 tx = normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
+  vec3 ty = cross(n, tx);
+  float far = u_voxelSize * float(u_resolution) * 1.7320508;
+  vec3 E = vec3(0.0);
+  for (int k = 0; k < 6; ++k) {
+    vec3 d = normalize(u_diffuseCones[k].x * tx + u_diffuseCones[k].y * ty + u_diffuseCones[k].z * n);
+    vec4 c = traceCone(p, n, d, u_diffuseTanHalf, true, far, k, record);
+    E += u_diffuseCones[k].w * c.rgb;
+    if (record) { coneResults[k].direction.w = u_diffuseCones[k].w; coneResults[k].info.zw = vec2(2.0 * atan(u_diffuseTanHalf), 0.0); }
+  }
+  vec3 view = normalize(p - u_cameraPos);
+  vec3 mirror = reflect(view, n);
+  vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, true, far, 6, record) : vec4(0.0);
+  if (record) coneResults[6].info.zw = vec2(2.0 * atan(u_specularTanHalf), 1.0);
+  vec3 toLight; float dist;
+  lightDirection(p, toLight, dist);
+  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, false, min(dist, far), 7, record) : vec4(0.0, 0.0, 0.0, 1.0);
+  if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
+  vec3 diffuse = albedo / PI * E;
+  imageStore(u_diffuse, px, vec4(diffuse, 1.0));
+  imageStore(u_specular, px, vec4(spec.rgb, 1.0));
+  imageStore(u_shadow, px, vec4(1.0 - shadow.a));
+  if (record) coneResults[LRSM_MAX_CONES] = LrsmConeResult(vec4(n, PI), vec4(diffuse, 0.0), vec4(float(LRSM_MAX_CONES), 0.0, 0.0, 3.0));
+}

@@ -1,0 +1,198 @@
+// Layered RSM data (the lrsm technique, src/techniques/lrsm/lrsm.h): atlases whose n layers lie
+// side by side in one image (layer l covers x in [l W, (l+1) W), W = height), stored premultiplied
+// by the layer's coverage alpha. The 2D view shows every layer of the chosen level, with what the
+// gather reads from it: A*R or alpha (radiance), the mean normal n/alpha or alpha (normal), mu,
+// sigma or alpha (moments); the value under the cursor names the layer and un-premultiplies; the
+// statistics add each layer's coverage per level. The layer-id image gets a colour per layer.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <imgui.h>
+
+#include "inspect/visualisers/levels.h"
+
+namespace voxlab {
+namespace {
+
+constexpr const char* kRadiance = "lrsm-layer-radiance";
+constexpr const char* kNormal = "lrsm-layer-normal";
+constexpr const char* kDepth = "lrsm-layer-depth";
+constexpr const char* kLayerIdName = "lrsm-layer-id";
+
+enum class Attribute { Radiance, Normal, Depth };
+
+Attribute attributeOf(const OutputDesc& d) {
+  const std::string s = d.semantic.name();
+  return s == kRadiance ? Attribute::Radiance : s == kNormal ? Attribute::Normal : Attribute::Depth;
+}
+
+// The alpha channel of each attribute's texel (radiance .a, normal .w, moments .z).
+int alphaChannel(Attribute a) { return a == Attribute::Depth ? 2 : 3; }
+
+const char* const kModes[3][3] = {{"A*R", "alpha", nullptr}, {"mean normal n", "alpha", nullptr}, {"mu", "sigma", "alpha"}};
+int modeCount(Attribute a) { return a == Attribute::Depth ? 3 : 2; }
+
+// What the user chose per view (kept across frames, keyed by the viewer's settings object).
+std::map<const ViewSettings*, int>& modes() {
+  static std::map<const ViewSettings*, int> m;
+  return m;
+}
+
+int layersOf(const LevelData& L) { return L.size.y > 0 ? std::max(L.size.x / L.size.y, 1) : 1; }
+
+class LayerAtlasVisualiser : public ImageVisualiser {
+ public:
+  const char* name() const override { return "lrsm-layers"; }
+  CaptureTier defaultTier(const OutputDesc&) const override { return CaptureTier::Tolerance; }
+
+  nlohmann::json statistics(const CapturedOutput& out) const override {
+    nlohmann::json s = ImageVisualiser::statistics(out);
+    const int ac = alphaChannel(attributeOf(out.desc));
+    nlohmann::json perLevel = nlohmann::json::array();
+    for (const LevelData& L : out.levels) {
+      const int n = layersOf(L), w = L.size.y;
+      nlohmann::json layers = nlohmann::json::array();
+      for (int l = 0; l < n; ++l) {
+        double alpha = 0;
+        for (int y = 0; y < w; ++y)
+          for (int x = 0; x < w; ++x) alpha += L.at(l * w + x, y, 0, std::min(ac, L.channels - 1));
+        layers.push_back(alpha / (double(w) * w));
+      }
+      perLevel.push_back(layers);
+    }
+    s["layer_coverage_per_level"] = perLevel;
+    s["layers"] = out.levels.empty() ? 0 : layersOf(out.levels[0]);
+    return s;
+  }
+
+  SliceImage image2D(const VisualiserContext& ctx) const override {
+    const LevelData* L = shownLevel(ctx);
+    if (!L) return {};
+    const Attribute a = attributeOf(ctx.out.desc);
+    const int mode = std::clamp(modes()[&ctx.view], 0, modeCount(a) - 1);
+    const int ac = alphaChannel(a);
+    const float x = ctx.view.display.exposure;
+    SliceImage img;
+    img.width = L->size.x;
+    img.height = L->size.y;
+    img.rgba.assign(size_t(img.width) * img.height * 4, 255);
+    float sigmaMax = 1e-12f;
+    if (a == Attribute::Depth && mode == 1)
+      for (int y = 0; y < L->size.y; ++y)
+        for (int px = 0; px < L->size.x; ++px) sigmaMax = std::max(sigmaMax, sigmaAt(*L, px, y));
+    for (int py = 0; py < img.height; ++py)
+      for (int px = 0; px < img.width; ++px) {
+        const int ty = img.height - 1 - py;
+        uint8_t* o = &img.rgba[(size_t(py) * img.width + px) * 4];
+        const float alpha = L->at(px, ty, 0, ac);
+        auto grey = [&](float v) { o[0] = o[1] = o[2] = unitToByte(v); };
+        if (mode == modeCount(a) - 1) { grey(alpha * x); continue; }
+        if (alpha <= 0.0f) { o[0] = o[1] = o[2] = 0; continue; }
+        if (a == Attribute::Radiance) {
+          for (int k = 0; k < 3; ++k) {
+            float v = L->at(px, ty, 0, k) * x;
+            o[k] = unitToByte(srgbEncode(v / (1.0f + v)));
+          }
+        } else if (a == Attribute::Normal) {
+          for (int k = 0; k < 3; ++k) o[k] = unitToByte(L->at(px, ty, 0, k) / alpha * 0.5f + 0.5f);
+        } else if (mode == 0) {
+          grey(L->at(px, ty, 0, 0) / alpha);
+        } else {
+          falseColourRamp(sigmaAt(*L, px, ty) / sigmaMax, o);
+        }
+      }
+    return img;
+  }
+
+  std::string describeElement(const VisualiserContext& ctx, const glm::ivec3& t) const override {
+    const LevelData* L = shownLevel(ctx);
+    if (!L || t.x < 0 || t.y < 0 || t.x >= L->size.x || t.y >= L->size.y) return "";
+    const Attribute a = attributeOf(ctx.out.desc);
+    const int w = L->size.y, layer = t.x / w;
+    const float alpha = L->at(t.x, t.y, 0, alphaChannel(a));
+    char buf[256];
+    if (a == Attribute::Radiance)
+      std::snprintf(buf, sizeof buf, "layer %d texel (%d, %d), level %d: alpha %.4g, A*R (%.4g, %.4g, %.4g)", layer,
+                    t.x % w, w - 1 - t.y, ctx.view.level, alpha, L->at(t.x, t.y, 0, 0), L->at(t.x, t.y, 0, 1),
+                    L->at(t.x, t.y, 0, 2));
+    else if (a == Attribute::Normal) {
+      const float s = alpha > 0 ? 1.0f / alpha : 0.0f;
+      std::snprintf(buf, sizeof buf, "layer %d texel (%d, %d), level %d: alpha %.4g, n/alpha (%.3f, %.3f, %.3f), |n/alpha| %.3f",
+                    layer, t.x % w, w - 1 - t.y, ctx.view.level, alpha, L->at(t.x, t.y, 0, 0) * s,
+                    L->at(t.x, t.y, 0, 1) * s, L->at(t.x, t.y, 0, 2) * s,
+                    std::sqrt(std::pow(L->at(t.x, t.y, 0, 0) * s, 2.0f) + std::pow(L->at(t.x, t.y, 0, 1) * s, 2.0f) +
+                              std::pow(L->at(t.x, t.y, 0, 2) * s, 2.0f)));
+    } else {
+      const float mu = alpha > 0 ? L->at(t.x, t.y, 0, 0) / alpha : 0.0f;
+      const float e2 = alpha > 0 ? L->at(t.x, t.y, 0, 1) / alpha : 0.0f;
+      std::snprintf(buf, sizeof buf, "layer %d texel (%d, %d), level %d: alpha %.4g, mu %.5f, E[z^2] %.5f, sigma^2 %.3g",
+                    layer, t.x % w, w - 1 - t.y, ctx.view.level, alpha, mu, e2, e2 - mu * mu);
+    }
+    return buf;
+  }
+
+  void drawInspector(const VisualiserContext& ctx) const override {
+    const Attribute a = attributeOf(ctx.out.desc);
+    int& mode = modes()[&ctx.view];
+    ImGui::Combo("show", &mode, kModes[int(a)], modeCount(a));
+    if (!ctx.out.levels.empty())
+      ImGui::Text("%d layers side by side, each %d texels wide at level 0", layersOf(ctx.out.levels[0]),
+                  ctx.out.levels[0].size.y);
+    ImageVisualiser::drawInspector(ctx);
+  }
+
+ private:
+  static float sigmaAt(const LevelData& L, int x, int y) {
+    const float alpha = L.at(x, y, 0, 2);
+    if (alpha <= 0.0f) return 0.0f;
+    const float mu = L.at(x, y, 0, 0) / alpha;
+    return std::sqrt(std::max(L.at(x, y, 0, 1) / alpha - mu * mu, 0.0f));
+  }
+};
+
+// Layer ids: a distinct colour per layer (hue by id), black where the RSM sees nothing (255).
+void layerIdColour(const float* v, int, float, float, float, uint8_t* o) {
+  const int id = int(v[0]);
+  if (id >= 255 || id < 0) { o[0] = o[1] = o[2] = 0; return; }
+  static const uint8_t palette[8][3] = {{230, 80, 60}, {60, 160, 230}, {240, 200, 60}, {90, 200, 100},
+                                        {180, 90, 220}, {240, 140, 40}, {60, 210, 200}, {220, 220, 220}};
+  const uint8_t* c = palette[id % 8];
+  const float shade = id < 8 ? 1.0f : 0.6f;  // ids 8..15 repeat the palette darker
+  for (int k = 0; k < 3; ++k) o[k] = uint8_t(float(c[k]) * shade);
+}
+
+// The files `voxlab run` writes (PNG per level) show what the default 2D view shows: A*R
+// tonemapped, the mean normal n / alpha, mu = E[z'] in grey; black where a layer is empty.
+void layerRadianceColour(const float* v, int n, float x, float, float, uint8_t* o) {
+  for (int k = 0; k < 3; ++k) {
+    const float y = (k < n ? v[k] : 0.0f) * x;
+    o[k] = unitToByte(srgbEncode(y / (1.0f + y)));
+  }
+}
+void layerNormalColour(const float* v, int n, float, float, float, uint8_t* o) {
+  const float a = n >= 4 ? v[3] : 0.0f;
+  for (int k = 0; k < 3; ++k) o[k] = a > 0.0f ? unitToByte(v[k] / a * 0.5f + 0.5f) : 0;
+}
+void layerDepthColour(const float* v, int n, float, float, float, uint8_t* o) {
+  const float a = n >= 3 ? v[2] : 0.0f;
+  o[0] = o[1] = o[2] = a > 0.0f ? unitToByte(v[0] / a) : 0;
+}
+
+struct Registration {
+  Registration() {
+    registerTexelMapping(Semantic(kLayerIdName), {&layerIdColour, false, false, true});
+    registerTexelMapping(Semantic(kRadiance), {&layerRadianceColour, false, false, false});
+    registerTexelMapping(Semantic(kNormal), {&layerNormalColour, false, false, false});
+    registerTexelMapping(Semantic(kDepth), {&layerDepthColour, false, false, false});
+  }
+} registration;
+
+}  // namespace
+
+VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kRadiance);
+VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kNormal);
+VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kDepth);
+
+}  // namespace voxlab

@@ -1,0 +1,137 @@
+// The lrsm technique's decisions and CPU references (layered reflective shadow maps, Sugihara,
+// Rauwendaal, Salvi, HPG 2014). Every choice the paper leaves open is fixed here, used by the
+// stages and shaders with the same numbers, and tested in tests/unit/test_lrsm.cpp.
+//
+// Decisions (the paper does not state them; /work guide lrsm.md section 2 "Not given"):
+//   storage        occlusion voxels: 1 byte per voxel (R8 UNORM, 0 or 1), as the paper allocates;
+//                  isotropic mips are the mean of the 8 children, one compute pass per level.
+//   layers         n = (a+1)(b+1): a = lrsm.depth-splits, b = lrsm.normal-splits; layer id =
+//                  depthInterval * (b+1) + normalInterval.
+//   boundaries     depth: a+1 equal intervals of [zNear, zFar], the depth range of the scene's
+//                  bounds seen from the light; <n.l>: b+1 equal intervals of [0, 1].
+//   light depth    directional: planar (distance along the light direction); spot: radial
+//                  (distance from the light), so a sphere of radius r_c spans z_c +- r_c either way.
+//   overlap        each texel is written to exactly one layer (the paper's section 5 wording); the
+//                  overlap exists only at sampling: a layer's range is its interval grown by
+//                  delta/2 at each inner boundary (delta = lrsm.overlap x interval width), none at
+//                  zNear and zFar. Eq. 15's falloff k is smoothstep (or linear), both with
+//                  k(t) + k(1-t) = 1, so the weights of the two layers sampled in an overlap sum to 1.
+//   warp           z' = (z - zMin_l) / (zMax_l - zMin_l) over the layer's range (with its
+//                  overlap), so z' in [0,1] for its texels; z_c and r_c are warped the same way
+//                  before Eq. 12 (r' = r_c / (zMax_l - zMin_l)).
+//   premultiplied  every layer texel holds alpha * value (alpha = texels of the layer in the 2x2
+//                  block / 4): radiance rgb = A*R, a = alpha; normal xyz = alpha*n, w = alpha;
+//                  depth (UNORM16) x = alpha*z', y = alpha*z'^2, z = alpha, w unused (0). Box mips
+//                  then keep sum over layers of A*R = the plain RSM's box mip (the sum identity).
+//   variance floor sigma^2 >= lrsm.min-variance (warped units; default 1e-4, above the bound
+//                  3 x (0.5/65535) / alpha = 9.2e-5 by which UNORM16 rounding of alpha z and alpha z^2
+//                  can move E[z^2] - mu^2 at alpha = 1/4).
+//   Eq. 12         Phi from erf (Abramowitz-Stegun 7.1.26, |error| < 1.5e-7) instead of a table.
+//   normal term    N = <n_mip/alpha . v_c> without renormalising n (Algorithm 1 divides by alpha only).
+//   estimator      Eq. 2 defines L as a weighted *mean* (divided by the integral of w' = w V <n.v>);
+//                  Algorithm 1 returns the numerator only (L += f A*R V N), which multiplies alpha_i
+//                  by two more fractions. Default lrsm.estimator=normalised: Algorithm 1's sum divided
+//                  by sum_l f alpha_l V_l N_l, Eq. 2's mean radiance of the surface in the sphere;
+//                  lrsm.estimator=paper keeps the sum as printed. Measured on the Cornell box against
+//                  the path tracer's indirect-1 (64^3, RSM 128, 128x128): mean ratio 0.34 vs 0.024.
+//   cones          6 diffuse cones of 60 degrees (full apex angle), one along the normal and five at
+//                  60 degrees from it; weights pi * cos(tilt) / sum cos(tilt): each is proportional
+//                  to the cone cap's exact cosine integral pi sin^2(half) cos(tilt), and they sum
+//                  to pi, so E = sum w_k I_k and L_o = albedo/pi * E (white furnace exact). One
+//                  specular cone of 10 degrees along the mirror direction; one shadow cone toward
+//                  the light (cone.shadow-aperture, default 10 degrees so that it reaches across the
+//                  volume within cone.max-steps). The specular cone is off by default
+//                  (cone.specular): the paper traces it only for pixels with a specular component,
+//                  and voxlab's materials are Lambertian.
+//   samples        sphere radius r = t tan(half angle); step = cone.step x diameter (default 1:
+//                  touching spheres, as Fig. 4 draws them; 0.5 measured 15 % darker, 1.7x slower); first sample at
+//                  cone.start voxels; voxel mip = log2(diameter / voxel) + cone.lod-bias (voxel units);
+//                  alpha corrected to the step: 1 - (1 - a)^(step / texel size at that mip).
+//   footprint      d_circle = diameter of the sphere projected into the light's image, in LRSM base
+//                  texels; LRSM mip = ceil(log2(d_circle)) clamped to the chain (the first level
+//                  whose texel is at least the circle), bilinear within the layer's tile.
+//   layout         the n layers of one attribute lie side by side in one 2D texture (layer l covers
+//                  x in [l W, (l+1) W)); a box mip of it is the per-layer box mip, since no 2x2
+//                  block straddles two tiles while W is a power of two (semantic "lrsm-layers").
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace voxlab::lrsm {
+
+inline constexpr int kMaxSplits = 3;
+inline constexpr float kDefaultMinVariance = 1e-4f;
+inline constexpr float kDiffuseAperture = 1.04719755f;   // 60 degrees, full apex angle
+inline constexpr float kSpecularAperture = 0.17453293f;  // 10 degrees
+inline constexpr int kDiffuseCones = 6;
+
+// The static layer partition of one light.
+struct LayerLayout {
+  int depthSplits = 1;   // a
+  int normalSplits = 1;  // b
+  float zNear = 0.0f, zFar = 1.0f;
+  float overlap = 0.25f;  // delta as a fraction of one depth interval
+
+  int depthIntervals() const { return depthSplits + 1; }
+  int normalIntervals() const { return normalSplits + 1; }
+  int count() const { return depthIntervals() * normalIntervals(); }
+  float intervalWidth() const { return (zFar - zNear) / float(depthIntervals()); }
+  float delta() const { return overlap * intervalWidth(); }
+  int depthIntervalOf(float z) const;
+  int normalIntervalOf(float ndotl) const;
+  // Layer id of an RSM texel at light depth z with <n.l> = ndotl.
+  int classify(float z, float ndotl) const { return depthIntervalOf(z) * normalIntervals() + normalIntervalOf(ndotl); }
+  // The sampling range [zMin_l, zMax_l] of depth interval d (grown by delta/2 at inner boundaries).
+  void rangeOf(int d, float& zMin, float& zMax) const;
+  // z warped into the range of depth interval d.
+  float warp(int d, float z) const;
+  // Eq. 15: the overlap falloff of depth interval d at sample depth z (0 outside its range).
+  float falloff(int d, float z, bool smooth = true) const;
+};
+
+// k(t), clamped to [0,1]: smoothstep or linear; both satisfy k(t) + k(1 - t) = 1.
+float falloffK(float t, bool smooth);
+
+// Standard normal CDF by erf (the same approximation the shader uses) and Eq. 12.
+float approxErf(float x);
+float gaussianVisibility(float zc, float rc, float mu, float sigma2);
+// Eq. 12 with std::erf, for the tests.
+double gaussianVisibilityExact(double zc, double rc, double mu, double sigma2);
+
+struct DiffuseCone {
+  glm::vec3 direction;  // tangent space, z = normal
+  float weight;         // sum over the cones = pi
+};
+std::vector<DiffuseCone> diffuseCones();
+// Exact integral of cos(theta to the normal) over a cone cap of half angle 'half' whose axis is
+// 'tilt' from the normal (cap above the horizon: tilt + half <= pi/2).
+double capCosineIntegral(double half, double tilt);
+
+// Bytes of the paper's layout (Table 1 / Table 2): occlusion res^3 x 1 B x 8/7; RSM 16 B x 4/3
+// per texel; LRSM (rsm/2)^2 x 24 B x layers x 4/3.
+struct PaperMemory {
+  double occlusion, rsm, lrsm;
+  double total() const { return occlusion + rsm + lrsm; }
+};
+PaperMemory paperMemory(int voxelResolution, int rsmResolution, int layers);
+
+// "" when n layers of (rsm / 2)^2 texels fit side by side in one texture of at most maxTextureSize
+// texels per side; else the one-line error the layers stage throws before allocating anything.
+std::string atlasSizeError(int rsmResolution, int layers, int maxTextureSize);
+
+// CPU reference of the layer build (one 2x2 block per base texel), for the tests: from the RSM's
+// light depth, <n.l>, validity and radiance, the premultiplied base of every layer.
+struct LayerBase {
+  int width = 0;  // per layer; the atlas is width * layers x width
+  int layers = 0;
+  std::vector<glm::vec4> radiance, normal, depth;  // atlas order: (y * width * layers + l * width + x)
+  std::vector<uint8_t> layerId;                    // per RSM texel
+};
+LayerBase buildLayersCpu(const LayerLayout& layout, int rsmSize, const std::vector<float>& depth,
+                         const std::vector<float>& ndotl, const std::vector<glm::vec3>& normal,
+                         const std::vector<glm::vec3>& radiance, const std::vector<uint8_t>& valid);
+
+}  // namespace voxlab::lrsm

@@ -1,0 +1,504 @@
+#include "techniques/lrsm/stages.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "lrsm/lrsm_shared.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+#include "techniques/common/voxel_space.h"
+#include "techniques/common/voxelize_stage.h"
+
+namespace voxlab::lrsm {
+
+static constexpr float kDegrees = 3.14159265f / 180.0f;
+
+static gpu::GpuLight readLight(Blackboard& board) {
+  gpu::GpuLight light{};
+  auto bytes = board.buffer("light").download(sizeof(light));
+  std::memcpy(&light, bytes.data(), sizeof(light));
+  return light;
+}
+
+static bool isSpot(const gpu::GpuLight& light) { return light.positionType.w > VOXLAB_LIGHT_POINT + 0.5f; }
+
+int lrsmLevels(int width) {
+  int l = 1;
+  while ((1 << (l - 1)) < width) ++l;
+  return l;
+}
+
+static int levelsOf(int res) { return lrsmLevels(res); }
+
+// Must equal the shared RsmStage's declaration (parameters are shared by name).
+static ParamDesc rsmResolutionParam() {
+  return ParamDesc::integer("rsm.resolution", 512, 64, 4096, "reflective shadow map width and height", "px").pow2();
+}
+static ParamDesc depthSplitsParam() {
+  return ParamDesc::integer("lrsm.depth-splits", 1, 0, kMaxSplits, "a: depth splits; a + 1 equal depth intervals");
+}
+static ParamDesc normalSplitsParam() {
+  return ParamDesc::integer("lrsm.normal-splits", 1, 0, kMaxSplits, "b: <n.l> splits; b + 1 equal <n.l> intervals");
+}
+static ParamDesc overlapParam() {
+  return ParamDesc::real("lrsm.overlap", 0.25, 0.0, 1.0,
+                         "overlap width delta as a fraction of one depth interval (sampling only)");
+}
+static ParamDesc traceResolutionParam() {
+  return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
+                           "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
+                           "upsamples along surfaces)");
+}
+static int traceScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
+
+static TextureDesc texDesc(glm::ivec3 size, GLenum format, int levels = 1, GLenum filter = GL_NEAREST,
+                           GLenum target = GL_TEXTURE_2D) {
+  TextureDesc d;
+  d.target = target;
+  d.format = format;
+  d.size = size;
+  d.levels = levels;
+  d.minFilter = filter;
+  d.magFilter = filter == GL_LINEAR_MIPMAP_LINEAR || filter == GL_LINEAR_MIPMAP_NEAREST ? GL_LINEAR : filter;
+  return d;
+}
+
+LayerLayout layoutFor(const Scene& scene, Blackboard& board, const ParamSet& params) {
+  LayerLayout L;
+  L.depthSplits = params.getInt("lrsm.depth-splits");
+  L.normalSplits = params.getInt("lrsm.normal-splits");
+  L.overlap = params.getFloat("lrsm.overlap");
+  const gpu::GpuLight light = readLight(board);
+  const glm::vec3 pos(light.positionType), dir(light.directionRange);
+  const bool spot = isSpot(light);
+  float lo = 1e30f, hi = -1e30f;
+  const Bounds& b = scene.bounds;
+  for (int i = 0; i < 8; ++i) {
+    glm::vec3 c((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+    float z = spot ? glm::length(c - pos) : glm::dot(c, dir);
+    lo = std::min(lo, z);
+    hi = std::max(hi, z);
+  }
+  if (spot) lo = glm::length(glm::clamp(pos, b.min, b.max) - pos);  // nearest point of the bounds
+  // Grow by 1 % so that no surface lies exactly on zNear or zFar.
+  const float pad = 0.01f * std::max(hi - lo, 1e-6f);
+  L.zNear = lo - pad;
+  L.zFar = hi + pad;
+  return L;
+}
+
+static void setLayoutUniforms(GLuint program, const LayerLayout& L) {
+  setUniform(program, "u_depthIntervals", L.depthIntervals());
+  setUniform(program, "u_normalIntervals", L.normalIntervals());
+  setUniform(program, "u_zNear", L.zNear);
+  setUniform(program, "u_zFar", L.zFar);
+  setUniform(program, "u_delta", L.delta());
+}
+
+// --- Occlusion voxels -----------------------------------------------------------------------------
+
+void OcclusionVoxelsStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("fragments");
+  b.read("fragments.count");
+  auto& o = b.output("occlusion-voxels", OutputKind::Volume3D, Semantic::Occupancy,
+                     "binary occlusion, R8 (1 byte per voxel): 1 where the conservative fragment list has a voxel");
+  o.tier = CaptureTier::Exact;
+}
+
+void OcclusionVoxelsStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  Texture& voxels = ctx.board.ensureTexture("occlusion-voxels", texDesc({res, res, res}, GL_R8, 1, GL_NEAREST, GL_TEXTURE_3D));
+  const float zero = 0.0f;
+  glClearTexImage(voxels.id(), 0, GL_RED, GL_FLOAT, &zero);
+  const uint32_t fragments = voxelFragmentCount(ctx.board);
+  GLuint program = ctx.shaders.program({"lrsm/occlusion_voxels.comp.glsl"});
+  setUniform(program, "u_resolution", res);
+  setUniform(program, "u_fragmentCount", fragments);
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  glBindImageTexture(0, voxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8);
+  if (fragments > 0) dispatchCompute({int(fragments), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["fragments_read"] = fragments;
+  ctx.stats["bytes"] = double(res) * res * res;
+}
+
+// --- Occlusion mips -------------------------------------------------------------------------------
+
+void OcclusionMipsStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("occlusion-voxels");
+  b.output("occlusion", OutputKind::Volume3D, Semantic::Fraction,
+           "isotropic occlusion mips (R8): level 0 = the binary voxels, level k = mean of its 8 children");
+}
+
+int OcclusionMipsStage::iterations(const ParamSet& params) const { return levelsOf(params.getInt("voxel.resolution")); }
+
+void OcclusionMipsStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  Texture& occ = ctx.board.ensureTexture(
+      "occlusion", texDesc({res, res, res}, GL_R8, levelsOf(res), GL_LINEAR_MIPMAP_LINEAR, GL_TEXTURE_3D));
+  if (ctx.iteration == 0) {
+    glCopyImageSubData(ctx.board.texture("occlusion-voxels").id(), GL_TEXTURE_3D, 0, 0, 0, 0, occ.id(), GL_TEXTURE_3D,
+                       0, 0, 0, 0, res, res, res);
+    // Later levels start empty, so a stepped run shows exactly the levels built so far.
+    const float zero = 0.0f;
+    for (int l = 1; l < occ.levels(); ++l) glClearTexImage(occ.id(), l, GL_RED, GL_FLOAT, &zero);
+  } else {
+    const int level = ctx.iteration;
+    const glm::ivec3 size = occ.levelSize(level);
+    GLuint program = ctx.shaders.program({"lrsm/occlusion_mip.comp.glsl"});
+    setUniform(program, "u_sourceLevel", level - 1);
+    setUniform(program, "u_size", size);
+    glUseProgram(program);
+    glBindTextureUnit(0, occ.id());
+    glBindImageTexture(0, occ.id(), level, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8);
+    dispatchCompute(size, {4, 4, 4});
+  }
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["levels"] = occ.levels();
+  ctx.stats["bytes"] = double(occ.byteSize());
+}
+
+// --- Layer assignment -------------------------------------------------------------------------------
+
+void LayersStage::declare(StageBuilder& b) const {
+  b.param(rsmResolutionParam());
+  b.param(depthSplitsParam());
+  b.param(normalSplitsParam());
+  b.param(overlapParam());
+  b.read("rsm-position");
+  b.read("rsm-normal");
+  b.read("rsm-radiance");
+  b.read("light");
+  b.output("rsm-depth", OutputKind::Image2D, Semantic::Scalar,
+           "per RSM texel: x = light depth z (m; planar for a directional light, radial for a spot), y = <n.l>, "
+           "z = layer's warped depth z', 0 where empty");
+  auto& id = b.output("layer-id", OutputKind::Image2D, kLayerId,
+                      "layer of each RSM texel: depth interval * (b + 1) + <n.l> interval; 255 = empty");
+  id.tier = CaptureTier::Exact;
+  b.output("layer-radiance", OutputKind::Image2D, kLayerRadiance,
+           "LRSM base, layers side by side: rgb = A*R (radiance premultiplied by coverage), a = alpha");
+  b.output("layer-normal", OutputKind::Image2D, kLayerNormal, "LRSM base: xyz = alpha * n, w = alpha");
+  b.output("layer-depth", OutputKind::Image2D, kLayerDepth,
+           "LRSM base (UNORM16): x = alpha * z', y = alpha * z'^2 (z' warped into the layer's range), z = alpha");
+}
+
+void LayersStage::execute(StageContext& ctx) {
+  const int rsm = ctx.params.getInt("rsm.resolution");
+  const LayerLayout L = layoutFor(ctx.scene, ctx.board, ctx.params);
+  const int w = rsm / 2, n = L.count();
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  const std::string tooWide = atlasSizeError(rsm, n, maxSize);
+  if (!tooWide.empty()) throw Error(tooWide);
+  Texture& depth = ctx.board.ensureTexture("rsm-depth", texDesc({rsm, rsm, 1}, GL_RGBA32F));
+  Texture& ids = ctx.board.ensureTexture("layer-id", texDesc({rsm, rsm, 1}, GL_R8UI));
+  Texture& rad = ctx.board.ensureTexture("layer-radiance", texDesc({w * n, w, 1}, GL_RGBA16F));
+  Texture& nor = ctx.board.ensureTexture("layer-normal", texDesc({w * n, w, 1}, GL_RGBA16F));
+  Texture& dep = ctx.board.ensureTexture("layer-depth", texDesc({w * n, w, 1}, GL_RGBA16));
+  const gpu::GpuLight light = readLight(ctx.board);
+  GLuint program = ctx.shaders.program({"lrsm/layers.comp.glsl"});
+  setLayoutUniforms(program, L);
+  setUniform(program, "u_layerWidth", w);
+  glUseProgram(program);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindTextureUnit(0, ctx.board.texture("rsm-position").id());
+  glBindTextureUnit(1, ctx.board.texture("rsm-normal").id());
+  glBindTextureUnit(2, ctx.board.texture("rsm-radiance").id());
+  glBindImageTexture(0, depth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, ids.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
+  glBindImageTexture(2, rad.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(3, nor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(4, dep.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16);
+  dispatchCompute({w, w, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["layers"] = n;
+  ctx.stats["layer_width"] = w;
+  ctx.stats["z_near_m"] = L.zNear;
+  ctx.stats["z_far_m"] = L.zFar;
+  ctx.stats["overlap_delta_m"] = L.delta();
+  ctx.stats["depth_radial"] = isSpot(light) ? 1 : 0;
+}
+
+// --- LRSM mips --------------------------------------------------------------------------------------
+
+void LrsmMipsStage::declare(StageBuilder& b) const {
+  b.param(rsmResolutionParam());
+  b.read("layer-radiance");
+  b.read("layer-normal");
+  b.read("layer-depth");
+  b.output("lrsm-radiance", OutputKind::Image2D, kLayerRadiance, "LRSM radiance mips per layer: rgb = A*R, a = alpha");
+  b.output("lrsm-normal", OutputKind::Image2D, kLayerNormal, "LRSM normal mips per layer: xyz = alpha * n, w = alpha");
+  b.output("lrsm-depth", OutputKind::Image2D, kLayerDepth,
+           "LRSM moment mips per layer: alpha * z', alpha * z'^2, alpha (mu = x / z, sigma^2 = y / z - mu^2)");
+  b.output("coverage-sum", OutputKind::Image2D, Semantic::Fraction,
+           "sum over layers of alpha at every level: the RSM's covered fraction (1 where fully covered)");
+}
+
+int LrsmMipsStage::iterations(const ParamSet& params) const { return lrsmLevels(params.getInt("rsm.resolution") / 2); }
+
+void LrsmMipsStage::execute(StageContext& ctx) {
+  Texture& baseRad = ctx.board.texture("layer-radiance");
+  const glm::ivec3 base = baseRad.desc().size;
+  const int w = base.y, n = base.x / base.y, levels = lrsmLevels(w);
+  // Filtered within a level (the gather's bilinear lookups), never across levels.
+  Texture& rad = ctx.board.ensureTexture("lrsm-radiance", texDesc(base, GL_RGBA16F, levels, GL_LINEAR_MIPMAP_NEAREST));
+  Texture& nor = ctx.board.ensureTexture("lrsm-normal", texDesc(base, GL_RGBA16F, levels, GL_LINEAR_MIPMAP_NEAREST));
+  Texture& dep = ctx.board.ensureTexture("lrsm-depth", texDesc(base, GL_RGBA16, levels, GL_LINEAR_MIPMAP_NEAREST));
+  Texture& sum = ctx.board.ensureTexture("coverage-sum", texDesc({w, w, 1}, GL_R16F, levels));
+  const int level = ctx.iteration;
+  if (level == 0) {
+    const float zero[4] = {0, 0, 0, 0};
+    for (Texture* t : {&rad, &nor, &dep, &sum})
+      for (int l = 1; l < levels; ++l) glClearTexImage(t->id(), l, GL_RGBA, GL_FLOAT, zero);
+  }
+  GLuint program = ctx.shaders.program({"lrsm/lrsm_mip.comp.glsl"});
+  setUniform(program, "u_reduce", level == 0 ? 0 : 1);
+  setUniform(program, "u_sourceLevel", std::max(level - 1, 0));
+  setUniform(program, "u_layers", n);
+  setUniform(program, "u_tileWidth", w >> level);
+  glUseProgram(program);
+  glBindTextureUnit(0, level == 0 ? baseRad.id() : rad.id());
+  glBindTextureUnit(1, level == 0 ? ctx.board.texture("layer-normal").id() : nor.id());
+  glBindTextureUnit(2, level == 0 ? ctx.board.texture("layer-depth").id() : dep.id());
+  glBindImageTexture(0, rad.id(), level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, nor.id(), level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, dep.id(), level, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16);
+  glBindImageTexture(3, sum.id(), level, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({n * (w >> level), w >> level, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["levels"] = levels;
+  ctx.stats["bytes"] = double(rad.byteSize() + nor.byteSize() + dep.byteSize());
+}
+
+// --- Cone gathering -----------------------------------------------------------------------------------
+
+void ConeGatherStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(rsmResolutionParam());
+  b.param(depthSplitsParam());
+  b.param(normalSplitsParam());
+  b.param(overlapParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::choice("lrsm.falloff", {"smoothstep", "linear"}, 0,
+                            "k of Eq. 15 across an overlap (both satisfy k(t) + k(1 - t) = 1)"));
+  b.param(ParamDesc::real("lrsm.min-variance", kDefaultMinVariance, 1e-7, 0.01,
+                          "floor of sigma^2 in warped depth units (UNORM16 moments move E[z^2] - mu^2 by up to 9.2e-5)"));
+  b.param(ParamDesc::choice("lrsm.estimator", {"paper", "normalised"}, 1,
+                            "L_i as Algorithm 1 sums it (paper: f A*R V N) or divided by the sum of f alpha V N "
+                            "(normalised: Eq. 2's mean radiance of the surface in the sphere)"));
+  b.param(ParamDesc::real("cone.step", 1.0, 0.1, 2.0,
+                          "step between sphere samples as a fraction of the diameter (1: touching spheres, as SRS14 Fig. 4)"));
+  b.param(ParamDesc::real("cone.start", 1.5, 0.0, 8.0, "distance of the first sample from the surface", "voxels"));
+  b.param(ParamDesc::real("cone.lod-bias", 0.0, -2.0, 2.0, "added to the voxel mip log2(diameter / voxel)"));
+  b.param(ParamDesc::integer("cone.max-steps", 32, 1, LRSM_MAX_STEPS,
+                             "sphere samples per cone at most (32: every default cone leaves the volume first; 48 gave the same image)"));
+  b.param(ParamDesc::boolean("cone.specular", false,
+                             "trace the 10-degree specular cone for every pixel (the paper traces it only where a pixel "
+                             "has a specular component; voxlab's materials are Lambertian, so off by default)"));
+  b.param(ParamDesc::real("cone.shadow-aperture", 10.0, 0.5, 30.0,
+                          "full apex angle of the shadow cone (10: reaches across the volume within cone.max-steps)", "deg"));
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "probed pixel, fraction of the width"));
+  b.param(ParamDesc::real("probe.y", 0.6, 0.0, 1.0, "probed pixel, fraction of the height from the top"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  b.readView();
+  b.read("occlusion");
+  b.read("lrsm-radiance");
+  b.read("lrsm-normal");
+  b.read("lrsm-depth");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("light");
+  b.write("cone-samples.count");
+  b.write("gather-records.count");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing one-bounce diffuse radiance: albedo / pi * sum_k w_k I_k (at cone.resolution)")
+      .referenceMode = "indirect-1";
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR,
+           "radiance I gathered by the 10-degree cone along the mirror direction");
+  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction,
+           "transmittance of the shadow cone toward the light through the occlusion mips (1 = lit)");
+  BufferLayout samples;
+  samples.stride = sizeof(gpu::ConeSample);
+  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
+                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
+                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
+  samples.countResource = "cone-samples.count";
+  auto& cs = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
+                      "every sphere sample of the probed pixel's cones: centre + diameter, accumulated I + opacity, "
+                      "cone / distance / voxel mip / alpha");
+  cs.layout = samples;
+  cs.probeRecord = true;
+  BufferLayout g;
+  g.stride = sizeof(gpu::LrsmGatherRecord);
+  const char* names[] = {"centre", "cone", "march", "layer", "moments", "coverage", "contribution", "footprint"};
+  for (uint32_t i = 0; i < 8; ++i)
+    g.fields.push_back({names[i], FieldType::Vec4, 16 * i, i == 0 ? FieldRole::Position : FieldRole::Other});
+  g.countResource = "gather-records.count";
+  auto& gr = b.output("gather-records", OutputKind::Buffer, kGatherRecords,
+                      "Algorithm 1 per layer for every sphere sample of the probed pixel: x_c r_c, cone/sample/voxel "
+                      "mip/alpha, transmittance/RSM uv/LRSM mip, layer/in range/f/N, mu/sigma^2/V/z', A*R/alpha, "
+                      "contribution/r', d_circle/z_c/L_i");
+  gr.layout = g;
+  gr.probeRecord = true;
+  BufferLayout c;
+  c.stride = sizeof(gpu::LrsmConeResult);
+  c.fields = {{"direction", FieldType::Vec4, 0, FieldRole::Other},
+              {"result", FieldType::Vec4, 16, FieldRole::Color},
+              {"info", FieldType::Vec4, 32, FieldRole::Other}};
+  auto& cr = b.output("cone-results", OutputKind::Buffer, Semantic::Scalar,
+                      "the probed pixel's cones: axis + weight, I + opacity, index/samples/aperture/kind (0 diffuse, "
+                      "1 specular, 2 shadow, 3 = the final sum: rgb = indirect diffuse)");
+  cr.layout = c;
+  cr.probeRecord = true;
+}
+
+void ConeGatherStage::execute(StageContext& ctx) {
+  const int res = ctx.params.getInt("voxel.resolution");
+  const VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
+  const LayerLayout L = layoutFor(ctx.scene, ctx.board, ctx.params);
+  const int s = traceScale(ctx.params);
+  const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc({tw, th, 1}, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", texDesc({tw, th, 1}, GL_RGBA16F));
+  Texture& shadow = ctx.board.ensureTexture("soft-shadow", texDesc({tw, th, 1}, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  Buffer& records = ctx.board.ensureBuffer("gather-records", sizeof(gpu::LrsmGatherRecord) * LRSM_MAX_GATHER_RECORDS);
+  Buffer& recordCount = ctx.board.ensureBuffer("gather-records.count", 4);
+  Buffer& cones = ctx.board.ensureBuffer("cone-results", sizeof(gpu::LrsmConeResult) * (LRSM_MAX_CONES + 1));
+  const uint32_t zero = 0;
+  sampleCount.upload(&zero, 4);
+  recordCount.upload(&zero, 4);
+  std::vector<gpu::LrsmConeResult> none(LRSM_MAX_CONES + 1);
+  std::memset(none.data(), 0, none.size() * sizeof(none[0]));
+  cones.upload(none.data(), none.size() * sizeof(none[0]));
+
+  Texture& rad = ctx.board.texture("lrsm-radiance");
+  const int w = rad.desc().size.y;
+  const auto diffuseSet = diffuseCones();
+  const int probeX = std::min(int(ctx.params.getFloat("probe.x") * tw), tw - 1);
+  const int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * th), th - 1);
+
+  GLuint program = ctx.shaders.program({"lrsm/gather.comp.glsl"});
+  space.setUniforms(program);
+  setLayoutUniforms(program, L);
+  setUniform(program, "u_layerWidth", w);
+  setUniform(program, "u_lrsmLevels", rad.levels());
+  setUniform(program, "u_voxelLevels", ctx.board.texture("occlusion").levels());
+  setUniform(program, "u_smoothFalloff", ctx.params.getChoice("lrsm.falloff") == "smoothstep" ? 1 : 0);
+  setUniform(program, "u_minVariance", ctx.params.getFloat("lrsm.min-variance"));
+  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_normalised", ctx.params.getChoice("lrsm.estimator") == "normalised" ? 1 : 0);
+  setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
+  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
+  setUniform(program, "u_maxSteps", ctx.params.getInt("cone.max-steps"));
+  setUniform(program, "u_diffuseTanHalf", std::tan(0.5f * kDiffuseAperture));
+  setUniform(program, "u_specularTanHalf", std::tan(0.5f * kSpecularAperture));
+  setUniform(program, "u_shadowTanHalf", std::tan(0.5f * ctx.params.getFloat("cone.shadow-aperture") * kDegrees));
+  setUniform(program, "u_traceScale", s);
+  setUniform(program, "u_traceSpecular", ctx.params.getBool("cone.specular") ? 1 : 0);
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  for (int k = 0; k < kDiffuseCones; ++k) {
+    const std::string name = "u_diffuseCones[" + std::to_string(k) + "]";
+    setUniform(program, name.c_str(), glm::vec4(diffuseSet[k].direction, diffuseSet[k].weight));
+  }
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  glUseProgram(program);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindTextureUnit(0, ctx.board.texture("occlusion").id());
+  glBindTextureUnit(1, rad.id());
+  glBindTextureUnit(2, ctx.board.texture("lrsm-normal").id());
+  glBindTextureUnit(3, ctx.board.texture("lrsm-depth").id());
+  glBindTextureUnit(4, ctx.board.texture("position").id());
+  glBindTextureUnit(5, ctx.board.texture("normal").id());
+  glBindTextureUnit(6, ctx.board.texture("albedo").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_GATHER, records.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_GATHER_COUNT, recordCount.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_CONE_RESULTS, cones.id());
+  glBindImageTexture(0, diffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({tw, th, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+
+  uint32_t attempted = 0, conesSampled = 0;
+  std::memcpy(&attempted, recordCount.download(4).data(), 4);
+  std::memcpy(&conesSampled, sampleCount.download(4).data(), 4);
+  const uint32_t cap = LRSM_MAX_GATHER_RECORDS;
+  if (attempted > cap) {
+    // Keep the count at the capacity so readers see only stored records; report what was dropped.
+    recordCount.upload(&cap, 4);
+  }
+  const uint32_t sampleCap = VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
+  if (conesSampled > sampleCap) sampleCount.upload(&sampleCap, 4);
+  ctx.stats["probe_gather_records"] = std::min(attempted, cap);
+  ctx.stats["probe_gather_records_dropped"] = attempted > cap ? attempted - cap : 0;
+  ctx.stats["probe_cone_samples"] = std::min(conesSampled, sampleCap);
+  ctx.stats["probe_cone_samples_dropped"] = conesSampled > sampleCap ? conesSampled - sampleCap : 0;
+  ctx.stats["traced_pixels"] = double(tw) * th;
+  ctx.stats["probe_x"] = probeX;
+  ctx.stats["probe_y_from_top"] = th - 1 - probeY;
+  const PaperMemory m = paperMemory(res, ctx.params.getInt("rsm.resolution"), L.count());
+  ctx.stats["paper_layout_occlusion_mb"] = m.occlusion / 1e6;
+  ctx.stats["paper_layout_rsm_mb"] = m.rsm / 1e6;
+  ctx.stats["paper_layout_lrsm_mb"] = m.lrsm / 1e6;
+  ctx.stats["paper_layout_total_mb"] = m.total() / 1e6;
+}
+
+// --- Composite ----------------------------------------------------------------------------------------
+
+void CompositeStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::choice("composite.shadow", {"cone", "shadow-map"}, 0,
+                            "direct shadows from the shadow cone through the occlusion voxels (soft) or the shadow map"));
+  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
+  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)"));
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("emission");
+  b.read("indirect-diffuse");
+  b.read("soft-shadow");
+  b.read("shadow-map");
+  b.read("light");
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + one-bounce indirect diffuse, linear")
+      .referenceMode = "full";
+  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+}
+
+void CompositeStage::execute(StageContext& ctx) {
+  const int w = ctx.view.width, h = ctx.view.height;
+  Texture& direct = ctx.board.ensureTexture("direct", texDesc({w, h, 1}, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", texDesc({w, h, 1}, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", texDesc({w, h, 1}, GL_RGBA8));
+  GLuint program = ctx.shaders.program({"lrsm/composite.comp.glsl"});
+  const VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
+  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  setUniform(program, "u_planeDistance", 2.0f * space.voxelSize);
+  setUniform(program, "u_coneShadow", ctx.params.getChoice("composite.shadow") == "cone" ? 1 : 0);
+  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
+  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  glUseProgram(program);
+  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map", "soft-shadow"};
+  for (int i = 0; i < 7; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({w, h, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace voxlab::lrsm

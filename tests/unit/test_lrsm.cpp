@@ -1,0 +1,561 @@
+// lrsm checks against answers that do not come from the code under test (testing.md):
+//  - decisions (CPU): the overlap weights sum to 1 for both falloffs; Eq. 12 by the erf
+//    approximation against std::erf, V in [0,1] and V -> the indicator as sigma -> 0; a flat
+//    plane's quantised moments give no NaN and a sharp V; the cone weights are pi * the caps'
+//    cosine integrals normalised (white furnace); the paper's memory arithmetic; the atlas limit;
+//  - exact (GPU vs CPU): occlusion base = the fragment list's voxel set = the shared binary grid
+//    unpacked; every occlusion mip = mean of its 8 children; every layer id = the CPU
+//    classification of the texel's (z, <n.l>); base alpha a multiple of 0.25;
+//  - structural: sum over layers of alpha = the valid fraction, and of A*R = the plain RSM's box
+//    mip at level m + 1 (the sum identity), at every level; the base = the CPU layer build;
+//    moments in range; the probe's per-layer records pass their visualiser's check and their V
+//    equals the erf form of their own mu, sigma^2, z', r';
+//  - Algorithm 1 against a brute-force sum over the RSM texels of the footprint (Eq. 3 / 7);
+//  - physics: one-bounce indirect against the reference path tracer's indirect-1 (Cornell box).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+
+#include "app/reference_error.h"
+#include "core/paths.h"
+#include "inspect/visualiser.h"
+#include "lrsm/lrsm_shared.h"
+#include "techniques/common/binary_voxels_stage.h"
+#include "techniques/lrsm/lrsm.h"
+#include "techniques/lrsm/stages.h"
+#include "test_support.h"
+
+namespace voxlab {
+namespace {
+
+using namespace lrsm;
+using testing_support::capture;
+using testing_support::session;
+
+// The snapshot suite's settings (tests/golden/lrsm/settings.json), so the runs are shared.
+RunRequest snapshotRequest() {
+  RunRequest r;
+  r.technique = "lrsm";
+  r.scene = "cornell-box";
+  r.width = r.height = 128;
+  r.sets = {"voxel.resolution=64", "rsm.resolution=128", "shadow.resolution=256"};
+  return r;
+}
+
+// --- Decisions (CPU) ------------------------------------------------------------------------------
+
+TEST(LrsmDecisions, OverlapFalloffWeightsSumToOneEverywhere) {
+  for (bool smooth : {true, false}) {
+    LayerLayout L;
+    L.depthSplits = 3;
+    L.zNear = 2.0f;
+    L.zFar = 10.0f;
+    L.overlap = 0.4f;
+    double worst = 0;
+    for (int i = 0; i <= 4000; ++i) {
+      const float z = L.zNear + (L.zFar - L.zNear) * float(i) / 4000.0f;
+      float sum = 0;
+      for (int d = 0; d < L.depthIntervals(); ++d) sum += L.falloff(d, z, smooth);
+      worst = std::max(worst, std::fabs(double(sum) - 1.0));
+    }
+    // float smoothstep: k(t) + k(1-t) = 1 up to rounding (measured 1.2e-7).
+    EXPECT_LT(worst, 1e-5) << (smooth ? "smoothstep" : "linear");
+    for (float t = 0; t <= 1.0f; t += 0.01f) EXPECT_NEAR(falloffK(t, smooth) + falloffK(1 - t, smooth), 1.0f, 1e-6f);
+  }
+  // A k without the symmetry (t^2) would not sum to 1: the property is not automatic.
+  EXPECT_GT(std::fabs(0.3f * 0.3f + 0.7f * 0.7f - 1.0f), 0.1f);
+}
+
+TEST(LrsmDecisions, WarpPutsEveryIntervalInsideZeroOneAndRangesOverlapByDelta) {
+  LayerLayout L;
+  L.depthSplits = 2;
+  L.zNear = 1.0f;
+  L.zFar = 4.0f;
+  L.overlap = 0.5f;
+  for (int d = 0; d < L.depthIntervals(); ++d) {
+    const float lo = L.zNear + L.intervalWidth() * d, hi = lo + L.intervalWidth();
+    EXPECT_GE(L.warp(d, lo), 0.0f);
+    EXPECT_LE(L.warp(d, hi), 1.0f);
+    EXPECT_EQ(L.depthIntervalOf(0.5f * (lo + hi)), d);
+    if (d + 1 < L.depthIntervals()) {
+      float a0, a1, b0, b1;
+      L.rangeOf(d, a0, a1);
+      L.rangeOf(d + 1, b0, b1);
+      EXPECT_NEAR(a1 - b0, L.delta(), 1e-6f);
+    }
+  }
+  EXPECT_EQ(L.normalIntervalOf(0.0f), 0);
+  EXPECT_EQ(L.normalIntervalOf(0.49f), 0);
+  EXPECT_EQ(L.normalIntervalOf(0.5f), 1);
+  EXPECT_EQ(L.normalIntervalOf(1.0f), 1);  // <n.l> = 1 belongs to the last interval
+  EXPECT_EQ(L.classify(3.9f, 0.9f), 5);    // interval 2 of 3, normal interval 1 of 2
+}
+
+TEST(LrsmDecisions, Eq12ByErfApproximationMatchesStdErfAndTendsToTheIndicator) {
+  double worst = 0;
+  for (float mu = 0.0f; mu <= 1.0f; mu += 0.05f)
+    for (float s2 : {1e-6f, 4e-5f, 1e-3f, 0.02f})
+      for (float zc = 0.0f; zc <= 1.0f; zc += 0.02f) {
+        const float v = gaussianVisibility(zc, 0.05f, mu, s2);
+        EXPECT_GE(v, 0.0f);
+        EXPECT_LE(v, 1.0f);
+        worst = std::max(worst, std::fabs(double(v) - gaussianVisibilityExact(zc, 0.05, mu, s2)));
+      }
+  // A-S 7.1.26 errs by < 1.5e-7 per erf; the float evaluation (exp, the polynomial) adds more:
+  // measured 4.9e-6 over this grid.
+  EXPECT_LT(worst, 1e-5);
+  // sigma -> 0: V -> 1 inside [zc - rc, zc + rc], 0 outside (away from the edges).
+  for (float zc = 0.0f; zc <= 1.0f; zc += 0.01f) {
+    const float d = std::fabs(zc - 0.5f);
+    if (std::fabs(d - 0.1f) < 0.005f) continue;
+    EXPECT_NEAR(gaussianVisibility(zc, 0.1f, 0.5f, 1e-8f), d < 0.1f ? 1.0f : 0.0f, 1e-6f) << zc;
+  }
+}
+
+// UNORM16 storage, as the layer-depth texture rounds.
+float unorm16(float v) { return std::round(std::clamp(v, 0.0f, 1.0f) * 65535.0f) / 65535.0f; }
+
+TEST(LrsmDecisions, FlatPlaneQuantisedMomentsGiveNoNanAndASharpVisibility) {
+  int negativeRaw = 0;
+  float worstRaw = 0.0f;
+  for (float z = 0.0f; z <= 1.0f; z += 0.001f) {
+    for (float alpha : {0.25f, 0.5f, 1.0f}) {
+      const float m1 = unorm16(alpha * z), m2 = unorm16(alpha * z * z), a = unorm16(alpha);
+      const float mu = m1 / a, raw = m2 / a - mu * mu;
+      negativeRaw += raw < 0.0f;
+      // Rounding alpha z and alpha z^2 by <= 0.5/65535 each moves E[z^2] - mu^2 by at most
+      // (1 + 2 mu) (0.5/65535) / alpha <= 9.2e-5 at alpha = 1/4, plus alpha's own rounding and float
+      // arithmetic (measured 9.23e-5): below the floor 1e-4.
+      EXPECT_LT(std::fabs(raw), kDefaultMinVariance) << z << " " << alpha;
+      worstRaw = std::max(worstRaw, std::fabs(raw));
+      const float s2 = std::max(raw, kDefaultMinVariance);
+      const float inside = gaussianVisibility(mu, 0.05f, mu, s2), outside = gaussianVisibility(mu + 0.1f, 0.05f, mu, s2);
+      EXPECT_FALSE(std::isnan(inside));
+      EXPECT_GT(inside, 0.999f);
+      EXPECT_LT(outside, 1e-3f);
+    }
+  }
+  // Quantisation does make E[z^2] - mu^2 negative somewhere: the floor is needed, and it must
+  // exceed what rounding produces.
+  EXPECT_GT(negativeRaw, 0);
+  EXPECT_LT(worstRaw, kDefaultMinVariance);
+}
+
+TEST(LrsmDecisions, ConeWeightsAreNormalisedCapCosineIntegralsSummingToPi) {
+  const auto cones = diffuseCones();
+  ASSERT_EQ(int(cones.size()), 6);
+  double sum = 0, capSum = 0;
+  std::vector<double> caps;
+  for (const auto& c : cones) {
+    EXPECT_NEAR(glm::length(c.direction), 1.0f, 1e-6f);
+    EXPECT_GT(c.direction.z, 0.0f);
+    const double tilt = std::acos(std::clamp(double(c.direction.z), -1.0, 1.0));
+    caps.push_back(capCosineIntegral(0.5 * kDiffuseAperture, tilt));
+    capSum += caps.back();
+    sum += c.weight;
+  }
+  // White furnace: E = sum w_k L = pi L, so L_o = albedo/pi * E = albedo * L.
+  EXPECT_NEAR(sum, 3.14159265, 1e-5);
+  for (size_t k = 0; k < cones.size(); ++k) EXPECT_NEAR(cones[k].weight, 3.14159265 * caps[k] / capSum, 1e-5) << k;
+  // The six caps cover less than the hemisphere's cosine integral (pi): the weights rescale it.
+  EXPECT_LT(capSum, 3.14159265);
+}
+
+TEST(LrsmDecisions, PaperMemoryArithmeticAndTheTenPercentTarget) {
+  // Table 2 (SRS14): Sibenik 256^3 19.2 MB; RSM 1024^2 22.4 MB; LRSM 512^2 x 4 layers 33.6 MB.
+  EXPECT_NEAR(paperMemory(256, 1024, 4).occlusion / 1e6, 19.17, 0.01);
+  EXPECT_NEAR(paperMemory(512, 1024, 4).occlusion / 1e6, 153.39, 0.01);  // tabulated 156.4: see fidelity.md
+  EXPECT_NEAR(paperMemory(512, 1024, 4).rsm / 1e6, 22.37, 0.01);
+  EXPECT_NEAR(paperMemory(512, 1024, 4).lrsm / 1e6, 33.55, 0.01);
+  EXPECT_NEAR(paperMemory(512, 1024, 6).lrsm / 1e6, 50.33, 0.01);
+  const double sponza = paperMemory(512, 1024, 4).total() / 1e6;
+  EXPECT_LT(std::fabs(sponza - 212.4) / 212.4, 0.10) << sponza;
+}
+
+TEST(LrsmDecisions, OversizedAtlasIsRefusedWithOneLine) {
+  EXPECT_EQ(atlasSizeError(1024, 4, 16384), "");
+  const std::string e = atlasSizeError(4096, 16, 16384);
+  EXPECT_NE(e.find("32768"), std::string::npos) << e;
+  EXPECT_NE(e.find("rsm.resolution"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+}
+
+// --- GPU against CPU ------------------------------------------------------------------------------
+
+std::vector<uint32_t> fragmentKeys(HeadlessSession& s) {
+  CapturedOutput f = capture(s, "voxelize", "fragments");
+  std::vector<uint32_t> keys;
+  for (uint32_t i = 0; i < f.recordCount; ++i) {
+    uint32_t k;
+    std::memcpy(&k, &f.records[size_t(i) * f.desc.layout.stride], 4);
+    keys.push_back(k);
+  }
+  return keys;
+}
+
+TEST(LrsmOcclusion, BaseEqualsFragmentVoxelsAndTheSharedBinaryGridUnpacked) {
+  auto& s = session(snapshotRequest());
+  const int res = 64;
+  CapturedOutput occ = capture(s, "occlusion-voxels", "occlusion-voxels");
+  ASSERT_EQ(occ.levels.size(), 1u);
+  std::set<uint32_t> keys;
+  for (uint32_t k : fragmentKeys(s)) keys.insert(k);
+  const auto grid = binaryGridFromVoxelKeys(std::vector<uint32_t>(keys.begin(), keys.end()), res);
+  size_t set = 0, wrong = 0, gridWrong = 0;
+  for (int z = 0; z < res; ++z)
+    for (int y = 0; y < res; ++y)
+      for (int x = 0; x < res; ++x) {
+        const float v = occ.levels[0].at(x, y, z, 0);
+        const bool full = keys.count(uint32_t(x) | uint32_t(y) << 10 | uint32_t(z) << 20) > 0;
+        set += v != 0.0f;
+        wrong += (v == 1.0f) != full || (v != 0.0f && v != 1.0f);
+        int first, last;
+        slicesOfVoxel(z, res, first, last);
+        gridWrong += hasSlice(grid[size_t(y) * res + x], first) != full;
+      }
+  EXPECT_GT(set, 5000u);
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(gridWrong, 0u);
+}
+
+TEST(LrsmOcclusion, EveryMipIsTheMeanOfItsEightChildren) {
+  auto& s = session(snapshotRequest());
+  CapturedOutput occ = capture(s, "occlusion-mips", "occlusion");
+  ASSERT_EQ(occ.levels.size(), 7u);  // 64 -> 1
+  for (size_t l = 1; l < occ.levels.size(); ++l) {
+    const LevelData& c = occ.levels[l - 1];
+    const LevelData& p = occ.levels[l];
+    double worst = 0;
+    for (int z = 0; z < p.size.z; ++z)
+      for (int y = 0; y < p.size.y; ++y)
+        for (int x = 0; x < p.size.x; ++x) {
+          double mean = 0;
+          for (int i = 0; i < 8; ++i) mean += c.at(2 * x + (i & 1), 2 * y + ((i >> 1) & 1), 2 * z + (i >> 2), 0) / 8.0;
+          const double v = p.at(x, y, z, 0);
+          worst = std::max(worst, std::fabs(v - mean));
+          if (mean == 0.0) { ASSERT_EQ(v, 0.0); }
+          if (mean == 1.0) { ASSERT_EQ(v, 1.0); }
+        }
+    // UNORM8 rounding of the exact mean of the stored children: at most half a step (+ float).
+    EXPECT_LE(worst, 0.5 / 255.0 + 1e-6) << "level " << l;
+  }
+}
+
+struct Layered {
+  LayerLayout layout;
+  int rsm = 0;
+  std::vector<float> depth, ndotl;
+  std::vector<glm::vec3> normal, radiance;
+  std::vector<uint8_t> valid;
+};
+
+Layered readRsm(HeadlessSession& s) {
+  Layered r;
+  r.layout = layoutFor(s.cursor().scene(), s.cursor().board(), s.cursor().params());
+  CapturedOutput d = capture(s, "layers", "rsm-depth");
+  CapturedOutput n = capture(s, "rsm", "rsm-normal");
+  CapturedOutput rad = capture(s, "rsm", "rsm-radiance");
+  r.rsm = d.levels[0].size.x;
+  const size_t count = size_t(r.rsm) * r.rsm;
+  for (size_t i = 0; i < count; ++i) {
+    const int x = int(i % r.rsm), y = int(i / r.rsm);
+    r.depth.push_back(d.levels[0].at(x, y, 0, 0));
+    r.ndotl.push_back(d.levels[0].at(x, y, 0, 1));
+    r.valid.push_back(n.levels[0].at(x, y, 0, 3) > 0.5f);
+    r.normal.emplace_back(n.levels[0].at(x, y, 0, 0), n.levels[0].at(x, y, 0, 1), n.levels[0].at(x, y, 0, 2));
+    r.radiance.emplace_back(rad.levels[0].at(x, y, 0, 0), rad.levels[0].at(x, y, 0, 1), rad.levels[0].at(x, y, 0, 2));
+  }
+  return r;
+}
+
+TEST(LrsmLayers, LayerIdsEqualTheCpuClassificationAndBaseAlphaIsQuarters) {
+  auto& s = session(snapshotRequest());
+  const Layered r = readRsm(s);
+  CapturedOutput ids = capture(s, "layers", "layer-id");
+  std::set<int> used;
+  size_t wrong = 0, covered = 0;
+  for (int y = 0; y < r.rsm; ++y)
+    for (int x = 0; x < r.rsm; ++x) {
+      const size_t i = size_t(y) * r.rsm + x;
+      const int expect = r.valid[i] ? r.layout.classify(r.depth[i], r.ndotl[i]) : 255;
+      const int got = int(ids.levels[0].at(x, y, 0, 0));
+      wrong += got != expect;
+      covered += r.valid[i];
+      used.insert(got);
+    }
+  EXPECT_GT(covered, size_t(r.rsm) * r.rsm / 4);
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_GE(used.size(), 3u) << "the Cornell box spans at least two layers and the empty id";
+  CapturedOutput rad = capture(s, "layers", "layer-radiance");
+  const LevelData& b = rad.levels[0];
+  for (int y = 0; y < b.size.y; ++y)
+    for (int x = 0; x < b.size.x; ++x) {
+      const float a = b.at(x, y, 0, 3);
+      ASSERT_EQ(a * 4.0f, std::round(a * 4.0f)) << "alpha " << a << " at " << x << ", " << y;
+    }
+}
+
+TEST(LrsmLayers, BaseEqualsTheCpuLayerBuild) {
+  auto& s = session(snapshotRequest());
+  const Layered r = readRsm(s);
+  const LayerBase cpu = buildLayersCpu(r.layout, r.rsm, r.depth, r.ndotl, r.normal, r.radiance, r.valid);
+  CapturedOutput rad = capture(s, "layers", "layer-radiance");
+  CapturedOutput nor = capture(s, "layers", "layer-normal");
+  CapturedOutput dep = capture(s, "layers", "layer-depth");
+  const LevelData &R = rad.levels[0], &N = nor.levels[0], &D = dep.levels[0];
+  ASSERT_EQ(R.size.x, cpu.width * cpu.layers);
+  double worstR = 0, worstN = 0, worstD = 0;
+  for (int y = 0; y < R.size.y; ++y)
+    for (int x = 0; x < R.size.x; ++x) {
+      const size_t a = size_t(y) * R.size.x + x;
+      for (int c = 0; c < 4; ++c) {
+        const double rel = std::max(1.0, double(std::fabs(cpu.radiance[a][c])));
+        worstR = std::max(worstR, std::fabs(R.at(x, y, 0, c) - cpu.radiance[a][c]) / rel);
+        worstN = std::max(worstN, double(std::fabs(N.at(x, y, 0, c) - cpu.normal[a][c])));
+        if (c < 3) worstD = std::max(worstD, double(std::fabs(D.at(x, y, 0, c) - cpu.depth[a][c])));
+      }
+    }
+  // fp16: relative 2^-11 of the value (1e-3 with margin); UNORM16: half a step of 1/65535 (+ the
+  // GPU's float warp, measured 1e-6).
+  EXPECT_LT(worstR, 1e-3);
+  EXPECT_LT(worstN, 1e-3);
+  EXPECT_LT(worstD, 1.0 / 65535.0);
+}
+
+// Box mip of an RSM-resolution image (invalid texels count 0) down to 'level'.
+std::vector<glm::vec4> boxMip(std::vector<glm::vec4> img, int size, int level) {
+  for (int l = 0; l < level; ++l) {
+    const int h = size / 2;
+    std::vector<glm::vec4> next(size_t(h) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < h; ++x)
+        next[size_t(y) * h + x] = 0.25f * (img[size_t(2 * y) * size + 2 * x] + img[size_t(2 * y) * size + 2 * x + 1] +
+                                           img[size_t(2 * y + 1) * size + 2 * x] + img[size_t(2 * y + 1) * size + 2 * x + 1]);
+    img.swap(next);
+    size = h;
+  }
+  return img;
+}
+
+TEST(LrsmLayers, SumIdentityAndCoverageSumHoldAtEveryLevel) {
+  auto& s = session(snapshotRequest());
+  const Layered r = readRsm(s);
+  std::vector<glm::vec4> plain(size_t(r.rsm) * r.rsm);
+  for (size_t i = 0; i < plain.size(); ++i) plain[i] = r.valid[i] ? glm::vec4(r.radiance[i], 1.0f) : glm::vec4(0.0f);
+  CapturedOutput rad = capture(s, "lrsm-mips", "lrsm-radiance");
+  CapturedOutput sum = capture(s, "lrsm-mips", "coverage-sum");
+  ASSERT_EQ(rad.levels.size(), size_t(lrsmLevels(r.rsm / 2)));
+  for (size_t m = 0; m < rad.levels.size(); ++m) {
+    const auto ref = boxMip(plain, r.rsm, int(m) + 1);
+    const LevelData& L = rad.levels[m];
+    const int w = L.size.y, n = L.size.x / w;
+    double worst = 0, worstAlpha = 0;
+    for (int y = 0; y < w; ++y)
+      for (int x = 0; x < w; ++x) {
+        glm::vec4 total(0.0f);
+        for (int l = 0; l < n; ++l)
+          total += glm::vec4(L.at(l * w + x, y, 0, 0), L.at(l * w + x, y, 0, 1), L.at(l * w + x, y, 0, 2), L.at(l * w + x, y, 0, 3));
+        const glm::vec4 e = ref[size_t(y) * w + x];
+        for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::fabs(total[c] - e[c])) / std::max(1.0, double(e[c])));
+        worstAlpha = std::max(worstAlpha, double(std::fabs(total.w - e.w)));
+        worstAlpha = std::max(worstAlpha, double(std::fabs(sum.levels[m].at(x, y, 0, 0) - e.w)));
+      }
+    // fp16 per layer and level (2^-11 relative), rounded once per level and summed over the
+    // layers: measured below 2e-3 of max(1, value) at 7 levels.
+    EXPECT_LT(worst, 4e-3) << "level " << m;
+    EXPECT_LT(worstAlpha, 2e-3) << "level " << m;
+  }
+}
+
+TEST(LrsmLayers, WarpedMomentsStayInRangeAfterQuantisation) {
+  auto& s = session(snapshotRequest());
+  CapturedOutput dep = capture(s, "lrsm-mips", "lrsm-depth");
+  size_t checked = 0, negative = 0;
+  double worstNegative = 0;
+  for (const LevelData& L : dep.levels)
+    for (int y = 0; y < L.size.y; ++y)
+      for (int x = 0; x < L.size.x; ++x) {
+        const float a = L.at(x, y, 0, 2);
+        if (a < 0.01f) continue;
+        const float mu = L.at(x, y, 0, 0) / a, e2 = L.at(x, y, 0, 1) / a;
+        ++checked;
+        EXPECT_GE(mu, -1e-4f);
+        EXPECT_LE(mu, 1.0f + 1e-3f);  // alpha and alpha*z' rounded separately
+        if (e2 < mu * mu) {
+          ++negative;
+          // Relative to what rounding alpha z and alpha z^2 (half a UNORM16 step each, and once
+          // more per level they were averaged into) can do at this alpha and mu.
+          const double bound = (1.0 + 2.0 * mu) * (0.5 / 65535.0) / a;
+          worstNegative = std::max(worstNegative, double(mu * mu - e2) / bound);
+        }
+      }
+  EXPECT_GT(checked, 1000u);
+  // Where quantisation makes E[z^2] < mu^2 it is by no more than rounding explains (x 7 levels of
+  // re-rounding at most; measured 1.3 x one rounding), and at alpha >= 1/4 that is below the floor.
+  EXPECT_LT(worstNegative, 7.0) << negative << " texels with E[z^2] < mu^2";
+}
+
+TEST(LrsmGather, ProbeRecordsPassTheirCheckAndVisibilityIsTheErfForm) {
+  RunRequest req = snapshotRequest();
+  req.sets.push_back("probe.x=0.5");
+  req.sets.push_back("probe.y=0.85");  // the floor, in front of the boxes
+  auto& s = session(req);
+  CapturedOutput g = capture(s, "cone-gather", "gather-records");
+  ASSERT_GT(g.recordCount, 20u);
+  const RecordCheck check = visualiserFor(g.desc).checkRecords(g);
+  EXPECT_EQ(check.error, "") << check.summary;
+  size_t contributing = 0;
+  double worst = 0;
+  for (uint32_t i = 0; i < g.recordCount; ++i) {
+    gpu::LrsmGatherRecord r;
+    std::memcpy(&r, &g.records[size_t(i) * sizeof r], sizeof r);
+    if (r.layer.y < 0.5f || r.layer.w <= 0.0f || r.coverage.w <= 0.0f) continue;
+    EXPECT_GE(r.moments.y, kDefaultMinVariance * 0.999f);
+    worst = std::max(worst, std::fabs(r.moments.z - gaussianVisibilityExact(r.moments.w, r.contribution.w, r.moments.x, r.moments.y)));
+    contributing += r.contribution.x > 0.0f;
+  }
+  EXPECT_GT(contributing, 0u);
+  // GPU exp/erf approximation in fp32: measured 4e-7.
+  EXPECT_LT(worst, 1e-5);
+  CapturedOutput samples = capture(s, "cone-gather", "cone-samples");
+  const RecordCheck sc = visualiserFor(samples.desc).checkRecords(samples);
+  EXPECT_EQ(sc.error, "") << sc.summary;
+  EXPECT_GT(sc.elements, 20u);
+}
+
+
+TEST(LrsmGather, Algorithm1AgainstABruteForceSumOverTheFootprint) {
+  // Algorithm 1 as printed (the numerator sum_l f A*R V N) for every sample of the probed pixel,
+  // against Eq. 3 / 7 summed directly over the RSM texels the sample's circle covers: the mean over
+  // the footprint (a square of side d_circle LRSM texels around the sample's uv) of
+  // R * H(r_c - |x - x_c|) * [<n . v_c> > 0] * <n . v_c>, invalid texels counting 0.
+  RunRequest req = snapshotRequest();
+  req.sets = {"voxel.resolution=64", "rsm.resolution=128", "shadow.resolution=256", "lrsm.estimator=paper",
+              "probe.x=0.3", "probe.y=0.9"};
+  auto& s = session(req);
+  CapturedOutput g = capture(s, "cone-gather", "gather-records");
+  CapturedOutput pos = capture(s, "rsm", "rsm-position");
+  CapturedOutput nor = capture(s, "rsm", "rsm-normal");
+  CapturedOutput rad = capture(s, "rsm", "rsm-radiance");
+  CapturedOutput gp = capture(s, "gbuffer", "position");
+  const int rsm = pos.levels[0].size.x;
+  std::map<std::pair<int, int>, std::pair<gpu::LrsmGatherRecord, double>> samples;  // (cone, step) -> record, sum
+  for (uint32_t i = 0; i < g.recordCount; ++i) {
+    gpu::LrsmGatherRecord r;
+    std::memcpy(&r, &g.records[size_t(i) * sizeof r], sizeof r);
+    auto& e = samples[{int(r.cone.x), int(r.cone.y)}];
+    e.first = r;
+    e.second += r.contribution.x + r.contribution.y + r.contribution.z;
+  }
+  // The receiver: the probed traced pixel's G-buffer position (half resolution: pixel 2x, 2y).
+  const int tw = 64, th = 64;
+  const int px = std::min(int(0.3f * tw), tw - 1), py = std::min(int((1.0f - 0.9f) * th), th - 1);
+  const glm::vec3 p(gp.levels[0].at(2 * px, 2 * py, 0, 0), gp.levels[0].at(2 * px, 2 * py, 0, 1), gp.levels[0].at(2 * px, 2 * py, 0, 2));
+  std::vector<double> ratios;
+  double sumGather = 0, sumBrute = 0;
+  for (const auto& [key, e] : samples) {
+    const auto& r = e.first;
+    const glm::vec3 xc(r.centre), vc = glm::normalize(p - xc);
+    const float rc = r.centre.w;
+    const int half = std::max(1, int(std::ceil(r.footprint.x)));
+    const int cx = int(r.march.y * rsm), cy = int(r.march.z * rsm);
+    double brute = 0;
+    int texels = 0;
+    for (int y = cy - half; y < cy + half; ++y)
+      for (int x = cx - half; x < cx + half; ++x) {
+        ++texels;
+        if (x < 0 || y < 0 || x >= rsm || y >= rsm || nor.levels[0].at(x, y, 0, 3) < 0.5f) continue;
+        const glm::vec3 xs(pos.levels[0].at(x, y, 0, 0), pos.levels[0].at(x, y, 0, 1), pos.levels[0].at(x, y, 0, 2));
+        const glm::vec3 ns(nor.levels[0].at(x, y, 0, 0), nor.levels[0].at(x, y, 0, 1), nor.levels[0].at(x, y, 0, 2));
+        const float nv = glm::dot(ns, vc);
+        if (glm::length(xs - xc) > rc || nv <= 0.0f) continue;
+        brute += (rad.levels[0].at(x, y, 0, 0) + rad.levels[0].at(x, y, 0, 1) + rad.levels[0].at(x, y, 0, 2)) * nv;
+      }
+    brute /= std::max(texels, 1);
+    sumGather += e.second;
+    sumBrute += brute;
+    if (brute > 1e-3 && e.second > 1e-3) ratios.push_back(e.second / brute);
+  }
+  ASSERT_GT(samples.size(), 5u);
+  std::sort(ratios.begin(), ratios.end());
+  const double median = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+  std::printf("Algorithm 1 vs brute force: %zu samples, %zu with both non-zero, median ratio %.3f, sums %.4f vs %.4f\n",
+              samples.size(), ratios.size(), median, sumGather, sumBrute);
+  ::testing::Test::RecordProperty("median_ratio", std::to_string(median));
+  // Measured over the 33 samples of this pixel: sums 0.522 (Algorithm 1) vs 0.533 (brute force),
+  // ratio 0.98; per sample the median ratio is 1.30 (the Gaussian V smooths the sphere's hard
+  // edge and the bilinear mip lookup widens the footprint, so single samples diverge at depth
+  // steps while the totals agree). The band 0.6..1.6 on the totals fails without V (x 2.4) or N.
+  EXPECT_GT(sumBrute, 0.0);
+  EXPECT_GT(sumGather / sumBrute, 0.6);
+  EXPECT_LT(sumGather / sumBrute, 1.6);
+}
+
+double indirectMeanRatio(const RunRequest& req) {
+  auto& s = session(req);
+  CapturedOutput out = capture(s, "cone-gather", "indirect-diffuse");
+  const nlohmann::json e = compareWithReference(out, "cornell-box", 0, testing::TempDir(), "lrsm-indirect");
+  EXPECT_FALSE(e.is_null());
+  EXPECT_FALSE(e.contains("skipped")) << e.dump();
+  if (e.is_null() || e.contains("skipped")) return -1.0;
+  std::printf("lrsm indirect-1 mean ratio %.3f, rmse %.4f, ssim %.3f\n", e["mean_ratio"].get<double>(),
+              e["rmse"].get<double>(), e["ssim"].get<double>());
+  return e["mean_ratio"].get<double>();
+}
+
+TEST(LrsmPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
+  // Normalised estimator (the default): measured 0.338 at these settings; docs/fidelity.md says
+  // where the rest goes (isotropic alpha of thin walls at coarse mips, missing senders). The band
+  // 0.27..0.41 keeps it and fails on a missing or extra pi, a lost layer or a lost cone (6 cones,
+  // the central one carries 1/3.2 of the weight).
+  const double normalised = indirectMeanRatio(snapshotRequest());
+  EXPECT_GT(normalised, 0.27);
+  EXPECT_LT(normalised, 0.41);
+  // Algorithm 1 as printed (L_i = sum f A*R V N, no division): measured 0.023; alpha_i V N
+  // compound. The two differ by more than 10x, so the estimator choice is visible here.
+  RunRequest paper = snapshotRequest();
+  paper.sets.push_back("lrsm.estimator=paper");
+  const double printed = indirectMeanRatio(paper);
+  EXPECT_GT(printed, 0.015);
+  EXPECT_LT(printed, 0.035);
+  EXPECT_GT(normalised, 5.0 * printed);
+}
+
+}  // namespace
+}  // namespace voxlab
+
+namespace voxlab {
+namespace {
+
+TEST(LrsmVisualisers, LayeredDataAndGatherRecordsHaveTheirOwnVisualisers) {
+  using namespace lrsm;
+  EXPECT_STREQ(visualiserFor(OutputKind::Image2D, kLayerRadiance).name(), "lrsm-layers");
+  EXPECT_STREQ(visualiserFor(OutputKind::Image2D, kLayerNormal).name(), "lrsm-layers");
+  EXPECT_STREQ(visualiserFor(OutputKind::Image2D, kLayerDepth).name(), "lrsm-layers");
+  EXPECT_STREQ(visualiserFor(OutputKind::Buffer, kGatherRecords).name(), "lrsm-gather");
+  EXPECT_TRUE(texelMapping(kLayerId).exact);
+  // The layer statistics: per level, each layer's mean coverage; summed they are the RSM's covered
+  // fraction at that level (the sum identity seen through the visualiser).
+  auto& s = testing_support::session(snapshotRequest());
+  CapturedOutput rad = testing_support::capture(s, "lrsm-mips", "lrsm-radiance");
+  CapturedOutput sum = testing_support::capture(s, "lrsm-mips", "coverage-sum");
+  const nlohmann::json st = visualiserFor(rad.desc).statistics(rad);
+  ASSERT_EQ(st["layers"].get<int>(), 4);
+  ASSERT_EQ(st["layer_coverage_per_level"].size(), rad.levels.size());
+  for (size_t m = 0; m < rad.levels.size(); ++m) {
+    double total = 0, expect = 0;
+    for (const auto& v : st["layer_coverage_per_level"][m]) total += v.get<double>();
+    const LevelData& L = sum.levels[m];
+    for (float v : L.values) expect += v;
+    expect /= double(L.values.size());
+    // fp16 alphas summed per texel and averaged: measured 1e-4.
+    EXPECT_NEAR(total, expect, 2e-3) << "level " << m;
+  }
+}
+
+}  // namespace
+}  // namespace voxlab
