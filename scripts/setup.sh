@@ -8,6 +8,7 @@ packages=(
   libopenexr-dev openimageio-tools libosmesa6-dev libgl-dev libegl-dev
   libgtest-dev libembree-dev xvfb xauth libcmark-dev
   chromium  # headless browser for the handout test (tests/cli/handout.cmake)
+  fonts-dejavu-core  # the presenter mode's narrative type (src/inspect/panel_presenter.cpp)
   python3-pil  # scripts/make_sponza.py reduces Sponza's textures (only to regenerate scenes/sponza)
 )
 missing=()

@@ -320,6 +320,17 @@ const VerbSpec kVerbs[] = {
     {"compare-mode", 1, 2, "compare-mode side|split|difference [SPLIT] (how the compare view shows both)"},
     {"print-compare", 0, 1, "print-compare [MIN_RMSE] (prints the compare view's metrics: rmse, psnr, mae, max_abs, "
                             "ssim; with MIN_RMSE fails unless rmse is above it)"},
+    {"present", 1, 1, "present on|off (presenter mode, as --present and the P / F11 keys)"},
+    {"key", 1, 1, "key NAME (a presenter-mode key, as pressed: right, left, pagedown, pageup, space, backspace, home, "
+                  "end, 0..9, p, f11, escape)"},
+    {"mouse", 2, 2, "mouse X Y (the pointer at window pixel X, Y from the top left, for presenter mode's edge panels)"},
+    {"expect-presenter-view", 1, 1, "expect-presenter-view MIN_FRACTION (presenter mode is on and the view's image "
+                                    "covers more than MIN_FRACTION of the window)"},
+    {"expect-region-ink", 6, 6, "expect-region-ink A.png X0 Y0 X1 Y1 MIN_FRACTION (in the region, in fractions of the "
+                                "image, more than MIN_FRACTION of the pixels differ from its most common colour)"},
+    {"expect-regions-differ", 6, 6, "expect-regions-differ A.png B.png X0 Y0 X1 Y1 (the region, in fractions of the "
+                                    "images, differs between them)"},
+    {"expect-regions-equal", 6, 6, "expect-regions-equal A.png B.png X0 Y0 X1 Y1 (the region is the same in both)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

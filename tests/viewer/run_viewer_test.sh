@@ -50,6 +50,10 @@ if abs(viewer - cli) > 1e-8 * max(abs(cli), 1e-30):
     sys.exit(f"the compare view's rmse {viewer} differs from voxlab compare's {cli}")
 PY
     ;;
+  *presenter*)
+    # Presenter mode is for a projector: a 1920x1080 screen and window.
+    export VOXLAB_VIEWER_OUT="$out"
+    xvfb-run -a -s "-screen 0 1920x1080x24" "$exe" view --present --window 1920x1080 --script "$script" ;;
   *plugins*)
     export VOXLAB_VIEWER_OUT="$out"
     view
