@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <sstream>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -34,78 +33,6 @@ const char* kHeadingFontFile = "/usr/share/fonts/truetype/dejavu/DejaVuSans-Bold
 // mathematical operators: what the lessons' prose uses.
 const ImWchar kNarrativeGlyphs[] = {0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070, 0x209F,
                                     0x2190, 0x21FF, 0x2200, 0x22FF, 0};
-
-// One block of a step's narrative as the presenter sets it.
-struct NarrativeBlock {
-  enum class Kind { Heading, Paragraph, Item } kind;
-  std::string text;
-};
-
-// Inline Markdown reduced to its words: **bold**, *emphasis* and `code` markers dropped, links
-// [text](url) as their text.
-std::string plainInline(const std::string& s) {
-  std::string r;
-  for (size_t i = 0; i < s.size(); ++i) {
-    char c = s[i];
-    if (c == '*' || c == '`') continue;
-    if (c == '[') {
-      size_t close = s.find("](", i);
-      size_t end = close == std::string::npos ? close : s.find(')', close);
-      if (end != std::string::npos) {
-        r += s.substr(i + 1, close - i - 1);
-        i = end;
-        continue;
-      }
-    }
-    r += c;
-  }
-  return r;
-}
-
-// Headings, paragraphs (hard-wrapped lines joined) and list items; fenced code is left out (the
-// viewer shows what a step's code block would).
-std::vector<NarrativeBlock> narrativeBlocks(const std::string& text) {
-  std::vector<NarrativeBlock> blocks;
-  std::istringstream in(text);
-  std::string line;
-  bool open = false, fence = false;
-  while (std::getline(in, line)) {
-    const size_t first = line.find_first_not_of(" \t");
-    if (line.compare(first == std::string::npos ? 0 : first, 3, "```") == 0) {
-      fence = !fence;
-      open = false;
-      continue;
-    }
-    if (fence) continue;
-    if (first == std::string::npos) {
-      open = false;
-      continue;
-    }
-    std::string body = line.substr(first);
-    if (body[0] == '#') {
-      size_t k = body.find_first_not_of('#');
-      blocks.push_back({NarrativeBlock::Kind::Heading, plainInline(body.substr(std::min(k + 1, body.size())))});
-      open = false;
-      continue;
-    }
-    size_t digits = body.find_first_not_of("0123456789");
-    const bool bullet = body.rfind("- ", 0) == 0 || body.rfind("* ", 0) == 0;
-    const bool numbered = digits != std::string::npos && digits > 0 && body.compare(digits, 2, ". ") == 0;
-    if (bullet || numbered) {
-      std::string mark = bullet ? "\xE2\x80\xA2 " : body.substr(0, digits + 2);  // U+2022 bullet
-      blocks.push_back({NarrativeBlock::Kind::Item, mark + plainInline(body.substr(bullet ? 2 : digits + 2))});
-      open = true;
-      continue;
-    }
-    if (open) {
-      blocks.back().text += " " + plainInline(body);
-    } else {
-      blocks.push_back({NarrativeBlock::Kind::Paragraph, plainInline(body)});
-      open = true;
-    }
-  }
-  return blocks;
-}
 
 }  // namespace
 

@@ -7,7 +7,7 @@ command -v xvfb-run >/dev/null 2>&1 || { echo "xvfb-run not found: skipping"; ex
 rm -rf "$out"
 mkdir -p "$out"
 view() { xvfb-run -a -s "-screen 0 1600x900x24" "$exe" view --script "$script"; }
-case "$script" in
+case "${script##*/}" in  # the file name: a checkout path may contain any of these words
   *walk_stages*)
     # Every technique `voxlab list` names: `voxlab run` writes every output, the viewer walks it.
     for t in $("$exe" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))'); do
