@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libembree-dev xvfb xauth libcmark-dev
   clang libclang-rt-dev llvm  # sanitized build and the libFuzzer target (scripts/build-asan.sh)
   chromium  # headless browser for the handout test (tests/cli/handout.cmake)
+  fonts-dejavu-core  # the presenter mode's narrative type (src/inspect/panel_presenter.cpp)
   python3-pil  # scripts/make_sponza.py reduces Sponza's textures (only to regenerate scenes/sponza)
 )
 missing=()

@@ -24,13 +24,16 @@ int runView(const std::vector<std::string>& argv) {
              {"--script", true, false, "replay actions from FILE and quit (voxlab view --script-help)"},
              {"--size", true, false, "render size WIDTHxHEIGHT (default 512x512)"},
              {"--window", true, false, "window size WIDTHxHEIGHT (default 1280x720)"},
-             {"--ui-scale", true, false, "size of text and widgets, 0.75..3 (default 1; 1.5-2 for a projector)"}});
+             {"--ui-scale", true, false, "size of text and widgets, 0.75..3 (default 1; 1.5-2 for a projector)"},
+             {"--present", false, false, "presenter mode: the view fills the window beside the lesson in large type "
+                                         "(keys P / F11 toggle it)"}});
   ViewerOptions o;
   o.technique = args.get("--technique", "vct-grid");  // the documented default of `voxlab view`
   o.scene = args.get("--scene", o.scene);
   o.lesson = args.get("--lesson");
   o.script = args.get("--script");
   if (args.has("--size")) Args::parseSize(args.get("--size"), o.width, o.height);
+  o.present = args.has("--present");
   if (args.has("--window")) Args::parseSize(args.get("--window"), o.windowWidth, o.windowHeight);
   if (args.has("--ui-scale")) {
     const std::string text = args.get("--ui-scale");
@@ -47,7 +50,7 @@ int runView(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("view",
                         "voxlab view [--technique T] [--scene S] [--lesson FILE] [--script FILE] [--size WxH] "
-                        "[--window WxH] [--ui-scale S]",
+                        "[--window WxH] [--ui-scale S] [--present]",
                         "open the viewer: step through stages, inspect outputs, probe cones, play lessons", &runView);
 
 }  // namespace voxlab

@@ -247,6 +247,76 @@ std::string reproduceCommand(const std::string& technique, const std::string& sc
   return cmd;
 }
 
+// --- Presenter narrative ---------------------------------------------------------------------------
+
+namespace {
+
+// Inline Markdown reduced to its words: **bold**, *emphasis* and `code` markers dropped, links
+// [text](url) as their text.
+std::string plainInline(const std::string& s) {
+  std::string r;
+  for (size_t i = 0; i < s.size(); ++i) {
+    char c = s[i];
+    if (c == '*' || c == '`') continue;
+    if (c == '[') {
+      size_t close = s.find("](", i);
+      size_t end = close == std::string::npos ? close : s.find(')', close);
+      if (end != std::string::npos) {
+        r += s.substr(i + 1, close - i - 1);
+        i = end;
+        continue;
+      }
+    }
+    r += c;
+  }
+  return r;
+}
+
+}  // namespace
+
+std::vector<NarrativeBlock> narrativeBlocks(const std::string& text) {
+  std::vector<NarrativeBlock> blocks;
+  std::istringstream in(text);
+  std::string line;
+  bool open = false, fence = false;
+  while (std::getline(in, line)) {
+    const size_t first = line.find_first_not_of(" \t");
+    if (line.compare(first == std::string::npos ? 0 : first, 3, "```") == 0) {
+      fence = !fence;
+      open = false;
+      continue;
+    }
+    if (fence) continue;
+    if (first == std::string::npos) {
+      open = false;
+      continue;
+    }
+    std::string body = line.substr(first);
+    if (body[0] == '#') {
+      size_t k = body.find_first_not_of('#');
+      blocks.push_back({NarrativeBlock::Kind::Heading, plainInline(body.substr(std::min(k + 1, body.size())))});
+      open = false;
+      continue;
+    }
+    size_t digits = body.find_first_not_of("0123456789");
+    const bool bullet = body.rfind("- ", 0) == 0 || body.rfind("* ", 0) == 0;
+    const bool numbered = digits != std::string::npos && digits > 0 && body.compare(digits, 2, ". ") == 0;
+    if (bullet || numbered) {
+      std::string mark = bullet ? "\xE2\x80\xA2 " : body.substr(0, digits + 2);  // U+2022 bullet
+      blocks.push_back({NarrativeBlock::Kind::Item, mark + plainInline(body.substr(bullet ? 2 : digits + 2))});
+      open = true;
+      continue;
+    }
+    if (open) {
+      blocks.back().text += " " + plainInline(body);
+    } else {
+      blocks.push_back({NarrativeBlock::Kind::Paragraph, plainInline(body)});
+      open = true;
+    }
+  }
+  return blocks;
+}
+
 // --- Scripts -----------------------------------------------------------------------------------------
 
 namespace {
@@ -320,6 +390,17 @@ const VerbSpec kVerbs[] = {
     {"compare-mode", 1, 2, "compare-mode side|split|difference [SPLIT] (how the compare view shows both)"},
     {"print-compare", 0, 1, "print-compare [MIN_RMSE] (prints the compare view's metrics: rmse, psnr, mae, max_abs, "
                             "ssim; with MIN_RMSE fails unless rmse is above it)"},
+    {"present", 1, 1, "present on|off (presenter mode, as --present and the P / F11 keys)"},
+    {"key", 1, 1, "key NAME (a presenter-mode key, as pressed: right, left, pagedown, pageup, space, backspace, home, "
+                  "end, 0..9, p, f11, escape)"},
+    {"mouse", 2, 2, "mouse X Y (the pointer at window pixel X, Y from the top left, for presenter mode's edge panels)"},
+    {"expect-presenter-view", 1, 1, "expect-presenter-view MIN_FRACTION (presenter mode is on and the view's image "
+                                    "covers more than MIN_FRACTION of the window)"},
+    {"expect-region-ink", 6, 6, "expect-region-ink A.png X0 Y0 X1 Y1 MIN_FRACTION (in the region, in fractions of the "
+                                "image, more than MIN_FRACTION of the pixels differ from its most common colour)"},
+    {"expect-regions-differ", 6, 6, "expect-regions-differ A.png B.png X0 Y0 X1 Y1 (the region, in fractions of the "
+                                    "images, differs between them)"},
+    {"expect-regions-equal", 6, 6, "expect-regions-equal A.png B.png X0 Y0 X1 Y1 (the region is the same in both)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

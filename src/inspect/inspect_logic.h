@@ -88,6 +88,17 @@ std::string reproduceCommand(const std::string& technique, const std::string& sc
                              const std::string& until, const std::string& out = "out",
                              const Camera* freeCamera = nullptr);
 
+// --- Presenter narrative ---------------------------------------------------------------------------
+
+// One block of a lesson step's narrative as presenter mode sets it.
+struct NarrativeBlock {
+  enum class Kind { Heading, Paragraph, Item } kind;
+  std::string text;
+};
+// Headings, paragraphs (hard-wrapped lines joined) and list items ("- ", "* ", "N. "), with inline
+// Markdown reduced to its words (**, *, ` dropped; [text](url) as text); fenced code is left out.
+std::vector<NarrativeBlock> narrativeBlocks(const std::string& markdown);
+
 // --- Scripts -----------------------------------------------------------------------------------------
 
 struct ScriptAction {

@@ -17,8 +17,10 @@ void Viewer::drawView() {
   const Technique& t = cursor->technique();
   const StageRecord& rec = cursor->record(selected);
   const auto& outs = t.decl(selected).outputs;
-  ImGui::Text("%s / %s", t.id().c_str(), t.stage(selected).title());
-  if (!outs.empty()) {
+  // Presenter mode: the image alone, as large as the window allows, centred; no controls.
+  const bool bare = presenter.on;
+  if (!bare) ImGui::Text("%s / %s", t.id().c_str(), t.stage(selected).title());
+  if (!outs.empty() && !bare) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(200);
     if (ImGui::BeginCombo("output", outs[outputIndex].name.c_str())) {
@@ -31,7 +33,7 @@ void Viewer::drawView() {
       ImGui::EndCombo();
     }
   }
-  if (rec.state == StageState::Stale) ImGui::TextColored(kWarningColour, "stale: showing the last run's data");
+  if (rec.state == StageState::Stale && !bare) ImGui::TextColored(kWarningColour, "stale: showing the last run's data");
   if (!capError.empty()) {
     ImGui::TextWrapped("%s", capError.c_str());
     return;
@@ -39,8 +41,13 @@ void Viewer::drawView() {
   const OutputDesc& d = cap.desc;
   const Visualiser& vis = *shownVisualiser();
   VisualiserContext ctx = visualiserContext();
-  ImGui::TextDisabled("%s, %s, %s: %s", kindName(d.kind), semanticName(d.semantic), cap.format.c_str(), d.help.c_str());
-  if (has3DView()) {
+  if (!bare)
+    ImGui::TextDisabled("%s, %s, %s: %s", kindName(d.kind), semanticName(d.semantic), cap.format.c_str(), d.help.c_str());
+  if (has3DView() && bare && viewMode != ViewMode::Slice) {
+    draw3DView();
+    return;
+  }
+  if (has3DView() && !bare) {
     int mode = int(viewMode);
     ImGui::TextUnformatted("view");
     ImGui::SameLine();
@@ -72,16 +79,22 @@ void Viewer::drawView() {
   }
   const bool cameraImage = isCameraImage(selected, cap);
   const std::vector<ProbeSpace> probeSpaces = probeSpacesOfShown();
-  if (cameraImage) drawOverlayControls();
-  if (d.kind == OutputKind::Image2D) drawCompareControls();
+  if (cameraImage && !bare) drawOverlayControls();
+  if (d.kind == OutputKind::Image2D && !bare) drawCompareControls();
 
   // Fit the image into the panel, keeping its aspect; nearest filtering shows voxels as squares.
   ImVec2 avail = ImGui::GetContentRegionAvail();
-  avail.y -= 60;
+  if (!bare) avail.y -= 60;
   if (compare.on && compare.mode == CompareState::Mode::SideBySide) avail.x *= 0.5f;
   float scale = std::min(avail.x / viewImage.width, avail.y / viewImage.height);
   ImVec2 size(viewImage.width * scale, viewImage.height * scale);
+  if (bare) {
+    ImVec2 at = ImGui::GetCursorScreenPos();
+    ImGui::SetCursorScreenPos(ImVec2(std::floor(at.x + (avail.x - size.x) * 0.5f), std::floor(at.y + (avail.y - size.y) * 0.5f)));
+  }
   ImVec2 origin = ImGui::GetCursorScreenPos();
+  presenter.imageMin = origin;
+  presenter.imageMax = ImVec2(origin.x + size.x, origin.y + size.y);
   if (!drawCompareImage(origin, size)) ImGui::Image(viewTex.imgui(), size);
   hover = false;
   bool imageHovered = ImGui::IsItemHovered();
@@ -136,8 +149,16 @@ void Viewer::drawView() {
   // Mark where the probes of the shown image's spaces point (in fractions of the image).
   std::vector<ImVec2> marks;
   const ParamSet& ps = cursor->params();
+  const ParamSet defaults = bare ? t.defaultParams() : ParamSet();
   for (ProbeSpace space : probeSpaces)
     for (auto [stage, p] : probesFor(space, d.resourceName())) {
+      // Presenter mode marks a probe only once it was set (a click, a lesson step): a laser pointer
+      // on the default pixel of every camera image would point at nothing in particular.
+      if (bare) {
+        bool set = false;
+        for (const std::string& n : p->paramNames()) set = set || ps.value(n) != defaults.value(n);
+        if (!set) continue;
+      }
       if (space != ProbeSpace::Volume) {
         marks.emplace_back(float(ps.value(p->x)), float(ps.value(p->y)));
         continue;
@@ -154,11 +175,16 @@ void Viewer::drawView() {
     }
   for (const ImVec2& f : marks) {
     float qx = origin.x + f.x * size.x, qy = origin.y + f.y * size.y;
+    if (bare) {
+      drawLaserPointer(dl, ImVec2(qx, qy), size);
+      continue;
+    }
     dl->AddCircle(ImVec2(qx, qy), 6.0f, IM_COL32(255, 60, 200, 255), 12, 2.0f);
     dl->AddLine(ImVec2(qx - 10, qy), ImVec2(qx + 10, qy), IM_COL32(255, 60, 200, 255));
     dl->AddLine(ImVec2(qx, qy - 10), ImVec2(qx, qy + 10), IM_COL32(255, 60, 200, 255));
   }
 
+  if (bare) return;
   // Value under the cursor and the picked element.
   if (hover) {
     ImGui::TextWrapped("%s", vis.describeElement(ctx, hoverTexel).c_str());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -410,6 +411,92 @@ void Viewer::execute(const ScriptAction& a) {
                 compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim, ms);
     if (!a.args.empty() && !(m.rmse > floatArg(0)))
       scriptFail(a, "rmse " + std::to_string(m.rmse) + " is not above " + arg(0));
+  } else if (v == "present") {
+    if (arg(0) != "on" && arg(0) != "off") scriptFail(a, "expected on or off, not '" + arg(0) + "'");
+    setPresenting(arg(0) == "on");
+    waitFrames = 2;  // the UI scale follows the window from the next frame
+  } else if (v == "key") {
+    static const std::pair<const char*, int> kKeys[] = {
+        {"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT},   {"pagedown", GLFW_KEY_PAGE_DOWN}, {"pageup", GLFW_KEY_PAGE_UP},
+        {"space", GLFW_KEY_SPACE}, {"backspace", GLFW_KEY_BACKSPACE}, {"home", GLFW_KEY_HOME},  {"end", GLFW_KEY_END},
+        {"p", GLFW_KEY_P},         {"f11", GLFW_KEY_F11},     {"escape", GLFW_KEY_ESCAPE}};
+    int key = -1;
+    for (const auto& [name, code] : kKeys)
+      if (arg(0) == name) key = code;
+    if (arg(0).size() == 1 && arg(0)[0] >= '0' && arg(0)[0] <= '9') key = GLFW_KEY_0 + (arg(0)[0] - '0');
+    if (key < 0) scriptFail(a, "unknown key '" + arg(0) + "'; valid: right, left, pagedown, pageup, space, backspace, home, end, 0..9, p, f11, escape");
+    const int before = lessonStep;
+    if (!presenterKey(key)) scriptFail(a, "key " + arg(0) + " does nothing here (presenter mode is " +
+                                              (presenter.on ? "on" : "off") + (lesson.steps.empty() ? ", no lesson is open)" : ")"));
+    if (lessonStep != before)
+      std::printf("key %s: lesson step %d/%zu: %s/%s\n", arg(0).c_str(), lessonStep + 1, lesson.steps.size(),
+                  lesson.steps[lessonStep].stage.c_str(), lesson.steps[lessonStep].output.c_str());
+    else
+      std::printf("key %s: presenter mode %s, lesson step %d\n", arg(0).c_str(), presenter.on ? "on" : "off", lessonStep + 1);
+    waitFrames = 2;
+  } else if (v == "mouse") {
+    presenter.scriptMouse = ImVec2(floatArg(0), floatArg(1));
+    waitFrames = 2;  // a revealed panel is drawn from the next frame
+  } else if (v == "expect-presenter-view") {
+    if (!presenter.on) scriptFail(a, "presenter mode is off (present on)");
+    int w, h;
+    window->framebufferSize(w, h);
+    const float area = (presenter.imageMax.x - presenter.imageMin.x) * (presenter.imageMax.y - presenter.imageMin.y);
+    const float fraction = area / float(std::max(w * h, 1));
+    std::printf("presenter view: image %.0fx%.0f at (%.0f, %.0f) in a %dx%d window: %.3f of it; narrative at %.1f px\n",
+                presenter.imageMax.x - presenter.imageMin.x, presenter.imageMax.y - presenter.imageMin.y, presenter.imageMin.x,
+                presenter.imageMin.y, w, h, fraction, presenter.narrativePx);
+    if (!(fraction > floatArg(0))) scriptFail(a, "the view's image covers " + std::to_string(fraction) + " of the window, expected more than " + arg(0));
+  } else if (v == "expect-region-ink" || v == "expect-regions-differ" || v == "expect-regions-equal") {
+    const bool ink = v == "expect-region-ink";
+    int w1, h1, w2 = 0, h2 = 0;
+    auto p = readImageBytes(arg(0), w1, h1);
+    std::vector<uint8_t> q;
+    if (!ink) {
+      q = readImageBytes(arg(1), w2, h2);
+      if (w1 != w2 || h1 != h2 || p.size() != q.size()) scriptFail(a, "the images differ in size");
+    }
+    const size_t c = p.size() / std::max(size_t(w1) * h1, size_t(1));
+    const size_t r = ink ? 1 : 2;
+    const int x0 = int(std::floor(floatArg(r) * w1)), y0 = int(std::floor(floatArg(r + 1) * h1));
+    const int x1 = int(std::ceil(floatArg(r + 2) * w1)), y1 = int(std::ceil(floatArg(r + 3) * h1));
+    if (!(0 <= x0 && x0 < x1 && x1 <= w1 && 0 <= y0 && y0 < y1 && y1 <= h1))
+      scriptFail(a, "the region must lie in 0..1 with X0 < X1 and Y0 < Y1");
+    auto at = [&](const std::vector<uint8_t>& img, int x, int y) { return &img[(size_t(y) * w1 + x) * c]; };
+    size_t count = 0, total = size_t(x1 - x0) * (y1 - y0);
+    if (ink) {
+      // Text on a background: pixels further than 48 of 255 in any channel from the most common
+      // colour (anti-aliased glyph edges below that are not counted).
+      std::map<uint32_t, size_t> freq;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const uint8_t* px = at(p, x, y);
+          ++freq[uint32_t(px[0]) << 16 | uint32_t(px[std::min<size_t>(1, c - 1)]) << 8 | px[std::min<size_t>(2, c - 1)]];
+        }
+      uint32_t bg = std::max_element(freq.begin(), freq.end(), [](auto& l, auto& rr) { return l.second < rr.second; })->first;
+      const int bgc[3] = {int(bg >> 16), int((bg >> 8) & 255), int(bg & 255)};
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const uint8_t* px = at(p, x, y);
+          for (size_t k = 0; k < std::min<size_t>(c, 3); ++k)
+            if (std::abs(int(px[k]) - bgc[k]) > 48) {
+              ++count;
+              break;
+            }
+        }
+      const double fraction = double(count) / double(total);
+      std::printf("%s region (%d, %d)-(%d, %d): %.4f of the pixels differ from the most common colour (need > %s)\n",
+                  arg(0).c_str(), x0, y0, x1, y1, fraction, arg(5).c_str());
+      if (!(fraction > floatArg(5))) scriptFail(a, "only " + std::to_string(fraction) + " of the region's pixels stand out");
+      return;
+    }
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        if (!std::equal(at(p, x, y), at(p, x, y) + c, at(q, x, y))) ++count;
+    std::printf("%s vs %s region (%d, %d)-(%d, %d): %zu of %zu pixels differ\n", arg(0).c_str(), arg(1).c_str(), x0, y0, x1,
+                y1, count, total);
+    if (v == "expect-regions-differ" && count == 0) scriptFail(a, "the region is identical in both images");
+    if (v == "expect-regions-equal" && count != 0) scriptFail(a, std::to_string(count) + " pixels of the region differ");
   } else if (v == "frame-stats") {
     printFrameStats();
   } else if (v == "quit") {

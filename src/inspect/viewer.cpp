@@ -88,6 +88,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
   ImGui_ImplGlfw_InitForOpenGL(window->handle(), true);
   ImGui_ImplOpenGL3_Init("#version 450 core");
   applyUiScale(o.uiScale);
+  if (o.present) setPresenting(true);
 
   scene = loaded;
   sceneName = o.scene;
@@ -381,13 +382,15 @@ VisualiserContext Viewer::visualiserContext() {
 void Viewer::handleKeys() {
   ImGuiIO& io = ImGui::GetIO();
   if (io.WantCaptureKeyboard || flying) return;  // while flying, W/A/S/D/Q/E move the camera
+  // In presenter mode with a lesson the arrow and page keys step the lesson (panel_presenter.cpp).
+  const bool lessonKeys = handlePresenterKeys();
   if (ImGui::IsKeyPressed(GLFW_KEY_I) && cursor->iterations(selected) > 1) stepIteration();
-  if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_RightArrow))) {
+  if (!lessonKeys && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_RightArrow))) {
     selectStage(selected + 1);
     lastRunRequest = std::max(lastRunRequest, selected);
     requestRun(selected);
   }
-  if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_LeftArrow))) selectStage(selected - 1);
+  if (!lessonKeys && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_LeftArrow))) selectStage(selected - 1);
   if (ImGui::IsKeyPressed(GLFW_KEY_R)) {
     lastRunRequest = std::max(lastRunRequest, selected);
     requestRun(selected);
@@ -405,8 +408,8 @@ void Viewer::handleKeys() {
     lastShaderCheck = glfwGetTime();
     reloadShaders(true);
   }
-  if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN) && !lesson.steps.empty()) applyLessonStep(lessonStep + 1);
-  if (ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP) && !lesson.steps.empty()) applyLessonStep(lessonStep - 1);
+  if (!lessonKeys && ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN) && !lesson.steps.empty()) applyLessonStep(lessonStep + 1);
+  if (!lessonKeys && ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP) && !lesson.steps.empty()) applyLessonStep(lessonStep - 1);
 }
 
 void Viewer::applyUiScale(float scale) {
@@ -416,6 +419,7 @@ void Viewer::applyUiScale(float scale) {
   ImFontConfig font;
   font.SizePixels = std::round(13.0f * scale);  // the default font is drawn for 13 px
   io.Fonts->AddFontDefault(&font);
+  addPresenterFonts(scale);  // the presenter's narrative type, sized with the UI
   ImGui_ImplOpenGL3_DestroyFontsTexture();
   ImGui_ImplOpenGL3_CreateFontsTexture();
   ImGuiStyle style;
@@ -493,6 +497,10 @@ int Viewer::loop() {
 // --- UI --------------------------------------------------------------------------------------------
 
 void Viewer::drawUi() {
+  if (presenter.on) {
+    drawPresenter();
+    return;
+  }
   ImGuiIO& io = ImGui::GetIO();
   // Side panels grow with the UI scale but leave the view at least 40 % of the window.
   const float kLeftWidth = std::min(330.0f * uiScale, 0.28f * io.DisplaySize.x);

@@ -22,6 +22,7 @@ struct ViewerOptions {
   int width = 512, height = 512;                // render size of the technique's view
   int windowWidth = 1280, windowHeight = 720;   // window size
   float uiScale = 1.0f;    // text and widget size (a projector in a lecture hall wants 1.5-2)
+  bool present = false;    // start in presenter mode (view + large narrative; P / F11 toggle)
 };
 
 // Runs the viewer until the window closes or the script quits. Returns the exit code; a script

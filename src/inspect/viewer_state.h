@@ -9,6 +9,8 @@
 //   panel_compare.cpp     compare an image with another output, a snapshot or a reference EXR
 //   panel_inspector.cpp, panel_probe.cpp, panel_timing.cpp, panel_lesson.cpp, panel_export.cpp:
 //                         the Details tabs, each registered with VOXLAB_REGISTER_DETAILS_TAB
+//   panel_presenter.cpp   presenter mode: the view fills the window beside the lesson's narrative
+//                         in large type; side panels appear at the window's edges
 //   script_runner.cpp     the script verbs (tests drive the same actions as the mouse)
 // A new Details tab (a presenter panel, say) is one more file with one registration.
 #pragma once
@@ -69,6 +71,18 @@ struct CompareState {
   std::optional<reference::ImageMetrics> metrics;
   float errorScale = 0.0f;
   DisplayTexture otherTex, diffTex;
+};
+
+// Presenter mode (panel_presenter.cpp, `voxlab view --present`, keys P / F11).
+struct PresenterState {
+  bool on = false;
+  float restoreScale = 1.0f;          // the UI scale to return to when presenter mode ends
+  std::optional<ImVec2> scriptMouse;  // script `mouse X Y`: the pointer for the edge reveal
+  bool leftShown = false, rightShown = false;  // side panels revealed by the pointer at an edge
+  ImFont* narrativeFont = nullptr;    // the narrative's type (DejaVu Sans when installed)
+  ImFont* headingFont = nullptr;
+  ImVec2 imageMin{0, 0}, imageMax{0, 0};  // where the view's image was last drawn (window pixels)
+  float narrativePx = 0.0f;           // the size the narrative was last fitted at
 };
 
 class Viewer {
@@ -169,6 +183,20 @@ class Viewer {
   // Rebuilds the font at the scale's size and scales the style (outside a frame); Ctrl+= / Ctrl+-
   // and the Camera/Export tab change it.
   void applyUiScale(float scale);
+  // --- presenter mode (panel_presenter.cpp) ---
+  void setPresenting(bool on);
+  float presenterUiScale() const;  // follows the window: 1 at 1280x720, 1.5 at 1920x1080
+  void addPresenterFonts(float scale);  // into the font atlas (applyUiScale)
+  // Presenter keys (P / F11 toggle, Escape leaves; with a lesson: Page Down / Right / Space next,
+  // Page Up / Left / Backspace previous, Home / End, 1..9 and 0 = step 10). True when handled.
+  bool presenterKey(int glfwKey);
+  // Polls the presenter keys; true when the arrow and page keys belong to the lesson this frame.
+  bool handlePresenterKeys();
+  void drawPresenter();  // the whole window in presenter mode (drawUi calls it)
+  void drawNarrative(ImVec2 size);
+  // The laser pointer: a ring and crosshair over a probed pixel or cell, sized for the audience.
+  void drawLaserPointer(ImDrawList* dl, ImVec2 at, ImVec2 imageSize) const;
+
   // What the view panel shows: the 3D view, or the image with its overlay blended in.
   DisplayImage viewportImage() const;
 
@@ -238,6 +266,7 @@ class Viewer {
   double overlayMs = 0.0;
 
   CompareState compare;
+  PresenterState presenter;
 
   Lesson lesson;
   int lessonStep = -1;

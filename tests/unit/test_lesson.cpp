@@ -120,6 +120,32 @@ TEST(Script, ParsesVerbsCommentsAndEnvironment) {
             std::string::npos);
 }
 
+TEST(Presenter, NarrativeBlocksJoinParagraphsAndDropMarkup) {
+  const std::string md =
+      "## Step 2: the **dominant** axis\n"
+      "A triangle seen `edge-on`\n"
+      "covers *no* pixels; see [the paper](https://example.org/p.pdf).\n"
+      "\n"
+      "1. `classify`: per triangle\n"
+      "   its axis;\n"
+      "- a bullet\n"
+      "```glsl\n"
+      "# not a heading inside code\n"
+      "```\n"
+      "Last words.\n";
+  auto b = narrativeBlocks(md);
+  ASSERT_EQ(b.size(), 5u);
+  EXPECT_EQ(b[0].kind, NarrativeBlock::Kind::Heading);
+  EXPECT_EQ(b[0].text, "Step 2: the dominant axis");
+  EXPECT_EQ(b[1].kind, NarrativeBlock::Kind::Paragraph);
+  EXPECT_EQ(b[1].text, "A triangle seen edge-on covers no pixels; see the paper.");
+  EXPECT_EQ(b[2].kind, NarrativeBlock::Kind::Item);
+  EXPECT_EQ(b[2].text, "1. classify: per triangle its axis;");
+  EXPECT_EQ(b[3].text, "\xE2\x80\xA2 a bullet");
+  EXPECT_EQ(b[4].kind, NarrativeBlock::Kind::Paragraph);
+  EXPECT_EQ(b[4].text, "Last words.");
+}
+
 TEST(Reproduce, ListsOnlyChangedParameters) {
   auto t = createTechnique("vct-grid");
   ParamSet d = t->defaultParams(), p = d;

@@ -7,7 +7,7 @@ command -v xvfb-run >/dev/null 2>&1 || { echo "xvfb-run not found: skipping"; ex
 rm -rf "$out"
 mkdir -p "$out"
 view() { xvfb-run -a -s "-screen 0 1600x900x24" "$exe" view --script "$script"; }
-case "$script" in
+case "${script##*/}" in  # the file name: a checkout path may contain any of these words
   *walk_stages*)
     # Every technique `voxlab list` names: `voxlab run` writes every output, the viewer walks it.
     for t in $("$exe" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))'); do
@@ -50,6 +50,10 @@ if abs(viewer - cli) > 1e-8 * max(abs(cli), 1e-30):
     sys.exit(f"the compare view's rmse {viewer} differs from voxlab compare's {cli}")
 PY
     ;;
+  *presenter*)
+    # Presenter mode is for a projector: a 1920x1080 screen and window.
+    export VOXLAB_VIEWER_OUT="$out"
+    xvfb-run -a -s "-screen 0 1920x1080x24" "$exe" view --present --window 1920x1080 --script "$script" ;;
   *plugins*)
     export VOXLAB_VIEWER_OUT="$out"
     view
