@@ -41,8 +41,10 @@ void Viewer::drawParameters() {
           break;
         }
         case ParamType::Float: {
-          float fv = float(v);
-          if (ImGui::SliderFloat(p.name.c_str(), &fv, float(p.minValue), float(p.maxValue), "%.3f")) nv = fv;
+          // A "scene" value (NaN) shows as the text "scene" until the slider is moved.
+          bool fromScene = p.sceneDefault && ParamDesc::isSceneValue(v);
+          float fv = fromScene ? float(p.minValue) : float(v);
+          if (ImGui::SliderFloat(p.name.c_str(), &fv, float(p.minValue), float(p.maxValue), fromScene ? "scene" : "%.3f")) nv = fv;
           break;
         }
         case ParamType::Bool: {
