@@ -22,7 +22,9 @@ glm::mat4 Camera::projection(float aspect) const {
 
 glm::vec3 sunDirection(float azimuthDeg, float elevationDeg) {
   float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
-  return -glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  // cos(el) >= 0 for el in -90..90; in float cos(radians(90)) is -4e-8, which would turn the azimuth by 180.
+  float horizontal = std::max(std::cos(el), 0.0f);
+  return -glm::vec3(horizontal * std::sin(az), std::sin(el), horizontal * std::cos(az));
 }
 
 void sunAngles(const glm::vec3& direction, float& azimuthDeg, float& elevationDeg) {
