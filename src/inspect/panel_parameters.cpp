@@ -65,7 +65,7 @@ void Viewer::drawParameters() {
       if (ImGui::IsItemHovered())
         ImGui::SetTooltip("%s\n%s%s%s", p.help.c_str(), p.rangeText().c_str(), p.unit.empty() ? "" : ", ",
                           p.unit.c_str());
-      if (nv != v) setParam(p.name, nv);  // marks every stage that declares it (and its readers) stale
+      if (!ParamDesc::sameValue(nv, v)) setParam(p.name, nv);  // marks every stage that declares it (and its readers) stale
       ImGui::PopID();
     }
     ImGui::TreePop();
