@@ -2,6 +2,8 @@
 """Writes voxlab's scenes (python3 standard library only, deterministic output).
 
   scenes/cornell-box.gltf                the Cornell box from the published measurements (in metres)
+  tests/data/scenes/cornell-box-x100.gltf  the Cornell box with every length x100 (scale invariance)
+  tests/data/scenes/no-light-blocks.gltf floor and two blocks, no light, no camera (default sun)
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
@@ -54,13 +56,23 @@ def mm(points):
     return [[c * MM for c in p] for p in points]
 
 
-def cornell_box(path):
-    b = GltfBuilder("voxlab scripts/make_scenes.py (Cornell box, published measurements)")
+def cornell_box(path, scale=1.0):
+    """The Cornell box; 'scale' multiplies every length (positions, the camera's clip range) and
+    the spot light's radiant intensity by scale^2, so irradiance I / d^2 (and the picture) is the
+    same: 100 gives the box in centimetres-as-metres (scale-invariance test)."""
+    def k(x):
+        return x if scale == 1.0 else x * scale
+
+    b = GltfBuilder("voxlab scripts/make_scenes.py (Cornell box, published measurements)"
+                    + ("" if scale == 1.0 else " scaled by %g" % scale))
     ceiling_y = 548.8 * MM
-    room_centre = [0.278, 0.2744, 0.2796]
+    room_centre = [k(0.278), k(0.2744), k(0.2796)]
+
+    def mmk(points):
+        return [[k(c) for c in p] for p in mm(points)]
 
     def wall(name, albedo, points_mm):
-        pts = mm(points_mm)
+        pts = mmk(points_mm)
         poly = oriented(pts, sub(room_centre, centroid(pts)))  # faces into the room
         b.add_mesh_node(name, b.add_material(name, albedo), [poly])
 
@@ -73,16 +85,16 @@ def cornell_box(path):
     short_top = [(130, 65), (82, 225), (240, 272), (290, 114)]
     tall_top = [(423, 247), (265, 296), (314, 456), (472, 406)]
     b.add_mesh_node("short-block", b.add_material("short-block", WHITE),
-                    box_polygons([(x * MM, z * MM) for x, z in short_top], 165 * MM))
+                    box_polygons([(k(x * MM), k(z * MM)) for x, z in short_top], k(165 * MM)))
     b.add_mesh_node("tall-block", b.add_material("tall-block", WHITE),
-                    box_polygons([(x * MM, z * MM) for x, z in tall_top], 330 * MM))
+                    box_polygons([(k(x * MM), k(z * MM)) for x, z in tall_top], k(330 * MM)))
 
     # Small emissive panel 1 mm below the ceiling, facing down. Emission is kept at 1 because it
     # feeds an 8-bit radiance grid; the spot light below carries the actual lighting.
     y = ceiling_y - 0.001
     panel = [[0.213, y, 0.227], [0.343, y, 0.227], [0.343, y, 0.332], [0.213, y, 0.332]]
     b.add_mesh_node("light-panel", b.add_material("light-panel", WHITE, emissive=(1.0, 1.0, 1.0)),
-                    [oriented(panel, [0.0, -1.0, 0.0])])
+                    [oriented([[k(c) for c in p] for p in panel], [0.0, -1.0, 0.0])])
 
     # Spot light 1 cm under the ceiling at the panel centre, pointing straight down. Intensity is
     # radiant intensity (W/sr): irradiance on the floor below is I / d^2 = 3 W/m^2 (times colour).
@@ -90,14 +102,27 @@ def cornell_box(path):
     d = light_pos[1]
     intensity = round(3.0 * d * d, 4)  # 0.8683 W/sr
     b.add_light("ceiling-spot", {
-        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": intensity,
+        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": k(k(intensity)),
         "spot": {"innerConeAngle": 0.6, "outerConeAngle": 1.3},
-    }, light_pos, LOOK_DOWN)
+    }, tuple(k(c) for c in light_pos), LOOK_DOWN)
 
     # The published camera: (278, 273, -800) mm looking +z, 35 mm lens on 25 mm film.
     yfov = 2.0 * math.atan(0.025 / 2.0 / 0.035)  # 0.6860 rad = 39.3 deg
-    b.add_camera("camera", (0.278, 0.273, -0.8), LOOK_PLUS_Z, round(yfov, 4), aspect=1.0,
-                 znear=0.01, zfar=10.0)
+    b.add_camera("camera", (k(0.278), k(0.273), k(-0.8)), LOOK_PLUS_Z, round(yfov, 4), aspect=1.0,
+                 znear=k(0.01), zfar=k(10.0))
+    b.write(path)
+
+
+def no_light_blocks(path):
+    """A 2 x 2 m floor with two grey blocks and nothing else: no light, no camera, so the loader
+    adds its default sun and framing camera (the scene a new user's own glTF file often is)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (no light, no camera)")
+    grey = b.add_material("grey", (0.6, 0.6, 0.6))
+    red = b.add_material("red", (0.7, 0.15, 0.1))
+    floor = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]]
+    b.add_mesh_node("floor", grey, [oriented(floor, [0.0, 1.0, 0.0])])
+    b.add_mesh_node("tall-block", red, box_polygons([(-0.6, -0.4), (-0.2, -0.4), (-0.2, 0.0), (-0.6, 0.0)], 0.8))
+    b.add_mesh_node("low-block", grey, box_polygons([(0.2, 0.1), (0.6, 0.1), (0.6, 0.5), (0.2, 0.5)], 0.3))
     b.write(path)
 
 
@@ -364,6 +389,8 @@ def main():
     os.makedirs(tests, exist_ok=True)
     outputs = [
         (os.path.join(scenes, "cornell-box.gltf"), cornell_box),
+        (os.path.join(tests, "cornell-box-x100.gltf"), lambda p: cornell_box(p, 100.0)),
+        (os.path.join(tests, "no-light-blocks.gltf"), no_light_blocks),
         (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),

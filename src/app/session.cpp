@@ -71,6 +71,11 @@ json HeadlessSession::manifestHeader() const {
   m["scene_load_ms"] = sceneLoadMs_;  // parsing, decoding textures, flattening (CPU)
   m["scene_triangles"] = cursor_->scene().triangleCount();
   m["parameters"] = cursor_->params().formatted();
+  // Which light light.0 starts from: the file's first light, or the loader's default sun.
+  const auto& lights = cursor_->scene().lights;
+  m["light"] = lights.empty() ? std::string("none")
+               : lights[0].name == kDefaultSunName ? std::string(kDefaultSunName)
+                                                   : "scene light '" + lights[0].name + "'";
   m["view"] = {{"width", cursor_->view().width}, {"height", cursor_->view().height},
                {"camera", request_.camera}, {"camera_name", cursor_->camera().name}};
   if (request_.lookFrom) {

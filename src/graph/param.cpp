@@ -22,6 +22,14 @@ ParamDesc ParamDesc::real(std::string name, double def, double lo, double hi, st
   return d;
 }
 
+ParamDesc ParamDesc::fromScene(std::string name, double lo, double hi, std::string help, std::string unit) {
+  ParamDesc d = real(std::move(name), std::nan(""), lo, hi, std::move(help), std::move(unit));
+  d.sceneDefault = true;
+  return d;
+}
+
+bool ParamDesc::isSceneValue(double v) { return std::isnan(v); }
+
 ParamDesc ParamDesc::boolean(std::string name, bool def, std::string help) {
   ParamDesc d;
   d.name = std::move(name); d.type = ParamType::Bool; d.defaultValue = def ? 1 : 0; d.minValue = 0;
@@ -55,6 +63,7 @@ std::string ParamDesc::format(double v) const {
       return i >= 0 && i < int(choices.size()) ? choices[i] : "?";
     }
     case ParamType::Float: {
+      if (sceneDefault && isSceneValue(v)) return "scene";
       std::ostringstream s;
       s.precision(6);
       s << v;
@@ -71,12 +80,14 @@ std::string ParamDesc::rangeText() const {
     default: {
       std::string r = format(minValue) + ".." + format(maxValue);
       if (powerOfTwo) r += " (power of two)";
+      if (sceneDefault) r += ", or scene (the loaded scene's value, the default)";
       return r;
     }
   }
 }
 
 void ParamDesc::validate(double v) const {
+  if (sceneDefault && isSceneValue(v)) return;
   bool ok = std::isfinite(v) && v >= minValue && v <= maxValue;
   if (ok && (type == ParamType::Int || type == ParamType::Choice || type == ParamType::Bool))
     ok = v == std::floor(v);
@@ -92,6 +103,7 @@ double ParamDesc::parse(const std::string& text) const {
     return Error("parameter " + name + "='" + text + "' is not valid; valid: " + rangeText());
   };
   double v = 0;
+  if (sceneDefault && text == "scene") return std::nan("");
   switch (type) {
     case ParamType::Bool:
       if (text == "true" || text == "1" || text == "on") v = 1;
@@ -125,7 +137,7 @@ void ParamSet::declare(const ParamDesc& d) {
   auto it = descs_.find(d.name);
   if (it != descs_.end()) {
     const ParamDesc& e = it->second;
-    if (e.type != d.type || e.defaultValue != d.defaultValue || e.minValue != d.minValue ||
+    if (e.type != d.type || !ParamDesc::sameValue(e.defaultValue, d.defaultValue) || e.minValue != d.minValue ||
         e.maxValue != d.maxValue || e.choices != d.choices)
       throw Error("parameter " + d.name + " is declared twice with different types, defaults or ranges");
     return;

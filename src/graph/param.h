@@ -19,11 +19,18 @@ struct ParamDesc {
   std::string unit;                  // "voxels", "degrees", "px", ...
   std::string help;                  // one line
   bool powerOfTwo = false;           // Int: must also be a power of two
+  // Float: the value may also be "scene" (stored as NaN, the default): the stage takes the value
+  // from the loaded scene (e.g. the light's direction). Static declarations cannot know a scene.
+  bool sceneDefault = false;
 
   static ParamDesc integer(std::string name, int def, int lo, int hi, std::string help, std::string unit = "");
   static ParamDesc real(std::string name, double def, double lo, double hi, std::string help, std::string unit = "");
   static ParamDesc boolean(std::string name, bool def, std::string help);
   static ParamDesc choice(std::string name, std::vector<std::string> choices, int def, std::string help);
+  // A Float whose default is "scene" (see sceneDefault); any value in lo..hi overrides it.
+  static ParamDesc fromScene(std::string name, double lo, double hi, std::string help, std::string unit = "");
+  static bool isSceneValue(double v);  // the "scene" value (NaN)
+  static bool sameValue(double a, double b) { return a == b || (isSceneValue(a) && isSceneValue(b)); }
   ParamDesc& pow2() { powerOfTwo = true; return *this; }
 
   const char* typeName() const;

@@ -57,7 +57,7 @@ void StepCursor::propagate() {
 }
 
 void StepCursor::setParam(const std::string& name, double value) {
-  if (params_.value(name) == value) return;
+  if (ParamDesc::sameValue(params_.value(name), value)) return;
   params_.set(name, value);
   for (int i = 0; i < stageCount(); ++i)
     for (const auto& p : technique_->decl(i).params)

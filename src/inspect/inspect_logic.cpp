@@ -229,7 +229,7 @@ std::string reproduceCommand(const std::string& technique, const std::string& sc
   std::string cmd = "voxlab run --technique " + quote(technique) + " --scene " + quote(scene);
   for (const auto& [name, desc] : params.descs()) {
     double v = params.value(name);
-    if (defaults.has(name) && defaults.value(name) == v) continue;
+    if (defaults.has(name) && ParamDesc::sameValue(defaults.value(name), v)) continue;
     cmd += " --set " + quote(name + "=" + desc.format(v));
   }
   cmd += " --size " + std::to_string(width) + "x" + std::to_string(height);
@@ -330,6 +330,9 @@ struct VerbSpec {
 const VerbSpec kVerbs[] = {
     {"technique", 1, 1, "technique ID"},
     {"scene", 1, 1, "scene NAME|PATH (a failed load keeps the current scene and records the error)"},
+    {"drop", 1, 1, "drop PATH (as dropping a glTF/GLB file on the window: a failed load keeps the current scene)"},
+    {"turn-light", 2, 2, "turn-light AZIMUTH_DEG ELEVATION_DEG (turn the light from where it points, as Shift + drag)"},
+    {"expect-scene", 1, 1, "expect-scene NAME (the current scene is NAME, its file's stem)"},
     {"expect-scene-error", 1, 32, "expect-scene-error TEXT... (the last scene error contains TEXT)"},
     {"stage", 1, 1, "stage ID (select it)"},
     {"output", 1, 1, "output NAME (of the selected stage)"},

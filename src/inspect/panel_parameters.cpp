@@ -41,8 +41,10 @@ void Viewer::drawParameters() {
           break;
         }
         case ParamType::Float: {
-          float fv = float(v);
-          if (ImGui::SliderFloat(p.name.c_str(), &fv, float(p.minValue), float(p.maxValue), "%.3f")) nv = fv;
+          // A "scene" value (NaN) shows as the text "scene" until the slider is moved.
+          bool fromScene = p.sceneDefault && ParamDesc::isSceneValue(v);
+          float fv = fromScene ? float(p.minValue) : float(v);
+          if (ImGui::SliderFloat(p.name.c_str(), &fv, float(p.minValue), float(p.maxValue), fromScene ? "scene" : "%.3f")) nv = fv;
           break;
         }
         case ParamType::Bool: {
@@ -63,7 +65,7 @@ void Viewer::drawParameters() {
       if (ImGui::IsItemHovered())
         ImGui::SetTooltip("%s\n%s%s%s", p.help.c_str(), p.rangeText().c_str(), p.unit.empty() ? "" : ", ",
                           p.unit.c_str());
-      if (nv != v) setParam(p.name, nv);  // marks every stage that declares it (and its readers) stale
+      if (!ParamDesc::sameValue(nv, v)) setParam(p.name, nv);  // marks every stage that declares it (and its readers) stale
       ImGui::PopID();
     }
     ImGui::TreePop();

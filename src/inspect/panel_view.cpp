@@ -118,7 +118,7 @@ void Viewer::drawView() {
       dl->AddImage(reinterpret_cast<ImTextureID>(intptr_t(overlay->texture())), origin,
                    ImVec2(origin.x + size.x, origin.y + size.y), ImVec2(0, 1), ImVec2(1, 0));
   }
-  // On camera images a left drag orbits the camera and a right drag flies it (mouse looks,
+  // On camera images a left drag orbits the camera (with Shift it turns the light) and a right drag flies it (mouse looks,
   // W/A/S/D/Q/E move); a left click probes or picks.
   ImGuiIO& io = ImGui::GetIO();
   if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
@@ -127,8 +127,14 @@ void Viewer::drawView() {
     dragStart = m;
   }
   if (dragging) {
-    if (cameraImage && !orbiting && std::abs(m.x - dragStart.x) + std::abs(m.y - dragStart.y) > 4.0f) orbiting = true;
-    if (orbiting && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) orbit(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
+    if (cameraImage && !orbiting && std::abs(m.x - dragStart.x) + std::abs(m.y - dragStart.y) > 4.0f) {
+      orbiting = true;
+      turningLight = io.KeyShift;  // Shift + drag turns the light instead of the camera
+    }
+    if (orbiting && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) {
+      if (turningLight) turnLight(io.MouseDelta.x * 0.3f, -io.MouseDelta.y * 0.3f);
+      else orbit(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
+    }
     if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
       dragging = false;
       if (!orbiting && hover) {

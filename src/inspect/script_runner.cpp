@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "inspect/viewer_state.h"
+#include "techniques/common/light_stage.h"
 
 namespace voxlab {
 
@@ -81,6 +82,14 @@ void Viewer::execute(const ScriptAction& a) {
     if (arg(0) != t.id()) switchTechnique(arg(0));
   } else if (v == "scene") {
     if (!loadSceneNamed(arg(0))) std::printf("scene error: %s\n", sceneError.c_str());
+  } else if (v == "drop") {
+    if (!dropFile(arg(0))) std::printf("scene error: %s\n", sceneError.c_str());
+  } else if (v == "turn-light") {
+    if (!turnLight(floatArg(0), floatArg(1))) scriptFail(a, status);
+    std::printf("light: azimuth %s, elevation %s\n", cursor->params().formatted().at(kLightAzimuth).c_str(),
+                cursor->params().formatted().at(kLightElevation).c_str());
+  } else if (v == "expect-scene") {
+    if (scene->name != arg(0)) scriptFail(a, "scene is " + scene->name + ", expected " + arg(0));
   } else if (v == "expect-scene-error") {
     std::string text;
     for (const auto& w : a.args) text += (text.empty() ? "" : " ") + w;

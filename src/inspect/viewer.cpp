@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -17,6 +18,7 @@
 #include "core/paths.h"
 #include "gpu/shader_library.h"
 #include "inspect/viewer_state.h"
+#include "techniques/common/light_stage.h"
 
 namespace voxlab {
 
@@ -86,6 +88,12 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
   ImGui::GetIO().IniFilename = nullptr;  // layout is fixed; no imgui.ini next to the binary
   ImGui::StyleColorsDark();
   ImGui_ImplGlfw_InitForOpenGL(window->handle(), true);
+  // Dropped files are queued and loaded at the start of the next frame (dropFile).
+  glfwSetWindowUserPointer(window->handle(), this);
+  glfwSetDropCallback(window->handle(), [](GLFWwindow* w, int count, const char** paths) {
+    auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+    for (int i = 0; i < count; ++i) self->droppedFiles.emplace_back(paths[i]);
+  });
   ImGui_ImplOpenGL3_Init("#version 450 core");
   applyUiScale(o.uiScale);
   if (o.present) setPresenting(true);
@@ -141,6 +149,9 @@ bool Viewer::loadSceneNamed(const std::string& name) {
     scene = loaded;
     sceneName = name;
     cursor->setScene(scene);
+    // Parameters that default to the scene's value (the light) start from the new scene's.
+    for (const auto& [pname, desc] : cursor->params().descs())
+      if (desc.sceneDefault) cursor->setParam(pname, desc.defaultValue);
     cursor->setViewSize(opt.width, opt.height);
     cameraIndex = 0;
     runTarget = iterateStage = -1;
@@ -212,6 +223,29 @@ void Viewer::applyPendingCamera() {
 
 void Viewer::orbit(float yawDeg, float pitchDeg) {
   moveCamera(orbitCamera(liveCamera(), scene->bounds.center(), yawDeg, pitchDeg));
+}
+
+bool Viewer::turnLight(float azimuthDeg, float elevationDeg) {
+  if (!cursor->params().has(kLightAzimuth) || !cursor->params().has(kLightElevation)) {
+    status = "technique " + cursor->technique().id() + " declares no light.0 parameters (no light stage)";
+    return false;
+  }
+  Light now = applyLightParams(scene->lights.empty() ? defaultSun() : scene->lights[0], cursor->params());
+  float az = 0, el = 0;
+  sunAngles(now.direction, az, el);
+  az = std::fmod(az + azimuthDeg, 360.0f);
+  if (az < 0.0f) az += 360.0f;
+  el = std::clamp(el + elevationDeg, -90.0f, 90.0f);
+  cursor->setParam(kLightAzimuth, az);
+  cursor->setParam(kLightElevation, el);
+  paramsChanged();
+  return true;
+}
+
+bool Viewer::dropFile(const std::string& path) {
+  bool ok = loadSceneNamed(path);
+  status = ok ? "loaded dropped file " + path : "dropped file not loaded (kept the current scene): " + sceneError;
+  return ok;
 }
 
 void Viewer::handleFly() {
@@ -455,6 +489,7 @@ int Viewer::loop() {
     auto t0 = Clock::now();
     frameHeavy = false;
     window->pollEvents();
+    for (std::string path : std::exchange(droppedFiles, {})) dropFile(path);
     if (scripted) stepScript();
     if (quit) break;
     if (runPendingStage()) frameHeavy = true;

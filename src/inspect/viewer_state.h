@@ -116,6 +116,14 @@ class Viewer {
   void moveCamera(const Camera& c);
   void applyPendingCamera();
   void orbit(float yawDeg, float pitchDeg);
+  // Turns the light (the light.0.* parameters of techniques/common/light_stage.h) by these angles
+  // from where it points now; Shift + left drag on a camera image and the script verb turn-light.
+  // False + status when the technique declares no light.0 parameters.
+  bool turnLight(float azimuthDeg, float elevationDeg);
+  // A file dropped on the window (GLFW drop callback, queued in droppedFiles) or the script verb
+  // drop: loaded as loadSceneNamed does, keeping the current scene when it fails.
+  bool dropFile(const std::string& path);
+  std::vector<std::string> droppedFiles;
   void handleFly();  // right mouse over a camera image: mouse looks, W/A/S/D/Q/E move
   void frameScene();
   // Queues iterations of the selected stage until 'count' of them have run (after the stages
@@ -249,7 +257,7 @@ class Viewer {
   SliceImage viewImage;
   bool hover = false;
   glm::ivec3 hoverTexel{0}, pickTexel{-1};
-  bool dragging = false, orbiting = false;
+  bool dragging = false, orbiting = false, turningLight = false;
   ImVec2 dragStart{0, 0};
 
   // Probe records (probeRecords()).

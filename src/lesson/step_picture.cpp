@@ -214,7 +214,7 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
 
   const ParamSet defaults = t.defaultParams();
   for (const auto& [name, d] : params.descs())
-    if (!defaults.has(name) || defaults.value(name) != params.value(name))
+    if (!defaults.has(name) || !ParamDesc::sameValue(defaults.value(name), params.value(name)))
       pic.changed.push_back(name + "=" + d.format(params.value(name)));
   std::string until = stage == t.stageCount() - 1 ? "" : step.stage;
   pic.command = reproduceCommand(t.id(), step.scene, params, defaults, width_, height_, step.camera, until, "out");

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "scene/scene.h"
 
 #include "scene/tinygltf_config.h"
@@ -1137,6 +1138,10 @@ void Loader::buildScene(Scene& scene) {
     scene.materials.push_back(m);
   }
   if (scene.cameras.empty()) scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
+  if (scene.lights.empty()) {
+    scene.lights.push_back(defaultSun());
+    log::warn(scene.name + ": " + kDefaultSunName + "; added a white sun from elevation 60, azimuth 30 degrees, 5 W/m^2 (set light.0.* to change it)");
+  }
 }
 
 // Deepest nesting of arrays and objects in JSON text (strings skipped). tinygltf converts

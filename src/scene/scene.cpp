@@ -20,6 +20,30 @@ glm::mat4 Camera::projection(float aspect) const {
   return glm::perspectiveRH_NO(yfov, aspect > 0.0f ? aspect : 1.0f, znear, zfar);
 }
 
+glm::vec3 sunDirection(float azimuthDeg, float elevationDeg) {
+  float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+  // cos(el) >= 0 for el in -90..90; in float cos(radians(90)) is -4e-8, which would turn the azimuth by 180.
+  float horizontal = std::max(std::cos(el), 0.0f);
+  return -glm::vec3(horizontal * std::sin(az), std::sin(el), horizontal * std::cos(az));
+}
+
+void sunAngles(const glm::vec3& direction, float& azimuthDeg, float& elevationDeg) {
+  glm::vec3 toSun = -glm::normalize(direction);
+  elevationDeg = glm::degrees(std::asin(std::clamp(toSun.y, -1.0f, 1.0f)));
+  float az = glm::degrees(std::atan2(toSun.x, toSun.z));
+  azimuthDeg = az < 0.0f ? az + 360.0f : az;
+}
+
+Light defaultSun() {
+  Light l;
+  l.name = kDefaultSunName;
+  l.type = LightType::Directional;
+  l.direction = sunDirection(30.0f, 60.0f);
+  l.color = glm::vec3(1.0f);
+  l.intensity = 5.0f;
+  return l;
+}
+
 Camera frameBounds(const Bounds& bounds, float yfov) {
   Camera cam;
   cam.name = "framing-camera";

@@ -80,6 +80,20 @@ struct Camera {
 // yfov (radians) contains the bounding sphere; used when a file has no camera.
 Camera frameBounds(const Bounds& bounds, float yfov);
 
+// Sun directions as angles (degrees): the sun stands at 'elevation' above the horizontal plane
+// (glTF's +y is up) and at 'azimuth' measured about +y from +z toward +x. The light travels
+// along -(cos(el) sin(az), sin(el), cos(el) cos(az)).
+glm::vec3 sunDirection(float azimuthDeg, float elevationDeg);
+void sunAngles(const glm::vec3& direction, float& azimuthDeg, float& elevationDeg);
+
+// The light a scene without lights gets: a white directional sun from above and to the side
+// (elevation 60 degrees, azimuth 30 degrees, so the picture has shadows and bounce light) with an
+// irradiance of 5 W/m^2, the same as the checked-in Sponza's sun, which the default exposure
+// shows. A directional light needs no position, so the direction holds for any scene size; its
+// shadow map is fitted to the scene's bounds. Named kDefaultSunName.
+inline constexpr const char* kDefaultSunName = "default sun (scene has none)";
+Light defaultSun();
+
 // Triangles [firstIndex/3, firstIndex/3 + indexCount/3) all use one material.
 struct DrawRange {
   uint32_t firstIndex = 0;
@@ -98,7 +112,7 @@ struct Scene {
   std::vector<DrawRange> draws;
   std::vector<Material> materials;   // never empty: a default white material is added if needed
   std::vector<TextureImage> textures;
-  std::vector<Light> lights;
+  std::vector<Light> lights;         // never empty: defaultSun() is added if the file has none
   std::vector<Camera> cameras;       // never empty: a framing camera is added if the file has none
   Bounds bounds;                     // of all triangles
 

@@ -1,7 +1,7 @@
 # voxlab run/list/bench: bad arguments give one line naming what is wrong and what is valid, exit 2.
 voxlab_cli_case(run_unknown_technique 2 "unknown technique 'vct-nope'; valid techniques: .*vct-grid"
   "run --technique vct-nope --out @OUT@")
-voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize, shadow-map, inject, occlusion-fix, mipmap, gbuffer, cone-trace, composite"
+voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize, light, shadow-map, inject, occlusion-fix, mipmap, gbuffer, cone-trace, composite"
   "run --technique vct-grid --until shade --out @OUT@")
 voxlab_cli_case(run_unknown_parameter 2 "unknown parameter 'voxel.size'; valid parameters: .*voxel.resolution"
   "run --technique vct-grid --set voxel.size=3 --out @OUT@")

@@ -8,6 +8,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/light_stage.h"
 
 namespace voxlab {
 
@@ -24,6 +25,7 @@ void ShadowMapStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("shadow.normal-offset", 0.01, 0.0, 0.2,
                           "receivers are moved this far along their normal before the shadow test (directional "
                           "lights: at least half a shadow-map texel)", "m"));
+  b.read("light-source");  // the light (techniques/common/light_stage.h), after light.0.* overrides
   b.write("light");
   b.output("shadow-map", OutputKind::Image2D, Semantic::Depth, "depth seen from the light (0 near, 1 far)");
   b.texture("shadow-map", [](const ParamSet& p, const ViewState&) { return shadowMapDesc(p.getInt("shadow.resolution")); });
@@ -37,8 +39,8 @@ void ShadowMapStage::execute(StageContext& ctx) {
   glm::vec3 center = scene.bounds.center();
   float radius = 0.5f * glm::length(scene.bounds.extent()) + 1e-3f;
   bool hasShadow = false;
-  if (!scene.lights.empty()) {
-    const Light& L = scene.lights[0];
+  {
+    const Light L = lightSource(ctx.board);
     light.radiance = glm::vec4(L.color * L.intensity, 0.0f);
     light.directionRange = glm::vec4(glm::normalize(L.direction), L.range);
     glm::vec3 dir = glm::normalize(L.direction);

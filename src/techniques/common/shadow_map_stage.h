@@ -1,4 +1,5 @@
-// ShadowMapStage: depth from the scene's light (its first KHR_lights_punctual light), and the
+// ShadowMapStage: depth from the light LightStage wrote (the scene's first light after the
+// light.0.* parameters; add LightStage before this stage), and the
 // light's parameters as a uniform buffer ("light") that later stages shade with.
 //
 // Spot lights get a perspective shadow map covering their outer cone, directional lights an

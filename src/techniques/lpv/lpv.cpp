@@ -11,6 +11,7 @@
 //
 // Overview (the stages, in order)
 //   1. voxelize    triangles -> voxel fragment list (the shared stage of src/techniques/common)
+//      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   2. shadow-map  depth from the light (shared)
 //   3. place       fine and coarse grid boxes, centred on the scene or ahead of the camera, snapped to
 //                  a multiple of their cell size
@@ -104,6 +105,7 @@
 //   GPU Pro 4. The technical note ../shared/guide/techniques/lpv.md (invariants 1-13, pitfalls).
 #include "graph/technique.h"
 #include "techniques/common/gbuffer_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/lpv/stages.h"
@@ -116,6 +118,7 @@ static std::unique_ptr<Technique> makeLpv() {
       "lpv", "Light propagation volumes with voxel VPLs",
       "Lit voxels become VPLs in L1 SH grids; light spreads cell by cell, blocked by the voxels; surfaces read it back.");
   t->add<VoxelizeStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<lpv::PlaceStage>();
   t->add<lpv::BinStage>();

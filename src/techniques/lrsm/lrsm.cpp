@@ -55,6 +55,7 @@
 #include "graph/technique.h"
 #include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/rsm_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/lrsm/stages.h"
@@ -69,6 +70,7 @@ static std::unique_ptr<Technique> makeLrsm() {
   t->add<VoxelizeStage>();
   t->add<lrsm::OcclusionVoxelsStage>();
   t->add<lrsm::OcclusionMipsStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<RsmStage>();
   t->add<lrsm::LayersStage>();

@@ -13,6 +13,7 @@
 //   2. binary-voxels   fragments -> RGBA32UI columns, one bit per slice (imageAtomicOr; shared)
 //   3. bitmask-tables  OR[k], XOR[k] (129 entries) on the CPU; ray masks XOR[i]^XOR[j+1] on the GPU
 //   4. hierarchy       2D OR mips, all 128 slices kept, one level per iteration
+//      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   5. shadow-map      depth from the light and the light's parameters (shared)
 //   6. rsm             position, normal, reflected radiance and flux seen from the light (shared)
 //   7. gbuffer         position, normal, albedo from the camera (vct-grid's stage)
@@ -66,6 +67,7 @@
 #include "techniques/common/binary_voxels_stage.h"
 #include "techniques/common/rsm_stage.h"
 #include "techniques/common/gbuffer_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/stages.h"
@@ -81,6 +83,7 @@ static std::unique_ptr<Technique> makeNearField() {
   t->add<BinaryVoxelsStage>();
   t->add<nearfield::BitmaskTablesStage>();
   t->add<nearfield::HierarchyStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<RsmStage>();
   t->add<GBufferStage>();

@@ -33,6 +33,7 @@
 #include "techniques/common/binary_voxels_stage.h"
 #include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/rsm_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/stages.h"
@@ -48,6 +49,7 @@ static std::unique_ptr<Technique> makeVoxelPathTracing() {
   t->add<nearfield::VoxelAttributesStage>();
   t->add<nearfield::BitmaskTablesStage>();
   t->add<nearfield::HierarchyStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<RsmStage>();
   t->add<GBufferStage>();

@@ -64,6 +64,7 @@
 #include "graph/technique.h"
 #include "gpu/shader_library.h"
 #include "techniques/common/gbuffer_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/svo/stages.h"
@@ -106,6 +107,7 @@ static std::unique_ptr<Technique> makeSvo() {
       "Build an octree level by level from the voxel fragments, light and filter it bottom up, then trace "
       "cones (GI and ambient occlusion) that descend it per sample.");
   t->add<VoxelizeStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<svo::BuildStage>();
   t->add<svo::LeavesStage>();

@@ -7,6 +7,7 @@
 //
 // Overview (the stages, in order)
 //   1. voxelize       triangles -> voxel fragment list (dominant axis, conservative raster)
+//      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   2. shadow-map     depth from the light; the light's parameters as a uniform buffer
 //   3. inject         Lambert direct light + emission per fragment, averaged per voxel (RGBA8, CAS)
 //   4. occlusion-fix  alpha = 1 in every non-empty voxel
@@ -32,6 +33,7 @@
 //   Green, Eisemann, "Interactive Indirect Illumination Using Voxel Cone Tracing", 2011.
 #include "graph/technique.h"
 #include "techniques/common/gbuffer_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/stages.h"
@@ -43,6 +45,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
       "vct-grid", "Voxel cone tracing on a dense grid",
       "Voxelize, inject direct light, prefilter into mips, then gather indirect light with cones.");
   t->add<VoxelizeStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<vct::InjectStage>();
   t->add<vct::OcclusionFixStage>();

@@ -12,6 +12,7 @@
 // Overview (the stages, in order)
 //   1. density     particles -> R32UI counts (integer atomics) -> sigma_s volume (1/m)
 //   2. phase       p(mu) for the current g: samples, a plot, the integrals in the statistics
+//      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   3. shadow-map  the shared light model and shadow map (spot: perspective; sun: orthographic)
 //   4. gbuffer     the shared G-buffer: the surface each camera ray ends on
 //   5. march       iterative, one sample index per iteration: in-scattered radiance and
@@ -66,6 +67,7 @@
 #include "techniques/volumetric/volumetric.h"
 
 #include "techniques/common/gbuffer_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 #include "techniques/volumetric/stages.h"
 
@@ -87,6 +89,7 @@ static std::unique_ptr<Technique> makeVolumetric() {
       "single scattering, dithered, blurred and upsampled, then composed over the lit surfaces.");
   t->add<DensityStage>();
   t->add<PhaseStage>();
+  t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<GBufferStage>();
   t->add<MarchStage>();
