@@ -25,6 +25,7 @@
 #include <random>
 #include <set>
 
+#include "gpu/gl_debug.h"
 #include "common/shared.h"
 #include "core/paths.h"
 #include "gpu/shader_library.h"
@@ -342,6 +343,10 @@ TEST(NearFieldGrid, RgbaUintColumnsHaveNoR32uiView) {
   glDeleteTextures(1, &view);
   // GL 4.5 table 8.22: RGBA32UI is in the 128-bit view class, R32UI in the 32-bit one.
   EXPECT_EQ(err, GLenum(GL_INVALID_OPERATION));
+  // The debug output reported exactly that error (the test listener would fail on it): take it.
+  std::vector<GLDebugMessage> failures = takeGLFailures();
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_NE(failures[0].describe().find("GL_INVALID_OPERATION"), std::string::npos) << failures[0].describe();
 }
 
 // --- Traversal ------------------------------------------------------------------------------------
