@@ -23,6 +23,7 @@ variants=(
   "vct-grid mipmap.mode=anisotropic"
   "lpv gi.lookup-sign=plus-n"
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"
+  "lpv inject.vpl-shift=0.5"
 )
 
 runs=()

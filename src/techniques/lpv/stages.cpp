@@ -252,6 +252,9 @@ static ParamDesc vplDirectionParam() {
 
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(ParamDesc::real("inject.vpl-shift", 0.0, 0.0, 1.0,
+                          "move each VPL this far along its normal before it is stored (K&D: 0.5, against "
+                          "self-illumination; the thesis: 0); point VPLs stay put", "cells"));
   b.param(resolutionParam());
   b.param(injectSourceParam());
   b.param(vplDirectionParam());
@@ -262,6 +265,7 @@ void InjectStage::declare(StageBuilder& b) const {
   b.read("shadow-map");
   b.read("light");
   for (int c = 0; c < kCascades; ++c) b.read(voxelBuffer(c));
+  b.write("inject.unshifted");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
       b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, Semantic::Scalar,
@@ -286,15 +290,22 @@ void InjectStage::execute(StageContext& ctx) {
     setUniform(program, "u_pointVpl", point ? 1 : 0);
     setUniform(program, "u_vplCell", vplCell);
     setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
+    setUniform(program, "u_shift", ctx.params.getFloat("inject.vpl-shift"));
+    Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", 64 * size_t(res) * res * res);
     glUseProgram(program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, unshifted.id());
     glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
     glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
     for (int ch = 0; ch < 3; ++ch) glBindImageTexture(ch, out[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    dispatchCompute({res, res, res}, {4, 4, 4});
-    barrier();
+    for (int pass = 0; pass < 2; ++pass) {
+      setUniform(program, "u_pass", pass);
+      dispatchCompute({res, res, res}, {4, 4, 4});
+      barrier();
+    }
   }
   ctx.stats["point_vpl"] = point ? 1 : 0;
+  ctx.stats["vpl_shift_cells"] = ctx.params.getFloat("inject.vpl-shift");
 }
 
 // --- propagate -----------------------------------------------------------------------------------
@@ -334,7 +345,7 @@ void PropagateStage::declare(StageBuilder& b) const {
     b.read(voxelBuffer(c));
     for (int ch = 0; ch < 3; ++ch) b.read(shVolume("vpl", c, ch));
   }
-  b.write("propagate.steps");
+  b.write("energy.count");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
       b.output(shVolume("light", c, ch), OutputKind::Volume3D, Semantic::Scalar,
