@@ -72,6 +72,10 @@ void main() {
       }
     }
   }
+  if (u_shift == 0.0) {  // nothing moves: store directly, no second pass
+    for (int ch = 0; ch < 3; ++ch) imageStore(u_vpl[ch], c, sh[ch]);
+    return;
+  }
   int base = 4 * cellIndex(c);
   for (int ch = 0; ch < 3; ++ch) u_unshifted[base + ch] = sh[ch];
   u_unshifted[base + 3] = vec4(normal, 0.0);

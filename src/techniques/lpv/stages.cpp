@@ -298,7 +298,8 @@ void InjectStage::execute(StageContext& ctx) {
     glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
     glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
     for (int ch = 0; ch < 3; ++ch) glBindImageTexture(ch, out[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    for (int pass = 0; pass < 2; ++pass) {
+    const int passes = ctx.params.getFloat("inject.vpl-shift") > 0.0f ? 2 : 1;
+    for (int pass = 0; pass < passes; ++pass) {
       setUniform(program, "u_pass", pass);
       dispatchCompute({res, res, res}, {4, 4, 4});
       barrier();
@@ -605,6 +606,10 @@ void GiStage::declare(StageBuilder& b) const {
   b.param(lookupOffsetParam());
   b.param(radianceScaleParam());
   b.param(reflectionResolutionParam());
+  b.param(ParamDesc::boolean("gi.glossy", false,
+                             "trace the glossy cone through the reflection grid (off: the glossy output stays black; "
+                             "the scenes are Lambertian and composite.glossy is 0, and the cone costs more than the "
+                             "rest of the lookup on llvmpipe)"));
   b.param(ParamDesc::real("gi.glossy-aperture", 10.0, 1.0, 60.0,
                           "full opening angle of the glossy cone through the reflection grid", "degrees"));
   b.param(ParamDesc::real("gi.glossy-distance", 0.5, 0.05, 1.0,
@@ -644,6 +649,7 @@ void GiStage::execute(StageContext& ctx) {
   setUniform(program, "u_glossyTan", std::tan(0.5f * ctx.params.getFloat("gi.glossy-aperture") * float(kPi) / 180.0f));
   setUniform(program, "u_glossyDistance", ctx.params.getFloat("gi.glossy-distance") * fineEdge);
   setUniform(program, "u_cameraPos", ctx.view.position);
+  setUniform(program, "u_glossyOn", ctx.params.getBool("gi.glossy") ? 1 : 0);
   setUniform(program, "u_lookupSign", ctx.params.getChoice("gi.lookup-sign") == "minus-n" ? -1.0f : 1.0f);
   setUniform(program, "u_lookupOffset", ctx.params.getFloat("gi.lookup-offset"));
   setUniform(program, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
