@@ -84,17 +84,18 @@
 //     the inscribed ball of the fine grid).
 //   - Storage: RGBA32F (the thesis uses RGBA16F, 10-bit mantissa): the GPU matches the CPU
 //     reference propagation, and the energy records are meaningful. 32^3 x 16 B = 512 KiB per volume;
-//     per cascade 3 channels x (VPL, light, wavefront and two previous-step copies) = 7.5 MiB, plus
+//     per cascade 3 channels x (VPL, light, wavefront) = 4.5 MiB of volumes, 6 MiB of propagation
+//     state in two buffers (llvmpipe loads and stores buffers about twice as fast as images), and
 //     1 MiB of LPV voxel records.
 //   - Reflection grid: reflection.resolution 64 by default (the thesis: 256^3, 128 MiB for level 0
 //     in RGBA16F, too large for llvmpipe runs), RGBA16F, the colour word of Listing 4.27 per voxel,
 //     radiance albedo / pi x the fine cascade's L0 irradiance (direction ignored, as the thesis),
 //     sampled at the voxel centre (Listing 4.34's z + 0.0 is a 2D-array port error). The glossy
 //     cone uses the mip level whose voxel equals its diameter (the thesis' log2(d / 0.25) is two
-//     levels finer) and starts one voxel off the surface; composite.glossy is 0 because the scenes
+//     levels finer) and starts one voxel off the surface; composite.glossy is 0 and gi.glossy off because the scenes
 //     and the reference path tracer are Lambertian.
 //   - Bad input: parameters are range-checked before any GPU work (lpv.resolution 8..64, a power of
-//     two: at most 2 x 15 volumes of 4 MiB); fragments outside a grid are counted in the bin stage's
+//     two: at most 2 x (9 volumes of 4 MiB + 48 MiB of state); reflection.resolution 16..256); fragments outside a grid are counted in the bin stage's
 //     statistics (fragments_outside_fine/coarse) and dropped.
 //
 // References
