@@ -34,6 +34,7 @@ variants=(
   "voxel-path-tracing paths.bounces=4"
   "voxel-path-tracing paths.count=16"
   "svo svo.dilate=true"
+  "lpv inject.vpl-shift=0.5"
 )
 
 runs=()

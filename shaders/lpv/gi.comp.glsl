@@ -24,6 +24,7 @@ uniform float u_reflectionLevels;
 uniform float u_glossyTan;         // tan(half aperture)
 uniform float u_glossyDistance;    // metres
 uniform vec3 u_cameraPos;
+uniform int u_glossyOn;
 uniform float u_lookupSign;
 uniform float u_lookupOffset;
 uniform float u_radianceScale;
@@ -83,7 +84,7 @@ void main() {
     float d = max(q.x, max(q.y, q.z));
     t = clamp((d - (0.5 * res - 0.5 - u_blendWidth)) / u_blendWidth, 0.0, 1.0);
     indirect = texelFetch(u_albedo, px, 0).rgb / PI * mix(ef, ec, t);
-    glossy = glossyCone(pos.xyz, n);
+    if (u_glossyOn == 1) glossy = glossyCone(pos.xyz, n);
   }
   imageStore(u_fine, px, vec4(ef, 1.0));
   imageStore(u_coarse, px, vec4(ec, 1.0));

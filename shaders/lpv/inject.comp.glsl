@@ -5,6 +5,10 @@
 // fragment voxel^2, the surface in the cell) becomes a VPL of intensity (Phi / pi) max(0, n.w),
 // i.e. SH (Phi / pi) lobe(n) per colour channel. In point-VPL mode only u_vplCell holds lobe(n),
 // a VPL of flux pi per channel.
+// Two passes: u_pass 0 computes each cell's VPL and its normal into u_unshifted; u_pass 1 moves each
+// VPL u_shift cells along its normal (K&D's half-cell shift against self-illumination) by a
+// gather: a cell sums, in a fixed order, the VPLs of its 27 neighbourhood cells that land in it
+// (a shift of at most one cell moves a VPL at most to a neighbour), so no atomics are needed.
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/sh.glsl"
@@ -13,6 +17,9 @@ layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = LPV_BINDING_VOXELS) readonly buffer Voxels { LpvVoxel voxels[]; };
 layout(binding = 2) uniform sampler2D u_shadowMap;
 layout(rgba32f, binding = 0) uniform writeonly image3D u_vpl[3];
+layout(std430, binding = LPV_BINDING_STATE_OUT) buffer Unshifted { vec4 u_unshifted[]; };  // per cell: r, g, b SH, normal
+uniform int u_pass;
+uniform float u_shift;
 uniform float u_fragmentArea;
 uniform int u_pointVpl;
 uniform ivec3 u_vplCell;
@@ -22,7 +29,22 @@ const float PI = 3.14159265358979;
 void main() {
   ivec3 c = ivec3(gl_GlobalInvocationID);
   if (!cellInside(c)) return;
+  if (u_pass == 1) {
+    vec4 sum[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+    for (int k = 0; k < 27; ++k) {
+      ivec3 s = c + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
+      if (!cellInside(s)) continue;
+      int base = 4 * cellIndex(s);
+      vec3 n = u_unshifted[base + 3].xyz;
+      ivec3 dest = ivec3(floor(vec3(s) + 0.5 + u_shift * n));
+      if (dest != c) continue;
+      for (int ch = 0; ch < 3; ++ch) sum[ch] += u_unshifted[base + ch];
+    }
+    for (int ch = 0; ch < 3; ++ch) imageStore(u_vpl[ch], c, sum[ch]);
+    return;
+  }
   vec4 sh[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+  vec3 normal = vec3(0.0);
   if (u_pointVpl == 1) {
     if (c == u_vplCell) sh[0] = sh[1] = sh[2] = shLobe(u_vplNormal);
   } else {
@@ -46,8 +68,15 @@ void main() {
         vec3 irradiance = lightIrradiance(p) * best * visibility;
         vec3 flux = decodeColor(v.colorOcclusion) * irradiance * (float(v.fragmentCount) * u_fragmentArea);
         for (int ch = 0; ch < 3; ++ch) sh[ch] = (flux[ch] / PI) * shLobe(n);
+        normal = n;
       }
     }
   }
-  for (int ch = 0; ch < 3; ++ch) imageStore(u_vpl[ch], c, sh[ch]);
+  if (u_shift == 0.0) {  // nothing moves: store directly, no second pass
+    for (int ch = 0; ch < 3; ++ch) imageStore(u_vpl[ch], c, sh[ch]);
+    return;
+  }
+  int base = 4 * cellIndex(c);
+  for (int ch = 0; ch < 3; ++ch) u_unshifted[base + ch] = sh[ch];
+  u_unshifted[base + 3] = vec4(normal, 0.0);
 }

@@ -703,6 +703,44 @@ TEST(LpvGpu, ReflectionMipIsTheMeanOfItsChildren) {
   EXPECT_GT(nonEmpty, 100u);
 }
 
+TEST(LpvGpu, VplShiftMovesLightAlongTheNormalAndKeepsIt) {
+  struct Moments {
+    double flux = 0;
+    glm::dvec3 centre{0.0}, normal{0.0};
+  };
+  auto moments = [](const ShField& f) {
+    Moments m;
+    for (int z = 0; z < f.res; ++z)
+      for (int y = 0; y < f.res; ++y)
+        for (int x = 0; x < f.res; ++x) {
+          const SH& sh = f.at({x, y, z})[0];
+          m.flux += sh.x;
+          m.centre += double(sh.x) * glm::dvec3(x, y, z);
+          m.normal += glm::dvec3(shBand1(sh));
+        }
+    m.centre /= m.flux;
+    return m;
+  };
+  const std::vector<std::string> base = {"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=1"};
+  auto with = [&](const char* shift) {
+    auto sets = base;
+    sets.push_back(std::string("inject.vpl-shift=") + shift);
+    return moments(fieldOf(session(request(sets, "inject")), "vpl", 0, "inject"));
+  };
+  Moments still = with("0"), moved = with("0.5");
+  // The same VPLs, re-summed per cell: flux equal to fp32 rounding (measured 1e-7 relative).
+  EXPECT_NEAR(moved.flux / still.flux, 1.0, 1e-5);
+  // The light moved along its (flux-weighted) normal, by at most one cell.
+  glm::dvec3 shift = moved.centre - still.centre;
+  EXPECT_GT(glm::dot(shift, glm::normalize(still.normal)), 0.05);
+  EXPECT_LT(glm::length(shift), 1.0);
+  // A point VPL stays where it was put.
+  auto sets = base;
+  for (const char* extra : {"inject.vpl-shift=0.5", "inject.source=point-vpl"}) sets.push_back(extra);
+  ShField point = fieldOf(session(request(sets, "inject")), "vpl", 0, "inject");
+  EXPECT_EQ(point.at({8, 8, 8})[0], shLobe({0, 0, 1}));
+}
+
 }  // namespace
 }  // namespace voxlab::lpv
 

@@ -252,6 +252,9 @@ static ParamDesc vplDirectionParam() {
 
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(ParamDesc::real("inject.vpl-shift", 0.0, 0.0, 1.0,
+                          "move each VPL this far along its normal before it is stored (K&D: 0.5, against "
+                          "self-illumination; the thesis: 0); point VPLs stay put", "cells"));
   b.param(resolutionParam());
   b.param(injectSourceParam());
   b.param(vplDirectionParam());
@@ -262,6 +265,7 @@ void InjectStage::declare(StageBuilder& b) const {
   b.read("shadow-map");
   b.read("light");
   for (int c = 0; c < kCascades; ++c) b.read(voxelBuffer(c));
+  b.write("inject.unshifted");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
       b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, Semantic::Scalar,
@@ -286,15 +290,23 @@ void InjectStage::execute(StageContext& ctx) {
     setUniform(program, "u_pointVpl", point ? 1 : 0);
     setUniform(program, "u_vplCell", vplCell);
     setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
+    setUniform(program, "u_shift", ctx.params.getFloat("inject.vpl-shift"));
+    Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", 64 * size_t(res) * res * res);
     glUseProgram(program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, unshifted.id());
     glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
     glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
     for (int ch = 0; ch < 3; ++ch) glBindImageTexture(ch, out[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    dispatchCompute({res, res, res}, {4, 4, 4});
-    barrier();
+    const int passes = ctx.params.getFloat("inject.vpl-shift") > 0.0f ? 2 : 1;
+    for (int pass = 0; pass < passes; ++pass) {
+      setUniform(program, "u_pass", pass);
+      dispatchCompute({res, res, res}, {4, 4, 4});
+      barrier();
+    }
   }
   ctx.stats["point_vpl"] = point ? 1 : 0;
+  ctx.stats["vpl_shift_cells"] = ctx.params.getFloat("inject.vpl-shift");
 }
 
 // --- propagate -----------------------------------------------------------------------------------
@@ -334,7 +346,7 @@ void PropagateStage::declare(StageBuilder& b) const {
     b.read(voxelBuffer(c));
     for (int ch = 0; ch < 3; ++ch) b.read(shVolume("vpl", c, ch));
   }
-  b.write("propagate.steps");
+  b.write("energy.count");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
       b.output(shVolume("light", c, ch), OutputKind::Volume3D, Semantic::Scalar,
@@ -594,6 +606,10 @@ void GiStage::declare(StageBuilder& b) const {
   b.param(lookupOffsetParam());
   b.param(radianceScaleParam());
   b.param(reflectionResolutionParam());
+  b.param(ParamDesc::boolean("gi.glossy", false,
+                             "trace the glossy cone through the reflection grid (off: the glossy output stays black; "
+                             "the scenes are Lambertian and composite.glossy is 0, and the cone costs more than the "
+                             "rest of the lookup on llvmpipe)"));
   b.param(ParamDesc::real("gi.glossy-aperture", 10.0, 1.0, 60.0,
                           "full opening angle of the glossy cone through the reflection grid", "degrees"));
   b.param(ParamDesc::real("gi.glossy-distance", 0.5, 0.05, 1.0,
@@ -633,6 +649,7 @@ void GiStage::execute(StageContext& ctx) {
   setUniform(program, "u_glossyTan", std::tan(0.5f * ctx.params.getFloat("gi.glossy-aperture") * float(kPi) / 180.0f));
   setUniform(program, "u_glossyDistance", ctx.params.getFloat("gi.glossy-distance") * fineEdge);
   setUniform(program, "u_cameraPos", ctx.view.position);
+  setUniform(program, "u_glossyOn", ctx.params.getBool("gi.glossy") ? 1 : 0);
   setUniform(program, "u_lookupSign", ctx.params.getChoice("gi.lookup-sign") == "minus-n" ? -1.0f : 1.0f);
   setUniform(program, "u_lookupOffset", ctx.params.getFloat("gi.lookup-offset"));
   setUniform(program, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
