@@ -13,6 +13,8 @@
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
+// common/invocation.glsl reads gl_WorkGroupSize, so it comes after the layout line.
+#include "common/invocation.glsl"
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
 layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint counters[]; };
@@ -32,12 +34,12 @@ ivec3 brickOrigin(uint b) {
 }
 
 void main() {
-  uint n = gl_GlobalInvocationID.x;
+  uint n = linearInvocation();
   if (n >= u_nodeCount) return;
   bool tagged = (nodes[n].word & SVO_TAG) != 0u;
   if (u_pass == 0) {
     if (tagged) {
-      atomicAdd(groups[gl_WorkGroupID.x], 1u);
+      atomicAdd(groups[(linearInvocation() / 64u)], 1u);
       atomicAdd(counters[SVO_COUNTER_BRICKS], 1u);
     }
     return;

@@ -7,6 +7,8 @@
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
+// common/invocation.glsl reads gl_WorkGroupSize, so it comes after the layout line.
+#include "common/invocation.glsl"
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
 layout(std430, binding = SVO_BINDING_NODES) coherent buffer Nodes { SvoNode nodes[]; };
 uniform uint u_fragmentCount;
@@ -15,7 +17,7 @@ uniform int u_level;
 #include "svo/octree.glsl"
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = linearInvocation();
   if (i >= u_fragmentCount) return;
   uvec3 voxel = unpackVoxel10(fragments[i].position);
   uint node = svoFind(voxel >> uint(u_depth - u_level), u_level);

@@ -11,6 +11,8 @@
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
+// common/invocation.glsl reads gl_WorkGroupSize, so it comes after the layout line.
+#include "common/invocation.glsl"
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_LEAF_SUMS) coherent buffer LeafSums { uvec4 sums[]; };
@@ -28,7 +30,7 @@ const float kFixedPoint = 65535.0;  // 16 fractional bits: sums of up to 65536 f
 #include "svo/octree.glsl"
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = linearInvocation();
   if (u_pass == 1) {
     if (i >= u_count) return;
     uvec4 s = sums[u_start + i];

@@ -17,6 +17,8 @@
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
+// common/invocation.glsl reads gl_WorkGroupSize, so it comes after the layout line.
+#include "common/invocation.glsl"
 layout(std430, binding = SVO_BINDING_NODES) coherent buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint counters[]; };
 layout(std430, binding = SVO_BINDING_GROUPS) coherent buffer Groups { uint groups[]; };  // counts, then prefixes
@@ -30,7 +32,7 @@ uniform int u_pass;
 #include "svo/octree.glsl"
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = linearInvocation();
   if (i >= u_count) return;
   uint n = u_start + i;
   uint word = nodes[n].word;
@@ -49,12 +51,12 @@ void main() {
     if ((word & SVO_NON_EMPTY) != 0u) atomicAdd(counters[SVO_COUNTER_NON_EMPTY], 1u);
     if ((word & SVO_TAG) != 0u) {
       atomicAdd(counters[SVO_COUNTER_TAGGED], 1u);
-      atomicAdd(groups[gl_WorkGroupID.x], 1u);
+      atomicAdd(groups[(linearInvocation() / 64u)], 1u);
     }
   } else {
     if ((word & SVO_TAG) == 0u || u_level >= u_depth) return;
-    uint groupStart = u_start + gl_WorkGroupID.x * 64u;
-    uint rank = groups[gl_WorkGroupID.x];
+    uint groupStart = u_start + (linearInvocation() / 64u) * 64u;
+    uint rank = groups[(linearInvocation() / 64u)];
     for (uint m = groupStart; m < n; ++m)
       if ((nodes[m].word & SVO_TAG) != 0u) ++rank;
     uint tile = u_tilesBefore + rank;

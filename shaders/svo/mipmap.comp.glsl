@@ -6,13 +6,15 @@
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
+// common/invocation.glsl reads gl_WorkGroupSize, so it comes after the layout line.
+#include "common/invocation.glsl"
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_VALUES) buffer Values { vec4 values[]; };
 uniform uint u_start;
 uniform uint u_count;
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = linearInvocation();
   if (i >= u_count) return;
   uint n = u_start + i;
   uint first = nodes[n].word & SVO_CHILD_MASK;

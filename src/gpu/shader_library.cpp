@@ -258,6 +258,14 @@ void setUniform(GLuint p, const char* n, const glm::mat4& v) { glProgramUniformM
 
 void dispatchCompute(glm::ivec3 items, glm::ivec3 local) {
   glm::ivec3 groups = (items + local - 1) / local;
+  // GL guarantees only 65535 work groups per dimension: a 1D dispatch past that is folded into
+  // rows (y). Shaders of 1D work read their item as linearInvocation() (shaders/common/invocation.glsl)
+  // and bound-check it, so the extra invocations of the last row do nothing.
+  const int kMaxGroups = 65535;
+  if (groups.y <= 1 && groups.z <= 1 && groups.x > kMaxGroups) {
+    const int rows = (groups.x + kMaxGroups - 1) / kMaxGroups;
+    groups = glm::ivec3((groups.x + rows - 1) / rows, rows, 1);
+  }
   glDispatchCompute(std::max(groups.x, 1), std::max(groups.y, 1), std::max(groups.z, 1));
 }
 

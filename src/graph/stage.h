@@ -83,9 +83,11 @@ class StageBuilder {
   // The named parameters (declared with param()) point at one element of 'probe.space'.
   StageBuilder& probe(const ProbeDesc& p) { decl_.probes.push_back(p); return *this; }
   // The blackboard texture / buffer 'resource' this stage allocates (see ResourceDecl).
+  // pool: the desc is the starting size (the smallest the stage allocates); the stage grows it
+  // from counts at run time (e.g. svo's brick pool), so the estimate is a lower bound.
   StageBuilder& texture(const std::string& resource,
-                        std::function<TextureDesc(const ParamSet&, const ViewState&)> desc) {
-    decl_.resources.push_back({resource, std::move(desc), nullptr, false});
+                        std::function<TextureDesc(const ParamSet&, const ViewState&)> desc, bool pool = false) {
+    decl_.resources.push_back({resource, std::move(desc), nullptr, pool});
     return *this;
   }
   StageBuilder& buffer(const std::string& resource, std::function<size_t(const ParamSet&, const ViewState&)> bytes,

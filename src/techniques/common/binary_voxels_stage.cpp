@@ -44,6 +44,27 @@ std::vector<BitColumn> readBitColumns(GLuint texture, int level, int width, int 
   return out;
 }
 
+// The three images, sized from the resolution: 4 words per column (scratch), one RGBA32UI texel
+// per column, one R32UI popcount per column. Used by declare() and execute().
+static TextureDesc binaryWordsDesc(int res) {
+  TextureDesc words;
+  words.format = GL_R32UI;
+  words.size = {4 * res, res, 1};
+  words.minFilter = words.magFilter = GL_NEAREST;
+  return words;
+}
+static TextureDesc binaryColumnsDesc(int res) {
+  TextureDesc cols = binaryWordsDesc(res);
+  cols.format = GL_RGBA32UI;
+  cols.size = {res, res, 1};
+  return cols;
+}
+static TextureDesc binaryPopcountDesc(int res) {
+  TextureDesc count = binaryWordsDesc(res);
+  count.size = {res, res, 1};
+  return count;
+}
+
 void BinaryVoxelsStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("fragments");
@@ -56,24 +77,23 @@ void BinaryVoxelsStage::declare(StageBuilder& b) const {
   auto& count = b.output("binary-popcount", OutputKind::Image2D, Semantic::Scalar,
                          "voxels set per column (popcount of its 128 bits)");
   count.tier = CaptureTier::Exact;
+  b.texture("binary-voxels.words", [](const ParamSet& p, const ViewState&) {
+    return binaryWordsDesc(p.getInt("voxel.resolution"));
+  });
+  b.texture("binary-voxels", [](const ParamSet& p, const ViewState&) {
+    return binaryColumnsDesc(p.getInt("voxel.resolution"));
+  });
+  b.texture("binary-popcount", [](const ParamSet& p, const ViewState&) {
+    return binaryPopcountDesc(p.getInt("voxel.resolution"));
+  });
 }
 
 void BinaryVoxelsStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   if (res > 1024) throw Error("binary-voxels: voxel.resolution " + std::to_string(res) + " exceeds 1024 (10-bit keys)");
-  // Sized from the resolution: 4 words per column (scratch), one RGBA32UI texel per column.
-  TextureDesc words;
-  words.format = GL_R32UI;
-  words.size = {4 * res, res, 1};
-  words.minFilter = words.magFilter = GL_NEAREST;
-  Texture& scratch = ctx.board.ensureTexture("binary-voxels.words", words);
-  TextureDesc cols = words;
-  cols.format = GL_RGBA32UI;
-  cols.size = {res, res, 1};
-  Texture& grid = ctx.board.ensureTexture("binary-voxels", cols);
-  TextureDesc countDesc = words;
-  countDesc.size = {res, res, 1};
-  Texture& popcountTex = ctx.board.ensureTexture("binary-popcount", countDesc);
+  Texture& scratch = ctx.board.ensureTexture("binary-voxels.words", binaryWordsDesc(res));
+  Texture& grid = ctx.board.ensureTexture("binary-voxels", binaryColumnsDesc(res));
+  Texture& popcountTex = ctx.board.ensureTexture("binary-popcount", binaryPopcountDesc(res));
   const uint32_t zero = 0;
   glClearTexImage(scratch.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 

@@ -1,12 +1,23 @@
 #include "techniques/common/rsm_stage.h"
 
 #include <cstring>
+#include <utility>
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
 
 namespace voxlab {
+
+// The light-space images at rsm.resolution: position and flux RGBA32F, normal and radiance
+// RGBA16F. Used by declare() and execute().
+static TextureDesc rsmDesc(int size, GLenum format) {
+  TextureDesc d;
+  d.size = {size, size, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  d.format = format;
+  return d;
+}
 
 void RsmStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::integer("rsm.resolution", 512, 64, 4096, "reflective shadow map width and height", "px").pow2());
@@ -18,6 +29,11 @@ void RsmStage::declare(StageBuilder& b) const {
            "reflected radiance of the direct light: albedo / pi * irradiance");
   b.output("rsm-flux", OutputKind::Image2D, Semantic::RadianceHDR,
            "reflected flux per texel (W): albedo * irradiance * texel area on the surface");
+  for (auto [name, format] : {std::pair<const char*, GLenum>{"rsm-position", GL_RGBA32F},
+                              {"rsm-normal", GL_RGBA16F}, {"rsm-radiance", GL_RGBA16F}, {"rsm-flux", GL_RGBA32F}})
+    b.texture(name, [format = format](const ParamSet& p, const ViewState&) {
+      return rsmDesc(p.getInt("rsm.resolution"), format);
+    });
 }
 
 void RsmStage::execute(StageContext& ctx) {
@@ -27,17 +43,11 @@ void RsmStage::execute(StageContext& ctx) {
   std::memcpy(&light, bytes.data(), sizeof(light));
   const bool hasMap = light.spot.w > 0.5f;
 
-  TextureDesc d;
-  d.size = {size, size, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  d.format = GL_RGBA32F;
-  Texture& position = ctx.board.ensureTexture("rsm-position", d);
-  d.format = GL_RGBA16F;
-  Texture& normal = ctx.board.ensureTexture("rsm-normal", d);
-  Texture& radiance = ctx.board.ensureTexture("rsm-radiance", d);
-  d.format = GL_RGBA32F;
-  Texture& flux = ctx.board.ensureTexture("rsm-flux", d);
-  TextureDesc depthDesc = d;
+  Texture& position = ctx.board.ensureTexture("rsm-position", rsmDesc(size, GL_RGBA32F));
+  Texture& normal = ctx.board.ensureTexture("rsm-normal", rsmDesc(size, GL_RGBA16F));
+  Texture& radiance = ctx.board.ensureTexture("rsm-radiance", rsmDesc(size, GL_RGBA16F));
+  Texture& flux = ctx.board.ensureTexture("rsm-flux", rsmDesc(size, GL_RGBA32F));
+  TextureDesc depthDesc = rsmDesc(size, GL_RGBA32F);
   depthDesc.format = GL_DEPTH_COMPONENT32F;
   Texture depth("rsm.depth", depthDesc);
   Framebuffer fb("rsm.fbo");

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "common/shared.h"
@@ -80,6 +81,30 @@ static TextureDesc screenDesc(const ViewState& view, GLenum format) {
   d.minFilter = d.magFilter = GL_NEAREST;
   return d;
 }
+// The descs and sizes execute() allocates, shared with declare() (the resource budget).
+static TextureDesc voxelColourDesc(int res) {
+  TextureDesc d = shDesc(res);
+  d.format = GL_RGBA8;
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+static size_t cellCount(const ParamSet& p) {
+  const size_t res = size_t(p.getInt("lpv.resolution"));
+  return res * res * res;
+}
+static size_t voxelBufferBytes(const ParamSet& p) { return sizeof(gpu::LpvVoxel) * cellCount(p); }
+static size_t unshiftedBytes(const ParamSet& p) { return 64 * cellCount(p); }
+static size_t stateBytes(const ParamSet& p) { return 6 * cellCount(p) * 16; }  // six sections of RGBA32F
+static size_t energyBytes(const ParamSet& p) {
+  return sizeof(gpu::LpvEnergy) * kCascades * size_t(p.getInt("lpv.steps") + 1);
+}
+static size_t energyRowsBytes(const ParamSet& p) {
+  const size_t res = size_t(p.getInt("lpv.resolution"));
+  return 32 * res * res;
+}
+static std::string stateBuffer(int p, int cascade) {
+  return "propagate.state" + std::to_string(p) + "-" + kCascadeNames[cascade];
+}
 static void barrier() {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                   GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -136,6 +161,7 @@ void PlaceStage::declare(StageBuilder& b) const {
                            "cells per axis");
   o.layout = layout;
   o.resource = "lpv-grids";
+  b.buffer("lpv-grids", [](const ParamSet&, const ViewState&) { return sizeof(std::array<gpu::LpvGrid, kCascades>); });
 }
 
 void PlaceStage::execute(StageContext& ctx) {
@@ -186,6 +212,13 @@ void BinStage::declare(StageBuilder& b) const {
     b.output(voxelColourVolume(c), OutputKind::Volume3D, Semantic::Color,
              std::string("decoded ") + kCascadeNames[c] + " cells: stored linear albedo, alpha = occupied");
   }
+  b.buffer("bin.outside", [](const ParamSet&, const ViewState&) { return size_t(4 * kCascades); });
+  for (int c = 0; c < kCascades; ++c) {
+    b.buffer(voxelBuffer(c), [](const ParamSet& p, const ViewState&) { return voxelBufferBytes(p); });
+    b.texture(voxelColourVolume(c), [](const ParamSet& p, const ViewState&) {
+      return voxelColourDesc(p.getInt("lpv.resolution"));
+    });
+  }
 }
 
 void BinStage::execute(StageContext& ctx) {
@@ -197,7 +230,7 @@ void BinStage::execute(StageContext& ctx) {
   const uint32_t zeros[kCascades] = {0, 0};
   outside.upload(zeros, sizeof(zeros));
   for (int c = 0; c < kCascades; ++c) {
-    Buffer& voxels = ctx.board.ensureBuffer(voxelBuffer(c), sizeof(gpu::LpvVoxel) * size_t(res) * res * res);
+    Buffer& voxels = ctx.board.ensureBuffer(voxelBuffer(c), voxelBufferBytes(ctx.params));
     GLuint clear = ctx.shaders.program({"lpv/bin_clear.comp.glsl"});
     setUniform(clear, "u_gridRes", res);
     glUseProgram(clear);
@@ -217,10 +250,7 @@ void BinStage::execute(StageContext& ctx) {
     if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
     barrier();
 
-    TextureDesc cd = shDesc(res);
-    cd.format = GL_RGBA8;
-    cd.minFilter = cd.magFilter = GL_NEAREST;
-    Texture& colour = ctx.board.ensureTexture(voxelColourVolume(c), cd);
+    Texture& colour = ctx.board.ensureTexture(voxelColourVolume(c), voxelColourDesc(res));
     GLuint decode = ctx.shaders.program({"lpv/bin_decode.comp.glsl"});
     setUniform(decode, "u_gridRes", res);
     glUseProgram(decode);
@@ -271,6 +301,10 @@ void InjectStage::declare(StageBuilder& b) const {
       b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, Semantic::Scalar,
                std::string("sh-l1: injected VPL intensity (W/sr) of the ") + kChannelNames[ch] + " channel, " +
                    kCascadeNames[c] + " cascade, as L1 SH (c00, c1-1, c10, c11); shown as c00");
+  for (int c = 0; c < kCascades; ++c)
+    for (int ch = 0; ch < 3; ++ch)
+      b.texture(shVolume("vpl", c, ch), [](const ParamSet& p, const ViewState&) { return shDesc(p.getInt("lpv.resolution")); });
+  b.buffer("inject.unshifted", [](const ParamSet& p, const ViewState&) { return unshiftedBytes(p); });
 }
 
 void InjectStage::execute(StageContext& ctx) {
@@ -291,7 +325,7 @@ void InjectStage::execute(StageContext& ctx) {
     setUniform(program, "u_vplCell", vplCell);
     setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
     setUniform(program, "u_shift", ctx.params.getFloat("inject.vpl-shift"));
-    Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", 64 * size_t(res) * res * res);
+    Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", unshiftedBytes(ctx.params));
     glUseProgram(program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, unshifted.id());
@@ -381,13 +415,22 @@ void PropagateStage::declare(StageBuilder& b) const {
            "the picked cell (probe.cell-x/y/z, probe.cascade) after the current step: SH per channel, its voxel's "
            "words, and c00 gained from each neighbour (a: mean face transmission)")
       .layout = probe;
+  for (int c = 0; c < kCascades; ++c)
+    for (const char* prefix : {"light", "wavefront"})
+      for (int ch = 0; ch < 3; ++ch)
+        b.texture(shVolume(prefix, c, ch), [](const ParamSet& p, const ViewState&) { return shDesc(p.getInt("lpv.resolution")); });
+  for (int c = 0; c < kCascades; ++c)
+    for (int s = 0; s < 2; ++s) b.buffer(stateBuffer(s, c), [](const ParamSet& p, const ViewState&) { return stateBytes(p); });
+  b.buffer("energy", [](const ParamSet& p, const ViewState&) { return energyBytes(p); });
+  b.buffer("energy.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
+  b.buffer("probe-cell", [](const ParamSet&, const ViewState&) { return sizeof(gpu::LpvProbe); });
+  b.buffer("propagate.energy-rows", [](const ParamSet& p, const ViewState&) { return energyRowsBytes(p); });
 }
 
 int PropagateStage::iterations(const ParamSet& params) const { return params.getInt("lpv.steps"); }
 
 void PropagateStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("lpv.resolution");
-  const int steps = ctx.params.getInt("lpv.steps");
   const int k = ctx.iteration;
   const bool thesisScheme = ctx.params.getChoice("lpv.scheme") == "thesis";
   const double pi = kPi;
@@ -395,7 +438,7 @@ void PropagateStage::execute(StageContext& ctx) {
                                 ? float(ctx.params.getFloat("lpv.flux-amplifier") / (4.0 * pi))
                                 : float(1.0 / pi);
   const int occlusion = ctx.params.getInt("lpv.occlusion");  // 0 two-sided, 1 thesis, 2 none
-  Buffer& energy = ctx.board.ensureBuffer("energy", sizeof(gpu::LpvEnergy) * kCascades * size_t(steps + 1));
+  Buffer& energy = ctx.board.ensureBuffer("energy", energyBytes(ctx.params));
   Buffer& energyCount = ctx.board.ensureBuffer("energy.count", 4);
   Buffer& probe = ctx.board.ensureBuffer("probe-cell", sizeof(gpu::LpvProbe));
   const int probeCascade = ctx.params.getInt("probe.cascade");
@@ -408,7 +451,7 @@ void PropagateStage::execute(StageContext& ctx) {
     const size_t cells = size_t(res) * res * res, section = cells * 16;
     Buffer* state[2];
     for (int p = 0; p < 2; ++p)
-      state[p] = &ctx.board.ensureBuffer("propagate.state" + std::to_string(p) + "-" + kCascadeNames[c], 6 * section);
+      state[p] = &ctx.board.ensureBuffer(stateBuffer(p, c), stateBytes(ctx.params));
     Buffer& in = *state[k % 2];
     Buffer& out = *state[(k + 1) % 2];
     Texture *light[3], *wave[3];
@@ -462,7 +505,7 @@ void PropagateStage::execute(StageContext& ctx) {
       barrier();
     }
     // Energy: step 0 (injected) once, then the step just made.
-    Buffer& partials = ctx.board.ensureBuffer("propagate.energy-rows", 32 * size_t(res) * res);
+    Buffer& partials = ctx.board.ensureBuffer("propagate.energy-rows", energyRowsBytes(ctx.params));
     auto sumEnergy = [&](Texture* const* l, Texture* const* w, int step, int record) {
       setUniform(sum, "u_gridRes", res);
       setUniform(sum, "u_cascade", c);
@@ -511,6 +554,29 @@ static ParamDesc reflectionResolutionParam() {
       .pow2();
 }
 
+static int reflectionLevels(const ParamSet& params) {
+  int res = params.getInt("reflection.resolution"), levels = 1;
+  while (res > 1) res >>= 1, ++levels;
+  return levels;
+}
+static TextureDesc reflectionColourDesc(const ParamSet& params) {
+  const int res = params.getInt("reflection.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_R32UI;
+  d.size = {res, res, res};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+static TextureDesc reflectionDesc(const ParamSet& params) {
+  TextureDesc d = reflectionColourDesc(params);
+  d.format = GL_RGBA16F;
+  d.levels = reflectionLevels(params);
+  d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  d.magFilter = GL_LINEAR;
+  return d;
+}
+
 void ReflectionStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(resolutionParam());
@@ -525,30 +591,18 @@ void ReflectionStage::declare(StageBuilder& b) const {
   b.output("reflection", OutputKind::Volume3D, Semantic::RadianceHDR,
            "outgoing radiance per reflection voxel (L0 of the fine cascade's light), alpha = occupancy; level k = mean "
            "of 8 texels of level k-1");
+  b.texture("reflection-colour", [](const ParamSet& p, const ViewState&) { return reflectionColourDesc(p); });
+  b.texture("reflection", [](const ParamSet& p, const ViewState&) { return reflectionDesc(p); });
 }
 
-int ReflectionStage::iterations(const ParamSet& params) const {
-  int res = params.getInt("reflection.resolution"), levels = 1;
-  while (res > 1) res >>= 1, ++levels;
-  return levels;
-}
+int ReflectionStage::iterations(const ParamSet& params) const { return reflectionLevels(params); }
 
 void ReflectionStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("reflection.resolution");
   const int k = ctx.iteration;
   auto grids = readGrids(ctx.board);
-  TextureDesc cd;
-  cd.target = GL_TEXTURE_3D;
-  cd.format = GL_R32UI;
-  cd.size = {res, res, res};
-  cd.minFilter = cd.magFilter = GL_NEAREST;
-  Texture& colour = ctx.board.ensureTexture("reflection-colour", cd);
-  TextureDesc rd = cd;
-  rd.format = GL_RGBA16F;
-  rd.levels = iterations(ctx.params);
-  rd.minFilter = GL_LINEAR_MIPMAP_LINEAR;
-  rd.magFilter = GL_LINEAR;
-  Texture& grid = ctx.board.ensureTexture("reflection", rd);
+  Texture& colour = ctx.board.ensureTexture("reflection-colour", reflectionColourDesc(ctx.params));
+  Texture& grid = ctx.board.ensureTexture("reflection", reflectionDesc(ctx.params));
   if (k == 0) {
     const uint32_t zero = 0;
     glClearTexImage(colour.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -598,6 +652,12 @@ void ReflectionStage::execute(StageContext& ctx) {
 
 // --- gi ------------------------------------------------------------------------------------------
 
+static const std::pair<const char*, GLenum> kGiImages[] = {{"irradiance-fine", GL_RGBA32F},
+                                                           {"irradiance-coarse", GL_RGBA32F},
+                                                           {"cascade-blend", GL_R32F},
+                                                           {"indirect-diffuse", GL_RGBA32F},
+                                                           {"glossy", GL_RGBA16F}};
+
 void GiStage::declare(StageBuilder& b) const {
   b.param(resolutionParam());
   b.param(ParamDesc::choice("gi.lookup-sign", {"minus-n", "plus-n"}, 0,
@@ -632,15 +692,15 @@ void GiStage::declare(StageBuilder& b) const {
       .referenceMode = "indirect-1";
   b.output("glossy", OutputKind::Image2D, Semantic::RadianceHDR,
            "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips");
+  for (const auto& [name, format] : kGiImages)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
 }
 
 void GiStage::execute(StageContext& ctx) {
   auto grids = readGrids(ctx.board);
-  Texture& fine = ctx.board.ensureTexture("irradiance-fine", screenDesc(ctx.view, GL_RGBA32F));
-  Texture& coarse = ctx.board.ensureTexture("irradiance-coarse", screenDesc(ctx.view, GL_RGBA32F));
-  Texture& blend = ctx.board.ensureTexture("cascade-blend", screenDesc(ctx.view, GL_R32F));
-  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", screenDesc(ctx.view, GL_RGBA32F));
-  Texture& glossy = ctx.board.ensureTexture("glossy", screenDesc(ctx.view, GL_RGBA16F));
+  Texture* images[5];
+  for (int i = 0; i < 5; ++i) images[i] = &ctx.board.ensureTexture(kGiImages[i].first, screenDesc(ctx.view, kGiImages[i].second));
+  Texture &fine = *images[0], &coarse = *images[1], &blend = *images[2], &indirect = *images[3], &glossy = *images[4];
   GLuint program = ctx.shaders.program({"lpv/gi.comp.glsl"});
   const float fineEdge = grids[0].originCell.w * grids[0].centreRes.w;
   const int reflRes = ctx.params.getInt("reflection.resolution");
@@ -673,6 +733,9 @@ void GiStage::execute(StageContext& ctx) {
 
 // --- composite -----------------------------------------------------------------------------------
 
+static const std::pair<const char*, GLenum> kCompositeImages[] = {
+    {"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
+
 void CompositeStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
   b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
@@ -691,12 +754,15 @@ void CompositeStage::declare(StageBuilder& b) const {
            "direct + indirect diffuse (one bounce), linear radiance")
       .referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  for (const auto& [name, format] : kCompositeImages)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
 }
 
 void CompositeStage::execute(StageContext& ctx) {
-  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
+  Texture* images[3];
+  for (int i = 0; i < 3; ++i)
+    images[i] = &ctx.board.ensureTexture(kCompositeImages[i].first, screenDesc(ctx.view, kCompositeImages[i].second));
+  Texture &direct = *images[0], &combined = *images[1], &final = *images[2];
   GLuint program = ctx.shaders.program({"lpv/composite.comp.glsl"});
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));

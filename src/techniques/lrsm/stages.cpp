@@ -67,6 +67,27 @@ static TextureDesc texDesc(glm::ivec3 size, GLenum format, int levels = 1, GLenu
   return d;
 }
 
+// The descs execute() passes to ensureTexture, shared with declare() (the resource budget).
+static TextureDesc occlusionVoxelsDesc(int res) { return texDesc({res, res, res}, GL_R8, 1, GL_NEAREST, GL_TEXTURE_3D); }
+static TextureDesc occlusionMipsDesc(int res) {
+  return texDesc({res, res, res}, GL_R8, levelsOf(res), GL_LINEAR_MIPMAP_LINEAR, GL_TEXTURE_3D);
+}
+static TextureDesc rsmTexDesc(int rsm, GLenum format) { return texDesc({rsm, rsm, 1}, format); }
+static int layerCount(const ParamSet& p) { return (p.getInt("lrsm.depth-splits") + 1) * (p.getInt("lrsm.normal-splits") + 1); }
+// The layer atlas: n layers of (rsm / 2)^2 side by side.
+static glm::ivec3 atlasSize(int rsm, int n) { return {(rsm / 2) * n, rsm / 2, 1}; }
+static TextureDesc lrsmMipDesc(glm::ivec3 base, GLenum format) {
+  return texDesc(base, format, lrsmLevels(base.y), GL_LINEAR_MIPMAP_NEAREST);
+}
+static TextureDesc coverageSumDesc(int w) { return texDesc({w, w, 1}, GL_R16F, lrsmLevels(w)); }
+static glm::ivec3 traceSize(const ParamSet& p, const ViewState& v) {
+  const int s = traceScale(p);
+  return {(v.width + s - 1) / s, (v.height + s - 1) / s, 1};
+}
+static constexpr size_t kConeSamplesBytes = sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
+static constexpr size_t kGatherRecordsBytes = sizeof(gpu::LrsmGatherRecord) * LRSM_MAX_GATHER_RECORDS;
+static constexpr size_t kConeResultsBytes = sizeof(gpu::LrsmConeResult) * (LRSM_MAX_CONES + 1);
+
 LayerLayout layoutFor(const Scene& scene, Blackboard& board, const ParamSet& params) {
   LayerLayout L;
   L.depthSplits = params.getInt("lrsm.depth-splits");
@@ -108,11 +129,13 @@ void OcclusionVoxelsStage::declare(StageBuilder& b) const {
   auto& o = b.output("occlusion-voxels", OutputKind::Volume3D, Semantic::Occupancy,
                      "binary occlusion, R8 (1 byte per voxel): 1 where the conservative fragment list has a voxel");
   o.tier = CaptureTier::Exact;
+  b.texture("occlusion-voxels",
+            [](const ParamSet& p, const ViewState&) { return occlusionVoxelsDesc(p.getInt("voxel.resolution")); });
 }
 
 void OcclusionVoxelsStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  Texture& voxels = ctx.board.ensureTexture("occlusion-voxels", texDesc({res, res, res}, GL_R8, 1, GL_NEAREST, GL_TEXTURE_3D));
+  Texture& voxels = ctx.board.ensureTexture("occlusion-voxels", occlusionVoxelsDesc(res));
   const float zero = 0.0f;
   glClearTexImage(voxels.id(), 0, GL_RED, GL_FLOAT, &zero);
   const uint32_t fragments = voxelFragmentCount(ctx.board);
@@ -135,14 +158,15 @@ void OcclusionMipsStage::declare(StageBuilder& b) const {
   b.read("occlusion-voxels");
   b.output("occlusion", OutputKind::Volume3D, Semantic::Fraction,
            "isotropic occlusion mips (R8): level 0 = the binary voxels, level k = mean of its 8 children");
+  b.texture("occlusion",
+            [](const ParamSet& p, const ViewState&) { return occlusionMipsDesc(p.getInt("voxel.resolution")); });
 }
 
 int OcclusionMipsStage::iterations(const ParamSet& params) const { return levelsOf(params.getInt("voxel.resolution")); }
 
 void OcclusionMipsStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  Texture& occ = ctx.board.ensureTexture(
-      "occlusion", texDesc({res, res, res}, GL_R8, levelsOf(res), GL_LINEAR_MIPMAP_LINEAR, GL_TEXTURE_3D));
+  Texture& occ = ctx.board.ensureTexture("occlusion", occlusionMipsDesc(res));
   if (ctx.iteration == 0) {
     glCopyImageSubData(ctx.board.texture("occlusion-voxels").id(), GL_TEXTURE_3D, 0, 0, 0, 0, occ.id(), GL_TEXTURE_3D,
                        0, 0, 0, 0, res, res, res);
@@ -187,21 +211,38 @@ void LayersStage::declare(StageBuilder& b) const {
   b.output("layer-normal", OutputKind::Image2D, kLayerNormal, "LRSM base: xyz = alpha * n, w = alpha");
   b.output("layer-depth", OutputKind::Image2D, kLayerDepth,
            "LRSM base (UNORM16): x = alpha * z', y = alpha * z'^2 (z' warped into the layer's range), z = alpha");
+  auto rsmTex = [](GLenum format) {
+    return [format](const ParamSet& p, const ViewState&) {
+      return rsmTexDesc(p.getInt("rsm.resolution"), format);
+    };
+  };
+  auto atlasTex = [](GLenum format) {
+    return [format](const ParamSet& p, const ViewState&) {
+      return texDesc(atlasSize(p.getInt("rsm.resolution"), layerCount(p)), format);
+    };
+  };
+  b.texture("rsm-depth", rsmTex(GL_RGBA32F));
+  b.texture("layer-id", rsmTex(GL_R8UI));
+  b.texture("layer-radiance", atlasTex(GL_RGBA16F));
+  b.texture("layer-normal", atlasTex(GL_RGBA16F));
+  b.texture("layer-depth", atlasTex(GL_RGBA16));
 }
 
 void LayersStage::execute(StageContext& ctx) {
   const int rsm = ctx.params.getInt("rsm.resolution");
   const LayerLayout L = layoutFor(ctx.scene, ctx.board, ctx.params);
-  const int w = rsm / 2, n = L.count();
+  const int n = L.count();
+  const glm::ivec3 atlas = atlasSize(rsm, n);
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
   const std::string tooWide = atlasSizeError(rsm, n, maxSize);
   if (!tooWide.empty()) throw Error(tooWide);
-  Texture& depth = ctx.board.ensureTexture("rsm-depth", texDesc({rsm, rsm, 1}, GL_RGBA32F));
-  Texture& ids = ctx.board.ensureTexture("layer-id", texDesc({rsm, rsm, 1}, GL_R8UI));
-  Texture& rad = ctx.board.ensureTexture("layer-radiance", texDesc({w * n, w, 1}, GL_RGBA16F));
-  Texture& nor = ctx.board.ensureTexture("layer-normal", texDesc({w * n, w, 1}, GL_RGBA16F));
-  Texture& dep = ctx.board.ensureTexture("layer-depth", texDesc({w * n, w, 1}, GL_RGBA16));
+  Texture& depth = ctx.board.ensureTexture("rsm-depth", rsmTexDesc(rsm, GL_RGBA32F));
+  Texture& ids = ctx.board.ensureTexture("layer-id", rsmTexDesc(rsm, GL_R8UI));
+  Texture& rad = ctx.board.ensureTexture("layer-radiance", texDesc(atlas, GL_RGBA16F));
+  Texture& nor = ctx.board.ensureTexture("layer-normal", texDesc(atlas, GL_RGBA16F));
+  Texture& dep = ctx.board.ensureTexture("layer-depth", texDesc(atlas, GL_RGBA16));
+  const int w = atlas.y;
   const gpu::GpuLight light = readLight(ctx.board);
   GLuint program = ctx.shaders.program({"lrsm/layers.comp.glsl"});
   setLayoutUniforms(program, L);
@@ -239,6 +280,17 @@ void LrsmMipsStage::declare(StageBuilder& b) const {
            "LRSM moment mips per layer: alpha * z', alpha * z'^2, alpha (mu = x / z, sigma^2 = y / z - mu^2)");
   b.output("coverage-sum", OutputKind::Image2D, Semantic::Fraction,
            "sum over layers of alpha at every level: the RSM's covered fraction (1 where fully covered)");
+  // The base is the layer atlas LayersStage allocates (execute() reads its size from it).
+  auto mipTex = [](GLenum format) {
+    return [format](const ParamSet& p, const ViewState&) {
+      return lrsmMipDesc(atlasSize(p.getInt("rsm.resolution"), layerCount(p)), format);
+    };
+  };
+  b.texture("lrsm-radiance", mipTex(GL_RGBA16F));
+  b.texture("lrsm-normal", mipTex(GL_RGBA16F));
+  b.texture("lrsm-depth", mipTex(GL_RGBA16));
+  b.texture("coverage-sum",
+            [](const ParamSet& p, const ViewState&) { return coverageSumDesc(p.getInt("rsm.resolution") / 2); });
 }
 
 int LrsmMipsStage::iterations(const ParamSet& params) const { return lrsmLevels(params.getInt("rsm.resolution") / 2); }
@@ -248,10 +300,10 @@ void LrsmMipsStage::execute(StageContext& ctx) {
   const glm::ivec3 base = baseRad.desc().size;
   const int w = base.y, n = base.x / base.y, levels = lrsmLevels(w);
   // Filtered within a level (the gather's bilinear lookups), never across levels.
-  Texture& rad = ctx.board.ensureTexture("lrsm-radiance", texDesc(base, GL_RGBA16F, levels, GL_LINEAR_MIPMAP_NEAREST));
-  Texture& nor = ctx.board.ensureTexture("lrsm-normal", texDesc(base, GL_RGBA16F, levels, GL_LINEAR_MIPMAP_NEAREST));
-  Texture& dep = ctx.board.ensureTexture("lrsm-depth", texDesc(base, GL_RGBA16, levels, GL_LINEAR_MIPMAP_NEAREST));
-  Texture& sum = ctx.board.ensureTexture("coverage-sum", texDesc({w, w, 1}, GL_R16F, levels));
+  Texture& rad = ctx.board.ensureTexture("lrsm-radiance", lrsmMipDesc(base, GL_RGBA16F));
+  Texture& nor = ctx.board.ensureTexture("lrsm-normal", lrsmMipDesc(base, GL_RGBA16F));
+  Texture& dep = ctx.board.ensureTexture("lrsm-depth", lrsmMipDesc(base, GL_RGBA16));
+  Texture& sum = ctx.board.ensureTexture("coverage-sum", coverageSumDesc(w));
   const int level = ctx.iteration;
   if (level == 0) {
     const float zero[4] = {0, 0, 0, 0};
@@ -358,6 +410,17 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                       "1 specular, 2 shadow, 3 = the final sum: rgb = indirect diffuse)");
   cr.layout = c;
   cr.probeRecord = true;
+  auto traceTex = [](GLenum format) {
+    return [format](const ParamSet& p, const ViewState& v) { return texDesc(traceSize(p, v), format); };
+  };
+  b.texture("indirect-diffuse", traceTex(GL_RGBA16F));
+  b.texture("indirect-specular", traceTex(GL_RGBA16F));
+  b.texture("soft-shadow", traceTex(GL_R16F));
+  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) { return kConeSamplesBytes; });
+  b.buffer("cone-samples.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
+  b.buffer("gather-records", [](const ParamSet&, const ViewState&) { return kGatherRecordsBytes; });
+  b.buffer("gather-records.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
+  b.buffer("cone-results", [](const ParamSet&, const ViewState&) { return kConeResultsBytes; });
 }
 
 void ConeGatherStage::execute(StageContext& ctx) {
@@ -365,15 +428,16 @@ void ConeGatherStage::execute(StageContext& ctx) {
   const VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
   const LayerLayout L = layoutFor(ctx.scene, ctx.board, ctx.params);
   const int s = traceScale(ctx.params);
-  const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
-  Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc({tw, th, 1}, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", texDesc({tw, th, 1}, GL_RGBA16F));
-  Texture& shadow = ctx.board.ensureTexture("soft-shadow", texDesc({tw, th, 1}, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  const glm::ivec3 traced = traceSize(ctx.params, ctx.view);
+  const int tw = traced.x, th = traced.y;
+  Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc(traced, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", texDesc(traced, GL_RGBA16F));
+  Texture& shadow = ctx.board.ensureTexture("soft-shadow", texDesc(traced, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", kConeSamplesBytes);
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
-  Buffer& records = ctx.board.ensureBuffer("gather-records", sizeof(gpu::LrsmGatherRecord) * LRSM_MAX_GATHER_RECORDS);
+  Buffer& records = ctx.board.ensureBuffer("gather-records", kGatherRecordsBytes);
   Buffer& recordCount = ctx.board.ensureBuffer("gather-records.count", 4);
-  Buffer& cones = ctx.board.ensureBuffer("cone-results", sizeof(gpu::LrsmConeResult) * (LRSM_MAX_CONES + 1));
+  Buffer& cones = ctx.board.ensureBuffer("cone-results", kConeResultsBytes);
   const uint32_t zero = 0;
   sampleCount.upload(&zero, 4);
   recordCount.upload(&zero, 4);
@@ -476,13 +540,20 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + one-bounce indirect diffuse, linear")
       .referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  auto screenTex = [](GLenum format) {
+    return [format](const ParamSet&, const ViewState& v) { return texDesc({v.width, v.height, 1}, format); };
+  };
+  b.texture("direct", screenTex(GL_RGBA16F));
+  b.texture("combined", screenTex(GL_RGBA16F));
+  b.texture("final", screenTex(GL_RGBA8));
 }
 
 void CompositeStage::execute(StageContext& ctx) {
   const int w = ctx.view.width, h = ctx.view.height;
-  Texture& direct = ctx.board.ensureTexture("direct", texDesc({w, h, 1}, GL_RGBA16F));
-  Texture& combined = ctx.board.ensureTexture("combined", texDesc({w, h, 1}, GL_RGBA16F));
-  Texture& final = ctx.board.ensureTexture("final", texDesc({w, h, 1}, GL_RGBA8));
+  const glm::ivec3 screen{w, h, 1};
+  Texture& direct = ctx.board.ensureTexture("direct", texDesc(screen, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", texDesc(screen, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", texDesc(screen, GL_RGBA8));
   GLuint program = ctx.shaders.program({"lrsm/composite.comp.glsl"});
   const VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
   setUniform(program, "u_traceScale", traceScale(ctx.params));

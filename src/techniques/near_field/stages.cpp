@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "common/shared.h"
@@ -92,6 +93,46 @@ static void checkTracedBytes(const char* stage, int tw, int th, int bytesPerTexe
 
 static int traceScale(const ParamSet& p) { return p.getChoice("rays.resolution") == "half" ? 2 : 1; }
 
+// The size of the traced images (rays.resolution of the view), for declare() and execute().
+static glm::ivec2 tracedSize(const ParamSet& p, const ViewState& v) {
+  const int s = traceScale(p);
+  return {(v.width + s - 1) / s, (v.height + s - 1) / s};
+}
+
+// A traced-size image of 'format', declared for the resource budget.
+static void declareTraced(StageBuilder& b, const char* name, GLenum format) {
+  b.texture(name, [format](const ParamSet& p, const ViewState& v) {
+    const glm::ivec2 t = tracedSize(p, v);
+    return screenDesc(t.x, t.y, format);
+  });
+}
+
+// The bitmask tables: OR (128 x 1), XOR (129 x 1), the ray masks (128 x 128) and their popcount.
+static TextureDesc orTableDesc() { return screenDesc(kBinarySlices, 1, GL_RGBA32UI); }
+static TextureDesc xorTableDesc() { return screenDesc(kBinarySlices + 1, 1, GL_RGBA32UI); }
+static TextureDesc rayMasksDesc() { return screenDesc(kBinarySlices, kBinarySlices, GL_RGBA32UI); }
+static TextureDesc rayMaskPopcountDesc() { return screenDesc(kBinarySlices, kBinarySlices, GL_R32UI); }
+
+// The 2D OR hierarchy (RGBA32UI) and its popcount (R32UI): res x res with all mip levels.
+static TextureDesc hierarchyDesc(int res, GLenum format) {
+  TextureDesc d = screenDesc(res, res, format);
+  d.levels = maxLevelOf(res) + 1;
+  d.minFilter = GL_NEAREST_MIPMAP_NEAREST;  // integer textures need NEAREST filters to be complete
+  return d;
+}
+
+// Voxel albedo / normal: RGBA8, res^3.
+static TextureDesc voxelAttributeDesc(int res) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {res, res, res};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+constexpr int kRayCounters = 16 + 256;  // [0] step records, [1 + category], [16 + steps] histogram
+
 // --- Bitmask tables ------------------------------------------------------------------------------
 
 void BitmaskTablesStage::declare(StageBuilder& b) const {
@@ -107,16 +148,17 @@ void BitmaskTablesStage::declare(StageBuilder& b) const {
   auto& pc = b.output("ray-mask-popcount", OutputKind::Image2D, Semantic::Scalar,
                       "set slices per ray mask: j - i + 1 above the diagonal; below it the unused i > j half");
   pc.tier = CaptureTier::Exact;
+  b.texture("or-table", [](const ParamSet&, const ViewState&) { return orTableDesc(); });
+  b.texture("xor-table", [](const ParamSet&, const ViewState&) { return xorTableDesc(); });
+  b.texture("ray-masks", [](const ParamSet&, const ViewState&) { return rayMasksDesc(); });
+  b.texture("ray-mask-popcount", [](const ParamSet&, const ViewState&) { return rayMaskPopcountDesc(); });
 }
 
 void BitmaskTablesStage::execute(StageContext& ctx) {
-  TextureDesc d = screenDesc(kBinarySlices, 1, GL_RGBA32UI);
-  Texture& orTex = ctx.board.ensureTexture("or-table", d);
-  d.size = {kBinarySlices + 1, 1, 1};
-  Texture& xorTex = ctx.board.ensureTexture("xor-table", d);
-  d.size = {kBinarySlices, kBinarySlices, 1};
-  Texture& rayTex = ctx.board.ensureTexture("ray-masks", d);
-  Texture& pcTex = ctx.board.ensureTexture("ray-mask-popcount", screenDesc(kBinarySlices, kBinarySlices, GL_R32UI));
+  Texture& orTex = ctx.board.ensureTexture("or-table", orTableDesc());
+  Texture& xorTex = ctx.board.ensureTexture("xor-table", xorTableDesc());
+  Texture& rayTex = ctx.board.ensureTexture("ray-masks", rayMasksDesc());
+  Texture& pcTex = ctx.board.ensureTexture("ray-mask-popcount", rayMaskPopcountDesc());
   auto orT = orTable();
   auto xorT = xorTable();
   glTextureSubImage2D(orTex.id(), 0, 0, 0, kBinarySlices, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, orT.data());
@@ -143,6 +185,12 @@ void HierarchyStage::declare(StageBuilder& b) const {
   auto& pc = b.output("hierarchy-popcount", OutputKind::Image2D, Semantic::Scalar,
                       "set slices per column at every level (never decreases from a level to the next)");
   pc.tier = CaptureTier::Exact;
+  b.texture("bitmask-hierarchy", [](const ParamSet& p, const ViewState&) {
+    return hierarchyDesc(p.getInt("voxel.resolution"), GL_RGBA32UI);
+  });
+  b.texture("hierarchy-popcount", [](const ParamSet& p, const ViewState&) {
+    return hierarchyDesc(p.getInt("voxel.resolution"), GL_R32UI);
+  });
 }
 
 int HierarchyStage::iterations(const ParamSet& params) const {
@@ -152,12 +200,8 @@ int HierarchyStage::iterations(const ParamSet& params) const {
 void HierarchyStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const int maxLevel = maxLevelOf(res);
-  TextureDesc d = screenDesc(res, res, GL_RGBA32UI);
-  d.levels = maxLevel + 1;
-  d.minFilter = GL_NEAREST_MIPMAP_NEAREST;  // integer textures need NEAREST filters to be complete
-  Texture& h = ctx.board.ensureTexture("bitmask-hierarchy", d);
-  d.format = GL_R32UI;
-  Texture& pc = ctx.board.ensureTexture("hierarchy-popcount", d);
+  Texture& h = ctx.board.ensureTexture("bitmask-hierarchy", hierarchyDesc(res, GL_RGBA32UI));
+  Texture& pc = ctx.board.ensureTexture("hierarchy-popcount", hierarchyDesc(res, GL_R32UI));
   if (ctx.iteration == 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};
     for (int l = 1; l <= maxLevel; ++l) {
@@ -254,6 +298,15 @@ void RaysStage::declare(StageBuilder& b) const {
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
            "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps")
       .layout = pl;
+  declareTraced(b, "indirect", GL_RGBA32F);
+  declareTraced(b, "ray-category", GL_R32UI);
+  declareTraced(b, "ray-steps", GL_R32UI);
+  declareTraced(b, "hit-position", GL_RGBA32F);
+  b.buffer("traversal-steps", [](const ParamSet&, const ViewState&) {
+    return sizeof(gpu::TraversalStep) * NF_MAX_TRAVERSAL_STEPS;
+  });
+  b.buffer("probe-ray", [](const ParamSet&, const ViewState&) { return sizeof(gpu::ProbeRay); });
+  b.buffer("rays.counters", [](const ParamSet&, const ViewState&) { return size_t(kRayCounters) * 4; });
 }
 
 int RaysStage::iterations(const ParamSet& params) const { return params.getInt("rays.count"); }
@@ -263,7 +316,8 @@ void RaysStage::execute(StageContext& ctx) {
   const int rayCount = ctx.params.getInt("rays.count");
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
   const int s = traceScale(ctx.params);
-  const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  const glm::ivec2 traced = tracedSize(ctx.params, ctx.view);
+  const int tw = traced.x, th = traced.y;
   checkTracedBytes("rays", tw, th, 16 + 4 + 4 + 16);
   Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
   Texture& category = ctx.board.ensureTexture("ray-category", screenDesc(tw, th, GL_R32UI));
@@ -271,7 +325,7 @@ void RaysStage::execute(StageContext& ctx) {
   Texture& hits = ctx.board.ensureTexture("hit-position", screenDesc(tw, th, GL_RGBA32F));
   Buffer& records = ctx.board.ensureBuffer("traversal-steps", sizeof(gpu::TraversalStep) * NF_MAX_TRAVERSAL_STEPS);
   Buffer& probe = ctx.board.ensureBuffer("probe-ray", sizeof(gpu::ProbeRay));
-  constexpr int kCounters = 16 + 256;  // [0] step records, [1 + category], [16 + steps] histogram
+  constexpr int kCounters = kRayCounters;
   Buffer& counters = ctx.board.ensureBuffer("rays.counters", kCounters * 4);
   if (ctx.iteration == 0) {
     const float none[4] = {0, 0, 0, 0};
@@ -357,15 +411,13 @@ void VoxelAttributesStage::declare(StageBuilder& b) const {
            "albedo per voxel (RGBA8, a = 1 where occupied): the largest packed value of its fragments");
   b.output("voxel-normal", OutputKind::Volume3D, Semantic::Color,
            "normal per voxel, stored as n * 0.5 + 0.5 (RGBA8, a = 1 where occupied)");
+  for (const char* name : {"voxel-albedo", "voxel-normal"})
+    b.texture(name, [](const ParamSet& p, const ViewState&) { return voxelAttributeDesc(p.getInt("voxel.resolution")); });
 }
 
 void VoxelAttributesStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  TextureDesc d;
-  d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
-  d.size = {res, res, res};
-  d.minFilter = d.magFilter = GL_NEAREST;
+  const TextureDesc d = voxelAttributeDesc(res);
   Texture& albedo = ctx.board.ensureTexture("voxel-albedo", d);
   Texture& normal = ctx.board.ensureTexture("voxel-normal", d);
   const uint32_t zero = 0;
@@ -416,6 +468,8 @@ void PathsStage::declare(StageBuilder& b) const {
       .referenceMode = "indirect";
   b.output("path-vertex", OutputKind::Image2D, Semantic::Scalar,
            "the current path vertex per pixel (world xyz), w = 1 while the path is alive");
+  for (const char* name : {"indirect", "path-vertex", "paths.normal", "paths.weight"})
+    declareTraced(b, name, GL_RGBA32F);
 }
 
 int PathsStage::iterations(const ParamSet& params) const {
@@ -427,7 +481,8 @@ void PathsStage::execute(StageContext& ctx) {
   const int paths = ctx.params.getInt("paths.count"), bounces = ctx.params.getInt("paths.bounces");
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
   const int s = traceScale(ctx.params);
-  const int tw = (ctx.view.width + s - 1) / s, th = (ctx.view.height + s - 1) / s;
+  const glm::ivec2 traced = tracedSize(ctx.params, ctx.view);
+  const int tw = traced.x, th = traced.y;
   checkTracedBytes("paths", tw, th, 4 * 16);
   Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
   Texture& vertex = ctx.board.ensureTexture("path-vertex", screenDesc(tw, th, GL_RGBA32F));
@@ -481,6 +536,9 @@ void FilterStage::declare(StageBuilder& b) const {
   b.output("indirect-filtered", OutputKind::Image2D, Semantic::RadianceHDR,
            "the indirect light after the passes so far (at rays.resolution)")
       .referenceMode = referenceMode_;
+  // At the size of 'indirect', which the rays / paths stage allocates at the traced size.
+  declareTraced(b, "indirect-filtered", GL_RGBA32F);
+  declareTraced(b, "filter.scratch", GL_RGBA32F);
 }
 
 int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }
@@ -533,6 +591,11 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + near-field indirect, linear radiance")
       .referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  for (auto [name, format] : {std::pair<const char*, GLenum>{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F},
+                              {"final", GL_RGBA8}})
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) {
+      return screenDesc(v.width, v.height, format);
+    });
 }
 
 void CompositeStage::execute(StageContext& ctx) {

@@ -61,6 +61,34 @@ static ParamDesc dilateParam() {
 
 static void barrierAll() { glMemoryBarrier(GL_ALL_BARRIER_BITS); }
 
+// The voxel-resolution 3D views (declared and allocated from the same descs).
+static TextureDesc structureDesc(const ParamSet& p) {
+  const int res = p.getInt("voxel.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_R8;
+  d.size = {res, res, res};
+  d.levels = 0;
+  d.minFilter = GL_NEAREST_MIPMAP_NEAREST;
+  d.magFilter = GL_NEAREST;
+  return d;
+}
+static TextureDesc denseDesc(const ParamSet& p) {
+  const int res = p.getInt("voxel.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {res, res, res};
+  d.levels = 0;
+  d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  return d;
+}
+// Per-node buffers are sized from the node count at run time: declared as pools starting at the
+// root alone (the least any octree has).
+static size_t perNodeStart(size_t bytesPerNode) { return bytesPerNode; }
+static size_t levelsBytes(const ParamSet& p) { return sizeof(SvoLevel) * size_t(octreeDepth(p) + 1); }
+static constexpr size_t kCounterBytes = SVO_COUNTER_WORDS * 4;
+
 // "svo-groups": one zeroed counter per work group of 64 items.
 static Buffer& zeroGroups(Blackboard& board, uint32_t items) {
   const uint32_t groups = std::max(1u, (items + 63) / 64);
@@ -136,6 +164,13 @@ void BuildStage::declare(StageBuilder& b) const {
   b.output("svo-counters", OutputKind::Buffer, Semantic::Scalar,
            "counters: tiles, overflow flag, level non-empty, level tagged, bricks, -, nodes written")
       .layout = BufferLayout{4, {{"value", FieldType::U32, 0}}, "", 0, 1.0f};
+  b.texture("svo-structure", [](const ParamSet& p, const ViewState&) { return structureDesc(p); });
+  b.buffer("svo-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
+  b.buffer("svo-levels", [](const ParamSet& p, const ViewState&) { return levelsBytes(p); });
+  // Grows level by level from the root (+ the guard) to what the scene's fragments need.
+  b.buffer("svo-nodes", [](const ParamSet&, const ViewState&) { return size_t(1 + kGuardNodes) * sizeof(SvoNode); },
+           /*pool=*/true);
+  b.buffer("svo-groups", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
 }
 
 void BuildStage::execute(StageContext& ctx) {
@@ -143,8 +178,8 @@ void BuildStage::execute(StageContext& ctx) {
   const int level = ctx.iteration;
   const bool dilate = ctx.params.getBool("svo.dilate");
   const double fraction = ctx.params.getFloat("svo.pool-fraction");
-  Buffer& counters = ctx.board.ensureBuffer("svo-counters", SVO_COUNTER_WORDS * 4);
-  Buffer& levelBuffer = ctx.board.ensureBuffer("svo-levels", sizeof(SvoLevel) * size_t(depth + 1));
+  Buffer& counters = ctx.board.ensureBuffer("svo-counters", kCounterBytes);
+  Buffer& levelBuffer = ctx.board.ensureBuffer("svo-levels", levelsBytes(ctx.params));
   std::vector<SvoLevel> levels(depth + 1, SvoLevel{0, 0, 0, 0});
   if (level == 0) {
     // svo-init: the root alone, every counter 0.
@@ -222,15 +257,7 @@ void BuildStage::execute(StageContext& ctx) {
   levelBuffer.upload(levels.data(), levels.size() * sizeof(SvoLevel));
   // The structure view of this level (mip D - level), now that its flags are final.
   {
-    const int res = ctx.params.getInt("voxel.resolution");
-    TextureDesc d;
-    d.target = GL_TEXTURE_3D;
-    d.format = GL_R8;
-    d.size = {res, res, res};
-    d.levels = 0;
-    d.minFilter = GL_NEAREST_MIPMAP_NEAREST;
-    d.magFilter = GL_NEAREST;
-    Texture& structure = ctx.board.ensureTexture("svo-structure", d);
+    Texture& structure = ctx.board.ensureTexture("svo-structure", structureDesc(ctx.params));
     if (level == 0) {
       const uint8_t zero = 0;
       for (int m = 0; m < structure.levels(); ++m) glClearTexImage(structure.id(), m, GL_RED, GL_UNSIGNED_BYTE, &zero);
@@ -287,6 +314,8 @@ void LeavesStage::declare(StageBuilder& b) const {
   b.output("svo-leaf-values", OutputKind::Buffer, Semantic::Color,
            "per node: its leaf's mean outgoing radiance (premultiplied) and opacity 1; 0 for inner nodes")
       .layout = valueLayout();
+  b.buffer("svo-leaf-sums", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
+  b.buffer("svo-leaf-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
 }
 
 void LeavesStage::execute(StageContext& ctx) {
@@ -341,22 +370,17 @@ void MipmapStage::declare(StageBuilder& b) const {
            "so it can be set beside vct-grid's radiance");
   b.output("svo-dense-opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the dense view per level").resource =
       "svo-dense";
+  b.buffer("svo-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
+  b.texture("svo-dense", [](const ParamSet& p, const ViewState&) { return denseDesc(p); });
 }
 
 void MipmapStage::execute(StageContext& ctx) {
   const int depth = octreeDepth(ctx.params);
-  const int res = ctx.params.getInt("voxel.resolution");
   const int k = ctx.iteration;
   std::vector<SvoLevel> levels = readLevels(ctx.board);
   const uint32_t nodes = nodeCount(levels);
   Buffer& values = ctx.board.ensureBuffer("svo-values", size_t(nodes) * 16);
-  TextureDesc d;
-  d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
-  d.size = {res, res, res};
-  d.levels = 0;
-  d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
-  Texture& dense = ctx.board.ensureTexture("svo-dense", d);
+  Texture& dense = ctx.board.ensureTexture("svo-dense", denseDesc(ctx.params));
   Buffer& nodePool = ctx.board.buffer("svo-nodes");
   GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"});
   auto writeDense = [&](int mip) {
@@ -399,6 +423,19 @@ static glm::ivec3 bricksPerAxis(uint32_t bricks) {
   return {side, side, std::max(z, 1)};
 }
 
+static size_t brickGroupsBytes(uint32_t nodes) { return size_t((nodes + 63) / 64 + 1) * 4; }
+
+// The brick pool's texture for 'bricks' bricks: 3x3x3 RGBA8 texels each, laid out by bricksPerAxis.
+static TextureDesc brickPoolDesc(uint32_t bricks) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = 3 * bricksPerAxis(bricks);
+  d.levels = 1;
+  d.minFilter = d.magFilter = GL_LINEAR;
+  return d;
+}
+
 void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(poolFractionParam());
@@ -414,6 +451,12 @@ void BricksStage::declare(StageBuilder& b) const {
   b.output("svo-brick-pool", OutputKind::Volume3D, Semantic::Color,
            "the brick pool: 3x3x3 texels per brick (brick b at 3 * (b mod X, b / X mod Y, b / XY)), premultiplied "
            "radiance + opacity; borders = means of the nodes sharing the texel");
+  // The brick pool is sized from the tagged-node count at run time: declared as a pool texture
+  // whose start is the smallest pool (the zero brick and the root's).
+  b.texture("svo-brick-pool", [](const ParamSet&, const ViewState&) { return brickPoolDesc(2); }, /*pool=*/true);
+  b.buffer("svo-brick-index", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
+  b.buffer("svo-brick-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
+  b.buffer("svo-brick-groups", [](const ParamSet&, const ViewState&) { return brickGroupsBytes(1); }, /*pool=*/true);
 }
 
 void BricksStage::execute(StageContext& ctx) {
@@ -432,20 +475,14 @@ void BricksStage::execute(StageContext& ctx) {
     throw Error("svo-bricks: the brick pool needs " + std::to_string(capacity) + " bricks, " +
                 std::to_string(3 * std::max(axis.x, axis.z)) + " texels along an axis, beyond GL_MAX_3D_TEXTURE_SIZE " +
                 std::to_string(maxSize) + " (use a lower voxel.resolution)");
-  TextureDesc d;
-  d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
-  d.size = 3 * axis;
-  d.levels = 1;
-  d.minFilter = d.magFilter = GL_LINEAR;
-  Texture& pool = ctx.board.ensureTexture("svo-brick-pool", d);
+  Texture& pool = ctx.board.ensureTexture("svo-brick-pool", brickPoolDesc(capacity));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(pool.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   Buffer& index = ctx.board.ensureBuffer("svo-brick-index", size_t(nodes) * 4);
-  Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", SVO_COUNTER_WORDS * 4);
+  Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
   counters.upload(c.data(), c.size() * 4);
-  Buffer& groups = ctx.board.ensureBuffer("svo-brick-groups", size_t((nodes + 63) / 64 + 1) * 4);
+  Buffer& groups = ctx.board.ensureBuffer("svo-brick-groups", brickGroupsBytes(nodes));
   std::vector<uint32_t> zeroGroupCounts((nodes + 63) / 64 + 1, 0u);
   groups.upload(zeroGroupCounts.data(), zeroGroupCounts.size() * 4);
   GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"});
@@ -500,6 +537,9 @@ static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
   d.minFilter = d.magFilter = GL_NEAREST;
   return d;
 }
+static int tracedScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
+static constexpr size_t kConeSampleBytes = sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
+static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS;
 
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
@@ -573,20 +613,28 @@ void ConeTraceStage::declare(StageBuilder& b) const {
                                  "to the sample's fine level (0xffffffff = absent), its cell, its brick's value there");
   descent.layout = steps;
   descent.probeRecord = true;
+  b.texture("indirect-diffuse", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_RGBA16F); });
+  b.texture("indirect-specular", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_RGBA16F); });
+  b.texture("ambient-occlusion", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
+  b.texture("soft-shadow", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
+  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) { return kConeSampleBytes; });
+  b.buffer("cone-samples.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
+  b.buffer("svo-descent", [](const ParamSet&, const ViewState&) { return kDescentBytes; });
+  b.buffer("svo-descent.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const int depth = octreeDepth(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
-  const int scale = ctx.params.getChoice("cone.resolution") == "half" ? 2 : 1;
+  const int scale = tracedScale(ctx.params);
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, scale, GL_RGBA16F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, scale, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, scale, GL_R16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, scale, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", kConeSampleBytes);
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
-  Buffer& descent = ctx.board.ensureBuffer("svo-descent", sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS);
+  Buffer& descent = ctx.board.ensureBuffer("svo-descent", kDescentBytes);
   Buffer& descentCount = ctx.board.ensureBuffer("svo-descent.count", 4);
   const uint32_t zero = 0;
   sampleCount.upload(&zero, 4);

@@ -64,6 +64,36 @@ VoxelSpace densitySpace(const StageContext& ctx) {
   return VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("density.resolution"));
 }
 
+// The density grids (declared and allocated from the same descs).
+TextureDesc countGridDesc(int res) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_R32UI;
+  d.size = {res, res, res};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  d.wrap = GL_CLAMP_TO_BORDER;
+  return d;
+}
+
+TextureDesc scatteringGridDesc(int res) {
+  TextureDesc d = countGridDesc(res);
+  d.format = GL_R32F;
+  d.minFilter = d.magFilter = GL_LINEAR;  // border 0: nothing scatters outside
+  return d;
+}
+
+// The particle list is sized from the count (one vec4 each; the parameter's range caps it at 64 MiB).
+size_t particleBytes(const ParamSet& params) {
+  return std::max<size_t>(size_t(params.getInt("particles.count")) * 16, 16);
+}
+
+constexpr size_t kParticleStatsBytes = 16;
+constexpr size_t kPhaseSamplesBytes = sizeof(gpu::PhaseSample) * VOXLAB_PHASE_SAMPLES;
+constexpr size_t kRaySamplesBytes = sizeof(gpu::RaySample) * VOXLAB_MAX_MARCH_STEPS;
+constexpr size_t kRaySampleCountBytes = 4;
+
+TextureDesc plotDesc() { return imageDesc({kPlotWidth, kPlotHeight}, GL_RGBA8); }
+
 void bindLight(const StageContext& ctx) {
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
 }
@@ -97,6 +127,14 @@ void DensityStage::declare(StageBuilder& b) const {
   b.output("particles", OutputKind::Buffer, Semantic::Points,
            "every particle: position in density-grid voxels, age as a fraction of its lifetime")
       .layout = particles;
+  b.texture("particle-count", [](const ParamSet& p, const ViewState&) {
+    return countGridDesc(p.getInt("density.resolution"));
+  });
+  b.texture("scattering", [](const ParamSet& p, const ViewState&) {
+    return scatteringGridDesc(p.getInt("density.resolution"));
+  });
+  b.buffer("particles", [](const ParamSet& p, const ViewState&) { return particleBytes(p); });
+  b.buffer("particles.stats", [](const ParamSet&, const ViewState&) { return kParticleStatsBytes; });
 }
 
 void DensityStage::execute(StageContext& ctx) {
@@ -108,20 +146,10 @@ void DensityStage::execute(StageContext& ctx) {
   ctx.board.place("particle-count", space.box());
   ctx.board.place("scattering", space.box());
 
-  TextureDesc countDesc;
-  countDesc.target = GL_TEXTURE_3D;
-  countDesc.format = GL_R32UI;
-  countDesc.size = {res, res, res};
-  countDesc.minFilter = countDesc.magFilter = GL_NEAREST;
-  countDesc.wrap = GL_CLAMP_TO_BORDER;
-  Texture& counts = ctx.board.ensureTexture("particle-count", countDesc);
-  TextureDesc scatterDesc = countDesc;
-  scatterDesc.format = GL_R32F;
-  scatterDesc.minFilter = scatterDesc.magFilter = GL_LINEAR;  // border 0: nothing scatters outside
-  Texture& scattering = ctx.board.ensureTexture("scattering", scatterDesc);
-  // The particle list is sized from the count (one vec4 each; the parameter's range caps it at 64 MiB).
-  Buffer& particles = ctx.board.ensureBuffer("particles", std::max<size_t>(size_t(count) * 16, 16));
-  Buffer& stats = ctx.board.ensureBuffer("particles.stats", 16);
+  Texture& counts = ctx.board.ensureTexture("particle-count", countGridDesc(res));
+  Texture& scattering = ctx.board.ensureTexture("scattering", scatteringGridDesc(res));
+  Buffer& particles = ctx.board.ensureBuffer("particles", particleBytes(ctx.params));
+  Buffer& stats = ctx.board.ensureBuffer("particles.stats", kParticleStatsBytes);
   const uint32_t initial[4] = {0, 0, count, 0};
   stats.upload(initial, sizeof(initial));
   const uint32_t zero = 0;
@@ -185,12 +213,14 @@ void PhaseStage::declare(StageBuilder& b) const {
   b.output("phase-samples", OutputKind::Buffer, Semantic::Scalar,
            "p(mu) at 2049 equally spaced mu from -1 to 1, from the GLSL the march uses (1/sr)")
       .layout = samples;
+  b.texture("phase-plot", [](const ParamSet&, const ViewState&) { return plotDesc(); });
+  b.buffer("phase-samples", [](const ParamSet&, const ViewState&) { return kPhaseSamplesBytes; });
 }
 
 void PhaseStage::execute(StageContext& ctx) {
   const float g = ctx.params.getFloat("medium.anisotropy");
-  Texture& plot = ctx.board.ensureTexture("phase-plot", imageDesc({kPlotWidth, kPlotHeight}, GL_RGBA8));
-  Buffer& samples = ctx.board.ensureBuffer("phase-samples", sizeof(gpu::PhaseSample) * VOXLAB_PHASE_SAMPLES);
+  Texture& plot = ctx.board.ensureTexture("phase-plot", plotDesc());
+  Buffer& samples = ctx.board.ensureBuffer("phase-samples", kPhaseSamplesBytes);
   GLuint program = ctx.shaders.program({"volumetric/phase_plot.comp.glsl"});
   setUniform(program, "u_g", g);
   glProgramUniform2i(program, glGetUniformLocation(program, "u_plotSize"), kPlotWidth, kPlotHeight);
@@ -272,6 +302,12 @@ void MarchStage::declare(StageBuilder& b) const {
   b.output("ray-plot", OutputKind::Image2D, Semantic::Color,
            "the probed ray, one column band per sample: contribution over the largest (yellow bars; red tick: "
            "shadowed), transmittance T (blue) and running sum over its final value (green), 0..1");
+  for (const char* name : {"transmittance", "march.optical-depth", "ray-length"})
+    b.texture(name, [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_R32F); });
+  b.texture("inscatter", [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_RGBA32F); });
+  b.texture("ray-plot", [](const ParamSet&, const ViewState&) { return plotDesc(); });
+  b.buffer("ray-samples", [](const ParamSet&, const ViewState&) { return kRaySamplesBytes; });
+  b.buffer("ray-samples.count", [](const ParamSet&, const ViewState&) { return kRaySampleCountBytes; });
 }
 
 int MarchStage::iterations(const ParamSet& params) const { return params.getInt("march.steps"); }
@@ -283,8 +319,8 @@ void MarchStage::execute(StageContext& ctx) {
   Texture& depth = ctx.board.ensureTexture("march.optical-depth", imageDesc(low, GL_R32F));
   Texture& transmittance = ctx.board.ensureTexture("transmittance", imageDesc(low, GL_R32F));
   Texture& rayLength = ctx.board.ensureTexture("ray-length", imageDesc(low, GL_R32F));
-  Buffer& records = ctx.board.ensureBuffer("ray-samples", sizeof(gpu::RaySample) * VOXLAB_MAX_MARCH_STEPS);
-  Buffer& recordCount = ctx.board.ensureBuffer("ray-samples.count", 4);
+  Buffer& records = ctx.board.ensureBuffer("ray-samples", kRaySamplesBytes);
+  Buffer& recordCount = ctx.board.ensureBuffer("ray-samples.count", kRaySampleCountBytes);
   if (ctx.iteration == 0) {
     const uint32_t zero = 0;
     recordCount.upload(&zero, 4);
@@ -322,7 +358,7 @@ void MarchStage::execute(StageContext& ctx) {
   dispatchCompute({low.x, low.y, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   // The plot of the probed ray, redrawn from the records taken so far.
-  Texture& plot = ctx.board.ensureTexture("ray-plot", imageDesc({kPlotWidth, kPlotHeight}, GL_RGBA8));
+  Texture& plot = ctx.board.ensureTexture("ray-plot", plotDesc());
   GLuint plotProgram = ctx.shaders.program({"volumetric/ray_plot.comp.glsl"});
   setUniform(plotProgram, "u_steps", ctx.params.getInt("march.steps"));
   glUseProgram(plotProgram);
@@ -351,6 +387,10 @@ void BlurStage::declare(StageBuilder& b) const {
   b.output("inscatter-blurred", OutputKind::Image2D, Semantic::RadianceHDR,
            "the in-scattered radiance after the bilateral blur, W/(m^2 sr) (alpha: the blurred transmittance)");
   b.output("transmittance-blurred", OutputKind::Image2D, Semantic::Fraction, "the transmittance after the bilateral blur");
+  for (const char* name : {"blur.horizontal", "inscatter-blurred"})
+    b.texture(name, [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_RGBA32F); });
+  b.texture("transmittance-blurred",
+            [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_R32F); });
 }
 
 void BlurStage::execute(StageContext& ctx) {
@@ -396,6 +436,8 @@ void UpsampleStage::declare(StageBuilder& b) const {
            "in-scattered radiance at the G-buffer's resolution, W/(m^2 sr)");
   b.output("transmittance-full", OutputKind::Image2D, Semantic::Fraction,
            "transmittance from the camera to the surface at the G-buffer's resolution");
+  b.texture("inscatter-full", [](const ParamSet&, const ViewState& v) { return imageDesc(fullSize(v), GL_RGBA32F); });
+  b.texture("transmittance-full", [](const ParamSet&, const ViewState& v) { return imageDesc(fullSize(v), GL_R32F); });
 }
 
 void UpsampleStage::execute(StageContext& ctx) {
@@ -441,6 +483,9 @@ void ComposeStage::declare(StageBuilder& b) const {
       .resource = "volumetric-combined";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined")
       .resource = "volumetric-final";
+  for (const char* name : {"volumetric-surface", "volumetric-combined"})
+    b.texture(name, [](const ParamSet&, const ViewState& v) { return imageDesc(fullSize(v), GL_RGBA32F); });
+  b.texture("volumetric-final", [](const ParamSet&, const ViewState& v) { return imageDesc(fullSize(v), GL_RGBA8); });
 }
 
 void ComposeStage::execute(StageContext& ctx) {
