@@ -110,7 +110,8 @@ def reduce_texture(src, dst_dir, stem, with_alpha):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--source", default="/work/shared/scenes/sponza", help="folder with Sponza.gltf")
+    parser.add_argument("--source", default=os.path.join(os.path.dirname(os.path.dirname(here)), "shared", "scenes", "sponza"),
+                        help="folder with Sponza.gltf (default: ../shared/scenes/sponza beside the checkout)")
     parser.add_argument("--root", default=os.path.dirname(here), help="project root (default: this repo)")
     args = parser.parse_args()
     src_gltf = os.path.join(args.source, "Sponza.gltf")
