@@ -4,6 +4,7 @@
   scenes/cornell-box.gltf                the Cornell box from the published measurements (in metres)
   tests/data/scenes/cornell-box-x100.gltf  the Cornell box with every length x100 (scale invariance)
   tests/data/scenes/no-light-blocks.gltf floor and two blocks, no light, no camera (default sun)
+  tests/data/scenes/no-light-blocks-x1_128.gltf  the same with every length x1/128 (scale invariance)
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
@@ -113,16 +114,22 @@ def cornell_box(path, scale=1.0):
     b.write(path)
 
 
-def no_light_blocks(path):
+def no_light_blocks(path, scale=1.0):
     """A 2 x 2 m floor with two grey blocks and nothing else: no light, no camera, so the loader
-    adds its default sun and framing camera (the scene a new user's own glTF file often is)."""
-    b = GltfBuilder("voxlab scripts/make_scenes.py (no light, no camera)")
+    adds its default sun and framing camera (the scene a new user's own glTF file often is).
+    'scale' multiplies every length (1/128: the same blocks 1.6 cm wide, for the scale-invariance
+    test of the default sun, its orthographic shadow map and the framing camera; a power of two
+    scales every float exactly, so any difference is a length in absolute units, not rounding)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (no light, no camera)"
+                    + ("" if scale == 1.0 else " scaled by %g" % scale))
     grey = b.add_material("grey", (0.6, 0.6, 0.6))
     red = b.add_material("red", (0.7, 0.15, 0.1))
-    floor = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]]
+    floor = [[-scale, 0.0, -scale], [scale, 0.0, -scale], [scale, 0.0, scale], [-scale, 0.0, scale]]
     b.add_mesh_node("floor", grey, [oriented(floor, [0.0, 1.0, 0.0])])
-    b.add_mesh_node("tall-block", red, box_polygons([(-0.6, -0.4), (-0.2, -0.4), (-0.2, 0.0), (-0.6, 0.0)], 0.8))
-    b.add_mesh_node("low-block", grey, box_polygons([(0.2, 0.1), (0.6, 0.1), (0.6, 0.5), (0.2, 0.5)], 0.3))
+    b.add_mesh_node("tall-block", red, box_polygons([(x * scale, z * scale) for x, z in
+                                                     [(-0.6, -0.4), (-0.2, -0.4), (-0.2, 0.0), (-0.6, 0.0)]], 0.8 * scale))
+    b.add_mesh_node("low-block", grey, box_polygons([(x * scale, z * scale) for x, z in
+                                                    [(0.2, 0.1), (0.6, 0.1), (0.6, 0.5), (0.2, 0.5)]], 0.3 * scale))
     b.write(path)
 
 
@@ -391,6 +398,7 @@ def main():
         (os.path.join(scenes, "cornell-box.gltf"), cornell_box),
         (os.path.join(tests, "cornell-box-x100.gltf"), lambda p: cornell_box(p, 100.0)),
         (os.path.join(tests, "no-light-blocks.gltf"), no_light_blocks),
+        (os.path.join(tests, "no-light-blocks-x1_128.gltf"), lambda p: no_light_blocks(p, 1.0 / 128.0)),
         (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),

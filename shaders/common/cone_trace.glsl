@@ -20,6 +20,9 @@ uniform int u_anisotropic;
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
+// Constant sky (environment) radiance, W/(m^2 sr): what a cone sees through its remaining
+// transmittance once it leaves the voxel volume (0 unless the stage sets sky.radiance).
+uniform vec3 u_skyRadiance;
 
 // The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod'. With
 // anisotropic mips, the three directional volumes facing the cone are blended with weights dir^2
@@ -50,7 +53,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   float tanHalf = tan(0.5 * aperture);
   float t = startDistance;
   ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
-  bool marked = false;
+  bool marked = false, escaped = false;
   for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
     float diameter = max(2.0 * tanHalf * t, u_voxelSize);
     float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
@@ -59,7 +62,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
     // Stop once the sample lies wholly outside the volume (edge texels are clamped, so a wall on
     // the volume's boundary stays a wall for samples that straddle it).
     float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
-    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) break;
+    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { escaped = true; break; }
     if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
     vec4 s = sampleVolume(uvw, lod, dir);
     float stepLength = diameter * u_stepScale;
@@ -77,5 +80,10 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
     t += stepLength;
   }
   if (!marked) r.opacityAt = r.opacity;
+  // Escaped: wholly outside the volume, or at its full length with its axis outside (a wide
+  // cone's last samples still straddle the boundary): the sky through the transmittance left.
+  vec3 end = worldToVolumeUV(origin + dir * t);
+  escaped = escaped || (t >= maxDistance && (any(lessThan(end, vec3(0.0))) || any(greaterThan(end, vec3(1.0)))));
+  if (escaped) r.radiance += (1.0 - r.opacity) * u_skyRadiance;
   return r;
 }

@@ -57,8 +57,11 @@ float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
   if (u_light.spot.w < 0.5) return 1.0;
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
-  // Normal offset keeps the receiver from shadowing itself.
-  vec4 clip = u_light.shadowViewProj * vec4(p + n * u_light.spot.z, 1.0);
+  // Normal offset keeps the receiver from shadowing itself: shadow.normal-offset texels of the
+  // map at the receiver (spot.z is per unit of clip w: 1 for a sun's orthographic map, the view
+  // depth for a spot's perspective one), so it scales with the scene and the map's resolution.
+  float w = (u_light.shadowViewProj * vec4(p, 1.0)).w;
+  vec4 clip = u_light.shadowViewProj * vec4(p + n * (u_light.spot.z * w), 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec3 uvz = ndc * 0.5 + 0.5;
   // Surfaces lie inside the map's box (it is fitted to them); a receiver that its normal offset

@@ -74,7 +74,7 @@ struct GpuLight {
   vec4 positionType;    // xyz: position (world), w: VOXLAB_LIGHT_*
   vec4 directionRange;  // xyz: unit direction the light travels, w: range (0 = infinite)
   vec4 radiance;        // rgb: colour * intensity (W/sr, or W/m^2 when directional)
-  vec4 spot;            // x: cos(inner cone), y: cos(outer cone), z: normal offset (m), w: 1 = shadow map valid
+  vec4 spot;            // x: cos(inner cone), y: cos(outer cone), z: normal offset per unit clip w (m), w: 1 = shadow map valid
 };
 
 #ifdef __cplusplus

@@ -26,6 +26,15 @@ float parseRadius(const std::string& text) {
   return v;
 }
 
+// --sky L: a constant environment radiance (W/(m^2 sr)), grey, not negative.
+float parseSky(const std::string& text) {
+  char* end = nullptr;
+  float v = std::strtof(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v >= 0.0f) || !std::isfinite(v))
+    throw Error("--sky '" + text + "' is not valid; valid: a radiance >= 0 in W/(m^2 sr) (0 = no sky)");
+  return v;
+}
+
 // A bar redrawn in place on a terminal; otherwise at most about ten "NN%" lines.
 struct Progress {
   bool tty = isatty(STDERR_FILENO) != 0;
@@ -58,6 +67,7 @@ int runReference(const std::vector<std::string>& argv) {
              {"--spp", true, false, "samples per pixel, 1..1000000"},
              {"--mode", true, false, "full, direct, one-bounce, indirect, indirect-1 or ao (default full)"},
              {"--ao-radius", true, false, "ao mode: maximum occluder distance (default inf)"},
+             {"--sky", true, false, "constant sky radiance seen by rays that leave the scene, W/(m^2 sr) (default 0)"},
              {"--threads", true, false, "worker threads (default: $VOXLAB_THREADS or all cores)"},
              {"--seed", true, false, "random sequence, 0..2^31-1 (default 0)"},
              {"--jitter", false, false, "jitter rays within each pixel instead of the centre"},
@@ -97,7 +107,9 @@ int runReference(const std::vector<std::string>& argv) {
   Progress progress;
   if (!args.has("--quiet")) st.progress = [&](double f) { progress(f); };
 
+  const float sky = args.has("--sky") ? parseSky(args.get("--sky")) : 0.0f;
   reference::ReferenceTracer tracer(scene);
+  tracer.setSkyRadiance(glm::vec3(sky));
   reference::RenderStats stats;
   reference::Image img = tracer.render(st, &stats);
 
@@ -125,6 +137,7 @@ int runReference(const std::vector<std::string>& argv) {
       {"voxlab:camera_index", std::to_string(st.cameraIndex), true},
       {"voxlab:seed", std::to_string(st.seed), true},
       {"voxlab:pixel_filter", st.pixelJitter ? "box (jittered)" : "centre", false}};
+  if (sky > 0.0f) attrs.push_back({"voxlab:sky_radiance", std::to_string(sky), false});
   if (st.mode == reference::Mode::AO)
     attrs.push_back({"voxlab:ao_radius", std::isinf(st.aoRadius) ? "inf" : std::to_string(st.aoRadius), false});
   if (st.computeStdErr && st.spp > 1) {

@@ -183,6 +183,7 @@ struct ReferenceTracer::Impl {
   std::vector<uint32_t> emitters;    // triangle indices
   std::vector<double> emitterCdf;    // inclusive, normalised to 1
   bool hasNormals = false, hasUvs = false;
+  glm::vec3 sky{0.0f};               // constant environment radiance (setSkyRadiance)
 
   explicit Impl(const Scene& s) : scene(s) {
     size_t nv = s.positions.size(), nt = s.triangleCount();
@@ -434,7 +435,8 @@ struct ReferenceTracer::Impl {
       rng.setReflection(uint32_t(r));
       bool counts = r >= range.rMin && r <= range.rMax;
       if (counts) L += beta * directLight(v, rng, rays);
-      bool needBsdfRay = r < range.rMax || (counts && areaLights);
+      const bool skyLight = maxComponent(sky) > 0.0f;
+      bool needBsdfRay = r < range.rMax || (counts && (areaLights || skyLight));
       if (!needBsdfRay) break;
       if (r > kRussianRouletteAfter) {
         float q = std::min(0.95f, maxComponent(v.albedo));
@@ -448,7 +450,10 @@ struct ReferenceTracer::Impl {
       beta *= v.albedo;  // f cos / pdf = (albedo/pi) cos / (cos/pi)
       if (maxComponent(beta) <= 0.0f) break;
       Hit h;
-      if (!intersect(offsetRay(v.p, v.ng), wi, 0.0f, INFINITY, h, rays)) break;
+      if (!intersect(offsetRay(v.p, v.ng), wi, 0.0f, INFINITY, h, rays)) {
+        if (counts) L += beta * sky;  // escaped after r reflections: the sky, reflected r times
+        break;
+      }
       float cosL = -glm::dot(h.ng, wi);
       if (counts && areaLights && cosL > 0.0f && tris[h.tri].lightPdfArea > 0.0f) {
         glm::vec3 le = emissionAt(h.tri, h.uv);
@@ -469,7 +474,10 @@ struct ReferenceTracer::Impl {
   glm::vec3 radiance(const glm::vec3& o, const glm::vec3& d, float tnear, Mode mode, float aoRadius,
                      SampleStream& rng, uint64_t& rays) const {
     Hit h;
-    if (!intersect(o, d, tnear, INFINITY, h, rays)) return glm::vec3(mode == Mode::AO ? 1.0f : 0.0f);
+    if (!intersect(o, d, tnear, INFINITY, h, rays)) {
+      if (mode == Mode::AO) return glm::vec3(1.0f);
+      return reflectionRange(mode).rMin == 0 ? sky : glm::vec3(0.0f);  // the sky seen directly (r = 0)
+    }
     float cosL = -glm::dot(h.ng, d);
     float side = cosL > 0.0f ? 1.0f : -1.0f;
     if (mode == Mode::AO) return glm::vec3(aoSample(h.p, h.ng * side, h.ns * side, aoRadius, rng, rays));
@@ -534,6 +542,13 @@ struct ReferenceTracer::Impl {
 
 ReferenceTracer::ReferenceTracer(const Scene& scene) : scene_(scene), impl_(new Impl(scene)) {}
 ReferenceTracer::~ReferenceTracer() = default;
+
+void ReferenceTracer::setSkyRadiance(const glm::vec3& radiance) {
+  if (!(radiance.x >= 0.0f && radiance.y >= 0.0f && radiance.z >= 0.0f) || !std::isfinite(radiance.x + radiance.y + radiance.z))
+    throw Error("the sky radiance must be finite and not negative");
+  impl_->sky = radiance;
+}
+glm::vec3 ReferenceTracer::skyRadiance() const { return impl_->sky; }
 
 Estimate ReferenceTracer::estimateRadiance(const glm::vec3& origin, const glm::vec3& dir, Mode mode,
                                            int samples, uint64_t key, float aoRadius,

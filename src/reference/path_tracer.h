@@ -16,6 +16,7 @@
 //               indirect-diffuse: one diffuse gather of the direct-lit voxels) approximates
 //   full        r >= 0           -> furnace Le / (1 - rho)
 //   ao          cosine-weighted visible fraction V at the first hit, rays up to aoRadius long
+// An optional constant sky (setSkyRadiance) is one more emitter: a ray that escapes carries it.
 //
 // Estimator: at each path vertex, next-event estimation towards every punctual light (one shadow
 // ray each, the light model evaluated exactly) and towards one point on the emissive triangles
@@ -111,6 +112,15 @@ class ReferenceTracer {
                       uint64_t key = 0, int threads = 1) const;
 
   const Scene& scene() const { return scene_; }
+
+  // Constant sky (environment) radiance, W/(m^2 sr) per channel, 0 by default: every ray that
+  // leaves the scene without a hit carries it. It counts as an emitter seen after the reflections
+  // the path made so far (a camera ray that misses: r = 0; a bounce ray from reflection r: r),
+  // reached by the cosine-weighted BSDF rays only (no next-event estimation: a uniform sky has
+  // no direction to sample, and cosine sampling carries it at zero variance on an open plane).
+  // The sky furnace: an albedo-1 object under it has radiance L everywhere (full mode).
+  void setSkyRadiance(const glm::vec3& radiance);
+  glm::vec3 skyRadiance() const;
 
   struct Impl;
 

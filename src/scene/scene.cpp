@@ -56,7 +56,7 @@ Camera frameBounds(const Bounds& bounds, float yfov) {
   cam.position = center + glm::vec3(0.0f, 0.0f, distance);
   cam.forward = glm::vec3(0.0f, 0.0f, -1.0f);
   cam.up = glm::vec3(0.0f, 1.0f, 0.0f);
-  cam.znear = std::max(1e-3f, 0.5f * (distance - radius));
+  cam.znear = std::max(1e-3f * radius, 0.5f * (distance - radius));  // relative: any unit
   cam.zfar = std::max(cam.znear * 10.0f, distance + 4.0f * radius);
   return cam;
 }

@@ -34,3 +34,5 @@ voxlab_cli_case_output(compare_within_limit 0 "^$"
   "compare ${_refdata}/grey50_4x4.exr ${_refdata}/grey25_4x4.exr --fail-above rmse=0.3 --out @OUT@/diff.png"
   "rmse +0\\.25\n[^\n]*\nmae +0\\.25\n[^\n]*\nmax_abs +0\\.25\n.*error image: [^\n]*diff\\.png"
   "@OUT@/diff.png" 0 "" "")
+voxlab_cli_case(reference_sky_negative 2 "--sky '-1' is not valid; valid: a radiance >= 0 in W/\\(m\\^2 sr\\) \\(0 = no sky\\)"
+  "reference --scene cornell-box --spp 1 --sky -1 --out @OUT@/ref.exr")

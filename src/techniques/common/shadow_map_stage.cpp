@@ -22,9 +22,17 @@ static TextureDesc shadowMapDesc(int size) {
 
 void ShadowMapStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::integer("shadow.resolution", 1024, 128, 4096, "shadow map width and height", "px").pow2());
-  b.param(ParamDesc::real("shadow.normal-offset", 0.01, 0.0, 0.2,
-                          "receivers are moved this far along their normal before the shadow test (directional "
-                          "lights: at least half a shadow-map texel)", "m"));
+  // 1.5 texels: the 3x3 PCF's taps lie up to 1.5 texels beside the receiver. Measured with
+  // vct-grid's direct image against the reference tracer (512^2): Cornell box rmse 0.0129 /
+  // 0.0139 / 0.0152 at 1 / 1.5 / 2 texels, but below 1.5 acne stripes the tall block's face that
+  // the spot grazes; Sponza 0.0315 / 0.0329 / - (0.0310 with the former half texel, which left
+  // acne on the floor of tests/unit/test_directional_light.cpp's sun at 19 degrees: with the
+  // offset scaled by the slope, 1 of the 9 taps failed there).
+  b.param(ParamDesc::real("shadow.normal-offset", 1.5, 0.0, 8.0,
+                          "receivers are moved along their normal before the shadow test by this many shadow-map "
+                          "texels at the receiver (follows the map's resolution and the scene's size; no absolute "
+                          "length)",
+                          "texels"));
   b.read("light-source");  // the light (techniques/common/light_stage.h), after light.0.* overrides
   b.write("light");
   b.output("shadow-map", OutputKind::Image2D, Semantic::Depth, "depth seen from the light (0 near, 1 far)");
@@ -35,9 +43,14 @@ void ShadowMapStage::execute(StageContext& ctx) {
   const int size = ctx.params.getInt("shadow.resolution");
   const Scene& scene = ctx.scene;
   gpu::GpuLight light{};
-  light.spot = glm::vec4(1.0f, 0.0f, ctx.params.getFloat("shadow.normal-offset"), 0.0f);
+  // spot.z: the normal offset per unit of the receiver's clip w (shaders/common/lights.glsl
+  // multiplies by it): an orthographic map's texel is the same everywhere (w = 1), a perspective
+  // map's grows with the view depth w. Both follow the scene's size, never an absolute length.
+  const float offsetTexels = ctx.params.getFloat("shadow.normal-offset");
+  light.spot = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
   glm::vec3 center = scene.bounds.center();
-  float radius = 0.5f * glm::length(scene.bounds.extent()) + 1e-3f;
+  // Every length here is relative to the scene's size, so the picture does not depend on its unit.
+  float radius = std::max(0.5f * glm::length(scene.bounds.extent()), 1e-20f) * 1.001f;
   bool hasShadow = false;
   {
     const Light L = lightSource(ctx.board);
@@ -62,7 +75,7 @@ void ShadowMapStage::execute(StageContext& ctx) {
         lo = glm::min(lo, v);
         hi = glm::max(hi, v);
       }
-      glm::vec3 pad = 0.01f * (hi - lo) + glm::vec3(1e-3f);
+      glm::vec3 pad = 0.01f * (hi - lo) + glm::vec3(1e-6f * radius);  // the second term: flat scenes
       lo -= pad;
       hi += pad;
       light.positionType = glm::vec4(eye, VOXLAB_LIGHT_DIRECTIONAL);
@@ -71,14 +84,10 @@ void ShadowMapStage::execute(StageContext& ctx) {
       light.shadowViewProj = proj * view;
       ctx.stats["shadow_extent_x_m"] = hi.x - lo.x;
       ctx.stats["shadow_extent_y_m"] = hi.y - lo.y;
-      // An orthographic texel has one world size everywhere: receivers move at least half of it
-      // along their normal, or a surface at a slant to the light shadows itself within its own
-      // texels (acne). Measured on Sponza (texels 2.6 x 4 cm): with the 1 cm default a fully sunlit
-      // patch of floor was 4 % too dark against the reference tracer; with half a texel (2 cm) it
-      // matches (0.644 both), the whole direct image's energy goes from 0.910 to 0.975 of the
-      // reference and its RMSE from 0.0325 to 0.0310.
+      // An orthographic texel has one world size everywhere (the larger of its two sides).
       const float texel = std::max(hi.x - lo.x, hi.y - lo.y) / float(size);
-      light.spot.z = std::max(light.spot.z, 0.5f * texel);
+      light.spot.z = offsetTexels * texel;
+      ctx.stats["texel_m"] = texel;
       ctx.stats["normal_offset_m"] = light.spot.z;
       hasShadow = true;
     } else if (L.type == LightType::Spot) {
@@ -88,8 +97,14 @@ void ShadowMapStage::execute(StageContext& ctx) {
       float fov = std::min(2.0f * L.outerConeAngle + 0.05f, 3.0f);
       float far = glm::length(L.position - center) + radius;
       glm::mat4 view = glm::lookAt(L.position, L.position + dir, up);
-      glm::mat4 proj = glm::perspective(fov, 1.0f, std::max(far * 1e-3f, 1e-3f), far);
+      // Near plane a fixed fraction of the far one (no absolute floor): the map's depth
+      // distribution, and so the picture, is the same for the scene in any unit.
+      glm::mat4 proj = glm::perspective(fov, 1.0f, far * 1e-3f, far);
       light.shadowViewProj = proj * view;
+      // A texel at view depth w spans 2 w tan(fov / 2) / size.
+      const float texelPerDepth = 2.0f * std::tan(0.5f * fov) / float(size);
+      light.spot.z = offsetTexels * texelPerDepth;
+      ctx.stats["texel_per_depth"] = texelPerDepth;
       hasShadow = true;
     } else {
       light.positionType = glm::vec4(L.position, VOXLAB_LIGHT_POINT);

@@ -6,6 +6,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/cone_layout.h"
@@ -67,6 +68,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
   b.param(mipmapModeParam());
+  b.param(skyRadianceParam());
   b.readView();
   b.read("radiance");
   for (const char* name : kDirectionalVolumes) b.read(name);
@@ -151,6 +153,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
 
   setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
+  setSkyUniform(program, ctx.params);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("radiance").id());
   for (int d = 0; d < 6; ++d) glBindTextureUnit(8 + d, ctx.board.texture(kDirectionalVolumes[d]).id());

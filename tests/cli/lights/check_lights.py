@@ -8,14 +8,17 @@
       (--set light.0.azimuth=210 --set light.0.elevation=35), which must change its final image.
       A SCENE path that does not exist (the raw Sponza outside the repository) is reported and
       left out.
-  check_lights.py VOXLAB same-picture OUT_DIR TOLERANCES.json SCENE_A SCENE_B
-      SCENE_B is SCENE_A with every length scaled: every technique's final image of B must match
-      A's within the snapshot tolerance of that output (tests/golden/tolerances.json).
+  check_lights.py VOXLAB same-picture OUT_DIR TOLERANCES.json SCALE SCENE_A SCENE_B
+      SCENE_B is SCENE_A with every length x SCALE: every technique's final image of B must match
+      A's within the snapshot tolerance of that output (tests/golden/tolerances.json), plus a
+      few values of float rounding when SCALE is not a power of two (rounding_allowance). Parameters declared in m or 1/m are scaled
+      with the scene (LENGTH_UNITS); every other parameter keeps its default.
 
 Runs are small (96x96, voxel grids at 64 where a technique declares voxel.resolution) to keep
 the suite fast; the settings are chosen from the declared parameters, never by technique.
 """
 import json
+import math
 import os
 import struct
 import subprocess
@@ -135,24 +138,75 @@ def default_light(exe, out_dir, scenes, turn):
         sys.exit("\n".join(failures))
 
 
-def same_picture(exe, out_dir, tolerances, scene_a, scene_b):
+# Parameters whose declared unit is a world length (or its inverse) describe the scene's physical
+# size, not the technique's sampling: a participating medium's sigma_s in 1/m is a property of the
+# medium, so the scaled scene gets it scaled (the same haze, measured in the scene's own unit).
+# Every other parameter must already be scale-free (in voxels, texels, fractions of the bounds).
+LENGTH_UNITS = {"m": 1.0, "1/m": -1.0}
+
+# Rounding allowance: a scale that is not a power of two makes the scaled scene's floats round
+# differently (every position x100), which moves a few 8-bit values of a final image. Measured on
+# the Cornell box x100 at 96x96 (27648 values) after the shadow map's lengths were made relative:
+# 0 values (lpv, svo, near-field, vct-grid, volumetric, voxelization) or 1 value (lrsm: 1 step,
+# voxel-path-tracing: 2 steps); before, every lit technique differed by up to 76 steps (rmse
+# 0.011..0.012; the spot's near plane and the 1 cm normal offset). A power-of-two scale scales
+# every float exactly: no allowance, any difference is a length in absolute units.
+ROUNDING_VALUES, ROUNDING_STEPS = 12, 2
+
+
+def rounding_allowance(scale):
+    exponent = math.log2(scale)
+    return (0, 0) if exponent == round(exponent) else (ROUNDING_VALUES, ROUNDING_STEPS)
+
+
+def scaled_settings(tech, scale):
+    out = []
+    for st in tech["stages"]:
+        for p in st.get("parameters", []):
+            power = LENGTH_UNITS.get(p.get("unit", ""))
+            if power is None:
+                continue
+            try:
+                value = float(p["default"])
+            except ValueError:
+                continue
+            out += ["--set", f"{p['name']}={value * scale ** power!r}"]
+    return sorted(set(zip(out[::2], out[1::2])))
+
+
+def same_picture(exe, out_dir, tolerances, scale, scene_a, scene_b):
+    """Every technique's final image of scene_b (scene_a with every length x scale) must equal
+    scene_a's within the snapshot tolerance of that output plus the rounding allowance."""
     tol = json.load(open(tolerances))
+    scale = float(scale)
     failures = []
     for tech in techniques(exe):
-        outs = []
-        for scene in (scene_a, scene_b):
+        pngs = []
+        extra = [a for pair in scaled_settings(tech, scale) for a in pair]
+        for scene, settings in ((scene_a, []), (scene_b, extra)):
             out = os.path.join(out_dir, os.path.basename(scene), tech["id"])
-            _, _, final = run(exe, tech, scene, out)
-            outs.append(os.path.join(out, [f for f in final["files"] if f.endswith(".exr")][0]))
+            _, _, final = run(exe, tech, scene, out, settings)
+            png = [f for f in final["files"] if f.endswith(".png")]
+            if not png:
+                sys.exit(f"{tech['id']}: the final output has no PNG to compare")
+            pngs.append(os.path.join(out, png[0]))
         address = tech["final_output"]
         t = tol["outputs"].get(address, tol["default"])
-        r = subprocess.run([exe, "compare", outs[1], outs[0], "--json"], capture_output=True, text=True)
-        if r.returncode != 0:
-            sys.exit(f"voxlab compare {outs[1]} {outs[0]}: exit {r.returncode}\n{r.stderr}")
-        m = json.loads(r.stdout)
-        line = f"{address}: scaled vs original rmse {m['rmse']:.3g}, max_abs {m.get('max_abs', float('nan')):.3g} (tolerance {t['max_abs']})"
+        a, b = read_png(pngs[0]), read_png(pngs[1])
+        if a[:3] != b[:3]:
+            sys.exit(f"{address}: image sizes differ: {a[:3]} vs {b[:3]}")
+        steps = [abs(x - y) for x, y in zip(a[3], b[3])]
+        allowed_steps = int(t["max_abs"] * 255.0 + 1e-6)  # 8-bit steps the snapshot tolerance admits
+        differing = sum(1 for d in steps if d > allowed_steps)
+        extra_values, extra_steps = rounding_allowance(scale)
+        allowed = int(t.get("max_fraction", 0.0) * len(steps)) + extra_values
+        worst = max(steps) if steps else 0
+        line = (f"{address}: scaled x{scale:g} vs original: {differing} of {len(steps)} values differ "
+                f"by more than {allowed_steps} steps (allowed: {allowed}, up to {allowed_steps + extra_steps} steps), "
+                f"worst {worst} steps"
+                + (f"; scaled {' '.join(extra[1::2])}" if extra else ""))
         print(line)
-        if m.get("max_abs", 0.0) > t["max_abs"]:
+        if differing > allowed or worst > allowed_steps + extra_steps:
             failures.append(line)
     if failures:
         sys.exit("the scaled scene renders differently:\n" + "\n".join(failures))
@@ -167,7 +221,7 @@ def main():
             if s not in scenes: print(f"{s} is not there: not checked")
         default_light(exe, out_dir, scenes, turn=True)
     elif mode == "same-picture":
-        same_picture(exe, out_dir, *sys.argv[4:7])
+        same_picture(exe, out_dir, *sys.argv[4:8])
     else:
         sys.exit(f"unknown mode {mode}; valid: default-light, same-picture")
 
