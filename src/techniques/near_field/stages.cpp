@@ -136,13 +136,13 @@ constexpr int kRayCounters = 16 + 256;  // [0] step records, [1 + category], [16
 // --- Bitmask tables ------------------------------------------------------------------------------
 
 void BitmaskTablesStage::declare(StageBuilder& b) const {
-  auto& orT = b.output("or-table", OutputKind::Image2D, Semantic::Occupancy,
+  auto& orT = b.output("or-table", OutputKind::Image2D, kBitmaskColumns,
                        "128 x 1 RGBA32UI: texel k has only slice k set (MSB first in channel k >> 5)");
   orT.tier = CaptureTier::Exact;
-  auto& xorT = b.output("xor-table", OutputKind::Image2D, Semantic::Occupancy,
+  auto& xorT = b.output("xor-table", OutputKind::Image2D, kBitmaskColumns,
                         "129 x 1 RGBA32UI: texel k has slices k..127 set; texel 128 is all zero");
   xorT.tier = CaptureTier::Exact;
-  auto& rays = b.output("ray-masks", OutputKind::Image2D, Semantic::Occupancy,
+  auto& rays = b.output("ray-masks", OutputKind::Image2D, kBitmaskColumns,
                         "128 x 128 RGBA32UI: texel (i, j) = XOR[i] ^ XOR[j+1], the slices i..j (used only for i <= j)");
   rays.tier = CaptureTier::Exact;
   auto& pc = b.output("ray-mask-popcount", OutputKind::Image2D, Semantic::Scalar,
@@ -179,7 +179,7 @@ void HierarchyStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("binary-voxels");
   b.read("binary-popcount");
-  auto& h = b.output("bitmask-hierarchy", OutputKind::Image2D, Semantic::Occupancy,
+  auto& h = b.output("bitmask-hierarchy", OutputKind::Image2D, kBitmaskColumns,
                      "RGBA32UI columns per level: level l+1 texel = OR of its 2x2 children at level l (all 128 slices)");
   h.tier = CaptureTier::Exact;
   auto& pc = b.output("hierarchy-popcount", OutputKind::Image2D, Semantic::Scalar,
@@ -244,6 +244,7 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the recorded pixel
   b.readView();
   b.read("bitmask-hierarchy");
   b.read("ray-masks");
@@ -276,11 +277,12 @@ void RaysStage::declare(StageBuilder& b) const {
   sl.fields.push_back({"t-end", FieldType::F32, 72, FieldRole::Other});
   sl.countResource = "rays.counters";
   sl.countOffset = 0;
-  auto& st = b.output("traversal-steps", OutputKind::Buffer, Semantic::Scalar,
+  auto& st = b.output("traversal-steps", OutputKind::Buffer, Semantic("near-field-traversal"),
                       "every step of the probed pixel's probe.ray walk: level, texel, slice range, ray mask, AND, "
                       "action (8 descend, 9 advance, 0 hit)");
   st.layout = sl;
   st.tier = CaptureTier::Exact;
+  st.probeRecord = true;  // checked and drawn by src/inspect/visualisers/bitmask_columns.cpp
   BufferLayout pl;
   pl.stride = sizeof(gpu::ProbeRay);
   pl.fields = {{"receiver", FieldType::Vec4, 0, FieldRole::Position},
@@ -294,10 +296,11 @@ void RaysStage::declare(StageBuilder& b) const {
                {"rsm-sample", FieldType::Vec4, 80, FieldRole::Other},
                {"rsm-radiance", FieldType::Vec4, 96, FieldRole::Color},
                {"steps", FieldType::Vec4, 112, FieldRole::Other}};
-  b.output("probe-ray", OutputKind::Buffer, Semantic::Scalar,
+  auto& pr = b.output("probe-ray", OutputKind::Buffer, Semantic::Scalar,
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
-           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps")
-      .layout = pl;
+           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps");
+  pr.layout = pl;
+  pr.probeRecord = true;
   declareTraced(b, "indirect", GL_RGBA32F);
   declareTraced(b, "ray-category", GL_R32UI);
   declareTraced(b, "ray-steps", GL_R32UI);
