@@ -482,8 +482,12 @@ void ComposeStage::declare(StageBuilder& b) const {
   b.read("inscatter-full");
   b.read("transmittance-full");
   if (!surfaceInput_.empty()) b.read(surfaceInput_);
-  b.output("surface", OutputKind::Image2D, Semantic::RadianceHDR, "surface radiance before the medium, W/(m^2 sr)")
-      .resource = "volumetric-surface";
+  OutputDesc& surface = b.output("surface", OutputKind::Image2D, Semantic::RadianceHDR,
+                                 "surface radiance before the medium, W/(m^2 sr)");
+  surface.resource = "volumetric-surface";
+  // Alone, the surface term is direct light + emission (compose.surface=direct): the path tracer's
+  // 'direct' mode (docs/fidelity.md). Over another technique's image it is that image's, untagged.
+  if (surfaceInput_.empty()) surface.referenceMode = "direct";
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR,
            "surface * transmittance + in-scattered radiance, W/(m^2 sr)")
       .resource = "volumetric-combined";
