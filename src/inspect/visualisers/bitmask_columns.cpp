@@ -239,6 +239,23 @@ class TraversalVisualiser : public BufferVisualiser {
     const RecordCheck check = checkRecords(ctx.out);
     ImGui::Text("%s", check.summary.c_str());
     if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
+    // Step through the walk one step at a time: the chosen step's ray mask and AND as stacks.
+    static std::map<const ViewSettings*, int> chosen;
+    int& k = chosen[&ctx.view];
+    if (!steps.empty()) {
+      k = std::clamp(k, 0, int(steps.size()) - 1);
+      ImGui::SliderInt("step", &k, 0, int(steps.size()) - 1);
+      ImGui::SameLine();
+      if (ImGui::ArrowButton("prev", ImGuiDir_Left)) k = std::max(k - 1, 0);
+      ImGui::SameLine();
+      if (ImGui::ArrowButton("next", ImGuiDir_Right)) k = std::min(k + 1, int(steps.size()) - 1);
+      const Step& s = steps[size_t(k)];
+      ImGui::Text("step %u: level %u, texel (%u, %u), slices %u..%u, t %.4f..%.4f of %.4f -> %s", s.step, s.level, s.x, s.y,
+                  s.first, s.last, s.tEnter, s.tExit, s.tEnd, actionName(s.action));
+      drawStack("ray mask", s.ray, nullptr, 1.5f);
+      ImGui::SameLine();
+      drawStack("AND column", s.hit, nullptr, 1.5f);
+    }
     ImGui::TextDisabled("bit strips: 128 slices left to right; grey = ray mask, white = ray mask AND column");
     if (!ImGui::BeginTable("walk", 7, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX | ImGuiTableFlags_SizingFixedFit,
                            ImVec2(0, 320)))
