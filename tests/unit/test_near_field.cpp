@@ -899,6 +899,21 @@ TEST(NearFieldVisualisers, TraversalCheckPassesOnTheWalkAndCatchesBrokenOnes) {
   EXPECT_NE(broken([](auto& r) { r[0].rayMask.x ^= 0x1u; }), "");                  // a ray mask not first..last
   EXPECT_NE(broken([](auto& r) { r.back().hitMask = glm::uvec4(0u); }), "");       // a hit with an empty AND
   EXPECT_NE(broken([](auto& r) { std::swap(r[0].t.x, r[0].t.y); r[0].t.x += 1e-3f; }), "");  // t in > t out
+
+  // Beside the walk: the brute-force DDA over the same grid, cell by cell, ending on the same voxel.
+  const CapturedOutput dda = capture(s, "rays", "probe-dda");
+  ASSERT_TRUE(dda.desc.probeRecord);
+  const Visualiser& ddaVis = visualiserFor(dda.desc);
+  EXPECT_STREQ(ddaVis.name(), "near-field-dda");
+  const RecordCheck ddaOk = ddaVis.checkRecords(dda);
+  EXPECT_TRUE(ddaOk.error.empty()) << ddaOk.error;
+  EXPECT_NE(ddaOk.summary.find("first set cell = the walk's hit"), std::string::npos) << ddaOk.summary;
+  ASSERT_GT(dda.recordCount, 2u);
+  // More cells than the walk's steps: the hierarchy skipped the empty runs.
+  EXPECT_GT(dda.recordCount, steps.recordCount);
+  CapturedOutput skipped = dda;
+  std::memcpy(skipped.records.data() + 32, skipped.records.data() + 64, 32);  // a cell skipped
+  EXPECT_NE(ddaVis.checkRecords(skipped).error, "");
 }
 
 TEST(NearFieldVisualisers, BitmaskColumnsNameTheExactSlicesOfAColumn) {

@@ -292,9 +292,70 @@ class TraversalVisualiser : public BufferVisualiser {
   }
 };
 
+// --- the brute-force DDA beside the walk ----------------------------------------------------------
+
+struct DdaRecord {
+  float cell[3], tEnter;
+  uint32_t set, walkHit, pad[2];
+};
+
+std::vector<DdaRecord> decodeDda(const CapturedOutput& out) {
+  if (out.desc.layout.stride != sizeof(DdaRecord)) return {};
+  std::vector<DdaRecord> r(std::min<size_t>(out.recordCount, out.records.size() / sizeof(DdaRecord)));
+  if (!r.empty()) std::memcpy(r.data(), out.records.data(), r.size() * sizeof(DdaRecord));
+  return r;
+}
+
+// The DDA visits face neighbours in order and stops at the first set cell; the walk's hit, when the
+// DDA visits that cell, is that first set cell (the hierarchy finds what the DDA finds).
+class DdaVisualiser : public BufferVisualiser {
+ public:
+  const char* name() const override { return "near-field-dda"; }
+
+  RecordCheck checkRecords(const CapturedOutput& out) const override {
+    RecordCheck c;
+    const auto r = decodeDda(out);
+    c.elements = r.size();
+    char buf[200];
+    for (size_t i = 0; i < r.size() && c.error.empty(); ++i) {
+      if (i > 0) {
+        int moved = 0, by = 0;
+        for (int a = 0; a < 3; ++a) {
+          const int d = int(r[i].cell[a]) - int(r[i - 1].cell[a]);
+          moved += d != 0;
+          by += std::abs(d);
+        }
+        if (moved != 1 || by != 1 || r[i].tEnter < r[i - 1].tEnter) {
+          std::snprintf(buf, sizeof buf, "cell %zu is not the face neighbour after cell %zu, or t went back", i, i - 1);
+          c.error = buf;
+        }
+      }
+      if ((r[i].set || r[i].walkHit) && i + 1 != r.size()) {
+        std::snprintf(buf, sizeof buf, "cell %zu is set or the walk's hit but the DDA went on", i);
+        c.error = buf;
+      }
+    }
+    const bool hit = !r.empty() && r.back().set;
+    const bool same = hit && r.back().walkHit;
+    std::snprintf(buf, sizeof buf, "%zu cells, %s", r.size(),
+                  !hit ? "no set cell on the segment" : same ? "first set cell = the walk's hit" : "first set cell (the walk hit another: a tie, or no hit)");
+    c.summary = buf;
+    return c;
+  }
+
+  void drawRecordView(const VisualiserContext& ctx) const override {
+    const RecordCheck check = checkRecords(ctx.out);
+    ImGui::Text("%s", check.summary.c_str());
+    if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
+    ImGui::TextDisabled("every level-0 cell the segment crosses; the hierarchical walk above skipped the empty runs");
+    BufferVisualiser::drawRecordView(ctx);
+  }
+};
+
 }  // namespace
 
 VOXLAB_REGISTER_VISUALISER(BitmaskColumnsVisualiser, OutputKind::Image2D, "bitmask-columns");
+VOXLAB_REGISTER_VISUALISER(DdaVisualiser, OutputKind::Buffer, "near-field-dda");
 VOXLAB_REGISTER_VISUALISER(TraversalVisualiser, OutputKind::Buffer, "near-field-traversal");
 
 }  // namespace voxlab

@@ -58,7 +58,9 @@
 //     camera image re-runs the rays for that pixel, and the Probe tab shows the probe.ray walk
 //     step by step (level, texel, slice range, ray mask, AND, descend / advance / hit, as bit
 //     strips), checked by near-field-traversal (one level per step, hits only at level 0), and
-//     the ray's set-up, hit and RSM lookup (probe-ray).
+//     the ray's set-up, hit and RSM lookup (probe-ray), and beside the walk the same segment
+//     walked cell by cell by the CPU's brute-force DDA over the level-0 grid (probe-dda, checked
+//     by near-field-dda: face neighbours in order, ending on the walk's hit).
 //   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact
 //     and already there). Voxel path tracing (section 3.2.4) is the technique voxel-path-tracing
 //     (voxel_path_tracing.cpp) on these stages.
