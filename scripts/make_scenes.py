@@ -8,6 +8,7 @@
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
+  tests/data/scenes/thin-wall-spot.gltf  the same lit by a spot light (lrsm's leak test)
   tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
   tests/data/scenes/huge-triangles.gltf  4 huge triangles at odd angles (voxelization sweep)
   tests/data/scenes/voxel-ties-R.gltf    (R = 64, 128, 256) geometry exactly on voxel faces, edges
@@ -160,17 +161,25 @@ def wall_floor(path):
     b.write(path)
 
 
-def thin_wall(path):
+def thin_wall(path, spot=False):
     """Closed room x -1..1, y 0..1, z -0.5..0.5 (inward faces) split at x = 0 by a 1 cm thick wall
     (closed box, outward faces). A point light sits in the left (-x) half only; any light in the
-    right half that did not bounce around the wall is a leak."""
-    b = GltfBuilder("voxlab scripts/make_scenes.py (thin wall)")
+    right half that did not bounce around the wall is a leak. The wall seals the halves, so the
+    right half's true radiance is exactly 0. spot: a spot light under the left half's ceiling
+    pointing down instead (1 W/sr, outer cone 60 degrees), for techniques that need a light's map
+    (RSM, shadow map: lrsm's thin-wall leak)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (thin wall%s)" % (", spot" if spot else ""))
     room = b.add_material("room-white", (0.7, 0.7, 0.7))
     wall = b.add_material("thin-wall", (0.7, 0.7, 0.7))
     b.add_mesh_node("room", room, axis_box_polygons([-1.0, 0.0, -0.5], [1.0, 1.0, 0.5], faces_outward=False))
     b.add_mesh_node("thin-wall", wall, axis_box_polygons([-0.005, 0.0, -0.5], [0.005, 1.0, 0.5]))
-    b.add_light("left-point", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 1.0},
-                (-0.5, 0.5, 0.0))
+    if spot:
+        b.add_light("left-spot", {"type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 1.0,
+                                  "spot": {"innerConeAngle": 0.8, "outerConeAngle": 1.0472}},
+                    (-0.5, 0.95, 0.0), LOOK_DOWN)
+    else:
+        b.add_light("left-point", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 1.0},
+                    (-0.5, 0.5, 0.0))
     # Inside the room near the -z wall, looking +z at the divider.
     b.add_camera("camera", (0.0, 0.5, -0.45), LOOK_PLUS_Z, 1.4, aspect=1.0, znear=0.01, zfar=10.0)
     b.write(path)
@@ -402,6 +411,7 @@ def main():
         (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
+        (os.path.join(tests, "thin-wall-spot.gltf"), lambda p: thin_wall(p, spot=True)),
         (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
         (os.path.join(tests, "boundary-quad.gltf"), boundary_quad),

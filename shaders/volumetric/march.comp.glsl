@@ -2,7 +2,8 @@
 // Single-scattering ray march, one sample per dispatch (sample index u_sample of u_steps), after
 // seed 000 Listings 4.51-4.52 with the physics the thesis leaves out (docs in volumetric.cpp):
 //   L_in = sum_i T(t_i) sigma_s(x_i) p(mu_i) E(x_i) V(x_i) dt,  t_i = t0 + (i + u) dt,  dt = (t1 - t0) / N
-// over the part [t0, t1] of the camera ray inside the density grid and before the surface,
+// over the part [t0, t1] of the camera ray inside the density grid and before the surface (with
+// march.clip=spot-cone the samples cover only its part inside a spot light's cone, see below),
 // with u the pixel's dither offset, T(t_i) = exp(-(sum_{j<i} sigma_t(x_j) dt + sigma_t(x_i) u dt)),
 // and after the last sample T(t1) = exp(-sum_j sigma_t(x_j) dt) for the surface behind.
 #include "common/shared.h"
@@ -32,6 +33,7 @@ uniform float u_g;
 uniform float u_hazeScattering; // sigma_s of the uniform haze inside the grid (1/m)
 uniform float u_extinctionRatio;  // sigma_t = ratio * sigma_s
 uniform ivec2 u_probePixel;
+uniform int u_clipToCone;       // 1: in-scattering samples only where a spot light's cone is (Vos 2014, 3.2.1)
 
 const int BAYER[16] = int[16](VOXLAB_BAYER4_X16);
 
@@ -52,6 +54,62 @@ float visibility(vec3 p) {
   vec3 uvz = clip.xyz / clip.w * 0.5 + 0.5;
   if (!shadowMapDecides(uvz)) return u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL ? 1.0 : 0.0;
   return texture(u_shadowMap, uvz.xy).r >= uvz.z - 1e-4 ? 1.0 : 0.0;
+}
+
+// The part [a, b] of [t0, t1] of the ray o + t d (d unit) inside the spot light's cone: the
+// forward nappe of half-angle acos(cos outer) around its axis, widened by 0.01 rad so that float
+// rounding at the rim cannot cut a sample whose irradiance is not 0 (outside the outer cone it is
+// exactly 0, common/lights.glsl). For an outer angle under 90 degrees the cone is convex, so the
+// ray meets it in one interval: inside(t) = f(t) >= 0 (the double cone) and on the axis' side of
+// the apex. false: the segment misses the cone.
+bool clipToSpotCone(vec3 o, vec3 d, float t0, float t1, out float a, out float b) {
+  vec3 apex = u_light.positionType.xyz, axis = u_light.directionRange.xyz;
+  float c = cos(min(acos(clamp(u_light.spot.y, -1.0, 1.0)) + 0.01, 1.5));
+  float c2 = c * c;
+  vec3 v = o - apex;
+  float dA = dot(d, axis), vA = dot(v, axis);
+  float qa = dA * dA - c2, qb = 2.0 * (dA * vA - c2 * dot(d, v)), qc = vA * vA - c2 * dot(v, v);
+  float lo = -1e30, hi = 1e30;
+  if (abs(dA) > 1e-8) {
+    if (dA > 0.0) lo = -vA / dA; else hi = -vA / dA;
+  } else if (vA < 0.0) {
+    return false;  // parallel to the apex plane, behind it
+  }
+  float disc = qb * qb - 4.0 * qa * qc;
+  if (abs(qa) < 1e-8) {  // along the rim's direction: f is linear
+    if (abs(qb) < 1e-12) {
+      if (qc < 0.0) return false;
+    } else if (qb > 0.0) lo = max(lo, -qc / qb); else hi = min(hi, -qc / qb);
+  } else if (disc < 0.0) {
+    if (qa < 0.0) return false;  // outside the double cone everywhere
+  } else {
+    float sq = sqrt(disc);
+    float r0 = min((-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa));
+    float r1 = max((-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa));
+    if (qa < 0.0) {  // crosses the cone: inside between the roots
+      lo = max(lo, r0);
+      hi = min(hi, r1);
+    } else if (dA > 0.0) {  // ends up inside the forward nappe: after the later root
+      lo = max(lo, r1);
+    } else {  // came from inside the forward nappe: before the earlier root
+      hi = min(hi, r0);
+    }
+  }
+  a = max(t0, lo);
+  b = min(t1, hi);
+  return a < b;
+}
+
+// Optical depth sum sigma_t dt over [ta, tb] (midpoint rule, n samples) of the ray: the parts a
+// clipped march does not sample for in-scattering still attenuate.
+float opticalDepthOver(vec3 o, vec3 d, float ta, float tb, int n) {
+  if (tb <= ta) return 0.0;
+  float h = (tb - ta) / float(n), sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    vec3 x = o + d * (ta + (float(i) + 0.5) * h);
+    sum += u_extinctionRatio * (texture(u_scattering, worldToVolumeUV(x)).r + u_hazeScattering) * h;
+  }
+  return sum;
 }
 
 void main() {
@@ -79,16 +137,25 @@ void main() {
   float t0 = max(max(max(tmin.x, tmin.y), tmin.z), 0.0);
   float t1 = min(min(min(tmax.x, tmax.y), tmax.z), D);
   float len = max(t1 - t0, 0.0);
-  float dt = len / float(u_steps);
+  // The sampled segment [sa, sb]: the whole of [t0, t1], or with u_clipToCone under a spot light
+  // its part inside the cone (elsewhere nothing scatters towards the camera). The parts before and
+  // after still attenuate: their optical depth is added at the first and after the last sample.
+  float sa = t0, sb = t1;
+  bool clipped = u_clipToCone == 1 && u_light.positionType.w == VOXLAB_LIGHT_SPOT && len > 0.0;
+  bool sampled = len > 0.0;
+  if (clipped) sampled = clipToSpotCone(u_cameraPos, dir, t0, t1, sa, sb);
+  if (!sampled) sa = sb = t1;
+  float dt = sampled ? (sb - sa) / float(u_steps) : 0.0;
   float u = ditherOffset(q);
 
   vec3 sum = u_sample == 0 ? vec3(0.0) : imageLoad(u_inscatter, q).rgb;
   float depthBefore = u_sample == 0 ? 0.0 : imageLoad(u_opticalDepth, q).r;
-  float t = t0 + (float(u_sample) + u) * dt;
+  if (clipped && u_sample == 0) depthBefore = opticalDepthOver(u_cameraPos, dir, t0, sa, u_steps);
+  float t = sa + (float(u_sample) + u) * dt;
   vec3 x = u_cameraPos + dir * t;
   float sigmaS = 0.0, lit = 0.0, mu = 0.0, phase = 0.0, T = 1.0;
   vec3 E = vec3(0.0), contribution = vec3(0.0);
-  if (len > 0.0) {
+  if (sampled) {
     sigmaS = texture(u_scattering, worldToVolumeUV(x)).r + u_hazeScattering;
     float sigmaT = u_extinctionRatio * sigmaS;
     T = exp(-(depthBefore + sigmaT * u * dt));
@@ -102,6 +169,7 @@ void main() {
     sum += contribution;
     depthBefore += sigmaT * dt;
   }
+  if (clipped && u_sample == u_steps - 1) depthBefore += opticalDepthOver(u_cameraPos, dir, sb, t1, u_steps);
   imageStore(u_inscatter, q, vec4(sum, 1.0));
   imageStore(u_opticalDepth, q, vec4(depthBefore));
   imageStore(u_transmittance, q, vec4(exp(-depthBefore)));
@@ -111,7 +179,7 @@ void main() {
     vec3 v = worldToVoxel(x);
     records[u_sample].voxel = vec4(v, t);
     records[u_sample].world = vec4(x, u);
-    float count = len > 0.0 ? float(texelFetch(u_counts, clamp(ivec3(floor(v)), ivec3(0), ivec3(u_resolution - 1)), 0).r) : 0.0;
+    float count = sampled ? float(texelFetch(u_counts, clamp(ivec3(floor(v)), ivec3(0), ivec3(u_resolution - 1)), 0).r) : 0.0;
     records[u_sample].medium = vec4(lit, sigmaS, u_extinctionRatio * sigmaS, count);
     records[u_sample].phase = vec4(mu, phase, dot(E, vec3(0.2126, 0.7152, 0.0722)), T);
     records[u_sample].contribution = vec4(contribution, dot(sum, vec3(0.2126, 0.7152, 0.0722)));

@@ -30,6 +30,7 @@ static LevelData readTextureLevel(const Texture& tex, int level) {
     std::vector<uint32_t> tmp(n);
     glGetTextureImage(tex.id(), level, fi.readFormat, GL_UNSIGNED_INT, GLsizei(n * 4), tmp.data());
     for (size_t i = 0; i < n; ++i) d.values[i] = float(tmp[i]);
+    d.integers = std::move(tmp);
   } else {
     glGetTextureImage(tex.id(), level, fi.readFormat, GL_FLOAT, GLsizei(n * 4), d.values.data());
   }

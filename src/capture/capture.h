@@ -20,6 +20,9 @@ struct LevelData {
   glm::ivec3 size{0};  // depth 1 for images
   int channels = 0;
   std::vector<float> values;  // x fastest, then y (row 0 = bottom, GL order), then z; channels interleaved
+  // Integer formats only: the same texels as read (values holds them as float, exact below 2^24;
+  // a 32-bit mask needs these).
+  std::vector<uint32_t> integers;
   size_t texelCount() const { return size_t(size.x) * size.y * size.z; }
   float at(int x, int y, int z, int c) const {
     return values[((size_t(z) * size.y + y) * size.x + x) * channels + c];

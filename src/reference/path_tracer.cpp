@@ -549,6 +549,16 @@ void ReferenceTracer::setSkyRadiance(const glm::vec3& radiance) {
   impl_->sky = radiance;
 }
 glm::vec3 ReferenceTracer::skyRadiance() const { return impl_->sky; }
+float ReferenceTracer::firstHit(const glm::vec3& o, const glm::vec3& d) const {
+  Hit h;
+  uint64_t rays = 0;
+  return impl_->intersect(o, d, 0.0f, INFINITY, h, rays) ? h.t : INFINITY;
+}
+
+bool ReferenceTracer::occluded(const glm::vec3& o, const glm::vec3& d, float tfar) const {
+  uint64_t rays = 0;
+  return impl_->occluded(o, d, tfar, rays);
+}
 
 Estimate ReferenceTracer::estimateRadiance(const glm::vec3& origin, const glm::vec3& dir, Mode mode,
                                            int samples, uint64_t key, float aoRadius,

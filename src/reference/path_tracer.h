@@ -111,6 +111,12 @@ class ReferenceTracer {
   Estimate estimateAO(const glm::vec3& p, const glm::vec3& n, int samples, float radius = INFINITY,
                       uint64_t key = 0, int threads = 1) const;
 
+  // The tracer's own ray queries (alpha-masked texels let rays through), for the other CPU
+  // references (single_scattering.h): the distance to the first surface along o + t d (INFINITY
+  // for none), and whether a surface lies on o + t d for t in [0, tfar).
+  float firstHit(const glm::vec3& o, const glm::vec3& d) const;
+  bool occluded(const glm::vec3& o, const glm::vec3& d, float tfar) const;
+
   const Scene& scene() const { return scene_; }
 
   // Constant sky (environment) radiance, W/(m^2 sr) per channel, 0 by default: every ray that

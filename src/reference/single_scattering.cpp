@@ -1,11 +1,10 @@
 #include "reference/single_scattering.h"
 
-#include <embree3/rtcore.h>
-
 #include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
+#include "reference/path_tracer.h"
 #include "scene/light_model.h"
 #include "volumetric/volumetric_shared.h"
 
@@ -34,65 +33,14 @@ std::vector<double> thesisBayerOffsets() {
   return out;
 }
 
+// The camera and shadow rays are the path tracer's (the same Embree scene, alpha-masked texels
+// cut away: a MASK material's leaves neither end a camera ray nor shadow a sample).
 struct SingleScatteringReference::Impl {
   const Scene& scene;
-  RTCDevice device = nullptr;
-  RTCScene rtc = nullptr;
-
-  explicit Impl(const Scene& s) : scene(s) {
-    device = rtcNewDevice(nullptr);
-    if (!device) throw Error("cannot create an Embree device");
-    rtc = rtcNewScene(device);
-    rtcSetSceneFlags(rtc, RTC_SCENE_FLAG_ROBUST);
-    const size_t nv = s.positions.size(), nt = s.triangleCount();
-    if (nt > 0) {
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* vb = static_cast<float*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-      auto* ib = static_cast<unsigned*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
-      for (size_t i = 0; i < nv; ++i)
-        for (int k = 0; k < 3; ++k) vb[3 * i + k] = s.positions[i][k];
-      std::copy(s.indices.begin(), s.indices.begin() + 3 * nt, ib);
-      rtcCommitGeometry(g);
-      rtcAttachGeometry(rtc, g);
-      rtcReleaseGeometry(g);
-    }
-    rtcCommitScene(rtc);
-    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw Error("Embree could not build the scene '" + s.name + "'");
-  }
-  ~Impl() {
-    if (rtc) rtcReleaseScene(rtc);
-    if (device) rtcReleaseDevice(device);
-  }
-
-  // Distance to the first surface along the ray (infinity when none).
-  float firstHit(const glm::vec3& o, const glm::vec3& d) const {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRayHit rh{};
-    rh.ray.org_x = o.x; rh.ray.org_y = o.y; rh.ray.org_z = o.z;
-    rh.ray.dir_x = d.x; rh.ray.dir_y = d.y; rh.ray.dir_z = d.z;
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = INFINITY;
-    rh.ray.mask = 0xffffffffu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc, &ctx, &rh);
-    return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
-  }
-
-  bool occluded(const glm::vec3& o, const glm::vec3& d, float tfar) const {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRay r{};
-    r.org_x = o.x; r.org_y = o.y; r.org_z = o.z;
-    r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
-    r.tnear = 0.0f;
-    r.tfar = tfar;
-    r.mask = 0xffffffffu;
-    rtcOccluded1(rtc, &ctx, &r);
-    return r.tfar < 0.0f;
-  }
+  ReferenceTracer tracer;
+  explicit Impl(const Scene& s) : scene(s), tracer(s) {}
+  float firstHit(const glm::vec3& o, const glm::vec3& d) const { return tracer.firstHit(o, d); }
+  bool occluded(const glm::vec3& o, const glm::vec3& d, float tfar) const { return tracer.occluded(o, d, tfar); }
 };
 
 SingleScatteringReference::SingleScatteringReference(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}

@@ -1,6 +1,6 @@
 // CPU reference for the volumetric technique: the single-scattering integral along camera rays
-// through a homogeneous medium filling a box, with exact visibility (Embree occlusion rays
-// towards the light, as the path tracer), the light model of scene/light_model.h and
+// through a homogeneous medium filling a box, with exact visibility (the path tracer's Embree
+// occlusion rays towards the light, alpha masks included), the light model of scene/light_model.h and
 // Henyey-Greenstein scattering. Also the phase functions and the Bayer matrix the tests check.
 //
 // For a camera ray x(t) = o + t d, the part [t0, t1] of it inside the medium box and before the
@@ -53,7 +53,8 @@ struct SingleScatteringResult {
 
 class SingleScatteringReference {
  public:
-  // Builds an Embree scene of the scene's triangles; uses the scene's first light (none: zero).
+  // Traces with the path tracer's Embree scene (ReferenceTracer: alpha-masked texels let rays
+  // through); uses the scene's first light (none: zero).
   explicit SingleScatteringReference(const Scene& scene);
   ~SingleScatteringReference();
   SingleScatteringReference(const SingleScatteringReference&) = delete;

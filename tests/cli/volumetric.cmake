@@ -9,3 +9,11 @@ voxlab_cli_case(volumetric_too_many_steps 2 "march.steps='300' is not valid; val
   "run --technique volumetric --set march.steps=300 --out @OUT@")
 voxlab_cli_case(volumetric_lesson_check_ok 0 "^$"
   "lesson --check @ROOT@/lessons/03-volumetric-light.md")
+
+# The ray record as the generic probe shows it: a click sets probe.x/probe.y, the march re-runs
+# and the record is checked by its visualiser (src/inspect/visualisers/volumetric_ray.cpp).
+add_test(NAME viewer.probe_volumetric
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/probe_volumetric.txt ${CMAKE_BINARY_DIR}/viewer-out/probe_volumetric)
+set_tests_properties(viewer.probe_volumetric PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)

@@ -21,6 +21,9 @@
 #include <set>
 
 #include "app/reference_error.h"
+#include "graph/resource_budget.h"
+#include "graph/technique.h"
+#include "reference/path_tracer.h"
 #include "core/paths.h"
 #include "inspect/visualiser.h"
 #include "lrsm/lrsm_shared.h"
@@ -174,6 +177,38 @@ TEST(LrsmDecisions, PaperMemoryArithmeticAndTheTenPercentTarget) {
   EXPECT_NEAR(paperMemory(512, 1024, 6).lrsm / 1e6, 50.33, 0.01);
   const double sponza = paperMemory(512, 1024, 4).total() / 1e6;
   EXPECT_LT(std::fabs(sponza - 212.4) / 212.4, 0.10) << sponza;
+}
+
+// The paper's layout as voxlab allocates it: at 512^3 voxels and RSM 1024^2 (LRSM 512^2 x 4
+// layers) the occlusion volume with its mips and the three LRSM atlases with theirs, from the
+// same declarations the run allocates from (ResourceBudget.DeclarationsMatchAllocations ties the
+// two; `voxlab bench --technique lrsm --scene sponza --set voxel.resolution=512 --set
+// rsm.resolution=1024` listed the same 146.29 + 3 x 10.67 MiB). Against the arithmetic for the
+// same layout: 186.9 MB both (docs/performance.md, lrsm memory).
+TEST(LrsmDecisions, AllocatedOcclusionAndLrsmAt512MatchThePapersArithmetic) {
+  auto t = createTechnique("lrsm");
+  ParamSet p = t->defaultParams();
+  p.set("voxel.resolution", 512);
+  p.set("rsm.resolution", 1024);
+  ViewState view;
+  view.width = 1280;
+  view.height = 720;
+  const ResourceEstimate e = estimateResources(*t, p, view);
+  double occlusion = 0, lrsm = 0;
+  for (const auto& item : e.items) {
+    if (item.resource == "occlusion") occlusion += double(item.bytes);
+    if (item.resource == "lrsm-radiance" || item.resource == "lrsm-normal" || item.resource == "lrsm-depth")
+      lrsm += double(item.bytes);
+  }
+  const PaperMemory paper = paperMemory(512, 1024, 4);
+  std::printf("allocated at 512^3 / RSM 1024: occlusion %.2f MB (paper layout %.2f), LRSM %.2f MB (%.2f); all "
+              "resources %.1f MB\n", occlusion / 1e6, paper.occlusion / 1e6, lrsm / 1e6, paper.lrsm / 1e6, e.totalBytes / 1e6);
+  // Full mip chains down to 1 texel: the allocation's x (1 + 1/8 + ...) and x (1 + 1/4 + ...)
+  // against the arithmetic's limits 8/7 and 4/3 (measured: within 0.01 %). 1 % would catch a
+  // missing level or a wrong texel size; the target is 10 % of the paper's 212.4 MB in all.
+  EXPECT_NEAR(occlusion / paper.occlusion, 1.0, 0.01);
+  EXPECT_NEAR(lrsm / paper.lrsm, 1.0, 0.01);
+  EXPECT_LT(std::fabs((occlusion + lrsm + paper.rsm) / 1e6 - 212.4) / 212.4, 0.10);
 }
 
 TEST(LrsmDecisions, OversizedAtlasIsRefusedWithOneLine) {
@@ -498,13 +533,31 @@ TEST(LrsmGather, Algorithm1AgainstABruteForceSumOverTheFootprint) {
 double indirectMeanRatio(const RunRequest& req) {
   auto& s = session(req);
   CapturedOutput out = capture(s, "cone-gather", "indirect-diffuse");
-  const nlohmann::json e = compareWithReference(out, "cornell-box", 0, testing::TempDir(), "lrsm-indirect");
+  const nlohmann::json e = compareWithReference(out, req.scene, 0, testing::TempDir(), "lrsm-indirect");
   EXPECT_FALSE(e.is_null());
   EXPECT_FALSE(e.contains("skipped")) << e.dump();
   if (e.is_null() || e.contains("skipped")) return -1.0;
   std::printf("lrsm indirect-1 mean ratio %.3f, rmse %.4f, ssim %.3f\n", e["mean_ratio"].get<double>(),
               e["rmse"].get<double>(), e["ssim"].get<double>());
   return e["mean_ratio"].get<double>();
+}
+
+// Sponza at the size of its references (512x512, camera 0, defaults): the two estimators bracket
+// the reference there (docs/fidelity.md, Sponza table): normalised 2.99 (cones cross the thin
+// columns and arches and give half-transparent samples the full radiance of the sunlit floor: the
+// leak), as printed 0.082. Bands x0.75..x1.33 keep the sign of each bias and fail on a lost or
+// extra pi, a lost layer or the leak disappearing (the normalised mean would fall below 1).
+TEST(LrsmPhysics, SponzaOneBounceIndirectIsBracketedByTheTwoEstimators) {
+  RunRequest r;
+  r.technique = "lrsm";
+  r.scene = "sponza";
+  const double normalised = indirectMeanRatio(r);
+  r.sets = {"lrsm.estimator=paper"};
+  const double printed = indirectMeanRatio(r);
+  EXPECT_GT(normalised, 2.25);
+  EXPECT_LT(normalised, 4.0);
+  EXPECT_GT(printed, 0.062);
+  EXPECT_LT(printed, 0.11);
 }
 
 TEST(LrsmPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
@@ -555,6 +608,108 @@ TEST(LrsmVisualisers, LayeredDataAndGatherRecordsHaveTheirOwnVisualisers) {
     // fp16 alphas summed per texel and averaged: measured 1e-4.
     EXPECT_NEAR(total, expect, 2e-3) << "level " << m;
   }
+}
+
+}  // namespace
+}  // namespace voxlab
+
+namespace voxlab {
+namespace {
+
+// --- Thin wall: the leak of isotropic occlusion, measured ------------------------------------------
+
+// Mean luminance of an image output over the G-buffer pixels on each side of the wall at x = 0
+// (|x| > 2 cm: the wall is 1 cm thick). An image traced at half resolution maps its texel (i, j)
+// to G-buffer pixel (2i, 2j).
+struct SideMeans {
+  double lit = 0, sealed = 0;  // the spot's half (x < 0), the sealed half (x > 0)
+  size_t litPixels = 0, sealedPixels = 0;
+};
+
+SideMeans sideMeans(const CapturedOutput& image, const CapturedOutput& position) {
+  const LevelData& I = image.levels.at(0);
+  const LevelData& P = position.levels.at(0);
+  const int scale = P.size.x / I.size.x;
+  SideMeans m;
+  for (int y = 0; y < I.size.y; ++y)
+    for (int x = 0; x < I.size.x; ++x) {
+      const int gx = x * scale, gy = y * scale;
+      if (P.at(gx, gy, 0, 3) == 0.0f) continue;  // no surface
+      const float wx = P.at(gx, gy, 0, 0);
+      const double lum = 0.2126 * I.at(x, y, 0, 0) + 0.7152 * I.at(x, y, 0, 1) + 0.0722 * I.at(x, y, 0, 2);
+      if (wx < -0.02f) m.lit += lum, ++m.litPixels;
+      if (wx > 0.02f) m.sealed += lum, ++m.sealedPixels;
+    }
+  if (m.litPixels) m.lit /= double(m.litPixels);
+  if (m.sealedPixels) m.sealed /= double(m.sealedPixels);
+  return m;
+}
+
+RunRequest thinWallRequest(const char* technique) {
+  RunRequest r;
+  r.technique = technique;
+  r.scene = "tests/data/scenes/thin-wall-spot.gltf";
+  r.width = r.height = 128;
+  r.sets = {"voxel.resolution=64"};  // voxels of 3.1 cm in the 2 m room: the 1 cm wall fills one voxel layer
+  return r;
+}
+
+// A 1 cm wall seals the spot's half of the room from the other (scripts/make_scenes.py
+// thin_wall): no light path reaches the sealed half, so its true radiance is exactly 0 and
+// everything there is leak. The paper reports this leak for isotropic occlusion (SRS14 section 6,
+// Sibenik): a wall one voxel thick is opaque at voxel level 0 but only half covered at mip 1 and
+// an eighth at mip 3, and a 60-degree cone reads coarse mips after a few samples.
+TEST(LrsmPhysics, ThinWallLeaksThroughIsotropicOcclusionAndTheShadowMapDoesNot) {
+  RunRequest cone = thinWallRequest("lrsm");
+  cone.sets.push_back("rsm.resolution=128");
+  auto& s = session(cone);
+  const CapturedOutput position = capture(s, "gbuffer", "position");
+  const SideMeans indirect = sideMeans(capture(s, "cone-gather", "indirect-diffuse"), position);
+  const SideMeans direct = sideMeans(capture(s, "composite", "direct"), position);
+  // The reference path tracer's one-bounce light on the same pixels (its rows run top first).
+  reference::ReferenceTracer tracer(s.cursor().scene());
+  reference::ReferenceSettings rs;
+  rs.mode = reference::Mode::IndirectOne;
+  rs.width = rs.height = 128;
+  rs.spp = 32;
+  rs.computeStdErr = false;
+  const reference::Image refImage = tracer.render(rs);
+  CapturedOutput refOut = position;
+  LevelData& R = refOut.levels[0];
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x)
+      for (int c = 0; c < 3; ++c) R.values[(size_t(y) * 128 + x) * R.channels + c] = refImage.at(x, 127 - y)[c];
+  const SideMeans truth = sideMeans(refOut, position);
+  // (session() drops the other sessions: s is not used after the next call.)
+  RunRequest mapped = cone;
+  mapped.sets.push_back("composite.shadow=shadow-map");
+  auto& sm = session(mapped);
+  const SideMeans directMapped = sideMeans(capture(sm, "composite", "direct"), capture(sm, "gbuffer", "position"));
+  auto& v = session(thinWallRequest("vct-grid"));
+  const SideMeans vct = sideMeans(capture(v, "cone-trace", "indirect-diffuse"), capture(v, "gbuffer", "position"));
+  std::printf("thin wall, lrsm: indirect lit %.5f sealed %.5f (leak %.3f); direct (shadow cone) lit %.5f sealed %.5f "
+              "(leak %.3f); direct (shadow map) sealed %.6f; vct-grid indirect lit %.5f sealed %.5f (leak %.3f); "
+              "pixels %zu / %zu; reference indirect-1 lit %.5f sealed %.6f\n",
+              indirect.lit, indirect.sealed, indirect.sealed / indirect.lit, direct.lit, direct.sealed,
+              direct.sealed / direct.lit, directMapped.sealed, vct.lit, vct.sealed, vct.sealed / vct.lit,
+              indirect.litPixels, indirect.sealedPixels, truth.lit, truth.sealed);
+  ASSERT_GT(indirect.litPixels, 500u);
+  ASSERT_GT(indirect.sealedPixels, 500u);
+  ASSERT_GT(indirect.lit, 0.0);
+  // The wall seals the half: the path tracer finds no light there at all.
+  EXPECT_EQ(truth.sealed, 0.0);
+  EXPECT_GT(truth.lit, 0.0);
+  // The shadow map sees the wall: not one sealed pixel gets direct light.
+  EXPECT_EQ(directMapped.sealed, 0.0);
+  // The leak, pinned at what was measured (docs/fidelity.md, lrsm; 64^3, RSM 128, 128x128): the
+  // sealed half's indirect light is 0.208 of the lit half's (vct-grid's isotropic mips: 0.061),
+  // 3.3 % of the true lit-side one-bounce light (reference 0.0642); the shadow cone lets 0.044 of
+  // the lit half's direct light through. The bands (x 0.5 .. x 2) fail if the leak goes away
+  // (occlusion became directional, or the cones stopped reading coarse mips) or doubles.
+  EXPECT_GT(indirect.sealed / indirect.lit, 0.10);
+  EXPECT_LT(indirect.sealed / indirect.lit, 0.42);
+  EXPECT_GT(direct.sealed / direct.lit, 0.022);
+  EXPECT_LT(direct.sealed / direct.lit, 0.09);
 }
 
 }  // namespace

@@ -859,3 +859,94 @@ TEST(VoxelPathTracing, MoreBouncesApproachTheAllBounceReference) {
 
 }  // namespace
 }  // namespace voxlab
+
+#include "inspect/visualiser.h"
+
+namespace voxlab {
+namespace {
+
+using namespace nearfield;
+using testing_support::capture;
+using testing_support::session;
+
+// The probe records reach the generic probe with their own visualisers: the walk is checked by
+// near-field-traversal (which must catch a broken walk, or the viewer's check could not fail), the
+// grid, hierarchy and tables are shown by bitmask-columns, whose value under the cursor names the
+// column's set slices exactly (32-bit masks through the integer readback, not float).
+TEST(NearFieldVisualisers, TraversalCheckPassesOnTheWalkAndCatchesBrokenOnes) {
+  auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256",
+                             "probe.x=0.3", "probe.y=0.8", "probe.ray=0"}));
+  const CapturedOutput steps = capture(s, "rays", "traversal-steps");
+  ASSERT_TRUE(steps.desc.probeRecord);
+  ASSERT_TRUE(capture(s, "rays", "probe-ray").desc.probeRecord);
+  const Visualiser& vis = visualiserFor(steps.desc);
+  EXPECT_STREQ(vis.name(), "near-field-traversal");
+  const RecordCheck ok = vis.checkRecords(steps);
+  EXPECT_TRUE(ok.error.empty()) << ok.error;
+  ASSERT_GT(ok.elements, 2u);
+  std::vector<gpu::TraversalStep> rec(steps.recordCount);
+  std::memcpy(rec.data(), steps.records.data(), rec.size() * sizeof(gpu::TraversalStep));
+  ASSERT_EQ(rec.back().slices.z, NF_END_HIT) << "the probed floor pixel's first ray hits (see the test above)";
+  auto broken = [&](auto change) {
+    CapturedOutput c = steps;
+    std::vector<gpu::TraversalStep> r = rec;
+    change(r);
+    std::memcpy(c.records.data(), r.data(), r.size() * sizeof(gpu::TraversalStep));
+    return vis.checkRecords(c).error;
+  };
+  EXPECT_NE(broken([](auto& r) { r[1].where.y += 2; }), "");                       // a level jump
+  EXPECT_NE(broken([](auto& r) { r.back().where.y = 1; }), "");                    // a hit above level 0
+  EXPECT_NE(broken([](auto& r) { r[0].rayMask.x ^= 0x1u; }), "");                  // a ray mask not first..last
+  EXPECT_NE(broken([](auto& r) { r.back().hitMask = glm::uvec4(0u); }), "");       // a hit with an empty AND
+  EXPECT_NE(broken([](auto& r) { std::swap(r[0].t.x, r[0].t.y); r[0].t.x += 1e-3f; }), "");  // t in > t out
+
+  // Beside the walk: the brute-force DDA over the same grid, cell by cell, ending on the same voxel.
+  const CapturedOutput dda = capture(s, "rays", "probe-dda");
+  ASSERT_TRUE(dda.desc.probeRecord);
+  const Visualiser& ddaVis = visualiserFor(dda.desc);
+  EXPECT_STREQ(ddaVis.name(), "near-field-dda");
+  const RecordCheck ddaOk = ddaVis.checkRecords(dda);
+  EXPECT_TRUE(ddaOk.error.empty()) << ddaOk.error;
+  EXPECT_NE(ddaOk.summary.find("first set cell = the walk's hit"), std::string::npos) << ddaOk.summary;
+  ASSERT_GT(dda.recordCount, 2u);
+  // More cells than the walk's steps: the hierarchy skipped the empty runs.
+  EXPECT_GT(dda.recordCount, steps.recordCount);
+  CapturedOutput skipped = dda;
+  std::memcpy(skipped.records.data() + 32, skipped.records.data() + 64, 32);  // a cell skipped
+  EXPECT_NE(ddaVis.checkRecords(skipped).error, "");
+}
+
+TEST(NearFieldVisualisers, BitmaskColumnsNameTheExactSlicesOfAColumn) {
+  auto& s = session(snapshotRequest());
+  const CapturedOutput h = capture(s, "hierarchy", "bitmask-hierarchy");
+  EXPECT_STREQ(visualiserFor(h.desc).name(), "bitmask-columns");
+  EXPECT_STREQ(visualiserFor(capture(s, "bitmask-tables", "ray-masks").desc).name(), "bitmask-columns");
+  EXPECT_TRUE(texelMapping(h.desc.semantic).exact);
+  // The CPU's view of level 0 and a column whose mask has bits beyond float's 24-bit mantissa.
+  const std::vector<BitColumn> cpu = readLevel(s, "bitmask-hierarchy", 0);
+  const LevelData& L = h.levels[0];
+  ASSERT_EQ(L.integers.size(), L.values.size());
+  int picked = -1;
+  for (int i = 0; i < int(cpu.size()) && picked < 0; ++i)
+    for (int c = 0; c < 4; ++c)
+      if (cpu[i][c] != uint32_t(float(cpu[i][c]))) picked = i;
+  ASSERT_GE(picked, 0) << "no column with more than 24 significant bits in a word";
+  std::string expect;
+  for (int k = 0; k < kBinarySlices; ++k) {
+    if (!hasSlice(cpu[picked], k)) continue;
+    int e = k;
+    while (e + 1 < kBinarySlices && hasSlice(cpu[picked], e + 1)) ++e;
+    expect += (expect.empty() ? "" : ", ") + std::to_string(k) + (e > k ? "-" + std::to_string(e) : "");
+    k = e;
+  }
+  const nlohmann::json none;
+  ViewSettings view;
+  VisualiserContext ctx{h, none, none, view, [](CapturedOutput&, std::string&) { return false; }};
+  const int x = picked % L.size.x, y = picked / L.size.x;
+  const std::string text = visualiserFor(h.desc).describeElement(ctx, glm::ivec3(x, y, 0));
+  EXPECT_NE(text.find(std::to_string(popcount(cpu[picked])) + " of 128 slices set: " + expect), std::string::npos)
+      << text << "\nexpected slices " << expect;
+}
+
+}  // namespace
+}  // namespace voxlab

@@ -70,7 +70,7 @@ void BinaryVoxelsStage::declare(StageBuilder& b) const {
   b.read("fragments");
   b.read("fragments.count");
   b.write("binary-voxels.words");
-  auto& grid = b.output("binary-voxels", OutputKind::Image2D, Semantic::Occupancy,
+  auto& grid = b.output("binary-voxels", OutputKind::Image2D, kBitmaskColumns,
                         "128-bit columns (RGBA32UI): bit 31-(k&31) of channel k>>5 = slice k along z; "
                         "shown white where a column holds any voxel");
   grid.tier = CaptureTier::Exact;

@@ -64,7 +64,8 @@ std::vector<std::vector<BitColumn>> orMipChain(const std::vector<BitColumn>& lev
   return levels;
 }
 
-DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3 o, glm::vec3 e) {
+DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3 o, glm::vec3 e,
+                        std::vector<DdaCell>* visited) {
   DdaResult r;
   const glm::vec3 dims{float(res), float(res), float(kBinarySlices)};
   const glm::vec3 d = e - o;
@@ -90,6 +91,7 @@ DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3
   while (t <= 1.0f) {
     if (glm::any(glm::lessThan(cell, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(cell, glm::ivec3(dims)))) break;
     ++r.cells;
+    if (visited) visited->push_back({cell, t});
     if (hasSlice(level0[size_t(cell.y) * res + cell.x], cell.z)) {
       r.hit = true;
       r.voxel = cell;

@@ -37,6 +37,13 @@ struct DdaResult {
   bool tie = false;
   int cells = 0;  // cells visited
 };
-DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3 o, glm::vec3 e);
+// visited (optional): every cell the walk visits, in order, with the t it enters it at (the last
+// is the hit when there is one).
+struct DdaCell {
+  glm::ivec3 cell;
+  float tEnter;
+};
+DdaResult bruteForceDda(const std::vector<BitColumn>& level0, int res, glm::vec3 o, glm::vec3 e,
+                        std::vector<DdaCell>* visited = nullptr);
 
 }  // namespace voxlab::nearfield

@@ -50,6 +50,17 @@
 //     the grid except at corner ties (tested). Hits only at level 0; the hit slice is the first
 //     set bit along the ray (findMSB toward +z, findLSB toward -z), and the hit point is the ray's
 //     entry into that slice within the column (the thesis uses the column entry point).
+//   - What the inspector shows: the grid, the hierarchy and the tables have the semantic
+//     bitmask-columns (src/inspect/visualisers/bitmask_columns.cpp): hovering or clicking a texel
+//     names its set slices, and the inspector draws that column as a 128-slice stack with each
+//     slice's depth interval and, above level 0, its four children one level down and their OR
+//     (red where it differs from the column). probe.x / probe.y are a screen probe: a click on a
+//     camera image re-runs the rays for that pixel, and the Probe tab shows the probe.ray walk
+//     step by step (level, texel, slice range, ray mask, AND, descend / advance / hit, as bit
+//     strips), checked by near-field-traversal (one level per step, hits only at level 0), and
+//     the ray's set-up, hit and RSM lookup (probe-ray), and beside the walk the same segment
+//     walked cell by cell by the CPU's brute-force DDA over the level-0 grid (probe-dda, checked
+//     by near-field-dda: face neighbours in order, ending on the walk's hit).
 //   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact
 //     and already there). Voxel path tracing (section 3.2.4) is the technique voxel-path-tracing
 //     (voxel_path_tracing.cpp) on these stages.

@@ -132,17 +132,20 @@ static TextureDesc voxelAttributeDesc(int res) {
 }
 
 constexpr int kRayCounters = 16 + 256;  // [0] step records, [1 + category], [16 + steps] histogram
+// Cells the probe's brute-force DDA keeps (a segment crosses at most res + res + 128 cells: 1152 at
+// 512 columns; the rest are counted as dropped).
+constexpr size_t kMaxDdaCells = 2048;
 
 // --- Bitmask tables ------------------------------------------------------------------------------
 
 void BitmaskTablesStage::declare(StageBuilder& b) const {
-  auto& orT = b.output("or-table", OutputKind::Image2D, Semantic::Occupancy,
+  auto& orT = b.output("or-table", OutputKind::Image2D, kBitmaskColumns,
                        "128 x 1 RGBA32UI: texel k has only slice k set (MSB first in channel k >> 5)");
   orT.tier = CaptureTier::Exact;
-  auto& xorT = b.output("xor-table", OutputKind::Image2D, Semantic::Occupancy,
+  auto& xorT = b.output("xor-table", OutputKind::Image2D, kBitmaskColumns,
                         "129 x 1 RGBA32UI: texel k has slices k..127 set; texel 128 is all zero");
   xorT.tier = CaptureTier::Exact;
-  auto& rays = b.output("ray-masks", OutputKind::Image2D, Semantic::Occupancy,
+  auto& rays = b.output("ray-masks", OutputKind::Image2D, kBitmaskColumns,
                         "128 x 128 RGBA32UI: texel (i, j) = XOR[i] ^ XOR[j+1], the slices i..j (used only for i <= j)");
   rays.tier = CaptureTier::Exact;
   auto& pc = b.output("ray-mask-popcount", OutputKind::Image2D, Semantic::Scalar,
@@ -179,7 +182,7 @@ void HierarchyStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.read("binary-voxels");
   b.read("binary-popcount");
-  auto& h = b.output("bitmask-hierarchy", OutputKind::Image2D, Semantic::Occupancy,
+  auto& h = b.output("bitmask-hierarchy", OutputKind::Image2D, kBitmaskColumns,
                      "RGBA32UI columns per level: level l+1 texel = OR of its 2x2 children at level l (all 128 slices)");
   h.tier = CaptureTier::Exact;
   auto& pc = b.output("hierarchy-popcount", OutputKind::Image2D, Semantic::Scalar,
@@ -244,6 +247,7 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the recorded pixel
   b.readView();
   b.read("bitmask-hierarchy");
   b.read("ray-masks");
@@ -276,11 +280,12 @@ void RaysStage::declare(StageBuilder& b) const {
   sl.fields.push_back({"t-end", FieldType::F32, 72, FieldRole::Other});
   sl.countResource = "rays.counters";
   sl.countOffset = 0;
-  auto& st = b.output("traversal-steps", OutputKind::Buffer, Semantic::Scalar,
+  auto& st = b.output("traversal-steps", OutputKind::Buffer, Semantic("near-field-traversal"),
                       "every step of the probed pixel's probe.ray walk: level, texel, slice range, ray mask, AND, "
                       "action (8 descend, 9 advance, 0 hit)");
   st.layout = sl;
   st.tier = CaptureTier::Exact;
+  st.probeRecord = true;  // checked and drawn by src/inspect/visualisers/bitmask_columns.cpp
   BufferLayout pl;
   pl.stride = sizeof(gpu::ProbeRay);
   pl.fields = {{"receiver", FieldType::Vec4, 0, FieldRole::Position},
@@ -294,10 +299,29 @@ void RaysStage::declare(StageBuilder& b) const {
                {"rsm-sample", FieldType::Vec4, 80, FieldRole::Other},
                {"rsm-radiance", FieldType::Vec4, 96, FieldRole::Color},
                {"steps", FieldType::Vec4, 112, FieldRole::Other}};
-  b.output("probe-ray", OutputKind::Buffer, Semantic::Scalar,
+  BufferLayout dl;
+  dl.stride = 32;
+  dl.fields = {{"cell", FieldType::Vec3, 0, FieldRole::Other},
+               {"t-enter", FieldType::F32, 12, FieldRole::Other},
+               {"set", FieldType::U32, 16, FieldRole::Other},
+               {"walk-hit", FieldType::U32, 20, FieldRole::Other}};
+  dl.countResource = "probe-dda.count";
+  auto& dda = b.output("probe-dda", OutputKind::Buffer, Semantic("near-field-dda"),
+                       "the probed ray's segment walked cell by cell by a brute-force 3D DDA on the CPU over the same "
+                       "binary grid (x, y, slice; t entering it; 1 where set: the last is the DDA's hit; walk-hit 1 where "
+                       "the hierarchical walk hit that cell), beside the hierarchical walk");
+  dda.layout = dl;
+  dda.tier = CaptureTier::Exact;
+  dda.probeRecord = true;
+  b.write("probe-dda.count");
+  b.buffer("probe-dda", [](const ParamSet&, const ViewState&) { return size_t(32) * kMaxDdaCells; });
+  b.buffer("probe-dda.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
+  b.read("binary-voxels");
+  auto& pr = b.output("probe-ray", OutputKind::Buffer, Semantic::Scalar,
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
-           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps")
-      .layout = pl;
+           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps");
+  pr.layout = pl;
+  pr.probeRecord = true;
   declareTraced(b, "indirect", GL_RGBA32F);
   declareTraced(b, "ray-category", GL_R32UI);
   declareTraced(b, "ray-steps", GL_R32UI);
@@ -399,6 +423,47 @@ void RaysStage::execute(StageContext& ctx) {
   }
   ctx.stats["probe_x"] = probeX;
   ctx.stats["probe_y_from_top"] = th - 1 - probeY;
+  if (ctx.iteration == 0) {
+    const uint32_t zero = 0;
+    ctx.board.ensureBuffer("probe-dda.count", 4).upload(&zero, 4);
+    ctx.board.ensureBuffer("probe-dda", 32 * kMaxDdaCells);
+  }
+  if (ctx.iteration == ctx.params.getInt("probe.ray")) recordProbeDda(ctx, geo, probe);
+}
+
+// The probed ray's segment walked by the CPU's brute-force DDA over the level-0 grid, so the
+// student sees the voxels the hierarchy skipped beside the walk's steps (and its hit beside the
+// DDA's: the same voxel, or both miss, except at corner ties; NearFieldTraversal.* tests that on
+// many segments).
+void RaysStage::recordProbeDda(StageContext& ctx, const BinaryGridGeometry& geo, Buffer& probe) {
+  gpu::ProbeRay p;
+  std::memcpy(&p, probe.download(sizeof(p)).data(), sizeof(p));
+  struct Rec {
+    float cell[3], tEnter;
+    uint32_t set, walkHit, pad[2];
+  };
+  std::vector<Rec> recs;
+  uint32_t dropped = 0;
+  const bool started = p.receiver.w > 0.5f && p.result.w != NF_END_OUTSIDE && p.result.w != NF_END_DROPPED;
+  if (started) {
+    const int res = geo.resolution;
+    const std::vector<BitColumn> grid = readBitColumns(ctx.board.texture("binary-voxels").id(), 0, res, res);
+    const glm::vec3 o = (glm::vec3(p.origin) - geo.origin) / geo.edge;
+    const glm::vec3 e = (glm::vec3(p.origin) + glm::vec3(p.direction) * p.origin.w - geo.origin) / geo.edge;
+    std::vector<DdaCell> cells;
+    bruteForceDda(grid, res, o, e, &cells);
+    for (const DdaCell& c : cells) {
+      if (recs.size() >= kMaxDdaCells) { ++dropped; continue; }
+      const bool set = hasSlice(grid[size_t(c.cell.y) * res + c.cell.x], c.cell.z);
+      const bool walkHit = p.result.w == NF_END_HIT && glm::uvec3(c.cell) == glm::uvec3(p.result);
+      recs.push_back({{float(c.cell.x), float(c.cell.y), float(c.cell.z)}, c.tEnter, set ? 1u : 0u, walkHit ? 1u : 0u, {0, 0}});
+    }
+  }
+  if (!recs.empty()) ctx.board.buffer("probe-dda").upload(recs.data(), recs.size() * sizeof(Rec));
+  const uint32_t count = uint32_t(recs.size());
+  ctx.board.buffer("probe-dda.count").upload(&count, 4);
+  ctx.stats["probe_dda_cells"] = count;
+  ctx.stats["probe_dda_cells_dropped"] = dropped;
 }
 
 // --- Voxel path tracing ---------------------------------------------------------------------------

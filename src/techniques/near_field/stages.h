@@ -1,6 +1,7 @@
 // The stages of near-field after the shared ones (see near_field.cpp for the overview).
 #pragma once
 #include "graph/stage.h"
+#include "techniques/near_field/near_field.h"
 
 namespace voxlab::nearfield {
 
@@ -41,6 +42,9 @@ class RaysStage : public Stage {
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override;
   void execute(StageContext& ctx) override;
+
+ private:
+  void recordProbeDda(StageContext& ctx, const BinaryGridGeometry& geo, Buffer& probe);
 };
 
 // Voxel path tracing (seed 000 section 3.2.4): the voxel attributes its path vertices need where

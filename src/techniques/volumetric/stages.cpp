@@ -264,6 +264,9 @@ void MarchStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("march.phase", {"henyey-greenstein", "thesis"}, 0,
                             "phase function: normalised Henyey-Greenstein, or the thesis' (1-g)^2 numerator "
                             "(integrates to (1-g)/(1+g))"));
+  b.param(ParamDesc::choice("march.clip", {"grid", "spot-cone"}, 0,
+                            "where the samples go: the whole ray inside the density grid, or only its part inside a "
+                            "spot light's cone (Vos 2014; the rest only attenuates, integrated separately)"));
   b.param(ParamDesc::real("medium.haze-scattering", 0.6, 0.0, 100.0,
                           "sigma_s of a uniform haze filling the density grid, added to the particles'", "1/m"));
   b.param(ParamDesc::real("medium.extinction-ratio", 1.0, 0.0, 100.0,
@@ -271,6 +274,7 @@ void MarchStage::declare(StageBuilder& b) const {
                           "(the thesis; unphysical)"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the recorded ray
   b.readView();
   b.read("position");
   b.read("scattering");
@@ -294,11 +298,12 @@ void MarchStage::declare(StageBuilder& b) const {
                 {"contribution+sum", FieldType::Vec4, 64, FieldRole::Other}};
   rec.countResource = "ray-samples.count";
   OutputDesc& samples = b.output(
-      "ray-samples", OutputKind::Buffer, Semantic::Points,
+      "ray-samples", OutputKind::Buffer, kRaySamples,
       "every sample of the probed pixel's ray (probe.x/probe.y pick it): voxel position and distance t, world "
       "position and start offset, lit/sigma_s/sigma_t/particle count, mu/p(mu)/E/T, contribution and running sum");
   samples.layout = rec;
   samples.tier = CaptureTier::Tolerance;  // float fields, compared with the tolerances
+  samples.probeRecord = true;              // the Probe tab shows it (src/inspect/visualisers/volumetric_ray.cpp)
   b.output("ray-plot", OutputKind::Image2D, Semantic::Color,
            "the probed ray, one column band per sample: contribution over the largest (yellow bars; red tick: "
            "shadowed), transmittance T (blue) and running sum over its final value (green), 0..1");
@@ -342,6 +347,7 @@ void MarchStage::execute(StageContext& ctx) {
   setUniform(program, "u_g", ctx.params.getFloat("medium.anisotropy"));
   setUniform(program, "u_hazeScattering", ctx.params.getFloat("medium.haze-scattering"));
   setUniform(program, "u_extinctionRatio", ctx.params.getFloat("medium.extinction-ratio"));
+  setUniform(program, "u_clipToCone", ctx.params.getChoice("march.clip") == "spot-cone" ? 1 : 0);
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
   glUseProgram(program);
   glBindTextureUnit(1, ctx.board.texture("position").id());
@@ -476,8 +482,12 @@ void ComposeStage::declare(StageBuilder& b) const {
   b.read("inscatter-full");
   b.read("transmittance-full");
   if (!surfaceInput_.empty()) b.read(surfaceInput_);
-  b.output("surface", OutputKind::Image2D, Semantic::RadianceHDR, "surface radiance before the medium, W/(m^2 sr)")
-      .resource = "volumetric-surface";
+  OutputDesc& surface = b.output("surface", OutputKind::Image2D, Semantic::RadianceHDR,
+                                 "surface radiance before the medium, W/(m^2 sr)");
+  surface.resource = "volumetric-surface";
+  // Alone, the surface term is direct light + emission (compose.surface=direct): the path tracer's
+  // 'direct' mode (docs/fidelity.md). Over another technique's image it is that image's, untagged.
+  if (surfaceInput_.empty()) surface.referenceMode = "direct";
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR,
            "surface * transmittance + in-scattered radiance, W/(m^2 sr)")
       .resource = "volumetric-combined";

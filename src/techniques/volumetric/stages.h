@@ -7,6 +7,9 @@
 
 namespace voxlab::volumetric {
 
+// The probed pixel's ray, one RaySample per march sample (its visualiser plots and checks them).
+inline constexpr Semantic kRaySamples{"volumetric-ray"};
+
 // definesVoxelSpace: the density grid is the technique's voxel space (the viewer places the
 // particles' and the ray record's voxel coordinates in it); false when appended to a technique
 // that has its own (volumetric.h).

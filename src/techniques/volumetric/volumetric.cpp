@@ -46,6 +46,18 @@
 //     estimates is exactly the 16N-interval left Riemann sum; the thesis' 0.22 breaks that
 //     (march.dither=thesis-0.22 keeps it to show). The blur kernel (taps -r..r, end taps 1/2)
 //     weighs each phase mod 4 equally for even r, so the blur realises that mean on flat regions.
+//   - Clipping to a spot's cone (march.clip=spot-cone, after Vos 2014 section 3.2.1): outside
+//     the spot's outer cone E = 0, so the N samples go only to the part [a, b] of [t0, t1] inside
+//     the cone (one interval: the cone is convex below 90 degrees; widened by 0.01 rad at the rim),
+//     dt = (b - a) / N; the parts [t0, a] and [b, t1] still attenuate, so their optical depth is
+//     integrated apart (N midpoint samples each, at the first and after the last sample). A
+//     narrow spot (25 degrees) at 8 samples: image error 7.8 % -> 0.19 %, worst 8x8 block 3.6x the
+//     image mean -> 2.3 % (VolumetricConeClip.*). Off by default (the goldens and the lesson use
+//     the thesis' march); no effect under a sun.
+//   - The probe: probe.x / probe.y are a screen probe (a click on a camera image picks the pixel),
+//     and the ray record is its probe record, drawn and checked by
+//     src/inspect/visualisers/volumetric_ray.cpp (T never rising, each contribution equal to
+//     T sigma_s p E V dt of its own terms, the running sum).
 //   - Bilateral weights: a Gaussian in the relative surface-distance difference (sigma 2 %);
 //     "no surface" pixels only mix with each other. The sources give no kernels (unclear there).
 //   - Neglected, as in the sources: the medium does not attenuate the light on its way to a

@@ -1,0 +1,361 @@
+// Bitmask columns (the near-field technique, src/techniques/near_field): RGBA32UI images whose
+// texel holds 128 one-bit slices along the voxelization axis (z), MSB first in each channel
+// (slice k is bit 31 - k % 32 of channel k / 32): the binary voxel grid, its 2D OR hierarchy and
+// the OR / XOR / ray-mask tables. The 2D view is white where any slice is set. The value under the
+// cursor names the set slices; the inspector draws the picked column as a 128-bit stack with each
+// slice's depth interval (a fraction of the volume's edge along z) and, on a level above 0 of the
+// hierarchy, its four children one level down and their OR, marking every slice where the OR
+// differs from the column (it must not: the hierarchy's invariant).
+//
+// The traversal records of a probed ray (near-field's rays stage, TraversalStep in
+// shaders/near_field/near_field_shared.h) get a record view and a check here too: per step the
+// level, texel, slice range, ray mask, AND with the column and action, drawn as bit strips; the
+// check asserts what the walk must keep: steps numbered from 0, the level one finer after a
+// descend and one coarser (at most the top) after an advance, a descend only where the AND is
+// non-empty and an advance only where it is empty, a hit only at level 0 and only as the last
+// step, the ray mask exactly the slices first..last, the AND inside the ray mask, and t entering
+// <= t leaving <= the segment's end.
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <imgui.h>
+
+#include "inspect/visualisers/buffer.h"
+#include "inspect/visualisers/levels.h"
+
+namespace voxlab {
+namespace {
+
+constexpr int kSlices = 128;
+using Mask = std::array<uint32_t, 4>;
+
+bool sliceSet(const Mask& m, int k) { return (m[k >> 5] >> (31 - (k & 31))) & 1u; }
+int popcount(const Mask& m) {
+  int n = 0;
+  for (uint32_t c : m) n += __builtin_popcount(c);
+  return n;
+}
+
+// The column at texel (x, y) of a level, exact from the integer readback (float values lose the
+// low bits of a 32-bit mask; capture keeps the integers for integer formats).
+bool columnAt(const LevelData& L, int x, int y, Mask& m) {
+  if (x < 0 || y < 0 || x >= L.size.x || y >= L.size.y || L.channels < 4) return false;
+  const size_t i = (size_t(y) * L.size.x + x) * L.channels;
+  for (int c = 0; c < 4; ++c) m[c] = L.integers.empty() ? uint32_t(L.values[i + c]) : L.integers[i + c];
+  return true;
+}
+
+// "0-3, 17, 20-40": the set slices as ranges.
+std::string sliceRanges(const Mask& m) {
+  std::string s;
+  for (int k = 0; k < kSlices; ++k) {
+    if (!sliceSet(m, k)) continue;
+    int e = k;
+    while (e + 1 < kSlices && sliceSet(m, e + 1)) ++e;
+    s += (s.empty() ? "" : ", ") + std::to_string(k) + (e > k ? "-" + std::to_string(e) : "");
+    k = e;
+  }
+  return s.empty() ? "none" : s;
+}
+
+// The picked (or last hovered) column per view, kept across frames.
+std::map<const ViewSettings*, glm::ivec2>& picked() {
+  static std::map<const ViewSettings*, glm::ivec2> p;
+  return p;
+}
+
+// A vertical stack of 128 cells (slice 0 at the top), set slices filled; 'differs' outlines in red.
+void drawStack(const char* label, const Mask& m, const Mask* differs, float cellH) {
+  ImGui::BeginGroup();
+  ImGui::TextUnformatted(label);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  const float w = 28.0f;
+  for (int k = 0; k < kSlices; ++k) {
+    const ImVec2 a(at.x, at.y + k * cellH), b(at.x + w, at.y + (k + 1) * cellH);
+    dl->AddRectFilled(a, b, sliceSet(m, k) ? IM_COL32(235, 235, 235, 255) : IM_COL32(40, 40, 48, 255));
+    if (differs && sliceSet(*differs, k)) dl->AddRect(a, b, IM_COL32(255, 60, 60, 255));
+  }
+  ImGui::Dummy(ImVec2(w, kSlices * cellH));
+  ImGui::Text("%d set", popcount(m));
+  ImGui::EndGroup();
+}
+
+class BitmaskColumnsVisualiser : public ImageVisualiser {
+ public:
+  const char* name() const override { return "bitmask-columns"; }
+
+  std::string describeElement(const VisualiserContext& ctx, const glm::ivec3& t) const override {
+    const LevelData* L = shownLevel(ctx);
+    Mask m;
+    if (!L || !columnAt(*L, t.x, t.y, m)) return "";
+    picked()[&ctx.view] = {t.x, t.y};
+    char head[96];
+    std::snprintf(head, sizeof head, "column (%d, %d), level %d: %d of 128 slices set: ", t.x, t.y, ctx.view.level, popcount(m));
+    return head + sliceRanges(m);
+  }
+
+  void drawInspector(const VisualiserContext& ctx) const override {
+    const LevelData* L = shownLevel(ctx);
+    auto it = picked().find(&ctx.view);
+    Mask m;
+    if (L && it != picked().end() && columnAt(*L, it->second.x, it->second.y, m)) {
+      const glm::ivec2 c = it->second;
+      ImGui::Text("column (%d, %d) at level %d (hover or click a texel to pick)", c.x, c.y, ctx.view.level);
+      ImGui::TextWrapped("slices set: %s", sliceRanges(m).c_str());
+      ImGui::TextDisabled("slice k covers z in [k/128, (k+1)/128) of the volume's edge; slice 0 at the top");
+      const float cellH = 2.0f;
+      drawStack("column", m, nullptr, cellH);
+      const int level = std::clamp(ctx.view.level, 0, int(ctx.out.levels.size()) - 1);
+      if (level > 0) {
+        const LevelData& F = ctx.out.levels[size_t(level - 1)];
+        Mask orOfChildren{0, 0, 0, 0};
+        for (int k = 0; k < 4; ++k) {
+          Mask child;
+          if (!columnAt(F, 2 * c.x + (k & 1), 2 * c.y + (k >> 1), child)) continue;
+          for (int j = 0; j < 4; ++j) orOfChildren[j] |= child[j];
+          char label[48];
+          std::snprintf(label, sizeof label, "(%d,%d)", 2 * c.x + (k & 1), 2 * c.y + (k >> 1));
+          ImGui::SameLine();
+          drawStack(label, child, nullptr, cellH);
+        }
+        Mask diff;
+        for (int j = 0; j < 4; ++j) diff[j] = orOfChildren[j] ^ m[j];
+        ImGui::SameLine();
+        drawStack("OR", orOfChildren, &diff, cellH);
+        if (popcount(diff) == 0) ImGui::TextUnformatted("OR of the four children = the column");
+        else ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "OR of the children differs in %d slices (%s)", popcount(diff),
+                                sliceRanges(diff).c_str());
+      }
+    } else {
+      ImGui::TextDisabled("hover or click a column to see its 128 slices");
+    }
+    ImageVisualiser::drawInspector(ctx);
+  }
+};
+
+// White where any slice is set (as the occupancy semantic); compared exactly.
+void anySliceColour(const float* v, int n, float, float, float, uint8_t* o) {
+  bool any = false;
+  for (int c = 0; c < n; ++c) any = any || v[c] != 0.0f;
+  o[0] = o[1] = o[2] = any ? 255 : 0;
+}
+
+struct Registration {
+  Registration() { registerTexelMapping(Semantic("bitmask-columns"), {&anySliceColour, false, false, true}); }
+} registration;
+
+// --- traversal records ---------------------------------------------------------------------------
+
+constexpr uint32_t kHit = 0, kDescend = 8, kAdvance = 9;  // NF_END_HIT, NF_STEP_DESCEND, NF_STEP_ADVANCE
+
+struct Step {
+  uint32_t step, level, x, y, first, last, action, hitSlice;
+  Mask ray, hit;
+  float tEnter, tExit, tEnd, unused;
+};
+static_assert(sizeof(Step) == 80, "TraversalStep is 80 bytes");
+
+std::vector<Step> decodeSteps(const CapturedOutput& out) {
+  if (out.desc.layout.stride != sizeof(Step)) return {};
+  std::vector<Step> s;
+  for (size_t i = 0; i < out.recordCount && (i + 1) * sizeof(Step) <= out.records.size(); ++i) {
+    Step r;
+    std::memcpy(&r, out.records.data() + i * sizeof(Step), sizeof(Step));
+    s.push_back(r);
+  }
+  return s;
+}
+
+Mask sliceRange(int first, int last) {
+  Mask m{0, 0, 0, 0};
+  for (int k = first; k <= last; ++k) m[k >> 5] |= 1u << (31 - (k & 31));
+  return m;
+}
+
+const char* actionName(uint32_t a) { return a == kHit ? "hit" : a == kDescend ? "descend" : a == kAdvance ? "advance" : "?"; }
+
+class TraversalVisualiser : public BufferVisualiser {
+ public:
+  const char* name() const override { return "near-field-traversal"; }
+
+  RecordCheck checkRecords(const CapturedOutput& out) const override {
+    RecordCheck c;
+    const auto steps = decodeSteps(out);
+    c.elements = steps.size();
+    uint32_t topLevel = 0;
+    for (const Step& s : steps) topLevel = std::max(topLevel, s.level);
+    char buf[200];
+    auto fail = [&](size_t i, const char* what) {
+      if (!c.error.empty()) return;
+      std::snprintf(buf, sizeof buf, "step %zu: %s", i, what);
+      c.error = buf;
+    };
+    int descends = 0, advances = 0;
+    for (size_t i = 0; i < steps.size(); ++i) {
+      const Step& s = steps[i];
+      bool andEmpty = true, inside = true;
+      for (int j = 0; j < 4; ++j) {
+        andEmpty = andEmpty && s.hit[j] == 0;
+        inside = inside && (s.hit[j] & ~s.ray[j]) == 0;
+      }
+      if (s.step != i) fail(i, "steps are not numbered 0, 1, 2, ...");
+      if (s.first > s.last || s.last >= uint32_t(kSlices)) fail(i, "slice range first > last or beyond 127");
+      else if (s.ray != sliceRange(int(s.first), int(s.last))) fail(i, "the ray mask is not the slices first..last");
+      if (!inside) fail(i, "the AND has slices outside the ray mask");
+      if (!(s.tEnter <= s.tExit && s.tExit <= s.tEnd)) fail(i, "t entering > t leaving or t leaving > the segment's end");
+      if (s.action == kHit) {
+        if (s.level != 0) fail(i, "a hit above level 0");
+        if (i + 1 != steps.size()) fail(i, "a hit is not the last step");
+        if (andEmpty || s.hitSlice < s.first || s.hitSlice > s.last) fail(i, "a hit with an empty AND or outside the slice range");
+      } else if (s.action == kDescend) {
+        ++descends;
+        if (andEmpty || s.level == 0) fail(i, "a descend with an empty AND or at level 0");
+        if (i + 1 < steps.size() && steps[i + 1].level + 1 != s.level) fail(i, "the level after a descend is not one finer");
+      } else if (s.action == kAdvance) {
+        ++advances;
+        if (!andEmpty) fail(i, "an advance past a texel whose AND is not empty");
+        // One coarser, or the same at the top level (the highest level the walk shows).
+        if (i + 1 < steps.size() && steps[i + 1].level != s.level + 1 &&
+            !(steps[i + 1].level == s.level && s.level == topLevel))
+          fail(i, "the level after an advance is not one coarser (or the top)");
+      } else {
+        fail(i, "unknown action");
+      }
+    }
+    std::snprintf(buf, sizeof buf, "%zu steps (%d descend, %d advance), %s", steps.size(), descends, advances,
+                  steps.empty() ? "no walk" : steps.back().action == kHit ? "ends in a hit" : "ends without a hit");
+    c.summary = buf;
+    return c;
+  }
+
+  void drawRecordView(const VisualiserContext& ctx) const override {
+    const auto steps = decodeSteps(ctx.out);
+    const RecordCheck check = checkRecords(ctx.out);
+    ImGui::Text("%s", check.summary.c_str());
+    if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
+    // Step through the walk one step at a time: the chosen step's ray mask and AND as stacks.
+    static std::map<const ViewSettings*, int> chosen;
+    int& k = chosen[&ctx.view];
+    if (!steps.empty()) {
+      k = std::clamp(k, 0, int(steps.size()) - 1);
+      ImGui::SliderInt("step", &k, 0, int(steps.size()) - 1);
+      ImGui::SameLine();
+      if (ImGui::ArrowButton("prev", ImGuiDir_Left)) k = std::max(k - 1, 0);
+      ImGui::SameLine();
+      if (ImGui::ArrowButton("next", ImGuiDir_Right)) k = std::min(k + 1, int(steps.size()) - 1);
+      const Step& s = steps[size_t(k)];
+      ImGui::Text("step %u: level %u, texel (%u, %u), slices %u..%u, t %.4f..%.4f of %.4f -> %s", s.step, s.level, s.x, s.y,
+                  s.first, s.last, s.tEnter, s.tExit, s.tEnd, actionName(s.action));
+      drawStack("ray mask", s.ray, nullptr, 1.5f);
+      ImGui::SameLine();
+      drawStack("AND column", s.hit, nullptr, 1.5f);
+    }
+    ImGui::TextDisabled("bit strips: 128 slices left to right; grey = ray mask, white = ray mask AND column");
+    if (!ImGui::BeginTable("walk", 7, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX | ImGuiTableFlags_SizingFixedFit,
+                           ImVec2(0, 320)))
+      return;
+    for (const char* h : {"step", "level", "texel", "slices", "t in / out", "masks", "action"}) ImGui::TableSetupColumn(h);
+    ImGui::TableHeadersRow();
+    for (const Step& s : steps) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::Text("%u", s.step);
+      ImGui::TableNextColumn();
+      ImGui::Text("%u", s.level);
+      ImGui::TableNextColumn();
+      ImGui::Text("(%u, %u)", s.x, s.y);
+      ImGui::TableNextColumn();
+      ImGui::Text("%u..%u", s.first, s.last);
+      ImGui::TableNextColumn();
+      ImGui::Text("%.4f / %.4f", s.tEnter, s.tExit);
+      ImGui::TableNextColumn();
+      ImDrawList* dl = ImGui::GetWindowDrawList();
+      const ImVec2 at = ImGui::GetCursorScreenPos();
+      for (int k = 0; k < kSlices; ++k) {
+        const ImU32 col = sliceSet(s.hit, k) ? IM_COL32(255, 255, 255, 255)
+                          : sliceSet(s.ray, k) ? IM_COL32(120, 120, 130, 255)
+                                               : IM_COL32(30, 30, 36, 255);
+        dl->AddRectFilled(ImVec2(at.x + 2.0f * k, at.y + 2), ImVec2(at.x + 2.0f * k + 2.0f, at.y + 12), col);
+      }
+      ImGui::Dummy(ImVec2(2.0f * kSlices, 14));
+      ImGui::TableNextColumn();
+      if (s.action == kHit) ImGui::Text("hit slice %u", s.hitSlice);
+      else ImGui::TextUnformatted(actionName(s.action));
+    }
+    ImGui::EndTable();
+  }
+};
+
+// --- the brute-force DDA beside the walk ----------------------------------------------------------
+
+struct DdaRecord {
+  float cell[3], tEnter;
+  uint32_t set, walkHit, pad[2];
+};
+
+std::vector<DdaRecord> decodeDda(const CapturedOutput& out) {
+  if (out.desc.layout.stride != sizeof(DdaRecord)) return {};
+  std::vector<DdaRecord> r(std::min<size_t>(out.recordCount, out.records.size() / sizeof(DdaRecord)));
+  if (!r.empty()) std::memcpy(r.data(), out.records.data(), r.size() * sizeof(DdaRecord));
+  return r;
+}
+
+// The DDA visits face neighbours in order and stops at the first set cell; the walk's hit, when the
+// DDA visits that cell, is that first set cell (the hierarchy finds what the DDA finds).
+class DdaVisualiser : public BufferVisualiser {
+ public:
+  const char* name() const override { return "near-field-dda"; }
+
+  RecordCheck checkRecords(const CapturedOutput& out) const override {
+    RecordCheck c;
+    const auto r = decodeDda(out);
+    c.elements = r.size();
+    char buf[200];
+    for (size_t i = 0; i < r.size() && c.error.empty(); ++i) {
+      if (i > 0) {
+        int moved = 0, by = 0;
+        for (int a = 0; a < 3; ++a) {
+          const int d = int(r[i].cell[a]) - int(r[i - 1].cell[a]);
+          moved += d != 0;
+          by += std::abs(d);
+        }
+        if (moved != 1 || by != 1 || r[i].tEnter < r[i - 1].tEnter) {
+          std::snprintf(buf, sizeof buf, "cell %zu is not the face neighbour after cell %zu, or t went back", i, i - 1);
+          c.error = buf;
+        }
+      }
+      if ((r[i].set || r[i].walkHit) && i + 1 != r.size()) {
+        std::snprintf(buf, sizeof buf, "cell %zu is set or the walk's hit but the DDA went on", i);
+        c.error = buf;
+      }
+    }
+    const bool hit = !r.empty() && r.back().set;
+    const bool same = hit && r.back().walkHit;
+    std::snprintf(buf, sizeof buf, "%zu cells, %s", r.size(),
+                  !hit ? "no set cell on the segment" : same ? "first set cell = the walk's hit" : "first set cell (the walk hit another: a tie, or no hit)");
+    c.summary = buf;
+    return c;
+  }
+
+  void drawRecordView(const VisualiserContext& ctx) const override {
+    const RecordCheck check = checkRecords(ctx.out);
+    ImGui::Text("%s", check.summary.c_str());
+    if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
+    ImGui::TextDisabled("every level-0 cell the segment crosses; the hierarchical walk above skipped the empty runs");
+    BufferVisualiser::drawRecordView(ctx);
+  }
+};
+
+}  // namespace
+
+VOXLAB_REGISTER_VISUALISER(BitmaskColumnsVisualiser, OutputKind::Image2D, "bitmask-columns");
+VOXLAB_REGISTER_VISUALISER(DdaVisualiser, OutputKind::Buffer, "near-field-dda");
+VOXLAB_REGISTER_VISUALISER(TraversalVisualiser, OutputKind::Buffer, "near-field-traversal");
+
+}  // namespace voxlab
