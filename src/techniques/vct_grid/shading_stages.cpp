@@ -47,7 +47,10 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(traceResolutionParam());
   b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
-  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
+  b.param(ParamDesc::real("cone.aperture", 45.0, 5.0, 120.0,
+                          "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
+                          "at 60 their lower edges graze the surface, which then occludes and lights itself)",
+                          "degrees"));
   b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
                             "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
   b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
@@ -57,7 +60,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
   b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
                           "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
-  b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
+  b.param(ParamDesc::real("cone.max-distance", 1.75, 0.05, 2.0,
+                          "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
+                          "any wall; cones also stop where they leave the volume)"));
   b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
                           "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
   b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
