@@ -15,6 +15,7 @@
 #include <set>
 
 #include "core/paths.h"
+#include "reference/image_io.h"
 #include "graph/technique.h"
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
@@ -535,6 +536,37 @@ TEST(VctGridPhysics, AmbientOcclusionWithA60DegreeRingIsDarkenedByTheFloor) {
     EXPECT_NEAR(ao[k].first, measured[k], 0.01) << "distance " << k;
     EXPECT_LT(ao[k].first, ao[k].second - 0.2) << "distance " << k;
   }
+}
+
+// The default configuration's one-bounce energy against the path tracer (issue 11): the mean of
+// cone-trace/indirect-diffuse over the image, over the mean of the reference's indirect-1 (camera
+// 0, 512x512; the traced image is half that size, and a mean does not change under the 2x2 box
+// filter the fidelity table applies). Measured 1.039 on the Cornell box and 1.071 on Sponza,
+// identical with LP_NUM_THREADS 1 and 2 (exact-sum averaging makes the voxels order-independent,
+// and each pixel's cones are deterministic); the former defaults read 0.212 and 0.346. Asserted:
+// the issue's band, 0.9 to 1.1 (the reference's own noise moves its mean by under 0.1 %).
+double defaultIndirectEnergyRatio(const std::string& scene) {
+  auto& s = session(request(scene, {}, "cone-trace", 512));
+  const LevelData ind = capture(s, "cone-trace", "indirect-diffuse").levels[0];
+  reference::Image ref = reference::readExr(projectPath("tests/golden/reference/" + scene + "/indirect-1.exr"));
+  double sum = 0, refSum = 0;
+  for (size_t t = 0; t < ind.texelCount(); ++t) sum += ind.values[t * 4] + ind.values[t * 4 + 1] + ind.values[t * 4 + 2];
+  for (float v : ref.rgb) refSum += v;
+  const double ratio = (sum / double(ind.texelCount())) / (refSum / double(ref.width * ref.height));
+  ::testing::Test::RecordProperty(scene + "_indirect_energy_ratio", std::to_string(ratio));
+  return ratio;
+}
+
+TEST(VctGridPhysics, DefaultIndirectEnergyIsInTheReferenceBandOnTheCornellBox) {
+  const double ratio = defaultIndirectEnergyRatio("cornell-box");
+  EXPECT_GE(ratio, 0.9);
+  EXPECT_LE(ratio, 1.1);
+}
+
+TEST(VctGridPhysics, DefaultIndirectEnergyIsInTheReferenceBandOnSponza) {
+  const double ratio = defaultIndirectEnergyRatio("sponza");
+  EXPECT_GE(ratio, 0.9);
+  EXPECT_LE(ratio, 1.1);
 }
 
 TEST(VctGridPhysics, IsotropicMipsLeakThroughAThinWall) {
