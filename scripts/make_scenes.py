@@ -7,6 +7,8 @@
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
+  tests/data/scenes/leak-rooms.gltf      the same two rooms, a spot light in one, the camera in the
+                                         other (vct-grid's leak through a one-voxel wall)
   tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
   tests/data/scenes/huge-triangles.gltf  4 huge triangles at odd angles (voxelization sweep)
   tests/data/scenes/voxel-ties-R.gltf    (R = 64, 128, 256) geometry exactly on voxel faces, edges
@@ -166,6 +168,25 @@ def thin_wall(path):
                 (-0.5, 0.5, 0.0))
     # Inside the room near the -z wall, looking +z at the divider.
     b.add_camera("camera", (0.0, 0.5, -0.45), LOOK_PLUS_Z, 1.4, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+def leak_rooms(path):
+    """Two closed rooms sharing a 1 cm wall (the room x -1..1, y 0..1, z -0.5..0.5 split at x = 0, as
+    thin-wall, about one voxel at 128^3): a shadow-mapped spot light in the left room shines down
+    at its floor; the camera stands in the right room, which no light can reach (the reference's
+    answer there is 0), looking at the wall. Whatever the right room shows leaked through it."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (leak rooms)")
+    room = b.add_material("room-white", (0.7, 0.7, 0.7))
+    wall = b.add_material("shared-wall", (0.7, 0.7, 0.7))
+    b.add_mesh_node("room", room, axis_box_polygons([-1.0, 0.0, -0.5], [1.0, 1.0, 0.5], faces_outward=False))
+    b.add_mesh_node("shared-wall", wall, axis_box_polygons([-0.005, 0.0, -0.5], [0.005, 1.0, 0.5]))
+    b.add_light("left-spot", {"type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 1.0,
+                              "spot": {"innerConeAngle": 0.5, "outerConeAngle": 0.7}},
+                (-0.5, 0.95, 0.0), LOOK_DOWN)
+    # In the right room near its far (+x) wall, looking -x at the shared wall.
+    b.add_camera("camera", (0.95, 0.5, 0.0), (0.0, math.sqrt(0.5), 0.0, math.sqrt(0.5)), 1.4, aspect=1.0,
+                 znear=0.01, zfar=10.0)
     b.write(path)
 
 
@@ -394,6 +415,7 @@ def main():
         (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
+        (os.path.join(tests, "leak-rooms.gltf"), leak_rooms),
         (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
         (os.path.join(tests, "boundary-quad.gltf"), boundary_quad),
