@@ -7,6 +7,7 @@
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
+  tests/data/scenes/cornell-box-panel-only.gltf  the Cornell box lit only by its emissive panel
   tests/data/scenes/leak-rooms.gltf      the same two rooms, a spot light in one, the camera in the
                                          other (vct-grid's leak through a one-voxel wall)
   tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
@@ -58,10 +59,12 @@ def mm(points):
     return [[c * MM for c in p] for p in points]
 
 
-def cornell_box(path, scale=1.0):
+def cornell_box(path, scale=1.0, spot=True):
     """The Cornell box; 'scale' multiplies every length (positions, the camera's clip range) and
     the spot light's radiant intensity by scale^2, so irradiance I / d^2 (and the picture) is the
-    same: 100 gives the box in centimetres-as-metres (scale-invariance test)."""
+    same: 100 gives the box in centimetres-as-metres (scale-invariance test). spot=False gives
+    the spot light intensity 0, so the emissive panel is the only light (a scene without lights
+    would get a default sun)."""
     def k(x):
         return x if scale == 1.0 else x * scale
 
@@ -104,7 +107,7 @@ def cornell_box(path, scale=1.0):
     d = light_pos[1]
     intensity = round(3.0 * d * d, 4)  # 0.8683 W/sr
     b.add_light("ceiling-spot", {
-        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": k(k(intensity)),
+        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": k(k(intensity)) if spot else 0.0,
         "spot": {"innerConeAngle": 0.6, "outerConeAngle": 1.3},
     }, tuple(k(c) for c in light_pos), LOOK_DOWN)
 
@@ -416,6 +419,7 @@ def main():
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
         (os.path.join(tests, "leak-rooms.gltf"), leak_rooms),
+        (os.path.join(tests, "cornell-box-panel-only.gltf"), lambda p: cornell_box(p, spot=False)),
         (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
         (os.path.join(tests, "boundary-quad.gltf"), boundary_quad),
