@@ -8,6 +8,8 @@
 #
 #   scripts/fidelity.sh [VOXLAB_BINARY]      (default: build/voxlab)
 #   SCENES=sponza scripts/fidelity.sh        (only some scenes; default: cornell-box sponza)
+#   TECHNIQUES=vct-grid scripts/fidelity.sh  (only some techniques: their rows are replaced, the
+#                                             other techniques' rows are kept as they are)
 #
 # Needs the references in tests/golden/reference/<scene>/ (scripts/make-references.sh).
 # Outputs (and the error images) go to build/fidelity/<scene>/<technique>[+variant]/.
@@ -25,7 +27,13 @@ marker=fidelity-table
 # Extra rows: "technique name=value[,name=value...]".
 variants=(
   "vct-grid cone.resolution=full"
-  "vct-grid mipmap.mode=anisotropic"
+  "vct-grid mipmap.mode=isotropic"
+  "vct-grid mipmap.mode=max-opacity"
+  "vct-grid cone.aperture=60"
+  "vct-grid cone.max-distance=1"
+  "vct-grid inject.shadow-offset=0"
+  "vct-grid inject.average=compare-and-swap"
+  "vct-grid mipmap.mode=isotropic,cone.aperture=60,cone.max-distance=1,inject.shadow-offset=0,inject.average=compare-and-swap"
   "lpv gi.lookup-sign=plus-n"
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"
   "near-field rays.radius=2"
@@ -51,16 +59,17 @@ run() {  # technique [name=value,...]
   echo "fidelity: ran $label" >&2
 }
 
-for t in $("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))'); do
+for t in ${TECHNIQUES:-$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')}; do
   run "$t"
   for v in "${variants[@]}"; do
     if [[ "${v%% *}" == "$t" ]]; then run "$t" "${v#* }"; fi
   done
 done
 
-python3 - "$doc" "$marker" "${runs[@]}" <<'PY'
-import json, sys
+TECHNIQUES="${TECHNIQUES:-}" python3 - "$doc" "$marker" "${runs[@]}" <<'PY'
+import json, os, sys
 doc, marker, manifests = sys.argv[1], sys.argv[2], sys.argv[3:]
+only = os.environ["TECHNIQUES"].split()
 rows = ["| technique | parameters (non-default) | output | reference | RMSE | PSNR (dB) | MAE | MRE | SSIM | mean ratio |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|"]
 notes = {}
@@ -93,7 +102,22 @@ except FileNotFoundError:
     text = ""
 if begin in text and end in text:
     head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
+    old, tail = rest.split(end, 1)
+    if only:
+        # Keep the other techniques' rows (and the old references line); the new rows take the
+        # place of the first old row of these techniques.
+        kept, placed = [], False
+        for line in old.strip("\n").split("\n"):
+            cells = [c.strip() for c in line.split("|")]
+            if len(cells) > 2 and cells[1] in only:
+                if not placed:
+                    kept += rows[2:]
+                    placed = True
+                continue
+            kept.append(line)
+        if not placed:
+            kept = kept[:2] + rows[2:] + kept[2:]
+        table = "\n".join(kept) + "\n"
     open(doc, "w").write(head + begin + "\n" + table + end + tail)
     print(f"fidelity: updated {doc}", file=sys.stderr)
 else:

@@ -33,10 +33,10 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 voxlab="${1:-$root/build/voxlab}"
 scenes="${SCENES:-cornell-box sponza}"
 
-render() {  # scene size mode spp
+render() {  # scene size mode spp [scene file, when the scene is not in scenes/]
   local golden="$root/tests/golden/reference/$1" work="$root/build/references/$1"
   mkdir -p "$golden" "$work"
-  nice -n 10 "$voxlab" reference --scene "$1" --size "$2" --mode "$3" --spp "$4" --half --quiet \
+  nice -n 10 "$voxlab" reference --scene "${5:-$1}" --size "$2" --mode "$3" --spp "$4" --half --quiet \
     --out "$work/$3.exr"
   cp "$work/$3.exr" "$golden/$3.exr"
 }
@@ -55,7 +55,13 @@ for scene in $scenes; do
       render sponza 512x512 full 64
       render sponza 512x512 indirect 64
       ;;
-    *) echo "make-references.sh: no reference settings for scene '$scene' (known: cornell-box sponza)" >&2; exit 2 ;;
+    cornell-box-panel-only)  # the emissive panel as the only light (vct-grid's emissive-only row)
+      f="$root/tests/data/scenes/cornell-box-panel-only.gltf"
+      render cornell-box-panel-only 128x128 direct 32 "$f"
+      render cornell-box-panel-only 128x128 indirect-1 512 "$f"
+      render cornell-box-panel-only 128x128 full 512 "$f"
+      ;;
+    *) echo "make-references.sh: no reference settings for scene '$scene' (known: cornell-box sponza cornell-box-panel-only)" >&2; exit 2 ;;
   esac
   ls -l "$root/tests/golden/reference/$scene"
 done

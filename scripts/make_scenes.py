@@ -9,6 +9,9 @@
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
   tests/data/scenes/thin-wall-spot.gltf  the same lit by a spot light (lrsm's leak test)
+  tests/data/scenes/cornell-box-panel-only.gltf  the Cornell box lit only by its emissive panel
+  tests/data/scenes/leak-rooms.gltf      the same two rooms, a spot light in one, the camera in the
+                                         other (vct-grid's leak through a one-voxel wall)
   tests/data/scenes/dense-sheet.gltf     18432 sub-voxel triangles on a 2-triangle floor (voxelization sweep)
   tests/data/scenes/huge-triangles.gltf  4 huge triangles at odd angles (voxelization sweep)
   tests/data/scenes/voxel-ties-R.gltf    (R = 64, 128, 256) geometry exactly on voxel faces, edges
@@ -58,10 +61,12 @@ def mm(points):
     return [[c * MM for c in p] for p in points]
 
 
-def cornell_box(path, scale=1.0):
+def cornell_box(path, scale=1.0, spot=True):
     """The Cornell box; 'scale' multiplies every length (positions, the camera's clip range) and
     the spot light's radiant intensity by scale^2, so irradiance I / d^2 (and the picture) is the
-    same: 100 gives the box in centimetres-as-metres (scale-invariance test)."""
+    same: 100 gives the box in centimetres-as-metres (scale-invariance test). spot=False gives
+    the spot light intensity 0, so the emissive panel is the only light (a scene without lights
+    would get a default sun)."""
     def k(x):
         return x if scale == 1.0 else x * scale
 
@@ -104,7 +109,7 @@ def cornell_box(path, scale=1.0):
     d = light_pos[1]
     intensity = round(3.0 * d * d, 4)  # 0.8683 W/sr
     b.add_light("ceiling-spot", {
-        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": k(k(intensity)),
+        "type": "spot", "color": [1.0, 0.85, 0.65], "intensity": k(k(intensity)) if spot else 0.0,
         "spot": {"innerConeAngle": 0.6, "outerConeAngle": 1.3},
     }, tuple(k(c) for c in light_pos), LOOK_DOWN)
 
@@ -182,6 +187,25 @@ def thin_wall(path, spot=False):
                     (-0.5, 0.5, 0.0))
     # Inside the room near the -z wall, looking +z at the divider.
     b.add_camera("camera", (0.0, 0.5, -0.45), LOOK_PLUS_Z, 1.4, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+def leak_rooms(path):
+    """Two closed rooms sharing a 1 cm wall (the room x -1..1, y 0..1, z -0.5..0.5 split at x = 0, as
+    thin-wall, about one voxel at 128^3): a shadow-mapped spot light in the left room shines down
+    at its floor; the camera stands in the right room, which no light can reach (the reference's
+    answer there is 0), looking at the wall. Whatever the right room shows leaked through it."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (leak rooms)")
+    room = b.add_material("room-white", (0.7, 0.7, 0.7))
+    wall = b.add_material("shared-wall", (0.7, 0.7, 0.7))
+    b.add_mesh_node("room", room, axis_box_polygons([-1.0, 0.0, -0.5], [1.0, 1.0, 0.5], faces_outward=False))
+    b.add_mesh_node("shared-wall", wall, axis_box_polygons([-0.005, 0.0, -0.5], [0.005, 1.0, 0.5]))
+    b.add_light("left-spot", {"type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 1.0,
+                              "spot": {"innerConeAngle": 0.5, "outerConeAngle": 0.7}},
+                (-0.5, 0.95, 0.0), LOOK_DOWN)
+    # In the right room near its far (+x) wall, looking -x at the shared wall.
+    b.add_camera("camera", (0.95, 0.5, 0.0), (0.0, math.sqrt(0.5), 0.0, math.sqrt(0.5)), 1.4, aspect=1.0,
+                 znear=0.01, zfar=10.0)
     b.write(path)
 
 
@@ -412,6 +436,8 @@ def main():
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
         (os.path.join(tests, "thin-wall-spot.gltf"), lambda p: thin_wall(p, spot=True)),
+        (os.path.join(tests, "leak-rooms.gltf"), leak_rooms),
+        (os.path.join(tests, "cornell-box-panel-only.gltf"), lambda p: cornell_box(p, spot=False)),
         (os.path.join(tests, "dense-sheet.gltf"), dense_sheet),
         (os.path.join(tests, "huge-triangles.gltf"), huge_triangles),
         (os.path.join(tests, "boundary-quad.gltf"), boundary_quad),

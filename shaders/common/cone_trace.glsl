@@ -24,18 +24,37 @@ uniform int u_maxSteps;
 // transmittance once it leaves the voxel volume (0 unless the stage sets sky.radiance).
 uniform vec3 u_skyRadiance;
 
+// What this invocation's cones cost: samples taken and volume lookups (one textureLod each, a
+// quadrilinear fetch of up to 16 texels), for the stage's statistics.
+uint g_samples = 0u;
+uint g_fetches = 0u;
+
 // The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod'. With
 // anisotropic mips, the three directional volumes facing the cone are blended with weights dir^2
 // (they sum to 1); between level 0 and 1 the isotropic voxels fade into the directional level.
-vec4 sampleVolume(vec3 uvw, float lod, vec3 dir) {
-  if (u_anisotropic == 0) return textureLod(u_radiance, uvw, lod);
+// 'phase' says which lookups the caller's lod needs (traceCone marches in three phases): 0 = lod is
+// 0, the isotropic voxels alone; 1 = 0 < lod < 1, the fade; 2 = lod >= 1, directional volumes only.
+// llvmpipe evaluates both sides of a condition that differs between the pixels of a SIMD row (the
+// volume of +x or of -x: the cone's direction), so what a phase does not need must not be in its
+// code at all; each phase gives the same result as the general expression for its lods.
+vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase) {
+  if (u_anisotropic == 0) {
+    g_fetches += 1u;
+    return textureLod(u_radiance, uvw, lod);
+  }
+  if (phase == 0) {
+    g_fetches += 1u;
+    return textureLod(u_radiance, uvw, 0.0);
+  }
+  g_fetches += phase == 1 ? 4u : 3u;
   vec3 w = dir * dir;
   float l = max(lod - 1.0, 0.0);
   vec4 sx = dir.x >= 0.0 ? textureLod(u_dirPosX, uvw, l) : textureLod(u_dirNegX, uvw, l);
   vec4 sy = dir.y >= 0.0 ? textureLod(u_dirPosY, uvw, l) : textureLod(u_dirNegY, uvw, l);
   vec4 sz = dir.z >= 0.0 ? textureLod(u_dirPosZ, uvw, l) : textureLod(u_dirNegZ, uvw, l);
   vec4 a = w.x * sx + w.y * sy + w.z * sz;
-  return lod < 1.0 ? mix(textureLod(u_radiance, uvw, 0.0), a, lod) : a;
+  if (phase == 2) return a;
+  return mix(textureLod(u_radiance, uvw, 0.0), a, lod);
 }
 
 // Samples of the probed pixel's cones, for the viewer's cone inspector.
@@ -48,42 +67,76 @@ struct ConeResult {
   float opacityAt;  // accumulated opacity when the cone passed 'markDistance'
 };
 
+// One cone's march: where it is and what it has gathered.
+struct ConeMarch {
+  vec3 origin, dir;
+  float tanHalf, t, maxDistance, markDistance;
+  int step, coneIndex;
+  bool marked, done, record, escaped;
+  ConeResult r;
+};
+
+float coneLod(float tanHalf, float t) {
+  return max(log2(max(2.0 * tanHalf * t, u_voxelSize) / u_voxelSize) + u_lodBias, 0.0);
+}
+
+// One sample of the march (phase: see sampleVolume); sets m.done where the cone ends.
+void coneStep(inout ConeMarch m, int phase) {
+  if (m.step >= u_maxSteps || m.r.opacity >= 0.99 || m.t >= m.maxDistance) { m.done = true; return; }
+  float diameter = max(2.0 * m.tanHalf * m.t, u_voxelSize);
+  float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
+  vec3 p = m.origin + m.dir * m.t;
+  vec3 uvw = worldToVolumeUV(p);
+  // Stop once the sample lies wholly outside the volume (edge texels are clamped, so a wall on
+  // the volume's boundary stays a wall for samples that straddle it).
+  float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
+  if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { m.done = true; m.escaped = true; return; }
+  if (!m.marked && m.t > m.markDistance) { m.r.opacityAt = m.r.opacity; m.marked = true; }
+  vec4 s = sampleVolume(uvw, lod, m.dir, phase);
+  g_samples += 1u;
+  float stepLength = diameter * u_stepScale;
+  // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
+  float texelSize = u_voxelSize * exp2(lod);
+  float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
+  m.r.radiance += (1.0 - m.r.opacity) * c;
+  m.r.opacity += (1.0 - m.r.opacity) * a;
+  if (m.record) {
+    uint k = atomicAdd(coneSampleCount, 1u);
+    if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
+      coneSamples[k] = ConeSample(vec4(p, diameter), vec4(m.r.radiance, m.r.opacity), vec4(float(m.coneIndex), m.t, lod, a));
+  }
+  m.t += stepLength;
+  m.step += 1;
+}
+
+// Marches the cone front to back until it is opaque (0.99), leaves the volume, or reaches
+// maxDistance; opacityAt is the opacity when it passed markDistance. The march runs in three
+// loops, one per phase of sampleVolume (the lod only grows along a cone).
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
                      float markDistance, int coneIndex, bool record) {
-  float tanHalf = tan(0.5 * aperture);
-  float t = startDistance;
-  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
-  bool marked = false, escaped = false;
-  for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
-    float diameter = max(2.0 * tanHalf * t, u_voxelSize);
-    float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
-    vec3 p = origin + dir * t;
-    vec3 uvw = worldToVolumeUV(p);
-    // Stop once the sample lies wholly outside the volume (edge texels are clamped, so a wall on
-    // the volume's boundary stays a wall for samples that straddle it).
-    float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
-    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { escaped = true; break; }
-    if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
-    vec4 s = sampleVolume(uvw, lod, dir);
-    float stepLength = diameter * u_stepScale;
-    // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
-    float texelSize = u_voxelSize * exp2(lod);
-    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
-    vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
-    r.radiance += (1.0 - r.opacity) * c;
-    r.opacity += (1.0 - r.opacity) * a;
-    if (record) {
-      uint k = atomicAdd(coneSampleCount, 1u);
-      if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
-        coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, lod, a));
-    }
-    t += stepLength;
-  }
-  if (!marked) r.opacityAt = r.opacity;
+  ConeMarch m;
+  m.origin = origin;
+  m.dir = dir;
+  m.tanHalf = tan(0.5 * aperture);
+  m.t = startDistance;
+  m.maxDistance = maxDistance;
+  m.markDistance = markDistance;
+  m.step = 0;
+  m.coneIndex = coneIndex;
+  m.marked = false;
+  m.done = false;
+  m.escaped = false;
+  m.record = record;
+  m.r = ConeResult(vec3(0.0), 0.0, 0.0);
+  while (!m.done && coneLod(m.tanHalf, m.t) <= 0.0) coneStep(m, 0);
+  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1);
+  while (!m.done) coneStep(m, 2);
+  if (!m.marked) m.r.opacityAt = m.r.opacity;
   // Escaped: wholly outside the volume, or at its full length with its axis outside (a wide
   // cone's last samples still straddle the boundary): the sky through the transmittance left.
-  vec3 end = worldToVolumeUV(origin + dir * t);
-  escaped = escaped || (t >= maxDistance && (any(lessThan(end, vec3(0.0))) || any(greaterThan(end, vec3(1.0)))));
-  if (escaped) r.radiance += (1.0 - r.opacity) * u_skyRadiance;
-  return r;
+  vec3 end = worldToVolumeUV(m.origin + m.dir * m.t);
+  bool escaped = m.escaped || (m.t >= m.maxDistance && (any(lessThan(end, vec3(0.0))) || any(greaterThan(end, vec3(1.0)))));
+  if (escaped) m.r.radiance += (1.0 - m.r.opacity) * u_skyRadiance;
+  return m.r;
 }

@@ -27,6 +27,7 @@ using uint = uint32_t;
 #define VOXLAB_BINDING_CLASS_COUNTS 9     // SSBO: uint[8] counters of the triangle classification
 #define VOXLAB_BINDING_COVERAGE_BITS 10   // SSBO: uint[] alpha coverage pyramids, 32 bits per word (scene/alpha_coverage.h)
 #define VOXLAB_BINDING_COVERAGE_LEVELS 11 // SSBO: uvec4[] per pyramid level: first bit, width, height, unused
+#define VOXLAB_BINDING_CONE_TRACE_COUNTS 12  // SSBO: uint[5] of a cone-trace pass: samples (diffuse, specular, shadow), volume fetches, pixels shaded
 
 #define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
 

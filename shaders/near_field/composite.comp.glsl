@@ -4,6 +4,7 @@
 // the Reinhard operator x / (1 + x) of exposure * combined.
 #include "common/shared.h"
 #include "common/lights.glsl"
+#include "common/upsample.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;
 layout(binding = 2) uniform sampler2D u_normal;
@@ -19,30 +20,9 @@ uniform float u_planeDistance;  // metres: traced pixels farther than this from 
 uniform float u_indirectWeight, u_exposure;
 const float PI = 3.14159265358979;
 
-// Indirect light at full-resolution pixel px: at half resolution the four nearest traced pixels,
-// bilinear weights times plane-distance and normal agreement (falls back to the most similar one).
+// Indirect light at full-resolution pixel px, upsampled along surfaces (common/upsample.glsl).
 vec3 indirectAt(ivec2 px, vec3 p, vec3 n) {
-  if (u_traceScale == 1) return texelFetch(u_indirect, px, 0).rgb;
-  ivec2 lowSize = textureSize(u_indirect, 0);
-  vec2 f = (vec2(px) + 0.5) / float(u_traceScale) - 0.5;
-  ivec2 base = ivec2(floor(f));
-  vec2 fr = f - vec2(base);
-  vec3 sum = vec3(0.0), best = vec3(0.0);
-  float total = 0.0, bestSimilarity = -1.0;
-  for (int i = 0; i < 4; ++i) {
-    ivec2 q = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), lowSize - 1);
-    ivec2 g = min(q * u_traceScale, textureSize(u_position, 0) - 1);
-    vec4 qp = texelFetch(u_position, g, 0);
-    if (qp.w == 0.0) continue;
-    float similarity = max(0.0, 1.0 - abs(dot(n, qp.xyz - p)) / u_planeDistance) *
-                       pow(max(dot(n, texelFetch(u_normal, g, 0).xyz), 0.0), 8.0);
-    float wgt = ((i & 1) == 1 ? fr.x : 1.0 - fr.x) * ((i >> 1) == 1 ? fr.y : 1.0 - fr.y) * similarity;
-    vec3 v = texelFetch(u_indirect, q, 0).rgb;
-    sum += wgt * v;
-    total += wgt;
-    if (similarity > bestSimilarity) { bestSimilarity = similarity; best = v; }
-  }
-  return total > 1e-4 ? sum / total : best;
+  return upsampleAlongSurface(u_indirect, u_position, u_normal, px, p, n, u_traceScale, u_planeDistance).rgb;
 }
 
 void main() {

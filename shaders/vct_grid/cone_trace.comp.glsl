@@ -30,6 +30,9 @@ uniform float u_aoRange;                 // metres
 uniform vec3 u_cameraPos;
 uniform ivec2 u_probePixel;              // pixel (of the traced image) whose samples are recorded
 uniform int u_scale;                     // 1: one cone set per G-buffer pixel; 2: per 2x2 block
+// Totals over the pass: samples of the diffuse, specular and shadow cones, volume fetches, pixels
+// shaded (the background traces nothing).
+layout(std430, binding = VOXLAB_BINDING_CONE_TRACE_COUNTS) buffer ConeTraceCounts { uint coneTraceCounts[5]; };
 uniform int u_firstRow;                  // the stage traces the image in bands of rows [u_firstRow,
 uniform int u_endRow;                    // u_endRow), one band per iteration
 
@@ -63,6 +66,7 @@ void main() {
     incoming += u_cones[i].w * c.radiance;
     occlusion += u_cones[i].w * c.opacityAt;
   }
+  uint diffuseSamples = g_samples;
   imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
 
@@ -70,6 +74,7 @@ void main() {
   vec3 r = reflect(view, n);
   ConeResult spec = traceCone(origin, r, u_specularAperture, start, u_maxDistance, u_maxDistance, u_coneCount, record);
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+  uint specularSamples = g_samples - diffuseSamples;
 
   vec3 toLight; float dist;
   lightDirection(pos.xyz, toLight, dist);
@@ -81,4 +86,9 @@ void main() {
     shadowVis = 0.0;
   }
   imageStore(u_softShadow, px, vec4(shadowVis));
+  atomicAdd(coneTraceCounts[0], diffuseSamples);
+  atomicAdd(coneTraceCounts[1], specularSamples);
+  atomicAdd(coneTraceCounts[2], g_samples - diffuseSamples - specularSamples);
+  atomicAdd(coneTraceCounts[3], g_fetches);
+  atomicAdd(coneTraceCounts[4], 1u);
 }

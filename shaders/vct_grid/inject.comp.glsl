@@ -1,9 +1,16 @@
 #version 450
 // Light injection, one invocation per voxel fragment: Lambertian direct light from the scene's
-// light (shadow-mapped), plus emission, averaged into the voxel with a compare-and-swap loop on
-// the r32ui view of the RGBA8 grid. While averaging, alpha holds how many fragments have been
-// averaged in (saturating at 255: later fragments are ignored); the occlusion fix stage then
-// sets alpha to 1 in every non-empty voxel.
+// light (shadow-mapped), plus emission, averaged into the voxel. Two ways to average
+// (inject.average):
+//  - exact-sum (u_average 0): each channel is added, in fixed point (1/4096 steps), to a 32-bit
+//    sum per voxel with imageAtomicAdd, together with a count; inject_resolve.comp.glsl divides.
+//    Integer addition does not depend on the order of the fragments, so the result is exact up to
+//    the one fixed-point rounding per fragment and the same on every run.
+//  - compare-and-swap (u_average 1): a running average in the RGBA8 voxel itself, updated with a
+//    compare-and-swap loop on its r32ui view (seed 000, Crassin and Green). Alpha holds how many
+//    fragments have been averaged in (saturating at 255: later fragments are ignored); each
+//    update rounds to 8 bits, so the result depends on the order in which fragments arrive.
+// Either way the occlusion fix stage then sets alpha to 1 in every non-empty voxel.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
@@ -11,12 +18,23 @@
 
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
-layout(r32ui, binding = 0) uniform coherent uimage3D u_radianceAtomic;
-layout(binding = 2) uniform sampler2D u_shadowMap;
+layout(r32ui, binding = 0) uniform coherent uimage3D u_radianceAtomic;  // compare-and-swap: the RGBA8 grid
+// exact-sum: fixed-point sums of red, green, blue and the fragment count per voxel
+layout(r32ui, binding = 1) uniform uimage3D u_sumR;
+layout(r32ui, binding = 2) uniform uimage3D u_sumG;
+layout(r32ui, binding = 3) uniform uimage3D u_sumB;
+layout(r32ui, binding = 4) uniform uimage3D u_count;
+layout(binding = 2) uniform sampler2D u_shadowMap;  // a texture unit (image units are separate)
 uniform uint u_fragmentCount;
 uniform int u_mode;               // 0 = direct light, 1 = uniform radiance (furnace tests)
+uniform int u_average;            // 0 = exact-sum, 1 = compare-and-swap
 uniform vec3 u_uniformRadiance;
+// Metres along the fragment's normal from the voxel centre where the shadow map is read: the
+// fragment's surface passes up to half a voxel from the centre (axis-aligned), and a centre behind
+// it would be shadowed by the surface itself (on Sponza at 128^3 that blackened half the floor).
+uniform float u_shadowOffset;
 const float PI = 3.14159265358979;
+const float kFixedPointScale = 4096.0;  // exact-sum: radiance units per integer step
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -33,10 +51,19 @@ void main() {
     vec3 toLight; float dist;
     lightDirection(p, toLight, dist);
     float cosine = max(dot(n, toLight), 0.0);
-    vec3 irradiance = lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, n);
+    vec3 irradiance = lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p + n * u_shadowOffset, n);
     radiance = albedo / PI * irradiance + unpackUnorm4x8(f.emission).rgb;
   }
   radiance = clamp(radiance, 0.0, 1.0);
+
+  if (u_average == 0) {
+    uvec3 fixedPoint = uvec3(radiance * kFixedPointScale + 0.5);
+    imageAtomicAdd(u_sumR, voxel, fixedPoint.r);
+    imageAtomicAdd(u_sumG, voxel, fixedPoint.g);
+    imageAtomicAdd(u_sumB, voxel, fixedPoint.b);
+    imageAtomicAdd(u_count, voxel, 1u);
+    return;
+  }
 
   uint expected = 0u;
   uint desired = packUnorm4x8(vec4(radiance, 1.0 / 255.0));

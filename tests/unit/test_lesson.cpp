@@ -156,9 +156,9 @@ TEST(Reproduce, ListsOnlyChangedParameters) {
   EXPECT_EQ(reproduceCommand("vct-grid", "cornell-box", p, d, 512, 512, 0, ""),
             "voxlab run --technique vct-grid --scene cornell-box --size 512x512 --out out");
   p.setText("cone.count", "4");
-  p.setText("mipmap.mode", "anisotropic");
+  p.setText("mipmap.mode", "isotropic");
   EXPECT_EQ(reproduceCommand("vct-grid", "my scene.gltf", p, d, 640, 360, 1, "mipmap"),
-            "voxlab run --technique vct-grid --scene 'my scene.gltf' --set cone.count=4 --set mipmap.mode=anisotropic "
+            "voxlab run --technique vct-grid --scene 'my scene.gltf' --set cone.count=4 --set mipmap.mode=isotropic "
             "--size 640x360 --camera 1 --until mipmap --out out");
   Camera c;
   c.position = {0.25f, 1.0f, 3.5f};

@@ -21,18 +21,45 @@ static TextureDesc radianceGridDesc(int res, int levels) {
   return d;
 }
 
+static bool exactSums(const ParamSet& p) { return p.getChoice("inject.average") == "exact-sum"; }
+
+// Exact-sum averaging: per voxel three fixed-point channel sums and a fragment count, one R32UI
+// volume each (one texel each when inject.average is compare-and-swap).
+static const char* const kSumVolumes[4] = {"radiance-sum-r", "radiance-sum-g", "radiance-sum-b", "fragment-count"};
+static TextureDesc radianceSumsDesc(const ParamSet& p) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_R32UI;
+  d.size = glm::ivec3(exactSums(p) ? p.getInt("voxel.resolution") : 1);
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
                             "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"));
   b.param(ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0,
                           "radiance every voxel gets in uniform mode", "W/(m^2 sr)"));
+  b.param(ParamDesc::real("inject.shadow-offset", 0.5, 0.0, 2.0,
+                          "the shadow map is read this far from the voxel centre along the fragment's normal: an "
+                          "axis-aligned surface passes up to half a voxel from the centre, and a centre behind the "
+                          "surface is shadowed by the surface itself (0 = at the centre)",
+                          "voxels"));
+  b.param(ParamDesc::choice("inject.average", {"exact-sum", "compare-and-swap"}, 0,
+                            "how a voxel's fragments are averaged: exact-sum adds fixed-point sums and a count with "
+                            "integer atomics (order-independent), compare-and-swap keeps a running RGBA8 average "
+                            "(seed 000: truncates, saturates at 255 fragments, depends on the order)"));
   b.read("fragments");
   b.read("fragments.count");
   b.read("shadow-map");
   b.read("light");
+  for (const char* name : kSumVolumes) {
+    b.write(name);
+    b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceSumsDesc(p); });
+  }
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
-           "averaged outgoing radiance per voxel; alpha = fragments averaged / 255");
+           "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255");
   b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
     return radianceGridDesc(p.getInt("voxel.resolution"), 1);
   });
@@ -57,16 +84,37 @@ void InjectStage::execute(StageContext& ctx) {
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(count));
   setUniform(program, "u_mode", ctx.params.getInt("inject.mode"));
+  const bool exact = exactSums(ctx.params);
+  setUniform(program, "u_average", exact ? 0 : 1);
+  Texture* sums[4];
+  for (int c = 0; c < 4; ++c) {
+    sums[c] = &ctx.board.ensureTexture(kSumVolumes[c], radianceSumsDesc(ctx.params));
+    const uint32_t none = 0;
+    if (exact) glClearTexImage(sums[c]->id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+  }
   setUniform(program, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
+  setUniform(program, "u_shadowOffset", ctx.params.getFloat("inject.shadow-offset") * space.voxelSize);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   glBindImageTexture(0, view, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   glDeleteTextures(1, &view);
+  if (exact) {
+    GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"});
+    setUniform(resolve, "u_fragmentCount", unsigned(count));
+    glUseProgram(resolve);
+    for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  }
+  for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   ctx.stats["fragments_injected"] = count;
 }
 
@@ -104,9 +152,10 @@ const char* const kDirectionalVolumes[6] = {"radiance-dir+x", "radiance-dir-x", 
                                            "radiance-dir-y", "radiance-dir+z", "radiance-dir-z"};
 
 ParamDesc mipmapModeParam() {
-  return ParamDesc::choice("mipmap.mode", {"isotropic", "anisotropic"}, 0,
+  return ParamDesc::choice("mipmap.mode", {"isotropic", "anisotropic", "max-opacity"}, 1,
                            "isotropic: one average per 2x2x2 block; anisotropic: six volumes, one per travel direction, "
-                           "compositing front to back before averaging (Crassin et al.)");
+                           "compositing front to back before averaging (Crassin et al.); max-opacity: the isotropic "
+                           "colour with the opacity of the block's most opaque axis (thin walls stay opaque)");
 }
 
 // Edge of the six directional volumes: half the grid with anisotropic mips, one voxel without.
@@ -171,6 +220,7 @@ void MipmapStage::execute(StageContext& ctx) {
     glUseProgram(program);
     glBindTextureUnit(0, grid.id());
     setUniform(program, "u_sourceLevel", k);
+    setUniform(program, "u_opacityRule", ctx.params.getChoice("mipmap.mode") == "max-opacity" ? 1 : 0);
     glBindImageTexture(0, grid.id(), k + 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     dispatchCompute(grid.levelSize(k + 1), {4, 4, 4});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);

@@ -1,5 +1,6 @@
 // The screen-space stages of vct-grid: cone tracing and compositing (the G-buffer is shared:
 // techniques/common/gbuffer_stage.h).
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -48,7 +49,10 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(traceResolutionParam());
   b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
-  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
+  b.param(ParamDesc::real("cone.aperture", 45.0, 5.0, 120.0,
+                          "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
+                          "at 60 their lower edges graze the surface, which then occludes and lights itself)",
+                          "degrees"));
   b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
                             "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
   b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
@@ -58,7 +62,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
   b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
                           "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
-  b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
+  b.param(ParamDesc::real("cone.max-distance", 1.75, 0.05, 2.0,
+                          "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
+                          "any wall; cones also stop where they leave the volume)"));
   b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
                           "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
   b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
@@ -77,6 +83,8 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("albedo");
   b.read("light");
   b.write("cone-samples.count");
+  b.write("cone-trace.counts");
+  b.buffer("cone-trace.counts", [](const ParamSet&, const ViewState&) { return size_t(20); });
   // One diffuse gather of the direct-lit voxels: exactly one indirect bounce (docs/fidelity.md).
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones (at cone.resolution)")
@@ -113,6 +121,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, ctx.params, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  Buffer& counts = ctx.board.ensureBuffer("cone-trace.counts", 20);
   glm::ivec3 traced = indirect.desc().size;
   // Bands of rows (a multiple of the 8-row work group), top of the image first as a reader scans.
   const int bandRows = (traced.y + kBands * 8 - 1) / (kBands * 8) * 8;
@@ -122,6 +131,8 @@ void ConeTraceStage::execute(StageContext& ctx) {
     // Start empty, so a stepped run shows exactly the bands traced so far.
     const uint32_t zero = 0;
     sampleCount.upload(&zero, 4);
+    const uint32_t noCounts[5] = {0, 0, 0, 0, 0};
+    counts.upload(noCounts, sizeof(noCounts));
     const float none[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     for (Texture* t : {&indirect, &specular, &ao, &shadow}) glClearTexImage(t->id(), 0, GL_RGBA, GL_FLOAT, none);
   }
@@ -163,6 +174,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_TRACE_COUNTS, counts.id());
   glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
@@ -171,6 +183,20 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_endRow", firstRow + rows);
   if (rows > 0) dispatchCompute({traced.x, rows, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  // Totals over the bands traced so far: what the cones cost, comparable across machines.
+  uint32_t totals[5] = {0, 0, 0, 0, 0};
+  glGetNamedBufferSubData(counts.id(), 0, sizeof(totals), totals);
+  const double shaded = std::max(1.0, double(totals[4]));
+  const double allSamples = std::max(1.0, double(totals[0]) + totals[1] + totals[2]);
+  ctx.stats["samples_diffuse"] = totals[0];
+  ctx.stats["samples_specular"] = totals[1];
+  ctx.stats["samples_shadow"] = totals[2];
+  ctx.stats["volume_fetches"] = totals[3];
+  ctx.stats["shaded_pixels"] = totals[4];
+  ctx.stats["samples_per_diffuse_cone"] = totals[0] / (shaded * double(cones.size()));
+  ctx.stats["samples_per_specular_cone"] = totals[1] / shaded;
+  ctx.stats["samples_per_shadow_cone"] = totals[2] / shaded;
+  ctx.stats["fetches_per_sample"] = totals[3] / allSamples;
   ctx.stats["diffuse_cones"] = double(cones.size());
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
   ctx.stats["probe_x"] = probeX;

@@ -14,7 +14,8 @@ class InjectStage : public Stage {
   const char* title() const override { return "Inject direct light into the voxels"; }
   const char* summary() const override {
     return "Light each voxel fragment (Lambert, shadow-mapped, plus emission) and average the fragments "
-           "of each voxel into an RGBA8 radiance grid with an atomic compare-and-swap loop.";
+           "of each voxel into an RGBA8 radiance grid: exact fixed-point sums with integer atomics, then one "
+           "division (or, inject.average=compare-and-swap, a running average with an atomic compare-and-swap loop).";
   }
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;

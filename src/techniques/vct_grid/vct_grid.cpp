@@ -9,9 +9,11 @@
 //   1. voxelize       triangles -> voxel fragment list (dominant axis, conservative raster)
 //      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   2. shadow-map     depth from the light; the light's parameters as a uniform buffer
-//   3. inject         Lambert direct light + emission per fragment, averaged per voxel (RGBA8, CAS)
+//   3. inject         Lambert direct light + emission per fragment, averaged per voxel (exact
+//                     fixed-point sums with integer atomics; or the RGBA8 compare-and-swap average)
 //   4. occlusion-fix  alpha = 1 in every non-empty voxel
-//   5. mipmap         own compute pass per level: average of the 8 children (isotropic)
+//   5. mipmap         own compute pass per level: average of the 8 children (isotropic), and the
+//                     six directional volumes (anisotropic, the default) the cones read
 //   6. gbuffer        position, normal, albedo, emission, depth from the camera
 //   7. cone-trace     diffuse cones (+AO), one specular cone, one soft-shadow cone per pixel
 //   8. composite      direct + indirect diffuse + specular, tonemapped; each term an output
@@ -24,6 +26,10 @@
 //     (The 0.707-style weights in seed 000 and the blog's unweighted sum do not sum to 1.)
 //   - Steps are half the sample diameter with opacity correction a' = 1 - (1 - a)^(step/diameter).
 //   - Cones start cone.start-offset voxels off the surface (default 1.75, about a voxel diagonal).
+//   - Defaults (issue 11, docs/fidelity.md): 6 cones of 45 degrees (at 60 the ring's outer cones
+//     graze the surface and gather it), up to 1.75 volume edges, anisotropic mips, the voxels'
+//     shadow test half a voxel along the fragment normal: 1.04 / 1.07 of the path tracer's
+//     one-bounce energy on the Cornell box / Sponza.
 //   - The voxelization geometry shader takes the plane normal from the triangle's positions (seed
 //     003's listing subtracts a normal from a position there: a typo we do not reproduce).
 //
