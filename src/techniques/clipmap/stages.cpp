@@ -1,0 +1,622 @@
+#include "techniques/clipmap/stages.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "gpu/shader_library.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+#include "techniques/vct_grid/cone_layout.h"
+
+namespace voxlab::clipmap {
+
+static constexpr float kDegrees = 3.14159265358979f / 180.0f;
+static constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/clipmap/clipmap.glsl
+static constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
+static constexpr int64_t kMaxCell = int64_t(1) << 30;  // shaders hold cells in int32
+
+// --- Parameters and layout ------------------------------------------------------------------------
+
+std::vector<ParamDesc> layoutParams() {
+  return {
+      ParamDesc::integer("clipmap.levels", 5, 2, kMaxLevels, "clip levels L; level k has voxels 2^k times level 0's", "levels"),
+      ParamDesc::integer("clipmap.resolution", 32, 8, 64, "cells N along each axis of every level", "voxels").pow2(),
+      ParamDesc::fromScene("clipmap.voxel-size", 1e-4, 100.0,
+                           "edge s_0 of a level-0 voxel; scene: the power of two that lets the coarsest level span four times "
+                           "the scene's largest extent",
+                           "m"),
+      ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 0,
+                        "isotropic: one value per cell; anisotropic: also six directional values, filtered between "
+                        "levels front to back (the under operator)"),
+  };
+}
+
+std::vector<ParamDesc> pathParams() {
+  return {
+      ParamDesc::real("clipmap.path-step.x", 0.0, -1e6, 1e6, "x of the camera's displacement per path move", "m"),
+      ParamDesc::real("clipmap.path-step.y", 0.0, -1e6, 1e6, "y of the camera's displacement per path move", "m"),
+      ParamDesc::real("clipmap.path-step.z", 0.0, -1e6, 1e6, "z of the camera's displacement per path move", "m"),
+      ParamDesc::integer("clipmap.path-moves", 0, 0, 256,
+                         "camera moves after the first build; the update stage runs one per iteration", "moves"),
+      ParamDesc::choice("clipmap.policy", {"all", "priority"}, 0,
+                        "all: every level follows every move; priority: one level per move, finer levels more often "
+                        "(level i when (move - 2^i + 1) mod 2^(i+1) = 0)"),
+  };
+}
+
+Layout layoutOf(const ParamSet& params, const Scene& scene) {
+  Layout l;
+  l.levels = params.getInt("clipmap.levels");
+  l.n = params.getInt("clipmap.resolution");
+  double s0 = params.value("clipmap.voxel-size");
+  if (std::isnan(s0)) {
+    glm::vec3 e = scene.bounds.valid() ? scene.bounds.extent() : glm::vec3(1.0f);
+    double extent = std::max({double(e.x), double(e.y), double(e.z), 1e-3});
+    s0 = std::exp2(std::ceil(std::log2(4.0 * extent / (double(l.n) * double(int64_t(1) << (l.levels - 1))))));
+  }
+  l.voxelSize0 = s0;
+  return l;
+}
+
+int facesOf(const ParamSet& params) { return params.getChoice("clipmap.faces") == "anisotropic" ? 7 : 1; }
+
+int mipCount(int n) {
+  int m = 0;
+  while ((n >> (m + 1)) >= 4) ++m;
+  return m;
+}
+
+TextureDesc atlasDesc(const ParamSet& params) {
+  const int n = params.getInt("clipmap.resolution"), b = n + 2;
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {facesOf(params) * b, params.getInt("clipmap.levels") * b, b};
+  return d;
+}
+
+static TextureDesc mipsDesc(const ParamSet& params) {
+  const int n = params.getInt("clipmap.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {n, n, n};
+  d.levels = mipCount(n) + 1;
+  d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  return d;
+}
+
+static size_t accumulatorBytes(const ParamSet& p) {
+  const size_t n = size_t(p.getInt("clipmap.resolution"));
+  return 16 * size_t(p.getInt("clipmap.levels")) * n * n * n;
+}
+
+std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera) {
+  const Layout layout = layoutOf(params, scene);
+  const glm::dvec3 step(params.value("clipmap.path-step.x"), params.value("clipmap.path-step.y"),
+                        params.value("clipmap.path-step.z"));
+  const int moves = params.getInt("clipmap.path-moves");
+  const Policy policy = params.getChoice("clipmap.policy") == "priority" ? Policy::Priority : Policy::All;
+  std::vector<PathState> path;
+  PathState s{snapOrigins(layout, glm::dvec3(camera)), std::vector<int>(size_t(layout.levels), 0)};
+  path.push_back(s);
+  for (int j = 1; j <= moves; ++j) {
+    auto target = snapOrigins(layout, glm::dvec3(camera) + double(j) * step);
+    for (int k = 0; k < layout.levels; ++k) {
+      if (levelScheduled(policy, k, layout.levels, j - 1)) {
+        s.origins[size_t(k)] = target[size_t(k)];
+        s.lag[size_t(k)] = 0;
+      } else {
+        ++s.lag[size_t(k)];
+      }
+    }
+    path.push_back(s);
+  }
+  for (const PathState& p : path)
+    for (const Cell& o : p.origins)
+      if (std::abs(o.x) > kMaxCell || std::abs(o.y) > kMaxCell || std::abs(o.z) > kMaxCell)
+        throw Error("clipmap: a level origin " + describe(o) + " lies beyond 2^30 cells of the world origin; move the " +
+                    "camera (or the path) closer, or raise clipmap.voxel-size");
+  return path;
+}
+
+// The uniforms every clipmap shader shares (shaders/clipmap/clipmap.glsl).
+static void setClipUniforms(GLuint program, const Layout& layout, const std::vector<Cell>& origins) {
+  setUniform(program, "u_clipN", layout.n);
+  setUniform(program, "u_clipLevels", layout.levels);
+  std::vector<int> o(3 * kMaxLevels, 0);
+  for (int k = 0; k < layout.levels; ++k)
+    for (int i = 0; i < 3; ++i) o[size_t(3 * k + i)] = int(origins[size_t(k)][i]);
+  GLint loc = glGetUniformLocation(program, "u_clipOrigin");
+  if (loc >= 0) glProgramUniform3iv(program, loc, kMaxLevels, o.data());
+}
+
+static void dispatchBox(GLuint program, const Box& box) {
+  glm::ivec3 lo(box.lo), size(box.hi - box.lo);
+  setUniform(program, "u_boxLo", lo);
+  setUniform(program, "u_boxSize", size);
+  dispatchCompute(size, {4, 4, 4});
+}
+
+static constexpr GLbitfield kAllShaderWrites =
+    GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+    GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
+
+// --- Anchor ---------------------------------------------------------------------------------------
+
+struct LevelRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = voxel size
+  int32_t origin[3];
+  int32_t lag;
+  int32_t offset[3];  // toroidal offset T_k = o_k mod N: the physical texel of the min corner
+  int32_t n;
+};
+static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
+
+struct PlanRecord {
+  uint32_t move, level, exposed, direct, coverageChanged, refiltered;
+  int32_t delta[3];
+};
+static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
+
+void AnchorStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.readView();
+  BufferLayout levels;
+  levels.stride = sizeof(LevelRecord);
+  levels.fields = {{"min", FieldType::Vec4, 0},       {"max", FieldType::Vec4, 16},     {"origin.x", FieldType::I32, 32},
+                   {"origin.y", FieldType::I32, 36},  {"origin.z", FieldType::I32, 40}, {"lag", FieldType::I32, 44},
+                   {"offset.x", FieldType::I32, 48},  {"offset.y", FieldType::I32, 52}, {"offset.z", FieldType::I32, 56},
+                   {"n", FieldType::I32, 60}};
+  b.output("clip-levels", OutputKind::Buffer, Semantic::Scalar,
+           "one record per level after the last move: world box (min, level; max, voxel size), origin o_k in cells, "
+           "moves since its last update, toroidal offset T_k = o_k mod N")
+      .layout = levels;
+  BufferLayout plan;
+  plan.stride = sizeof(PlanRecord);
+  plan.fields = {{"move", FieldType::U32, 0},         {"level", FieldType::U32, 4},   {"exposed", FieldType::U32, 8},
+                 {"direct", FieldType::U32, 12},      {"coverage-changed", FieldType::U32, 16},
+                 {"refiltered", FieldType::U32, 20},  {"delta.x", FieldType::I32, 24}, {"delta.y", FieldType::I32, 28},
+                 {"delta.z", FieldType::I32, 32}};
+  b.output("clip-plan", OutputKind::Buffer, Semantic::Scalar,
+           "per move and level, the planner's cell counts: exposed (N^3 - prod(N - |d_i|)), voxelized directly, "
+           "changed coverage, refiltered; and the move d in cells")
+      .layout = plan;
+  b.buffer("clip-levels", [](const ParamSet& p, const ViewState&) { return sizeof(LevelRecord) * size_t(p.getInt("clipmap.levels")); });
+  b.buffer("clip-plan", [](const ParamSet& p, const ViewState&) {
+    return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")) * size_t(p.getInt("clipmap.path-moves") + 1);
+  });
+}
+
+void AnchorStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  std::vector<LevelRecord> levels;
+  const PathState& last = path.back();
+  for (int k = 0; k < layout.levels; ++k) {
+    const Cell& o = last.origins[size_t(k)];
+    const double s = layout.voxelSize(k);
+    LevelRecord r{};
+    r.lo = glm::vec4(glm::vec3(glm::dvec3(o) * s), float(k));
+    r.hi = glm::vec4(glm::vec3(glm::dvec3(o + Cell(layout.n)) * s), float(s));
+    glm::ivec3 t = toroidal(o, layout.n);
+    for (int i = 0; i < 3; ++i) r.origin[i] = int32_t(o[i]), r.offset[i] = t[i];
+    r.lag = last.lag[size_t(k)];
+    r.n = layout.n;
+    levels.push_back(r);
+  }
+  std::vector<PlanRecord> plan;
+  for (size_t j = 0; j < path.size(); ++j) {
+    auto plans = planMove(layout, j == 0 ? std::vector<Cell>{} : path[j - 1].origins, path[j].origins);
+    for (int k = 0; k < layout.levels; ++k) {
+      const LevelPlan& p = plans[size_t(k)];
+      plan.push_back({uint32_t(j), uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells),
+                      uint32_t(p.coverageChanged), uint32_t(p.refilteredCells),
+                      {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}});
+    }
+  }
+  ctx.board.ensureBuffer("clip-levels", sizeof(LevelRecord) * levels.size()).upload(levels.data(), sizeof(LevelRecord) * levels.size());
+  ctx.board.ensureBuffer("clip-plan", sizeof(PlanRecord) * plan.size()).upload(plan.data(), sizeof(PlanRecord) * plan.size());
+  ctx.stats["levels"] = layout.levels;
+  ctx.stats["resolution"] = layout.n;
+  ctx.stats["voxel_size_m"] = layout.voxelSize0;
+  ctx.stats["coarsest_extent_m"] = layout.voxelSize(layout.levels - 1) * layout.n;
+  ctx.stats["moves"] = double(path.size() - 1);
+  for (int k = 0; k < layout.levels; ++k) ctx.stats["level" + std::to_string(k) + "_lag"] = last.lag[size_t(k)];
+}
+
+// --- Update ---------------------------------------------------------------------------------------
+
+void UpdateStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.readView();
+  b.read("clip-levels");
+  b.read("shadow-map");
+  b.read("light");
+  b.write("clip-accumulators");
+  b.output("clip-atlas", OutputKind::Volume3D, Semantic::Color,
+           "every level's physical texture: blocks of (N+2)^3 texels with one guard texel per side, faces along x "
+           "(isotropic, then +x -x +y -y +z -z), levels along y; cell c at texel c & (N-1)");
+  BufferLayout counters;
+  counters.stride = 4 * kCountersPerLevel;
+  counters.fields = {{"cleared", FieldType::U32, 0},
+                     {"pairs", FieldType::U32, 4},
+                     {"resolved", FieldType::U32, 8},
+                     {"refiltered", FieldType::U32, 12},
+                     {"guards", FieldType::U32, 16}};
+  b.output("clip-counters", OutputKind::Buffer, Semantic::Scalar,
+           "per level, what the last move's shaders wrote, counted by atomics: accumulators cleared, triangle/cell "
+           "pairs injected, texels resolved, texels refiltered, guard texels")
+      .layout = counters;
+  b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
+  b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
+  b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) {
+    return size_t(4 * kCountersPerLevel) * size_t(p.getInt("clipmap.levels"));
+  });
+}
+
+int UpdateStage::iterations(const ParamSet& params) const { return params.getInt("clipmap.path-moves") + 1; }
+
+template <typename T>
+static void appendBytes(std::vector<uint8_t>& key, const T& v) {
+  const auto* p = reinterpret_cast<const uint8_t*>(&v);
+  key.insert(key.end(), p, p + sizeof(T));
+}
+
+void UpdateStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const int n = layout.n, faces = facesOf(ctx.params);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  Texture& atlas = ctx.board.ensureTexture("clip-atlas", atlasDesc(ctx.params));
+  Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
+  Buffer& counters = ctx.board.ensureBuffer("clip-counters", size_t(4 * kCountersPerLevel * layout.levels));
+
+  // What the held texels were built from: the same atlas, layout, scene and light.
+  std::vector<uint8_t> key;
+  appendBytes(key, layout.n);
+  appendBytes(key, layout.levels);
+  appendBytes(key, layout.voxelSize0);
+  appendBytes(key, faces);
+  appendBytes(key, atlas.id());
+  appendBytes(key, accum.id());
+  appendBytes(key, &ctx.scene);
+  appendBytes(key, ctx.scene.triangleCount());
+  auto light = ctx.board.buffer("light").download();
+  key.insert(key.end(), light.begin(), light.end());
+
+  std::vector<Cell> before;
+  if (ctx.iteration > 0)
+    before = path[size_t(ctx.iteration - 1)].origins;
+  else if (held_ && held_->key == key)
+    before = held_->origins;
+  held_.reset();
+  const std::vector<Cell>& after = path[size_t(ctx.iteration)].origins;
+  const auto plans = planMove(layout, before, after);
+
+  std::vector<uint32_t> zero(size_t(kCountersPerLevel * layout.levels), 0);
+  counters.upload(zero.data(), zero.size() * 4);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
+
+  // 1. Clear the accumulators of the cells to voxelize.
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  setClipUniforms(clear, layout, after);
+  glUseProgram(clear);
+  for (int k = 0; k < layout.levels; ++k) {
+    setUniform(clear, "u_level", k);
+    for (const Box& box : plans[size_t(k)].direct) dispatchBox(clear, box);
+  }
+  glMemoryBarrier(kAllShaderWrites);
+
+  // 2. Voxelize and inject them: per level, per box, per draw range (one material each).
+  GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
+  setClipUniforms(vox, layout, after);
+  setUniform(vox, "u_mode", 0);
+  glUseProgram(vox);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  ctx.gpuScene.bindCoverage();
+  glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+  const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
+  for (int k = 0; k < layout.levels; ++k) {
+    if (plans[size_t(k)].direct.empty()) continue;
+    setUniform(vox, "u_level", k);
+    setUniform(vox, "u_cellsPerMetre", float(1.0 / layout.voxelSize(k)));
+    setUniform(vox, "u_cellSize", float(layout.voxelSize(k)));
+    for (const Box& box : plans[size_t(k)].direct) {
+      setUniform(vox, "u_boxLo", glm::ivec3(box.lo));
+      setUniform(vox, "u_boxSize", glm::ivec3(box.hi - box.lo));
+      for (const DrawRange& d : ctx.scene.draws) {
+        if (d.indexCount < 3) continue;
+        glProgramUniform1i(vox, materialLoc, int(d.material));
+        ctx.gpuScene.bindMaterialTextures(d.material);
+        setUniform(vox, "u_firstTriangle", unsigned(d.firstIndex / 3));
+        setUniform(vox, "u_triangleCount", unsigned(d.indexCount / 3));
+        dispatchCompute({int(d.indexCount / 3), 1, 1}, {64, 1, 1});
+      }
+    }
+  }
+  glMemoryBarrier(kAllShaderWrites);
+
+  // 3. Resolve the sums into the atlas.
+  GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"});
+  setClipUniforms(resolve, layout, after);
+  setUniform(resolve, "u_faces", faces);
+  glUseProgram(resolve);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  for (int k = 0; k < layout.levels; ++k) {
+    setUniform(resolve, "u_level", k);
+    for (const Box& box : plans[size_t(k)].direct) dispatchBox(resolve, box);
+  }
+  glMemoryBarrier(kAllShaderWrites);
+
+  // 4. Refilter each covered block from the finer level, fine to coarse.
+  GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"});
+  setClipUniforms(filter, layout, after);
+  setUniform(filter, "u_faces", faces);
+  glUseProgram(filter);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  for (int k = 1; k < layout.levels; ++k) {
+    if (plans[size_t(k)].covered.empty()) continue;
+    setUniform(filter, "u_level", k);
+    dispatchBox(filter, plans[size_t(k)].covered);
+    glMemoryBarrier(kAllShaderWrites);
+  }
+
+  // 5. Guard texels of every block.
+  GLuint guards = ctx.shaders.program({"clipmap/guards.comp.glsl"});
+  setClipUniforms(guards, layout, after);
+  glUseProgram(guards);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  dispatchCompute(atlas.desc().size, {4, 4, 4});
+  glMemoryBarrier(kAllShaderWrites);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+
+  held_ = Held{after, key};
+
+  std::vector<uint32_t> counted(zero.size());
+  auto bytes = counters.download(counted.size() * 4);
+  std::memcpy(counted.data(), bytes.data(), counted.size() * 4);
+  double written = 0.0, exposed = 0.0;
+  for (int k = 0; k < layout.levels; ++k) {
+    const LevelPlan& p = plans[size_t(k)];
+    const std::string l = "level" + std::to_string(k) + "_";
+    const uint32_t* c = &counted[size_t(kCountersPerLevel * k)];
+    ctx.stats[l + "exposed"] = double(p.exposedCells);
+    ctx.stats[l + "planned_direct"] = double(p.directCells);
+    ctx.stats[l + "coverage_changed"] = double(p.coverageChanged);
+    ctx.stats[l + "cleared"] = c[0];
+    ctx.stats[l + "pairs"] = c[1];
+    ctx.stats[l + "resolved"] = c[2];
+    ctx.stats[l + "refiltered"] = c[3];
+    written += double(c[2]) + double(c[3]);
+    exposed += double(p.exposedCells);
+  }
+  ctx.stats["move"] = ctx.iteration;
+  ctx.stats["full_build"] = before.empty() ? 1 : 0;
+  ctx.stats["cells_exposed"] = exposed;
+  ctx.stats["texels_written"] = written;
+  ctx.stats["cells_total"] = double(layout.levels) * n * n * n;
+  ctx.stats["bytes"] = double(atlas.byteSize()) + double(accum.size());
+}
+
+// --- Mips -----------------------------------------------------------------------------------------
+
+void MipsStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.readView();
+  b.read("clip-atlas");
+  b.output("clip-mips", OutputKind::Volume3D, Semantic::Color,
+           "the coarsest level in logical order (mip 0: texel j = cell o_{L-1} + j) and its mips down to 4^3, each "
+           "covering the same volume");
+  b.texture("clip-mips", [](const ParamSet& p, const ViewState&) { return mipsDesc(p); });
+}
+
+void MipsStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto& origins = path.back().origins;
+  Texture& atlas = ctx.board.texture("clip-atlas");
+  Texture& mips = ctx.board.ensureTexture("clip-mips", mipsDesc(ctx.params));
+  const int last = layout.levels - 1;
+  const double s = layout.voxelSize(last);
+  const Cell& o = origins[size_t(last)];
+  ctx.board.place("clip-mips", WorldBox{glm::vec3(glm::dvec3(o) * s), glm::vec3(glm::dvec3(o + Cell(layout.n)) * s)});
+  GLuint program = ctx.shaders.program({"clipmap/mips.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  glUseProgram(program);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  for (int m = 0; m < mips.levels(); ++m) {
+    setUniform(program, "u_mode", m == 0 ? 0 : 1);
+    glBindImageTexture(1, mips.id(), std::max(m - 1, 0), GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+    glBindImageTexture(2, mips.id(), m, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute(mips.levelSize(m), {4, 4, 4});
+    glMemoryBarrier(kAllShaderWrites);
+  }
+  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  ctx.stats["mips"] = mips.levels() - 1;
+  ctx.stats["bytes"] = double(mips.byteSize());
+}
+
+// --- Cone tracing ---------------------------------------------------------------------------------
+
+static TextureDesc screenDesc(const ViewState& view, GLenum format) {
+  TextureDesc d;
+  d.format = format;
+  d.size = {view.width, view.height, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+void ConeTraceStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
+  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
+  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
+                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
+  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
+                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
+  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
+                          "cones start this far from the surface along its normal, in voxels of the finest level there",
+                          "voxels"));
+  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
+  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
+                          "level = log2(diameter / s_0) + bias, at least the finest level holding the sample"));
+  b.param(ParamDesc::real("cone.max-distance", 0.5, 0.05, 1.0, "longest cone, as a fraction of the coarsest level's edge"));
+  b.param(ParamDesc::real("ao.range", 0.125, 0.01, 1.0,
+                          "ambient occlusion counts occluders up to this distance, as a fraction of the coarsest level's edge"));
+  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0, "specular cone aperture = max(2, 90 * roughness) degrees"));
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
+  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  b.readView();
+  b.read("clip-atlas");
+  b.read("clip-mips");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("light");
+  b.write("cone-samples.count");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones")
+      .referenceMode = "indirect-1";
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
+           "cosine-weighted visible fraction within ao.range (1 = open)");
+  b.output("level-used", OutputKind::Image2D, Semantic::Scalar,
+           "per pixel, the finest clip level whose region holds the surface point (-1: outside every level, or sky)");
+  BufferLayout samples;
+  samples.stride = sizeof(gpu::ConeSample);
+  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
+                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
+                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
+  samples.countResource = "cone-samples.count";
+  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
+                                "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                                "cone/distance/level read (floor: the finer level, fraction: the next level's weight)/alpha");
+  probed.layout = samples;
+  probed.probeRecord = true;
+  const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
+                                                   {"ambient-occlusion", GL_R16F}, {"level-used", GL_R16F}};
+  for (const auto& [name, format] : traced)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) {
+    return sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
+  });
+}
+
+void ConeTraceStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto& origins = path.back().origins;
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", screenDesc(ctx.view, GL_R16F));
+  Texture& level = ctx.board.ensureTexture("level-used", screenDesc(ctx.view, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  const uint32_t zero = 0;
+  sampleCount.upload(&zero, 4);
+
+  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
+  auto cones = vct::diffuseCones(ctx.params.getInt("cone.count"), aperture, ctx.params.getChoice("cone.layout"),
+                                 ctx.params.getChoice("cone.weighting"));
+  std::vector<glm::vec4> packed;
+  for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
+
+  GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  std::vector<glm::vec3> mins(kMaxLevels, glm::vec3(0.0f)), offsets(kMaxLevels, glm::vec3(0.0f));
+  for (int k = 0; k < layout.levels; ++k) {
+    mins[size_t(k)] = glm::vec3(glm::dvec3(origins[size_t(k)]) * layout.voxelSize(k));
+    offsets[size_t(k)] = glm::vec3(toroidal(origins[size_t(k)], layout.n));
+  }
+  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelMin"), kMaxLevels, &mins[0].x);
+  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelToroidal"), kMaxLevels, &offsets[0].x);
+  const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
+  setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
+  setUniform(program, "u_faces", facesOf(ctx.params));
+  setUniform(program, "u_mipLevels", mipCount(layout.n));
+  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
+  setUniform(program, "u_coneCount", int(cones.size()));
+  setUniform(program, "u_diffuseAperture", aperture);
+  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
+  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset"));
+  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
+  setUniform(program, "u_maxSteps", 512);
+  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * coarsestEdge);
+  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * coarsestEdge);
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  int probeX = std::min(int(ctx.params.getFloat("probe.x") * ctx.view.width), ctx.view.width - 1);
+  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * ctx.view.height), ctx.view.height - 1);
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  glUseProgram(program);
+  glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
+  glBindTextureUnit(4, ctx.board.texture("clip-mips").id());
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(3, level.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["probe_x"] = probeX;
+  ctx.stats["probe_y_from_top"] = ctx.view.height - 1 - probeY;
+}
+
+// --- Composite ------------------------------------------------------------------------------------
+
+void CompositeStage::declare(StageBuilder& b) const {
+  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
+  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
+  b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
+                          "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
+  for (const char* r : {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular", "shadow-map", "light"})
+    b.read(r);
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
+      .referenceMode = "full";
+  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  const std::pair<const char*, GLenum> images[] = {{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
+  for (const auto& [name, format] : images)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+}
+
+void CompositeStage::execute(StageContext& ctx) {
+  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
+  GLuint program = ctx.shaders.program({"clipmap/composite.comp.glsl"});
+  setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
+  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
+  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  glUseProgram(program);
+  const std::pair<int, const char*> inputs[] = {{1, "position"}, {2, "normal"}, {3, "albedo"}, {4, "emission"},
+                                                {5, "indirect-diffuse"}, {6, "indirect-specular"}, {8, "shadow-map"}};
+  for (const auto& [unit, name] : inputs) glBindTextureUnit(GLuint(unit), ctx.board.texture(name).id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace voxlab::clipmap

@@ -1,0 +1,103 @@
+// The stages of the clipmap technique (see clipmap.cpp for the overview).
+#pragma once
+#include <optional>
+#include <vector>
+
+#include "graph/stage.h"
+#include "techniques/clipmap/clipmap_math.h"
+
+namespace voxlab::clipmap {
+
+// The layout the parameters ask for: clipmap.levels, clipmap.resolution and clipmap.voxel-size
+// ("scene": the power of two of metres that lets the coarsest level span four times the scene's
+// largest extent, so a level's cells are the world lattice's cells exactly in float).
+Layout layoutOf(const ParamSet& params, const Scene& scene);
+// Faces per cell in the atlas: 1 (isotropic) or 7 (isotropic + the six directions).
+int facesOf(const ParamSet& params);
+// The atlas: blocks of (N+2)^3 texels (one guard texel per side), faces along x, levels along y.
+TextureDesc atlasDesc(const ParamSet& params);
+// Mips of the coarsest level beyond it, in logical order: log2(N) - 2 of them (the chain stops at 4^3).
+int mipCount(int n);
+
+// The anchor along the camera path: move j (0 = the start) puts it at the camera position plus
+// j * clipmap.path-step; the origins of each move follow the update policy (a level not
+// scheduled keeps its origin). Shared by the anchor and update stages, so both see one path.
+struct PathState {
+  std::vector<Cell> origins;
+  std::vector<int> lag;  // moves since each level was last updated
+};
+std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera);
+std::vector<ParamDesc> layoutParams();
+std::vector<ParamDesc> pathParams();
+
+class AnchorStage : public Stage {
+ public:
+  const char* id() const override { return "anchor"; }
+  const char* title() const override { return "Snap the clip levels to the camera"; }
+  const char* summary() const override {
+    return "Per level, snap the origin to the next level's voxel around the anchor (the camera plus the path's "
+           "moves) and plan each move: the disjoint slabs of newly exposed cells, the cells whose coverage by the "
+           "finer level changed, the covered blocks to refilter.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class UpdateStage : public Stage {
+ public:
+  const char* id() const override { return "update"; }
+  const char* title() const override { return "Update the clip levels, one camera move per iteration"; }
+  const char* summary() const override {
+    return "Iteration 0 builds every level around the start; each further iteration moves the camera one path "
+           "step and only clears, voxelizes and lights the cells the move exposed (toroidal addresses: nothing "
+           "else moves), refilters the covered blocks from the finer level and refreshes the guard texels.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+
+ private:
+  // The origins the atlas holds after the last execution, and what they were built from: a later
+  // run (the viewer's camera moved) updates incrementally from them when nothing else changed.
+  struct Held {
+    std::vector<Cell> origins;
+    std::vector<uint8_t> key;
+  };
+  std::optional<Held> held_;
+};
+
+class MipsStage : public Stage {
+ public:
+  const char* id() const override { return "mips"; }
+  const char* title() const override { return "Mip the coarsest level"; }
+  const char* summary() const override {
+    return "Unroll the coarsest clip level into logical order and average it down to 4^3: the only level with "
+           "a mip chain, each mip covering the same volume.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class ConeTraceStage : public Stage {
+ public:
+  const char* id() const override { return "cone-trace"; }
+  const char* title() const override { return "Trace cones across the clip levels"; }
+  const char* summary() const override {
+    return "Per pixel, march diffuse cones and a specular cone; each sample reads the finest level whose region "
+           "holds its footprint (or coarser, as the cone widens), blending two levels, and ends outside the "
+           "coarsest region.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class CompositeStage : public Stage {
+ public:
+  const char* id() const override { return "composite"; }
+  const char* title() const override { return "Composite the final image"; }
+  const char* summary() const override { return "Add direct light, indirect diffuse and indirect specular, then tonemap."; }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+}  // namespace voxlab::clipmap
