@@ -39,6 +39,7 @@ uniform float u_aoRange;      // metres
 uniform int u_maxSteps;
 uniform vec3 u_cameraPos;
 uniform ivec2 u_probePixel;
+uniform int u_scale;  // G-buffer pixels per traced pixel along each axis (1 or 2)
 
 float levelVoxel(int k) { return u_voxelSize0 * exp2(float(k)); }
 
@@ -120,7 +121,10 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
-  vec4 pos = texelFetch(u_position, px, 0);
+  // At half resolution each traced pixel shades the top-left G-buffer pixel of its 2x2 block; the
+  // composite upsamples along surfaces.
+  ivec2 g = min(px * u_scale, textureSize(u_position, 0) - 1);
+  vec4 pos = texelFetch(u_position, g, 0);
   if (pos.w == 0.0) {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
     imageStore(u_indirectSpecular, px, vec4(0.0));
@@ -129,8 +133,8 @@ void main() {
     return;
   }
   bool record = px == u_probePixel;
-  vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
-  vec3 albedo = texelFetch(u_albedo, px, 0).rgb;
+  vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
+  vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
   int surfaceLevel = finestLevel(pos.xyz);
   imageStore(u_levelUsed, px, vec4(float(surfaceLevel)));
   float voxel = levelVoxel(max(surfaceLevel, 0));

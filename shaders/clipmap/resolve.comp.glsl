@@ -9,12 +9,16 @@ layout(rgba8, binding = 0) uniform writeonly image3D u_atlas;
 uniform ivec3 u_boxLo;
 uniform ivec3 u_boxSize;
 uniform int u_level;
+uniform ivec3 u_skipLo;  // cells of [u_skipLo, u_skipHi) are left alone (a full build's covered block)
+uniform ivec3 u_skipHi;
 uniform int u_faces;
 
 void main() {
   ivec3 g = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(g, u_boxSize))) return;
-  ivec3 phys = toroidalAddress(u_boxLo + g);
+  ivec3 cell = u_boxLo + g;
+  if (all(greaterThanEqual(cell, u_skipLo)) && all(lessThan(cell, u_skipHi))) return;
+  ivec3 phys = toroidalAddress(cell);
   uint i = accumulatorIndex(u_level, phys);
   uint count = accum[i];
   vec4 value = vec4(0.0);

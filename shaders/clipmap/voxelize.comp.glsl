@@ -26,6 +26,8 @@ uniform uint u_triangleCount;
 uniform int u_level;
 uniform ivec3 u_boxLo;
 uniform ivec3 u_boxSize;
+uniform ivec3 u_skipLo;  // cells of [u_skipLo, u_skipHi) are left alone (a full build's covered block)
+uniform ivec3 u_skipHi;
 uniform float u_cellsPerMetre;  // 1 / s_k
 uniform float u_cellSize;       // s_k, metres
 uniform int u_mode;             // 0 = direct light, 1 = uniform radiance (furnace tests)
@@ -83,6 +85,8 @@ void main() {
       int kLo = max(int(floor(zc - reach)) - 1, pLo.z), kHi = min(int(floor(zc + reach)) + 1, pHi.z);
       for (int k = kLo; k <= kHi; ++k) {
         ivec3 local = fromProjectedI(ivec3(a, b, k), axis);  // cell, triangle-local
+        ivec3 cell = iorigin + local;
+        if (all(greaterThanEqual(cell, u_skipLo)) && all(lessThan(cell, u_skipHi))) continue;
         dvec3 centre = dvec3(local) + 0.5;
         if (!triangleOverlapsCenteredBox(d0 - centre, d1 - centre, d2 - centre, dvec3(0.5))) continue;
         if (masked && !coverageAt(alpha, coverageLevel, l0, l1, l2, t0, t1, t2, local)) continue;
@@ -101,7 +105,7 @@ void main() {
           radiance = albedo / PI * lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, normal) + emission;
         }
         uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * CLIPMAP_FIXED_SCALE + 0.5);
-        uint i = accumulatorIndex(u_level, toroidalAddress(iorigin + local));
+        uint i = accumulatorIndex(u_level, toroidalAddress(cell));
         atomicAdd(accum[i], 1u);
         atomicAdd(accum[i + 1u], fixedPoint.r);
         atomicAdd(accum[i + 2u], fixedPoint.g);

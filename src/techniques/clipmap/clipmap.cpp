@@ -20,7 +20,7 @@
 //   4. mips        the coarsest level unrolled into logical order, mipped down to 4^3
 //   5. gbuffer     position, normal, albedo, emission, depth from the camera (shared)
 //   6. cone-trace  diffuse cones (+AO) and a specular cone across levels; level-used image; probe
-//   7. composite   direct + indirect diffuse + specular, tonemapped
+//   7. composite   direct + indirect diffuse + specular, tonemapped (vct-grid's composite shader)
 //
 // Details
 //   - Lattice and snapping: cell c of level k covers [c, c+1) s_k in metres; origins are even, so

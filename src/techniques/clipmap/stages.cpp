@@ -298,6 +298,19 @@ void UpdateStage::execute(StageContext& ctx) {
   held_.reset();
   const std::vector<Cell>& after = path[size_t(ctx.iteration)].origins;
   const auto plans = planMove(layout, before, after);
+  // What each level's shaders visit: the planner's direct boxes, or for a full build the whole
+  // region in one box with the covered block skipped (one pass over the triangles, not six).
+  std::vector<std::vector<Box>> boxes(size_t(layout.levels));
+  std::vector<Box> skips(size_t(layout.levels));
+  for (int k = 0; k < layout.levels; ++k) {
+    const LevelPlan& p = plans[size_t(k)];
+    boxes[size_t(k)] = p.full ? std::vector<Box>{region(p.origin, n)} : p.direct;
+    if (p.full) skips[size_t(k)] = p.covered;
+  }
+  auto setSkip = [&](GLuint program, int k) {
+    setUniform(program, "u_skipLo", glm::ivec3(skips[size_t(k)].lo));
+    setUniform(program, "u_skipHi", glm::ivec3(skips[size_t(k)].hi));
+  };
 
   std::vector<uint32_t> zero(size_t(kCountersPerLevel * layout.levels), 0);
   counters.upload(zero.data(), zero.size() * 4);
@@ -310,7 +323,8 @@ void UpdateStage::execute(StageContext& ctx) {
   glUseProgram(clear);
   for (int k = 0; k < layout.levels; ++k) {
     setUniform(clear, "u_level", k);
-    for (const Box& box : plans[size_t(k)].direct) dispatchBox(clear, box);
+    setSkip(clear, k);
+    for (const Box& box : boxes[size_t(k)]) dispatchBox(clear, box);
   }
   glMemoryBarrier(kAllShaderWrites);
 
@@ -327,11 +341,12 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
   for (int k = 0; k < layout.levels; ++k) {
-    if (plans[size_t(k)].direct.empty()) continue;
+    if (boxes[size_t(k)].empty()) continue;
     setUniform(vox, "u_level", k);
+    setSkip(vox, k);
     setUniform(vox, "u_cellsPerMetre", float(1.0 / layout.voxelSize(k)));
     setUniform(vox, "u_cellSize", float(layout.voxelSize(k)));
-    for (const Box& box : plans[size_t(k)].direct) {
+    for (const Box& box : boxes[size_t(k)]) {
       setUniform(vox, "u_boxLo", glm::ivec3(box.lo));
       setUniform(vox, "u_boxSize", glm::ivec3(box.hi - box.lo));
       for (const DrawRange& d : ctx.scene.draws) {
@@ -354,7 +369,8 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
   for (int k = 0; k < layout.levels; ++k) {
     setUniform(resolve, "u_level", k);
-    for (const Box& box : plans[size_t(k)].direct) dispatchBox(resolve, box);
+    setSkip(resolve, k);
+    for (const Box& box : boxes[size_t(k)]) dispatchBox(resolve, box);
   }
   glMemoryBarrier(kAllShaderWrites);
 
@@ -457,9 +473,25 @@ static TextureDesc screenDesc(const ViewState& view, GLenum format) {
   return d;
 }
 
+static ParamDesc traceResolutionParam() {
+  return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
+                           "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
+                           "upsamples along surfaces)");
+}
+
+static int traceScale(const ParamSet& params) { return params.getChoice("cone.resolution") == "half" ? 2 : 1; }
+
+static TextureDesc tracedDesc(const ViewState& view, const ParamSet& params, GLenum format) {
+  const int s = traceScale(params);
+  TextureDesc d = screenDesc(view, format);
+  d.size = {(view.width + s - 1) / s, (view.height + s - 1) / s, 1};
+  return d;
+}
+
 void ConeTraceStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  b.param(traceResolutionParam());
   b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
   b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
   b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
@@ -509,7 +541,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
                                                    {"ambient-occlusion", GL_R16F}, {"level-used", GL_R16F}};
   for (const auto& [name, format] : traced)
-    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+    b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
   b.buffer("cone-samples", [](const ParamSet&, const ViewState&) {
     return sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
   });
@@ -519,10 +551,10 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const Layout layout = layoutOf(ctx.params, ctx.scene);
   const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
   const auto& origins = path.back().origins;
-  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", screenDesc(ctx.view, GL_R16F));
-  Texture& level = ctx.board.ensureTexture("level-used", screenDesc(ctx.view, GL_R16F));
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
+  Texture& level = ctx.board.ensureTexture("level-used", tracedDesc(ctx.view, ctx.params, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   const uint32_t zero = 0;
@@ -558,8 +590,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * coarsestEdge);
   setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * coarsestEdge);
   setUniform(program, "u_cameraPos", ctx.view.position);
-  int probeX = std::min(int(ctx.params.getFloat("probe.x") * ctx.view.width), ctx.view.width - 1);
-  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * ctx.view.height), ctx.view.height - 1);
+  const glm::ivec3 traced = indirect.desc().size;
+  // probe.y counts from the top of the image; GL rows count from the bottom.
+  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
+  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
+  setUniform(program, "u_scale", traceScale(ctx.params));
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
@@ -574,21 +609,25 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   glBindImageTexture(3, level.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
   ctx.stats["probe_x"] = probeX;
-  ctx.stats["probe_y_from_top"] = ctx.view.height - 1 - probeY;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
 }
 
 // --- Composite ------------------------------------------------------------------------------------
 
 void CompositeStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  b.param(traceResolutionParam());
   b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
   b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
   b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
                           "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
-  for (const char* r : {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular", "shadow-map", "light"})
+  for (const char* r : {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular",
+                        "ambient-occlusion", "shadow-map", "light"})
     b.read(r);
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
@@ -603,13 +642,20 @@ void CompositeStage::execute(StageContext& ctx) {
   Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
   Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
   Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
-  GLuint program = ctx.shaders.program({"clipmap/composite.comp.glsl"});
+  // vct-grid's composite shader: the same terms, and its edge-aware upsampling of half-resolution
+  // cone results (samples more than two level-0 voxels off the pixel's plane get no weight).
+  GLuint program = ctx.shaders.program({"vct_grid/composite.comp.glsl"});
+  setUniform(program, "u_shadowSource", 0);
+  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  setUniform(program, "u_edgeDistance", float(2.0 * layoutOf(ctx.params, ctx.scene).voxelSize0));
   setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
   glUseProgram(program);
   const std::pair<int, const char*> inputs[] = {{1, "position"}, {2, "normal"}, {3, "albedo"}, {4, "emission"},
-                                                {5, "indirect-diffuse"}, {6, "indirect-specular"}, {8, "shadow-map"}};
+                                                {5, "indirect-diffuse"}, {6, "indirect-specular"},
+                                                {7, "ambient-occlusion"},  // the soft-shadow slot: unused (u_shadowSource 0)
+                                                {8, "shadow-map"}};
   for (const auto& [unit, name] : inputs) glBindTextureUnit(GLuint(unit), ctx.board.texture(name).id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
