@@ -1,7 +1,8 @@
 #version 450
-// Slab voxelization and light injection into one clip level: one invocation per triangle of one
-// draw range (one material, whose textures are bound), for one box of cells of level u_level
-// (a box of the planner's direct set). Cells are those of the lattice anchored to the world:
+// Slab voxelization and light injection: one invocation per triangle of one draw range (one
+// material, whose textures are bound), for a list of entries (level, box of the planner's direct
+// set, box to skip); the stage groups the entries so that no invocation's loops can pass
+// llvmpipe's 65535 iterations (at most 7 N^2 per entry: N^2 columns, up to 6 candidates each). Cells are those of the lattice anchored to the world:
 // cell c of level k covers [c, c+1) * s_k metres, and a vertex's cell coordinates are
 // p * (1 / s_k), the same numbers whatever the camera, the level's origin or the box. Each
 // (triangle, cell) pair is decided by the exact half-open separating-axis test of
@@ -23,13 +24,15 @@ layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counte
 layout(binding = 2) uniform sampler2D u_shadowMap;
 uniform uint u_firstTriangle;
 uniform uint u_triangleCount;
-uniform int u_level;
-uniform ivec3 u_boxLo;
-uniform ivec3 u_boxSize;
-uniform ivec3 u_skipLo;  // cells of [u_skipLo, u_skipHi) are left alone (a full build's covered block)
-uniform ivec3 u_skipHi;
-uniform float u_cellsPerMetre;  // 1 / s_k
-uniform float u_cellSize;       // s_k, metres
+#define CLIPMAP_MAX_ENTRIES 40
+uniform int u_entryCount;
+uniform int u_entryLevel[CLIPMAP_MAX_ENTRIES];
+uniform ivec3 u_entryLo[CLIPMAP_MAX_ENTRIES];      // the box [lo, hi) of cells to voxelize
+uniform ivec3 u_entryHi[CLIPMAP_MAX_ENTRIES];
+uniform ivec3 u_entrySkipLo[CLIPMAP_MAX_ENTRIES];  // cells of [skipLo, skipHi) are left alone
+uniform ivec3 u_entrySkipHi[CLIPMAP_MAX_ENTRIES];  // (a full build's covered block)
+uniform float u_cellsPerMetre[CLIPMAP_MAX_LEVELS]; // 1 / s_k
+uniform float u_cellSize[CLIPMAP_MAX_LEVELS];      // s_k, metres
 uniform int u_mode;             // 0 = direct light, 1 = uniform radiance (furnace tests)
 uniform vec3 u_uniformRadiance;
 const float PI = 3.14159265358979;
@@ -38,17 +41,17 @@ vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.z
 ivec3 toProjectedI(ivec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 ivec3 fromProjectedI(ivec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
 
-void main() {
-  if (gl_GlobalInvocationID.x >= u_triangleCount) return;
-  uint t = u_firstTriangle + gl_GlobalInvocationID.x;
+void voxelizeEntry(uint t, int e) {
+  const int level = u_entryLevel[e];
   uint i0 = sceneVertexIndex(t, 0), i1 = sceneVertexIndex(t, 1), i2 = sceneVertexIndex(t, 2);
-  precise vec3 w0 = scenePosition(i0) * u_cellsPerMetre;
-  precise vec3 w1 = scenePosition(i1) * u_cellsPerMetre;
-  precise vec3 w2 = scenePosition(i2) * u_cellsPerMetre;
+  precise vec3 w0 = scenePosition(i0) * u_cellsPerMetre[level];
+  precise vec3 w1 = scenePosition(i1) * u_cellsPerMetre[level];
+  precise vec3 w2 = scenePosition(i2) * u_cellsPerMetre[level];
   vec3 lo = min(w0, min(w1, w2)), hi = max(w0, max(w1, w2));
-  ivec3 bLo = max(ivec3(floor(lo)), u_boxLo);
-  ivec3 bHi = min(ivec3(floor(hi)), u_boxLo + u_boxSize - 1);
+  ivec3 bLo = max(ivec3(floor(lo)), u_entryLo[e]);
+  ivec3 bHi = min(ivec3(floor(hi)), u_entryHi[e] - 1);
   if (any(greaterThan(bLo, bHi))) return;
+  ivec3 skipLo = u_entrySkipLo[e], skipHi = u_entrySkipHi[e];
 
   // Triangle-local coordinates relative to an integer corner: exact in double.
   vec3 origin = floor(w0);
@@ -86,7 +89,7 @@ void main() {
       for (int k = kLo; k <= kHi; ++k) {
         ivec3 local = fromProjectedI(ivec3(a, b, k), axis);  // cell, triangle-local
         ivec3 cell = iorigin + local;
-        if (all(greaterThanEqual(cell, u_skipLo)) && all(lessThan(cell, u_skipHi))) continue;
+        if (all(greaterThanEqual(cell, skipLo)) && all(lessThan(cell, skipHi))) continue;
         dvec3 centre = dvec3(local) + 0.5;
         if (!triangleOverlapsCenteredBox(d0 - centre, d1 - centre, d2 - centre, dvec3(0.5))) continue;
         if (masked && !coverageAt(alpha, coverageLevel, l0, l1, l2, t0, t1, t2, local)) continue;
@@ -96,7 +99,7 @@ void main() {
         } else {
           // The cell centre's projection onto the plane, in world metres.
           dvec3 q = centre - dn * (dot(dn, centre - d0) / dot(dn, dn));
-          vec3 p = (origin + vec3(q)) * u_cellSize;
+          vec3 p = (origin + vec3(q)) * u_cellSize[level];
           vec3 toLight; float dist;
           lightDirection(p, toLight, dist);
           float cosine = max(dot(normal, toLight), 0.0);
@@ -105,12 +108,18 @@ void main() {
           radiance = albedo / PI * lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, normal) + emission;
         }
         uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * CLIPMAP_FIXED_SCALE + 0.5);
-        uint i = accumulatorIndex(u_level, toroidalAddress(cell));
+        uint i = accumulatorIndex(level, toroidalAddress(cell));
         atomicAdd(accum[i], 1u);
         atomicAdd(accum[i + 1u], fixedPoint.r);
         atomicAdd(accum[i + 2u], fixedPoint.g);
         atomicAdd(accum[i + 3u], fixedPoint.b);
-        atomicAdd(counters[5 * u_level + 1], 1u);
+        atomicAdd(counters[5 * level + 1], 1u);
       }
     }
+}
+
+void main() {
+  if (gl_GlobalInvocationID.x >= u_triangleCount) return;
+  uint t = u_firstTriangle + gl_GlobalInvocationID.x;
+  for (int e = 0; e < u_entryCount; ++e) voxelizeEntry(t, e);
 }

@@ -328,10 +328,27 @@ void UpdateStage::execute(StageContext& ctx) {
   }
   glMemoryBarrier(kAllShaderWrites);
 
-  // 2. Voxelize and inject them: per level, per box, per draw range (one material each).
+  // 2. Voxelize and inject them: one pass over each draw range (one material) per group of
+  // entries (level, box, skip); a group holds at most 60000 / (7 N^2) entries, so no
+  // invocation's loops pass llvmpipe's limit of 65535 iterations.
+  struct Entry {
+    int level;
+    Box box, skip;
+  };
+  std::vector<Entry> entries;
+  for (int k = 0; k < layout.levels; ++k)
+    for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
+  const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
   GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
   setClipUniforms(vox, layout, after);
   setUniform(vox, "u_mode", 0);
+  std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
+  for (int k = 0; k < layout.levels; ++k) {
+    cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
+    cellSize[size_t(k)] = float(layout.voxelSize(k));
+  }
+  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellsPerMetre"), kMaxLevels, cellsPerMetre.data());
+  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellSize"), kMaxLevels, cellSize.data());
   glUseProgram(vox);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
@@ -340,24 +357,32 @@ void UpdateStage::execute(StageContext& ctx) {
   ctx.gpuScene.bindCoverage();
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
-  for (int k = 0; k < layout.levels; ++k) {
-    if (boxes[size_t(k)].empty()) continue;
-    setUniform(vox, "u_level", k);
-    setSkip(vox, k);
-    setUniform(vox, "u_cellsPerMetre", float(1.0 / layout.voxelSize(k)));
-    setUniform(vox, "u_cellSize", float(layout.voxelSize(k)));
-    for (const Box& box : boxes[size_t(k)]) {
-      setUniform(vox, "u_boxLo", glm::ivec3(box.lo));
-      setUniform(vox, "u_boxSize", glm::ivec3(box.hi - box.lo));
-      for (const DrawRange& d : ctx.scene.draws) {
-        if (d.indexCount < 3) continue;
-        glProgramUniform1i(vox, materialLoc, int(d.material));
-        ctx.gpuScene.bindMaterialTextures(d.material);
-        setUniform(vox, "u_firstTriangle", unsigned(d.firstIndex / 3));
-        setUniform(vox, "u_triangleCount", unsigned(d.indexCount / 3));
-        dispatchCompute({int(d.indexCount / 3), 1, 1}, {64, 1, 1});
-      }
+  int passes = 0;
+  for (size_t first = 0; first < entries.size(); first += perGroup) {
+    const size_t count = std::min(perGroup, entries.size() - first);
+    std::vector<int> level(count);
+    std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
+    for (size_t i = 0; i < count; ++i) {
+      const Entry& e = entries[first + i];
+      level[i] = e.level;
+      lo[i] = glm::ivec3(e.box.lo), hi[i] = glm::ivec3(e.box.hi);
+      skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
     }
+    setUniform(vox, "u_entryCount", int(count));
+    glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryLo"), GLsizei(count), &lo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(count), &hi[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(count), &skipLo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(count), &skipHi[0].x);
+    for (const DrawRange& d : ctx.scene.draws) {
+      if (d.indexCount < 3) continue;
+      glProgramUniform1i(vox, materialLoc, int(d.material));
+      ctx.gpuScene.bindMaterialTextures(d.material);
+      setUniform(vox, "u_firstTriangle", unsigned(d.firstIndex / 3));
+      setUniform(vox, "u_triangleCount", unsigned(d.indexCount / 3));
+      dispatchCompute({int(d.indexCount / 3), 1, 1}, {64, 1, 1});
+    }
+    ++passes;
   }
   glMemoryBarrier(kAllShaderWrites);
 
@@ -416,6 +441,7 @@ void UpdateStage::execute(StageContext& ctx) {
     written += double(c[2]) + double(c[3]);
     exposed += double(p.exposedCells);
   }
+  ctx.stats["triangle_passes"] = passes;
   ctx.stats["move"] = ctx.iteration;
   ctx.stats["full_build"] = before.empty() ? 1 : 0;
   ctx.stats["cells_exposed"] = exposed;
