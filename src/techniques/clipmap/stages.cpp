@@ -147,15 +147,6 @@ static constexpr GLbitfield kAllShaderWrites =
 
 // --- Anchor ---------------------------------------------------------------------------------------
 
-struct LevelRecord {
-  glm::vec4 lo;  // world min corner, w = level
-  glm::vec4 hi;  // world max corner, w = voxel size
-  int32_t origin[3];
-  int32_t lag;
-  int32_t offset[3];  // toroidal offset T_k = o_k mod N: the physical texel of the min corner
-  int32_t n;
-};
-static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
 
 struct PlanRecord {
   uint32_t move, level, exposed, direct, coverageChanged, refiltered;
@@ -173,7 +164,7 @@ void AnchorStage::declare(StageBuilder& b) const {
                    {"origin.y", FieldType::I32, 36},  {"origin.z", FieldType::I32, 40}, {"lag", FieldType::I32, 44},
                    {"offset.x", FieldType::I32, 48},  {"offset.y", FieldType::I32, 52}, {"offset.z", FieldType::I32, 56},
                    {"n", FieldType::I32, 60}};
-  b.output("clip-levels", OutputKind::Buffer, Semantic::Scalar,
+  b.output("clip-levels", OutputKind::Buffer, kClipLevels,
            "one record per level after the last move: world box (min, level; max, voxel size), origin o_k in cells, "
            "moves since its last update, toroidal offset T_k = o_k mod N")
       .layout = levels;

@@ -8,6 +8,19 @@
 
 namespace voxlab::clipmap {
 
+// The records of "clip-levels" (one per level, after the last move), for its visualiser
+// (src/inspect/visualisers/clip_levels.cpp).
+inline constexpr Semantic kClipLevels{"clip-levels"};
+struct LevelRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = voxel size
+  int32_t origin[3];
+  int32_t lag;        // moves since the level was last updated (clipmap.policy=priority)
+  int32_t offset[3];  // toroidal offset T_k = o_k mod N: the physical texel of the min corner
+  int32_t n;
+};
+static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
+
 // The layout the parameters ask for: clipmap.levels, clipmap.resolution and clipmap.voxel-size
 // ("scene": the power of two of metres that lets the coarsest level span four times the scene's
 // largest extent, so a level's cells are the world lattice's cells exactly in float).
