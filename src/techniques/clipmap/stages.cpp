@@ -1,6 +1,7 @@
 #include "techniques/clipmap/stages.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -261,6 +262,8 @@ static void appendBytes(std::vector<uint8_t>& key, const T& v) {
 }
 
 void UpdateStage::execute(StageContext& ctx) {
+  glFinish();  // time this move alone (bench and the manifest: full build vs one move)
+  const auto start = std::chrono::steady_clock::now();
   const Layout layout = layoutOf(ctx.params, ctx.scene);
   const int n = layout.n, faces = facesOf(ctx.params);
   const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
@@ -432,6 +435,10 @@ void UpdateStage::execute(StageContext& ctx) {
     written += double(c[2]) + double(c[3]);
     exposed += double(p.exposedCells);
   }
+  glFinish();
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (ctx.iteration < 8) ctx.stats["move" + std::to_string(ctx.iteration) + "_ms"] = ms;
+  ctx.stats["last_move_ms"] = ms;
   ctx.stats["triangle_passes"] = passes;
   ctx.stats["move"] = ctx.iteration;
   ctx.stats["full_build"] = before.empty() ? 1 : 0;
