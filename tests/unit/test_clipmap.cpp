@@ -319,7 +319,7 @@ using testing_support::capture;
 using testing_support::session;
 
 RunRequest clipRequest(glm::vec3 from, std::vector<std::string> sets, const std::string& until = "mips",
-                       const std::string& scene = "cornell-box") {
+                       const std::string& scene = "cornell-box", const std::string& voxelSize = "0.015625") {
   RunRequest r;
   r.technique = "clipmap";
   r.scene = scene;
@@ -329,7 +329,8 @@ RunRequest clipRequest(glm::vec3 from, std::vector<std::string> sets, const std:
   r.lookAt = from + glm::vec3(0.0f, 0.0f, 1.0f);
   sets.push_back("clipmap.resolution=16");
   sets.push_back("clipmap.levels=4");
-  sets.push_back("clipmap.voxel-size=0.015625");  // 1/64 m: level 3 spans 2 m, the box (0.56 m) lies in levels 1-3
+  // Cornell: 1/64 m, level 3 spans 2 m, the box (0.56 m) lies in levels 1-3.
+  sets.push_back("clipmap.voxel-size=" + voxelSize);
   r.sets = std::move(sets);
   return r;
 }
@@ -380,21 +381,22 @@ std::vector<uint32_t> u32Records(const CapturedOutput& c) {
 // The camera path of the issue: --look-from P with K moves of D ends with clip levels equal, bit
 // for bit, to those of --look-from P + K D built from scratch (guards included).
 void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const std::string& what,
-                             std::vector<std::string> extra = {}) {
+                             std::vector<std::string> extra = {}, const std::string& scene = "cornell-box",
+                             const std::string& voxelSize = "0.015625") {
   auto sets = extra;
   sets.push_back("clipmap.path-step.x=" + exact(step.x));
   sets.push_back("clipmap.path-step.y=" + exact(step.y));
   sets.push_back("clipmap.path-step.z=" + exact(step.z));
   sets.push_back("clipmap.path-moves=" + std::to_string(moves));
   // One session lives at a time (test_support.h): capture the moved run before the other.
-  auto& moved = session(clipRequest(start, sets));
+  auto& moved = session(clipRequest(start, sets, "mips", scene, voxelSize));
   CapturedOutput a = capture(moved, "update", "clip-atlas");
   auto counters = u32Records(capture(moved, "update", "clip-counters"));
   auto plan = u32Records(capture(moved, "anchor", "clip-plan"));
   // Steps and starts are multiples of 1/256 m (exact in float and in the decimal text), so the
   // end of the path is exactly representable.
   const glm::dvec3 end = glm::dvec3(start) + double(moves) * glm::dvec3(step);
-  auto& scratch = session(clipRequest(glm::vec3(end), extra));
+  auto& scratch = session(clipRequest(glm::vec3(end), extra, "mips", scene, voxelSize));
   CapturedOutput b = capture(scratch, "update", "clip-atlas");
   ASSERT_EQ(a.levels[0].values.size(), b.levels[0].values.size());
   size_t differ = 0, nonEmpty = 0;
@@ -437,6 +439,12 @@ TEST(ClipmapGpu, DiagonalAndLargeMovesEqualScratch) {
 TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
   // Priority: after 2^(L-1) further moves of zero length every level has caught up.
   expectPathEqualsScratch(kInside, {0.0f, -3.0f / 64.0f, 0.0f}, 2, "anisotropic -y", {"clipmap.faces=anisotropic"});
+}
+
+TEST(ClipmapGpu, SponzaPathEqualsScratch) {
+  // The natural scene: larger than any level. Levels of 1/4 m .. 2 m around the nave, three moves
+  // of 2.5 level-0 voxels diagonally (every level snaps at some move).
+  expectPathEqualsScratch({0.5f, 2.0f, -0.25f}, {0.625f, 0.125f, -0.375f}, 3, "Sponza diagonal", {}, "sponza", "0.25");
 }
 
 }  // namespace
