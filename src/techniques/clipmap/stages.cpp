@@ -351,16 +351,36 @@ void UpdateStage::execute(StageContext& ctx) {
   ctx.gpuScene.bindCoverage();
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
-  int passes = 0;
+  if (chunkScene_ != &ctx.scene || chunkTriangles_ != ctx.scene.triangleCount()) {
+    constexpr uint32_t kChunkTriangles = 2048;
+    chunks_.clear();
+    for (const DrawRange& d : ctx.scene.draws) {
+      const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
+      for (uint32_t t = 0; t < count; t += kChunkTriangles) {
+        Chunk c{first + t, std::min(kChunkTriangles, count - t), d.material, glm::vec3(1e30f), glm::vec3(-1e30f)};
+        for (uint32_t i = 3 * c.firstTriangle; i < 3 * (c.firstTriangle + c.triangles); ++i) {
+          c.lo = glm::min(c.lo, ctx.scene.positions[ctx.scene.indices[i]]);
+          c.hi = glm::max(c.hi, ctx.scene.positions[ctx.scene.indices[i]]);
+        }
+        chunks_.push_back(c);
+      }
+    }
+    chunkScene_ = &ctx.scene;
+    chunkTriangles_ = ctx.scene.triangleCount();
+  }
+  int passes = 0, chunksDispatched = 0;
   for (size_t first = 0; first < entries.size(); first += perGroup) {
     const size_t count = std::min(perGroup, entries.size() - first);
     std::vector<int> level(count);
     std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> world(count);  // the boxes in metres, one cell wider
     for (size_t i = 0; i < count; ++i) {
       const Entry& e = entries[first + i];
       level[i] = e.level;
       lo[i] = glm::ivec3(e.box.lo), hi[i] = glm::ivec3(e.box.hi);
       skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
+      const double s = layout.voxelSize(e.level);
+      world[i] = {glm::dvec3(e.box.lo - Cell(1)) * s, glm::dvec3(e.box.hi + Cell(1)) * s};
     }
     setUniform(vox, "u_entryCount", int(count));
     glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
@@ -368,13 +388,23 @@ void UpdateStage::execute(StageContext& ctx) {
     glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(count), &hi[0].x);
     glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(count), &skipLo[0].x);
     glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(count), &skipHi[0].x);
-    for (const DrawRange& d : ctx.scene.draws) {
-      if (d.indexCount < 3) continue;
-      glProgramUniform1i(vox, materialLoc, int(d.material));
-      ctx.gpuScene.bindMaterialTextures(d.material);
-      setUniform(vox, "u_firstTriangle", unsigned(d.firstIndex / 3));
-      setUniform(vox, "u_triangleCount", unsigned(d.indexCount / 3));
-      dispatchCompute({int(d.indexCount / 3), 1, 1}, {64, 1, 1});
+    uint32_t bound = UINT32_MAX;
+    for (const Chunk& c : chunks_) {
+      // A run whose bounds miss every box (widened by a cell) has no triangle that could reach it.
+      bool reaches = false;
+      for (const auto& [wlo, whi] : world)
+        reaches = reaches || glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
+                                 glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo));
+      if (!reaches) continue;
+      if (c.material != bound) {
+        glProgramUniform1i(vox, materialLoc, int(c.material));
+        ctx.gpuScene.bindMaterialTextures(c.material);
+        bound = c.material;
+      }
+      setUniform(vox, "u_firstTriangle", unsigned(c.firstTriangle));
+      setUniform(vox, "u_triangleCount", unsigned(c.triangles));
+      dispatchCompute({int(c.triangles), 1, 1}, {64, 1, 1});
+      ++chunksDispatched;
     }
     ++passes;
   }
@@ -440,6 +470,8 @@ void UpdateStage::execute(StageContext& ctx) {
   if (ctx.iteration < 8) ctx.stats["move" + std::to_string(ctx.iteration) + "_ms"] = ms;
   ctx.stats["last_move_ms"] = ms;
   ctx.stats["triangle_passes"] = passes;
+  ctx.stats["triangle_runs_dispatched"] = chunksDispatched;
+  ctx.stats["triangle_runs"] = double(chunks_.size());
   ctx.stats["move"] = ctx.iteration;
   ctx.stats["full_build"] = before.empty() ? 1 : 0;
   ctx.stats["cells_exposed"] = exposed;

@@ -77,6 +77,15 @@ class UpdateStage : public Stage {
     std::vector<uint8_t> key;
   };
   std::optional<Held> held_;
+  // The scene's triangles in runs of at most kChunkTriangles of one draw range, with their world
+  // bounds: a move dispatches only the runs that can reach a box it revoxelizes.
+  struct Chunk {
+    uint32_t firstTriangle, triangles, material;
+    glm::vec3 lo, hi;
+  };
+  std::vector<Chunk> chunks_;
+  const Scene* chunkScene_ = nullptr;
+  size_t chunkTriangles_ = 0;
 };
 
 class MipsStage : public Stage {
