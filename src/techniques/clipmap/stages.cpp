@@ -149,6 +149,21 @@ static constexpr GLbitfield kAllShaderWrites =
 // --- Anchor ---------------------------------------------------------------------------------------
 
 
+// One box of cells the last move voxelizes directly (exposed slabs, cells that left the covered
+// block), with where it lands in the physical texture.
+struct SlabRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = cells in the box
+  int32_t cellLo[4];  // w: 1 = inside the level's old region (coverage change), 0 = newly exposed
+  int32_t cellHi[4];  // w: unused
+  int32_t physLo[4];  // the physical texel of cellLo; w = physical boxes after wrapping (1..8)
+};
+static_assert(sizeof(SlabRecord) == 80, "SlabRecord layout");
+// At most 3 exposed slabs per level, each cut into at most 6 boxes by the covered block, plus at
+// most 6 boxes of cells that left the covered block.
+static constexpr size_t kMaxSlabsPerLevel = 24;
+static size_t slabBytes(int levels) { return sizeof(SlabRecord) * kMaxSlabsPerLevel * size_t(levels); }
+
 struct PlanRecord {
   uint32_t move, level, exposed, direct, coverageChanged, refiltered;
   int32_t delta[3];
@@ -179,6 +194,21 @@ void AnchorStage::declare(StageBuilder& b) const {
            "per move and level, the planner's cell counts: exposed (N^3 - prod(N - |d_i|)), voxelized directly, "
            "changed coverage, refiltered; and the move d in cells")
       .layout = plan;
+  BufferLayout slabs;
+  slabs.stride = sizeof(SlabRecord);
+  slabs.fields = {{"min", FieldType::Vec4, 0, FieldRole::Position}, {"max", FieldType::Vec4, 16},
+                  {"cell.x", FieldType::I32, 32},  {"cell.y", FieldType::I32, 36},  {"cell.z", FieldType::I32, 40},
+                  {"was-inside", FieldType::I32, 44}, {"end.x", FieldType::I32, 48}, {"end.y", FieldType::I32, 52},
+                  {"end.z", FieldType::I32, 56},    {"texel.x", FieldType::I32, 64}, {"texel.y", FieldType::I32, 68},
+                  {"texel.z", FieldType::I32, 72},  {"physical-boxes", FieldType::I32, 76}};
+  slabs.countResource = "clip-slabs.count";
+  b.output("clip-slabs", OutputKind::Buffer, Semantic::Points,
+           "the boxes of cells the last move voxelizes directly (disjoint exposed slabs; cells that left the covered "
+           "block): world box (min, level; max, cells), cell range, the physical texel of its min corner and how "
+           "many physical boxes it splits into where it wraps")
+      .layout = slabs;
+  b.write("clip-slabs.count");
+  b.buffer("clip-slabs", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.buffer("clip-levels", [](const ParamSet& p, const ViewState&) { return sizeof(LevelRecord) * size_t(p.getInt("clipmap.levels")); });
   b.buffer("clip-plan", [](const ParamSet& p, const ViewState&) {
     return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")) * size_t(p.getInt("clipmap.path-moves") + 1);
@@ -212,6 +242,36 @@ void AnchorStage::execute(StageContext& ctx) {
                       {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}});
     }
   }
+  // The slabs of the last move (the full build's: each level's region outside its covered block).
+  std::vector<SlabRecord> slabs;
+  {
+    const auto plans = planMove(layout, path.size() > 1 ? path[path.size() - 2].origins : std::vector<Cell>{}, last.origins);
+    for (int k = 0; k < layout.levels; ++k) {
+      const double s = layout.voxelSize(k);
+      const Box previous = path.size() > 1 ? region(path[path.size() - 2].origins[size_t(k)], layout.n) : Box{};
+      for (const Box& box : plans[size_t(k)].direct) {
+        SlabRecord r{};
+        r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
+        r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
+        const glm::ivec3 t = toroidal(box.lo, layout.n);
+        int pieces = 1;
+        for (int i = 0; i < 3; ++i) {
+          r.cellLo[i] = int32_t(box.lo[i]);
+          r.cellHi[i] = int32_t(box.hi[i]);
+          r.physLo[i] = t[i];
+          if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
+        }
+        r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
+        r.physLo[3] = pieces;
+        slabs.push_back(r);
+      }
+    }
+  }
+  const uint32_t slabCount = uint32_t(std::min(slabs.size(), kMaxSlabsPerLevel * size_t(layout.levels)));
+  Buffer& slabBuffer = ctx.board.ensureBuffer("clip-slabs", slabBytes(layout.levels));
+  if (slabCount > 0) slabBuffer.upload(slabs.data(), sizeof(SlabRecord) * slabCount);
+  ctx.board.ensureBuffer("clip-slabs.count", 4).upload(&slabCount, 4);
+  ctx.stats["slabs_last_move"] = slabCount;
   ctx.board.ensureBuffer("clip-levels", sizeof(LevelRecord) * levels.size()).upload(levels.data(), sizeof(LevelRecord) * levels.size());
   ctx.board.ensureBuffer("clip-plan", sizeof(PlanRecord) * plan.size()).upload(plan.data(), sizeof(PlanRecord) * plan.size());
   ctx.stats["levels"] = layout.levels;
