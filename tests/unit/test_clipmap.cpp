@@ -20,6 +20,7 @@
 #include <set>
 
 #include "app/reference_error.h"
+#include "reference/cpu_voxelizer.h"
 #include "capture/capture.h"
 #include "gpu/shader_library.h"
 #include "techniques/clipmap/clipmap_math.h"
@@ -439,6 +440,128 @@ TEST(ClipmapGpu, DiagonalAndLargeMovesEqualScratch) {
 TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
   // Priority: after 2^(L-1) further moves of zero length every level has caught up.
   expectPathEqualsScratch(kInside, {0.0f, -3.0f / 64.0f, 0.0f}, 2, "anisotropic -y", {"clipmap.faces=anisotropic"});
+}
+
+// The atlas against an independent CPU reference, level by level (catches Y flips, scroll signs,
+// a wrong toroidal address or block layout): every uncovered cell of every level is occupied
+// (alpha 1) exactly when a triangle meets its world cell [c, c+1) s_k (the CPU reference
+// voxelizer's double-precision half-open test on the cell coordinates p / s_k), and every covered
+// cell holds the mean of its 8 children (alpha within one RGBA8 step: the filter stores a float
+// mean, rounded once). Guards hold the wrapped texel exactly.
+TEST(ClipmapGpu, AtlasMatchesCpuVoxelsAndFilter) {
+  auto& s = session(clipRequest(kInside, {}, "update"));
+  CapturedOutput atlas = capture(s, "update", "clip-atlas");
+  CapturedOutput levels = capture(s, "anchor", "clip-levels");
+  const Scene& scene = s.cursor().scene();
+  const int n = 16, levelCount = 4, b = n + 2;
+  const LevelData& a = atlas.levels[0];
+  ASSERT_EQ(a.size, glm::ivec3(b, levelCount * b, b));
+  std::vector<Cell> origins;
+  for (int k = 0; k < levelCount; ++k) {
+    LevelRecord r;
+    std::memcpy(&r, levels.records.data() + size_t(k) * sizeof(LevelRecord), sizeof(LevelRecord));
+    origins.push_back(Cell(r.origin[0], r.origin[1], r.origin[2]));
+  }
+  auto texel = [&](int k, const Cell& c, int ch) {
+    glm::ivec3 t = toroidal(c, n);
+    return a.at(1 + t.x, k * b + 1 + t.y, 1 + t.z, ch);
+  };
+  size_t occupied = 0, mismatched = 0, covered = 0;
+  for (int k = 0; k < levelCount; ++k) {
+    const double cellsPerMetre = 64.0 / double(1 << k);  // s_0 = 1/64 m
+    const Box r = region(origins[size_t(k)], n), cov = coveredBlock(origins, k, n);
+    std::set<std::tuple<int64_t, int64_t, int64_t>> cpu;
+    for (size_t t = 0; t < scene.triangleCount(); ++t) {
+      glm::dvec3 w[3];
+      for (int i = 0; i < 3; ++i) w[i] = glm::dvec3(scene.positions[scene.indices[3 * t + i]]) * cellsPerMetre;
+      if (glm::length(glm::cross(w[1] - w[0], w[2] - w[0])) == 0.0) continue;
+      const Cell lo = glm::max(Cell(glm::floor(glm::min(w[0], glm::min(w[1], w[2])))), r.lo);
+      const Cell hi = glm::min(Cell(glm::floor(glm::max(w[0], glm::max(w[1], w[2])))), r.hi - Cell(1));
+      for (int64_t z = lo.z; z <= hi.z; ++z)
+        for (int64_t y = lo.y; y <= hi.y; ++y)
+          for (int64_t x = lo.x; x <= hi.x; ++x)
+            if (triangleOverlapsBox(w[0], w[1], w[2], glm::dvec3(x, y, z) + 0.5, glm::dvec3(0.5))) cpu.insert({x, y, z});
+    }
+    for (int64_t z = r.lo.z; z < r.hi.z; ++z)
+      for (int64_t y = r.lo.y; y < r.hi.y; ++y)
+        for (int64_t x = r.lo.x; x < r.hi.x; ++x) {
+          const Cell c(x, y, z);
+          if (cov.contains(c)) {
+            float mean = 0.0f;
+            for (int i = 0; i < 8; ++i) mean += texel(k - 1, Cell(2) * c + Cell(i & 1, (i >> 1) & 1, i >> 2), 3);
+            EXPECT_NEAR(texel(k, c, 3), mean / 8.0f, 0.5f / 255.0f + 1e-6f) << "covered cell " << describe(c) << " of level " << k;
+            ++covered;
+            continue;
+          }
+          const bool gpu = texel(k, c, 3) > 0.0f, want = cpu.count({x, y, z}) != 0;
+          if (gpu != want) ++mismatched;
+          EXPECT_EQ(gpu, want) << "level " << k << " cell " << describe(c);
+          occupied += want;
+        }
+  }
+  EXPECT_EQ(mismatched, 0u);
+  EXPECT_GT(occupied, 1000u);
+  EXPECT_EQ(covered, size_t(3 * 8 * 8 * 8));  // levels 1-3: (N/2)^3 covered cells each
+  // Guards: texel -1 holds N-1 and texel N holds 0 on every axis (corners included).
+  for (int k = 0; k < levelCount; ++k)
+    for (int z = 0; z < b; ++z)
+      for (int y = 0; y < b; ++y)
+        for (int x = 0; x < b; ++x) {
+          glm::ivec3 l(x - 1, y - 1, z - 1);
+          if (glm::all(glm::greaterThanEqual(l, glm::ivec3(0))) && glm::all(glm::lessThan(l, glm::ivec3(n)))) continue;
+          glm::ivec3 src = (l + n) & (n - 1);
+          for (int ch = 0; ch < 4; ++ch)
+            ASSERT_EQ(a.at(x, k * b + y, z, ch), a.at(1 + src.x, k * b + 1 + src.y, 1 + src.z, ch)) << "guard " << x << "," << y << "," << z;
+        }
+}
+
+// Locality: between the atlas after move K-1 and after move K, only texels of the move's planned
+// cells (voxelized directly or refiltered) and guard texels differ: no data moves.
+TEST(ClipmapGpu, AMoveChangesOnlyItsPlannedCells) {
+  const glm::vec3 step(-2.0f / 64.0f, 0.0f, 6.0f / 64.0f);
+  auto path = [&](int moves) {
+    return clipRequest(kInside, {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=0",
+                                 "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)},
+                       "update");
+  };
+  CapturedOutput before = capture(session(path(1)), "update", "clip-atlas");
+  auto& s = session(path(2));
+  CapturedOutput after = capture(s, "update", "clip-atlas");
+  // Replan the last move on the CPU.
+  Layout layout{4, 16, 1.0 / 64.0};
+  auto o1 = snapOrigins(layout, glm::dvec3(kInside) + glm::dvec3(step));
+  auto o2 = snapOrigins(layout, glm::dvec3(kInside) + 2.0 * glm::dvec3(step));
+  auto plans = planMove(layout, o1, o2);
+  const int n = 16, b = n + 2;
+  std::set<std::tuple<int, int, int, int>> allowed;  // (level, physical x, y, z)
+  for (int k = 0; k < 4; ++k) {
+    std::vector<Box> boxes = plans[size_t(k)].direct;
+    boxes.push_back(plans[size_t(k)].covered);
+    for (const Box& box : boxes)
+      ModelClipmap::forCells(box, [&](const Cell& c) {
+        glm::ivec3 t = toroidal(c, n);
+        allowed.insert({k, t.x, t.y, t.z});
+      });
+  }
+  const LevelData& x0 = before.levels[0];
+  const LevelData& x1 = after.levels[0];
+  size_t changed = 0;
+  for (int k = 0; k < 4; ++k)
+    for (int z = 0; z < b; ++z)
+      for (int y = 0; y < b; ++y)
+        for (int x = 0; x < b; ++x) {
+          bool differs = false;
+          for (int ch = 0; ch < 4; ++ch) differs = differs || x0.at(x, k * b + y, z, ch) != x1.at(x, k * b + y, z, ch);
+          if (!differs) continue;
+          ++changed;
+          glm::ivec3 l(x - 1, y - 1, z - 1);
+          const bool guard = glm::any(glm::lessThan(l, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(l, glm::ivec3(n)));
+          if (guard) continue;
+          EXPECT_TRUE(allowed.count({k, l.x, l.y, l.z})) << "level " << k << " texel " << l.x << "," << l.y << "," << l.z
+                                                          << " changed outside the move's plan";
+        }
+  EXPECT_GT(changed, 0u);
+  EXPECT_LT(changed, size_t(4) * n * n * n / 4);
 }
 
 TEST(ClipmapGpu, SponzaPathEqualsScratch) {
