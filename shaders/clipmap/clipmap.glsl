@@ -34,3 +34,4 @@ uint accumulatorIndex(int level, ivec3 phys) {
 // Fixed-point scale of the accumulated radiance: integer sums are order-independent, so a cell
 // built in a slab gets the bits it gets in a full build.
 const float CLIPMAP_FIXED_SCALE = 16384.0;
+const uint CLIPMAP_MAX_FRAGMENTS = 262144u;  // 2^32 / CLIPMAP_FIXED_SCALE

@@ -7,6 +7,7 @@
 
 #include "common/shared.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
@@ -18,6 +19,8 @@ static constexpr float kDegrees = 3.14159265358979f / 180.0f;
 static constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/clipmap/clipmap.glsl
 static constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
 static constexpr int64_t kMaxCell = int64_t(1) << 30;  // shaders hold cells in int32
+// The per-level counters, then one more: cells whose fragments overflowed the fixed-point sums.
+static size_t countersBytes(int levels) { return size_t(4 * (kCountersPerLevel * levels + 1)); }
 
 // --- Parameters and layout ------------------------------------------------------------------------
 
@@ -308,9 +311,7 @@ void UpdateStage::declare(StageBuilder& b) const {
       .layout = counters;
   b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
   b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
-  b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) {
-    return size_t(4 * kCountersPerLevel) * size_t(p.getInt("clipmap.levels"));
-  });
+  b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
 }
 
 int UpdateStage::iterations(const ParamSet& params) const { return params.getInt("clipmap.path-moves") + 1; }
@@ -329,7 +330,7 @@ void UpdateStage::execute(StageContext& ctx) {
   const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
   Texture& atlas = ctx.board.ensureTexture("clip-atlas", atlasDesc(ctx.params));
   Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
-  Buffer& counters = ctx.board.ensureBuffer("clip-counters", size_t(4 * kCountersPerLevel * layout.levels));
+  Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
 
   // What the held texels were built from: the same atlas, layout, scene and light.
   std::vector<uint8_t> key;
@@ -366,7 +367,7 @@ void UpdateStage::execute(StageContext& ctx) {
     setUniform(program, "u_skipHi", glm::ivec3(skips[size_t(k)].hi));
   };
 
-  std::vector<uint32_t> zero(size_t(kCountersPerLevel * layout.levels), 0);
+  std::vector<uint32_t> zero(size_t(kCountersPerLevel * layout.levels + 1), 0);
   counters.upload(zero.data(), zero.size() * 4);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
@@ -532,6 +533,11 @@ void UpdateStage::execute(StageContext& ctx) {
   ctx.stats["triangle_passes"] = passes;
   ctx.stats["triangle_runs_dispatched"] = chunksDispatched;
   ctx.stats["triangle_runs"] = double(chunks_.size());
+  const uint32_t overflowed = counted.back();
+  ctx.stats["accumulator_overflow_cells"] = overflowed;
+  if (overflowed > 0)
+    log::warn("clipmap/update: " + std::to_string(overflowed) + " cells received more than 262144 fragments; their "
+              "fixed-point sums overflowed; lower clipmap.voxel-size so that fewer triangles share a cell");
   ctx.stats["move"] = ctx.iteration;
   ctx.stats["full_build"] = before.empty() ? 1 : 0;
   ctx.stats["cells_exposed"] = exposed;
