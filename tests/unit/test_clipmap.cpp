@@ -564,6 +564,33 @@ TEST(ClipmapGpu, AMoveChangesOnlyItsPlannedCells) {
   EXPECT_LT(changed, size_t(4) * n * n * n / 4);
 }
 
+// The logical view unrolls each level: its texel (x, kN + y, z) is cell o_k + (x, y, z), found in
+// the atlas at that cell's toroidal address (a second, C++ reading of the GLSL addresses).
+TEST(ClipmapGpu, LogicalViewUnrollsEveryLevel) {
+  auto& s = session(clipRequest(kInside, {"clipmap.path-moves=1", "clipmap.path-step.x=" + exact(-5.0f / 64.0f)}));
+  const LevelData atlas = capture(s, "update", "clip-atlas").levels[0];
+  const LevelData logical = capture(s, "mips", "clip-logical").levels[0];
+  CapturedOutput levels = capture(s, "anchor", "clip-levels");
+  const int n = 16, b = n + 2;
+  size_t nonEmpty = 0;
+  for (int k = 0; k < 4; ++k) {
+    LevelRecord r;
+    std::memcpy(&r, levels.records.data() + size_t(k) * sizeof(LevelRecord), sizeof(LevelRecord));
+    const Cell o(r.origin[0], r.origin[1], r.origin[2]);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const glm::ivec3 t = toroidal(o + Cell(x, y, z), n);
+          EXPECT_EQ(cellAtTexel(t, o, n), o + Cell(x, y, z));
+          for (int ch = 0; ch < 4; ++ch)
+            ASSERT_EQ(logical.at(x, k * n + y, z, ch), atlas.at(1 + t.x, k * b + 1 + t.y, 1 + t.z, ch))
+                << "level " << k << " logical " << x << "," << y << "," << z;
+          nonEmpty += logical.at(x, k * n + y, z, 3) > 0.0f;
+        }
+  }
+  EXPECT_GT(nonEmpty, 1000u);
+}
+
 TEST(ClipmapGpu, SponzaPathEqualsScratch) {
   // The natural scene: larger than any level. Levels of 1/4 m .. 2 m around the nave, three moves
   // of 2.5 level-0 voxels diagonally (every level snaps at some move).

@@ -93,6 +93,16 @@ static TextureDesc mipsDesc(const ParamSet& params) {
   return d;
 }
 
+static TextureDesc logicalDesc(const ParamSet& params) {
+  const int n = params.getInt("clipmap.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {n, n * params.getInt("clipmap.levels"), n};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
 static size_t accumulatorBytes(const ParamSet& p) {
   const size_t n = size_t(p.getInt("clipmap.resolution"));
   return 16 * size_t(p.getInt("clipmap.levels")) * n * n * n;
@@ -556,7 +566,11 @@ void MipsStage::declare(StageBuilder& b) const {
   b.output("clip-mips", OutputKind::Volume3D, Semantic::Color,
            "the coarsest level in logical order (mip 0: texel j = cell o_{L-1} + j) and its mips down to 4^3, each "
            "covering the same volume");
+  b.output("clip-logical", OutputKind::Volume3D, Semantic::Color,
+           "every level's isotropic values unrolled into logical order, levels along y: texel (x, k N + y, z) = cell "
+           "o_k + (x, y, z) of level k (compare with clip-atlas: the same data, cut at the physical seam)");
   b.texture("clip-mips", [](const ParamSet& p, const ViewState&) { return mipsDesc(p); });
+  b.texture("clip-logical", [](const ParamSet& p, const ViewState&) { return logicalDesc(p); });
 }
 
 void MipsStage::execute(StageContext& ctx) {
@@ -580,9 +594,18 @@ void MipsStage::execute(StageContext& ctx) {
     dispatchCompute(mips.levelSize(m), {4, 4, 4});
     glMemoryBarrier(kAllShaderWrites);
   }
+  Texture& logical = ctx.board.ensureTexture("clip-logical", logicalDesc(ctx.params));
+  GLuint unroll = ctx.shaders.program({"clipmap/unroll.comp.glsl"});
+  setClipUniforms(unroll, layout, origins);
+  setUniform(unroll, "u_face", 0);
+  glUseProgram(unroll);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  glBindImageTexture(1, logical.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute(logical.desc().size, {4, 4, 4});
+  glMemoryBarrier(kAllShaderWrites);
   for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
   ctx.stats["mips"] = mips.levels() - 1;
-  ctx.stats["bytes"] = double(mips.byteSize());
+  ctx.stats["bytes"] = double(mips.byteSize()) + double(logical.byteSize());
 }
 
 // --- Cone tracing ---------------------------------------------------------------------------------

@@ -94,7 +94,7 @@ class MipsStage : public Stage {
   const char* title() const override { return "Mip the coarsest level"; }
   const char* summary() const override {
     return "Unroll the coarsest clip level into logical order and average it down to 4^3: the only level with "
-           "a mip chain, each mip covering the same volume.";
+           "a mip chain, each mip covering the same volume. Also unroll every level for display (clip-logical).";
   }
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;
