@@ -159,6 +159,94 @@ static constexpr GLbitfield kAllShaderWrites =
     GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
     GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
 
+std::vector<TriangleRun> triangleRuns(const Scene& scene) {
+  constexpr uint32_t kRunTriangles = 2048;
+  std::vector<TriangleRun> runs;
+  for (const DrawRange& d : scene.draws) {
+    const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
+    for (uint32_t t = 0; t < count; t += kRunTriangles) {
+      TriangleRun c{first + t, std::min(kRunTriangles, count - t), d.material, glm::vec3(1e30f), glm::vec3(-1e30f)};
+      for (uint32_t i = 3 * c.firstTriangle; i < 3 * (c.firstTriangle + c.triangles); ++i) {
+        c.lo = glm::min(c.lo, scene.positions[scene.indices[i]]);
+        c.hi = glm::max(c.hi, scene.positions[scene.indices[i]]);
+      }
+      runs.push_back(c);
+    }
+  }
+  return runs;
+}
+
+// Voxelizes and injects 'entries' into the accumulators bound at CLIPMAP_BINDING_ACCUM: one pass
+// over the triangle runs per group of entries (level, box, skip); a group holds at most
+// 60000 / (7 N^2) entries, so no invocation's loops pass llvmpipe's limit of 65535 iterations,
+// and a run whose bounds (widened by a cell) miss every box of the group is not dispatched.
+// Returns the passes; 'dispatched' receives the runs dispatched.
+int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
+                    const std::vector<Entry>& entries, const std::vector<TriangleRun>& runs, int& dispatched) {
+  const int n = layout.n;
+  const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
+  GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
+  setClipUniforms(vox, layout, origins);
+  setUniform(vox, "u_mode", 0);
+  std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
+  for (int k = 0; k < layout.levels; ++k) {
+    cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
+    cellSize[size_t(k)] = float(layout.voxelSize(k));
+  }
+  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellsPerMetre"), kMaxLevels, cellsPerMetre.data());
+  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellSize"), kMaxLevels, cellSize.data());
+  glUseProgram(vox);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  ctx.gpuScene.bindCoverage();
+  glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+  const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
+  int passes = 0;
+  dispatched = 0;
+  for (size_t first = 0; first < entries.size(); first += perGroup) {
+    const size_t count = std::min(perGroup, entries.size() - first);
+    std::vector<int> level(count);
+    std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> world(count);  // the boxes in metres, one cell wider
+    for (size_t i = 0; i < count; ++i) {
+      const Entry& e = entries[first + i];
+      level[i] = e.level;
+      lo[i] = glm::ivec3(e.box.lo), hi[i] = glm::ivec3(e.box.hi);
+      skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
+      const double s = layout.voxelSize(e.level);
+      world[i] = {glm::dvec3(e.box.lo - Cell(1)) * s, glm::dvec3(e.box.hi + Cell(1)) * s};
+    }
+    setUniform(vox, "u_entryCount", int(count));
+    glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryLo"), GLsizei(count), &lo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(count), &hi[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(count), &skipLo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(count), &skipHi[0].x);
+    uint32_t bound = UINT32_MAX;
+    for (const TriangleRun& c : runs) {
+      bool reaches = false;
+      for (const auto& [wlo, whi] : world)
+        reaches = reaches || (glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
+                              glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo)));
+      if (!reaches) continue;
+      if (c.material != bound) {
+        glProgramUniform1i(vox, materialLoc, int(c.material));
+        ctx.gpuScene.bindMaterialTextures(c.material);
+        bound = c.material;
+      }
+      setUniform(vox, "u_firstTriangle", unsigned(c.firstTriangle));
+      setUniform(vox, "u_triangleCount", unsigned(c.triangles));
+      dispatchCompute({int(c.triangles), 1, 1}, {64, 1, 1});
+      ++dispatched;
+    }
+    ++passes;
+  }
+  glMemoryBarrier(kAllShaderWrites);
+  return passes;
+}
+
 // --- Anchor ---------------------------------------------------------------------------------------
 
 
@@ -393,93 +481,17 @@ void UpdateStage::execute(StageContext& ctx) {
   }
   glMemoryBarrier(kAllShaderWrites);
 
-  // 2. Voxelize and inject them: one pass over each draw range (one material) per group of
-  // entries (level, box, skip); a group holds at most 60000 / (7 N^2) entries, so no
-  // invocation's loops pass llvmpipe's limit of 65535 iterations.
-  struct Entry {
-    int level;
-    Box box, skip;
-  };
+  // 2. Voxelize and inject them.
   std::vector<Entry> entries;
   for (int k = 0; k < layout.levels; ++k)
     for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
-  const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
-  GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
-  setClipUniforms(vox, layout, after);
-  setUniform(vox, "u_mode", 0);
-  std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
-  for (int k = 0; k < layout.levels; ++k) {
-    cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
-    cellSize[size_t(k)] = float(layout.voxelSize(k));
+  if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
+    runs_ = triangleRuns(ctx.scene);
+    runsScene_ = &ctx.scene;
+    runsTriangles_ = ctx.scene.triangleCount();
   }
-  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellsPerMetre"), kMaxLevels, cellsPerMetre.data());
-  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellSize"), kMaxLevels, cellSize.data());
-  glUseProgram(vox);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
-  ctx.gpuScene.bindCoverage();
-  glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
-  const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
-  if (chunkScene_ != &ctx.scene || chunkTriangles_ != ctx.scene.triangleCount()) {
-    constexpr uint32_t kChunkTriangles = 2048;
-    chunks_.clear();
-    for (const DrawRange& d : ctx.scene.draws) {
-      const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
-      for (uint32_t t = 0; t < count; t += kChunkTriangles) {
-        Chunk c{first + t, std::min(kChunkTriangles, count - t), d.material, glm::vec3(1e30f), glm::vec3(-1e30f)};
-        for (uint32_t i = 3 * c.firstTriangle; i < 3 * (c.firstTriangle + c.triangles); ++i) {
-          c.lo = glm::min(c.lo, ctx.scene.positions[ctx.scene.indices[i]]);
-          c.hi = glm::max(c.hi, ctx.scene.positions[ctx.scene.indices[i]]);
-        }
-        chunks_.push_back(c);
-      }
-    }
-    chunkScene_ = &ctx.scene;
-    chunkTriangles_ = ctx.scene.triangleCount();
-  }
-  int passes = 0, chunksDispatched = 0;
-  for (size_t first = 0; first < entries.size(); first += perGroup) {
-    const size_t count = std::min(perGroup, entries.size() - first);
-    std::vector<int> level(count);
-    std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
-    std::vector<std::pair<glm::dvec3, glm::dvec3>> world(count);  // the boxes in metres, one cell wider
-    for (size_t i = 0; i < count; ++i) {
-      const Entry& e = entries[first + i];
-      level[i] = e.level;
-      lo[i] = glm::ivec3(e.box.lo), hi[i] = glm::ivec3(e.box.hi);
-      skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
-      const double s = layout.voxelSize(e.level);
-      world[i] = {glm::dvec3(e.box.lo - Cell(1)) * s, glm::dvec3(e.box.hi + Cell(1)) * s};
-    }
-    setUniform(vox, "u_entryCount", int(count));
-    glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryLo"), GLsizei(count), &lo[0].x);
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(count), &hi[0].x);
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(count), &skipLo[0].x);
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(count), &skipHi[0].x);
-    uint32_t bound = UINT32_MAX;
-    for (const Chunk& c : chunks_) {
-      // A run whose bounds miss every box (widened by a cell) has no triangle that could reach it.
-      bool reaches = false;
-      for (const auto& [wlo, whi] : world)
-        reaches = reaches || glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
-                                 glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo));
-      if (!reaches) continue;
-      if (c.material != bound) {
-        glProgramUniform1i(vox, materialLoc, int(c.material));
-        ctx.gpuScene.bindMaterialTextures(c.material);
-        bound = c.material;
-      }
-      setUniform(vox, "u_firstTriangle", unsigned(c.firstTriangle));
-      setUniform(vox, "u_triangleCount", unsigned(c.triangles));
-      dispatchCompute({int(c.triangles), 1, 1}, {64, 1, 1});
-      ++chunksDispatched;
-    }
-    ++passes;
-  }
-  glMemoryBarrier(kAllShaderWrites);
+  int runsDispatched = 0;
+  const int passes = voxelizeEntries(ctx, layout, after, entries, runs_, runsDispatched);
 
   // 3. Resolve the sums into the atlas.
   GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"});
@@ -541,8 +553,8 @@ void UpdateStage::execute(StageContext& ctx) {
   if (ctx.iteration < 8) ctx.stats["move" + std::to_string(ctx.iteration) + "_ms"] = ms;
   ctx.stats["last_move_ms"] = ms;
   ctx.stats["triangle_passes"] = passes;
-  ctx.stats["triangle_runs_dispatched"] = chunksDispatched;
-  ctx.stats["triangle_runs"] = double(chunks_.size());
+  ctx.stats["triangle_runs_dispatched"] = runsDispatched;
+  ctx.stats["triangle_runs"] = double(runs_.size());
   const uint32_t overflowed = counted.back();
   ctx.stats["accumulator_overflow_cells"] = overflowed;
   if (overflowed > 0)

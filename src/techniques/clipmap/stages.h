@@ -43,6 +43,24 @@ std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, co
 std::vector<ParamDesc> layoutParams();
 std::vector<ParamDesc> pathParams();
 
+// The scene's triangles in runs of at most 2048 of one draw range, with their world bounds: a
+// move dispatches only the runs that can reach a box it revoxelizes.
+struct TriangleRun {
+  uint32_t firstTriangle, triangles, material;
+  glm::vec3 lo, hi;
+};
+std::vector<TriangleRun> triangleRuns(const Scene& scene);
+
+// One box of cells of one level to voxelize, minus a box to skip (a full build's covered block).
+struct Entry {
+  int level;
+  Box box, skip;
+};
+// Voxelizes and injects the entries into the accumulators bound at binding 12 (counting pairs in
+// the counters at 13); returns the passes over the triangles, 'dispatched' the runs dispatched.
+int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
+                    const std::vector<Entry>& entries, const std::vector<TriangleRun>& runs, int& dispatched);
+
 class AnchorStage : public Stage {
  public:
   const char* id() const override { return "anchor"; }
@@ -77,15 +95,9 @@ class UpdateStage : public Stage {
     std::vector<uint8_t> key;
   };
   std::optional<Held> held_;
-  // The scene's triangles in runs of at most kChunkTriangles of one draw range, with their world
-  // bounds: a move dispatches only the runs that can reach a box it revoxelizes.
-  struct Chunk {
-    uint32_t firstTriangle, triangles, material;
-    glm::vec3 lo, hi;
-  };
-  std::vector<Chunk> chunks_;
-  const Scene* chunkScene_ = nullptr;
-  size_t chunkTriangles_ = 0;
+  std::vector<TriangleRun> runs_;
+  const Scene* runsScene_ = nullptr;
+  size_t runsTriangles_ = 0;
 };
 
 class MipsStage : public Stage {
