@@ -442,6 +442,72 @@ TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
   expectPathEqualsScratch(kInside, {0.0f, -3.0f / 64.0f, 0.0f}, 2, "anisotropic -y", {"clipmap.faces=anisotropic"});
 }
 
+// The cells of box 'r' (cells of edge 1 / cellsPerMetre of the world lattice) that a triangle
+// meets: the CPU reference voxelizer's double-precision half-open test.
+std::set<std::tuple<int64_t, int64_t, int64_t>> cpuOccupiedCells(const Scene& scene, double cellsPerMetre, const Box& r) {
+  std::set<std::tuple<int64_t, int64_t, int64_t>> cpu;
+  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+    glm::dvec3 w[3];
+    for (int i = 0; i < 3; ++i) w[i] = glm::dvec3(scene.positions[scene.indices[3 * t + i]]) * cellsPerMetre;
+    if (glm::length(glm::cross(w[1] - w[0], w[2] - w[0])) == 0.0) continue;
+    const Cell lo = glm::max(Cell(glm::floor(glm::min(w[0], glm::min(w[1], w[2])))), r.lo);
+    const Cell hi = glm::min(Cell(glm::floor(glm::max(w[0], glm::max(w[1], w[2])))), r.hi - Cell(1));
+    for (int64_t z = lo.z; z <= hi.z; ++z)
+      for (int64_t y = lo.y; y <= hi.y; ++y)
+        for (int64_t x = lo.x; x <= hi.x; ++x)
+          if (triangleOverlapsBox(w[0], w[1], w[2], glm::dvec3(x, y, z) + 0.5, glm::dvec3(0.5))) cpu.insert({x, y, z});
+  }
+  return cpu;
+}
+
+// covered-compare: each covered cell's own voxels are the CPU reference's, and the difference
+// image is |direct - filtered| against the atlas, texel for texel within one RGBA8 step (0 outside
+// the covered blocks).
+TEST(ClipmapGpu, CoveredCellsDirectVersusFiltered) {
+  auto& s = session(clipRequest(kInside, {"clipmap.compare-covered=on"}, "covered-compare"));
+  const LevelData direct = capture(s, "covered-compare", "covered-direct").levels[0];
+  const LevelData difference = capture(s, "covered-compare", "covered-difference").levels[0];
+  const LevelData atlas = capture(s, "update", "clip-atlas").levels[0];
+  CapturedOutput levels = capture(s, "anchor", "clip-levels");
+  const int n = 16, b = n + 2;
+  std::vector<Cell> origins;
+  for (int k = 0; k < 4; ++k) {
+    LevelRecord r;
+    std::memcpy(&r, levels.records.data() + size_t(k) * sizeof(LevelRecord), sizeof(LevelRecord));
+    origins.push_back(Cell(r.origin[0], r.origin[1], r.origin[2]));
+  }
+  size_t occupied = 0, differing = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Box cov = coveredBlock(origins, k, n);
+    const auto cpu = cpuOccupiedCells(s.cursor().scene(), 64.0 / double(1 << k), cov);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const Cell c = origins[size_t(k)] + Cell(x, y, z);
+          const glm::ivec3 t = toroidal(c, n);
+          for (int ch = 0; ch < 4; ++ch) {
+            const float d = direct.at(x, k * n + y, z, ch), diff = difference.at(x, k * n + y, z, ch);
+            if (!cov.contains(c)) {
+              ASSERT_EQ(d, 0.0f);
+              ASSERT_EQ(diff, 0.0f);
+              continue;
+            }
+            // The shader subtracts the unrounded direct value, then stores both rounded to RGBA8:
+            // measured at most one step (1/255) from |stored direct - filtered|.
+            ASSERT_NEAR(diff, std::abs(d - atlas.at(1 + t.x, k * b + 1 + t.y, 1 + t.z, ch)), 1.0f / 255.0f + 1e-5f);
+            if (ch == 3) differing += diff > 0.0f;
+          }
+          if (cov.contains(c)) {
+            const bool want = cpu.count({c.x, c.y, c.z}) != 0;
+            EXPECT_EQ(direct.at(x, k * n + y, z, 3) > 0.0f, want) << "level " << k << " covered cell " << describe(c);
+            occupied += want;
+          }
+        }
+  }
+  EXPECT_GT(occupied, 100u);
+  EXPECT_GT(differing, 0u) << "filtered and direct content differ somewhere (the source of popping)";
+}
+
 // The atlas against an independent CPU reference, level by level (catches Y flips, scroll signs,
 // a wrong toroidal address or block layout): every uncovered cell of every level is occupied
 // (alpha 1) exactly when a triangle meets its world cell [c, c+1) s_k (the CPU reference
@@ -470,18 +536,7 @@ TEST(ClipmapGpu, AtlasMatchesCpuVoxelsAndFilter) {
   for (int k = 0; k < levelCount; ++k) {
     const double cellsPerMetre = 64.0 / double(1 << k);  // s_0 = 1/64 m
     const Box r = region(origins[size_t(k)], n), cov = coveredBlock(origins, k, n);
-    std::set<std::tuple<int64_t, int64_t, int64_t>> cpu;
-    for (size_t t = 0; t < scene.triangleCount(); ++t) {
-      glm::dvec3 w[3];
-      for (int i = 0; i < 3; ++i) w[i] = glm::dvec3(scene.positions[scene.indices[3 * t + i]]) * cellsPerMetre;
-      if (glm::length(glm::cross(w[1] - w[0], w[2] - w[0])) == 0.0) continue;
-      const Cell lo = glm::max(Cell(glm::floor(glm::min(w[0], glm::min(w[1], w[2])))), r.lo);
-      const Cell hi = glm::min(Cell(glm::floor(glm::max(w[0], glm::max(w[1], w[2])))), r.hi - Cell(1));
-      for (int64_t z = lo.z; z <= hi.z; ++z)
-        for (int64_t y = lo.y; y <= hi.y; ++y)
-          for (int64_t x = lo.x; x <= hi.x; ++x)
-            if (triangleOverlapsBox(w[0], w[1], w[2], glm::dvec3(x, y, z) + 0.5, glm::dvec3(0.5))) cpu.insert({x, y, z});
-    }
+    const auto cpu = cpuOccupiedCells(scene, cellsPerMetre, r);
     for (int64_t z = r.lo.z; z < r.hi.z; ++z)
       for (int64_t y = r.lo.y; y < r.hi.y; ++y)
         for (int64_t x = r.lo.x; x < r.hi.x; ++x) {

@@ -17,10 +17,13 @@
 //                  Lambert, fixed-point atomics), resolve into the RGBA8 atlas, refilter every
 //                  covered block from the finer level (isotropic mean; six faces by the under
 //                  operator), refresh the guard texels
-//   4. mips        the coarsest level unrolled into logical order, mipped down to 4^3
-//   5. gbuffer     position, normal, albedo, emission, depth from the camera (shared)
-//   6. cone-trace  diffuse cones (+AO) and a specular cone across levels; level-used image; probe
-//   7. composite   direct + indirect diffuse + specular, tonemapped (vct-grid's composite shader)
+//   4. mips        the coarsest level unrolled into logical order, mipped down to 4^3; every level
+//                  unrolled for display (clip-logical)
+//   5. covered-compare  (clipmap.compare-covered) covered cells voxelized directly beside their
+//                  filtered content, and the difference (the source of popping)
+//   6. gbuffer     position, normal, albedo, emission, depth from the camera (shared)
+//   7. cone-trace  diffuse cones (+AO) and a specular cone across levels; level-used image; probe
+//   8. composite   direct + indirect diffuse + specular, tonemapped (vct-grid's composite shader)
 //
 // Details
 //   - Lattice and snapping: cell c of level k covers [c, c+1) s_k in metres; origins are even, so
@@ -66,6 +69,7 @@ static std::unique_ptr<Technique> makeClipmap() {
   t->add<clipmap::AnchorStage>();
   t->add<clipmap::UpdateStage>();
   t->add<clipmap::MipsStage>();
+  t->add<clipmap::CoveredCompareStage>();
   t->add<GBufferStage>();
   t->add<clipmap::ConeTraceStage>();
   t->add<clipmap::CompositeStage>();

@@ -620,6 +620,102 @@ void MipsStage::execute(StageContext& ctx) {
   ctx.stats["bytes"] = double(mips.byteSize()) + double(logical.byteSize());
 }
 
+// --- Covered cells: direct versus filtered ----------------------------------------------------------
+
+static bool compareOn(const ParamSet& p) { return p.getChoice("clipmap.compare-covered") == "on"; }
+
+static TextureDesc compareDesc(const ParamSet& p) {
+  if (!compareOn(p)) {  // a placeholder texel
+    TextureDesc d;
+    d.target = GL_TEXTURE_3D;
+    d.size = {1, 1, 1};
+    return d;
+  }
+  return logicalDesc(p);
+}
+
+void CoveredCompareStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.param(ParamDesc::choice("clipmap.compare-covered", {"off", "on"}, 0,
+                            "on: voxelize the covered blocks directly as well, to compare with their filtered content"));
+  b.readView();
+  b.read("clip-atlas");
+  b.read("shadow-map");
+  b.read("light");
+  b.write("covered-accumulators");
+  b.write("covered-counters");
+  b.output("covered-direct", OutputKind::Volume3D, Semantic::Color,
+           "covered cells' own voxelization Direct_k in logical order (levels along y, as clip-logical); 0 elsewhere")
+      .placeholderUnless = "clipmap.compare-covered=on";
+  b.output("covered-difference", OutputKind::Volume3D, Semantic::Color,
+           "|Direct_k - F(level k-1)| per covered cell: the change when the cell leaves the covered block (popping)")
+      .placeholderUnless = "clipmap.compare-covered=on";
+  b.texture("covered-direct", [](const ParamSet& p, const ViewState&) { return compareDesc(p); });
+  b.texture("covered-difference", [](const ParamSet& p, const ViewState&) { return compareDesc(p); });
+  b.buffer("covered-accumulators", [](const ParamSet& p, const ViewState&) {
+    return compareOn(p) ? accumulatorBytes(p) : size_t(16);
+  });
+  b.buffer("covered-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
+}
+
+void CoveredCompareStage::execute(StageContext& ctx) {
+  Texture& direct = ctx.board.ensureTexture("covered-direct", compareDesc(ctx.params));
+  Texture& difference = ctx.board.ensureTexture("covered-difference", compareDesc(ctx.params));
+  Buffer& counters = ctx.board.ensureBuffer("covered-counters", countersBytes(ctx.params.getInt("clipmap.levels")));
+  const bool on = compareOn(ctx.params);
+  Buffer& accum = ctx.board.ensureBuffer("covered-accumulators", on ? accumulatorBytes(ctx.params) : size_t(16));
+  if (!on) {
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    glClearTexImage(direct.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    glClearTexImage(difference.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    return;
+  }
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto origins = cameraPath(ctx.params, ctx.scene, ctx.view.position).back().origins;
+  std::vector<uint32_t> zero(countersBytes(layout.levels) / 4, 0);
+  counters.upload(zero.data(), zero.size() * 4);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());
+  std::vector<Entry> entries;
+  std::vector<glm::ivec3> lo(kMaxLevels, glm::ivec3(0)), hi(kMaxLevels, glm::ivec3(0));
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  setClipUniforms(clear, layout, origins);
+  setUniform(clear, "u_skipLo", glm::ivec3(0));
+  setUniform(clear, "u_skipHi", glm::ivec3(0));
+  glUseProgram(clear);
+  int64_t cells = 0;
+  for (int k = 1; k < layout.levels; ++k) {
+    const Box covered = coveredBlock(origins, k, layout.n);
+    lo[size_t(k)] = glm::ivec3(covered.lo), hi[size_t(k)] = glm::ivec3(covered.hi);
+    if (covered.empty()) continue;
+    setUniform(clear, "u_level", k);
+    dispatchBox(clear, covered);
+    entries.push_back({k, covered, Box{}});
+    cells += covered.volume();
+  }
+  glMemoryBarrier(kAllShaderWrites);
+  if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
+    runs_ = triangleRuns(ctx.scene);
+    runsScene_ = &ctx.scene;
+    runsTriangles_ = ctx.scene.triangleCount();
+  }
+  int dispatched = 0;
+  voxelizeEntries(ctx, layout, origins, entries, runs_, dispatched);
+  GLuint program = ctx.shaders.program({"clipmap/covered_compare.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);
+  glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredHi"), kMaxLevels, &hi[0].x);
+  glUseProgram(program);
+  glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(2, difference.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute(direct.desc().size, {4, 4, 4});
+  glMemoryBarrier(kAllShaderWrites);
+  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  ctx.stats["covered_cells"] = double(cells);
+}
+
 // --- Cone tracing ---------------------------------------------------------------------------------
 
 static TextureDesc screenDesc(const ViewState& view, GLenum format) {

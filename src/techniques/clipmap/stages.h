@@ -112,6 +112,24 @@ class MipsStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+class CoveredCompareStage : public Stage {
+ public:
+  const char* id() const override { return "covered-compare"; }
+  const char* title() const override { return "Direct versus filtered content of covered cells"; }
+  const char* summary() const override {
+    return "With clipmap.compare-covered=on, voxelize the covered blocks directly too and show, per covered "
+           "cell, its own voxels beside what the finer level filters into it, and their difference: what a cell "
+           "switches to when it leaves the covered block (the source of popping).";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+
+ private:
+  std::vector<TriangleRun> runs_;
+  const Scene* runsScene_ = nullptr;
+  size_t runsTriangles_ = 0;
+};
+
 class ConeTraceStage : public Stage {
  public:
   const char* id() const override { return "cone-trace"; }
