@@ -23,6 +23,8 @@
 #include "reference/cpu_voxelizer.h"
 #include "capture/capture.h"
 #include "gpu/shader_library.h"
+#include "graph/step_cursor.h"
+#include "graph/technique.h"
 #include "techniques/clipmap/clipmap_math.h"
 #include "techniques/clipmap/stages.h"
 #include "test_support.h"
@@ -644,6 +646,35 @@ TEST(ClipmapGpu, LogicalViewUnrollsEveryLevel) {
         }
   }
   EXPECT_GT(nonEmpty, 1000u);
+}
+
+// After every move, not only at the end: the update stage stepped one iteration (one move) at a
+// time, the atlas after move j equals the build from scratch at P + j D, for a path that snaps
+// levels 0 and 1 on alternate moves (3 level-0 voxels per move, diagonal).
+TEST(ClipmapGpu, EveryMoveEqualsScratch) {
+  const glm::vec3 step(3.0f / 64.0f, -3.0f / 64.0f, 1.0f / 64.0f);
+  const int moves = 4;
+  std::vector<LevelData> stepped;
+  {
+    auto& s = session(clipRequest(kInside, {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
+                                            "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)},
+                                  "update"));
+    StepCursor& c = s.cursor();
+    const int update = c.technique().stageIndex("update");
+    c.invalidate(update);
+    for (int j = 0; j <= moves; ++j) {
+      ASSERT_EQ(c.runIteration(update), j);
+      stepped.push_back(capture(s, "update", "clip-atlas").levels[0]);
+    }
+  }
+  for (int j = 0; j <= moves; ++j) {
+    const glm::dvec3 end = glm::dvec3(kInside) + double(j) * glm::dvec3(step);
+    auto& scratch = session(clipRequest(glm::vec3(end), {}, "update"));
+    const LevelData b = capture(scratch, "update", "clip-atlas").levels[0];
+    size_t differ = 0;
+    for (size_t i = 0; i < b.values.size(); ++i) differ += stepped[size_t(j)].values[i] != b.values[i];
+    EXPECT_EQ(differ, 0u) << "after move " << j << ": " << differ << " atlas values differ from the build from scratch";
+  }
 }
 
 TEST(ClipmapGpu, SponzaPathEqualsScratch) {
