@@ -13,9 +13,9 @@ bool axisSeparates(dvec3 axis, dvec3 v0, dvec3 v1, dvec3 v2, dvec3 h) {
   return (upperOpen ? lo >= r : lo > r) || (lowerOpen ? hi <= -r : hi < -r);
 }
 
-bool triangleOverlapsBox(vec3 a, vec3 b, vec3 c, vec3 center, vec3 halfSize) {
-  dvec3 v0 = dvec3(a) - dvec3(center), v1 = dvec3(b) - dvec3(center), v2 = dvec3(c) - dvec3(center);
-  dvec3 h = dvec3(halfSize);
+// The same test with the triangle already relative to the box centre (in double: callers that
+// compute exact triangle-local coordinates keep them exact).
+bool triangleOverlapsCenteredBox(dvec3 v0, dvec3 v1, dvec3 v2, dvec3 h) {
   // Box face normals: the triangle's bounding box against the cell [-h, h).
   if (any(greaterThanEqual(min(v0, min(v1, v2)), h)) || any(lessThan(max(v0, max(v1, v2)), -h))) return false;
   dvec3 e0 = v1 - v0, e1 = v2 - v1, e2 = v0 - v2;
@@ -30,4 +30,9 @@ bool triangleOverlapsBox(vec3 a, vec3 b, vec3 c, vec3 center, vec3 halfSize) {
       if (dot(axis, axis) > 1e-30 && axisSeparates(axis, v0, v1, v2, h)) return false;
     }
   return true;
+}
+
+bool triangleOverlapsBox(vec3 a, vec3 b, vec3 c, vec3 center, vec3 halfSize) {
+  return triangleOverlapsCenteredBox(dvec3(a) - dvec3(center), dvec3(b) - dvec3(center), dvec3(c) - dvec3(center),
+                                     dvec3(halfSize));
 }

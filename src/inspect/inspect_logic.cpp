@@ -364,6 +364,7 @@ const VerbSpec kVerbs[] = {
     {"expect-samples-monotonic", 0, 0, "expect-samples-monotonic (samples > 0, opacity never decreases)"},
     {"expect-state", 2, 2, "expect-state STAGE done|stale|not-run"},
     {"expect-param", 2, 2, "expect-param NAME VALUE"},
+    {"expect-stat", 4, 4, "expect-stat STAGE NAME =|<|>|<=|>= VALUE (a statistic of the stage's last run)"},
     {"copy-command", 0, 0, "copy-command (prints the voxlab run line and copies it)"},
     {"reload", 0, 0, "reload (shader hot reload, as F5)"},
     {"wait", 1, 1, "wait FRAMES"},

@@ -250,6 +250,20 @@ void Viewer::execute(const ScriptAction& a) {
     std::string want = arg(1) == "not-run" ? "not run" : arg(1);
     std::string got = stageStateName(cursor->record(i).state);
     if (got != want) scriptFail(a, "stage " + arg(0) + " is " + got + ", expected " + want);
+  } else if (v == "expect-stat") {
+    const auto& stats = cursor->record(t.stageIndex(arg(0))).stats;
+    auto it = stats.find(arg(1));
+    if (it == stats.end()) scriptFail(a, "stage " + arg(0) + " has no statistic '" + arg(1) + "' (it may not have run)");
+    const double got = it->second, want = floatArg(3);
+    const std::string& op = arg(2);
+    bool ok = false;
+    if (op == "=") ok = got == want;
+    else if (op == "<") ok = got < want;
+    else if (op == ">") ok = got > want;
+    else if (op == "<=") ok = got <= want;
+    else if (op == ">=") ok = got >= want;
+    else scriptFail(a, "unknown comparison '" + op + "'; valid: = < > <= >=");
+    if (!ok) scriptFail(a, arg(0) + " " + arg(1) + " is " + std::to_string(got) + ", expected " + op + " " + arg(3));
   } else if (v == "expect-param") {
     std::string got = cursor->params().desc(arg(0)).format(cursor->params().value(arg(0)));
     if (got != arg(1)) scriptFail(a, arg(0) + " is " + got + ", expected " + arg(1));

@@ -1,0 +1,37 @@
+// What every clipmap shader shares: the levels' integer origins, toroidal addresses and the
+// atlas layout (src/techniques/clipmap/stages.h). Level k holds the world cells
+// [o_k, o_k + N)^3 of edge s_k = s_0 2^k; cell c lives at physical texel c & (N-1), whatever
+// the origin, so a move rewrites only the cells it exposes. The atlas packs blocks of
+// (N+2)^3 texels: face f along x, level k along y, a one-texel guard on every side of each
+// block holding the wrapped neighbour (guard -1 = physical N-1, guard N = physical 0), so
+// trilinear filtering across the physical seam reads the right texels.
+#define CLIPMAP_MAX_LEVELS 8
+#define CLIPMAP_BINDING_ACCUM 12     // SSBO: uint[4] per cell and level (fragments, red, green, blue)
+#define CLIPMAP_BINDING_COUNTERS 13  // SSBO: uint[5] per level: cleared, pairs, resolved, filtered, guards
+uniform int u_clipN;                                   // N, a power of two
+uniform int u_clipLevels;                              // L
+uniform ivec3 u_clipOrigin[CLIPMAP_MAX_LEVELS];        // o_k, level-k cells
+
+ivec3 toroidalAddress(ivec3 cell) { return cell & ivec3(u_clipN - 1); }
+
+// Atlas texel of physical texel 'phys' (guards: -1 and N) of level 'level', face 'face'.
+ivec3 atlasTexel(int face, int level, ivec3 phys) {
+  int b = u_clipN + 2;
+  return ivec3(face * b + 1 + phys.x, level * b + 1 + phys.y, 1 + phys.z);
+}
+
+bool insideRegion(ivec3 cell, int level) {
+  ivec3 o = u_clipOrigin[level];
+  return all(greaterThanEqual(cell, o)) && all(lessThan(cell, o + ivec3(u_clipN)));
+}
+
+// Index of a cell's accumulator (4 uints: fragments, red, green, blue) by its physical address.
+uint accumulatorIndex(int level, ivec3 phys) {
+  uint n = uint(u_clipN);
+  return 4u * (((uint(level) * n + uint(phys.z)) * n + uint(phys.y)) * n + uint(phys.x));
+}
+
+// Fixed-point scale of the accumulated radiance: integer sums are order-independent, so a cell
+// built in a slab gets the bits it gets in a full build.
+const float CLIPMAP_FIXED_SCALE = 16384.0;
+const uint CLIPMAP_MAX_FRAGMENTS = 262144u;  // 2^32 / CLIPMAP_FIXED_SCALE

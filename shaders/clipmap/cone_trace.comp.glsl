@@ -1,0 +1,158 @@
+#version 450
+// Cone tracing across clip levels. Along a cone the sample diameter grows as 2 t tan(aperture/2)
+// and asks for level lambda = log2(diameter / s_0) + bias; a level may serve a sample only if the
+// sample's trilinear footprint lies inside its region (u = (p - min_k) / s_k in [0.5, N - 0.5]
+// on every axis), so the level read is l = max(lambda, k_min(p)), blended between floor(l) and
+// floor(l) + 1 by its fraction; above L-1 it reads the coarsest level's mips. A sample outside the
+// coarsest region ends the cone: the toroidal address would return some other cell's texel.
+#include "common/shared.h"
+#include "clipmap/clipmap.glsl"
+#include "common/lights.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler3D u_atlas;
+layout(binding = 4) uniform sampler3D u_mips;
+layout(binding = 1) uniform sampler2D u_position;
+layout(binding = 2) uniform sampler2D u_normal;
+layout(binding = 3) uniform sampler2D u_albedo;
+layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
+layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
+layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
+layout(r16f, binding = 3) uniform writeonly image2D u_levelUsed;
+layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
+layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
+
+uniform vec3 u_levelMin[CLIPMAP_MAX_LEVELS];      // world min corner of each region, o_k s_k
+uniform vec3 u_levelToroidal[CLIPMAP_MAX_LEVELS]; // T_k = o_k mod N
+uniform float u_voxelSize0;                        // s_0
+uniform int u_faces;                               // 1 (isotropic) or 7 (isotropic + six directions)
+uniform int u_mipLevels;                           // mips of the coarsest level beyond it
+uniform int u_coneCount;
+uniform vec4 u_cones[VOXLAB_MAX_CONES];
+uniform float u_diffuseAperture;
+uniform float u_specularAperture;
+uniform float u_startOffset;  // in voxels of the level at the surface
+uniform float u_stepScale;
+uniform float u_lodBias;
+uniform float u_maxDistance;  // metres
+uniform float u_aoRange;      // metres
+uniform int u_maxSteps;
+uniform vec3 u_cameraPos;
+uniform ivec2 u_probePixel;
+uniform int u_scale;  // G-buffer pixels per traced pixel along each axis (1 or 2)
+
+float levelVoxel(int k) { return u_voxelSize0 * exp2(float(k)); }
+
+bool footprintInside(vec3 p, int k) {
+  vec3 u = (p - u_levelMin[k]) / levelVoxel(k);
+  return all(greaterThanEqual(u, vec3(0.5))) && all(lessThanEqual(u, vec3(float(u_clipN) - 0.5)));
+}
+
+// The finest level whose region holds p's footprint; -1 outside the coarsest region.
+int finestLevel(vec3 p) {
+  for (int k = 0; k < u_clipLevels; ++k)
+    if (footprintInside(p, k)) return k;
+  return -1;
+}
+
+vec4 fetchFace(int face, int k, vec3 phys) {
+  float b = float(u_clipN + 2);
+  vec3 texel = vec3(float(face) * b + 1.0, float(k) * b + 1.0, 1.0) + phys;
+  return textureLod(u_atlas, texel / vec3(textureSize(u_atlas, 0)), 0.0);
+}
+
+vec4 sampleLevel(int k, vec3 p, vec3 dir) {
+  vec3 u = (p - u_levelMin[k]) / levelVoxel(k);
+  vec3 phys = mod(u + u_levelToroidal[k], float(u_clipN));
+  if (u_faces == 1) return fetchFace(0, k, phys);
+  vec3 w = dir * dir;
+  return w.x * fetchFace(dir.x >= 0.0 ? 1 : 2, k, phys) + w.y * fetchFace(dir.y >= 0.0 ? 3 : 4, k, phys) +
+         w.z * fetchFace(dir.z >= 0.0 ? 5 : 6, k, phys);
+}
+
+vec4 sampleAt(vec3 p, float level, vec3 dir) {
+  int last = u_clipLevels - 1;
+  if (level > float(last) && u_mipLevels > 0) {
+    vec3 u = (p - u_levelMin[last]) / levelVoxel(last);
+    return textureLod(u_mips, u / float(u_clipN), level - float(last));
+  }
+  int k0 = min(int(floor(level)), last);
+  float f = level - float(k0);
+  vec4 s = sampleLevel(k0, p, dir);
+  if (f > 0.0 && k0 < last) s = mix(s, sampleLevel(k0 + 1, p, dir), f);
+  return s;
+}
+
+struct ConeResult { vec3 radiance; float opacity; float opacityAt; };
+
+ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float maxDistance, float markDistance,
+                     int coneIndex, bool record) {
+  float tanHalf = tan(0.5 * aperture);
+  float t = start;
+  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
+  bool marked = false;
+  float top = float(u_clipLevels - 1 + u_mipLevels);
+  for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
+    float diameter = max(2.0 * tanHalf * t, u_voxelSize0);
+    vec3 p = origin + dir * t;
+    int kmin = finestLevel(p);
+    if (kmin < 0) break;  // outside the coarsest region: the cone ends
+    float level = min(max(max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0), float(kmin)), top);
+    if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
+    vec4 s = sampleAt(p, level, dir);
+    float stepLength = diameter * u_stepScale;
+    float texelSize = u_voxelSize0 * exp2(level);
+    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+    vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
+    r.radiance += (1.0 - r.opacity) * c;
+    r.opacity += (1.0 - r.opacity) * a;
+    if (record) {
+      uint k = atomicAdd(coneSampleCount, 1u);
+      // info.z: the level read (floor = finer level, fraction = weight of the next level).
+      if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
+        coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, level, a));
+    }
+    t += stepLength;
+  }
+  if (!marked) r.opacityAt = r.opacity;
+  return r;
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
+  // At half resolution each traced pixel shades the top-left G-buffer pixel of its 2x2 block; the
+  // composite upsamples along surfaces.
+  ivec2 g = min(px * u_scale, textureSize(u_position, 0) - 1);
+  vec4 pos = texelFetch(u_position, g, 0);
+  if (pos.w == 0.0) {
+    imageStore(u_indirectDiffuse, px, vec4(0.0));
+    imageStore(u_indirectSpecular, px, vec4(0.0));
+    imageStore(u_ambientOcclusion, px, vec4(0.0));
+    imageStore(u_levelUsed, px, vec4(-1.0));
+    return;
+  }
+  bool record = px == u_probePixel;
+  vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
+  vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
+  int surfaceLevel = finestLevel(pos.xyz);
+  imageStore(u_levelUsed, px, vec4(float(surfaceLevel)));
+  float voxel = levelVoxel(max(surfaceLevel, 0));
+  vec3 origin = pos.xyz + n * u_startOffset * voxel;
+  vec3 t = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
+  vec3 b = cross(n, t);
+  vec3 incoming = vec3(0.0);
+  float occlusion = 0.0;
+  for (int i = 0; i < u_coneCount; ++i) {
+    vec3 d = normalize(t * u_cones[i].x + b * u_cones[i].y + n * u_cones[i].z);
+    ConeResult c = traceCone(origin, d, u_diffuseAperture, voxel, u_maxDistance, u_aoRange, i, record);
+    incoming += u_cones[i].w * c.radiance;
+    occlusion += u_cones[i].w * c.opacityAt;
+  }
+  vec3 view = normalize(pos.xyz - u_cameraPos);
+  vec3 reflected = reflect(view, n);
+  ConeResult s = traceCone(origin, reflected, u_specularAperture, voxel, u_maxDistance, u_maxDistance, u_coneCount, record);
+  imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
+  imageStore(u_indirectSpecular, px, vec4(s.radiance, 1.0));
+  imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
+}

@@ -1,0 +1,44 @@
+#version 450
+// The covered block of level k (k >= 1) from its children at level k-1: face 0 (isotropic) is
+// the mean of the 8 premultiplied children; with six faces, face +x composites each pair of
+// children along x front to back for a cone travelling +x (near + (1 - near.a) far, the "under"
+// operator of seed 004 section 2-3-2) and averages the four pairs; the other faces likewise.
+// Children are read at their toroidal addresses: nothing depends on where the seam lies.
+#include "clipmap/clipmap.glsl"
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(rgba8, binding = 0) uniform image3D u_atlas;
+uniform ivec3 u_boxLo;
+uniform ivec3 u_boxSize;
+uniform int u_level;
+uniform int u_faces;
+
+void main() {
+  ivec3 g = ivec3(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(g, u_boxSize))) return;
+  ivec3 cell = u_boxLo + g;
+  ivec3 phys = toroidalAddress(cell);
+  for (int f = 0; f < u_faces; ++f) {
+    vec4 child[8];
+    for (int i = 0; i < 8; ++i)
+      child[i] = imageLoad(u_atlas, atlasTexel(f, u_level - 1, toroidalAddress(2 * cell + ivec3(i & 1, (i >> 1) & 1, i >> 2))));
+    vec4 value = vec4(0.0);
+    if (f == 0) {
+      for (int i = 0; i < 8; ++i) value += child[i];
+      value *= 0.125;
+    } else {
+      int axis = (f - 1) / 2;
+      bool positive = (f - 1) % 2 == 0;  // faces 1..6: +x -x +y -y +z -z (the cone's direction)
+      int bit = 1 << axis;
+      for (int i = 0; i < 8; ++i) {
+        if ((i & bit) != 0) continue;
+        vec4 nearer = positive ? child[i] : child[i | bit];
+        vec4 farther = positive ? child[i | bit] : child[i];
+        value += nearer + (1.0 - nearer.a) * farther;
+      }
+      value *= 0.25;
+    }
+    imageStore(u_atlas, atlasTexel(f, u_level, phys), value);
+  }
+  atomicAdd(counters[5 * u_level + 3], 1u);
+}

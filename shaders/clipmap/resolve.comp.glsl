@@ -1,0 +1,35 @@
+#version 450
+// Turns the fixed-point sums of one box of cells into RGBA8 texels of every face: radiance =
+// sum / fragments, alpha 1 in every occupied cell (the cell's direct content, Direct_k).
+#include "clipmap/clipmap.glsl"
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(std430, binding = CLIPMAP_BINDING_ACCUM) readonly buffer Accumulators { uint accum[]; };
+layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(rgba8, binding = 0) uniform writeonly image3D u_atlas;
+uniform ivec3 u_boxLo;
+uniform ivec3 u_boxSize;
+uniform int u_level;
+uniform ivec3 u_skipLo;  // cells of [u_skipLo, u_skipHi) are left alone (a full build's covered block)
+uniform ivec3 u_skipHi;
+uniform int u_faces;
+
+void main() {
+  ivec3 g = ivec3(gl_GlobalInvocationID);
+  if (any(greaterThanEqual(g, u_boxSize))) return;
+  ivec3 cell = u_boxLo + g;
+  if (all(greaterThanEqual(cell, u_skipLo)) && all(lessThan(cell, u_skipHi))) return;
+  ivec3 phys = toroidalAddress(cell);
+  uint i = accumulatorIndex(u_level, phys);
+  uint count = accum[i];
+  // More fragments than the fixed-point sums hold (each adds up to CLIPMAP_FIXED_SCALE to a
+  // 32-bit sum): counted after the last level's counters, reported by the stage.
+  if (count >= CLIPMAP_MAX_FRAGMENTS) atomicAdd(counters[5 * u_clipLevels], 1u);
+  vec4 value = vec4(0.0);
+  if (count > 0u) {
+    // Integer division first: the same sums give the same texel on every run.
+    uvec3 mean = uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count;
+    value = vec4(vec3(mean) / CLIPMAP_FIXED_SCALE, 1.0);
+  }
+  for (int f = 0; f < u_faces; ++f) imageStore(u_atlas, atlasTexel(f, u_level, phys), value);
+  atomicAdd(counters[5 * u_level + 2], 1u);
+}

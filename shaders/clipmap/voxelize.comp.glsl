@@ -1,0 +1,125 @@
+#version 450
+// Slab voxelization and light injection: one invocation per triangle of one draw range (one
+// material, whose textures are bound), for a list of entries (level, box of the planner's direct
+// set, box to skip); the stage groups the entries so that no invocation's loops can pass
+// llvmpipe's 65535 iterations (at most 7 N^2 per entry: N^2 columns, up to 6 candidates each). Cells are those of the lattice anchored to the world:
+// cell c of level k covers [c, c+1) * s_k metres, and a vertex's cell coordinates are
+// p * (1 / s_k), the same numbers whatever the camera, the level's origin or the box. Each
+// (triangle, cell) pair is decided by the exact half-open separating-axis test of
+// common/tri_box.glsl in triangle-local double coordinates, so a cell gets the same triangles in
+// a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
+// emission, evaluated at the cell centre's projection onto the triangle's plane) to the cell's
+// fixed-point accumulators with integer atomics: the sums do not depend on the order.
+#include "common/shared.h"
+#include "clipmap/clipmap.glsl"
+#include "voxelization/scene_triangles.glsl"
+#include "common/alpha_coverage.glsl"
+
+layout(local_size_x = 64) in;
+#include "common/material.glsl"
+#include "common/lights.glsl"
+#include "common/tri_box.glsl"
+layout(std430, binding = CLIPMAP_BINDING_ACCUM) buffer Accumulators { uint accum[]; };
+layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(binding = 2) uniform sampler2D u_shadowMap;
+uniform uint u_firstTriangle;
+uniform uint u_triangleCount;
+#define CLIPMAP_MAX_ENTRIES 40
+uniform int u_entryCount;
+uniform int u_entryLevel[CLIPMAP_MAX_ENTRIES];
+uniform ivec3 u_entryLo[CLIPMAP_MAX_ENTRIES];      // the box [lo, hi) of cells to voxelize
+uniform ivec3 u_entryHi[CLIPMAP_MAX_ENTRIES];
+uniform ivec3 u_entrySkipLo[CLIPMAP_MAX_ENTRIES];  // cells of [skipLo, skipHi) are left alone
+uniform ivec3 u_entrySkipHi[CLIPMAP_MAX_ENTRIES];  // (a full build's covered block)
+uniform float u_cellsPerMetre[CLIPMAP_MAX_LEVELS]; // 1 / s_k
+uniform float u_cellSize[CLIPMAP_MAX_LEVELS];      // s_k, metres
+uniform int u_mode;             // 0 = direct light, 1 = uniform radiance (furnace tests)
+uniform vec3 u_uniformRadiance;
+const float PI = 3.14159265358979;
+
+vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
+ivec3 toProjectedI(ivec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
+ivec3 fromProjectedI(ivec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
+
+void voxelizeEntry(uint t, int e) {
+  const int level = u_entryLevel[e];
+  uint i0 = sceneVertexIndex(t, 0), i1 = sceneVertexIndex(t, 1), i2 = sceneVertexIndex(t, 2);
+  precise vec3 w0 = scenePosition(i0) * u_cellsPerMetre[level];
+  precise vec3 w1 = scenePosition(i1) * u_cellsPerMetre[level];
+  precise vec3 w2 = scenePosition(i2) * u_cellsPerMetre[level];
+  vec3 lo = min(w0, min(w1, w2)), hi = max(w0, max(w1, w2));
+  ivec3 bLo = max(ivec3(floor(lo)), u_entryLo[e]);
+  ivec3 bHi = min(ivec3(floor(hi)), u_entryHi[e] - 1);
+  if (any(greaterThan(bLo, bHi))) return;
+  ivec3 skipLo = u_entrySkipLo[e], skipHi = u_entrySkipHi[e];
+
+  // Triangle-local coordinates relative to an integer corner: exact in double.
+  vec3 origin = floor(w0);
+  ivec3 iorigin = ivec3(origin);
+  dvec3 d0 = dvec3(w0) - dvec3(origin), d1 = dvec3(w1) - dvec3(origin), d2 = dvec3(w2) - dvec3(origin);
+  dvec3 dn = cross(d1 - d0, d2 - d0);
+  if (max(abs(dn.x), max(abs(dn.y), abs(dn.z))) <= 0.0) return;
+  vec3 n = vec3(dn);
+  int axis = dominantAxis(n);
+  vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
+  vec3 normal = normalize(n) * (dot(n, vertexNormals) < 0.0 ? -1.0 : 1.0);
+
+  uint material = uint(u_materialIndex);
+  vec4 alpha = materials[material].alpha;
+  bool masked = coverageMasked(alpha);
+  vec3 l0 = vec3(d0), l1 = vec3(d1), l2 = vec3(d2);
+  vec2 t0 = sceneUv(i0), t1 = sceneUv(i1), t2 = sceneUv(i2);
+  uint coverageLevel = masked ? coverageLevelFor(alpha, l0, l1, l2, t0, t1, t2) : 0u;
+  vec2 du = t1 - t0, dv = t2 - t0;
+  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
+  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / max(length(cross(l1 - l0, l2 - l0)), 1e-20);
+  float lod = max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
+
+  // Columns along the dominant axis; in each, the cells the plane can reach (a superset: the
+  // exact test decides).
+  vec3 s0 = toProjected(l0, axis), sn = toProjected(n, axis);
+  vec2 grad = -sn.xy / sn.z;
+  float reach = 0.5 * (abs(grad.x) + abs(grad.y));
+  ivec3 pLo = toProjectedI(bLo - iorigin, axis), pHi = toProjectedI(bHi - iorigin, axis);
+  for (int b = pLo.y; b <= pHi.y; ++b)
+    for (int a = pLo.x; a <= pHi.x; ++a) {
+      vec2 center = vec2(a, b) + 0.5;
+      float zc = s0.z + dot(grad, center - s0.xy);
+      int kLo = max(int(floor(zc - reach)) - 1, pLo.z), kHi = min(int(floor(zc + reach)) + 1, pHi.z);
+      for (int k = kLo; k <= kHi; ++k) {
+        ivec3 local = fromProjectedI(ivec3(a, b, k), axis);  // cell, triangle-local
+        ivec3 cell = iorigin + local;
+        if (all(greaterThanEqual(cell, skipLo)) && all(lessThan(cell, skipHi))) continue;
+        dvec3 centre = dvec3(local) + 0.5;
+        if (!triangleOverlapsCenteredBox(d0 - centre, d1 - centre, d2 - centre, dvec3(0.5))) continue;
+        if (masked && !coverageAt(alpha, coverageLevel, l0, l1, l2, t0, t1, t2, local)) continue;
+        vec3 radiance;
+        if (u_mode == 1) {
+          radiance = u_uniformRadiance;
+        } else {
+          // The cell centre's projection onto the plane, in world metres.
+          dvec3 q = centre - dn * (dot(dn, centre - d0) / dot(dn, dn));
+          vec3 p = (origin + vec3(q)) * u_cellSize[level];
+          vec3 toLight; float dist;
+          lightDirection(p, toLight, dist);
+          float cosine = max(dot(normal, toLight), 0.0);
+          vec3 albedo = materialAlbedoLod(voxelSampleUv(l0, l1, l2, t0, t1, t2, local), lod).rgb;
+          vec3 emission = materialEmissionLod(voxelSampleUv(l0, l1, l2, t0, t1, t2, local), lod);
+          radiance = albedo / PI * lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, normal) + emission;
+        }
+        uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * CLIPMAP_FIXED_SCALE + 0.5);
+        uint i = accumulatorIndex(level, toroidalAddress(cell));
+        atomicAdd(accum[i], 1u);
+        atomicAdd(accum[i + 1u], fixedPoint.r);
+        atomicAdd(accum[i + 2u], fixedPoint.g);
+        atomicAdd(accum[i + 3u], fixedPoint.b);
+        atomicAdd(counters[5 * level + 1], 1u);
+      }
+    }
+}
+
+void main() {
+  if (gl_GlobalInvocationID.x >= u_triangleCount) return;
+  uint t = u_firstTriangle + gl_GlobalInvocationID.x;
+  for (int e = 0; e < u_entryCount; ++e) voxelizeEntry(t, e);
+}

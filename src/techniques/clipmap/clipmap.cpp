@@ -1,0 +1,82 @@
+// clipmap: voxel cone tracing on a 3D clipmap (VXGI-style), updated incrementally as the camera moves.
+//
+// Intro
+//   A stack of L clip levels of N^3 cells each, level k with voxels of s_0 2^k, all centred on the
+//   camera: detail falls off with distance at a fixed memory cost. The levels are anchored to a
+//   lattice fixed in the world and addressed toroidally (cell c lives at texel c & (N-1)), so when
+//   the camera moves only the slabs of newly exposed cells are cleared and re-voxelized; no data
+//   moves. Cones read, per sample, the finest level whose region holds the sample's footprint.
+//
+// Overview (the stages, in order)
+//      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
+//   1. shadow-map  depth from the light (shared)
+//   2. anchor      per level o_k = 2 floor(a / s_{k+1}) - N/2 around the anchor a (the camera plus
+//                  the path's moves); per move the planner's disjoint slabs and counts
+//   3. update      iterative, one camera move per iteration (update#0 = the full build): clear the
+//                  accumulators of the cells to voxelize, voxelize + inject them (shadow-mapped
+//                  Lambert, fixed-point atomics), resolve into the RGBA8 atlas, refilter every
+//                  covered block from the finer level (isotropic mean; six faces by the under
+//                  operator), refresh the guard texels
+//   4. mips        the coarsest level unrolled into logical order, mipped down to 4^3; every level
+//                  unrolled for display (clip-logical)
+//   5. covered-compare  (clipmap.compare-covered) covered cells voxelized directly beside their
+//                  filtered content, and the difference (the source of popping)
+//   6. gbuffer     position, normal, albedo, emission, depth from the camera (shared)
+//   7. cone-trace  diffuse cones (+AO) and a specular cone across levels; level-used image; probe
+//   8. composite   direct + indirect diffuse + specular, tonemapped (vct-grid's composite shader)
+//
+// Details
+//   - Lattice and snapping: cell c of level k covers [c, c+1) s_k in metres; origins are even, so
+//     level k's region lies inside level k+1's and the covered block of level k+1 is exactly
+//     [o_k / 2, o_k / 2 + N/2). Integer work is int64 on the CPU (clipmap_math.h: floorDiv, modPos;
+//     C++ '/' and '%' truncate toward zero, the classic negative-coordinate bug).
+//   - Incremental == from scratch, by design: a cell's voxels come from a (triangle, cell) test in
+//     triangle-local double coordinates of the world lattice (independent of origin and box), its
+//     light is summed in fixed point with integer atomics (independent of order), the resolve is
+//     an integer mean, and a level's content is defined (clip levels Direct_k outside the covered
+//     block, F(level k-1) inside), so the plan rebuilds exactly the cells whose definition
+//     changed: exposed slabs (N^3 - prod(N - |d_i|) cells), cells that left the covered block
+//     (coverage changes most implementations miss) and the covered block itself.
+//   - Guard texels on every side of every block make trilinear filtering across the physical seam
+//     correct; a level serves a sample only when its footprint lies inside the level's region.
+//   - clipmap.voxel-size defaults to a power of two of metres, so p / s_k is exact in float.
+//   - The path parameters move the clip levels' anchor; the G-buffer is rendered from the camera
+//     given (--look-from): the clip levels of a run with K moves of D equal, bit for bit, those of
+//     a run started at P + K D (tests/unit/test_clipmap.cpp).
+//   - In the viewer, a camera move re-runs update#0 incrementally from the held origins (the
+//     stage keeps them with a key of layout, scene, light and atlas; any change rebuilds fully).
+//
+// References
+//   ../shared/guide/techniques/clipmap.md; seed 004 (HanetakaChou's VXGI notes) sections 2-1-2 to
+//   2-1-4 (toroidal addressing, logical and physical clipmap structure) and 2-3-2 (the under
+//   operator); seed 000 (Gomes) section 3.5; Panteleev, "Practical Real-Time Voxel-Based Global
+//   Illumination for Current GPUs", GTC 2014; Tanner, Migdal, Jones, "The Clipmap", 1998.
+#include "graph/technique.h"
+#include "techniques/clipmap/stages.h"
+#include "techniques/common/gbuffer_stage.h"
+#include "techniques/common/light_stage.h"
+#include "techniques/common/shadow_map_stage.h"
+
+namespace voxlab {
+
+static std::unique_ptr<Technique> makeClipmap() {
+  auto t = std::make_unique<Technique>(
+      "clipmap", "Voxel cone tracing on a 3D clipmap",
+      "Clip levels around the camera, toroidally addressed and updated by slabs as it moves; cones read the "
+      "finest level that holds each sample.");
+  t->add<LightStage>();
+  t->add<ShadowMapStage>();
+  t->add<clipmap::AnchorStage>();
+  t->add<clipmap::UpdateStage>();
+  t->add<clipmap::MipsStage>();
+  t->add<clipmap::CoveredCompareStage>();
+  t->add<GBufferStage>();
+  t->add<clipmap::ConeTraceStage>();
+  t->add<clipmap::CompositeStage>();
+  t->setFinalOutput("composite", "final");
+  return t;
+}
+
+VOXLAB_REGISTER_TECHNIQUE("clipmap", "Voxel cone tracing on a 3D clipmap", makeClipmap);
+
+}  // namespace voxlab

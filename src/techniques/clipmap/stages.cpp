@@ -1,0 +1,921 @@
+#include "techniques/clipmap/stages.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "common/shared.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "gpu/shader_library.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+#include "techniques/vct_grid/cone_layout.h"
+
+namespace voxlab::clipmap {
+
+static constexpr float kDegrees = 3.14159265358979f / 180.0f;
+static constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/clipmap/clipmap.glsl
+static constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
+static constexpr int64_t kMaxCell = int64_t(1) << 30;  // shaders hold cells in int32
+// The per-level counters, then one more: cells whose fragments overflowed the fixed-point sums.
+static size_t countersBytes(int levels) { return size_t(4 * (kCountersPerLevel * levels + 1)); }
+
+// --- Parameters and layout ------------------------------------------------------------------------
+
+std::vector<ParamDesc> layoutParams() {
+  return {
+      ParamDesc::integer("clipmap.levels", 5, 2, kMaxLevels, "clip levels L; level k has voxels 2^k times level 0's", "levels"),
+      ParamDesc::integer("clipmap.resolution", 32, 8, 64, "cells N along each axis of every level", "voxels").pow2(),
+      ParamDesc::fromScene("clipmap.voxel-size", 1e-4, 100.0,
+                           "edge s_0 of a level-0 voxel; scene: the power of two that lets the coarsest level span four times "
+                           "the scene's largest extent",
+                           "m"),
+      ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 0,
+                        "isotropic: one value per cell; anisotropic: also six directional values, filtered between "
+                        "levels front to back (the under operator)"),
+  };
+}
+
+std::vector<ParamDesc> pathParams() {
+  return {
+      ParamDesc::real("clipmap.path-step.x", 0.0, -1e6, 1e6, "x of the camera's displacement per path move", "m"),
+      ParamDesc::real("clipmap.path-step.y", 0.0, -1e6, 1e6, "y of the camera's displacement per path move", "m"),
+      ParamDesc::real("clipmap.path-step.z", 0.0, -1e6, 1e6, "z of the camera's displacement per path move", "m"),
+      ParamDesc::integer("clipmap.path-moves", 0, 0, 256,
+                         "camera moves after the first build; the update stage runs one per iteration", "moves"),
+      ParamDesc::choice("clipmap.policy", {"all", "priority"}, 0,
+                        "all: every level follows every move; priority: one level per move, finer levels more often "
+                        "(level i when (move - 2^i + 1) mod 2^(i+1) = 0)"),
+  };
+}
+
+Layout layoutOf(const ParamSet& params, const Scene& scene) {
+  Layout l;
+  l.levels = params.getInt("clipmap.levels");
+  l.n = params.getInt("clipmap.resolution");
+  double s0 = params.value("clipmap.voxel-size");
+  if (std::isnan(s0)) {
+    glm::vec3 e = scene.bounds.valid() ? scene.bounds.extent() : glm::vec3(1.0f);
+    double extent = std::max({double(e.x), double(e.y), double(e.z), 1e-3});
+    s0 = std::exp2(std::ceil(std::log2(4.0 * extent / (double(l.n) * double(int64_t(1) << (l.levels - 1))))));
+  }
+  l.voxelSize0 = s0;
+  return l;
+}
+
+int facesOf(const ParamSet& params) { return params.getChoice("clipmap.faces") == "anisotropic" ? 7 : 1; }
+
+int mipCount(int n) {
+  int m = 0;
+  while ((n >> (m + 1)) >= 4) ++m;
+  return m;
+}
+
+TextureDesc atlasDesc(const ParamSet& params) {
+  const int n = params.getInt("clipmap.resolution"), b = n + 2;
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {facesOf(params) * b, params.getInt("clipmap.levels") * b, b};
+  return d;
+}
+
+static TextureDesc mipsDesc(const ParamSet& params) {
+  const int n = params.getInt("clipmap.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {n, n, n};
+  d.levels = mipCount(n) + 1;
+  d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
+  return d;
+}
+
+static TextureDesc logicalDesc(const ParamSet& params) {
+  const int n = params.getInt("clipmap.resolution");
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_RGBA8;
+  d.size = {n, n * params.getInt("clipmap.levels"), n};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+static size_t accumulatorBytes(const ParamSet& p) {
+  const size_t n = size_t(p.getInt("clipmap.resolution"));
+  return 16 * size_t(p.getInt("clipmap.levels")) * n * n * n;
+}
+
+std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera) {
+  const Layout layout = layoutOf(params, scene);
+  const glm::dvec3 step(params.value("clipmap.path-step.x"), params.value("clipmap.path-step.y"),
+                        params.value("clipmap.path-step.z"));
+  const int moves = params.getInt("clipmap.path-moves");
+  const Policy policy = params.getChoice("clipmap.policy") == "priority" ? Policy::Priority : Policy::All;
+  std::vector<PathState> path;
+  PathState s{snapOrigins(layout, glm::dvec3(camera)), std::vector<int>(size_t(layout.levels), 0)};
+  path.push_back(s);
+  for (int j = 1; j <= moves; ++j) {
+    auto target = snapOrigins(layout, glm::dvec3(camera) + double(j) * step);
+    for (int k = 0; k < layout.levels; ++k) {
+      if (levelScheduled(policy, k, layout.levels, j - 1)) {
+        s.origins[size_t(k)] = target[size_t(k)];
+        s.lag[size_t(k)] = 0;
+      } else {
+        ++s.lag[size_t(k)];
+      }
+    }
+    path.push_back(s);
+  }
+  for (const PathState& p : path)
+    for (const Cell& o : p.origins)
+      if (std::abs(o.x) > kMaxCell || std::abs(o.y) > kMaxCell || std::abs(o.z) > kMaxCell)
+        throw Error("clipmap: a level origin " + describe(o) + " lies beyond 2^30 cells of the world origin; move the " +
+                    "camera (or the path) closer, or raise clipmap.voxel-size");
+  return path;
+}
+
+// The uniforms every clipmap shader shares (shaders/clipmap/clipmap.glsl).
+static void setClipUniforms(GLuint program, const Layout& layout, const std::vector<Cell>& origins) {
+  setUniform(program, "u_clipN", layout.n);
+  setUniform(program, "u_clipLevels", layout.levels);
+  std::vector<int> o(3 * kMaxLevels, 0);
+  for (int k = 0; k < layout.levels; ++k)
+    for (int i = 0; i < 3; ++i) o[size_t(3 * k + i)] = int(origins[size_t(k)][i]);
+  GLint loc = glGetUniformLocation(program, "u_clipOrigin");
+  if (loc >= 0) glProgramUniform3iv(program, loc, kMaxLevels, o.data());
+}
+
+static void dispatchBox(GLuint program, const Box& box) {
+  glm::ivec3 lo(box.lo), size(box.hi - box.lo);
+  setUniform(program, "u_boxLo", lo);
+  setUniform(program, "u_boxSize", size);
+  dispatchCompute(size, {4, 4, 4});
+}
+
+static constexpr GLbitfield kAllShaderWrites =
+    GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+    GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
+
+std::vector<TriangleRun> triangleRuns(const Scene& scene) {
+  constexpr uint32_t kRunTriangles = 2048;
+  std::vector<TriangleRun> runs;
+  for (const DrawRange& d : scene.draws) {
+    const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
+    for (uint32_t t = 0; t < count; t += kRunTriangles) {
+      TriangleRun c{first + t, std::min(kRunTriangles, count - t), d.material, glm::vec3(1e30f), glm::vec3(-1e30f)};
+      for (uint32_t i = 3 * c.firstTriangle; i < 3 * (c.firstTriangle + c.triangles); ++i) {
+        c.lo = glm::min(c.lo, scene.positions[scene.indices[i]]);
+        c.hi = glm::max(c.hi, scene.positions[scene.indices[i]]);
+      }
+      runs.push_back(c);
+    }
+  }
+  return runs;
+}
+
+// Voxelizes and injects 'entries' into the accumulators bound at CLIPMAP_BINDING_ACCUM: one pass
+// over the triangle runs per group of entries (level, box, skip); a group holds at most
+// 60000 / (7 N^2) entries, so no invocation's loops pass llvmpipe's limit of 65535 iterations,
+// and a run whose bounds (widened by a cell) miss every box of the group is not dispatched.
+// Returns the passes; 'dispatched' receives the runs dispatched.
+int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
+                    const std::vector<Entry>& entries, const std::vector<TriangleRun>& runs, int& dispatched) {
+  const int n = layout.n;
+  const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
+  GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
+  setClipUniforms(vox, layout, origins);
+  setUniform(vox, "u_mode", 0);
+  std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
+  for (int k = 0; k < layout.levels; ++k) {
+    cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
+    cellSize[size_t(k)] = float(layout.voxelSize(k));
+  }
+  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellsPerMetre"), kMaxLevels, cellsPerMetre.data());
+  glProgramUniform1fv(vox, glGetUniformLocation(vox, "u_cellSize"), kMaxLevels, cellSize.data());
+  glUseProgram(vox);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  ctx.gpuScene.bindCoverage();
+  glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+  const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
+  int passes = 0;
+  dispatched = 0;
+  for (size_t first = 0; first < entries.size(); first += perGroup) {
+    const size_t count = std::min(perGroup, entries.size() - first);
+    std::vector<int> level(count);
+    std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> world(count);  // the boxes in metres, one cell wider
+    for (size_t i = 0; i < count; ++i) {
+      const Entry& e = entries[first + i];
+      level[i] = e.level;
+      lo[i] = glm::ivec3(e.box.lo), hi[i] = glm::ivec3(e.box.hi);
+      skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
+      const double s = layout.voxelSize(e.level);
+      world[i] = {glm::dvec3(e.box.lo - Cell(1)) * s, glm::dvec3(e.box.hi + Cell(1)) * s};
+    }
+    setUniform(vox, "u_entryCount", int(count));
+    glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryLo"), GLsizei(count), &lo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(count), &hi[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(count), &skipLo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(count), &skipHi[0].x);
+    uint32_t bound = UINT32_MAX;
+    for (const TriangleRun& c : runs) {
+      bool reaches = false;
+      for (const auto& [wlo, whi] : world)
+        reaches = reaches || (glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
+                              glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo)));
+      if (!reaches) continue;
+      if (c.material != bound) {
+        glProgramUniform1i(vox, materialLoc, int(c.material));
+        ctx.gpuScene.bindMaterialTextures(c.material);
+        bound = c.material;
+      }
+      setUniform(vox, "u_firstTriangle", unsigned(c.firstTriangle));
+      setUniform(vox, "u_triangleCount", unsigned(c.triangles));
+      dispatchCompute({int(c.triangles), 1, 1}, {64, 1, 1});
+      ++dispatched;
+    }
+    ++passes;
+  }
+  glMemoryBarrier(kAllShaderWrites);
+  return passes;
+}
+
+// --- Anchor ---------------------------------------------------------------------------------------
+
+
+// One box of cells the last move voxelizes directly (exposed slabs, cells that left the covered
+// block), with where it lands in the physical texture.
+struct SlabRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = cells in the box
+  int32_t cellLo[4];  // w: 1 = inside the level's old region (coverage change), 0 = newly exposed
+  int32_t cellHi[4];  // w: unused
+  int32_t physLo[4];  // the physical texel of cellLo; w = physical boxes after wrapping (1..8)
+};
+static_assert(sizeof(SlabRecord) == 80, "SlabRecord layout");
+// At most 3 exposed slabs per level, each cut into at most 6 boxes by the covered block, plus at
+// most 6 boxes of cells that left the covered block.
+static constexpr size_t kMaxSlabsPerLevel = 24;
+static size_t slabBytes(int levels) { return sizeof(SlabRecord) * kMaxSlabsPerLevel * size_t(levels); }
+
+struct PlanRecord {
+  uint32_t move, level, exposed, direct, coverageChanged, refiltered;
+  int32_t delta[3];
+};
+static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
+
+void AnchorStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.readView();
+  BufferLayout levels;
+  levels.stride = sizeof(LevelRecord);
+  levels.fields = {{"min", FieldType::Vec4, 0},       {"max", FieldType::Vec4, 16},     {"origin.x", FieldType::I32, 32},
+                   {"origin.y", FieldType::I32, 36},  {"origin.z", FieldType::I32, 40}, {"lag", FieldType::I32, 44},
+                   {"offset.x", FieldType::I32, 48},  {"offset.y", FieldType::I32, 52}, {"offset.z", FieldType::I32, 56},
+                   {"n", FieldType::I32, 60}};
+  b.output("clip-levels", OutputKind::Buffer, kClipLevels,
+           "one record per level after the last move: world box (min, level; max, voxel size), origin o_k in cells, "
+           "moves since its last update, toroidal offset T_k = o_k mod N")
+      .layout = levels;
+  BufferLayout plan;
+  plan.stride = sizeof(PlanRecord);
+  plan.fields = {{"move", FieldType::U32, 0},         {"level", FieldType::U32, 4},   {"exposed", FieldType::U32, 8},
+                 {"direct", FieldType::U32, 12},      {"coverage-changed", FieldType::U32, 16},
+                 {"refiltered", FieldType::U32, 20},  {"delta.x", FieldType::I32, 24}, {"delta.y", FieldType::I32, 28},
+                 {"delta.z", FieldType::I32, 32}};
+  b.output("clip-plan", OutputKind::Buffer, Semantic::Scalar,
+           "per move and level, the planner's cell counts: exposed (N^3 - prod(N - |d_i|)), voxelized directly, "
+           "changed coverage, refiltered; and the move d in cells")
+      .layout = plan;
+  BufferLayout slabs;
+  slabs.stride = sizeof(SlabRecord);
+  slabs.fields = {{"min", FieldType::Vec4, 0, FieldRole::Position}, {"max", FieldType::Vec4, 16},
+                  {"cell.x", FieldType::I32, 32},  {"cell.y", FieldType::I32, 36},  {"cell.z", FieldType::I32, 40},
+                  {"was-inside", FieldType::I32, 44}, {"end.x", FieldType::I32, 48}, {"end.y", FieldType::I32, 52},
+                  {"end.z", FieldType::I32, 56},    {"texel.x", FieldType::I32, 64}, {"texel.y", FieldType::I32, 68},
+                  {"texel.z", FieldType::I32, 72},  {"physical-boxes", FieldType::I32, 76}};
+  slabs.countResource = "clip-slabs.count";
+  b.output("clip-slabs", OutputKind::Buffer, Semantic::Points,
+           "the boxes of cells the last move voxelizes directly (disjoint exposed slabs; cells that left the covered "
+           "block): world box (min, level; max, cells), cell range, the physical texel of its min corner and how "
+           "many physical boxes it splits into where it wraps")
+      .layout = slabs;
+  b.write("clip-slabs.count");
+  b.buffer("clip-slabs", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
+  b.buffer("clip-levels", [](const ParamSet& p, const ViewState&) { return sizeof(LevelRecord) * size_t(p.getInt("clipmap.levels")); });
+  b.buffer("clip-plan", [](const ParamSet& p, const ViewState&) {
+    return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")) * size_t(p.getInt("clipmap.path-moves") + 1);
+  });
+}
+
+void AnchorStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  std::vector<LevelRecord> levels;
+  const PathState& last = path.back();
+  for (int k = 0; k < layout.levels; ++k) {
+    const Cell& o = last.origins[size_t(k)];
+    const double s = layout.voxelSize(k);
+    LevelRecord r{};
+    r.lo = glm::vec4(glm::vec3(glm::dvec3(o) * s), float(k));
+    r.hi = glm::vec4(glm::vec3(glm::dvec3(o + Cell(layout.n)) * s), float(s));
+    glm::ivec3 t = toroidal(o, layout.n);
+    for (int i = 0; i < 3; ++i) r.origin[i] = int32_t(o[i]), r.offset[i] = t[i];
+    r.lag = last.lag[size_t(k)];
+    r.n = layout.n;
+    levels.push_back(r);
+  }
+  std::vector<PlanRecord> plan;
+  for (size_t j = 0; j < path.size(); ++j) {
+    auto plans = planMove(layout, j == 0 ? std::vector<Cell>{} : path[j - 1].origins, path[j].origins);
+    for (int k = 0; k < layout.levels; ++k) {
+      const LevelPlan& p = plans[size_t(k)];
+      plan.push_back({uint32_t(j), uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells),
+                      uint32_t(p.coverageChanged), uint32_t(p.refilteredCells),
+                      {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}});
+    }
+  }
+  // The slabs of the last move (the full build's: each level's region outside its covered block).
+  std::vector<SlabRecord> slabs;
+  {
+    const auto plans = planMove(layout, path.size() > 1 ? path[path.size() - 2].origins : std::vector<Cell>{}, last.origins);
+    for (int k = 0; k < layout.levels; ++k) {
+      const double s = layout.voxelSize(k);
+      const Box previous = path.size() > 1 ? region(path[path.size() - 2].origins[size_t(k)], layout.n) : Box{};
+      for (const Box& box : plans[size_t(k)].direct) {
+        SlabRecord r{};
+        r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
+        r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
+        const glm::ivec3 t = toroidal(box.lo, layout.n);
+        int pieces = 1;
+        for (int i = 0; i < 3; ++i) {
+          r.cellLo[i] = int32_t(box.lo[i]);
+          r.cellHi[i] = int32_t(box.hi[i]);
+          r.physLo[i] = t[i];
+          if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
+        }
+        r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
+        r.physLo[3] = pieces;
+        slabs.push_back(r);
+      }
+    }
+  }
+  const uint32_t slabCount = uint32_t(std::min(slabs.size(), kMaxSlabsPerLevel * size_t(layout.levels)));
+  Buffer& slabBuffer = ctx.board.ensureBuffer("clip-slabs", slabBytes(layout.levels));
+  if (slabCount > 0) slabBuffer.upload(slabs.data(), sizeof(SlabRecord) * slabCount);
+  ctx.board.ensureBuffer("clip-slabs.count", 4).upload(&slabCount, 4);
+  ctx.stats["slabs_last_move"] = slabCount;
+  ctx.board.ensureBuffer("clip-levels", sizeof(LevelRecord) * levels.size()).upload(levels.data(), sizeof(LevelRecord) * levels.size());
+  ctx.board.ensureBuffer("clip-plan", sizeof(PlanRecord) * plan.size()).upload(plan.data(), sizeof(PlanRecord) * plan.size());
+  ctx.stats["levels"] = layout.levels;
+  ctx.stats["resolution"] = layout.n;
+  ctx.stats["voxel_size_m"] = layout.voxelSize0;
+  ctx.stats["coarsest_extent_m"] = layout.voxelSize(layout.levels - 1) * layout.n;
+  ctx.stats["moves"] = double(path.size() - 1);
+  for (int k = 0; k < layout.levels; ++k) ctx.stats["level" + std::to_string(k) + "_lag"] = last.lag[size_t(k)];
+}
+
+// --- Update ---------------------------------------------------------------------------------------
+
+void UpdateStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.readView();
+  b.read("clip-levels");
+  b.read("shadow-map");
+  b.read("light");
+  b.write("clip-accumulators");
+  b.output("clip-atlas", OutputKind::Volume3D, Semantic::Color,
+           "every level's physical texture: blocks of (N+2)^3 texels with one guard texel per side, faces along x "
+           "(isotropic, then +x -x +y -y +z -z), levels along y; cell c at texel c & (N-1)");
+  BufferLayout counters;
+  counters.stride = 4 * kCountersPerLevel;
+  counters.fields = {{"cleared", FieldType::U32, 0},
+                     {"pairs", FieldType::U32, 4},
+                     {"resolved", FieldType::U32, 8},
+                     {"refiltered", FieldType::U32, 12},
+                     {"guards", FieldType::U32, 16}};
+  b.output("clip-counters", OutputKind::Buffer, Semantic::Scalar,
+           "per level, what the last move's shaders wrote, counted by atomics: accumulators cleared, triangle/cell "
+           "pairs injected, texels resolved, texels refiltered, guard texels")
+      .layout = counters;
+  b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
+  b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
+  b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
+}
+
+int UpdateStage::iterations(const ParamSet& params) const { return params.getInt("clipmap.path-moves") + 1; }
+
+template <typename T>
+static void appendBytes(std::vector<uint8_t>& key, const T& v) {
+  const auto* p = reinterpret_cast<const uint8_t*>(&v);
+  key.insert(key.end(), p, p + sizeof(T));
+}
+
+void UpdateStage::execute(StageContext& ctx) {
+  glFinish();  // time this move alone (bench and the manifest: full build vs one move)
+  const auto start = std::chrono::steady_clock::now();
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const int n = layout.n, faces = facesOf(ctx.params);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  Texture& atlas = ctx.board.ensureTexture("clip-atlas", atlasDesc(ctx.params));
+  Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
+  Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
+
+  // What the held texels were built from: the same atlas, layout, scene and light.
+  std::vector<uint8_t> key;
+  appendBytes(key, layout.n);
+  appendBytes(key, layout.levels);
+  appendBytes(key, layout.voxelSize0);
+  appendBytes(key, faces);
+  appendBytes(key, atlas.id());
+  appendBytes(key, accum.id());
+  appendBytes(key, &ctx.scene);
+  appendBytes(key, ctx.scene.triangleCount());
+  auto light = ctx.board.buffer("light").download();
+  key.insert(key.end(), light.begin(), light.end());
+
+  std::vector<Cell> before;
+  if (ctx.iteration > 0)
+    before = path[size_t(ctx.iteration - 1)].origins;
+  else if (held_ && held_->key == key)
+    before = held_->origins;
+  held_.reset();
+  const std::vector<Cell>& after = path[size_t(ctx.iteration)].origins;
+  const auto plans = planMove(layout, before, after);
+  // What each level's shaders visit: the planner's direct boxes, or for a full build the whole
+  // region in one box with the covered block skipped (one pass over the triangles, not six).
+  std::vector<std::vector<Box>> boxes(size_t(layout.levels));
+  std::vector<Box> skips(size_t(layout.levels));
+  for (int k = 0; k < layout.levels; ++k) {
+    const LevelPlan& p = plans[size_t(k)];
+    boxes[size_t(k)] = p.full ? std::vector<Box>{region(p.origin, n)} : p.direct;
+    if (p.full) skips[size_t(k)] = p.covered;
+  }
+  auto setSkip = [&](GLuint program, int k) {
+    setUniform(program, "u_skipLo", glm::ivec3(skips[size_t(k)].lo));
+    setUniform(program, "u_skipHi", glm::ivec3(skips[size_t(k)].hi));
+  };
+
+  std::vector<uint32_t> zero(size_t(kCountersPerLevel * layout.levels + 1), 0);
+  counters.upload(zero.data(), zero.size() * 4);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
+
+  // 1. Clear the accumulators of the cells to voxelize.
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  setClipUniforms(clear, layout, after);
+  glUseProgram(clear);
+  for (int k = 0; k < layout.levels; ++k) {
+    setUniform(clear, "u_level", k);
+    setSkip(clear, k);
+    for (const Box& box : boxes[size_t(k)]) dispatchBox(clear, box);
+  }
+  glMemoryBarrier(kAllShaderWrites);
+
+  // 2. Voxelize and inject them.
+  std::vector<Entry> entries;
+  for (int k = 0; k < layout.levels; ++k)
+    for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
+  if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
+    runs_ = triangleRuns(ctx.scene);
+    runsScene_ = &ctx.scene;
+    runsTriangles_ = ctx.scene.triangleCount();
+  }
+  int runsDispatched = 0;
+  const int passes = voxelizeEntries(ctx, layout, after, entries, runs_, runsDispatched);
+
+  // 3. Resolve the sums into the atlas.
+  GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"});
+  setClipUniforms(resolve, layout, after);
+  setUniform(resolve, "u_faces", faces);
+  glUseProgram(resolve);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  for (int k = 0; k < layout.levels; ++k) {
+    setUniform(resolve, "u_level", k);
+    setSkip(resolve, k);
+    for (const Box& box : boxes[size_t(k)]) dispatchBox(resolve, box);
+  }
+  glMemoryBarrier(kAllShaderWrites);
+
+  // 4. Refilter each covered block from the finer level, fine to coarse.
+  GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"});
+  setClipUniforms(filter, layout, after);
+  setUniform(filter, "u_faces", faces);
+  glUseProgram(filter);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  for (int k = 1; k < layout.levels; ++k) {
+    if (plans[size_t(k)].covered.empty()) continue;
+    setUniform(filter, "u_level", k);
+    dispatchBox(filter, plans[size_t(k)].covered);
+    glMemoryBarrier(kAllShaderWrites);
+  }
+
+  // 5. Guard texels of every block.
+  GLuint guards = ctx.shaders.program({"clipmap/guards.comp.glsl"});
+  setClipUniforms(guards, layout, after);
+  glUseProgram(guards);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  dispatchCompute(atlas.desc().size, {4, 4, 4});
+  glMemoryBarrier(kAllShaderWrites);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+
+  held_ = Held{after, key};
+
+  std::vector<uint32_t> counted(zero.size());
+  auto bytes = counters.download(counted.size() * 4);
+  std::memcpy(counted.data(), bytes.data(), counted.size() * 4);
+  double written = 0.0, exposed = 0.0;
+  for (int k = 0; k < layout.levels; ++k) {
+    const LevelPlan& p = plans[size_t(k)];
+    const std::string l = "level" + std::to_string(k) + "_";
+    const uint32_t* c = &counted[size_t(kCountersPerLevel * k)];
+    ctx.stats[l + "exposed"] = double(p.exposedCells);
+    ctx.stats[l + "planned_direct"] = double(p.directCells);
+    ctx.stats[l + "coverage_changed"] = double(p.coverageChanged);
+    ctx.stats[l + "cleared"] = c[0];
+    ctx.stats[l + "pairs"] = c[1];
+    ctx.stats[l + "resolved"] = c[2];
+    ctx.stats[l + "refiltered"] = c[3];
+    written += double(c[2]) + double(c[3]);
+    exposed += double(p.exposedCells);
+  }
+  glFinish();
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (ctx.iteration < 8) ctx.stats["move" + std::to_string(ctx.iteration) + "_ms"] = ms;
+  ctx.stats["last_move_ms"] = ms;
+  ctx.stats["triangle_passes"] = passes;
+  ctx.stats["triangle_runs_dispatched"] = runsDispatched;
+  ctx.stats["triangle_runs"] = double(runs_.size());
+  const uint32_t overflowed = counted.back();
+  ctx.stats["accumulator_overflow_cells"] = overflowed;
+  if (overflowed > 0)
+    log::warn("clipmap/update: " + std::to_string(overflowed) + " cells received more than 262144 fragments; their "
+              "fixed-point sums overflowed; lower clipmap.voxel-size so that fewer triangles share a cell");
+  ctx.stats["move"] = ctx.iteration;
+  ctx.stats["full_build"] = before.empty() ? 1 : 0;
+  ctx.stats["cells_exposed"] = exposed;
+  ctx.stats["texels_written"] = written;
+  ctx.stats["cells_total"] = double(layout.levels) * n * n * n;
+  ctx.stats["bytes"] = double(atlas.byteSize()) + double(accum.size());
+}
+
+// --- Mips -----------------------------------------------------------------------------------------
+
+void MipsStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.readView();
+  b.read("clip-atlas");
+  b.output("clip-mips", OutputKind::Volume3D, Semantic::Color,
+           "the coarsest level in logical order (mip 0: texel j = cell o_{L-1} + j) and its mips down to 4^3, each "
+           "covering the same volume");
+  b.output("clip-logical", OutputKind::Volume3D, Semantic::Color,
+           "every level's isotropic values unrolled into logical order, levels along y: texel (x, k N + y, z) = cell "
+           "o_k + (x, y, z) of level k (compare with clip-atlas: the same data, cut at the physical seam)");
+  b.texture("clip-mips", [](const ParamSet& p, const ViewState&) { return mipsDesc(p); });
+  b.texture("clip-logical", [](const ParamSet& p, const ViewState&) { return logicalDesc(p); });
+}
+
+void MipsStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto& origins = path.back().origins;
+  Texture& atlas = ctx.board.texture("clip-atlas");
+  Texture& mips = ctx.board.ensureTexture("clip-mips", mipsDesc(ctx.params));
+  const int last = layout.levels - 1;
+  const double s = layout.voxelSize(last);
+  const Cell& o = origins[size_t(last)];
+  ctx.board.place("clip-mips", WorldBox{glm::vec3(glm::dvec3(o) * s), glm::vec3(glm::dvec3(o + Cell(layout.n)) * s)});
+  GLuint program = ctx.shaders.program({"clipmap/mips.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  glUseProgram(program);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  for (int m = 0; m < mips.levels(); ++m) {
+    setUniform(program, "u_mode", m == 0 ? 0 : 1);
+    glBindImageTexture(1, mips.id(), std::max(m - 1, 0), GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+    glBindImageTexture(2, mips.id(), m, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    dispatchCompute(mips.levelSize(m), {4, 4, 4});
+    glMemoryBarrier(kAllShaderWrites);
+  }
+  Texture& logical = ctx.board.ensureTexture("clip-logical", logicalDesc(ctx.params));
+  GLuint unroll = ctx.shaders.program({"clipmap/unroll.comp.glsl"});
+  setClipUniforms(unroll, layout, origins);
+  setUniform(unroll, "u_face", 0);
+  glUseProgram(unroll);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  glBindImageTexture(1, logical.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute(logical.desc().size, {4, 4, 4});
+  glMemoryBarrier(kAllShaderWrites);
+  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  ctx.stats["mips"] = mips.levels() - 1;
+  ctx.stats["bytes"] = double(mips.byteSize()) + double(logical.byteSize());
+}
+
+// --- Covered cells: direct versus filtered ----------------------------------------------------------
+
+static bool compareOn(const ParamSet& p) { return p.getChoice("clipmap.compare-covered") == "on"; }
+
+static TextureDesc compareDesc(const ParamSet& p) {
+  if (!compareOn(p)) {  // a placeholder texel
+    TextureDesc d;
+    d.target = GL_TEXTURE_3D;
+    d.size = {1, 1, 1};
+    return d;
+  }
+  return logicalDesc(p);
+}
+
+void CoveredCompareStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.param(ParamDesc::choice("clipmap.compare-covered", {"off", "on"}, 0,
+                            "on: voxelize the covered blocks directly as well, to compare with their filtered content"));
+  b.readView();
+  b.read("clip-atlas");
+  b.read("shadow-map");
+  b.read("light");
+  b.write("covered-accumulators");
+  b.write("covered-counters");
+  b.output("covered-direct", OutputKind::Volume3D, Semantic::Color,
+           "covered cells' own voxelization Direct_k in logical order (levels along y, as clip-logical); 0 elsewhere")
+      .placeholderUnless = "clipmap.compare-covered=on";
+  b.output("covered-difference", OutputKind::Volume3D, Semantic::Color,
+           "|Direct_k - F(level k-1)| per covered cell: the change when the cell leaves the covered block (popping)")
+      .placeholderUnless = "clipmap.compare-covered=on";
+  b.texture("covered-direct", [](const ParamSet& p, const ViewState&) { return compareDesc(p); });
+  b.texture("covered-difference", [](const ParamSet& p, const ViewState&) { return compareDesc(p); });
+  b.buffer("covered-accumulators", [](const ParamSet& p, const ViewState&) {
+    return compareOn(p) ? accumulatorBytes(p) : size_t(16);
+  });
+  b.buffer("covered-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
+}
+
+void CoveredCompareStage::execute(StageContext& ctx) {
+  Texture& direct = ctx.board.ensureTexture("covered-direct", compareDesc(ctx.params));
+  Texture& difference = ctx.board.ensureTexture("covered-difference", compareDesc(ctx.params));
+  Buffer& counters = ctx.board.ensureBuffer("covered-counters", countersBytes(ctx.params.getInt("clipmap.levels")));
+  const bool on = compareOn(ctx.params);
+  Buffer& accum = ctx.board.ensureBuffer("covered-accumulators", on ? accumulatorBytes(ctx.params) : size_t(16));
+  if (!on) {
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    glClearTexImage(direct.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    glClearTexImage(difference.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    return;
+  }
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto origins = cameraPath(ctx.params, ctx.scene, ctx.view.position).back().origins;
+  std::vector<uint32_t> zero(countersBytes(layout.levels) / 4, 0);
+  counters.upload(zero.data(), zero.size() * 4);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());
+  std::vector<Entry> entries;
+  std::vector<glm::ivec3> lo(kMaxLevels, glm::ivec3(0)), hi(kMaxLevels, glm::ivec3(0));
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  setClipUniforms(clear, layout, origins);
+  setUniform(clear, "u_skipLo", glm::ivec3(0));
+  setUniform(clear, "u_skipHi", glm::ivec3(0));
+  glUseProgram(clear);
+  int64_t cells = 0;
+  for (int k = 1; k < layout.levels; ++k) {
+    const Box covered = coveredBlock(origins, k, layout.n);
+    lo[size_t(k)] = glm::ivec3(covered.lo), hi[size_t(k)] = glm::ivec3(covered.hi);
+    if (covered.empty()) continue;
+    setUniform(clear, "u_level", k);
+    dispatchBox(clear, covered);
+    entries.push_back({k, covered, Box{}});
+    cells += covered.volume();
+  }
+  glMemoryBarrier(kAllShaderWrites);
+  if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
+    runs_ = triangleRuns(ctx.scene);
+    runsScene_ = &ctx.scene;
+    runsTriangles_ = ctx.scene.triangleCount();
+  }
+  int dispatched = 0;
+  voxelizeEntries(ctx, layout, origins, entries, runs_, dispatched);
+  GLuint program = ctx.shaders.program({"clipmap/covered_compare.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);
+  glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredHi"), kMaxLevels, &hi[0].x);
+  glUseProgram(program);
+  glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(2, difference.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute(direct.desc().size, {4, 4, 4});
+  glMemoryBarrier(kAllShaderWrites);
+  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  ctx.stats["covered_cells"] = double(cells);
+}
+
+// --- Cone tracing ---------------------------------------------------------------------------------
+
+static TextureDesc screenDesc(const ViewState& view, GLenum format) {
+  TextureDesc d;
+  d.format = format;
+  d.size = {view.width, view.height, 1};
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+static ParamDesc traceResolutionParam() {
+  return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
+                           "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
+                           "upsamples along surfaces)");
+}
+
+static int traceScale(const ParamSet& params) { return params.getChoice("cone.resolution") == "half" ? 2 : 1; }
+
+static TextureDesc tracedDesc(const ViewState& view, const ParamSet& params, GLenum format) {
+  const int s = traceScale(params);
+  TextureDesc d = screenDesc(view, format);
+  d.size = {(view.width + s - 1) / s, (view.height + s - 1) / s, 1};
+  return d;
+}
+
+void ConeTraceStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
+  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
+  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
+                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
+  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
+                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
+  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
+                          "cones start this far from the surface along its normal, in voxels of the finest level there",
+                          "voxels"));
+  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
+  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
+                          "level = log2(diameter / s_0) + bias, at least the finest level holding the sample"));
+  b.param(ParamDesc::real("cone.max-distance", 0.5, 0.05, 1.0, "longest cone, as a fraction of the coarsest level's edge"));
+  b.param(ParamDesc::real("ao.range", 0.125, 0.01, 1.0,
+                          "ambient occlusion counts occluders up to this distance, as a fraction of the coarsest level's edge"));
+  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0, "specular cone aperture = max(2, 90 * roughness) degrees"));
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
+  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  b.readView();
+  b.read("clip-atlas");
+  b.read("clip-mips");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("light");
+  b.write("cone-samples.count");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones")
+      .referenceMode = "indirect-1";
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
+           "cosine-weighted visible fraction within ao.range (1 = open)");
+  b.output("level-used", OutputKind::Image2D, Semantic::Scalar,
+           "per pixel, the finest clip level whose region holds the surface point (-1: outside every level, or sky)");
+  BufferLayout samples;
+  samples.stride = sizeof(gpu::ConeSample);
+  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
+                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
+                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
+  samples.countResource = "cone-samples.count";
+  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
+                                "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                                "cone/distance/level read (floor: the finer level, fraction: the next level's weight)/alpha");
+  probed.layout = samples;
+  probed.probeRecord = true;
+  const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
+                                                   {"ambient-occlusion", GL_R16F}, {"level-used", GL_R16F}};
+  for (const auto& [name, format] : traced)
+    b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
+  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) {
+    return sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
+  });
+}
+
+void ConeTraceStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto& origins = path.back().origins;
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
+  Texture& level = ctx.board.ensureTexture("level-used", tracedDesc(ctx.view, ctx.params, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  const uint32_t zero = 0;
+  sampleCount.upload(&zero, 4);
+
+  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
+  auto cones = vct::diffuseCones(ctx.params.getInt("cone.count"), aperture, ctx.params.getChoice("cone.layout"),
+                                 ctx.params.getChoice("cone.weighting"));
+  std::vector<glm::vec4> packed;
+  for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
+
+  GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  std::vector<glm::vec3> mins(kMaxLevels, glm::vec3(0.0f)), offsets(kMaxLevels, glm::vec3(0.0f));
+  for (int k = 0; k < layout.levels; ++k) {
+    mins[size_t(k)] = glm::vec3(glm::dvec3(origins[size_t(k)]) * layout.voxelSize(k));
+    offsets[size_t(k)] = glm::vec3(toroidal(origins[size_t(k)], layout.n));
+  }
+  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelMin"), kMaxLevels, &mins[0].x);
+  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelToroidal"), kMaxLevels, &offsets[0].x);
+  const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
+  setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
+  setUniform(program, "u_faces", facesOf(ctx.params));
+  setUniform(program, "u_mipLevels", mipCount(layout.n));
+  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
+  setUniform(program, "u_coneCount", int(cones.size()));
+  setUniform(program, "u_diffuseAperture", aperture);
+  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
+  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset"));
+  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
+  setUniform(program, "u_maxSteps", 512);
+  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * coarsestEdge);
+  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * coarsestEdge);
+  setUniform(program, "u_cameraPos", ctx.view.position);
+  const glm::ivec3 traced = indirect.desc().size;
+  // probe.y counts from the top of the image; GL rows count from the bottom.
+  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
+  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
+  setUniform(program, "u_scale", traceScale(ctx.params));
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  glUseProgram(program);
+  glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
+  glBindTextureUnit(4, ctx.board.texture("clip-mips").id());
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(3, level.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
+  ctx.stats["probe_x"] = probeX;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
+}
+
+// --- Composite ------------------------------------------------------------------------------------
+
+void CompositeStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  b.param(traceResolutionParam());
+  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
+  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
+  b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
+                          "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
+  for (const char* r : {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular",
+                        "ambient-occlusion", "shadow-map", "light"})
+    b.read(r);
+  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
+  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
+      .referenceMode = "full";
+  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  const std::pair<const char*, GLenum> images[] = {{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
+  for (const auto& [name, format] : images)
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+}
+
+void CompositeStage::execute(StageContext& ctx) {
+  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
+  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
+  // vct-grid's composite shader: the same terms, and its edge-aware upsampling of half-resolution
+  // cone results (samples more than two level-0 voxels off the pixel's plane get no weight).
+  GLuint program = ctx.shaders.program({"vct_grid/composite.comp.glsl"});
+  setUniform(program, "u_shadowSource", 0);
+  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  setUniform(program, "u_edgeDistance", float(2.0 * layoutOf(ctx.params, ctx.scene).voxelSize0));
+  setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
+  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
+  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  glUseProgram(program);
+  const std::pair<int, const char*> inputs[] = {{1, "position"}, {2, "normal"}, {3, "albedo"}, {4, "emission"},
+                                                {5, "indirect-diffuse"}, {6, "indirect-specular"},
+                                                {7, "ambient-occlusion"},  // the soft-shadow slot: unused (u_shadowSource 0)
+                                                {8, "shadow-map"}};
+  for (const auto& [unit, name] : inputs) glBindTextureUnit(GLuint(unit), ctx.board.texture(name).id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace voxlab::clipmap

@@ -1,0 +1,155 @@
+// The stages of the clipmap technique (see clipmap.cpp for the overview).
+#pragma once
+#include <optional>
+#include <vector>
+
+#include "graph/stage.h"
+#include "techniques/clipmap/clipmap_math.h"
+
+namespace voxlab::clipmap {
+
+// The records of "clip-levels" (one per level, after the last move), for its visualiser
+// (src/inspect/visualisers/clip_levels.cpp).
+inline constexpr Semantic kClipLevels{"clip-levels"};
+struct LevelRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = voxel size
+  int32_t origin[3];
+  int32_t lag;        // moves since the level was last updated (clipmap.policy=priority)
+  int32_t offset[3];  // toroidal offset T_k = o_k mod N: the physical texel of the min corner
+  int32_t n;
+};
+static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
+
+// The layout the parameters ask for: clipmap.levels, clipmap.resolution and clipmap.voxel-size
+// ("scene": the power of two of metres that lets the coarsest level span four times the scene's
+// largest extent, so a level's cells are the world lattice's cells exactly in float).
+Layout layoutOf(const ParamSet& params, const Scene& scene);
+// Faces per cell in the atlas: 1 (isotropic) or 7 (isotropic + the six directions).
+int facesOf(const ParamSet& params);
+// The atlas: blocks of (N+2)^3 texels (one guard texel per side), faces along x, levels along y.
+TextureDesc atlasDesc(const ParamSet& params);
+// Mips of the coarsest level beyond it, in logical order: log2(N) - 2 of them (the chain stops at 4^3).
+int mipCount(int n);
+
+// The anchor along the camera path: move j (0 = the start) puts it at the camera position plus
+// j * clipmap.path-step; the origins of each move follow the update policy (a level not
+// scheduled keeps its origin). Shared by the anchor and update stages, so both see one path.
+struct PathState {
+  std::vector<Cell> origins;
+  std::vector<int> lag;  // moves since each level was last updated
+};
+std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera);
+std::vector<ParamDesc> layoutParams();
+std::vector<ParamDesc> pathParams();
+
+// The scene's triangles in runs of at most 2048 of one draw range, with their world bounds: a
+// move dispatches only the runs that can reach a box it revoxelizes.
+struct TriangleRun {
+  uint32_t firstTriangle, triangles, material;
+  glm::vec3 lo, hi;
+};
+std::vector<TriangleRun> triangleRuns(const Scene& scene);
+
+// One box of cells of one level to voxelize, minus a box to skip (a full build's covered block).
+struct Entry {
+  int level;
+  Box box, skip;
+};
+// Voxelizes and injects the entries into the accumulators bound at binding 12 (counting pairs in
+// the counters at 13); returns the passes over the triangles, 'dispatched' the runs dispatched.
+int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
+                    const std::vector<Entry>& entries, const std::vector<TriangleRun>& runs, int& dispatched);
+
+class AnchorStage : public Stage {
+ public:
+  const char* id() const override { return "anchor"; }
+  const char* title() const override { return "Snap the clip levels to the camera"; }
+  const char* summary() const override {
+    return "Per level, snap the origin to the next level's voxel around the anchor (the camera plus the path's "
+           "moves) and plan each move: the disjoint slabs of newly exposed cells, the cells whose coverage by the "
+           "finer level changed, the covered blocks to refilter.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class UpdateStage : public Stage {
+ public:
+  const char* id() const override { return "update"; }
+  const char* title() const override { return "Update the clip levels, one camera move per iteration"; }
+  const char* summary() const override {
+    return "Iteration 0 builds every level around the start; each further iteration moves the camera one path "
+           "step and only clears, voxelizes and lights the cells the move exposed (toroidal addresses: nothing "
+           "else moves), refilters the covered blocks from the finer level and refreshes the guard texels.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+
+ private:
+  // The origins the atlas holds after the last execution, and what they were built from: a later
+  // run (the viewer's camera moved) updates incrementally from them when nothing else changed.
+  struct Held {
+    std::vector<Cell> origins;
+    std::vector<uint8_t> key;
+  };
+  std::optional<Held> held_;
+  std::vector<TriangleRun> runs_;
+  const Scene* runsScene_ = nullptr;
+  size_t runsTriangles_ = 0;
+};
+
+class MipsStage : public Stage {
+ public:
+  const char* id() const override { return "mips"; }
+  const char* title() const override { return "Mip the coarsest level"; }
+  const char* summary() const override {
+    return "Unroll the coarsest clip level into logical order and average it down to 4^3: the only level with "
+           "a mip chain, each mip covering the same volume. Also unroll every level for display (clip-logical).";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class CoveredCompareStage : public Stage {
+ public:
+  const char* id() const override { return "covered-compare"; }
+  const char* title() const override { return "Direct versus filtered content of covered cells"; }
+  const char* summary() const override {
+    return "With clipmap.compare-covered=on, voxelize the covered blocks directly too and show, per covered "
+           "cell, its own voxels beside what the finer level filters into it, and their difference: what a cell "
+           "switches to when it leaves the covered block (the source of popping).";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+
+ private:
+  std::vector<TriangleRun> runs_;
+  const Scene* runsScene_ = nullptr;
+  size_t runsTriangles_ = 0;
+};
+
+class ConeTraceStage : public Stage {
+ public:
+  const char* id() const override { return "cone-trace"; }
+  const char* title() const override { return "Trace cones across the clip levels"; }
+  const char* summary() const override {
+    return "Per pixel, march diffuse cones and a specular cone; each sample reads the finest level whose region "
+           "holds its footprint (or coarser, as the cone widens), blending two levels, and ends outside the "
+           "coarsest region.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class CompositeStage : public Stage {
+ public:
+  const char* id() const override { return "composite"; }
+  const char* title() const override { return "Composite the final image"; }
+  const char* summary() const override { return "Add direct light, indirect diffuse and indirect specular, then tonemap."; }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+}  // namespace voxlab::clipmap
