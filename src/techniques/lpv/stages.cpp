@@ -298,9 +298,9 @@ void InjectStage::declare(StageBuilder& b) const {
   b.write("inject.unshifted");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
-      b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+      b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: injected VPL intensity (W/sr) of the ") + kChannelNames[ch] + " channel, " +
-                   kCascadeNames[c] + " cascade, as L1 SH (c00, c1-1, c10, c11); shown as c00");
+                   kCascadeNames[c] + " cascade, as L1 SH (c00, c1-1, c10, c11); shown as log c00, |b|/c00 or lobes");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
       b.texture(shVolume("vpl", c, ch), [](const ParamSet& p, const ViewState&) { return shDesc(p.getInt("lpv.resolution")); });
@@ -383,19 +383,19 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.write("energy.count");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
-      b.output(shVolume("light", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+      b.output(shVolume("light", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: intensity (W/sr) the lookup reads, ") + kChannelNames[ch] + " channel, " +
-                   kCascadeNames[c] + " cascade, after the steps so far; shown as c00");
+                   kCascadeNames[c] + " cascade, after the steps so far; shown as log c00, |b|/c00 or lobes");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
-      b.output(shVolume("wavefront", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+      b.output(shVolume("wavefront", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: light that moved in the last step, ") + kChannelNames[ch] + ", " + kCascadeNames[c] +
-                   " (the L1 diamond); shown as c00");
+                   " (the L1 diamond); shown as log c00, |b|/c00 or lobes");
   BufferLayout energy;
   energy.stride = sizeof(gpu::LpvEnergy);
   energy.fields = {{"wavefront", FieldType::Vec4, 0, FieldRole::Other}, {"total", FieldType::Vec4, 16, FieldRole::Other}};
   energy.countResource = "energy.count";
-  b.output("energy", OutputKind::Buffer, Semantic::Scalar,
+  b.output("energy", OutputKind::Buffer, kLpvEnergy,
            "per step (0 = injected) and cascade: flux of the wavefront (rgb, step) and of the grid (rgb, cascade), W")
       .layout = energy;
   BufferLayout probe;
@@ -692,8 +692,32 @@ void GiStage::declare(StageBuilder& b) const {
       .referenceMode = "indirect-1";
   b.output("glossy", OutputKind::Image2D, Semantic::RadianceHDR,
            "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips");
+  BufferLayout boxes;
+  boxes.stride = sizeof(gpu::LpvBox);
+  boxes.fields = {{"lo-kind", FieldType::Vec4, 0, FieldRole::Other}, {"hi-cell", FieldType::Vec4, 16, FieldRole::Other}};
+  b.output("cascade-boxes", OutputKind::Buffer, kLpvCascades,
+           "world boxes: fine cascade, coarse cascade, and the blend shell between coarse weight 0 (inner box) and 1 "
+           "(outer box, half a fine cell inside the fine grid's edge)")
+      .layout = boxes;
   for (const auto& [name, format] : kGiImages)
     b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+  b.buffer("cascade-boxes", [](const ParamSet&, const ViewState&) { return 4 * sizeof(gpu::LpvBox); });
+}
+
+// The boxes gi.comp.glsl blends by: the coarse weight rises from 0 to 1 between max-norm distances
+// 0.5 res - 0.5 - width and 0.5 res - 0.5 fine cells from the fine grid's centre.
+static std::array<gpu::LpvBox, 4> cascadeBoxes(const std::array<gpu::LpvGrid, kCascades>& grids, float blendWidth) {
+  std::array<gpu::LpvBox, 4> boxes;
+  for (int c = 0; c < kCascades; ++c) {
+    glm::vec3 lo(grids[c].originCell);
+    float cell = grids[c].originCell.w, edge = cell * grids[c].centreRes.w;
+    boxes[c] = {glm::vec4(lo, float(c)), glm::vec4(lo + edge, cell)};
+  }
+  const float s = grids[0].originCell.w, res = grids[0].centreRes.w;
+  const glm::vec3 centre = glm::vec3(grids[0].originCell) + 0.5f * res * s;
+  const float half[2] = {(0.5f * res - 0.5f - blendWidth) * s, (0.5f * res - 0.5f) * s};
+  for (int k = 0; k < 2; ++k) boxes[2 + k] = {glm::vec4(centre - half[k], float(2 + k)), glm::vec4(centre + half[k], s)};
+  return boxes;
 }
 
 void GiStage::execute(StageContext& ctx) {
@@ -729,6 +753,8 @@ void GiStage::execute(StageContext& ctx) {
   glBindTextureUnit(9, ctx.board.texture("reflection").id());
   dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
   barrier();
+  auto boxes = cascadeBoxes(grids, ctx.params.getFloat("gi.blend-width"));
+  ctx.board.ensureBuffer("cascade-boxes", sizeof(boxes)).upload(boxes.data(), sizeof(boxes));
 }
 
 // --- composite -----------------------------------------------------------------------------------
