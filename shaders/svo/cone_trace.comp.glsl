@@ -32,6 +32,7 @@ layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
 uniform int u_depth;
 uniform ivec3 u_bricksPerAxis;
 uniform int u_dilated;            // 1: empty neighbours have nodes, so an absent node is exactly 0
+uniform int u_layoutTile;         // 1: Layout T, the brick of a level-l node holds level l + 1
 uniform int u_coneCount;
 uniform vec4 u_cones[VOXLAB_MAX_CONES];    // xyz: tangent-space direction (z = normal), w: weight
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
@@ -66,11 +67,16 @@ vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
 
 // The octree at voxel-space point v and fractional level levelStar (0 = root .. D = voxels): one
 // descent from the root to the fine level, keeping the node one level above as the coarse one.
+// Layout T: level l is read from the bricks of level l - 1 (the descent ends one level higher and
+// the root's brick is the coarsest level, 1).
 vec4 svoSample(vec3 v, float levelStar, bool record, uint sampleIndex) {
+  const int shift = u_layoutTile;
+  levelStar = max(levelStar, float(shift));
   int fine = int(svoFineLevel(levelStar, float(u_depth)));
   float w = svoFineWeight(levelStar, float(u_depth));
   uvec3 voxel = uvec3(clamp(ivec3(floor(v)), ivec3(0), ivec3(u_resolution - 1)));
   uint node = 0u, coarseNode = SVO_ABSENT, fineNode = SVO_ABSENT;
+  fine -= shift;
   for (int l = 0; l <= fine; ++l) {
     if (l > 0) {
       uint first = nodes[node].word & SVO_CHILD_MASK;

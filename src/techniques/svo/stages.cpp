@@ -59,6 +59,15 @@ static ParamDesc dilateParam() {
                             "dense grid everywhere (off: Basgier's octree, with quad-like artefacts at its borders)");
 }
 
+static ParamDesc layoutParam() {
+  return ParamDesc::choice("svo.layout", {"node", "tile"}, 0,
+                           "node (Basgier, Layout N): a 3x3x3 node-centred brick per non-empty node, leaves included, "
+                           "exactly vct-grid's mip levels; tile (Crassin/Gomes, Layout T): one brick per subdivided node "
+                           "at its children's corners, none for leaves (about a fifth of the memory, the finest level "
+                           "blurred by [1 2 1] / 4 per axis)");
+}
+static bool tileLayout(const ParamSet& p) { return p.getChoice("svo.layout") == "tile"; }
+
 static void barrierAll() { glMemoryBarrier(GL_ALL_BARRIER_BITS); }
 
 // The voxel-resolution 3D views (declared and allocated from the same descs).
@@ -367,9 +376,7 @@ void MipmapStage::declare(StageBuilder& b) const {
       .layout = valueLayout();
   b.output("svo-dense", OutputKind::Volume3D, Semantic::Color,
            "the octree resampled into a dense view: mip m holds the node values of level D - m (0 where no node), "
-           "so it can be set beside vct-grid's radiance");
-  b.output("svo-dense-opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the dense view per level").resource =
-      "svo-dense";
+           "so it can be set beside vct-grid's radiance; alpha = opacity (the viewer's channel a)");
   b.buffer("svo-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
   b.texture("svo-dense", [](const ParamSet& p, const ViewState&) { return denseDesc(p); });
 }
@@ -439,6 +446,7 @@ static TextureDesc brickPoolDesc(uint32_t bricks) {
 void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(poolFractionParam());
+  b.param(layoutParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
@@ -463,8 +471,11 @@ void BricksStage::execute(StageContext& ctx) {
   const int depth = octreeDepth(ctx.params);
   std::vector<SvoLevel> levels = readLevels(ctx.board);
   const uint32_t nodes = nodeCount(levels);
+  const bool tile = tileLayout(ctx.params);
+  // Layout N: a brick per tagged node; Layout T: per tagged node above the voxels (subdivided).
   uint32_t tagged = 0;
-  for (const auto& l : levels) tagged += l.tagged;
+  for (int l = 0; l <= depth; ++l)
+    if (!tile || l < depth) tagged += levels[l].tagged;
   const uint32_t needed = tagged + 1;  // + the zero brick
   const double fraction = ctx.params.getFloat("svo.pool-fraction");
   const uint32_t capacity = fraction >= 1.0 ? needed : std::max(1u, uint32_t(std::floor(needed * fraction)));
@@ -490,6 +501,7 @@ void BricksStage::execute(StageContext& ctx) {
   setUniform(program, "u_brickCapacity", unsigned(capacity));
   setUniform(program, "u_bricksPerAxis", axis);
   setUniform(program, "u_depth", depth);
+  setUniform(program, "u_layoutTile", tile ? 1 : 0);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
@@ -524,6 +536,15 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
   ctx.stats["octree_bytes"] = double(pool.byteSize()) + double(nodes) * (sizeof(SvoNode) + 4);
+  // What the cone tracer reads: Layout T never descends to the voxel level, whose nodes only carry
+  // the leaf values into the filter (they could be dropped after this stage).
+  const double tracedNodes = tile ? double(levels[depth].start) : double(nodes);
+  ctx.stats["traced_octree_bytes"] = double(pool.byteSize()) + tracedNodes * (sizeof(SvoNode) + 4);
+  // The dense comparison: vct-grid's radiance mip chain at this resolution (RGBA8, all levels).
+  double dense = 0.0;
+  for (int r = ctx.params.getInt("voxel.resolution"); r >= 1; r /= 2) dense += 4.0 * double(r) * r * r;
+  ctx.stats["dense_mip_chain_bytes"] = dense;
+  ctx.stats["traced_octree_over_dense"] = ctx.stats["traced_octree_bytes"] / dense;
 }
 
 // --- svo-cone-trace --------------------------------------------------------------------------------
@@ -544,6 +565,7 @@ static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(dilateParam());
+  b.param(layoutParam());
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
@@ -669,6 +691,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_bricksPerAxis", brickAxis);
   setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
+  setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
   glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(cones.size()), &cones[0].x);
   setUniform(program, "u_coneCount", int(cones.size()));
   glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);

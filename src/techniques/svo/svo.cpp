@@ -20,6 +20,7 @@
 //   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; the
 //                      "svo-dense" view resamples each level into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
+//                      (svo.layout=tile: one per subdivided node, at its children's corners)
 //   7. gbuffer         shared
 //   8. svo-cone-trace  vct-grid's cones through the octree; AO; probe records (samples, descents)
 //   9. composite       vct-grid's composite, or the AO image as the final one (svo.shading=ao)
@@ -53,8 +54,17 @@
 //     published, 3 cones of 100 deg (the seed leaves the aperture open: our choice, with the ring
 //     layout of vct-grid for all directions, which the seed does not give either), equal weights;
 //     falloff f(r) = 1 / (1 + lambda r), r in voxels, lambda = ao.falloff (default 0).
-//   - Not built (yet): neighbour links (S3; dilation plus position lookups replace them), Layout T
-//     and the Gaussian mip kernel of Crassin/Gomes, jittered AO cones, the CAS leaf mode.
+//   - Layout T (svo.layout=tile, Crassin/Gomes): one brick per subdivided node (tagged, above the
+//     voxels), texel t at its children's corner 2 cell + t holding the mean of the 8 child-level
+//     cells around that corner (clamped to the volume like Layout N's borders); a sample of level l
+//     reads the bricks of level l - 1, so the descent ends one level higher, leaves have no brick
+//     and level 0 (the root's value) is not stored: samples coarser than level 1 read level 1. The
+//     finest level is the dense grid filtered by [1 2 1] / 4 per axis (the note's fact 2), so the AO
+//     is darker (mean 0.083 from Layout N's on the Cornell box at 64^3). Memory on Sponza at 256^3:
+//     127,450 bricks instead of 662,065; the traced octree is 0.245 of vct-grid's mip chain
+//     (docs/performance.md).
+//   - Not built (yet): neighbour links (S3; dilation plus position lookups replace them), the
+//     Gaussian mip kernel of Crassin/Gomes, jittered AO cones, the CAS leaf mode.
 //
 // References
 //   seed 000 (Gomes) sections 3.1.1-3.1.3 and 4.2.2 (listings 4.16-4.25); seed 002 (Basgier)
