@@ -9,6 +9,7 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "techniques/common/cone_setup.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/cone_layout.h"
@@ -569,32 +570,13 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
-  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
-  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
-  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
-                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
-  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
-                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
-  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
-                          "cones start this far from the surface along its normal (avoids self-occlusion)", "voxels"));
-  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
-  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
-                          "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
-  b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
-  b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
-                          "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
+  declareConeParams(b);
   b.param(ParamDesc::choice("ao.cones", {"diffuse", "basgier-3", "basgier-5", "basgier-8"}, 0,
                             "AO from the diffuse cones (as vct-grid), or Basgier's constellations: 3 cones of 100 deg, "
                             "5 of 90 deg, 8 of 60 deg, ring layout, equal weights"));
   b.param(ParamDesc::real("ao.falloff", 0.0, 0.0, 2.0,
                           "Basgier's distance falloff lambda: each AO sample's opacity is scaled by 1 / (1 + lambda r), "
                           "r in voxels (0: none, vct-grid's plain range cut)", "1/voxel"));
-  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
-                          "specular cone aperture = max(2, 90 * roughness) degrees"));
-  b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
-  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
-  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
-  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
   b.readView();
   b.read("svo-nodes");
   b.read("svo-levels");
@@ -663,15 +645,12 @@ void ConeTraceStage::execute(StageContext& ctx) {
   descentCount.upload(&zero, 4);
   glm::ivec3 traced = indirect.desc().size;
 
-  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
   auto pack = [](const std::vector<vct::Cone>& cones) {
     std::vector<glm::vec4> packed;
     for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
     return packed;
   };
-  std::vector<glm::vec4> cones = pack(vct::diffuseCones(ctx.params.getInt("cone.count"), aperture,
-                                                        ctx.params.getChoice("cone.layout"),
-                                                        ctx.params.getChoice("cone.weighting")));
+  const float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
   // Basgier's constellations (seed 002 section 6): 5 cones of 90 deg and 8 of 60 deg as published;
   // the 3-cone aperture (100 deg) and all directions (our ring layout) are our choice, the seed
   // gives neither. Equal weights, as his average.
@@ -692,26 +671,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_bricksPerAxis", brickAxis);
   setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
   setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
-  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(cones.size()), &cones[0].x);
-  setUniform(program, "u_coneCount", int(cones.size()));
   glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
   setUniform(program, "u_aoConeCount", aoCount);
   setUniform(program, "u_aoAperture", aoAperture);
   setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
-  setUniform(program, "u_diffuseAperture", aperture);
-  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
-  setUniform(program, "u_shadowAperture", ctx.params.getFloat("shadow.cone-aperture") * kDegrees);
-  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset") * space.voxelSize);
-  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
-  setUniform(program, "u_maxSteps", 512);
-  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * space.edge());
-  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * space.edge());
-  setUniform(program, "u_cameraPos", ctx.view.position);
-  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
-  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
-  setUniform(program, "u_scale", scale);
-  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   glBindTextureUnit(1, ctx.board.texture("position").id());
@@ -737,11 +701,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   };
   cap(sampleCount, VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
   cap(descentCount, SVO_MAX_DESCENT_STEPS);
-  ctx.stats["diffuse_cones"] = double(cones.size());
-  ctx.stats["ao_cones"] = aoCount ? aoCount : double(cones.size());
+  ctx.stats["diffuse_cones"] = ctx.params.getInt("cone.count");
+  ctx.stats["ao_cones"] = aoCount ? aoCount : ctx.params.getInt("cone.count");
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
-  ctx.stats["probe_x"] = probeX;
-  ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
+  ctx.stats["probe_x"] = probe.x;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probe.y;
 }
 
 }  // namespace voxlab::svo
