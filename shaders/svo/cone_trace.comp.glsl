@@ -35,6 +35,7 @@ uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
 uniform vec4 u_aoCones[VOXLAB_MAX_CONES];
 uniform float u_aoAperture;
 uniform float u_aoFalloff;                 // lambda, per voxel
+uniform int u_aoJitter;                    // 1: the cone frame turns about the normal by a per-pixel angle
 uniform float u_stepScale;
 uniform float u_lodBias;
 uniform int u_maxSteps;
@@ -151,6 +152,16 @@ void main() {
   float start = u_voxelSize;
   vec3 t, b;
   coneFrame(n, t, b);
+  if (u_aoJitter == 1) {
+    // A fixed hash of the pixel (the same image every run): the constellation's banding becomes noise.
+    uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
+    h = (h ^ (h >> 13u)) * 0x5bd1e995u;
+    h ^= h >> 15u;
+    float angle = float(h & 0xffffu) / 65536.0 * 6.28318530718;
+    vec3 turned = cos(angle) * t + sin(angle) * b;
+    b = cross(n, turned);
+    t = turned;
+  }
   vec3 incoming = vec3(0.0);
   float occlusion = 0.0;
   for (int i = 0; i < u_coneCount; ++i) {

@@ -539,6 +539,38 @@ TEST(SvoPhysics, AmbientOcclusionNextToAWallAgainstQuadrature) {
   }
 }
 
+TEST(SvoPhysics, JitterTurnsTheConstellationPerPixelAndKeepsTheMean) {
+  const std::vector<std::string> base = {"voxel.resolution=32", "cone.resolution=full", "ao.cones=basgier-5"};
+  auto run = [&](bool jitter) {
+    std::vector<std::string> sets = base;
+    sets.push_back(std::string("ao.jitter=") + (jitter ? "true" : "false"));
+    return capture(session(request("svo", "cornell-box", sets, "svo-cone-trace", 48)), "svo-cone-trace",
+                   "ambient-occlusion");
+  };
+  CapturedOutput plain = run(false), jittered = run(true), again = run(true);
+  const auto &a = plain.levels[0].values, &b = jittered.levels[0].values;
+  double meanA = 0, meanB = 0;
+  size_t changed = 0, surface = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_GE(b[i], 0.0f);
+    EXPECT_LE(b[i], 1.0f);
+    EXPECT_EQ(b[i], again.levels[0].values[i]) << "the jitter is a fixed hash of the pixel";
+    if (a[i] == 0.0f && b[i] == 0.0f) continue;  // background
+    ++surface;
+    meanA += a[i], meanB += b[i];
+    changed += std::abs(a[i] - b[i]) > 1e-3f;
+  }
+  meanA /= double(surface), meanB /= double(surface);
+  ::testing::Test::RecordProperty("mean_plain", std::to_string(meanA));
+  ::testing::Test::RecordProperty("mean_jittered", std::to_string(meanB));
+  ::testing::Test::RecordProperty("pixels_changed", int(changed));
+  // Turning five cones about the normal moves single pixels, not the image's mean: measured
+  // 0.7814 plain, 0.7830 jittered, 1359 of the surface pixels changed (32^3, 48x48). Allowed: 0.02
+  // around the plain mean; at least a quarter of the surface pixels change.
+  EXPECT_NEAR(meanB, meanA, 0.02);
+  EXPECT_GT(changed, surface / 4);
+}
+
 // Axis-aligned rectangles for the AO quadrature: the plane axis (0 x, 1 y, 2 z) at 'at', spanning
 // [lo, hi] along the other two axes (in the order (axis + 1) % 3, (axis + 2) % 3).
 struct Rect {

@@ -577,6 +577,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("ao.falloff", 0.0, 0.0, 2.0,
                           "Basgier's distance falloff lambda: each AO sample's opacity is scaled by 1 / (1 + lambda r), "
                           "r in voxels (0: none, vct-grid's plain range cut)", "1/voxel"));
+  b.param(ParamDesc::boolean("ao.jitter", false,
+                             "turn every pixel's cones (diffuse and AO) about its normal by a fixed per-pixel random "
+                             "angle: the constellation's banding becomes noise"));
   b.readView();
   b.read("svo-nodes");
   b.read("svo-levels");
@@ -675,6 +678,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_aoConeCount", aoCount);
   setUniform(program, "u_aoAperture", aoAperture);
   setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
+  setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
   const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());

@@ -53,7 +53,9 @@
 //     compared), or Basgier's constellations (ao.cones): 5 cones of 90 deg and 8 of 60 deg as
 //     published, 3 cones of 100 deg (the seed leaves the aperture open: our choice, with the ring
 //     layout of vct-grid for all directions, which the seed does not give either), equal weights;
-//     falloff f(r) = 1 / (1 + lambda r), r in voxels, lambda = ao.falloff (default 0).
+//     falloff f(r) = 1 / (1 + lambda r), r in voxels, lambda = ao.falloff (default 0). ao.jitter
+//     (off) turns every pixel's cone frame about the normal by a fixed hash of the pixel (the same
+//     image every run; the seed gives no jitter pattern): banding becomes noise, the mean stays.
 //   - Layout T (svo.layout=tile, Crassin/Gomes): one brick per subdivided node (tagged, above the
 //     voxels), texel t at its children's corner 2 cell + t holding the mean of the 8 child-level
 //     cells around that corner (clamped to the volume like Layout N's borders); a sample of level l
@@ -64,7 +66,7 @@
 //     127,450 bricks instead of 662,065; the traced octree is 0.245 of vct-grid's mip chain
 //     (docs/performance.md).
 //   - Not built (yet): neighbour links (S3; dilation plus position lookups replace them), the
-//     Gaussian mip kernel of Crassin/Gomes, jittered AO cones, the CAS leaf mode.
+//     Gaussian mip kernel of Crassin/Gomes, the CAS leaf mode.
 //
 // References
 //   seed 000 (Gomes) sections 3.1.1-3.1.3 and 4.2.2 (listings 4.16-4.25); seed 002 (Basgier)
