@@ -28,6 +28,7 @@ using std::min;
 #define SVO_BINDING_DESCENT 17      // SvoDescentStep[] of the probed pixel
 #define SVO_BINDING_DESCENT_COUNT 18  // uint: descent steps written
 #define SVO_BINDING_GROUPS 19       // uint[] per work group of 64 nodes: tagged count, then exclusive prefix
+#define SVO_BINDING_NEIGHBOURS 20   // uint[6] per node: same-level face neighbours +x, -x, +y, -y, +z, -z (SVO_ABSENT: none)
 
 // Node word 0: [31] TAG (subdivide at an inner level, owns a brick at any level),
 //              [30] NON-EMPTY (a voxel fragment lies inside the node),

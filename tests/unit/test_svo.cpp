@@ -235,6 +235,47 @@ TEST(SvoBuild, PoolIsIndependentOfFragmentOrderAndDuplicates) {
 
 // --- Values ----------------------------------------------------------------------------------------
 
+// S3: neighbour links, compared by (level, cell) with the node set itself: complete (a link exactly
+// where a same-level node exists across the face) and symmetric (n's +x neighbour has n as -x).
+void expectNeighbourLinksCompleteAndSymmetric(bool dilate) {
+  auto& s = session(request("svo", "cornell-box", {"voxel.resolution=64", std::string("svo.dilate=") + (dilate ? "true" : "false")},
+                            "svo-neighbours"));
+  std::vector<SvoNode> nodes = records<SvoNode>(capture(s, "svo-build", "svo-nodes"));
+  CapturedOutput linksOut = capture(s, "svo-neighbours", "svo-neighbour-links");
+  ASSERT_EQ(linksOut.recordCount, nodes.size());
+  std::vector<uint32_t> links(nodes.size() * 6);
+  std::memcpy(links.data(), linksOut.records.data(), links.size() * 4);
+  std::map<std::tuple<uint32_t, Cell>, uint32_t> byCell;
+  for (uint32_t i = 0; i < nodes.size(); ++i) byCell[{nodes[i].level, cellOf(nodes[i].coords)}] = i;
+  size_t found = 0, wrong = 0, asymmetric = 0;
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    auto [x, y, z] = cellOf(nodes[i].coords);
+    const int cells = 1 << nodes[i].level;
+    for (int d = 0; d < 6; ++d) {
+      int c[3] = {int(x), int(y), int(z)};
+      c[d >> 1] += (d & 1) ? -1 : 1;
+      uint32_t want = SVO_ABSENT;
+      if (c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && c[0] < cells && c[1] < cells && c[2] < cells) {
+        auto it = byCell.find({nodes[i].level, Cell(uint32_t(c[0]), uint32_t(c[1]), uint32_t(c[2]))});
+        if (it != byCell.end()) want = it->second;
+      }
+      const uint32_t got = links[6 * i + d];
+      wrong += got != want;
+      if (got != SVO_ABSENT) {
+        ++found;
+        asymmetric += links[6 * size_t(got) + (d ^ 1)] != i;
+      }
+    }
+  }
+  ::testing::Test::RecordProperty("links", int(found));
+  EXPECT_GT(found, 10000u);
+  EXPECT_EQ(wrong, 0u) << "of " << nodes.size() * 6 << " links";
+  EXPECT_EQ(asymmetric, 0u);
+}
+
+TEST(SvoBuild, NeighbourLinksAreCompleteAndSymmetric) { expectNeighbourLinksCompleteAndSymmetric(false); }
+TEST(SvoBuild, NeighbourLinksAreCompleteAndSymmetricDilated) { expectNeighbourLinksCompleteAndSymmetric(true); }
+
 TEST(SvoValues, LeavesAreExactAndEveryMipIsTheBoxFilterOfItsChildren) {
   auto& s = session(request("svo", "cornell-box", {"voxel.resolution=32", "inject.mode=uniform",
                                                   "inject.uniform-radiance=0.3"}, "svo-mipmap"));

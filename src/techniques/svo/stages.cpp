@@ -296,6 +296,48 @@ void BuildStage::execute(StageContext& ctx) {
     ctx.stats["non_empty_level_" + std::to_string(l)] = levels[l].nonEmpty;
 }
 
+// --- svo-neighbours --------------------------------------------------------------------------------
+
+void NeighboursStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-counters");
+  BufferLayout links;
+  links.stride = 6 * sizeof(uint32_t);
+  const char* names[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  for (uint32_t d = 0; d < 6; ++d) links.fields.push_back({names[d], FieldType::U32, 4 * d});
+  links.countResource = "svo-counters";
+  links.countOffset = 4 * 6;  // nodes written
+  b.output("svo-neighbour-links", OutputKind::Buffer, Semantic::Scalar,
+           "per node: the same-level node across each face (+x, -x, +y, -y, +z, -z), 4294967295 = none")
+      .layout = links;
+  b.buffer("svo-neighbour-links", [](const ParamSet&, const ViewState&) { return perNodeStart(24); }, /*pool=*/true);
+}
+
+void NeighboursStage::execute(StageContext& ctx) {
+  std::vector<SvoLevel> levels = readLevels(ctx.board);
+  const uint32_t nodes = nodeCount(levels);
+  Buffer& links = ctx.board.ensureBuffer("svo-neighbour-links", size_t(nodes) * 24);
+  GLuint program = ctx.shaders.program({"svo/neighbours.comp.glsl"});
+  setUniform(program, "u_nodeCount", unsigned(nodes));
+  setUniform(program, "u_depth", octreeDepth(ctx.params));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NEIGHBOURS, links.id());
+  dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+  barrierAll();
+  std::vector<uint8_t> bytes = links.download(size_t(nodes) * 24);
+  size_t found = 0;
+  for (size_t i = 0; i < size_t(nodes) * 6; ++i) {
+    uint32_t v;
+    std::memcpy(&v, &bytes[i * 4], 4);
+    found += v != SVO_ABSENT;
+  }
+  ctx.stats["nodes"] = nodes;
+  ctx.stats["links"] = double(found);
+}
+
 // --- svo-leaves ------------------------------------------------------------------------------------
 
 static BufferLayout valueLayout() {

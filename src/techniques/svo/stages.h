@@ -33,6 +33,18 @@ class BuildStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
+class NeighboursStage : public Stage {
+ public:
+  const char* id() const override { return "svo-neighbours"; }
+  const char* title() const override { return "Link every node to its face neighbours"; }
+  const char* summary() const override {
+    return "For every node, the same-level nodes across its six faces (up to the closest common ancestor and down "
+           "again), or none: the links a border transfer or a neighbour walk follows.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
 class LeavesStage : public Stage {
  public:
   const char* id() const override { return "svo-leaves"; }

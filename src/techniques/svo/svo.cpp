@@ -15,6 +15,8 @@
 //                      the 26 neighbours) -> count -> size the node pool from the count ->
 //                      allocate (atomicAdd per tagged node) + init the children. Iteration 0 is
 //                      svo-init (root, counters); iteration D only flags the leaves.
+//      svo-neighbours  the six same-level face neighbours of every node (through the closest common
+//                      ancestor), symmetric by construction; the bricks gather by position instead
 //   4. svo-leaves      per fragment: shadow-mapped Lambert + emission (as vct-grid's inject),
 //                      exact fixed-point sums per leaf, then mean and opacity 1
 //   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; the
@@ -65,8 +67,9 @@
 //     is darker (mean 0.083 from Layout N's on the Cornell box at 64^3). Memory on Sponza at 256^3:
 //     127,450 bricks instead of 662,065; the traced octree is 0.245 of vct-grid's mip chain
 //     (docs/performance.md).
-//   - Not built (yet): neighbour links (S3; dilation plus position lookups replace them), the
-//     Gaussian mip kernel of Crassin/Gomes, the CAS leaf mode.
+//   - Neighbour links (S3) are their own stage and output; the bricks' borders do not follow them
+//     but gather by position (the same descent), so the links are for inspection and tests.
+//   - Not built (yet): the Gaussian mip kernel of Crassin/Gomes, the CAS leaf mode.
 //
 // References
 //   seed 000 (Gomes) sections 3.1.1-3.1.3 and 4.2.2 (listings 4.16-4.25); seed 002 (Basgier)
@@ -122,6 +125,7 @@ static std::unique_ptr<Technique> makeSvo() {
   t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<svo::BuildStage>();
+  t->add<svo::NeighboursStage>();
   t->add<svo::LeavesStage>();
   t->add<svo::MipmapStage>();
   t->add<svo::BricksStage>();
