@@ -276,6 +276,51 @@ void expectNeighbourLinksCompleteAndSymmetric(bool dilate) {
 TEST(SvoBuild, NeighbourLinksAreCompleteAndSymmetric) { expectNeighbourLinksCompleteAndSymmetric(false); }
 TEST(SvoBuild, NeighbourLinksAreCompleteAndSymmetricDilated) { expectNeighbourLinksCompleteAndSymmetric(true); }
 
+// The picked-node record (svo-pick, a volume probe on svo-structure): the node at the picked
+// level and cell, its children, links and brick texels as the pools hold them.
+TEST(SvoPick, PickedNodeRecordMatchesThePools) {
+  const int depth = 5;  // 32^3
+  std::vector<std::string> base = {"voxel.resolution=32"};
+  std::vector<SvoNode> nodes = records<SvoNode>(capture(session(request("svo", "cornell-box", base, "svo-bricks")),
+                                                        "svo-build", "svo-nodes"));
+  // A non-empty, subdivided node of level 3.
+  uint32_t want = SVO_ABSENT;
+  for (uint32_t i = 0; i < nodes.size() && want == SVO_ABSENT; ++i)
+    if (nodes[i].level == 3 && (nodes[i].word & SVO_NON_EMPTY) && (nodes[i].word & SVO_CHILD_MASK)) want = i;
+  ASSERT_NE(want, SVO_ABSENT);
+  auto [x, y, z] = cellOf(nodes[want].coords);
+  std::vector<std::string> sets = base;
+  for (auto kv : {std::pair<const char*, uint32_t>{"pick.x", x}, {"pick.y", y}, {"pick.z", z}})
+    sets.push_back(std::string(kv.first) + "=" + std::to_string(kv.second));
+  sets.push_back("pick.level=" + std::to_string(depth - 3));  // svo-structure's mip of level 3
+  auto& s = session(request("svo", "cornell-box", sets, "svo-pick"));
+  CapturedOutput out = capture(s, "svo-pick", "svo-picked-node");
+  ASSERT_EQ(out.recordCount, 1u);
+  SvoPickedNode p;
+  std::memcpy(&p, out.records.data(), sizeof p);
+  EXPECT_EQ(p.node, want);
+  EXPECT_EQ(p.level, 3u);
+  EXPECT_EQ(p.word, nodes[want].word);
+  for (uint32_t k = 0; k < 8; ++k) EXPECT_EQ(p.children[k], (nodes[want].word & SVO_CHILD_MASK) + k);
+  CapturedOutput linksOut = capture(s, "svo-neighbours", "svo-neighbour-links");
+  std::vector<uint32_t> links(size_t(linksOut.recordCount) * 6);
+  std::memcpy(links.data(), linksOut.records.data(), links.size() * 4);
+  for (int d = 0; d < 6; ++d) EXPECT_EQ(p.neighbours[d], links[6 * size_t(want) + d]) << d;
+  std::vector<uint32_t> brickOf = records<uint32_t>(capture(s, "svo-bricks", "svo-brick-index"));
+  EXPECT_EQ(p.brick, brickOf[want]);
+  ASSERT_NE(p.brick, 0u);
+  CapturedOutput pool = capture(s, "svo-bricks", "svo-brick-pool");
+  const LevelData& P = pool.levels[0];
+  const glm::ivec3 axis = P.size / 3;
+  const glm::ivec3 o = 3 * glm::ivec3(p.brick % axis.x, (p.brick / axis.x) % axis.y, p.brick / (axis.x * axis.y));
+  for (int t = 0; t < 27; ++t)
+    for (int c = 0; c < 4; ++c)
+      EXPECT_EQ(p.texels[4 * t + c], P.at(o.x + t % 3, o.y + (t / 3) % 3, o.z + t / 9, c)) << "texel " << t;
+  RecordCheck check = visualiserFor(out.desc).checkRecords(out);
+  EXPECT_EQ(check.elements, 1u);
+  EXPECT_EQ(check.error, "");
+}
+
 TEST(SvoValues, LeavesAreExactAndEveryMipIsTheBoxFilterOfItsChildren) {
   auto& s = session(request("svo", "cornell-box", {"voxel.resolution=32", "inject.mode=uniform",
                                                   "inject.uniform-radiance=0.3"}, "svo-mipmap"));

@@ -590,6 +590,56 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["traced_octree_over_dense"] = ctx.stats["traced_octree_bytes"] / dense;
 }
 
+// --- svo-pick --------------------------------------------------------------------------------------
+
+void PickStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(ParamDesc::integer("pick.x", 0, 0, 511, "picked cell along x, in cells of the picked level", "cells"));
+  b.param(ParamDesc::integer("pick.y", 0, 0, 511, "picked cell along y", "cells"));
+  b.param(ParamDesc::integer("pick.z", 0, 0, 511, "picked cell along z", "cells"));
+  b.param(ParamDesc::integer("pick.level", 0, 0, 9,
+                             "mip of svo-structure the cell is given in: octree level D - mip (0 = the voxels)"));
+  b.probe(ProbeDesc::volume("pick.x", "pick.y", "pick.z", "pick.level", "svo-structure"));
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-neighbour-links");
+  b.read("svo-brick-index");
+  b.read("svo-brick-pool");
+  BufferLayout l;
+  l.stride = sizeof(SvoPickedNode);
+  l.fields = {{"node", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"cell", FieldType::Packed10_10_10, 8},
+              {"word", FieldType::U32, 12}, {"brick", FieldType::U32, 72}};
+  OutputDesc& o = b.output("svo-picked-node", OutputKind::Buffer, kOctreePickedNode,
+                           "the picked node: index, level, cell, flags, children, neighbour links, brick and its 27 "
+                           "texels (visualiser octree-picked-node)");
+  o.layout = l;
+  o.probeRecord = true;
+  b.buffer("svo-picked-node", [](const ParamSet&, const ViewState&) { return sizeof(SvoPickedNode); });
+}
+
+void PickStage::execute(StageContext& ctx) {
+  const int depth = octreeDepth(ctx.params);
+  const int level = std::max(0, depth - ctx.params.getInt("pick.level"));
+  const int cells = 1 << level;
+  glm::ivec3 cell(ctx.params.getInt("pick.x"), ctx.params.getInt("pick.y"), ctx.params.getInt("pick.z"));
+  cell = glm::clamp(cell, glm::ivec3(0), glm::ivec3(cells - 1));
+  Buffer& out = ctx.board.ensureBuffer("svo-picked-node", sizeof(SvoPickedNode));
+  GLuint program = ctx.shaders.program({"svo/pick.comp.glsl"});
+  setUniform(program, "u_cell", cell);
+  setUniform(program, "u_level", level);
+  setUniform(program, "u_depth", depth);
+  setUniform(program, "u_bricksPerAxis", ctx.board.texture("svo-brick-pool").desc().size / 3);
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NEIGHBOURS, ctx.board.buffer("svo-neighbour-links").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_PICKED, out.id());
+  glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
+  dispatchCompute({1, 1, 1}, {1, 1, 1});
+  barrierAll();
+  ctx.stats["picked_level"] = level;
+}
+
 // --- svo-cone-trace --------------------------------------------------------------------------------
 // The parameters shared with vct-grid's cone-trace keep its names, defaults and ranges, so the two
 // techniques trace the same cones for the same settings (the AO cross-check relies on it).

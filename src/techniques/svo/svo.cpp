@@ -23,6 +23,8 @@
 //                      "svo-dense" view resamples each level into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
 //                      (svo.layout=tile: one per subdivided node, at its children's corners)
+//      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
+//                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
 //   8. svo-cone-trace  vct-grid's cones through the octree; AO; probe records (samples, descents)
 //   9. composite       vct-grid's composite, or the AO image as the final one (svo.shading=ao)
@@ -129,6 +131,7 @@ static std::unique_ptr<Technique> makeSvo() {
   t->add<svo::LeavesStage>();
   t->add<svo::MipmapStage>();
   t->add<svo::BricksStage>();
+  t->add<svo::PickStage>();
   t->add<GBufferStage>();
   t->add<svo::ConeTraceStage>();
   t->add<svo::CompositeStage>();
