@@ -456,6 +456,60 @@ TEST(SvoBricks, TileLayoutHoldsTheChildrenCornerMeans) {
   (void)resolution;
 }
 
+// svo.filter=gaussian (Layout T): above level D - 1 every brick texel is the 1/8-1/16-1/32-1/64
+// sum of the level below's vertex values around it (the note's I8 for Layout T), read from the
+// finer bricks as they were stored (RGBA8).
+TEST(SvoBricks, GaussianTileTexelsAreTheKernelOfTheLevelBelow) {
+  const int depth = 5;
+  auto& s = session(request("svo", "cornell-box", {"voxel.resolution=32", "svo.layout=tile", "svo.filter=gaussian"},
+                            "svo-bricks"));
+  std::vector<SvoNode> nodes = records<SvoNode>(capture(s, "svo-build", "svo-nodes"));
+  std::vector<uint32_t> brickOf = records<uint32_t>(capture(s, "svo-bricks", "svo-brick-index"));
+  CapturedOutput pool = capture(s, "svo-bricks", "svo-brick-pool");
+  const LevelData& P = pool.levels[0];
+  const glm::ivec3 axis = P.size / 3;
+  auto texel = [&](uint32_t brick, glm::ivec3 t) {
+    glm::ivec3 o = 3 * glm::ivec3(brick % axis.x, (brick / axis.x) % axis.y, brick / (axis.x * axis.y)) + t;
+    return glm::vec4(P.at(o.x, o.y, o.z, 0), P.at(o.x, o.y, o.z, 1), P.at(o.x, o.y, o.z, 2), P.at(o.x, o.y, o.z, 3));
+  };
+  std::map<std::tuple<uint32_t, Cell>, uint32_t> byCell;
+  for (uint32_t i = 0; i < nodes.size(); ++i) byCell[{nodes[i].level, cellOf(nodes[i].coords)}] = i;
+  // Vertex value r (level l + 2 vertex coordinates) from any level-(l+1) brick holding it.
+  auto vertex = [&](uint32_t level, glm::ivec3 r) {
+    const int cells = 1 << level;
+    r = glm::clamp(r, glm::ivec3(0), glm::ivec3(2 * cells));
+    for (int k = 0; k < 8; ++k) {
+      glm::ivec3 m = glm::clamp(r / 2 - glm::ivec3(k & 1, (k >> 1) & 1, k >> 2), glm::ivec3(0), glm::ivec3(cells - 1));
+      glm::ivec3 t = r - 2 * m;
+      if (glm::any(glm::lessThan(t, glm::ivec3(0))) || glm::any(glm::greaterThan(t, glm::ivec3(2)))) continue;
+      auto it = byCell.find({level, Cell(uint32_t(m.x), uint32_t(m.y), uint32_t(m.z))});
+      if (it == byCell.end() || !brickOf[it->second]) continue;
+      return texel(brickOf[it->second], t);
+    }
+    return glm::vec4(0.0f);
+  };
+  size_t checked = 0;
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    if (!brickOf[i] || int(nodes[i].level) >= depth - 1) continue;
+    auto [x, y, z] = cellOf(nodes[i].coords);
+    const glm::ivec3 pc{int(x), int(y), int(z)};
+    for (int t = 0; t < 27; ++t) {
+      const glm::ivec3 p = 2 * pc + glm::ivec3(t % 3, (t / 3) % 3, t / 9);
+      glm::vec4 want(0.0f);
+      for (int k = 0; k < 27; ++k) {
+        glm::ivec3 o(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1);
+        float w = (o.x == 0 ? 0.5f : 0.25f) * (o.y == 0 ? 0.5f : 0.25f) * (o.z == 0 ? 0.5f : 0.25f);
+        want += w * vertex(nodes[i].level + 1, 2 * p + o);
+      }
+      glm::vec4 got = texel(brickOf[i], glm::ivec3(t % 3, (t / 3) % 3, t / 9));
+      // RGBA8: within half a step of the kernel of the stored (already rounded) texels below.
+      for (int c = 0; c < 4; ++c) ASSERT_NEAR(got[c], want[c], 0.5 / 255 + 1e-5) << "node " << i << " texel " << t;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 27u * 100);
+}
+
 // Layout T traces the same scene with the finest level one voxel blurrier: its AO stays close to
 // Layout N's (the note's fact 2: [1 2 1] / 4 per axis at level D).
 TEST(SvoConeTrace, TileLayoutAmbientOcclusionCloseToNodeLayout) {

@@ -68,6 +68,12 @@ static ParamDesc layoutParam() {
                            "blurred by [1 2 1] / 4 per axis)");
 }
 static bool tileLayout(const ParamSet& p) { return p.getChoice("svo.layout") == "tile"; }
+static ParamDesc filterParam() {
+  return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
+                           "bricks above the finest level with svo.layout=tile: box (vertex means of the box-filtered "
+                           "nodes) or Crassin/Gomes' Gaussian 1/8-1/16-1/32-1/64 of the level below's bricks; with "
+                           "the node layout the Gaussian collapses to the box (the note) and is not applied");
+}
 
 static void barrierAll() { glMemoryBarrier(GL_ALL_BARRIER_BITS); }
 
@@ -490,6 +496,7 @@ void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(poolFractionParam());
   b.param(layoutParam());
+  b.param(filterParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
@@ -545,6 +552,8 @@ void BricksStage::execute(StageContext& ctx) {
   setUniform(program, "u_bricksPerAxis", axis);
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_layoutTile", tile ? 1 : 0);
+  const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
+  setUniform(program, "u_gaussian", gaussian ? 1 : 0);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
@@ -569,6 +578,17 @@ void BricksStage::execute(StageContext& ctx) {
   glUseProgram(program);
   dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
   barrierAll();
+  if (gaussian) {
+    // Layout T, Gaussian: level by level from D - 2 up, each from the bricks just below it.
+    setUniform(program, "u_pass", 2);
+    glBindTextureUnit(0, pool.id());
+    for (int l = depth - 2; l >= 0; --l) {
+      setUniform(program, "u_level", l);
+      glUseProgram(program);
+      dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+      barrierAll();
+    }
+  }
   std::vector<uint8_t> bytes = counters.download(SVO_COUNTER_WORDS * 4);
   std::memcpy(c.data(), bytes.data(), c.size() * 4);
   if (c[SVO_COUNTER_OVERFLOW])

@@ -71,7 +71,11 @@
 //     (docs/performance.md).
 //   - Neighbour links (S3) are their own stage and output; the bricks' borders do not follow them
 //     but gather by position (the same descent), so the links are for inspection and tests.
-//   - Not built (yet): the Gaussian mip kernel of Crassin/Gomes, the CAS leaf mode.
+//   - svo.filter=gaussian (with svo.layout=tile): the bricks above level D - 1 are Crassin/Gomes'
+//     1/8-1/16-1/32-1/64 kernel of the level below's bricks (vertex values read back from the
+//     RGBA8 pool, level by level from D - 2 up); the finest bricks stay the corner means. With the
+//     node layout the kernel collapses to decimation (the note) and is not applied.
+//   - Not built (yet): the CAS leaf mode.
 //
 // References
 //   seed 000 (Gomes) sections 3.1.1-3.1.3 and 4.2.2 (listings 4.16-4.25); seed 002 (Basgier)
