@@ -569,6 +569,72 @@ TEST(SvoValues, DenseViewEqualsVctGridMipChain) {
   }
 }
 
+// I9 at random points: the octree sampled as the cone tracer samples it (the level's node, the
+// brick's trilinear filter at 0.5 + 2u texels) equals vct-grid's mip chain sampled trilinearly
+// (clamp to edge) at the same point and level, at every integer level (64^3, dilation: exact
+// everywhere, up to the two grids' RGBA8 rounding).
+TEST(SvoValues, OctreeSampleEqualsDenseSampleAtRandomPoints) {
+  const int res = 64, depth = 6;
+  auto& octree = session(request("svo", "cornell-box", {"voxel.resolution=64", "svo.dilate=true"}, "svo-bricks"));
+  std::vector<SvoNode> nodes = records<SvoNode>(capture(octree, "svo-build", "svo-nodes"));
+  std::vector<uint32_t> brickOf = records<uint32_t>(capture(octree, "svo-bricks", "svo-brick-index"));
+  CapturedOutput pool = capture(octree, "svo-bricks", "svo-brick-pool");
+  CapturedOutput mips = capture(session(request("vct-grid", "cornell-box", {"voxel.resolution=64"}, "mipmap")), "mipmap",
+                                "radiance");
+  const LevelData& P = pool.levels[0];
+  const glm::ivec3 axis = P.size / 3;
+  std::map<std::tuple<uint32_t, Cell>, uint32_t> byCell;
+  for (uint32_t i = 0; i < nodes.size(); ++i) byCell[{nodes[i].level, cellOf(nodes[i].coords)}] = i;
+  auto lerp3 = [](auto fetch, glm::vec3 s, glm::ivec3 lo, glm::ivec3 hi) {  // texel-centred trilinear, clamped
+    glm::vec3 f = s - 0.5f;
+    glm::ivec3 i0 = glm::ivec3(glm::floor(f));
+    glm::vec3 w = f - glm::vec3(i0);
+    glm::vec4 sum(0.0f);
+    for (int k = 0; k < 8; ++k) {
+      glm::ivec3 o(k & 1, (k >> 1) & 1, k >> 2);
+      glm::ivec3 t = glm::clamp(i0 + o, lo, hi);
+      float wk = (o.x ? w.x : 1 - w.x) * (o.y ? w.y : 1 - w.y) * (o.z ? w.z : 1 - w.z);
+      if (wk > 0.0f) sum += wk * fetch(t);
+    }
+    return sum;
+  };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, float(res));
+  size_t compared = 0, absent = 0;
+  double worst = 0;
+  for (int i = 0; i < 4000; ++i) {
+    glm::vec3 v(u(rng), u(rng), u(rng));  // voxel units
+    for (int level = 1; level <= depth; ++level) {
+      const float cell = float(1 << (depth - level));
+      glm::ivec3 c = glm::min(glm::ivec3(glm::floor(v / cell)), glm::ivec3((1 << level) - 1));
+      auto it = byCell.find({uint32_t(level), Cell(uint32_t(c.x), uint32_t(c.y), uint32_t(c.z))});
+      glm::vec4 svoValue(0.0f);
+      if (it == byCell.end()) {
+        ++absent;  // with dilation an absent node is an empty region: the dense grid must be 0 there too
+      } else if (uint32_t b = brickOf[it->second]) {
+        glm::ivec3 o = 3 * glm::ivec3(b % axis.x, (b / axis.x) % axis.y, b / (axis.x * axis.y));
+        glm::vec3 un = glm::clamp(v / cell - glm::vec3(c), 0.0f, 1.0f);
+        svoValue = lerp3([&](glm::ivec3 t) { return glm::vec4(P.at(t.x, t.y, t.z, 0), P.at(t.x, t.y, t.z, 1),
+                                                              P.at(t.x, t.y, t.z, 2), P.at(t.x, t.y, t.z, 3)); },
+                         glm::vec3(o) + 0.5f + 2.0f * un, o, o + 2);
+      }
+      const LevelData& M = mips.levels[depth - level];
+      glm::vec4 dense = lerp3([&](glm::ivec3 t) { return glm::vec4(M.at(t.x, t.y, t.z, 0), M.at(t.x, t.y, t.z, 1),
+                                                                   M.at(t.x, t.y, t.z, 2), M.at(t.x, t.y, t.z, 3)); },
+                              v / cell, glm::ivec3(0), M.size - 1);
+      for (int k = 0; k < 4; ++k) worst = std::max(worst, double(std::abs(svoValue[k] - dense[k])));
+      ++compared;
+    }
+  }
+  ::testing::Test::RecordProperty("worst", std::to_string(worst));
+  ::testing::Test::RecordProperty("absent", int(absent));
+  // Measured: worst 0.00392 (one RGBA8 step) over 24,000 samples, 3818 of them in absent nodes.
+  // The texels differ by one RGBA8 step (DenseViewEqualsVctGridMipChain) and
+  // trilinear weights are convex, so a sample differs by at most as much. Allowed: two steps.
+  EXPECT_LE(worst, 2.0 / 255.0 + 1e-5);
+  EXPECT_GT(compared, 20000u);
+}
+
 // --- Cone tracing ----------------------------------------------------------------------------------
 
 TEST(SvoConeTrace, DescentsAreNestedFromTheRoot) {
