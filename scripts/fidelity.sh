@@ -43,6 +43,8 @@ variants=(
   "voxel-path-tracing paths.count=16"
   "svo svo.dilate=true"
   "lpv inject.vpl-shift=0.5"
+  "lpv inject.lighting=per-fragment"
+  "svo svo.layout=tile"
 )
 
 runs=()

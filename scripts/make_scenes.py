@@ -7,6 +7,8 @@
   tests/data/scenes/no-light-blocks-x1_128.gltf  the same with every length x1/128 (scale invariance)
   tests/data/scenes/furnace-box.gltf     closed cube room seen from inside (white-furnace tests)
   tests/data/scenes/wall-floor.gltf      a floor and one tall wall (ambient-occlusion tests)
+  tests/data/scenes/floor-ceiling.gltf   a floor under a parallel ceiling 0.3 m above it (AO test A2)
+  tests/data/scenes/corner.gltf          a floor and two tall walls meeting in a corner (AO test A4)
   tests/data/scenes/thin-wall.gltf       a 1 cm wall splitting a closed room (light-leak tests)
   tests/data/scenes/thin-wall-spot.gltf  the same lit by a spot light (lrsm's leak test)
   tests/data/scenes/cornell-box-panel-only.gltf  the Cornell box lit only by its emissive panel
@@ -163,6 +165,36 @@ def wall_floor(path):
     b.add_mesh_node("wall", grey, [oriented(wall, [0.0, 0.0, -1.0])])
     # Looking at the wall from the open side, slightly from above.
     b.add_camera("camera", (0.0, 1.0, -3.0), LOOK_PLUS_Z, 0.9, aspect=1.0, znear=0.01, zfar=20.0)
+    b.write(path)
+
+
+def floor_ceiling(path):
+    """Floor 2 x 2 m at y = 0 (facing up) under a ceiling of the same size at y = 0.3 (facing down),
+    open at the sides. With binary visibility within a range R the cosine-weighted visible fraction
+    at the floor's centre is (h / R)^2 for R small against the plates (the technical note's A2)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (floor under a ceiling)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    b.add_mesh_node("floor", grey, [oriented([[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]],
+                                             [0.0, 1.0, 0.0])])
+    b.add_mesh_node("ceiling", grey, [oriented([[-1.0, 0.3, -1.0], [1.0, 0.3, -1.0], [1.0, 0.3, 1.0], [-1.0, 0.3, 1.0]],
+                                               [0.0, -1.0, 0.0])])
+    b.add_camera("camera", (0.0, 0.25, 0.0), LOOK_DOWN, 1.4, aspect=1.0, znear=0.01, zfar=10.0)
+    b.write(path)
+
+
+def corner(path):
+    """Floor 2 x 2 m at y = 0 (facing up), a wall at z = 1 (facing -z) and one at x = 1 (facing -x),
+    both 2 m tall, meeting in the corner (1, y, 1). At the corner itself the visible fraction is 1/4
+    for an unlimited range (the technical note's A4); the camera looks down at the floor by the corner."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (corner of two walls)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    b.add_mesh_node("floor", grey, [oriented([[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]],
+                                             [0.0, 1.0, 0.0])])
+    b.add_mesh_node("wall-z", grey, [oriented([[-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 2.0, 1.0], [-1.0, 2.0, 1.0]],
+                                              [0.0, 0.0, -1.0])])
+    b.add_mesh_node("wall-x", grey, [oriented([[1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [1.0, 2.0, 1.0], [1.0, 2.0, -1.0]],
+                                              [-1.0, 0.0, 0.0])])
+    b.add_camera("camera", (0.6, 1.0, 0.6), LOOK_DOWN, 1.0, aspect=1.0, znear=0.01, zfar=10.0)
     b.write(path)
 
 
@@ -434,6 +466,8 @@ def main():
         (os.path.join(tests, "no-light-blocks-x1_128.gltf"), lambda p: no_light_blocks(p, 1.0 / 128.0)),
         (os.path.join(tests, "furnace-box.gltf"), lambda p: furnace_box(p, args.furnace_albedo)),
         (os.path.join(tests, "wall-floor.gltf"), wall_floor),
+        (os.path.join(tests, "floor-ceiling.gltf"), floor_ceiling),
+        (os.path.join(tests, "corner.gltf"), corner),
         (os.path.join(tests, "thin-wall.gltf"), thin_wall),
         (os.path.join(tests, "thin-wall-spot.gltf"), lambda p: thin_wall(p, spot=True)),
         (os.path.join(tests, "leak-rooms.gltf"), leak_rooms),

@@ -24,6 +24,9 @@ uniform float u_fragmentArea;
 uniform int u_pointVpl;
 uniform ivec3 u_vplCell;
 uniform vec3 u_vplNormal;
+uniform int u_perFragment;     // 1: the VPL is the sum of the cell's lit fragments (inject_fragments.comp.glsl)
+uniform float u_unitsPerWatt;
+layout(std430, binding = LPV_BINDING_PROBE) readonly buffer FragmentSums { int fragmentSums[]; };
 const float PI = 3.14159265358979;
 
 void main() {
@@ -47,6 +50,15 @@ void main() {
   vec3 normal = vec3(0.0);
   if (u_pointVpl == 1) {
     if (c == u_vplCell) sh[0] = sh[1] = sh[2] = shLobe(u_vplNormal);
+  } else if (u_perFragment == 1) {
+    int base = 12 * cellIndex(c);
+    for (int ch = 0; ch < 3; ++ch)
+      sh[ch] = vec4(fragmentSums[base + 4 * ch], fragmentSums[base + 4 * ch + 1], fragmentSums[base + 4 * ch + 2],
+                    fragmentSums[base + 4 * ch + 3]) / u_unitsPerWatt;
+    // The shift moves the sum along its band-1 direction (the mean normal of its lit fragments).
+    vec4 all = sh[0] + sh[1] + sh[2];
+    vec3 b = vec3(-all.w, -all.y, all.z);
+    if (dot(b, b) > 0.0) normal = normalize(b);
   } else {
     LpvVoxel v = voxels[cellIndex(c)];
     if (decodeOccupied(v.colorOcclusion)) {

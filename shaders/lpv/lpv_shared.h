@@ -43,6 +43,12 @@ struct LpvEnergy {
   vec4 total;           // rgb: flux of the grid the lookup reads after this step, a: cascade
 };
 
+// A world box of the gi stage's "cascade-boxes" record (fine, coarse, blend shell start and end).
+struct LpvBox {
+  vec4 lo;              // xyz: minimum corner (m), w: 0 fine, 1 coarse, 2 shell start (coarse weight 0), 3 shell end (1)
+  vec4 hi;              // xyz: maximum corner (m), w: cell size of the cascade it belongs to (m)
+};
+
 // The picked cell (probe.cell-x/y/z, probe.cascade) after the current step.
 struct LpvProbe {
   ivec4 cell;           // xyz: cell, w: cascade

@@ -53,30 +53,56 @@ float transmission(vec3 n, vec3 d) {
 int cells() { return u_gridRes * u_gridRes * u_gridRes; }
 vec4 sourceAt(int ch, ivec3 n) { return stateIn[(u_thesisScheme == 1 ? ch : 3 + ch) * cells() + cellIndex(n)]; }
 
-void gatherNeighbour(ivec3 cell, int i, inout vec4 acc[3], out float meanTransmission) {
+// The three colour channels as named members: no array indexed in a loop, so llvmpipe keeps them
+// in registers.
+struct ShRgb { vec4 r, g, b; };
+
+vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, ivec3 oj) {
+  float e = shEvaluateSparse(src, d);
+  if (u_clampFaces == 1) e = max(e, 0.0);
+  precise float f = ((e * omega) * occ) * u_weightScale;
+  return shAddAxisLobe(acc, f, oj);
+}
+
+// Face j of this cell, lit from neighbour i (src: the neighbour's SH per channel). Called with
+// literal i and j (the FACES lists below), so after inlining the direction, solid angle and lobe
+// axis are constants and the sparse evaluations lose their zero terms and branches: the same
+// operations in the same order as the loop of the CPU reference (bit-identical).
+void addFace(ShRgb src, int i, int j, bool blocks, vec3 blockNormal, inout ShRgb acc, inout float sumT) {
+  vec3 d = lpvFaceDirection(i, j);
+  float omega = lpvFaceSolidAngle(i, j);
+  float occ = blocks ? transmission(blockNormal, d) : 1.0;
+  sumT += occ;
+  ivec3 oj = lpvOffset(j);
+  acc.r = faceChannel(acc.r, src.r, d, omega, occ, oj);
+  acc.g = faceChannel(acc.g, src.g, d, omega, occ, oj);
+  acc.b = faceChannel(acc.b, src.b, d, omega, occ, oj);
+}
+
+// The five faces of neighbour i other than the shared one, in increasing j (the reference's order).
+#define FACES(I, J0, J1, J2, J3, J4)                              \
+  addFace(src, I, J0, blocks, blockNormal, acc, sumT);            \
+  addFace(src, I, J1, blocks, blockNormal, acc, sumT);            \
+  addFace(src, I, J2, blocks, blockNormal, acc, sumT);            \
+  addFace(src, I, J3, blocks, blockNormal, acc, sumT);            \
+  addFace(src, I, J4, blocks, blockNormal, acc, sumT)
+
+void gatherNeighbour(ivec3 cell, int i, inout ShRgb acc, out float meanTransmission) {
   meanTransmission = 1.0;
   ivec3 n = cell + lpvOffset(i);
   if (!cellInside(n)) return;
-  vec4 src[3] = vec4[3](sourceAt(0, n), sourceAt(1, n), sourceAt(2, n));
+  ShRgb src = ShRgb(sourceAt(0, n), sourceAt(1, n), sourceAt(2, n));
   // A neighbour without light adds exactly nothing: skip it (most cells in early steps).
-  if (src[0] == vec4(0.0) && src[1] == vec4(0.0) && src[2] == vec4(0.0)) return;
+  if (src.r == vec4(0.0) && src.g == vec4(0.0) && src.b == vec4(0.0)) return;
   vec3 blockNormal;
   bool blocks = blocker(voxels[cellIndex(n)], -vec3(lpvOffset(i)), blockNormal);
   float sumT = 0.0;
-  for (int j = 0; j < 6; ++j) {
-    if (j == i) continue;
-    vec3 d = lpvFaceDirection(i, j);
-    float omega = lpvFaceSolidAngle(i, j);
-    float occ = blocks ? transmission(blockNormal, d) : 1.0;
-    sumT += occ;
-    ivec3 oj = lpvOffset(j);
-    for (int ch = 0; ch < 3; ++ch) {
-      float e = shEvaluateSparse(src[ch], d);
-      if (u_clampFaces == 1) e = max(e, 0.0);
-      precise float f = ((e * omega) * occ) * u_weightScale;
-      acc[ch] = shAddAxisLobe(acc[ch], f, oj);
-    }
-  }
+  if (i == 0) { FACES(0, 1, 2, 3, 4, 5); }
+  else if (i == 1) { FACES(1, 0, 2, 3, 4, 5); }
+  else if (i == 2) { FACES(2, 0, 1, 3, 4, 5); }
+  else if (i == 3) { FACES(3, 0, 1, 2, 4, 5); }
+  else if (i == 4) { FACES(4, 0, 1, 2, 3, 5); }
+  else { FACES(5, 0, 1, 2, 3, 4); }
   meanTransmission = sumT / 5.0;
 }
 
@@ -84,34 +110,44 @@ void main() {
   ivec3 c = u_probeMode == 1 ? u_probeCell : ivec3(gl_GlobalInvocationID);
   if (u_probeMode == 1 && gl_LocalInvocationIndex != 0u) return;
   if (!cellInside(c)) return;
-  vec4 acc[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+  ShRgb acc = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
   vec4 fromNeighbour[6];
-  for (int i = 0; i < 6; ++i) {
-    float t;
-    if (u_probeMode == 1) {
-      vec4 own[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+  if (u_probeMode == 1) {
+    for (int i = 0; i < 6; ++i) {
+      float t;
+      ShRgb own = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
       gatherNeighbour(c, i, own, t);
-      fromNeighbour[i] = vec4(own[0].x, own[1].x, own[2].x, t);
+      fromNeighbour[i] = vec4(own.r.x, own.g.x, own.b.x, t);
     }
-    gatherNeighbour(c, i, acc, t);
   }
-  vec4 total[3];
-  for (int ch = 0; ch < 3; ++ch) {
-    precise vec4 sum = stateIn[ch * cells() + cellIndex(c)] + acc[ch];
-    total[ch] = sum;
-  }
+  // Literal neighbour indices (see addFace); the same order as the reference's loop.
+  float t;
+  gatherNeighbour(c, 0, acc, t);
+  gatherNeighbour(c, 1, acc, t);
+  gatherNeighbour(c, 2, acc, t);
+  gatherNeighbour(c, 3, acc, t);
+  gatherNeighbour(c, 4, acc, t);
+  gatherNeighbour(c, 5, acc, t);
+  const int cell = cellIndex(c), stride = cells();
+  precise vec4 totalR = stateIn[cell] + acc.r;
+  precise vec4 totalG = stateIn[stride + cell] + acc.g;
+  precise vec4 totalB = stateIn[2 * stride + cell] + acc.b;
   if (u_probeMode == 0) {
-    for (int ch = 0; ch < 3; ++ch) {
-      stateOut[ch * cells() + cellIndex(c)] = total[ch];
-      stateOut[(3 + ch) * cells() + cellIndex(c)] = acc[ch];
-    }
+    stateOut[cell] = totalR;
+    stateOut[stride + cell] = totalG;
+    stateOut[2 * stride + cell] = totalB;
+    stateOut[3 * stride + cell] = acc.r;
+    stateOut[4 * stride + cell] = acc.g;
+    stateOut[5 * stride + cell] = acc.b;
     return;
   }
+  vec4 total[3] = vec4[3](totalR, totalG, totalB);
+  vec4 wave[3] = vec4[3](acc.r, acc.g, acc.b);
   LpvVoxel v = voxels[cellIndex(c)];
   probe.cell = ivec4(c, u_cascade);
   for (int ch = 0; ch < 3; ++ch) {
     probe.total[ch] = total[ch];
-    probe.wavefront[ch] = acc[ch];
+    probe.wavefront[ch] = wave[ch];
   }
   probe.voxel = uvec4(v.colorOcclusion, v.fragmentCount, uint(u_step + 1), 0u);
   probe.normals = v.normals;

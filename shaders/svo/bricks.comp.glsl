@@ -9,6 +9,10 @@
 // transfer of Basgier and Gomes is not, source error P3; absent cells count 0; cells beyond the
 // volume are clamped to the edge, as vct-grid's CLAMP_TO_EDGE sampling is). Trilinear filtering
 // inside the brick then reproduces the dense grid's trilinear sample exactly inside the node.
+// u_layoutTile = 1 (Layout T, Crassin/Gomes): a brick for every subdivided node (tagged, above the
+// voxels) instead; its texel t lies at the corner 2 * cell + t of its children (child-level
+// coordinates) and gets the mean of the 8 child-level cells sharing that corner (clamped to the
+// volume), so the brick of a level-l node holds level l + 1 and leaves have none.
 #include "common/packing.glsl"
 #include "svo/svo_shared.h"
 
@@ -18,7 +22,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
 layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint counters[]; };
-layout(std430, binding = SVO_BINDING_BRICK_INDEX) writeonly buffer BrickIndex { uint brickIndex[]; };
+layout(std430, binding = SVO_BINDING_BRICK_INDEX) buffer BrickIndex { uint brickIndex[]; };
 layout(std430, binding = SVO_BINDING_GROUPS) coherent buffer Groups { uint groups[]; };
 layout(rgba8, binding = 0) uniform writeonly image3D u_brickPool;
 uniform uint u_nodeCount;
@@ -26,6 +30,10 @@ uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
 uniform ivec3 u_bricksPerAxis;
 uniform int u_depth;
 uniform int u_pass;
+uniform int u_layoutTile;
+uniform int u_gaussian;   // Layout T only: 1 = Crassin/Gomes' 1/8-1/16-1/32-1/64 kernel above level D - 1
+uniform int u_level;      // pass 2: the level whose bricks are filtered from the level below
+layout(binding = 0) uniform sampler3D u_poolRead;  // the same pool, read back in pass 2
 #include "svo/octree.glsl"
 
 ivec3 brickOrigin(uint b) {
@@ -33,15 +41,131 @@ ivec3 brickOrigin(uint b) {
   return 3 * ivec3(b % bx, (b / bx) % by, b / (bx * by));
 }
 
+bool hasBrick(uint n) {
+  return (nodes[n].word & SVO_TAG) != 0u && (u_layoutTile == 0 || int(nodes[n].level) < u_depth);
+}
+
+// The first child of every node in the 3x3x3 neighbourhood of node n (at cell pc of level
+// 'level'; 0 = none or outside the volume).
+void neighbourhoodChildren(uint n, ivec3 pc, int level, out uint around[27]) {
+  int cells = 1 << level;
+  for (int k = 0; k < 27; ++k) {
+    ivec3 q = pc + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
+    uint other = k == 13 ? n
+               : any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(cells))) ? SVO_ABSENT
+               : svoNeighbour(n, uvec3(pc), uvec3(q));
+    around[k] = other == SVO_ABSENT ? 0u : (nodes[other].word & SVO_CHILD_MASK);
+  }
+}
+
+// The value of child-level cell m (clamped to the volume) among the children of the neighbourhood.
+vec4 childValue(uint around[27], ivec3 pc, ivec3 m, int childCells) {
+  m = clamp(m, ivec3(0), ivec3(childCells - 1));
+  ivec3 o = (m >> 1) - pc + 1;
+  uint f = around[o.x + 3 * o.y + 9 * o.z];
+  ivec3 bit = m & 1;
+  return f == 0u ? vec4(0.0) : values[f + uint(bit.x + 2 * bit.y + 4 * bit.z)];
+}
+
+// Layout T, pass 1: node n's own tile brick.
+void tileBrick(uint n) {
+  if (!hasBrick(n)) { brickIndex[n] = 0u; return; }
+  uint rank = groups[n / 64u];
+  for (uint m = (n / 64u) * 64u; m < n; ++m)
+    if (hasBrick(m)) ++rank;
+  uint brick = 1u + rank;
+  if (brick >= u_brickCapacity) {
+    atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u);
+    brickIndex[n] = 0u;
+    return;
+  }
+  brickIndex[n] = brick;
+  int level = int(nodes[n].level);
+  ivec3 pc = ivec3(unpackVoxel10(nodes[n].coords));
+  uint around[27];
+  neighbourhoodChildren(n, pc, level, around);
+  int childCells = 2 << level;
+  vec4 cellValue[64];  // child-level cells 2 pc - 1 .. 2 pc + 2 per axis
+  for (int j = 0; j < 64; ++j)
+    cellValue[j] = childValue(around, pc, 2 * pc - 1 + ivec3(j % 4, (j / 4) % 4, j / 16), childCells);
+  // With the Gaussian kernel only the finest bricks hold corner means; pass 2 fills the others.
+  if (u_gaussian == 1 && level < u_depth - 1) return;
+  ivec3 origin = brickOrigin(brick);
+  for (int t = 0; t < 27; ++t) {
+    ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
+    vec4 sum = vec4(0.0);
+    for (int z = 0; z < 2; ++z)
+      for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) sum += cellValue[(tx.x + x) + 4 * (tx.y + y) + 16 * (tx.z + z)];
+    imageStore(u_brickPool, origin + tx, sum / 8.0);
+  }
+}
+
+// Pass 2 (Layout T, Gaussian), one level per dispatch from D - 2 up to 0: texel t of a level-l
+// brick is the level-(l+1) vertex value at p = 2 cell + t, the sum over o in {-1, 0, 1}^3 of
+// w(o) V(2p + o) with w = 1/2 per axis for o = 0 and 1/4 for o = +-1 (1/8 centre, 1/16 face, 1/32
+// edge, 1/64 corner) of the level-(l+2) vertex values V, read from the level-(l+1) bricks (the
+// first of the nodes sharing the point that has a brick; none: 0) and clamped to the volume.
+vec4 vertexValue(uint around[27], ivec3 pc, ivec3 r, int childCells) {
+  r = clamp(r, ivec3(0), ivec3(2 * childCells));
+  for (int k = 0; k < 8; ++k) {
+    ivec3 alt = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+    // An even coordinate lies on a face between two cells: its texel 0 in one, texel 2 in the other.
+    bvec3 moved = greaterThan(alt, ivec3(0)), odd = notEqual(r & 1, ivec3(0));
+    if ((moved.x && odd.x) || (moved.y && odd.y) || (moved.z && odd.z)) continue;
+    ivec3 m = clamp((r >> 1) - alt, ivec3(0), ivec3(childCells - 1));
+    ivec3 t = r - 2 * m;
+    if (any(lessThan(t, ivec3(0))) || any(greaterThan(t, ivec3(2)))) continue;
+    ivec3 o = (m >> 1) - pc + 1;
+    uint f = around[o.x + 3 * o.y + 9 * o.z];
+    if (f == 0u) continue;
+    ivec3 bit = m & 1;
+    uint b = brickIndex[f + uint(bit.x + 2 * bit.y + 4 * bit.z)];
+    if (b == 0u) continue;
+    return texelFetch(u_poolRead, brickOrigin(b) + t, 0);
+  }
+  return vec4(0.0);
+}
+
+void gaussianBrick(uint n) {
+  if (int(nodes[n].level) != u_level) return;
+  uint brick = brickIndex[n];
+  if (brick == 0u) return;
+  ivec3 pc = ivec3(unpackVoxel10(nodes[n].coords));
+  uint around[27];
+  neighbourhoodChildren(n, pc, u_level, around);
+  int childCells = 2 << u_level;
+  ivec3 origin = brickOrigin(brick);
+  for (int t = 0; t < 27; ++t) {
+    ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
+    ivec3 p = 2 * pc + tx;
+    vec4 sum = vec4(0.0);
+    for (int k = 0; k < 27; ++k) {
+      ivec3 o = ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
+      float w = (o.x == 0 ? 0.5 : 0.25) * (o.y == 0 ? 0.5 : 0.25) * (o.z == 0 ? 0.5 : 0.25);
+      sum += w * vertexValue(around, pc, 2 * p + o, childCells);
+    }
+    imageStore(u_brickPool, origin + tx, sum);
+  }
+}
+
 void main() {
   uint n = linearInvocation();
   if (n >= u_nodeCount) return;
-  bool tagged = (nodes[n].word & SVO_TAG) != 0u;
+  if (u_pass == 2) {
+    gaussianBrick(n);
+    return;
+  }
+  bool tagged = hasBrick(n);
   if (u_pass == 0) {
     if (tagged) {
       atomicAdd(groups[(linearInvocation() / 64u)], 1u);
       atomicAdd(counters[SVO_COUNTER_BRICKS], 1u);
     }
+    return;
+  }
+  if (u_layoutTile == 1) {
+    tileBrick(n);
     return;
   }
   // Pass 1 runs per tile: invocation n fills the bricks of node n's 8 children (and, for n = 0,
@@ -63,13 +187,7 @@ void main() {
   ivec3 pc = ivec3(unpackVoxel10(nodes[n].coords));
   int parentCells = 1 << parentLevel;
   uint around[27];  // first child of each node in the parent's 3x3x3 neighbourhood (0 = none)
-  for (int k = 0; k < 27; ++k) {
-    ivec3 q = pc + ivec3(k % 3, (k / 3) % 3, k / 9) - 1;
-    uint other = k == 13 ? n
-               : any(lessThan(q, ivec3(0))) || any(greaterThanEqual(q, ivec3(parentCells))) ? SVO_ABSENT
-               : svoNeighbour(n, uvec3(pc), uvec3(q));
-    around[k] = other == SVO_ABSENT ? 0u : (nodes[other].word & SVO_CHILD_MASK);
-  }
+  neighbourhoodChildren(n, pc, parentLevel, around);
   int cells = 2 * parentCells;
   // Rank of the first child among all tagged nodes; the others follow.
   uint rank = groups[first / 64u];
@@ -88,13 +206,7 @@ void main() {
     brickIndex[child] = brick;
     ivec3 c = 2 * pc + ivec3(k & 1u, (k >> 1) & 1u, (k >> 2) & 1u);
     vec4 nb[27];  // centre values of the child's 3x3x3 same-level cells (clamped to the volume)
-    for (int j = 0; j < 27; ++j) {
-      ivec3 m = clamp(c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, ivec3(0), ivec3(cells - 1));
-      ivec3 o = (m >> 1) - pc + 1;
-      uint f = around[o.x + 3 * o.y + 9 * o.z];
-      ivec3 bit = m & 1;
-      nb[j] = f == 0u ? vec4(0.0) : values[f + uint(bit.x + 2 * bit.y + 4 * bit.z)];
-    }
+    for (int j = 0; j < 27; ++j) nb[j] = childValue(around, pc, c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, cells);
     ivec3 origin = brickOrigin(brick);
     for (int t = 0; t < 27; ++t) {
       ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);

@@ -11,6 +11,7 @@
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "common/lights.glsl"
+#include "common/cone_setup.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -21,9 +22,6 @@ layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCoun
 layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDescentStep descent[]; };
 layout(std430, binding = SVO_BINDING_DESCENT_COUNT) buffer DescentCount { uint descentCount; };
 layout(binding = 0) uniform sampler3D u_brickPool;
-layout(binding = 1) uniform sampler2D u_position;
-layout(binding = 2) uniform sampler2D u_normal;
-layout(binding = 3) uniform sampler2D u_albedo;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
@@ -32,24 +30,15 @@ layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
 uniform int u_depth;
 uniform ivec3 u_bricksPerAxis;
 uniform int u_dilated;            // 1: empty neighbours have nodes, so an absent node is exactly 0
-uniform int u_coneCount;
-uniform vec4 u_cones[VOXLAB_MAX_CONES];    // xyz: tangent-space direction (z = normal), w: weight
+uniform int u_layoutTile;         // 1: Layout T, the brick of a level-l node holds level l + 1
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
 uniform vec4 u_aoCones[VOXLAB_MAX_CONES];
 uniform float u_aoAperture;
 uniform float u_aoFalloff;                 // lambda, per voxel
-uniform float u_diffuseAperture;
-uniform float u_specularAperture;
-uniform float u_shadowAperture;
-uniform float u_startOffset;
-uniform float u_maxDistance;
-uniform float u_aoRange;
+uniform int u_aoJitter;                    // 1: the cone frame turns about the normal by a per-pixel angle
 uniform float u_stepScale;
 uniform float u_lodBias;
 uniform int u_maxSteps;
-uniform vec3 u_cameraPos;
-uniform ivec2 u_probePixel;
-uniform int u_scale;
 #include "svo/octree.glsl"
 
 // The trilinear sample of the brick of 'node' (at 'level', holding voxel 'voxel') at voxel-space
@@ -66,11 +55,16 @@ vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
 
 // The octree at voxel-space point v and fractional level levelStar (0 = root .. D = voxels): one
 // descent from the root to the fine level, keeping the node one level above as the coarse one.
+// Layout T: level l is read from the bricks of level l - 1 (the descent ends one level higher and
+// the root's brick is the coarsest level, 1).
 vec4 svoSample(vec3 v, float levelStar, bool record, uint sampleIndex) {
+  const int shift = u_layoutTile;
+  levelStar = max(levelStar, float(shift));
   int fine = int(svoFineLevel(levelStar, float(u_depth)));
   float w = svoFineWeight(levelStar, float(u_depth));
   uvec3 voxel = uvec3(clamp(ivec3(floor(v)), ivec3(0), ivec3(u_resolution - 1)));
   uint node = 0u, coarseNode = SVO_ABSENT, fineNode = SVO_ABSENT;
+  fine -= shift;
   for (int l = 0; l <= fine; ++l) {
     if (l > 0) {
       uint first = nodes[node].word & SVO_CHILD_MASK;
@@ -144,9 +138,8 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
-  ivec2 g = min(px * u_scale, textureSize(u_position, 0) - 1);
-  vec4 pos = texelFetch(u_position, g, 0);
-  if (pos.w == 0.0) {
+  ConeSurface surface = coneSurface(px);
+  if (!surface.valid) {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
     imageStore(u_indirectSpecular, px, vec4(0.0));
     imageStore(u_ambientOcclusion, px, vec4(0.0));
@@ -154,37 +147,45 @@ void main() {
     return;
   }
   bool record = px == u_probePixel;
-  vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
-  vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
-  vec3 origin = pos.xyz + n * u_startOffset;
+  vec3 n = surface.normal;
+  vec3 origin = surface.origin;
   float start = u_voxelSize;
-  vec3 t = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
-  vec3 b = cross(n, t);
+  vec3 t, b;
+  coneFrame(n, t, b);
+  if (u_aoJitter == 1) {
+    // A fixed hash of the pixel (the same image every run): the constellation's banding becomes noise.
+    uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
+    h = (h ^ (h >> 13u)) * 0x5bd1e995u;
+    h ^= h >> 15u;
+    float angle = float(h & 0xffffu) / 65536.0 * 6.28318530718;
+    vec3 turned = cos(angle) * t + sin(angle) * b;
+    b = cross(n, turned);
+    t = turned;
+  }
   vec3 incoming = vec3(0.0);
   float occlusion = 0.0;
   for (int i = 0; i < u_coneCount; ++i) {
-    vec3 d = normalize(u_cones[i].x * t + u_cones[i].y * b + u_cones[i].z * n);
-    ConeResult c = traceCone(origin, d, u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record);
+    ConeResult c = traceCone(origin, coneAxis(u_cones[i], t, b, n), u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record);
     incoming += u_cones[i].w * c.radiance;
     occlusion += u_cones[i].w * c.occlusion;
   }
   if (u_aoConeCount > 0) {
     occlusion = 0.0;
     for (int i = 0; i < u_aoConeCount; ++i) {
-      vec3 d = normalize(u_aoCones[i].x * t + u_aoCones[i].y * b + u_aoCones[i].z * n);
-      ConeResult c = traceCone(origin, d, u_aoAperture, start, u_aoRange, u_aoRange, u_coneCount + 2 + i, record);
+      ConeResult c = traceCone(origin, coneAxis(u_aoCones[i], t, b, n), u_aoAperture, start, u_aoRange, u_aoRange,
+                               u_coneCount + 2 + i, record);
       occlusion += u_aoCones[i].w * c.occlusion;
     }
   }
-  imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
+  imageStore(u_indirectDiffuse, px, vec4(surface.albedo * incoming, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
 
-  vec3 view = normalize(pos.xyz - u_cameraPos);
+  vec3 view = normalize(surface.position - u_cameraPos);
   ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, u_maxDistance,
                               u_coneCount, record);
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
   vec3 toLight; float dist;
-  lightDirection(pos.xyz, toLight, dist);
+  lightDirection(surface.position, toLight, dist);
   float shadowVis = 0.0;
   if (dot(n, toLight) > 0.0) {
     ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(dist, u_maxDistance), 0.0,

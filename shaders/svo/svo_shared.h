@@ -28,6 +28,7 @@ using std::min;
 #define SVO_BINDING_DESCENT 17      // SvoDescentStep[] of the probed pixel
 #define SVO_BINDING_DESCENT_COUNT 18  // uint: descent steps written
 #define SVO_BINDING_GROUPS 19       // uint[] per work group of 64 nodes: tagged count, then exclusive prefix
+#define SVO_BINDING_NEIGHBOURS 20   // uint[6] per node: same-level face neighbours +x, -x, +y, -y, +z, -z (SVO_ABSENT: none)
 
 // Node word 0: [31] TAG (subdivide at an inner level, owns a brick at any level),
 //              [30] NON-EMPTY (a voxel fragment lies inside the node),
@@ -70,6 +71,19 @@ struct SvoDescentStep {
   uint coords;   // cell at that level, 10:10:10
   float value[4];  // the node brick's trilinear sample (premultiplied rgb, alpha) at the sample centre
 };
+// The picked node (svo-pick's probe record): the node of level 'level' at cell 'coords'.
+struct SvoPickedNode {
+  uint node;          // SVO_ABSENT: no node there (the region is empty at that level)
+  uint level;
+  uint coords;        // cell at that level, 10:10:10
+  uint word;          // flags + first child
+  uint children[8];   // first child + k, k = x + 2y + 4z (SVO_ABSENT: not subdivided)
+  uint neighbours[6]; // +x, -x, +y, -y, +z, -z (svo-neighbour-links)
+  uint brick;         // its brick (0 = none)
+  uint pad;
+  float texels[108];  // the brick's 27 texels (rgba each), t = x + 3y + 9z (premultiplied rgb, alpha)
+};
+#define SVO_BINDING_PICKED 21       // SvoPickedNode: the picked node
 SVO_CONST uint SVO_ABSENT = 0xFFFFFFFFu;
 SVO_CONST uint SVO_MAX_DESCENT_STEPS = 16u * 64u * 10u;
 

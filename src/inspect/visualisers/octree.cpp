@@ -9,6 +9,10 @@
 //                 the nested boxes of every path; check: levels run 0, 1, 2 ... per sample, each
 //                 cell is the parent cell's child (cell >> 1 == parent cell) and no node follows an
 //                 absent one (invariant I12 of the technical note).
+// octree-picked-node: the node svo-pick found under a click on svo-structure; 3D: its box (orange),
+//                 its children (blue) and its face neighbours (green) over the volume; record view:
+//                 flags, children, links, brick and the brick's 27 texels; check: a node without a
+//                 brick has all-zero texels, a node with children has 8 consecutive ones.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +30,8 @@ namespace {
 
 using svo::SvoDescentStep;
 using svo::SvoNode;
+using svo::SvoPickedNode;
+static_assert(sizeof(SvoPickedNode) == 512, "std430 layout of SvoPickedNode");
 
 glm::uvec3 unpack10(uint32_t p) { return {p & 1023u, (p >> 10) & 1023u, (p >> 20) & 1023u}; }
 
@@ -263,8 +269,107 @@ class OctreeDescentVisualiser : public BufferVisualiser {
   }
 };
 
+bool decodePicked(const CapturedOutput& out, SvoPickedNode& p) {
+  if (out.desc.layout.stride != sizeof(SvoPickedNode) || out.records.size() < sizeof(SvoPickedNode) || out.recordCount < 1)
+    return false;
+  std::memcpy(&p, out.records.data(), sizeof p);
+  return true;
+}
+
+class OctreePickedNodeVisualiser : public BufferVisualiser {
+ public:
+  const char* name() const override { return "octree-picked-node"; }
+  CaptureTier defaultTier(const OutputDesc&) const override { return CaptureTier::Exact; }
+  bool has3D(const OutputDesc&) const override { return true; }
+
+  RecordCheck checkRecords(const CapturedOutput& out) const override {
+    RecordCheck r;
+    SvoPickedNode p;
+    if (!decodePicked(out, p)) {
+      r.error = "no picked-node record";
+      return r;
+    }
+    if (p.node == svo::SVO_ABSENT) {
+      r.summary = "no node at the picked cell (empty at that level)";
+      return r;
+    }
+    r.elements = 1;
+    bool zero = true;
+    for (float v : p.texels) zero = zero && v == 0.0f;
+    if (p.brick == 0 && !zero) r.error = "a node without a brick has non-zero texels";
+    for (int k = 1; k < 8 && r.error.empty(); ++k)
+      if (p.children[0] != svo::SVO_ABSENT && p.children[k] != p.children[0] + uint32_t(k)) r.error = "children not consecutive";
+    int links = 0;
+    for (uint32_t n : p.neighbours) links += n != svo::SVO_ABSENT;
+    r.summary = "node " + std::to_string(p.node) + " at level " + std::to_string(p.level) + ", " + std::to_string(links) +
+                " neighbour links, brick " + std::to_string(p.brick);
+    return r;
+  }
+
+  Content3D build3D(const VisualiserContext& ctx, View3D& view) const override {
+    Content3D c;
+    SvoPickedNode p;
+    if (!decodePicked(ctx.out, p)) return c;
+    CapturedOutput volume;
+    const int depth = depthFor(ctx, int(p.level), &volume);
+    if (!volume.levels.empty()) view.setVolume(mapVolume(volume.levels[0], volume.desc.semantic, DisplaySettings{}),
+                                               glm::vec3(volume.levels[0].size), 0.3f);
+    const float cell = float(1 << (depth - int(p.level)));
+    const glm::vec3 lo = glm::vec3(unpack10(p.coords)) * cell;
+    std::vector<ViewInstance> lines;
+    addBox(lines, lo, lo + cell, glm::vec4(1.0f, 0.6f, 0.15f, 1.0f));
+    if (p.children[0] != svo::SVO_ABSENT)
+      for (int k = 0; k < 8; ++k) {
+        glm::vec3 o = lo + 0.5f * cell * glm::vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        addBox(lines, o, o + 0.5f * cell, glm::vec4(0.3f, 0.55f, 1.0f, 1.0f));
+      }
+    for (int d = 0; d < 6; ++d) {
+      if (p.neighbours[d] == svo::SVO_ABSENT) continue;
+      glm::vec3 o = lo;
+      o[d >> 1] += (d & 1) ? -cell : cell;
+      addBox(lines, o, o + cell, glm::vec4(0.3f, 0.9f, 0.3f, 1.0f));
+    }
+    view.setLines(std::move(lines));
+    c.hi = glm::vec3(float(1 << depth));
+    c.info = checkRecords(ctx.out).summary + "; orange the node, blue its children, green its face neighbours";
+    if (p.node == svo::SVO_ABSENT) c.message = "no node at the picked cell: click a non-empty voxel of svo-structure";
+    return c;
+  }
+
+  void drawRecordView(const VisualiserContext& ctx) const override {
+    SvoPickedNode p;
+    if (!decodePicked(ctx.out, p)) return;
+    RecordCheck check = checkRecords(ctx.out);
+    ImGui::Text("%s", check.summary.c_str());
+    if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
+    glm::uvec3 cc = unpack10(p.coords);
+    ImGui::Text("cell (%u, %u, %u), flags %s%s, first child %u", cc.x, cc.y, cc.z, (p.word & svo::SVO_TAG) ? "tagged " : "",
+                (p.word & svo::SVO_NON_EMPTY) ? "non-empty" : "", p.word & svo::SVO_CHILD_MASK);
+    const char* dirs[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+    for (int d = 0; d < 6; ++d) {
+      if (d) ImGui::SameLine();
+      if (p.neighbours[d] == svo::SVO_ABSENT) ImGui::TextDisabled("%s -", dirs[d]);
+      else ImGui::Text("%s %u", dirs[d], p.neighbours[d]);
+    }
+    if (ImGui::BeginTable("brick", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY, ImVec2(0, 300))) {
+      for (const char* h : {"texel", "r", "g, b", "a"}) ImGui::TableSetupColumn(h);
+      ImGui::TableHeadersRow();
+      for (int t = 0; t < 27; ++t) {
+        const float* v = &p.texels[4 * t];
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn(); ImGui::Text("%d %d %d", t % 3, (t / 3) % 3, t / 9);
+        ImGui::TableNextColumn(); ImGui::Text("%.3f", v[0]);
+        ImGui::TableNextColumn(); ImGui::Text("%.3f %.3f", v[1], v[2]);
+        ImGui::TableNextColumn(); ImGui::Text("%.3f", v[3]);
+      }
+      ImGui::EndTable();
+    }
+  }
+};
+
 }  // namespace
 
+VOXLAB_REGISTER_VISUALISER(OctreePickedNodeVisualiser, OutputKind::Buffer, "octree-picked-node");
 VOXLAB_REGISTER_VISUALISER(OctreeNodesVisualiser, OutputKind::Buffer, "octree-nodes");
 VOXLAB_REGISTER_VISUALISER(OctreeDescentVisualiser, OutputKind::Buffer, "octree-descent");
 

@@ -275,6 +275,15 @@ static ParamDesc injectSourceParam() {
                            "VPLs from the lit voxels, or one VPL of flux pi (per channel) in the picked cell "
                            "(probe.cell-x/y/z) for watching propagation alone");
 }
+static ParamDesc injectLightingParam() {
+  return ParamDesc::choice("inject.lighting", {"per-cell", "per-fragment"}, 0,
+                           "per-cell (the thesis): an occupied cell is lit once, through its most light-facing normal "
+                           "and one shadow test, and all its fragments count as lit; per-fragment: every fragment is "
+                           "lit at its own voxel and the cell sums their lobes (what large cells need: on Sponza "
+                           "per-cell lights shaded surfaces)");
+}
+static size_t fragmentSumsBytes(const ParamSet& p) { return 12 * sizeof(int32_t) * cellCount(p); }
+
 static ParamDesc vplDirectionParam() {
   return ParamDesc::choice("inject.vpl-direction", {"+x", "-x", "+y", "-y", "+z", "-z"}, 4,
                            "normal of the point VPL's clamped-cosine lobe");
@@ -287,6 +296,7 @@ void InjectStage::declare(StageBuilder& b) const {
                           "self-illumination; the thesis: 0); point VPLs stay put", "cells"));
   b.param(resolutionParam());
   b.param(injectSourceParam());
+  b.param(injectLightingParam());
   b.param(vplDirectionParam());
   b.param(probeParam("x"));
   b.param(probeParam("y"));
@@ -298,13 +308,64 @@ void InjectStage::declare(StageBuilder& b) const {
   b.write("inject.unshifted");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
-      b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+      b.output(shVolume("vpl", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: injected VPL intensity (W/sr) of the ") + kChannelNames[ch] + " channel, " +
-                   kCascadeNames[c] + " cascade, as L1 SH (c00, c1-1, c10, c11); shown as c00");
+                   kCascadeNames[c] + " cascade, as L1 SH (c00, c1-1, c10, c11); shown as log c00, |b|/c00 or lobes");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
       b.texture(shVolume("vpl", c, ch), [](const ParamSet& p, const ViewState&) { return shDesc(p.getInt("lpv.resolution")); });
   b.buffer("inject.unshifted", [](const ParamSet& p, const ViewState&) { return unshiftedBytes(p); });
+  b.read("fragments");
+  b.read("fragments.count");
+  b.write("inject.fragment-sums");
+  b.write("inject.fragment-largest");
+  b.buffer("inject.fragment-sums", [](const ParamSet& p, const ViewState&) { return fragmentSumsBytes(p); });
+  b.buffer("inject.fragment-largest", [](const ParamSet&, const ViewState&) { return size_t(4); });
+}
+
+// inject.lighting=per-fragment: the fixed-point sums of the lit fragments' lobes per cell of
+// cascade c (shaders/lpv/inject_fragments.comp.glsl). The unit is chosen so that the fullest cell
+// cannot overflow: the largest single-fragment coefficient times the most fragments in a cell is
+// 2^30 units. Returns the units per W/sr.
+static float sumFragmentLobes(StageContext& ctx, int c, const gpu::LpvGrid& grid, const VoxelSpace& space, Buffer& sums,
+                              Buffer& largest) {
+  const uint32_t count = voxelFragmentCount(ctx.board);
+  glClearNamedBufferData(sums.id(), GL_R32I, GL_RED_INTEGER, GL_INT, nullptr);
+  const uint32_t zero = 0;
+  largest.upload(&zero, 4);
+  GLuint program = ctx.shaders.program({"lpv/inject_fragments.comp.glsl"});
+  space.setUniforms(program);
+  setGridUniforms(program, grid);
+  setUniform(program, "u_fragmentCount", unsigned(count));
+  setUniform(program, "u_fragmentArea", space.voxelSize * space.voxelSize);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, sums.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, largest.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+  setUniform(program, "u_pass", 0);
+  setUniform(program, "u_unitsPerWatt", 1.0f);
+  glUseProgram(program);
+  if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+  barrier();
+  float biggest = 0.0f;
+  uint32_t bits = readCounter(largest);
+  std::memcpy(&biggest, &bits, 4);
+  // The most fragments any cell holds (the bin stage counted them).
+  auto records = ctx.board.buffer(voxelBuffer(c)).download(voxelBufferBytes(ctx.params));
+  uint32_t most = 1;
+  for (size_t i = 0; i < records.size() / sizeof(gpu::LpvVoxel); ++i) {
+    gpu::LpvVoxel v;
+    std::memcpy(&v, &records[i * sizeof v], sizeof v);
+    most = std::max(most, v.fragmentCount);
+  }
+  const float units = biggest > 0.0f ? float(double(1u << 30) / (double(biggest) * most)) : 1.0f;
+  setUniform(program, "u_pass", 1);
+  setUniform(program, "u_unitsPerWatt", units);
+  glUseProgram(program);
+  if (count > 0 && biggest > 0.0f) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+  barrier();
+  return units;
 }
 
 void InjectStage::execute(StageContext& ctx) {
@@ -326,6 +387,17 @@ void InjectStage::execute(StageContext& ctx) {
     setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
     setUniform(program, "u_shift", ctx.params.getFloat("inject.vpl-shift"));
     Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", unshiftedBytes(ctx.params));
+    Buffer& sums = ctx.board.ensureBuffer("inject.fragment-sums", fragmentSumsBytes(ctx.params));
+    Buffer& largest = ctx.board.ensureBuffer("inject.fragment-largest", 4);
+    const bool perFragment = !point && ctx.params.getChoice("inject.lighting") == "per-fragment";
+    float units = 1.0f;
+    if (perFragment) {
+      units = sumFragmentLobes(ctx, c, grids[c], space, sums, largest);
+      ctx.stats[std::string("fixed_point_units_per_w_") + kCascadeNames[c]] = units;
+    }
+    setUniform(program, "u_perFragment", perFragment ? 1 : 0);
+    setUniform(program, "u_unitsPerWatt", units);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, sums.id());
     glUseProgram(program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, unshifted.id());
@@ -383,19 +455,19 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.write("energy.count");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
-      b.output(shVolume("light", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+      b.output(shVolume("light", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: intensity (W/sr) the lookup reads, ") + kChannelNames[ch] + " channel, " +
-                   kCascadeNames[c] + " cascade, after the steps so far; shown as c00");
+                   kCascadeNames[c] + " cascade, after the steps so far; shown as log c00, |b|/c00 or lobes");
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch)
-      b.output(shVolume("wavefront", c, ch), OutputKind::Volume3D, Semantic::Scalar,
+      b.output(shVolume("wavefront", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: light that moved in the last step, ") + kChannelNames[ch] + ", " + kCascadeNames[c] +
-                   " (the L1 diamond); shown as c00");
+                   " (the L1 diamond); shown as log c00, |b|/c00 or lobes");
   BufferLayout energy;
   energy.stride = sizeof(gpu::LpvEnergy);
   energy.fields = {{"wavefront", FieldType::Vec4, 0, FieldRole::Other}, {"total", FieldType::Vec4, 16, FieldRole::Other}};
   energy.countResource = "energy.count";
-  b.output("energy", OutputKind::Buffer, Semantic::Scalar,
+  b.output("energy", OutputKind::Buffer, kLpvEnergy,
            "per step (0 = injected) and cascade: flux of the wavefront (rgb, step) and of the grid (rgb, cascade), W")
       .layout = energy;
   BufferLayout probe;
@@ -692,8 +764,32 @@ void GiStage::declare(StageBuilder& b) const {
       .referenceMode = "indirect-1";
   b.output("glossy", OutputKind::Image2D, Semantic::RadianceHDR,
            "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips");
+  BufferLayout boxes;
+  boxes.stride = sizeof(gpu::LpvBox);
+  boxes.fields = {{"lo-kind", FieldType::Vec4, 0, FieldRole::Other}, {"hi-cell", FieldType::Vec4, 16, FieldRole::Other}};
+  b.output("cascade-boxes", OutputKind::Buffer, kLpvCascades,
+           "world boxes: fine cascade, coarse cascade, and the blend shell between coarse weight 0 (inner box) and 1 "
+           "(outer box, half a fine cell inside the fine grid's edge)")
+      .layout = boxes;
   for (const auto& [name, format] : kGiImages)
     b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+  b.buffer("cascade-boxes", [](const ParamSet&, const ViewState&) { return 4 * sizeof(gpu::LpvBox); });
+}
+
+// The boxes gi.comp.glsl blends by: the coarse weight rises from 0 to 1 between max-norm distances
+// 0.5 res - 0.5 - width and 0.5 res - 0.5 fine cells from the fine grid's centre.
+static std::array<gpu::LpvBox, 4> cascadeBoxes(const std::array<gpu::LpvGrid, kCascades>& grids, float blendWidth) {
+  std::array<gpu::LpvBox, 4> boxes;
+  for (int c = 0; c < kCascades; ++c) {
+    glm::vec3 lo(grids[c].originCell);
+    float cell = grids[c].originCell.w, edge = cell * grids[c].centreRes.w;
+    boxes[c] = {glm::vec4(lo, float(c)), glm::vec4(lo + edge, cell)};
+  }
+  const float s = grids[0].originCell.w, res = grids[0].centreRes.w;
+  const glm::vec3 centre = glm::vec3(grids[0].originCell) + 0.5f * res * s;
+  const float half[2] = {(0.5f * res - 0.5f - blendWidth) * s, (0.5f * res - 0.5f) * s};
+  for (int k = 0; k < 2; ++k) boxes[2 + k] = {glm::vec4(centre - half[k], float(2 + k)), glm::vec4(centre + half[k], s)};
+  return boxes;
 }
 
 void GiStage::execute(StageContext& ctx) {
@@ -729,6 +825,8 @@ void GiStage::execute(StageContext& ctx) {
   glBindTextureUnit(9, ctx.board.texture("reflection").id());
   dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
   barrier();
+  auto boxes = cascadeBoxes(grids, ctx.params.getFloat("gi.blend-width"));
+  ctx.board.ensureBuffer("cascade-boxes", sizeof(boxes)).upload(boxes.data(), sizeof(boxes));
 }
 
 // --- composite -----------------------------------------------------------------------------------

@@ -11,6 +11,12 @@ struct Scene;
 namespace voxlab::lpv {
 
 constexpr int kCascades = 2;
+
+// Semantics with visualisers of their own (src/inspect/visualisers/sh_volume.cpp, lpv_energy.cpp,
+// lpv_cascades.cpp).
+inline constexpr Semantic kShL1{"sh-l1"};              // RGBA32F volume: L1 SH (c00, c1-1, c10, c11) per cell
+inline constexpr Semantic kLpvEnergy{"lpv-energy"};    // LpvEnergy records, step * 2 + cascade
+inline constexpr Semantic kLpvCascades{"lpv-cascades"};  // LpvBox records: cascade boxes and blend shell
 extern const char* const kCascadeNames[kCascades];  // "fine", "coarse"
 extern const char* const kChannelNames[3];          // "red", "green", "blue"
 

@@ -9,6 +9,7 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "techniques/common/cone_setup.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/cone_layout.h"
@@ -57,6 +58,21 @@ static ParamDesc dilateParam() {
   return ParamDesc::boolean("svo.dilate", false,
                             "also subdivide the 26 neighbours of every non-empty node, so the octree equals the "
                             "dense grid everywhere (off: Basgier's octree, with quad-like artefacts at its borders)");
+}
+
+static ParamDesc layoutParam() {
+  return ParamDesc::choice("svo.layout", {"node", "tile"}, 0,
+                           "node (Basgier, Layout N): a 3x3x3 node-centred brick per non-empty node, leaves included, "
+                           "exactly vct-grid's mip levels; tile (Crassin/Gomes, Layout T): one brick per subdivided node "
+                           "at its children's corners, none for leaves (about a fifth of the memory, the finest level "
+                           "blurred by [1 2 1] / 4 per axis)");
+}
+static bool tileLayout(const ParamSet& p) { return p.getChoice("svo.layout") == "tile"; }
+static ParamDesc filterParam() {
+  return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
+                           "bricks above the finest level with svo.layout=tile: box (vertex means of the box-filtered "
+                           "nodes) or Crassin/Gomes' Gaussian 1/8-1/16-1/32-1/64 of the level below's bricks; with "
+                           "the node layout the Gaussian collapses to the box (the note) and is not applied");
 }
 
 static void barrierAll() { glMemoryBarrier(GL_ALL_BARRIER_BITS); }
@@ -286,6 +302,48 @@ void BuildStage::execute(StageContext& ctx) {
     ctx.stats["non_empty_level_" + std::to_string(l)] = levels[l].nonEmpty;
 }
 
+// --- svo-neighbours --------------------------------------------------------------------------------
+
+void NeighboursStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-counters");
+  BufferLayout links;
+  links.stride = 6 * sizeof(uint32_t);
+  const char* names[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  for (uint32_t d = 0; d < 6; ++d) links.fields.push_back({names[d], FieldType::U32, 4 * d});
+  links.countResource = "svo-counters";
+  links.countOffset = 4 * 6;  // nodes written
+  b.output("svo-neighbour-links", OutputKind::Buffer, Semantic::Scalar,
+           "per node: the same-level node across each face (+x, -x, +y, -y, +z, -z), 4294967295 = none")
+      .layout = links;
+  b.buffer("svo-neighbour-links", [](const ParamSet&, const ViewState&) { return perNodeStart(24); }, /*pool=*/true);
+}
+
+void NeighboursStage::execute(StageContext& ctx) {
+  std::vector<SvoLevel> levels = readLevels(ctx.board);
+  const uint32_t nodes = nodeCount(levels);
+  Buffer& links = ctx.board.ensureBuffer("svo-neighbour-links", size_t(nodes) * 24);
+  GLuint program = ctx.shaders.program({"svo/neighbours.comp.glsl"});
+  setUniform(program, "u_nodeCount", unsigned(nodes));
+  setUniform(program, "u_depth", octreeDepth(ctx.params));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NEIGHBOURS, links.id());
+  dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+  barrierAll();
+  std::vector<uint8_t> bytes = links.download(size_t(nodes) * 24);
+  size_t found = 0;
+  for (size_t i = 0; i < size_t(nodes) * 6; ++i) {
+    uint32_t v;
+    std::memcpy(&v, &bytes[i * 4], 4);
+    found += v != SVO_ABSENT;
+  }
+  ctx.stats["nodes"] = nodes;
+  ctx.stats["links"] = double(found);
+}
+
 // --- svo-leaves ------------------------------------------------------------------------------------
 
 static BufferLayout valueLayout() {
@@ -367,9 +425,7 @@ void MipmapStage::declare(StageBuilder& b) const {
       .layout = valueLayout();
   b.output("svo-dense", OutputKind::Volume3D, Semantic::Color,
            "the octree resampled into a dense view: mip m holds the node values of level D - m (0 where no node), "
-           "so it can be set beside vct-grid's radiance");
-  b.output("svo-dense-opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the dense view per level").resource =
-      "svo-dense";
+           "so it can be set beside vct-grid's radiance; alpha = opacity (the viewer's channel a)");
   b.buffer("svo-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
   b.texture("svo-dense", [](const ParamSet& p, const ViewState&) { return denseDesc(p); });
 }
@@ -439,6 +495,8 @@ static TextureDesc brickPoolDesc(uint32_t bricks) {
 void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(poolFractionParam());
+  b.param(layoutParam());
+  b.param(filterParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
@@ -463,8 +521,11 @@ void BricksStage::execute(StageContext& ctx) {
   const int depth = octreeDepth(ctx.params);
   std::vector<SvoLevel> levels = readLevels(ctx.board);
   const uint32_t nodes = nodeCount(levels);
+  const bool tile = tileLayout(ctx.params);
+  // Layout N: a brick per tagged node; Layout T: per tagged node above the voxels (subdivided).
   uint32_t tagged = 0;
-  for (const auto& l : levels) tagged += l.tagged;
+  for (int l = 0; l <= depth; ++l)
+    if (!tile || l < depth) tagged += levels[l].tagged;
   const uint32_t needed = tagged + 1;  // + the zero brick
   const double fraction = ctx.params.getFloat("svo.pool-fraction");
   const uint32_t capacity = fraction >= 1.0 ? needed : std::max(1u, uint32_t(std::floor(needed * fraction)));
@@ -490,6 +551,9 @@ void BricksStage::execute(StageContext& ctx) {
   setUniform(program, "u_brickCapacity", unsigned(capacity));
   setUniform(program, "u_bricksPerAxis", axis);
   setUniform(program, "u_depth", depth);
+  setUniform(program, "u_layoutTile", tile ? 1 : 0);
+  const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
+  setUniform(program, "u_gaussian", gaussian ? 1 : 0);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
@@ -514,6 +578,17 @@ void BricksStage::execute(StageContext& ctx) {
   glUseProgram(program);
   dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
   barrierAll();
+  if (gaussian) {
+    // Layout T, Gaussian: level by level from D - 2 up, each from the bricks just below it.
+    setUniform(program, "u_pass", 2);
+    glBindTextureUnit(0, pool.id());
+    for (int l = depth - 2; l >= 0; --l) {
+      setUniform(program, "u_level", l);
+      glUseProgram(program);
+      dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+      barrierAll();
+    }
+  }
   std::vector<uint8_t> bytes = counters.download(SVO_COUNTER_WORDS * 4);
   std::memcpy(c.data(), bytes.data(), c.size() * 4);
   if (c[SVO_COUNTER_OVERFLOW])
@@ -524,6 +599,65 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
   ctx.stats["octree_bytes"] = double(pool.byteSize()) + double(nodes) * (sizeof(SvoNode) + 4);
+  // What the cone tracer reads: Layout T never descends to the voxel level, whose nodes only carry
+  // the leaf values into the filter (they could be dropped after this stage).
+  const double tracedNodes = tile ? double(levels[depth].start) : double(nodes);
+  ctx.stats["traced_octree_bytes"] = double(pool.byteSize()) + tracedNodes * (sizeof(SvoNode) + 4);
+  // The dense comparison: vct-grid's radiance mip chain at this resolution (RGBA8, all levels).
+  double dense = 0.0;
+  for (int r = ctx.params.getInt("voxel.resolution"); r >= 1; r /= 2) dense += 4.0 * double(r) * r * r;
+  ctx.stats["dense_mip_chain_bytes"] = dense;
+  ctx.stats["traced_octree_over_dense"] = ctx.stats["traced_octree_bytes"] / dense;
+}
+
+// --- svo-pick --------------------------------------------------------------------------------------
+
+void PickStage::declare(StageBuilder& b) const {
+  b.param(voxelResolutionParam());
+  b.param(ParamDesc::integer("pick.x", 0, 0, 511, "picked cell along x, in cells of the picked level", "cells"));
+  b.param(ParamDesc::integer("pick.y", 0, 0, 511, "picked cell along y", "cells"));
+  b.param(ParamDesc::integer("pick.z", 0, 0, 511, "picked cell along z", "cells"));
+  b.param(ParamDesc::integer("pick.level", 0, 0, 9,
+                             "mip of svo-structure the cell is given in: octree level D - mip (0 = the voxels)"));
+  b.probe(ProbeDesc::volume("pick.x", "pick.y", "pick.z", "pick.level", "svo-structure"));
+  b.read("svo-nodes");
+  b.read("svo-levels");
+  b.read("svo-neighbour-links");
+  b.read("svo-brick-index");
+  b.read("svo-brick-pool");
+  BufferLayout l;
+  l.stride = sizeof(SvoPickedNode);
+  l.fields = {{"node", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"cell", FieldType::Packed10_10_10, 8},
+              {"word", FieldType::U32, 12}, {"brick", FieldType::U32, 72}};
+  OutputDesc& o = b.output("svo-picked-node", OutputKind::Buffer, kOctreePickedNode,
+                           "the picked node: index, level, cell, flags, children, neighbour links, brick and its 27 "
+                           "texels (visualiser octree-picked-node)");
+  o.layout = l;
+  o.probeRecord = true;
+  b.buffer("svo-picked-node", [](const ParamSet&, const ViewState&) { return sizeof(SvoPickedNode); });
+}
+
+void PickStage::execute(StageContext& ctx) {
+  const int depth = octreeDepth(ctx.params);
+  const int level = std::max(0, depth - ctx.params.getInt("pick.level"));
+  const int cells = 1 << level;
+  glm::ivec3 cell(ctx.params.getInt("pick.x"), ctx.params.getInt("pick.y"), ctx.params.getInt("pick.z"));
+  cell = glm::clamp(cell, glm::ivec3(0), glm::ivec3(cells - 1));
+  Buffer& out = ctx.board.ensureBuffer("svo-picked-node", sizeof(SvoPickedNode));
+  GLuint program = ctx.shaders.program({"svo/pick.comp.glsl"});
+  setUniform(program, "u_cell", cell);
+  setUniform(program, "u_level", level);
+  setUniform(program, "u_depth", depth);
+  setUniform(program, "u_bricksPerAxis", ctx.board.texture("svo-brick-pool").desc().size / 3);
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NEIGHBOURS, ctx.board.buffer("svo-neighbour-links").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_PICKED, out.id());
+  glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
+  dispatchCompute({1, 1, 1}, {1, 1, 1});
+  barrierAll();
+  ctx.stats["picked_level"] = level;
 }
 
 // --- svo-cone-trace --------------------------------------------------------------------------------
@@ -544,35 +678,20 @@ static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(dilateParam());
+  b.param(layoutParam());
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
-  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
-  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
-  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
-                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
-  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
-                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
-  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
-                          "cones start this far from the surface along its normal (avoids self-occlusion)", "voxels"));
-  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
-  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
-                          "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
-  b.param(ParamDesc::real("cone.max-distance", 1.0, 0.05, 2.0, "longest cone, as a fraction of the volume edge"));
-  b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
-                          "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
+  declareConeParams(b);
   b.param(ParamDesc::choice("ao.cones", {"diffuse", "basgier-3", "basgier-5", "basgier-8"}, 0,
                             "AO from the diffuse cones (as vct-grid), or Basgier's constellations: 3 cones of 100 deg, "
                             "5 of 90 deg, 8 of 60 deg, ring layout, equal weights"));
   b.param(ParamDesc::real("ao.falloff", 0.0, 0.0, 2.0,
                           "Basgier's distance falloff lambda: each AO sample's opacity is scaled by 1 / (1 + lambda r), "
                           "r in voxels (0: none, vct-grid's plain range cut)", "1/voxel"));
-  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
-                          "specular cone aperture = max(2, 90 * roughness) degrees"));
-  b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
-  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
-  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
-  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  b.param(ParamDesc::boolean("ao.jitter", false,
+                             "turn every pixel's cones (diffuse and AO) about its normal by a fixed per-pixel random "
+                             "angle: the constellation's banding becomes noise"));
   b.readView();
   b.read("svo-nodes");
   b.read("svo-levels");
@@ -641,15 +760,12 @@ void ConeTraceStage::execute(StageContext& ctx) {
   descentCount.upload(&zero, 4);
   glm::ivec3 traced = indirect.desc().size;
 
-  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
   auto pack = [](const std::vector<vct::Cone>& cones) {
     std::vector<glm::vec4> packed;
     for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
     return packed;
   };
-  std::vector<glm::vec4> cones = pack(vct::diffuseCones(ctx.params.getInt("cone.count"), aperture,
-                                                        ctx.params.getChoice("cone.layout"),
-                                                        ctx.params.getChoice("cone.weighting")));
+  const float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
   // Basgier's constellations (seed 002 section 6): 5 cones of 90 deg and 8 of 60 deg as published;
   // the 3-cone aperture (100 deg) and all directions (our ring layout) are our choice, the seed
   // gives neither. Equal weights, as his average.
@@ -669,26 +785,13 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_bricksPerAxis", brickAxis);
   setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
-  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(cones.size()), &cones[0].x);
-  setUniform(program, "u_coneCount", int(cones.size()));
+  setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
   glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
   setUniform(program, "u_aoConeCount", aoCount);
   setUniform(program, "u_aoAperture", aoAperture);
   setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
-  setUniform(program, "u_diffuseAperture", aperture);
-  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
-  setUniform(program, "u_shadowAperture", ctx.params.getFloat("shadow.cone-aperture") * kDegrees);
-  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset") * space.voxelSize);
-  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
-  setUniform(program, "u_maxSteps", 512);
-  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * space.edge());
-  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * space.edge());
-  setUniform(program, "u_cameraPos", ctx.view.position);
-  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
-  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
-  setUniform(program, "u_scale", scale);
-  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
+  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   glBindTextureUnit(1, ctx.board.texture("position").id());
@@ -714,11 +817,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   };
   cap(sampleCount, VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
   cap(descentCount, SVO_MAX_DESCENT_STEPS);
-  ctx.stats["diffuse_cones"] = double(cones.size());
-  ctx.stats["ao_cones"] = aoCount ? aoCount : double(cones.size());
+  ctx.stats["diffuse_cones"] = ctx.params.getInt("cone.count");
+  ctx.stats["ao_cones"] = aoCount ? aoCount : ctx.params.getInt("cone.count");
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
-  ctx.stats["probe_x"] = probeX;
-  ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
+  ctx.stats["probe_x"] = probe.x;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probe.y;
 }
 
 }  // namespace voxlab::svo

@@ -11,6 +11,7 @@ namespace voxlab::svo {
 inline constexpr Semantic kOctreeNodes{"octree-nodes"};
 inline constexpr Semantic kOctreeLevels{"octree-levels"};
 inline constexpr Semantic kOctreeDescent{"octree-descent"};
+inline constexpr Semantic kOctreePickedNode{"octree-picked-node"};
 
 // Octree depth D = log2(voxel.resolution): levels 0 (root) .. D (voxels).
 int octreeDepth(const ParamSet& params);
@@ -30,6 +31,18 @@ class BuildStage : public Stage {
   }
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override { return octreeDepth(params) + 1; }
+  void execute(StageContext& ctx) override;
+};
+
+class NeighboursStage : public Stage {
+ public:
+  const char* id() const override { return "svo-neighbours"; }
+  const char* title() const override { return "Link every node to its face neighbours"; }
+  const char* summary() const override {
+    return "For every node, the same-level nodes across its six faces (up to the closest common ancestor and down "
+           "again), or none: the links a border transfer or a neighbour walk follows.";
+  }
+  void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;
 };
 
@@ -66,6 +79,18 @@ class BricksStage : public Stage {
     return "Give every flagged node a brick in a 3D texture: its centre value and 26 border texels, each the "
            "mean of the same-level nodes sharing that point, so hardware trilinear filtering inside a node "
            "equals the dense grid's.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class PickStage : public Stage {
+ public:
+  const char* id() const override { return "svo-pick"; }
+  const char* title() const override { return "Pick a node"; }
+  const char* summary() const override {
+    return "The node under a click on the octree's structure volume: its box, children, neighbour links and its "
+           "brick's 27 values.";
   }
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;

@@ -15,11 +15,16 @@
 //                      the 26 neighbours) -> count -> size the node pool from the count ->
 //                      allocate (atomicAdd per tagged node) + init the children. Iteration 0 is
 //                      svo-init (root, counters); iteration D only flags the leaves.
+//      svo-neighbours  the six same-level face neighbours of every node (through the closest common
+//                      ancestor), symmetric by construction; the bricks gather by position instead
 //   4. svo-leaves      per fragment: shadow-mapped Lambert + emission (as vct-grid's inject),
 //                      exact fixed-point sums per leaf, then mean and opacity 1
 //   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; the
 //                      "svo-dense" view resamples each level into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
+//                      (svo.layout=tile: one per subdivided node, at its children's corners)
+//      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
+//                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
 //   8. svo-cone-trace  vct-grid's cones through the octree; AO; probe records (samples, descents)
 //   9. composite       vct-grid's composite, or the AO image as the final one (svo.shading=ao)
@@ -52,9 +57,25 @@
 //     compared), or Basgier's constellations (ao.cones): 5 cones of 90 deg and 8 of 60 deg as
 //     published, 3 cones of 100 deg (the seed leaves the aperture open: our choice, with the ring
 //     layout of vct-grid for all directions, which the seed does not give either), equal weights;
-//     falloff f(r) = 1 / (1 + lambda r), r in voxels, lambda = ao.falloff (default 0).
-//   - Not built (yet): neighbour links (S3; dilation plus position lookups replace them), Layout T
-//     and the Gaussian mip kernel of Crassin/Gomes, jittered AO cones, the CAS leaf mode.
+//     falloff f(r) = 1 / (1 + lambda r), r in voxels, lambda = ao.falloff (default 0). ao.jitter
+//     (off) turns every pixel's cone frame about the normal by a fixed hash of the pixel (the same
+//     image every run; the seed gives no jitter pattern): banding becomes noise, the mean stays.
+//   - Layout T (svo.layout=tile, Crassin/Gomes): one brick per subdivided node (tagged, above the
+//     voxels), texel t at its children's corner 2 cell + t holding the mean of the 8 child-level
+//     cells around that corner (clamped to the volume like Layout N's borders); a sample of level l
+//     reads the bricks of level l - 1, so the descent ends one level higher, leaves have no brick
+//     and level 0 (the root's value) is not stored: samples coarser than level 1 read level 1. The
+//     finest level is the dense grid filtered by [1 2 1] / 4 per axis (the note's fact 2), so the AO
+//     is darker (mean 0.083 from Layout N's on the Cornell box at 64^3). Memory on Sponza at 256^3:
+//     127,450 bricks instead of 662,065; the traced octree is 0.245 of vct-grid's mip chain
+//     (docs/performance.md).
+//   - Neighbour links (S3) are their own stage and output; the bricks' borders do not follow them
+//     but gather by position (the same descent), so the links are for inspection and tests.
+//   - svo.filter=gaussian (with svo.layout=tile): the bricks above level D - 1 are Crassin/Gomes'
+//     1/8-1/16-1/32-1/64 kernel of the level below's bricks (vertex values read back from the
+//     RGBA8 pool, level by level from D - 2 up); the finest bricks stay the corner means. With the
+//     node layout the kernel collapses to decimation (the note) and is not applied.
+//   - Not built (yet): the CAS leaf mode.
 //
 // References
 //   seed 000 (Gomes) sections 3.1.1-3.1.3 and 4.2.2 (listings 4.16-4.25); seed 002 (Basgier)
@@ -110,9 +131,11 @@ static std::unique_ptr<Technique> makeSvo() {
   t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<svo::BuildStage>();
+  t->add<svo::NeighboursStage>();
   t->add<svo::LeavesStage>();
   t->add<svo::MipmapStage>();
   t->add<svo::BricksStage>();
+  t->add<svo::PickStage>();
   t->add<GBufferStage>();
   t->add<svo::ConeTraceStage>();
   t->add<svo::CompositeStage>();
