@@ -35,6 +35,7 @@ variants=(
   "voxel-path-tracing paths.count=16"
   "svo svo.dilate=true"
   "lpv inject.vpl-shift=0.5"
+  "lrsm lrsm.estimator=paper"
 )
 
 runs=()
