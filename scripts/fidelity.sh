@@ -45,6 +45,7 @@ variants=(
   "lpv inject.vpl-shift=0.5"
   "lpv inject.lighting=per-fragment"
   "svo svo.layout=tile"
+  "lrsm lrsm.estimator=paper"
 )
 
 runs=()

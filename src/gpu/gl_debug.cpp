@@ -89,6 +89,48 @@ void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sev
 
 }  // namespace
 
+const char* glDebugSeverityName(GLenum severity) { return severityName(severity); }
+
+bool isGLFailure(const GLDebugMessage& m) {
+  return m.source != GL_DEBUG_SOURCE_SHADER_COMPILER &&
+         (m.severity == GL_DEBUG_SEVERITY_HIGH || m.severity == GL_DEBUG_SEVERITY_MEDIUM);
+}
+
+GLObjectCounts liveGLObjects() {
+  auto count = [](GLuint fresh, GLboolean (*is)(GLuint)) {
+    int n = 0;
+    for (GLuint id = 1; id < fresh; ++id) n += is(id) == GL_TRUE;
+    return n;
+  };
+  GLObjectCounts c;
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &id);
+  c.textures = count(id, [](GLuint i) { return glIsTexture(i); });
+  glDeleteTextures(1, &id);
+  glCreateBuffers(1, &id);
+  c.buffers = count(id, [](GLuint i) { return glIsBuffer(i); });
+  glDeleteBuffers(1, &id);
+  glCreateFramebuffers(1, &id);
+  c.framebuffers = count(id, [](GLuint i) { return glIsFramebuffer(i); });
+  glDeleteFramebuffers(1, &id);
+  glCreateVertexArrays(1, &id);
+  c.vertexArrays = count(id, [](GLuint i) { return glIsVertexArray(i); });
+  glDeleteVertexArrays(1, &id);
+  id = glCreateProgram();  // programs share their names with shaders
+  c.programs = count(id, [](GLuint i) { return glIsProgram(i); });
+  glDeleteProgram(id);
+  glCreateQueries(GL_TIME_ELAPSED, 1, &id);
+  c.queries = count(id, [](GLuint i) { return glIsQuery(i); });
+  glDeleteQueries(1, &id);
+  return c;
+}
+
+std::string GLObjectCounts::describe() const {
+  return std::to_string(textures) + " textures, " + std::to_string(buffers) + " buffers, " + std::to_string(framebuffers) +
+         " framebuffers, " + std::to_string(vertexArrays) + " vertex arrays, " + std::to_string(programs) +
+         " programs, " + std::to_string(queries) + " queries";
+}
+
 std::string GLDebugMessage::describe() const {
   std::string s = std::string("GL ") + typeName(type) + " (" + severityName(severity) + "): " + text;
   if (!scope.empty()) s += " [in " + scope + "]";

@@ -48,5 +48,18 @@ struct GLDebugLogEntry {
   int count = 0;
 };
 std::vector<GLDebugLogEntry> glDebugLog();
+// "high", "medium", "low", "notification"; and whether a message counts as a failure (high or
+// medium, not from the shader compiler), as takeGLFailures() counts them.
+const char* glDebugSeverityName(GLenum severity);
+bool isGLFailure(const GLDebugMessage& m);
+
+// GL objects alive in the current context, by kind: names 1..N probed with glIs*, N a fresh
+// name of that kind (created and deleted for the count). For leak checks (the viewer's soak).
+struct GLObjectCounts {
+  int textures = 0, buffers = 0, framebuffers = 0, vertexArrays = 0, programs = 0, queries = 0;
+  int total() const { return textures + buffers + framebuffers + vertexArrays + programs + queries; }
+  std::string describe() const;  // "12 textures, 30 buffers, ..."
+};
+GLObjectCounts liveGLObjects();
 
 }  // namespace voxlab

@@ -215,6 +215,45 @@ Camera flyCamera(const Camera& c, float right, float up, float forward) {
   return o;
 }
 
+// --- Script image checks ----------------------------------------------------------------------------
+
+ImageDifference imageDifference(const std::vector<uint8_t>& a, int aw, int ah, const std::vector<uint8_t>& b, int bw,
+                                int bh) {
+  ImageDifference d;
+  const size_t na = size_t(std::max(aw, 0)) * size_t(std::max(ah, 0)), nb = size_t(std::max(bw, 0)) * size_t(std::max(bh, 0));
+  const size_t ca = na ? a.size() / na : 0, cb = nb ? b.size() / nb : 0;
+  if (aw != bw || ah != bh || ca != cb || ca == 0 || a.size() != na * ca || b.size() != nb * cb) {
+    d.pixels = d.differing = std::max({na, nb, size_t(1)});
+    return d;
+  }
+  d.pixels = na;
+  for (size_t i = 0; i < na; ++i)
+    if (!std::equal(&a[i * ca], &a[i * ca] + ca, &b[i * ca])) ++d.differing;
+  return d;
+}
+
+ViewContent viewContent(const std::vector<uint8_t>& rgba, const uint8_t background[3], const uint8_t frame[3]) {
+  ViewContent v;
+  v.pixels = rgba.size() / 4;
+  auto near = [&](size_t i, const uint8_t* c) {
+    return std::abs(int(rgba[i]) - c[0]) <= 2 && std::abs(int(rgba[i + 1]) - c[1]) <= 2 &&
+           std::abs(int(rgba[i + 2]) - c[2]) <= 2;
+  };
+  double sum = 0.0, sum2 = 0.0;
+  for (size_t i = 0; i + 3 < rgba.size(); i += 4) {
+    if (near(i, background) || near(i, frame)) continue;
+    const double y = 0.2126 * rgba[i] + 0.7152 * rgba[i + 1] + 0.0722 * rgba[i + 2];
+    sum += y;
+    sum2 += y * y;
+    ++v.content;
+  }
+  if (v.content > 1) {
+    const double mean = sum / double(v.content);
+    v.lumaStdDev = std::sqrt(std::max(0.0, sum2 / double(v.content) - mean * mean));
+  }
+  return v;
+}
+
 // --- Reproduction ----------------------------------------------------------------------------------
 
 std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
@@ -342,6 +381,8 @@ const VerbSpec kVerbs[] = {
     {"exposure", 1, 1, "exposure F"},
     {"set", 1, 1, "set NAME=VALUE"},
     {"reset-params", 0, 0, "reset-params"},
+    {"expect-refusal", 1, 32, "expect-refusal TEXT... (the last parameter change was refused for the resource budget "
+                              "and its line contains TEXT; the parameters stayed as they were)"},
     {"camera", 1, 1, "camera N (scene camera bookmark)"},
     {"orbit", 2, 2, "orbit YAW_DEG PITCH_DEG"},
     {"frame-scene", 0, 0, "frame-scene"},
@@ -359,9 +400,9 @@ const VerbSpec kVerbs[] = {
     {"screenshot", 1, 1, "screenshot PATH.png (the window's back buffer)"},
     {"save-output", 1, 1, "save-output DIR (selected output, files named as voxlab run names them)"},
     {"compare-output", 2, 3, "compare-output VIEW_DIR RUN_DIR [TOLERANCE] (EXR/bin of the selected output saved by save-output vs voxlab run)"},
-    {"expect-images-differ", 2, 2, "expect-images-differ A.png B.png"},
+    {"expect-images-differ", 3, 3, "expect-images-differ A.png B.png MIN_FRACTION (more than MIN_FRACTION of the pixels "
+                                   "differ; images of different sizes differ everywhere)"},
     {"expect-images-equal", 2, 2, "expect-images-equal A.png B.png"},
-    {"expect-samples-monotonic", 0, 0, "expect-samples-monotonic (samples > 0, opacity never decreases)"},
     {"expect-state", 2, 2, "expect-state STAGE done|stale|not-run"},
     {"expect-param", 2, 2, "expect-param NAME VALUE"},
     {"expect-stat", 4, 4, "expect-stat STAGE NAME =|<|>|<=|>= VALUE (a statistic of the stage's last run)"},
@@ -374,7 +415,9 @@ const VerbSpec kVerbs[] = {
     {"ui-scale", 1, 1, "ui-scale S (text and widget size, 0.75..3, as --ui-scale)"},
     {"view-dragging", 1, 1, "view-dragging on|off (render the 3D view as while the mouse drags it: half size)"},
     {"view-orbit", 2, 2, "view-orbit YAW_DEG PITCH_DEG (rotate the 3D view's own camera)"},
-    {"expect-view-nonempty", 1, 1, "expect-view-nonempty MIN_PIXELS (the 3D view shows more content pixels than MIN_PIXELS)"},
+    {"expect-view-nonempty", 2, 2, "expect-view-nonempty MIN_FRACTION MIN_SPREAD (more than MIN_FRACTION of the 3D "
+                                   "view's pixels are content, not background or bounds, and their luma standard "
+                                   "deviation, 0..255, is more than MIN_SPREAD)"},
     {"iterate", 0, 0, "iterate (one more iteration of the selected stage, as Step iteration)"},
     {"expect-iterations", 2, 2, "expect-iterations STAGE N (N of STAGE's iterations have run)"},
     {"walk-stages", 3, 3, "walk-stages OUT_DIR RUN_DIR TOLERANCES.json (every stage: step its iterations, run, "
@@ -405,6 +448,14 @@ const VerbSpec kVerbs[] = {
     {"expect-regions-differ", 6, 6, "expect-regions-differ A.png B.png X0 Y0 X1 Y1 (the region, in fractions of the "
                                     "images, differs between them)"},
     {"expect-regions-equal", 6, 6, "expect-regions-equal A.png B.png X0 Y0 X1 Y1 (the region is the same in both)"},
+    {"gl-debug-message", 1, 32, "gl-debug-message TEXT... (insert an application message, severity low, into the GL "
+                                "debug output: the GL log tab shows it)"},
+    {"expect-gl-log", 1, 32, "expect-gl-log TEXT... (a message in the GL debug log contains TEXT)"},
+    {"expect-no-gl-failures", 0, 0, "expect-no-gl-failures (no GL message of severity high or medium since the script "
+                                    "started)"},
+    {"soak", 4, 4, "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH (random valid actions across every "
+                   "technique for SECONDS from SEED, GL and frame checks after each; the last third's peak RSS and "
+                   "live GL objects may exceed the first third's by at most the bounds)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

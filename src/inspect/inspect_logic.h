@@ -77,6 +77,30 @@ Camera orbitCamera(const Camera& c, glm::vec3 target, float yawDeg, float pitchD
 Camera lookCamera(const Camera& c, float yawDeg, float pitchDeg);                     // about the eye
 Camera flyCamera(const Camera& c, float right, float up, float forward);             // in camera axes
 
+// --- Script image checks ----------------------------------------------------------------------------
+
+// How two images differ, per pixel (a pixel differs when any of its channels does). Images of
+// different sizes or channel counts differ everywhere (fraction 1).
+struct ImageDifference {
+  size_t pixels = 0;     // pixels compared (the larger image's when the sizes differ)
+  size_t differing = 0;  // pixels with any channel different
+  double fraction() const { return pixels ? double(differing) / double(pixels) : 0.0; }
+};
+ImageDifference imageDifference(const std::vector<uint8_t>& a, int aw, int ah, const std::vector<uint8_t>& b, int bw,
+                                int bh);
+
+// What a rendered view shows beyond its background: the fraction of pixels that are content (not
+// within 2 of 255 per channel of 'background' or of 'frame', the colour the bounds are drawn
+// in), and the standard deviation of the content pixels' luma (Rec. 709, 0..255). A view of a
+// volume whose texels all map to one colour (exposure 0, a constant channel) has content but
+// a spread near 0; a view that draws nothing has fraction 0.
+struct ViewContent {
+  size_t pixels = 0, content = 0;
+  double lumaStdDev = 0.0;
+  double fraction() const { return pixels ? double(content) / double(pixels) : 0.0; }
+};
+ViewContent viewContent(const std::vector<uint8_t>& rgba, const uint8_t background[3], const uint8_t frame[3]);
+
 // --- Reproduction ----------------------------------------------------------------------------------
 
 // "voxlab run --technique T --scene S [--set n=v]... [--size WxH] [--camera N] [--look-from P --look-at Q]

@@ -12,9 +12,18 @@ void Viewer::drawParameters() {
   ImGui::Checkbox("auto re-run", &autoRerun);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("after a change, re-run the stale stages up to the last run one");
   ImGui::SameLine();
-  if (ImGui::Button("Defaults")) {
-    cursor->setParams(t.defaultParams());
-    paramsChanged();
+  if (ImGui::Button("Defaults")) applyParams(t.defaultParams());
+  // What the current parameters allocate against the budget, and the last change refused for it.
+  {
+    const ResourceEstimate e = cursor->resourceEstimate();
+    const size_t budget = size_t(cursor->params().getInt(memoryBudgetParam().name)) << 20;
+    ImGui::TextDisabled("GPU memory %s of %s (%s)", formatBytes(e.totalBytes).c_str(), formatBytes(budget).c_str(),
+                        memoryBudgetParam().name.c_str());
+    if (!budgetRefusal.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kWarningColour);
+      ImGui::TextWrapped("not applied: %s", budgetRefusal.c_str());
+      ImGui::PopStyleColor();
+    }
   }
   ImGui::BeginChild("params", ImVec2(0, 0), false);
   for (int i = 0; i < t.stageCount(); ++i) {

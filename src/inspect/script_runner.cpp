@@ -15,6 +15,7 @@
 #include "core/args.h"
 #include "core/error.h"
 #include "core/paths.h"
+#include "gpu/gl_debug.h"
 #include "inspect/viewer_state.h"
 #include "techniques/common/light_stage.h"
 
@@ -23,6 +24,11 @@ namespace voxlab {
 namespace fs = std::filesystem;
 
 namespace {
+
+// walk-stages: the least fraction of the window that must change between the screenshots of two
+// consecutive stages: the least measured was 0.077 (lrsm occlusion-voxels to occlusion-mips; vct-grid
+// inject to occlusion-fix 0.078), every technique of the walk; a quarter of it.
+const char* const kWalkMinChangedFraction = "0.02";
 
 // Reads an 8-bit image (PNG) as bytes (channels as stored) for the script's image comparisons.
 std::vector<uint8_t> readImageBytes(const std::string& path, int& w, int& h) {
@@ -78,6 +84,10 @@ void Viewer::execute(const ScriptAction& a) {
     }
   };
   const std::string& v = a.verb;
+  if (v.rfind("soak", 0) == 0) {
+    executeSoak(a);
+    return;
+  }
   if (v == "technique") {
     if (arg(0) != t.id()) switchTechnique(arg(0));
   } else if (v == "scene") {
@@ -114,11 +124,17 @@ void Viewer::execute(const ScriptAction& a) {
     std::string s = arg(0);
     size_t eq = s.find('=');
     if (eq == std::string::npos) scriptFail(a, "expected NAME=VALUE");
-    cursor->setParamText(s.substr(0, eq), s.substr(eq + 1));
-    paramsChanged();
+    ParamSet candidate = cursor->params();
+    candidate.setText(s.substr(0, eq), s.substr(eq + 1));
+    if (!applyParams(candidate)) std::printf("%s\n", status.c_str());
   } else if (v == "reset-params") {
-    cursor->setParams(t.defaultParams());
-    paramsChanged();
+    applyParams(t.defaultParams());
+  } else if (v == "expect-refusal") {
+    std::string text;
+    for (const auto& w : a.args) text += (text.empty() ? "" : " ") + w;
+    if (budgetRefusal.empty() || budgetRefusal.find(text) == std::string::npos)
+      scriptFail(a, "last parameter change refusal is '" + budgetRefusal + "', expected it to contain '" + text + "'");
+    std::printf("refused: %s\n", budgetRefusal.c_str());
   } else if (v == "camera") {
     setCameraIndex(intArg(0));
   } else if (v == "orbit") {
@@ -221,18 +237,22 @@ void Viewer::execute(const ScriptAction& a) {
   } else if (v == "expect-images-differ" || v == "expect-images-equal") {
     int w1, h1, w2, h2;
     auto p = readImageBytes(arg(0), w1, h1), q = readImageBytes(arg(1), w2, h2);
-    size_t diff = 0;
-    if (w1 == w2 && h1 == h2 && p.size() == q.size())
-      for (size_t i = 0; i < p.size(); ++i) diff += p[i] != q[i];
-    else
-      diff = std::max(p.size(), q.size());
-    std::printf("%s vs %s: %zu bytes differ\n", arg(0).c_str(), arg(1).c_str(), diff);
-    if (v == "expect-images-differ" && diff == 0) scriptFail(a, "the images are identical");
-    if (v == "expect-images-equal" && diff != 0) scriptFail(a, std::to_string(diff) + " bytes differ");
-  } else if (v == "expect-samples-monotonic" || v == "expect-probe-records") {
-    // Every probe record of every probing stage, checked by its visualiser (cone samples: samples
-    // exist and accumulated opacity never decreases along a cone).
-    const size_t atLeast = v == "expect-probe-records" ? size_t(std::max(intArg(0), 0)) : 0;
+    const ImageDifference d = imageDifference(p, w1, h1, q, w2, h2);
+    std::printf("%s vs %s: %zu of %zu pixels differ (%.4f)\n", arg(0).c_str(), arg(1).c_str(), d.differing, d.pixels,
+                d.fraction());
+    if (v == "expect-images-differ") {
+      const double atLeast = floatArg(2);
+      if (!(atLeast >= 0.0 && atLeast < 1.0)) scriptFail(a, "MIN_FRACTION must be in 0..1, not " + arg(2));
+      if (!(d.fraction() > atLeast))
+        scriptFail(a, std::to_string(d.differing) + " of " + std::to_string(d.pixels) + " pixels differ (" +
+                          std::to_string(d.fraction()) + "), expected more than " + arg(2));
+    }
+    if (v == "expect-images-equal" && d.differing != 0) scriptFail(a, std::to_string(d.differing) + " pixels differ");
+  } else if (v == "expect-probe-records") {
+    // Every probe record of every probing stage, checked by its visualiser (cone samples: the
+    // accumulated opacity of every sample is the front-to-back composite of the one before and
+    // the sample's own alpha).
+    const size_t atLeast = size_t(std::max(intArg(0), 0));
     const auto& records = probeRecords();
     if (records.empty()) scriptFail(a, "technique " + t.id() + " declares no probe-record output on a probing stage");
     for (const auto& r : records) {
@@ -310,11 +330,18 @@ void Viewer::execute(const ScriptAction& a) {
     if (!capError.empty()) scriptFail(a, capError);
     if (!update3D()) scriptFail(a, "no 3D view is shown (view-mode 3d|cubes on a volume or a buffer with positions)");
     if (!msg3d.empty() && msg3d.find("over the limit") != std::string::npos) scriptFail(a, msg3d);
-    size_t n = view3d->nonBackgroundPixels(), want = size_t(std::max(intArg(0), 0));
-    std::printf("view %s of %s: %zu of %d pixels show content (need > %zu); %s; render %.1f ms\n",
-                viewModeName(viewMode), cap.desc.name.c_str(), n, View3D::kSize * View3D::kSize, want, info3d.c_str(),
-                render3dMs.empty() ? 0.0 : render3dMs.back());
-    if (n <= want) scriptFail(a, std::to_string(n) + " content pixels, expected more than " + arg(0));
+    const ViewContent c = view3d->content();
+    const double minFraction = floatArg(0), minSpread = floatArg(1);
+    if (!(minFraction >= 0.0 && minFraction < 1.0)) scriptFail(a, "MIN_FRACTION must be in 0..1, not " + arg(0));
+    std::printf("view %s of %s: %zu of %zu pixels show content (%.4f, need > %s), luma spread %.1f (need > %s); %s; "
+                "render %.1f ms\n",
+                viewModeName(viewMode), cap.desc.name.c_str(), c.content, c.pixels, c.fraction(), arg(0).c_str(),
+                c.lumaStdDev, arg(1).c_str(), info3d.c_str(), render3dMs.empty() ? 0.0 : render3dMs.back());
+    if (!(c.fraction() > minFraction))
+      scriptFail(a, std::to_string(c.fraction()) + " of the view shows content, expected more than " + arg(0));
+    if (!(c.lumaStdDev > minSpread))
+      scriptFail(a, "the content is flat: luma standard deviation " + std::to_string(c.lumaStdDev) +
+                        " of 255, expected more than " + arg(1));
   } else if (v == "iterate") {
     if (cursor->iterations(selected) <= 1) scriptFail(a, std::string("stage ") + t.stage(selected).id() + " is not iterative");
     stepIteration();
@@ -520,6 +547,28 @@ void Viewer::execute(const ScriptAction& a) {
                 y1, count, total);
     if (v == "expect-regions-differ" && count == 0) scriptFail(a, "the region is identical in both images");
     if (v == "expect-regions-equal" && count != 0) scriptFail(a, std::to_string(count) + " pixels of the region differ");
+  } else if (v == "gl-debug-message") {
+    // An application message into the context's debug output (severity low: logged, not a
+    // failure), as a GL tool or a driver would send one; the GL log tab lists it.
+    std::string text;
+    for (const auto& w : a.args) text += (text.empty() ? "" : " ") + w;
+    glDebugMessageInsert(GL_DEBUG_SOURCE_APPLICATION, GL_DEBUG_TYPE_OTHER, 1, GL_DEBUG_SEVERITY_LOW, -1, text.c_str());
+  } else if (v == "expect-gl-log") {
+    std::string text;
+    for (const auto& w : a.args) text += (text.empty() ? "" : " ") + w;
+    const auto log = glDebugLog();
+    const GLDebugLogEntry* found = nullptr;
+    for (const auto& e : log)
+      if (e.message.describe().find(text) != std::string::npos) found = &e;
+    if (!found) scriptFail(a, "no GL debug message contains '" + text + "' (" + std::to_string(log.size()) + " in the log)");
+    std::printf("gl log: x%d %s\n", found->count, found->message.describe().c_str());
+  } else if (v == "expect-no-gl-failures") {
+    if (glFailureCount() != scriptGLFailures) {
+      std::string last;
+      for (const auto& e : glDebugLog())
+        if (isGLFailure(e.message)) last = e.message.describe();
+      scriptFail(a, std::to_string(glFailureCount() - scriptGLFailures) + " GL failure(s) since the script started; last: " + last);
+    }
   } else if (v == "frame-stats") {
     printFrameStats();
   } else if (v == "quit") {
@@ -562,7 +611,8 @@ std::vector<ScriptAction> Viewer::walkStagesActions(const ScriptAction& a) const
     std::snprintf(shot, sizeof shot, "/%02d-", i + 1);
     std::string png = out + shot + id + ".png";
     add("screenshot", {png});
-    if (!previous.empty()) add("expect-images-differ", {previous, png});
+    // Consecutive screenshots differ at least in the timeline's highlighted stage and the view.
+    if (!previous.empty()) add("expect-images-differ", {previous, png, kWalkMinChangedFraction});
     previous = png;
     for (const auto& o : t.decl(i).outputs) {
       add("output", {o.name});

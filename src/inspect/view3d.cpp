@@ -217,21 +217,14 @@ std::vector<uint8_t> View3D::readPixels() const {
   return px;
 }
 
-size_t View3D::nonBackgroundPixels() const {
-  std::vector<uint8_t> px = readPixels();
+ViewContent View3D::content() const {
   // The bounds' lines are drawn in one exact colour and do not count as content.
-  int bg[3], box[3];
+  uint8_t bg[3], box[3];
   for (int k = 0; k < 3; ++k) {
-    bg[k] = int(std::lround(kBackground[k] * 255.0f));
-    box[k] = int(std::lround(kBoxColor[k] * 255.0f));
+    bg[k] = uint8_t(std::lround(kBackground[k] * 255.0f));
+    box[k] = uint8_t(std::lround(kBoxColor[k] * 255.0f));
   }
-  auto near = [&](size_t i, const int* c) {
-    return std::abs(px[i] - c[0]) <= 2 && std::abs(px[i + 1] - c[1]) <= 2 && std::abs(px[i + 2] - c[2]) <= 2;
-  };
-  size_t n = 0;
-  for (size_t i = 0; i < px.size(); i += 4)
-    if (!near(i, bg) && !near(i, box)) ++n;
-  return n;
+  return viewContent(readPixels(), bg, box);
 }
 
 }  // namespace voxlab

@@ -75,9 +75,8 @@ class View3D {
   double render(ViewMode mode, const OrbitCamera& camera, int size = kSize);
   int lastSize() const { return lastSize_; }  // of the last render
   GLuint texture() const { return target_.color.id(); }
-  // Pixels of the last render that differ from the background and the bounds' line colour
-  // (reads the texture back).
-  size_t nonBackgroundPixels() const;
+  // The last render's content beyond its background and bounds (inspect_logic.h: viewContent; reads the texture back).
+  ViewContent content() const;
   std::vector<uint8_t> readPixels() const;  // RGBA8, bottom row first
 
  private:

@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "gpu/shader_library.h"
+#include "gpu/gl_debug.h"
 #include "inspect/viewer_state.h"
 #include "techniques/common/light_stage.h"
 
@@ -95,6 +96,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
     for (int i = 0; i < count; ++i) self->droppedFiles.emplace_back(paths[i]);
   });
   ImGui_ImplOpenGL3_Init("#version 450 core");
+  scriptGLFailures = glFailureCount();
   applyUiScale(o.uiScale);
   if (o.present) setPresenting(true);
 
@@ -195,11 +197,27 @@ void Viewer::selectOutput(const std::string& name) {
 
 void Viewer::setParam(const std::string& name, double value) {
   try {
-    cursor->setParam(name, value);  // marks every stage that declares it (and its readers) stale
-    paramsChanged();
+    ParamSet candidate = cursor->params();
+    candidate.set(name, value);  // throws naming the valid range
+    applyParams(candidate);
   } catch (const Error& e) {
     status = e.what();
   }
+}
+
+bool Viewer::applyParams(const ParamSet& candidate) {
+  if (!glLimits) glLimits = ResourceLimits::query();
+  const std::string refusal = checkResourceBudget(cursor->technique(), candidate, cursor->view(), *glLimits);
+  if (!refusal.empty()) {
+    budgetRefusal = refusal;
+    status = "not applied: " + refusal;
+    return false;
+  }
+  budgetRefusal.clear();
+  if (status.rfind("not applied: ", 0) == 0) status.clear();
+  cursor->setParams(candidate);  // marks every stage that declares a changed one (and its readers) stale
+  paramsChanged();
+  return true;
 }
 
 void Viewer::setCameraIndex(int i) {
@@ -341,6 +359,14 @@ bool Viewer::runPendingStage() {
     shaderError = e.what();
     runTarget = iterateStage = -1;
     if (scripted) throw;
+  } catch (const Error& e) {
+    // A run refused before it allocated (the resource budget, e.g. a lesson's parameters) or a
+    // stage's own error: the viewer keeps what it has and says so; a script fails on it.
+    status = e.what();
+    runTarget = iterateStage = -1;
+    if (scripted) throw;
+    ++generation;
+    return true;
   }
   const StageRecord& r = cursor->record(ran);
   if (r.state == StageState::Done) {

@@ -11,13 +11,16 @@
 //                         the Details tabs, each registered with VOXLAB_REGISTER_DETAILS_TAB
 //   panel_presenter.cpp   presenter mode: the view fills the window beside the lesson's narrative
 //                         in large type; side panels appear at the window's edges
+//   panel_gl_log.cpp      the GL log tab: every GL debug message of the session
 //   script_runner.cpp     the script verbs (tests drive the same actions as the mouse)
+//   script_soak.cpp       the soak verb: random valid actions across every technique, leak checks
 // A new Details tab (a presenter panel, say) is one more file with one registration.
 #pragma once
 #include <chrono>
 #include <deque>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -27,6 +30,7 @@
 #include "capture/capture.h"
 #include "graph/resource_budget.h"
 #include "gpu/gl.h"
+#include "gpu/gl_debug.h"
 #include "graph/step_cursor.h"
 #include "inspect/inspect_logic.h"
 #include "inspect/scene_overlay.h"
@@ -73,6 +77,19 @@ struct CompareState {
   DisplayTexture otherTex, diffTex;
 };
 
+// The script's soak run (script_soak.cpp).
+struct SoakState {
+  bool active = false;
+  unsigned long long seed = 0;
+  std::mt19937_64 rng;
+  double seconds = 0.0, maxRssGrowthMiB = 0.0;
+  int maxObjectGrowth = 0, line = 0, actions = 0, frameAtAction = 0;
+  std::chrono::steady_clock::time_point start;
+  size_t rssWarm = 0, rssEnd = 0;              // peak resident bytes in the first and the last third
+  GLObjectCounts objectsWarm, objectsEnd;      // the largest live GL object counts in each
+  std::string lastAction;
+};
+
 // Presenter mode (panel_presenter.cpp, `voxlab view --present`, keys P / F11).
 struct PresenterState {
   bool on = false;
@@ -109,6 +126,13 @@ class Viewer {
     if (autoRerun) requestRun(std::max(selected, lastRunRequest));
   }
   void setParam(const std::string& name, double value);  // status line on a bad value
+  // Every parameter change goes through here (the widgets, Defaults, scripts): a change whose
+  // resources (graph/resource_budget.h) would not fit the GL limits or gpu.memory-budget is not
+  // applied; its one-line refusal becomes budgetRefusal and the status line, and the parameters,
+  // stage states and results stay as they were. True when applied.
+  bool applyParams(const ParamSet& candidate);
+  std::string budgetRefusal;  // the last refused change's line ("" after one that fitted)
+  std::optional<ResourceLimits> glLimits;  // of the window's context, queried once
   void setCameraIndex(int i);
   // Orbit and fly move the live camera at once; the technique's camera follows whenever no stage is
   // queued, so overlays track the mouse while a slow render catches up.
@@ -218,6 +242,10 @@ class Viewer {
   // Expands walk-stages into the actions that walk every stage and output of the technique.
   std::vector<ScriptAction> walkStagesActions(const ScriptAction& a) const;
   void printFrameStats() const;
+  // The soak (script_soak.cpp): its verbs and one random action.
+  void executeSoak(const ScriptAction& a);
+  std::vector<ScriptAction> soakRandomActions(int line);
+  SoakState soak;
 
   // --- state ---
   ViewerOptions opt;
@@ -280,6 +308,7 @@ class Viewer {
   int lessonStep = -1;
 
   std::vector<ScriptAction> script;
+  size_t scriptGLFailures = 0;  // glFailureCount() when the script started
   size_t pc = 0;
   int waitFrames = 0;
   std::string pendingScreenshot;

@@ -49,7 +49,7 @@ struct Content3D {
   std::string message;           // a warning ("" = none)
 };
 
-// What a probe record check found (script `expect-probe-records`, `expect-samples-monotonic`).
+// What a probe record check found (script `expect-probe-records`).
 struct RecordCheck {
   size_t elements = 0;  // records, samples, nodes, ... (0 fails the check)
   std::string summary;  // "6 cones, 212 samples"

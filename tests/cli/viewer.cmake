@@ -1,7 +1,8 @@
 # Viewer tests: scripted runs of `voxlab view` under Xvfb (tests/viewer/*.txt, driven by
 # tests/viewer/run_viewer_test.sh; skipped only when xvfb-run is missing), plus command-line
 # cases for bad scripts and lessons, which fail before any window opens.
-foreach(script walk_stages probe probe_lrsm lesson lesson_near_field lesson_light scene_error view3d camera_overlay presenter light clipmap_fly)
+foreach(script walk_stages probe probe_lrsm lesson lesson_near_field lesson_light scene_error view3d camera_overlay presenter light clipmap_fly
+               budget_gl_log soak)
   add_test(NAME viewer.${script}
     COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
             ${CMAKE_SOURCE_DIR}/tests/viewer/${script}.txt ${CMAKE_BINARY_DIR}/viewer-out/${script})
@@ -50,3 +51,11 @@ add_test(NAME viewer.lesson_lpv
           ${CMAKE_SOURCE_DIR}/tests/viewer/lesson_lpv.txt ${CMAKE_BINARY_DIR}/viewer-out/lesson_lpv)
 set_tests_properties(viewer.lesson_lpv PROPERTIES
   ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+
+# Scripts whose checks must fail on a deliberately wrong input (tests/viewer/failing/*.txt, each
+# with its expected message): an image pair one pixel apart, a flat 3D view (exposure 0).
+add_test(NAME viewer.failing_checks
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/failing ${CMAKE_BINARY_DIR}/viewer-out/failing)
+set_tests_properties(viewer.failing_checks PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 300 RUN_SERIAL TRUE)

@@ -1,5 +1,6 @@
 // Viewer logic without a window: lesson parsing and validation, the viewer's script format, the
 // `voxlab run` line that reproduces a viewer state, slice display mapping and cone-sample decoding.
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "inspect/inspect_logic.h"
 #include "inspect/visualisers/cone_samples.h"
 #include "lesson/lesson.h"
+#include "test_support.h"
 
 namespace voxlab {
 namespace {
@@ -277,31 +279,168 @@ TEST(Display, SlicesVolumesAlongEachAxis) {
   EXPECT_EQ(ci.rgba[2], 0);
 }
 
-TEST(ConeSamples, DecodesPerConeSortedByDistanceAndChecksOpacity) {
+// Cone sample records as a tracer appends them: (cone, distance, sample alpha, accumulated opacity).
+CapturedOutput coneSampleRecords(const std::vector<std::array<float, 4>>& samples) {
   CapturedOutput out;
   out.desc.semantic = Semantic::ConeSamples;
   out.desc.layout.stride = sizeof(gpu::ConeSample);
-  auto add = [&](int cone, float dist, float opacity) {
+  for (const auto& [cone, dist, alpha, opacity] : samples) {
     gpu::ConeSample s{};
-    s.info = glm::vec4(float(cone), dist, dist * 2.0f, 0.1f);
+    s.info = glm::vec4(cone, dist, dist * 2.0f, alpha);
     s.accumulated = glm::vec4(1.0f, 1.0f, 1.0f, opacity);
     size_t at = out.records.size();
     out.records.resize(at + sizeof s);
     std::memcpy(&out.records[at], &s, sizeof s);
     ++out.recordCount;
-  };
-  add(1, 0.2f, 0.5f);
-  add(0, 0.1f, 0.1f);
-  add(1, 0.1f, 0.2f);  // appended out of order: decoding sorts by distance
-  auto cones = decodeConeSamples(out);
+  }
+  return out;
+}
+
+TEST(ConeSamples, DecodesPerConeSortedByDistance) {
+  // Appended out of order: decoding groups by cone and sorts by distance.
+  auto cones = decodeConeSamples(coneSampleRecords({{1, 0.2f, 0.375f, 0.5f}, {0, 0.1f, 0.1f, 0.1f}, {1, 0.1f, 0.2f, 0.2f}}));
   ASSERT_EQ(cones.size(), 2u);
   EXPECT_EQ(cones[1].cone, 1);
   EXPECT_FLOAT_EQ(cones[1].opacity[0], 0.2f);
   EXPECT_FLOAT_EQ(cones[1].lod[1], 0.4f);
+  EXPECT_FLOAT_EQ(cones[1].sampleAlpha[1], 0.375f);
   EXPECT_FLOAT_EQ(cones[0].luminance[0], 1.0f);
-  EXPECT_EQ(checkOpacityMonotonic(cones), "");
-  add(1, 0.3f, 0.4f);  // opacity falls: must be reported
-  EXPECT_NE(checkOpacityMonotonic(decodeConeSamples(out)).find("cone 1"), std::string::npos);
+}
+
+// The check must pass correct front-to-back compositing and fail every wrong rule that still
+// never decreases (the old check, "opacity non-decreasing", held for all of them).
+TEST(ConeSamples, CheckFailsOnCompositingThatIsNotFrontToBack) {
+  const float alphas[4] = {0.3f, 0.5f, 0.2f, 0.6f};
+  auto series = [&](auto rule) {
+    std::vector<std::array<float, 4>> s;
+    float op = 0.0f;
+    for (int i = 0; i < 4; ++i) {
+      op = rule(op, alphas[i], i);
+      s.push_back({0.0f, 0.1f * float(i + 1), alphas[i], op});
+    }
+    return decodeConeSamples(coneSampleRecords(s));
+  };
+  auto frontToBack = [](float op, float a, int) { return op + (1.0f - op) * a; };
+  EXPECT_EQ(checkFrontToBackCompositing(series(frontToBack)), "");
+  // Adding alphas (clamped), taking the maximum, recording one sample late: all never decrease.
+  auto sum = [](float op, float a, int) { return std::min(1.0f, op + a); };
+  auto maximum = [](float op, float a, int) { return std::max(op, a); };
+  // The opacity recorded before the sample is composited (one sample late).
+  float late = 0.0f;
+  auto recordedBefore = [&](float op, float a, int) {
+    const float shown = late;
+    late = late + (1.0f - late) * a;
+    return shown + 0.0f * op;
+  };
+  for (auto cones : {series(sum), series(maximum), series(recordedBefore)}) {
+    bool rising = true;
+    for (size_t i = 1; i < cones[0].opacity.size(); ++i) rising = rising && cones[0].opacity[i] >= cones[0].opacity[i - 1];
+    EXPECT_TRUE(rising);
+    const std::string e = checkFrontToBackCompositing(cones);
+    EXPECT_NE(e.find("cone 0, sample"), std::string::npos) << e;
+    EXPECT_NE(e.find("composited front to back"), std::string::npos) << e;
+  }
+  // A falling opacity, an alpha outside 0..1, a repeated distance.
+  std::string e = checkFrontToBackCompositing(decodeConeSamples(coneSampleRecords({{1, 0.1f, 0.5f, 0.5f}, {1, 0.2f, 0.0f, 0.4f}})));
+  EXPECT_NE(e.find("cone 1, sample 1"), std::string::npos) << e;
+  e = checkFrontToBackCompositing(decodeConeSamples(coneSampleRecords({{2, 0.1f, 1.5f, 1.0f}})));
+  EXPECT_NE(e.find("sample alpha 1.5 is outside 0..1"), std::string::npos) << e;
+  e = checkFrontToBackCompositing(decodeConeSamples(coneSampleRecords({{3, 0.1f, 0.5f, 0.5f}, {3, 0.1f, 0.0f, 0.5f}})));
+  EXPECT_NE(e.find("distance does not increase"), std::string::npos) << e;
+  // One sample off by more than the tolerance, one by rounding only (measured 3e-8; see cone_samples.h).
+  e = checkFrontToBackCompositing(decodeConeSamples(coneSampleRecords({{4, 0.1f, 0.5f, 0.5f + 3 * kCompositingTolerance}})));
+  EXPECT_NE(e.find("cone 4, sample 0"), std::string::npos) << e;
+  EXPECT_EQ(checkFrontToBackCompositing(decodeConeSamples(coneSampleRecords({{4, 0.1f, 0.5f, 0.5f + 2e-7f}}))), "");
+}
+
+// Every cone-sample probe record any technique declares (found from the declarations: a screen
+// probe on a stage with a ConeSamples probe-record output), recorded on the Cornell box floor and
+// a wall, passes the compositing check; prints the largest rounding deviation it saw.
+TEST(ConeSamples, EveryTechniquesRecordsAreCompositedFrontToBack) {
+  int checked = 0;
+  for (const auto& entry : techniqueRegistry()) {
+    auto t = createTechnique(entry.id);
+    for (int i = 0; i < t->stageCount(); ++i) {
+      const auto& decl = t->decl(i);
+      for (const auto& probe : decl.probes) {
+        if (probe.space != ProbeSpace::Screen) continue;
+        for (const auto& out : decl.outputs) {
+          if (!out.probeRecord || out.semantic != Semantic::ConeSamples) continue;
+          for (const auto& at : {std::pair<double, double>{0.5, 0.85}, {0.2, 0.4}}) {
+            SCOPED_TRACE(entry.id + "/" + t->stage(i).id() + "/" + out.name + " at " + std::to_string(at.first) + ", " +
+                         std::to_string(at.second));
+            RunRequest r;
+            r.technique = entry.id;
+            r.width = r.height = 64;
+            r.until = t->stage(i).id();
+            const ParamSet defaults = t->defaultParams();
+            const ParamDesc& px = defaults.desc(probe.x);
+            const ParamDesc& py = defaults.desc(probe.y);
+            r.sets = {probe.x + "=" + px.format(px.minValue + at.first * (px.maxValue - px.minValue)),
+                      probe.y + "=" + py.format(py.minValue + at.second * (py.maxValue - py.minValue))};
+            CapturedOutput c = testing_support::capture(testing_support::session(r), t->stage(i).id(), out.name);
+            auto cones = decodeConeSamples(c);
+            size_t samples = 0;
+            double worst = 0.0;
+            for (const auto& cone : cones) {
+              float before = 0.0f;
+              for (size_t k = 0; k < cone.opacity.size(); ++k, ++samples) {
+                worst = std::max(worst, double(std::fabs(cone.opacity[k] - (before + (1.0f - before) * cone.sampleAlpha[k]))));
+                before = cone.opacity[k];
+              }
+            }
+            EXPECT_GT(samples, 10u);
+            EXPECT_EQ(checkFrontToBackCompositing(cones), "");
+            std::printf("%s/%s: %zu cones, %zu samples, largest compositing deviation %.3g\n", entry.id.c_str(),
+                        out.name.c_str(), cones.size(), samples, worst);
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(checked, 6) << "vct-grid, svo and lrsm record cone samples";
+}
+
+// expect-images-differ MIN_FRACTION counts pixels, not bytes, and a single changed byte is far
+// below any fraction the scripts ask for.
+TEST(ScriptChecks, ImageDifferenceCountsPixelsAndSizes) {
+  const int w = 64, h = 32;
+  std::vector<uint8_t> a(size_t(w) * h * 3, 40), b = a;
+  EXPECT_EQ(imageDifference(a, w, h, b, w, h).differing, 0u);
+  b[5] = 41;  // one byte of pixel 1: the check's deliberately wrong input
+  ImageDifference d = imageDifference(a, w, h, b, w, h);
+  EXPECT_EQ(d.differing, 1u);
+  EXPECT_EQ(d.pixels, size_t(w) * h);
+  EXPECT_LT(d.fraction(), 0.001);  // 1/2048: fails the smallest MIN_FRACTION used (0.001)
+  for (int i = 0; i < w * h / 4; ++i) b[size_t(i) * 3 + 1] = 0;  // a quarter of the pixels, one channel each
+  EXPECT_NEAR(imageDifference(a, w, h, b, w, h).fraction(), 0.25, 1e-12);
+  // Other size or channel count: different everywhere.
+  EXPECT_EQ(imageDifference(a, w, h, std::vector<uint8_t>(size_t(w) * h * 4, 40), w, h).fraction(), 1.0);
+  EXPECT_EQ(imageDifference(a, w, h, std::vector<uint8_t>(size_t(h) * w * 3, 40), h, w).fraction(), 1.0);
+}
+
+// expect-view-nonempty MIN_FRACTION MIN_SPREAD: content is what is neither background nor frame,
+// and a view whose content is one flat colour (a silhouette) fails the spread.
+TEST(ScriptChecks, ViewContentNeedsCoverageAndSpread) {
+  const uint8_t bg[3] = {28, 28, 33}, frame[3] = {217, 191, 89};
+  const int n = 100 * 100;
+  std::vector<uint8_t> px(size_t(n) * 4, 255);
+  for (int i = 0; i < n; ++i) std::copy(bg, bg + 3, &px[size_t(i) * 4]);
+  ViewContent c = viewContent(px, bg, frame);
+  EXPECT_EQ(c.content, 0u);
+  for (int i = 0; i < 400; ++i) std::copy(frame, frame + 3, &px[size_t(i) * 4]);  // the bounds only
+  px[2] = uint8_t(frame[2] + 2);  // within 2 of the frame colour: still frame
+  EXPECT_EQ(viewContent(px, bg, frame).content, 0u);
+  // A flat silhouette: 30 % of the pixels black (exposure 0), no spread.
+  for (int i = 1000; i < 4000; ++i) std::fill(&px[size_t(i) * 4], &px[size_t(i) * 4] + 3, 0);
+  c = viewContent(px, bg, frame);
+  EXPECT_EQ(c.content, 3000u);
+  EXPECT_NEAR(c.fraction(), 0.3, 1e-12);
+  EXPECT_LT(c.lumaStdDev, 1e-6);
+  // Half of them mid grey: luma 0 and 128 in equal parts, standard deviation 64.
+  for (int i = 1000; i < 2500; ++i) std::fill(&px[size_t(i) * 4], &px[size_t(i) * 4] + 3, 128);
+  EXPECT_NEAR(viewContent(px, bg, frame).lumaStdDev, 64.0, 1e-9);
 }
 
 TEST(Inspect3D, MapVolumeUsesAlphaAsOpacityOrNonEmpty) {

@@ -76,6 +76,42 @@ if got != [(3, 3, 4, 283.0)]:
     sys.exit(f"probe record {got}, expected [(3, 3, 4, 283.0)]")
 PY
     ;;
+  *soak*)
+    # Random actions for VOXLAB_SOAK_SECONDS (default 30) from VOXLAB_SOAK_SEED (default: from
+    # the clock, printed by the viewer; set it to replay a failing run).
+    export VOXLAB_VIEWER_OUT="$out" VOXLAB_SOAK_SECONDS="${VOXLAB_SOAK_SECONDS:-30}"
+    export VOXLAB_SOAK_SEED="${VOXLAB_SOAK_SEED:-$(date +%s)}"
+    echo "soak seed $VOXLAB_SOAK_SEED ($VOXLAB_SOAK_SECONDS s); replay: VOXLAB_SOAK_SEED=$VOXLAB_SOAK_SEED ctest -R viewer.soak"
+    view ;;
+  failing)
+    # A folder of scripts that must fail: each names its expected message on its first line
+    # ("# expect: TEXT"), so a check is shown to catch the deliberately wrong input it is given.
+    export VOXLAB_VIEWER_OUT="$out"
+    python3 - "$out" <<'PY'
+import struct, sys, zlib
+def png(path, rgb_rows):
+    raw = b"".join(b"\0" + bytes(row) for row in rgb_rows)
+    chunk = lambda t, d: struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    h, w = len(rgb_rows), len(rgb_rows[0]) // 3
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+                           chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+rows = [[90] * (64 * 3) for _ in range(64)]
+png(sys.argv[1] + "/grey.png", rows)
+rows[10][30] = 91  # one channel of one pixel
+png(sys.argv[1] + "/grey-one-pixel.png", rows)
+PY
+    n=0
+    for s in "$script"/*.txt; do
+      want=$(sed -n 's/^# expect: //p' "$s" | head -n 1)
+      [ -n "$want" ] || { echo "$s has no '# expect: TEXT' line"; exit 1; }
+      if xvfb-run -a -s "-screen 0 1600x900x24" "$exe" view --script "$s" >"$out/log.txt" 2>&1; then
+        cat "$out/log.txt"; echo "$s passed, but its check must fail"; exit 1
+      fi
+      grep -qF -- "$want" "$out/log.txt" || { cat "$out/log.txt"; echo "$s failed without '$want'"; exit 1; }
+      echo "ok ${s##*/}: failed with '$want'"
+      n=$((n + 1))
+    done
+    [ "$n" -ge 2 ] || { echo "only $n failing scripts in $script"; exit 1; } ;;
   *)
     export VOXLAB_VIEWER_OUT="$out"
     view ;;

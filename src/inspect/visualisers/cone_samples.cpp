@@ -2,7 +2,8 @@
 // table: the buffer visualiser's; 3D: one disc per sample (its diameter, coloured by accumulated
 // opacity) and each cone's axis, inside the latest volume (its level 0 as context); record view:
 // per cone, the mip level, accumulated opacity and luminance along the cone; check: samples exist
-// and accumulated opacity never decreases along a cone (front-to-back compositing).
+// and each accumulated opacity is the previous one composited front to back with the sample's
+// alpha (checkFrontToBackCompositing).
 #include "inspect/visualisers/cone_samples.h"
 
 #include <algorithm>
@@ -65,15 +66,30 @@ std::vector<ConeSeries> decodeConeSamples(const CapturedOutput& out) {
   return cones;
 }
 
-std::string checkOpacityMonotonic(const std::vector<ConeSeries>& cones) {
-  for (const auto& c : cones)
-    for (size_t i = 1; i < c.opacity.size(); ++i)
-      if (c.opacity[i] < c.opacity[i - 1]) {
-        std::ostringstream o;
-        o << "cone " << c.cone << ": accumulated opacity falls from " << c.opacity[i - 1] << " to " << c.opacity[i]
-          << " at sample " << i << " (distance " << c.distance[i] << ")";
+std::string checkFrontToBackCompositing(const std::vector<ConeSeries>& cones) {
+  for (const auto& c : cones) {
+    float before = 0.0f;
+    for (size_t i = 0; i < c.opacity.size(); ++i) {
+      std::ostringstream o;
+      o << "cone " << c.cone << ", sample " << i << " (distance " << c.distance[i] << "): ";
+      const float a = c.sampleAlpha[i];
+      if (i > 0 && !(c.distance[i] > c.distance[i - 1])) {
+        o << "distance does not increase (previous " << c.distance[i - 1] << ")";
         return o.str();
       }
+      if (!(a >= 0.0f && a <= 1.0f)) {
+        o << "sample alpha " << a << " is outside 0..1";
+        return o.str();
+      }
+      const float expected = before + (1.0f - before) * a;
+      if (!(std::fabs(c.opacity[i] - expected) <= kCompositingTolerance)) {
+        o << "accumulated opacity " << c.opacity[i] << ", but " << before << " composited front to back with alpha "
+          << a << " is " << expected;
+        return o.str();
+      }
+      before = c.opacity[i];
+    }
+  }
   return "";
 }
 
@@ -172,8 +188,8 @@ class ConeSamplesVisualiser : public BufferVisualiser {
     RecordCheck r;
     for (const auto& c : cones) r.elements += c.distance.size();
     r.summary = std::to_string(cones.size()) + " cones, " + std::to_string(r.elements) + " samples";
-    r.error = checkOpacityMonotonic(cones);
-    if (r.error.empty() && r.elements > 0) r.summary += ", accumulated opacity non-decreasing along every cone";
+    r.error = checkFrontToBackCompositing(cones);
+    if (r.error.empty() && r.elements > 0) r.summary += ", composited front to back along every cone";
     return r;
   }
 };

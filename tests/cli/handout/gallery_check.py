@@ -1,18 +1,29 @@
 #!/usr/bin/env python3
-"""gallery.cornell_box: `voxlab gallery --scene cornell-box` shows every technique of `voxlab list`,
-and its numbers are docs/fidelity.md's (the rows at default parameters), its pictures exist and
-the page links them.
+"""gallery.cornell_box, gallery.sponza: `voxlab gallery --scene SCENE` shows every technique of
+`voxlab list`, and its numbers are docs/fidelity.md's table for that scene (the rows at default
+parameters; the Cornell box's table between <!-- fidelity-table:begin/end -->, another scene's
+between <!-- fidelity-table:SCENE:begin/end -->), its pictures exist and the page links them.
+
+    gallery_check.py VOXLAB ROOT OUT [SCENE]      (SCENE: cornell-box by default)
 
 Tolerance: fidelity.md prints RMSE/MAE to 4 decimals, PSNR to 2, MRE/SSIM/mean ratio to 3. Two runs
 of vct-grid differ by one RGBA8 step in a few voxels (inject's atomic averaging order; the EGL
 test measured RMSE 1.5e-5 between two runs), which can move a rounded value by one unit of its
-last digit, so each number may differ from the table by at most one such unit."""
+last digit, so each number may differ from the table by at most one such unit.
+
+On Sponza the cone tracers vary more between runs: vct-grid's indirect-diffuse over four runs
+(LP_NUM_THREADS 2, 2, 2, 1) measured mean ratio 0.345..0.360, SSIM 0.8869..0.8897, MRE
+0.1880..0.1894, PSNR 31.927..31.935, and its combined image mean ratio 0.8618..0.8640, SSIM
+0.8064..0.8106, MRE 0.3153..0.3169 (RMSE and MAE within 1e-5): inject's atomic averaging order
+over 26 x 41 m of geometry. The other techniques matched to one unit between the gallery's run and
+scripts/fidelity.sh's. So on Sponza each number may also differ by about twice that spread."""
 import json, os, re, subprocess, sys
 
 exe, root, out = sys.argv[1:4]
-subprocess.run([exe, "gallery", "--scene", "cornell-box", "--bench-runs", "1", "--out", out], check=True)
-page = json.load(open(os.path.join(out, "cornell-box.json")))
-html = open(os.path.join(out, "cornell-box.html")).read()
+scene = sys.argv[4] if len(sys.argv) > 4 else "cornell-box"
+subprocess.run([exe, "gallery", "--scene", scene, "--bench-runs", "1", "--out", out], check=True)
+page = json.load(open(os.path.join(out, scene + ".json")))
+html = open(os.path.join(out, scene + ".html")).read()
 listed = [t["id"] for t in json.loads(subprocess.run([exe, "list", "--json"], check=True, capture_output=True,
                                                       text=True).stdout)["techniques"]]
 failures = []
@@ -26,9 +37,9 @@ if [t["id"] for t in page["techniques"]] != listed:
 # docs/fidelity.md rows at defaults: technique, output (stage/output), mode, numbers.
 table = {}
 doc = open(os.path.join(root, "docs", "fidelity.md")).read()
-# Only the Cornell box's table: the other scenes' tables (<!-- fidelity-table:<scene>:begin -->)
-# have rows of the same techniques and outputs.
-begin, end = "<!-- fidelity-table:begin -->", "<!-- fidelity-table:end -->"
+# Only this scene's table: the other scenes' tables have rows of the same techniques and outputs.
+marker = "fidelity-table" if scene == "cornell-box" else "fidelity-table:" + scene
+begin, end = f"<!-- {marker}:begin -->", f"<!-- {marker}:end -->"
 if begin not in doc or end not in doc:
     fail(f"docs/fidelity.md has no {begin} ... {end} table")
 doc = doc.split(begin, 1)[-1].split(end, 1)[0]
@@ -42,6 +53,9 @@ for line in doc.splitlines():
 if not table:
     fail("no rows at defaults in docs/fidelity.md")
 
+# Allowed run-to-run variation beyond the printed rounding (measured: see the docstring).
+run_to_run = {} if scene == "cornell-box" else {"rmse": 1e-4, "psnr": 0.02, "mae": 1e-4, "mre": 0.003, "ssim": 0.006,
+                                                  "mean_ratio": 0.03}
 seen = set()
 for t in page["techniques"]:
     if not t["frame_cpu_ms_median"] > 0:
@@ -74,7 +88,7 @@ for t in page["techniques"]:
                 if not (got is None and text == "inf"):
                     fail(f"{o['address']} {name}: {got} vs {text}")
                 continue
-            if abs(got - float(text)) > 1.0 * 10 ** -digits + 1e-12:
+            if abs(got - float(text)) > 1.0 * 10 ** -digits + run_to_run.get(name, 0.0) + 1e-12:
                 fail(f"{o['address']} {name}: gallery {got:.{digits}f}, docs/fidelity.md {text}")
         print(f"ok {o['address']} vs {r['mode']}: rmse {r['rmse']:.4f} ssim {r['ssim']:.3f}")
     if any("indirect term" in o["role"] for o in t["outputs"]):
@@ -82,6 +96,12 @@ for t in page["techniques"]:
 for key in table:
     if key not in seen:
         fail(f"docs/fidelity.md row {key} is not in the gallery")
+
+if scene != "cornell-box":
+    if failures:
+        sys.exit(1)
+    print(f"gallery on {scene} matches docs/fidelity.md ({len(seen)} rows)")
+    sys.exit(0)
 
 # A scene without checked-in references (any scene file works): every technique still gets its row, and each
 # tagged output says that no reference exists instead of showing numbers.

@@ -1,0 +1,239 @@
+// The viewer soak (script verb `soak`, tests/viewer/soak.txt): random but valid UI actions across
+// every registered technique for a given time, reproducible from a seed, with checks after each
+// action and a leak check at the end. Everything comes from the registries and declarations
+// (techniques, stages, outputs, ParamDescs, lessons/); nothing here names a technique.
+//
+//   soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH
+//
+// Random actions until SECONDS have passed: switch technique, run all, select and run a stage,
+// set a parameter to a valid value near its default, reset the parameters, probe a pixel, show
+// another output, toggle 3D views and overlays, orbit, reload shaders, load a good or a broken
+// scene, open a lesson and step it. Each is printed with its number before it runs; after each:
+// no GL message of severity high or medium, the UI drew a frame since, and the resident set size
+// and the live GL objects (gpu/gl_debug.h: liveGLObjects) are sampled. The first third of the
+// time is the warm-up (programs compiled, the viewer's lazily made views and driver caches
+// filled); the peaks of the last third may exceed the warm-up's peaks by at most the bounds.
+// The sequence depends only on the seed and on the number of actions the time allowed, so
+// `soak SECONDS SEED ...` with the printed seed replays a failing run.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "core/paths.h"
+#include "gpu/gl_debug.h"
+#include "inspect/viewer_state.h"
+
+namespace voxlab {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+size_t residentBytes() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return size_t(resident) * size_t(sysconf(_SC_PAGESIZE));
+}
+
+ScriptAction action(std::string verb, std::vector<std::string> args, int line) {
+  ScriptAction a;
+  a.verb = std::move(verb);
+  a.args = std::move(args);
+  a.line = line;
+  return a;
+}
+
+}  // namespace
+
+std::vector<ScriptAction> Viewer::soakRandomActions(int line) {
+  std::mt19937_64& rng = soak.rng;
+  auto pick = [&](size_t n) { return size_t(std::uniform_int_distribution<size_t>(0, n - 1)(rng)); };
+  auto unit = [&]() { return std::uniform_real_distribution<double>(0.0, 1.0)(rng); };
+  const Technique& t = cursor->technique();
+  std::vector<ScriptAction> acts;
+  auto add = [&](std::string verb, std::vector<std::string> args) { acts.push_back(action(std::move(verb), std::move(args), line)); };
+  // Weights of the action kinds (out of their sum).
+  enum Kind { Switch, RunAll, RunStage, SetParam, Reset, Probe, Output, View3D, Overlay, Orbit, Reload, Scene, Lesson, kKinds };
+  static const int kWeight[kKinds] = {2, 3, 3, 5, 1, 2, 2, 2, 1, 1, 1, 1, 2};
+  int total = 0;
+  for (int w : kWeight) total += w;
+  int r = int(pick(size_t(total)));
+  int kind = 0;
+  while (r >= kWeight[kind]) r -= kWeight[kind++];
+  switch (kind) {
+    case Switch: {
+      const auto& reg = techniqueRegistry();
+      add("technique", {reg[pick(reg.size())].id});
+      break;
+    }
+    case RunAll: add("runall", {}); break;
+    case RunStage:
+      add("stage", {t.stage(int(pick(size_t(t.stageCount())))).id()});
+      add("run", {});
+      break;
+    case SetParam: {
+      // A valid value near the default: numbers within a quarter of the way to either end of the
+      // range (so a run stays about as expensive as the default one), any choice or flag.
+      std::vector<const ParamDesc*> descs;
+      for (const auto& [name, d] : cursor->params().descs())
+        if (name != memoryBudgetParam().name) descs.push_back(&d);
+      if (descs.empty()) break;
+      const ParamDesc& d = *descs[pick(descs.size())];
+      double v = d.defaultValue;
+      const bool scene = ParamDesc::isSceneValue(v);
+      const double lo = scene ? d.minValue : v - 0.25 * (v - d.minValue);
+      const double hi = scene ? d.maxValue : v + 0.25 * (d.maxValue - v);
+      switch (d.type) {
+        case ParamType::Bool: v = double(pick(2)); break;
+        case ParamType::Choice: v = double(pick(d.choices.size())); break;
+        case ParamType::Float: v = lo + unit() * (hi - lo); break;
+        case ParamType::Int:
+          if (d.powerOfTwo) {
+            v = scene ? d.minValue : (pick(2) ? d.defaultValue : std::max(d.minValue, d.defaultValue / 2));
+          } else {
+            v = std::round(lo + unit() * (hi - lo));
+          }
+          v = std::clamp(v, d.minValue, d.maxValue);
+          break;
+      }
+      add("set", {d.name + "=" + d.format(v)});
+      break;
+    }
+    case Reset: add("reset-params", {}); break;
+    case Probe:
+      if (probesFor(ProbeSpace::Screen, "").empty()) break;  // no stage of this technique probes pixels
+      add("probe", {std::to_string(pick(size_t(std::max(opt.width, 1)))), std::to_string(pick(size_t(std::max(opt.height, 1))))});
+      break;
+    case Output: {
+      const auto& outs = t.decl(selected).outputs;
+      if (!outs.empty()) add("output", {outs[pick(outs.size())].name});
+      break;
+    }
+    case View3D:
+      if (viewMode != ViewMode::Slice) {
+        add("view-mode", {"slice"});
+      } else {
+        refreshCapture();
+        if (capError.empty() && has3DView()) add("view-mode", {pick(2) ? "3d" : "cubes"});
+      }
+      break;
+    case Overlay: add("overlay", {pick(2) ? "bounds" : "voxels", pick(2) ? "on" : "off"}); break;
+    case Orbit:
+      add("orbit", {std::to_string(int(pick(61)) - 30), std::to_string(int(pick(31)) - 15)});
+      break;
+    case Reload: add("reload", {}); break;
+    case Scene: {
+      const std::string choices[] = {"cornell-box", projectPath("tests/data/bad/not-json.gltf"),
+                                     projectPath("tests/data/scenes/furnace-box.gltf")};
+      add("scene", {choices[pick(3)]});
+      break;
+    }
+    case Lesson:
+      if (!lesson.steps.empty() && lessonStep + 1 < int(lesson.steps.size()) && pick(3) != 0) {
+        add("lesson-next", {});
+      } else {
+        std::vector<std::string> files;
+        for (const auto& f : fs::directory_iterator(projectPath("lessons")))
+          if (f.path().extension() == ".md" && f.path().filename() != "README.md") files.push_back(f.path().string());
+        std::sort(files.begin(), files.end());
+        if (!files.empty()) add("lesson", {files[pick(files.size())]});
+      }
+      break;
+  }
+  return acts;
+}
+
+void Viewer::executeSoak(const ScriptAction& a) {
+  auto insert = [&](const std::vector<ScriptAction>& more) { script.insert(script.begin() + long(pc), more.begin(), more.end()); };
+  const std::string& v = a.verb;
+  if (v == "soak") {
+    if (soak.active) scriptFail(a, "a soak is already running");
+    soak = SoakState();
+    soak.active = true;
+    try {
+      soak.seconds = std::stod(a.args.at(0));
+      soak.seed = std::stoull(a.args.at(1));
+      soak.maxRssGrowthMiB = std::stod(a.args.at(2));
+      soak.maxObjectGrowth = std::stoi(a.args.at(3));
+    } catch (const std::exception&) {
+      scriptFail(a, "expected SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH as numbers");
+    }
+    soak.rng.seed(soak.seed);
+    soak.line = a.line;
+    std::printf("soak: seed %llu, %.0f s of random actions over %zu techniques (replay: soak %s %llu %s %s)\n",
+                (unsigned long long)soak.seed, soak.seconds, techniqueRegistry().size(), a.args[0].c_str(),
+                (unsigned long long)soak.seed, a.args[2].c_str(), a.args[3].c_str());
+    std::fflush(stdout);
+    soak.start = std::chrono::steady_clock::now();
+    insert({action("soak-step", {}, a.line)});
+  } else if (v == "soak-step") {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - soak.start).count();
+    if (elapsed >= soak.seconds) {
+      std::printf("soak: %d random actions in %.1f s\n", soak.actions, elapsed);
+      insert({action("soak-finish", {}, a.line)});
+      return;
+    }
+    std::vector<ScriptAction> acts;
+    while (acts.empty()) acts = soakRandomActions(a.line);
+    ++soak.actions;
+    std::string text;
+    for (const auto& x : acts) {
+      text += (text.empty() ? "" : "; ") + x.verb;
+      for (const auto& w : x.args) text += " " + w;
+    }
+    std::printf("soak action %d (seed %llu): %s\n", soak.actions, (unsigned long long)soak.seed, text.c_str());
+    std::fflush(stdout);
+    soak.lastAction = text;
+    acts.push_back(action("soak-check", {}, a.line));
+    acts.push_back(action("soak-step", {}, a.line));
+    insert(acts);
+    soak.frameAtAction = ImGui::GetFrameCount();
+  } else if (v == "soak-check") {
+    const std::string where = "after soak action " + std::to_string(soak.actions) + " (seed " + std::to_string(soak.seed) +
+                              ": " + soak.lastAction + ")";
+    if (glFailureCount() != scriptGLFailures) {
+      std::string last;
+      for (const auto& e : glDebugLog())
+        if (isGLFailure(e.message)) last = e.message.describe();
+      scriptFail(a, where + ": GL failure: " + last);
+    }
+    if (!(ImGui::GetFrameCount() > soak.frameAtAction)) scriptFail(a, where + ": the UI drew no frame");
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - soak.start).count();
+    const size_t rss = residentBytes();
+    const GLObjectCounts objects = liveGLObjects();
+    const int third = elapsed < soak.seconds / 3.0 ? 0 : elapsed < 2.0 * soak.seconds / 3.0 ? 1 : 2;
+    if (third != 1) {
+      size_t& peakRss = third == 0 ? soak.rssWarm : soak.rssEnd;
+      GLObjectCounts& peak = third == 0 ? soak.objectsWarm : soak.objectsEnd;
+      peakRss = std::max(peakRss, rss);
+      if (objects.total() > peak.total()) peak = objects;
+    }
+    if (soak.actions % 10 == 0)
+      std::printf("soak at %.0f s: RSS %.1f MiB, GL objects %d (%s)\n", elapsed, double(rss) / 1048576.0, objects.total(),
+                  objects.describe().c_str());
+  } else if (v == "soak-finish") {
+    const double growthMiB = (double(soak.rssEnd) - double(soak.rssWarm)) / 1048576.0;
+    const int objectGrowth = soak.objectsEnd.total() - soak.objectsWarm.total();
+    std::printf("soak: peak RSS %.1f MiB in the warm-up (first third), %.1f MiB in the last third (growth %.1f MiB, "
+                "bound %.1f); peak GL objects %d in the warm-up (%s), %d in the last third (%s), growth %d (bound %d); "
+                "%d actions\n",
+                double(soak.rssWarm) / 1048576.0, double(soak.rssEnd) / 1048576.0, growthMiB, soak.maxRssGrowthMiB,
+                soak.objectsWarm.total(), soak.objectsWarm.describe().c_str(), soak.objectsEnd.total(),
+                soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth, soak.actions);
+    soak.active = false;
+    if (growthMiB > soak.maxRssGrowthMiB)
+      scriptFail(a, "resident memory grew by " + std::to_string(growthMiB) + " MiB over the soak (seed " +
+                        std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxRssGrowthMiB));
+    if (objectGrowth > soak.maxObjectGrowth)
+      scriptFail(a, "live GL objects grew by " + std::to_string(objectGrowth) + " over the soak (seed " +
+                        std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxObjectGrowth));
+  }
+}
+
+}  // namespace voxlab
