@@ -155,12 +155,13 @@ TEST(Sky, VctGridConesSeeTheSkyTheReferenceSees) {
   const double ratio = gpu / ref;
   std::printf("vct-grid sky vs reference (once reflected): %d points, mean ratio %.3f, worst relative %.3f\n", points,
               ratio, worst);
-  // Cones approximate the visible sky: six 60-degree cones whose outer parts graze the floor's own
-  // voxels near the horizon, and blocks seen through mips. Measured (64^3, 126 points): mean ratio
-  // 1.031, worst point 37 % off (beside the tall block). The band fails a missing or doubled
-  // escape term (ratio 0 or about 2) and an escape counted only once a cone's whole sample has
-  // left the volume (0.171: wide cones reach their maximum distance first).
-  EXPECT_GT(ratio, 0.85);
+  // Cones approximate the visible sky. Measured (64^3, 126 points): mean ratio 0.813 at vct-grid's
+  // defaults (anisotropic mips, 45-degree cones reaching 1.75 volume edges: grazing cones find the
+  // floor's directional voxels more opaque than the isotropic average); 1.058 with isotropic mips;
+  // 1.031 with the former defaults (isotropic, six 60-degree cones, one edge), worst point 37 %
+  // off beside the tall block. The band fails a missing or doubled escape term (ratio 0 or about
+  // 2) and an escape counted only once a cone's whole sample has left the volume (0.171).
+  EXPECT_GT(ratio, 0.7);
   EXPECT_LT(ratio, 1.2);
 }
 
