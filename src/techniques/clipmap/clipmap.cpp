@@ -39,7 +39,9 @@
 //     (coverage changes most implementations miss) and the covered block itself.
 //   - Guard texels on every side of every block make trilinear filtering across the physical seam
 //     correct; a level serves a sample only when its footprint lies inside the level's region.
-//   - clipmap.voxel-size defaults to a power of two of metres, so p / s_k is exact in float.
+//   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same
+//     lattice for the same scene in any unit); set to a power of two of metres, p / s_k is exact
+//     in float (the exactness tests do).
 //   - The path parameters move the clip levels' anchor; the G-buffer is rendered from the camera
 //     given (--look-from): the clip levels of a run with K moves of D equal, bit for bit, those of
 //     a run started at P + K D (tests/unit/test_clipmap.cpp).

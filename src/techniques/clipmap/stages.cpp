@@ -29,8 +29,8 @@ std::vector<ParamDesc> layoutParams() {
       ParamDesc::integer("clipmap.levels", 5, 2, kMaxLevels, "clip levels L; level k has voxels 2^k times level 0's", "levels"),
       ParamDesc::integer("clipmap.resolution", 32, 8, 64, "cells N along each axis of every level", "voxels").pow2(),
       ParamDesc::fromScene("clipmap.voxel-size", 1e-4, 100.0,
-                           "edge s_0 of a level-0 voxel; scene: the power of two that lets the coarsest level span four times "
-                           "the scene's largest extent",
+                           "edge s_0 of a level-0 voxel; scene: the scene's largest extent E times the power of two that lets "
+                           "the coarsest level span at least 8 E",
                            "m"),
       ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 0,
                         "isotropic: one value per cell; anisotropic: also six directional values, filtered between "
@@ -59,7 +59,9 @@ Layout layoutOf(const ParamSet& params, const Scene& scene) {
   if (std::isnan(s0)) {
     glm::vec3 e = scene.bounds.valid() ? scene.bounds.extent() : glm::vec3(1.0f);
     double extent = std::max({double(e.x), double(e.y), double(e.z), 1e-3});
-    s0 = std::exp2(std::ceil(std::log2(4.0 * extent / (double(l.n) * double(int64_t(1) << (l.levels - 1))))));
+    // A power-of-two fraction of the extent (not of a metre), so that the same scene in other units
+    // gets the same lattice relative to its geometry (lights.scaled_cornell_box).
+    s0 = extent * std::exp2(std::ceil(std::log2(8.0 / (double(l.n) * double(int64_t(1) << (l.levels - 1))))));
   }
   l.voxelSize0 = s0;
   return l;

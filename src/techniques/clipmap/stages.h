@@ -22,8 +22,9 @@ struct LevelRecord {
 static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
 
 // The layout the parameters ask for: clipmap.levels, clipmap.resolution and clipmap.voxel-size
-// ("scene": the power of two of metres that lets the coarsest level span four times the scene's
-// largest extent, so a level's cells are the world lattice's cells exactly in float).
+// ("scene": the scene's largest extent E times the power of two that lets the coarsest level span
+// at least 8 E, so a scene in other units gets the same lattice relative to its geometry; the
+// exactness tests set power-of-two sizes in metres, for which p / s_k is exact in float).
 Layout layoutOf(const ParamSet& params, const Scene& scene);
 // Faces per cell in the atlas: 1 (isotropic) or 7 (isotropic + the six directions).
 int facesOf(const ParamSet& params);

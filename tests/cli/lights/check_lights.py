@@ -147,11 +147,13 @@ LENGTH_UNITS = {"m": 1.0, "1/m": -1.0}
 # Rounding allowance: a scale that is not a power of two makes the scaled scene's floats round
 # differently (every position x100), which moves a few 8-bit values of a final image. Measured on
 # the Cornell box x100 at 96x96 (27648 values) after the shadow map's lengths were made relative:
-# 0 values (lpv, svo, near-field, vct-grid, volumetric, voxelization) or 1 value (lrsm: 1 step,
-# voxel-path-tracing: 2 steps); before, every lit technique differed by up to 76 steps (rmse
-# 0.011..0.012; the spot's near plane and the 1 cm normal offset). A power-of-two scale scales
+# 0 values (lpv, svo, near-field, volumetric, voxelization) or 1 value (lrsm: 1 step,
+# voxel-path-tracing and vct-grid: 2 steps, clipmap: 4 steps, a voxel on a cell face that the
+# scaled floats round to the other side); before, every lit technique differed by up to 76 steps
+# (rmse 0.011..0.012; the spot's near plane and the 1 cm normal offset), and clipmap with a voxel
+# size in powers of two of metres in 22111 values by up to 118 steps. A power-of-two scale scales
 # every float exactly: no allowance, any difference is a length in absolute units.
-ROUNDING_VALUES, ROUNDING_STEPS = 12, 2
+ROUNDING_VALUES, ROUNDING_STEPS = 12, 4
 
 
 def rounding_allowance(scale):
