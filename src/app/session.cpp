@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <memory>
+#include <thread>
 
 #include "app/reference_error.h"
 #include "capture/capture.h"
@@ -96,8 +99,14 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
 
   const Technique& t = cursor_->technique();
   json m = manifestHeader();
-  json stages = json::array();
+  std::vector<json> stages;
   double totalCpu = 0, totalGpu = 0;
+  // Outputs are read back here, on the GL thread, in declaration order; encoding and writing their
+  // files and comparing them with the references (CPU only) run on worker threads, at most one
+  // per core at a time, and their manifest entries are collected in the same order.
+  std::vector<std::pair<size_t, std::future<json>>> pending;
+  size_t waited = 0;
+  const size_t workers = std::max(1u, std::thread::hardware_concurrency());
   for (int i = 0; i <= untilStage_; ++i) {
     const StageRecord& r = cursor_->record(i);
     json s;
@@ -108,9 +117,9 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
     s["gpu_ms"] = r.gpuMs;
     s["iterations"] = r.iterationsRun;
     s["stats"] = r.stats;
+    s["outputs"] = json::array();
     totalCpu += r.cpuMs;
     totalGpu += r.gpuMs;
-    json outs = json::array();
     for (const auto& o : t.decl(i).outputs) {
       bool isFinal = t.finalStage() == t.stage(i).id() && t.finalOutput() == o.name;
       if (finalOnly && !isFinal) continue;
@@ -122,34 +131,40 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
         if (hit == only.end()) continue;
         onlyLevel = hit->level;
       }
-      CapturedOutput cap = captureOutput(cursor_->board(), o);
+      auto cap = std::make_shared<CapturedOutput>(captureOutput(cursor_->board(), o));
       if (onlyLevel >= 0) {
-        if (onlyLevel >= int(cap.levels.size()))
+        if (onlyLevel >= int(cap->levels.size()))
           throw Error("output " + t.id() + "/" + t.stage(i).id() + "/" + o.name + " has levels 0.." +
-                      std::to_string(int(cap.levels.size()) - 1) + ", not " + std::to_string(onlyLevel));
-        cap.levels = {cap.levels[onlyLevel]};
+                      std::to_string(int(cap->levels.size()) - 1) + ", not " + std::to_string(onlyLevel));
+        cap->levels = {cap->levels[onlyLevel]};
       }
       std::string prefix = std::string(t.stage(i).id()) + "." + o.name +
                            (onlyLevel >= 0 ? "@" + std::to_string(onlyLevel) : "");
-      json e = writeOutputFiles(cap, dir, prefix);
-      e["name"] = o.name;
-      e["address"] = t.id() + "/" + t.stage(i).id() + "/" + o.name;
-      e["help"] = o.help;
-      e["final"] = isFinal;
-      // Outputs tagged with a reference mode: error against the checked-in ground truth, if any.
+      std::string address = t.id() + "/" + t.stage(i).id() + "/" + o.name;
       // References are rendered from scene cameras; a free camera has none.
-      json refErr = request_.lookFrom ? json()
-                                      : compareWithReference(cap, cursor_->scene().name, request_.camera, dir, prefix);
-      if (!refErr.is_null()) {
-        if (refErr.contains("files"))
-          for (const auto& f : refErr["files"]) e["files"].push_back(f);
-        e["reference_error"] = refErr;
-      }
-      outs.push_back(e);
+      const bool compare = !request_.lookFrom;
+      std::string sceneName = cursor_->scene().name;
+      int camera = request_.camera;
+      while (pending.size() - waited >= workers) pending[waited++].second.wait();
+      pending.emplace_back(size_t(i), std::async(std::launch::async, [=, name = o.name, help = o.help]() {
+        json e = writeOutputFiles(*cap, dir, prefix);
+        e["name"] = name;
+        e["address"] = address;
+        e["help"] = help;
+        e["final"] = isFinal;
+        // Outputs tagged with a reference mode: error against the checked-in ground truth, if any.
+        json refErr = compare ? compareWithReference(*cap, sceneName, camera, dir, prefix) : json();
+        if (!refErr.is_null()) {
+          if (refErr.contains("files"))
+            for (const auto& f : refErr["files"]) e["files"].push_back(f);
+          e["reference_error"] = refErr;
+        }
+        return e;
+      }));
     }
-    s["outputs"] = outs;
     stages.push_back(s);
   }
+  for (auto& [stage, f] : pending) stages[stage]["outputs"].push_back(f.get());
   m["stages"] = stages;
   m["total_cpu_ms"] = totalCpu;
   m["total_gpu_ms"] = totalGpu;
