@@ -15,6 +15,10 @@ build="$root/build-asan"
 fuzzer="$build/fuzz_scene_loader"
 [ -x "$fuzzer" ] || { echo "fuzz.sh: $fuzzer is missing; build it with scripts/build-asan.sh" >&2; exit 2; }
 source "$root/scripts/sanitizer-env.sh"
+# The target writes every input to a scratch file in TMPDIR: on a disk file system, truncating it
+# for each input left the fuzzer waiting in the kernel (state D) for much of its time, so a
+# tmpfs is used where there is one.
+[ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR=/dev/shm
 python3 "$root/tests/fuzz/make_seeds.py" "$root" "$build/fuzz-seeds" >/dev/null
 mkdir -p "$build/fuzz-corpus" "$build/fuzz-findings"
 # Limits that make "allocates without bound" and "hangs" findings: one input may not take more
