@@ -7,7 +7,8 @@
 // albedo from the voxel albedo grid. Weight W_k = rho_0 ... rho_{k-1} (cosine sampling of a
 // Lambertian BRDF cancels cos / pdf), so a path adds sum_k W_k L~_k: the same sum as the thesis'
 // backward propagation L_k = L~_k + rho_k L_{k+1}, accumulated forward. A path whose ray crosses
-// the volume without a hit ends in the sky (common/sky.glsl): it adds W_k L_sky.
+// the volume without a hit ends in the sky (common/sky.glsl): it adds the weight so far (the
+// albedos of its vertices, this one's included) times L_sky.
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "near_field/traversal.glsl"
