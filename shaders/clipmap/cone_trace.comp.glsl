@@ -4,10 +4,13 @@
 // sample's trilinear footprint lies inside its region (u = (p - min_k) / s_k in [0.5, N - 0.5]
 // on every axis), so the level read is l = max(lambda, k_min(p)), blended between floor(l) and
 // floor(l) + 1 by its fraction; above L-1 it reads the coarsest level's mips. A sample outside the
-// coarsest region ends the cone: the toroidal address would return some other cell's texel.
+// coarsest region ends the cone: the toroidal address would return some other cell's texel. The
+// coarsest region is the volume the sky's escape rule (common/sky.glsl) sees: a cone that leaves
+// it sees the sky through its remaining transmittance.
 #include "common/shared.h"
 #include "clipmap/clipmap.glsl"
 #include "common/lights.glsl"
+#include "common/sky.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform sampler3D u_atlas;
@@ -92,11 +95,12 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
   ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
   bool marked = false;
   float top = float(u_clipLevels - 1 + u_mipLevels);
+  bool left = false;  // the sample's footprint left the coarsest region
   for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
     float diameter = max(2.0 * tanHalf * t, u_voxelSize0);
     vec3 p = origin + dir * t;
     int kmin = finestLevel(p);
-    if (kmin < 0) break;  // outside the coarsest region: the cone ends
+    if (kmin < 0) { left = true; break; }  // outside the coarsest region: the cone ends
     float level = min(max(max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0), float(kmin)), top);
     if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
     vec4 s = sampleAt(p, level, dir);
@@ -115,6 +119,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
     t += stepLength;
   }
   if (!marked) r.opacityAt = r.opacity;
+  r.radiance += coneSky(left, t >= maxDistance, origin + dir * t, r.opacity);
   return r;
 }
 

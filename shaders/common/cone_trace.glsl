@@ -7,6 +7,7 @@
 // long, is corrected to the distance actually stepped: a' = 1 - (1 - a)^(step / texel).
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
+#include "common/sky.glsl"
 
 layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; anisotropic: level 0
 // Anisotropic levels 1.. (their level 0 is level 1 of the hierarchy), one per travel direction.
@@ -20,9 +21,6 @@ uniform int u_anisotropic;
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
-// Constant sky (environment) radiance, W/(m^2 sr): what a cone sees through its remaining
-// transmittance once it leaves the voxel volume (0 unless the stage sets sky.radiance).
-uniform vec3 u_skyRadiance;
 
 // What this invocation's cones cost: samples taken and volume lookups (one textureLod each, a
 // quadrilinear fetch of up to 16 texels), for the stage's statistics.
@@ -133,10 +131,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1);
   while (!m.done) coneStep(m, 2);
   if (!m.marked) m.r.opacityAt = m.r.opacity;
-  // Escaped: wholly outside the volume, or at its full length with its axis outside (a wide
-  // cone's last samples still straddle the boundary): the sky through the transmittance left.
-  vec3 end = worldToVolumeUV(m.origin + m.dir * m.t);
-  bool escaped = m.escaped || (m.t >= m.maxDistance && (any(lessThan(end, vec3(0.0))) || any(greaterThan(end, vec3(1.0)))));
-  if (escaped) m.r.radiance += (1.0 - m.r.opacity) * u_skyRadiance;
+  // The sky through the transmittance left, if the cone escaped (common/sky.glsl).
+  m.r.radiance += coneSky(m.escaped, m.t >= m.maxDistance, m.origin + m.dir * m.t, m.r.opacity);
   return m.r;
 }

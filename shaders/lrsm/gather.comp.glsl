@@ -5,6 +5,7 @@
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/voxel_space.glsl"
+#include "common/sky.glsl"
 #include "lrsm/lrsm_shared.h"
 #include "lrsm/lrsm_common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -116,12 +117,13 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, bool radiance, float max
   vec3 I = vec3(0.0);
   float T = 1.0;
   int steps = 0;
+  bool left = false;  // the sample lay wholly outside the volume
   for (int step = 0; step < u_maxSteps && T > 0.01 && t < maxDistance; ++step) {
     float diameter = max(2.0 * tanHalf * t, u_voxelSize);
     vec3 x = origin + dir * t;
     vec3 uvw = worldToVolumeUV(x);
     float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
-    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) break;
+    if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { left = true; break; }
     float mip = clamp(log2(diameter / u_voxelSize) + u_lodBias, 0.0, float(u_voxelLevels - 1));
     float a = textureLod(u_occlusion, uvw, mip).r;
     float stepLength = diameter * u_stepScale;
@@ -138,6 +140,8 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, bool radiance, float max
     t += stepLength;
   }
   g_record = false;
+  // A radiance cone that escaped sees the sky through its transmittance (common/sky.glsl).
+  if (radiance) I += coneSky(left, t >= maxDistance, origin + dir * t, 1.0 - T);
   if (record) coneResults[coneIndex] = LrsmConeResult(vec4(dir, 0.0), vec4(I, 1.0 - T), vec4(float(coneIndex), float(steps), 0.0, 0.0));
   return vec4(I, 1.0 - T);
 }

@@ -1,10 +1,12 @@
 #version 450
 // Composite: direct light (Lambert, shadow map) + emission + the near-field indirect light,
 // upsampled from the traced resolution along surfaces; "combined" is linear radiance, "final"
-// the Reinhard operator x / (1 + x) of exposure * combined.
+// the Reinhard operator x / (1 + x) of exposure * combined. A pixel that sees no surface shows the
+// sky (common/sky.glsl; 0 without one).
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/upsample.glsl"
+#include "common/sky.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;
 layout(binding = 2) uniform sampler2D u_normal;
@@ -30,7 +32,7 @@ void main() {
   ivec2 size = textureSize(u_position, 0);
   if (any(greaterThanEqual(px, size))) return;
   vec4 pos = texelFetch(u_position, px, 0);
-  vec3 direct = vec3(0.0), combined = vec3(0.0);
+  vec3 direct = skyBackground(), combined = direct;
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
     vec3 albedo = texelFetch(u_albedo, px, 0).rgb;

@@ -6,11 +6,14 @@
 // RSM when the lookup is valid, else from the voxel normal grid (turned toward the ray), and its
 // albedo from the voxel albedo grid. Weight W_k = rho_0 ... rho_{k-1} (cosine sampling of a
 // Lambertian BRDF cancels cos / pdf), so a path adds sum_k W_k L~_k: the same sum as the thesis'
-// backward propagation L_k = L~_k + rho_k L_{k+1}, accumulated forward.
+// backward propagation L_k = L~_k + rho_k L_{k+1}, accumulated forward. A path whose ray crosses
+// the volume without a hit ends in the sky (common/sky.glsl): it adds the weight so far (the
+// albedos of its vertices, this one's included) times L_sky.
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "near_field/traversal.glsl"
 #include "near_field/ray_common.glsl"
+#include "common/sky.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;
@@ -57,7 +60,14 @@ void main() {
   vec3 o = (origin - u_volumeOrigin) / u_volumeEdge;
   vec3 e = (origin + dir * u_maxLength - u_volumeOrigin) / u_volumeEdge;
   Walk w = traverse(o, e, u_budget, false);
-  if (w.end != NF_END_HIT) { imageStore(u_vertex, px, vec4(0.0)); return; }
+  if (w.end != NF_END_HIT) {
+    if (skyOn() && skyEscaped(false, w.end == NF_END_LEFT, origin + dir * u_maxLength)) {
+      vec4 sum = imageLoad(u_indirect, px);
+      imageStore(u_indirect, px, vec4(sum.rgb + weight * skyThrough(1.0) / float(u_pathCount), 1.0));
+    }
+    imageStore(u_vertex, px, vec4(0.0));
+    return;
+  }
   vec3 hit = u_volumeOrigin + u_volumeEdge * (o + w.tHit * (e - o));
   RsmLookup look = lookupRsm(hit, p);
   if (look.category == NF_CAT_VALID) {

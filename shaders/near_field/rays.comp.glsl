@@ -3,12 +3,15 @@
 // start offsets, hierarchical traversal to the first set voxel, RSM lookup of the hit, and the
 // estimator (rho * spread / N) * sum of the reflected radiance L~ of valid hits (seed 000
 // section 3.2.3 / 4.4.6, Listings 4.45-4.49; the printed (rho/pi)/N form lacks the pi that the
-// cosine pdf cos/pi cancels; see src/techniques/near_field/near_field.cpp).
+// cosine pdf cos/pi cancels; see src/techniques/near_field/near_field.cpp). A ray that reaches the
+// end of its radius without a hit, outside the scene's bounds, sees the sky (common/sky.glsl) and
+// adds it as a valid hit would; one that ends inside the bounds adds nothing (the far field).
 #define NF_RECORD_STEPS
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "near_field/traversal.glsl"
 #include "near_field/ray_common.glsl"
+#include "common/sky.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;    // G-buffer: xyz, w = 1 covered
@@ -40,6 +43,7 @@ void main() {
   w.end = NF_END_LEFT; w.steps = 0; w.voxel = ivec3(-1); w.tHit = 1.0;
   vec3 dir = vec3(0.0), origin = vec3(0.0), hit = vec3(0.0), radiance = vec3(0.0);
   float cosTheta = 0.0, radiusLeft = 0.0, dist = 0.0, epsilon = 0.0, facing = 0.0;
+  bool escapedToSky = false;
   vec2 rsmTexel = vec2(-1.0);
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
@@ -60,8 +64,10 @@ void main() {
       vec3 e = (origin + dir * radiusLeft - u_volumeOrigin) / u_volumeEdge;
       w = traverse(o, e, u_budget, probing);
       if (w.end == NF_END_BUDGET) category = NF_CAT_BUDGET;
-      else if (w.end != NF_END_HIT) category = NF_CAT_NO_HIT;
-      else {
+      else if (w.end != NF_END_HIT) {
+        category = NF_CAT_NO_HIT;
+        escapedToSky = skyOn() && skyEscaped(false, w.end == NF_END_LEFT, origin + dir * radiusLeft);
+      } else {
         hit = u_volumeOrigin + u_volumeEdge * (o + w.tHit * (e - o));
         hitOut = vec4(hit, 1.0);
         RsmLookup look = lookupRsm(hit, pos.xyz);
@@ -73,10 +79,11 @@ void main() {
         facing = look.facing;
       }
     }
-    if (category == NF_CAT_VALID) {
+    if (category == NF_CAT_VALID || escapedToSky) {
       vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
       vec4 sum = imageLoad(u_indirect, px);
-      imageStore(u_indirect, px, vec4(sum.rgb + albedo * u_spread / float(u_rayCount) * radiance, 1.0));
+      vec3 seen = escapedToSky ? skyThrough(1.0) : radiance;
+      imageStore(u_indirect, px, vec4(sum.rgb + albedo * u_spread / float(u_rayCount) * seen, 1.0));
     }
     imageStore(u_steps, px, imageLoad(u_steps, px) + uvec4(uint(w.steps)));
     atomicAdd(counters[1 + category], 1u);

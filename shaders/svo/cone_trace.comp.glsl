@@ -12,6 +12,7 @@
 #include "common/packing.glsl"
 #include "common/lights.glsl"
 #include "common/cone_setup.glsl"
+#include "common/sky.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -107,6 +108,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   float tanHalf = tan(0.5 * aperture);
   float t = startDistance;
   ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
+  bool left = false;  // the sample lay wholly outside the volume
   for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
     float diameter = max(2.0 * tanHalf * t, u_voxelSize);
     float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
@@ -114,7 +116,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
     vec3 p = origin + dir * t;
     vec3 v = worldToVoxel(p);
     float margin = 0.5 * diameter / u_voxelSize;
-    if (any(lessThan(v, vec3(-margin))) || any(greaterThan(v, vec3(float(u_resolution) + margin)))) break;
+    if (any(lessThan(v, vec3(-margin))) || any(greaterThan(v, vec3(float(u_resolution) + margin)))) { left = true; break; }
     uint k = 0u;
     if (record) k = atomicAdd(coneSampleCount, 1u);
     vec4 s = svoSample(v, levelStar, record, k);
@@ -132,6 +134,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
       coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, lod, a));
     t += stepLength;
   }
+  r.radiance += coneSky(left, t >= maxDistance, origin + dir * t, r.opacity);  // common/sky.glsl
   return r;
 }
 

@@ -2,9 +2,11 @@
 // Composite: direct light (Lambert, shadow map or soft-shadow cone) + emission + indirect diffuse
 // + specular weight * indirect specular, in linear radiance ("combined"), then exposure and the
 // Reinhard operator x / (1 + x) per channel ("final", linear; PNGs are sRGB-encoded on export).
+// A pixel that sees no surface shows the sky (common/sky.glsl; 0 without one) in all three.
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/upsample.glsl"
+#include "common/sky.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;
@@ -36,7 +38,7 @@ void main() {
   ivec2 size = textureSize(u_position, 0);
   if (px.x >= size.x || px.y >= size.y) return;
   vec4 pos = texelFetch(u_position, px, 0);
-  vec3 direct = vec3(0.0), combined = vec3(0.0);
+  vec3 direct = skyBackground(), combined = direct;
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
     vec3 albedo = texelFetch(u_albedo, px, 0).rgb;

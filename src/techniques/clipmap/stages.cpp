@@ -11,6 +11,7 @@
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
+#include "techniques/common/sky.h"
 #include "techniques/vct_grid/cone_layout.h"
 
 namespace voxlab::clipmap {
@@ -766,6 +767,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  declareSky(b);
   b.readView();
   b.read("clip-atlas");
   b.read("clip-mips");
@@ -851,6 +853,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
   setUniform(program, "u_scale", traceScale(ctx.params));
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
   glBindTextureUnit(4, ctx.board.texture("clip-mips").id());
@@ -881,6 +884,7 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
   b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
                           "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
+  declareSky(b);  // the background
   for (const char* r : {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular",
                         "ambient-occlusion", "shadow-map", "light"})
     b.read(r);
@@ -906,6 +910,7 @@ void CompositeStage::execute(StageContext& ctx) {
   setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   const std::pair<int, const char*> inputs[] = {{1, "position"}, {2, "normal"}, {3, "albedo"}, {4, "emission"},
                                                 {5, "indirect-diffuse"}, {6, "indirect-specular"},

@@ -13,8 +13,12 @@ ParamDesc skyRadianceParam() {
                          "W/(m^2 sr)");
 }
 
-void setSkyUniform(GLuint program, const ParamSet& params) {
+void declareSky(StageBuilder& b) { b.param(skyRadianceParam()); }
+
+void setSkyUniforms(GLuint program, const ParamSet& params, const Scene& scene) {
   setUniform(program, "u_skyRadiance", glm::vec3(params.getFloat(kSkyRadiance)));
+  setUniform(program, "u_skySceneMin", scene.bounds.min);
+  setUniform(program, "u_skySceneMax", scene.bounds.max);
 }
 
 }  // namespace voxlab

@@ -1,19 +1,26 @@
 // The constant sky: an optional environment radiance L (W/(m^2 sr), grey, 0 by default, which
-// the closed Cornell box wants) for open scenes. Every ray or cone that leaves the voxel volume
-// sees L through the transmittance it has left; the reference path tracer's escaping rays see the
+// the closed Cornell box wants) for open scenes. Every ray or cone that escapes (shaders/common/
+// sky.glsl says when) sees L through the transmittance it has left; the reference path tracer's escaping rays see the
 // same L (reference::ReferenceTracer::setSkyRadiance, `voxlab reference --sky L`), so an albedo-1
 // object under it has radiance L everywhere (the sky furnace, tests/unit/test_sky.cpp).
 //
-// A stage that traces out of the volume declares skyRadianceParam() and calls setSkyUniform on
-// its program; shaders/common/cone_trace.glsl adds the escape term (u_skyRadiance).
+// The mechanism, the same for every technique: a stage that traces cones or rays out of the
+// volume, or composites the camera image, calls declareSky(builder) in its declare() and
+// setSkyUniforms(program, params, scene) before it dispatches; its shader includes
+// shaders/common/sky.glsl, which holds the escape rule and the background (written once). A technique has the sky when one
+// of its stages declares sky.radiance (`voxlab list`); nothing names a technique.
 #pragma once
 #include "gpu/gl.h"
 #include "graph/param.h"
+#include "graph/stage.h"
+#include "scene/scene.h"
 
 namespace voxlab {
 
 inline constexpr const char* kSkyRadiance = "sky.radiance";
 ParamDesc skyRadianceParam();
-void setSkyUniform(GLuint program, const ParamSet& params);  // u_skyRadiance = (L, L, L)
+void declareSky(StageBuilder& b);                           // b.param(skyRadianceParam())
+// u_skyRadiance = (L, L, L) and the scene bounds beyond which a ray escapes (shaders/common/sky.glsl).
+void setSkyUniforms(GLuint program, const ParamSet& params, const Scene& scene);
 
 }  // namespace voxlab

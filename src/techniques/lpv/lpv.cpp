@@ -102,6 +102,11 @@
 //     cone uses the mip level whose voxel equals its diameter (the thesis' log2(d / 0.25) is two
 //     levels finer) and starts one voxel off the surface; composite.glossy is 0 and gi.glossy off because the scenes
 //     and the reference path tracer are Lambertian.
+//   - No sky (sky.radiance, docs/architecture.md "Sky"): the diffuse light is the propagated VPL
+//     flux, read from the cell a point is in, and no ray leaves the grid; a sky would have to enter
+//     as flux through the grid's faces, which lpv.steps (light moves one cell per step) cannot
+//     carry to the interior. Only the glossy cone (off by default) leaves the reflection grid; a
+//     sky there alone would light reflections but not the diffuse light, so lpv has none.
 //   - Bad input: parameters are range-checked before any GPU work (lpv.resolution 8..64, a power of
 //     two: at most 2 x (9 volumes of 4 MiB + 48 MiB of state); reflection.resolution 16..256); fragments outside a grid are counted in the bin stage's
 //     statistics (fragments_outside_fine/coarse) and dropped.

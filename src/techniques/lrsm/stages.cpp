@@ -10,6 +10,7 @@
 #include "lrsm/lrsm_shared.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
+#include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 
@@ -359,6 +360,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "probed pixel, fraction of the width"));
   b.param(ParamDesc::real("probe.y", 0.6, 0.0, 1.0, "probed pixel, fraction of the height from the top"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  declareSky(b);
   b.readView();
   b.read("occlusion");
   b.read("lrsm-radiance");
@@ -475,6 +477,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
     setUniform(program, name.c_str(), glm::vec4(diffuseSet[k].direction, diffuseSet[k].weight));
   }
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(0, ctx.board.texture("occlusion").id());
@@ -528,6 +531,7 @@ void CompositeStage::declare(StageBuilder& b) const {
                             "direct shadows from the shadow cone through the occlusion voxels (soft) or the shadow map"));
   b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
   b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)"));
+  declareSky(b);  // the background
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -561,6 +565,7 @@ void CompositeStage::execute(StageContext& ctx) {
   setUniform(program, "u_coneShadow", ctx.params.getChoice("composite.shadow") == "cone" ? 1 : 0);
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map", "soft-shadow"};
   for (int i = 0; i < 7; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());

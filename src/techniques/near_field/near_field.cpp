@@ -66,6 +66,10 @@
 //     (voxel_path_tracing.cpp) on these stages.
 //   - The filter is voxlab's own (an a-trous pass per iteration, weights from the G-buffer); GP3's
 //     filter (radius 8, 2 iterations, distance limit 0.8) is off by default there.
+//   - Sky (sky.radiance, shaders/common/sky.glsl): a ray that ends its radius without a hit outside
+//     the scene's bounds escapes and adds the sky as a valid hit adds L~; one that ends inside the
+//     bounds is far field, which a near-field estimator leaves out, so it adds nothing (on the
+//     lightless blocks near-field sees 0.77 of the reference's once-reflected sky).
 //
 // References
 //   seed 000 (Gomes): section 2.2 (reflective shadow maps), 3.2 (near-field GI on a voxel model,

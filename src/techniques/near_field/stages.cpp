@@ -11,6 +11,7 @@
 #include "gpu/shader_library.h"
 #include "near_field/near_field_shared.h"
 #include "techniques/common/binary_voxels_stage.h"
+#include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/bitmask.h"
@@ -248,6 +249,7 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the recorded pixel
+  declareSky(b);  // rays that leave the volume within the radius
   b.readView();
   b.read("bitmask-hierarchy");
   b.read("ray-masks");
@@ -375,6 +377,7 @@ void RaysStage::execute(StageContext& ctx) {
   setUniform(program, "u_spread", ctx.params.getFloat("rays.spread"));
   setUniform(program, "u_probeRay", ctx.params.getInt("probe.ray"));
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
@@ -514,6 +517,7 @@ void PathsStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::integer("paths.bounces", 2, 1, 8,
                              "diffuse bounces per path (1 = one indirect bounce, as near-field without a radius)"));
   declareWalkParams(b);
+  declareSky(b);  // paths that leave the volume
   b.readView();
   b.read("bitmask-hierarchy");
   b.read("ray-masks");
@@ -565,6 +569,7 @@ void PathsStage::execute(StageContext& ctx) {
   setUniform(program, "u_traceScale", s);
   // A bounce's ray may cross the whole volume (its diagonal); the walk clips it to the volume.
   setUniform(program, "u_maxLength", std::sqrt(3.0f) * geo.edge);
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
@@ -645,6 +650,7 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.param(traceResolutionParam());
   b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
   b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)"));
+  declareSky(b);  // the background
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -674,6 +680,7 @@ void CompositeStage::execute(StageContext& ctx) {
              2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-filtered", "shadow-map"};
   for (int i = 0; i < 6; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());

@@ -25,6 +25,9 @@
 //   - No radius: a bounce's ray runs to the volume's edge. With paths.bounces = 1 the estimator is
 //     near-field's with an unlimited radius (tests/unit/test_near_field.cpp compares them).
 //   - Direct light at the pixel itself is composite's, as in near-field; emission is not carried.
+//   - Sky (sky.radiance, shaders/common/sky.glsl): a bounce whose ray crosses the volume without a
+//     hit ends the path in the sky: it adds L times the albedos of the path's vertices so far (the
+//     sky reflected once per vertex).
 //
 // References
 //   seed 000 (Gomes) section 3.2.4 (voxel path tracing, after Thiedemann et al. 2011); the

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "gpu/shader_library.h"
 #include "techniques/common/cone_setup.h"
+#include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/cone_layout.h"
@@ -692,6 +693,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::boolean("ao.jitter", false,
                              "turn every pixel's cones (diffuse and AO) about its normal by a fixed per-pixel random "
                              "angle: the constellation's banding becomes noise"));
+  declareSky(b);
   b.readView();
   b.read("svo-nodes");
   b.read("svo-levels");
@@ -792,6 +794,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
   setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
   const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   glBindTextureUnit(1, ctx.board.texture("position").id());

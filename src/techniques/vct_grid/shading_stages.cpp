@@ -74,7 +74,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
   b.param(mipmapModeParam());
-  b.param(skyRadianceParam());
+  declareSky(b);
   b.readView();
   b.read("radiance");
   for (const char* name : kDirectionalVolumes) b.read(name);
@@ -164,7 +164,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
 
   setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
-  setSkyUniform(program, ctx.params);
+  setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("radiance").id());
   for (int d = 0; d < 6; ++d) glBindTextureUnit(8 + d, ctx.board.texture(kDirectionalVolumes[d]).id());
@@ -214,6 +214,7 @@ void CompositeStage::declare(StageBuilder& b) const {
                           "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
   b.param(ParamDesc::choice("composite.shadow", {"shadow-map", "soft-shadow-cone"}, 0,
                             "visibility of direct light: the shadow map, or the soft-shadow cone"));
+  declareSky(b);  // the background: pixels that see no surface show the sky
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -242,6 +243,7 @@ void CompositeStage::execute(StageContext& ctx) {
   setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
   setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
+  setSkyUniforms(program, ctx.params, ctx.scene);
   setUniform(program, "u_traceScale", traceScale(ctx.params));
   // Samples more than two voxels off the pixel's plane belong to another surface.
   setUniform(program, "u_edgeDistance", 2.0f * VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution")).voxelSize);
