@@ -60,6 +60,9 @@ int runRun(const std::vector<std::string>& argv) {
   std::printf("voxlab run: %s on %s, %zu stages, %zu files, %.1f ms (cpu), written to %s/manifest.json\n",
               req.technique.c_str(), manifest["scene"].get<std::string>().c_str(), manifest["stages"].size(),
               files, manifest["total_cpu_ms"].get<double>(), out.c_str());
+  if (manifest.contains("references_skipped"))
+    std::printf("voxlab run: not compared with the reference images: %s\n",
+                manifest["references_skipped"].get<std::string>().c_str());
   return 0;
 }
 

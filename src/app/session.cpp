@@ -12,6 +12,7 @@
 #include "app/reference_error.h"
 #include "capture/capture.h"
 #include "core/error.h"
+#include "core/paths.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -107,6 +108,12 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
   std::vector<std::pair<size_t, std::future<json>>> pending;
   size_t waited = 0;
   const size_t workers = std::max(1u, std::thread::hardware_concurrency());
+  // The references are of the scene's own light and no sky: a run that changes the scene's
+  // physics (parameters declared groundTruth()) is not compared with them.
+  std::string physicsChanged;
+  for (const auto& [name, desc] : cursor_->params().descs())
+    if (desc.changesGroundTruth && !ParamDesc::sameValue(cursor_->params().value(name), desc.defaultValue))
+      physicsChanged += (physicsChanged.empty() ? "" : ", ") + name + "=" + desc.format(cursor_->params().value(name));
   for (int i = 0; i <= untilStage_; ++i) {
     const StageRecord& r = cursor_->record(i);
     json s;
@@ -153,7 +160,14 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
         e["help"] = help;
         e["final"] = isFinal;
         // Outputs tagged with a reference mode: error against the checked-in ground truth, if any.
-        json refErr = compare ? compareWithReference(*cap, sceneName, camera, dir, prefix) : json();
+        json refErr;
+        if (compare && !physicsChanged.empty() && !cap->desc.referenceMode.empty() &&
+            fileExists(referenceImagePath(sceneName, cap->desc.referenceMode)))
+          refErr = {{"mode", cap->desc.referenceMode},
+                    {"skipped", "the run sets " + physicsChanged +
+                                    "; the reference is of the scene's own light and no sky"}};
+        else if (compare)
+          refErr = compareWithReference(*cap, sceneName, camera, dir, prefix);
         if (!refErr.is_null()) {
           if (refErr.contains("files"))
             for (const auto& f : refErr["files"]) e["files"].push_back(f);
@@ -166,6 +180,8 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
   }
   for (auto& [stage, f] : pending) stages[stage]["outputs"].push_back(f.get());
   m["stages"] = stages;
+  if (!request_.lookFrom && !physicsChanged.empty())
+    m["references_skipped"] = "the run sets " + physicsChanged + "; the references are of the scene's own light and no sky";
   m["total_cpu_ms"] = totalCpu;
   m["total_gpu_ms"] = totalGpu;
   m["resource_bytes"] = cursor_->board().totalBytes();

@@ -22,6 +22,10 @@ struct ParamDesc {
   // Float: the value may also be "scene" (stored as NaN, the default): the stage takes the value
   // from the loaded scene (e.g. the light's direction). Static declarations cannot know a scene.
   bool sceneDefault = false;
+  // The value is part of the scene's physics (its light, the sky), not of the technique: the
+  // checked-in reference images are of the default, so a run with any other value is not
+  // compared with them (`voxlab run` says so in its manifest).
+  bool changesGroundTruth = false;
 
   static ParamDesc integer(std::string name, int def, int lo, int hi, std::string help, std::string unit = "");
   static ParamDesc real(std::string name, double def, double lo, double hi, std::string help, std::string unit = "");
@@ -32,6 +36,7 @@ struct ParamDesc {
   static bool isSceneValue(double v);  // the "scene" value (NaN)
   static bool sameValue(double a, double b) { return a == b || (isSceneValue(a) && isSceneValue(b)); }
   ParamDesc& pow2() { powerOfTwo = true; return *this; }
+  ParamDesc& groundTruth() { changesGroundTruth = true; return *this; }
 
   const char* typeName() const;
   std::string format(double value) const;         // "128", "0.5", "true", "fragment-parallel"

@@ -36,3 +36,9 @@ voxlab_cli_case(run_look_at_bad_vector 2 "--look-at '0,1' is not three numbers X
   "run --technique vct-grid --look-from 0,1,3 --look-at 0,1 --out @OUT@")
 voxlab_cli_case(run_look_from_equals_look_at 2 "--look-from and --look-at are the same point"
   "run --technique vct-grid --look-from 0,1,3 --look-at 0,1,3 --out @OUT@")
+# A run that changes the scene's physics (light.0.*, sky.radiance: parameters declared
+# groundTruth()) is not compared with the reference images, which are of the default; it says so.
+voxlab_cli_case_output(run_physics_changed_skips_references 0 ""
+  "run --technique vct-grid --set voxel.resolution=32 --set sky.radiance=0.5 --only vct-grid/cone-trace/indirect-diffuse --out @OUT@"
+  "not compared with the reference images: the run sets sky.radiance=0.5; the references are of the scene's own light and no sky"
+  "@OUT@/manifest.json" 0 "" "")

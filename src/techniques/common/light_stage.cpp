@@ -57,18 +57,18 @@ Light lightSource(Blackboard& board) {
 void LightStage::declare(StageBuilder& b) const {
   const char* scene = "";  // "scene" (the default) is named by rangeText
   b.param(ParamDesc::fromScene(kLightAzimuth, 0.0, 360.0,
-                               std::string("direction the light comes from, about +y from +z toward +x (sun, spot)") + scene, "degrees"));
+                               std::string("direction the light comes from, about +y from +z toward +x (sun, spot)") + scene, "degrees").groundTruth());
   b.param(ParamDesc::fromScene(kLightElevation, -90.0, 90.0,
-                               std::string("height of the light above the horizontal plane (sun, spot)") + scene, "degrees"));
+                               std::string("height of the light above the horizontal plane (sun, spot)") + scene, "degrees").groundTruth());
   for (const char* axis : {"x", "y", "z"})
     b.param(ParamDesc::fromScene(std::string("light.0.") + axis, -1e6, 1e6,
-                                 std::string("position of a point or spot light, ") + axis + scene, "scene units"));
+                                 std::string("position of a point or spot light, ") + axis + scene, "scene units").groundTruth());
   for (const char* c : {"red", "green", "blue"})
-    b.param(ParamDesc::fromScene(std::string("light.0.") + c, 0.0, 10.0, std::string("linear colour, ") + c + scene));
+    b.param(ParamDesc::fromScene(std::string("light.0.") + c, 0.0, 10.0, std::string("linear colour, ") + c + scene).groundTruth());
   b.param(ParamDesc::fromScene("light.0.intensity", 0.0, 1e6,
-                               std::string("irradiance of a sun (W/m^2), intensity of a point or spot light (W/sr)") + scene));
-  b.param(ParamDesc::fromScene("light.0.inner-cone", 0.0, 90.0, std::string("spot: full intensity inside this angle") + scene, "degrees"));
-  b.param(ParamDesc::fromScene("light.0.outer-cone", 0.0, 90.0, std::string("spot: no light outside this angle") + scene, "degrees"));
+                               std::string("irradiance of a sun (W/m^2), intensity of a point or spot light (W/sr)") + scene).groundTruth());
+  b.param(ParamDesc::fromScene("light.0.inner-cone", 0.0, 90.0, std::string("spot: full intensity inside this angle") + scene, "degrees").groundTruth());
+  b.param(ParamDesc::fromScene("light.0.outer-cone", 0.0, 90.0, std::string("spot: no light outside this angle") + scene, "degrees").groundTruth());
   b.write(kResource);
 }
 

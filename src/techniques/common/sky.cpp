@@ -10,7 +10,8 @@ ParamDesc skyRadianceParam() {
   return ParamDesc::real(kSkyRadiance, 0.0, 0.0, 1000.0,
                          "constant sky radiance seen by every cone or ray that leaves the voxel volume, through "
                          "its remaining transmittance (0: no sky, a closed scene)",
-                         "W/(m^2 sr)");
+                         "W/(m^2 sr)")
+      .groundTruth();
 }
 
 void declareSky(StageBuilder& b) { b.param(skyRadianceParam()); }
