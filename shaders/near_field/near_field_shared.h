@@ -63,6 +63,13 @@ struct ProbeRay {
   vec4 rsmSample;    // xy: RSM texel, z: distance |hit - RSM position| (m), w: epsilon (m)
   vec4 rsmRadiance;  // rgb: reflected radiance read from the RSM, w: category (NF_CAT_*)
   vec4 steps;        // x: traversal steps taken, y: budget, z: cos between RSM normal and sender->receiver, w: unused
+  // Filled on the CPU after the walk (src/techniques/near_field/surface_query.h), not by the shader:
+  vec4 surface;      // xyz: the true first surface point on origin + t direction, t in (0, radius left] (exact
+                     // ray/triangle query), w: its t (m); w = -1 when no triangle lies within the radius left
+  vec4 surfaceGap;   // hit voxel vs that point, in voxels (per axis in that axis' voxel size): x: largest axis
+                     // distance from the voxel's box (0 inside or on a face, <= 1 in a 26-neighbour), y: the
+                     // same as a Euclidean length, z: (surface t - hit t) / voxel diagonal; all -1 unless both
+                     // exist; w: the surface's triangle index (-1 none)
 };
 
 #ifdef __cplusplus

@@ -14,7 +14,8 @@
 // descend and one coarser (at most the top) after an advance, a descend only where the AND is
 // non-empty and an advance only where it is empty, a hit only at level 0 and only as the last
 // step, the ray mask exactly the slices first..last, the AND inside the ray mask, and t entering
-// <= t leaving <= the segment's end.
+// <= t leaving <= the segment's end. The probed ray's record (ProbeRay) gets a view of its hit voxel
+// beside the true surface point on the same ray and the distance between them in voxels.
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -23,10 +24,12 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
 #include <imgui.h>
 
 #include "inspect/visualisers/buffer.h"
 #include "inspect/visualisers/levels.h"
+#include "near_field/near_field_shared.h"
 
 namespace voxlab {
 namespace {
@@ -352,8 +355,95 @@ class DdaVisualiser : public BufferVisualiser {
   }
 };
 
+// --- the probed ray: its hit voxel beside the true surface point -----------------------------------
+
+const char* endName(uint32_t e) {
+  switch (e) {
+    case NF_END_HIT: return "hit";
+    case NF_END_LEFT: return "left the segment or the volume";
+    case NF_END_BUDGET: return "step budget spent";
+    case NF_END_OUTSIDE: return "origin outside the volume (guard)";
+    case NF_END_DROPPED: return "dropped (start offset > radius)";
+    default: return "?";
+  }
+}
+
+bool decodeProbeRay(const CapturedOutput& out, gpu::ProbeRay& p) {
+  if (out.desc.layout.stride != sizeof(gpu::ProbeRay) || out.recordCount < 1 || out.records.size() < sizeof(p)) return false;
+  std::memcpy(&p, out.records.data(), sizeof(p));
+  return true;
+}
+
+// The check holds what the record's CPU half must keep: the surface point lies on the recorded
+// ray at its t, within the radius left; the gaps are set exactly when there are both a hit voxel
+// and a surface point, and the largest axis distance is at most the Euclidean one and at least
+// 1/sqrt(3) of it.
+class ProbeRayVisualiser : public BufferVisualiser {
+ public:
+  const char* name() const override { return "near-field-probe-ray"; }
+
+  RecordCheck checkRecords(const CapturedOutput& out) const override {
+    RecordCheck c;
+    gpu::ProbeRay p;
+    if (!decodeProbeRay(out, p)) {
+      c.error = "no probe-ray record of the expected size";
+      return c;
+    }
+    c.elements = 1;
+    const bool surface = p.surface.w >= 0.0f, hit = p.result.w == NF_END_HIT;
+    char buf[240];
+    if (surface) {
+      const glm::vec3 onRay = glm::vec3(p.origin) + glm::vec3(p.direction) * p.surface.w;
+      const float err = glm::length(onRay - glm::vec3(p.surface));
+      // float rounding of o + t d at scene scale: 1e-5 relative (Sponza's 30 m: 0.3 mm) is far below a voxel.
+      if (!(err <= 1e-5f * std::max(1.0f, glm::length(onRay)))) c.error = "the surface point is not on the recorded ray at its t";
+      if (!(p.surface.w > 0.0f && p.surface.w <= p.origin.w * (1.0f + 1e-6f))) c.error = "the surface's t is outside (0, radius left]";
+    }
+    const bool gapSet = p.surfaceGap.x >= 0.0f;
+    if (gapSet != (surface && hit)) c.error = "the voxel gap is set without both a hit voxel and a surface point (or missing)";
+    if (gapSet && !(p.surfaceGap.x <= p.surfaceGap.y * (1.0f + 1e-6f) && p.surfaceGap.y <= 1.7320509f * p.surfaceGap.x * (1.0f + 1e-6f) + 1e-6f))
+      c.error = "the voxel gap's largest axis distance and Euclidean length disagree";
+    if (!hit) std::snprintf(buf, sizeof buf, "walk: %s; %s", endName(p.result.w), surface ? "a surface lies within the radius" : "no surface within the radius");
+    else if (!surface) std::snprintf(buf, sizeof buf, "hit voxel (%u, %u, %u); no surface within the radius", p.result.x, p.result.y, p.result.z);
+    else std::snprintf(buf, sizeof buf, "hit voxel (%u, %u, %u), true surface %.3g voxels away (%s)", p.result.x, p.result.y, p.result.z,
+                       p.surfaceGap.x, p.surfaceGap.x == 0.0f ? "inside it" : p.surfaceGap.x <= 1.0f ? "in a neighbour" : "farther");
+    c.summary = buf;
+    return c;
+  }
+
+  void drawRecordView(const VisualiserContext& ctx) const override {
+    const RecordCheck check = checkRecords(ctx.out);
+    gpu::ProbeRay p;
+    if (decodeProbeRay(ctx.out, p) && p.receiver.w > 0.5f) {
+      ImGui::Text("receiver (%.4f, %.4f, %.4f), direction (%.4f, %.4f, %.4f), cos theta %.3f", p.receiver.x, p.receiver.y,
+                  p.receiver.z, p.direction.x, p.direction.y, p.direction.z, p.direction.w);
+      ImGui::Text("offset origin (%.4f, %.4f, %.4f), radius left %.4f m", p.origin.x, p.origin.y, p.origin.z, p.origin.w);
+      ImGui::Text("walk: %s after %.0f of %.0f steps", endName(p.result.w), p.steps.x, p.steps.y);
+      if (p.result.w == NF_END_HIT)
+        ImGui::Text("hit voxel (%u, %u, slice %u), entered at t = %.4f m, point (%.4f, %.4f, %.4f)", p.result.x, p.result.y,
+                    p.result.z, p.hitPoint.w, p.hitPoint.x, p.hitPoint.y, p.hitPoint.z);
+      if (p.surface.w >= 0.0f)
+        ImGui::Text("true surface: triangle %.0f at t = %.4f m, point (%.4f, %.4f, %.4f)", p.surfaceGap.w, p.surface.w,
+                    p.surface.x, p.surface.y, p.surface.z);
+      else
+        ImGui::TextUnformatted("true surface: no triangle within the radius left");
+      if (p.surfaceGap.x >= 0.0f) {
+        ImGui::Text("hit voxel vs surface: %.3f voxels (largest axis), %.3f (Euclidean), %.3f voxel diagonals along the ray",
+                    p.surfaceGap.x, p.surfaceGap.y, p.surfaceGap.z);
+        ImGui::TextDisabled(p.surfaceGap.x == 0.0f  ? "the surface point lies in the hit voxel"
+                            : p.surfaceGap.x <= 1.0f ? "the surface point lies in a voxel touching the hit voxel"
+                                                     : "the walk stopped earlier: another surface's conservative voxel, or a grazing ray");
+      }
+    }
+    ImGui::Text("%s", check.summary.c_str());
+    if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
+    BufferVisualiser::drawRecordView(ctx);
+  }
+};
+
 }  // namespace
 
+VOXLAB_REGISTER_VISUALISER(ProbeRayVisualiser, OutputKind::Buffer, "near-field-probe-ray");
 VOXLAB_REGISTER_VISUALISER(BitmaskColumnsVisualiser, OutputKind::Image2D, "bitmask-columns");
 VOXLAB_REGISTER_VISUALISER(DdaVisualiser, OutputKind::Buffer, "near-field-dda");
 VOXLAB_REGISTER_VISUALISER(TraversalVisualiser, OutputKind::Buffer, "near-field-traversal");

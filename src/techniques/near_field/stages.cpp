@@ -16,6 +16,7 @@
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/bitmask.h"
 #include "techniques/near_field/near_field.h"
+#include "techniques/near_field/surface_query.h"
 
 namespace voxlab::nearfield {
 
@@ -300,7 +301,9 @@ void RaysStage::declare(StageBuilder& b) const {
                {"termination", FieldType::U32, 76, FieldRole::Other},
                {"rsm-sample", FieldType::Vec4, 80, FieldRole::Other},
                {"rsm-radiance", FieldType::Vec4, 96, FieldRole::Color},
-               {"steps", FieldType::Vec4, 112, FieldRole::Other}};
+               {"steps", FieldType::Vec4, 112, FieldRole::Other},
+               {"surface", FieldType::Vec4, 128, FieldRole::Other},
+               {"surface-gap", FieldType::Vec4, 144, FieldRole::Other}};
   BufferLayout dl;
   dl.stride = 32;
   dl.fields = {{"cell", FieldType::Vec3, 0, FieldRole::Other},
@@ -319,9 +322,11 @@ void RaysStage::declare(StageBuilder& b) const {
   b.buffer("probe-dda", [](const ParamSet&, const ViewState&) { return size_t(32) * kMaxDdaCells; });
   b.buffer("probe-dda.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.read("binary-voxels");
-  auto& pr = b.output("probe-ray", OutputKind::Buffer, Semantic::Scalar,
+  auto& pr = b.output("probe-ray", OutputKind::Buffer, Semantic("near-field-probe-ray"),
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
-           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), steps");
+           "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), "
+           "steps, the true surface point on the same ray (w t; exact ray/triangle query on the CPU) and its distance "
+           "from the hit voxel in voxels (x largest axis, y Euclidean, z along the ray in voxel diagonals, w triangle)");
   pr.layout = pl;
   pr.probeRecord = true;
   declareTraced(b, "indirect", GL_RGBA32F);
@@ -431,7 +436,10 @@ void RaysStage::execute(StageContext& ctx) {
     ctx.board.ensureBuffer("probe-dda.count", 4).upload(&zero, 4);
     ctx.board.ensureBuffer("probe-dda", 32 * kMaxDdaCells);
   }
-  if (ctx.iteration == ctx.params.getInt("probe.ray")) recordProbeDda(ctx, geo, probe);
+  if (ctx.iteration == ctx.params.getInt("probe.ray")) {
+    recordProbeDda(ctx, geo, probe);
+    recordProbeSurface(ctx, geo, probe);
+  }
 }
 
 // The probed ray's segment walked by the CPU's brute-force DDA over the level-0 grid, so the
@@ -467,6 +475,34 @@ void RaysStage::recordProbeDda(StageContext& ctx, const BinaryGridGeometry& geo,
   ctx.board.buffer("probe-dda.count").upload(&count, 4);
   ctx.stats["probe_dda_cells"] = count;
   ctx.stats["probe_dda_cells_dropped"] = dropped;
+}
+
+// The true surface along the probed ray (the same origin, direction and radius as the walk) beside
+// the voxel the walk stopped in: conservative voxels make the voxel containing that point set, so
+// the walk stops there or earlier (NearFieldProbe.* measures how much earlier over many rays).
+void RaysStage::recordProbeSurface(StageContext& ctx, const BinaryGridGeometry& geo, Buffer& probe) {
+  gpu::ProbeRay p;
+  std::memcpy(&p, probe.download(sizeof(p)).data(), sizeof(p));
+  p.surface = glm::vec4(0.0f, 0.0f, 0.0f, -1.0f);
+  p.surfaceGap = glm::vec4(-1.0f);
+  const bool started = p.receiver.w > 0.5f && p.result.w != NF_END_OUTSIDE && p.result.w != NF_END_DROPPED;
+  if (started) {
+    const glm::vec3 o(p.origin), d(p.direction);
+    const SurfaceHit s = firstSurfaceAlong(ctx.scene, o, d, p.origin.w);
+    if (s.hit) {
+      p.surface = glm::vec4(o + d * s.t, s.t);
+      p.surfaceGap.w = float(s.triangle);
+      if (p.result.w == NF_END_HIT) {
+        const VoxelGap g = gapToVoxel(geo, glm::ivec3(glm::uvec3(p.result)), glm::vec3(p.surface));
+        p.surfaceGap.x = g.chebyshev;
+        p.surfaceGap.y = g.euclidean;
+        p.surfaceGap.z = (s.t - p.hitPoint.w) / geo.voxelDiagonal;
+      }
+    }
+  }
+  probe.upload(&p, sizeof(p));
+  ctx.stats["probe_surface_t_m"] = p.surface.w;
+  ctx.stats["probe_surface_gap_voxels"] = p.surfaceGap.x;
 }
 
 // --- Voxel path tracing ---------------------------------------------------------------------------

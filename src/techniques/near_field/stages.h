@@ -45,6 +45,7 @@ class RaysStage : public Stage {
 
  private:
   void recordProbeDda(StageContext& ctx, const BinaryGridGeometry& geo, Buffer& probe);
+  void recordProbeSurface(StageContext& ctx, const BinaryGridGeometry& geo, Buffer& probe);
 };
 
 // Voxel path tracing (seed 000 section 3.2.4): the voxel attributes its path vertices need where

@@ -100,6 +100,11 @@ void bindLight(const StageContext& ctx) {
 
 }  // namespace
 
+float mediumLength(const Scene& scene) {
+  const glm::vec3 e = scene.bounds.extent();
+  return std::max({e.x, e.y, e.z, 1e-4f});
+}
+
 // --- Density grid --------------------------------------------------------------------------------
 
 void DensityStage::declare(StageBuilder& b) const {
@@ -111,14 +116,15 @@ void DensityStage::declare(StageBuilder& b) const {
                           "where the plume rises: fraction of the scene's bounds along x (0 = min, 1 = max)"));
   b.param(ParamDesc::real("particles.source-z", 0.22, 0.0, 1.0,
                           "where the plume rises: fraction of the scene's bounds along z (0 = min, 1 = max)"));
-  b.param(ParamDesc::real("medium.scattering-per-particle", 0.25, 0.0, 100.0,
-                          "scattering coefficient sigma_s each particle in a voxel adds there", "1/m"));
+  b.param(ParamDesc::real("medium.particle-optical-depth", kParticleOpticalDepth, 0.0, 100.0,
+                          "optical depth one particle per voxel gives over the scene's largest extent L: each "
+                          "particle in a voxel adds sigma_s = value / L there"));
   b.write("particles.stats");
   b.output("particle-count", OutputKind::Volume3D, Semantic::Scalar,
            "particles per voxel (R32UI, integer atomics: the same on every run)")
       .tier = CaptureTier::Exact;
   b.output("scattering", OutputKind::Volume3D, Semantic::Scalar,
-           "the particles' scattering coefficient sigma_s = scattering-per-particle * count (1/m)");
+           "the particles' scattering coefficient sigma_s = particle-optical-depth / L * count (1/m; L the scene's largest extent)");
   BufferLayout particles;
   particles.stride = 16;
   particles.fields = {{"voxel", FieldType::Vec3, 0, FieldRole::Position}, {"age", FieldType::F32, 12, FieldRole::Other}};
@@ -181,7 +187,8 @@ void DensityStage::execute(StageContext& ctx) {
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 
   GLuint toScattering = ctx.shaders.program({"volumetric/scattering.comp.glsl"});
-  setUniform(toScattering, "u_scatteringPerParticle", ctx.params.getFloat("medium.scattering-per-particle"));
+  const float perParticle = ctx.params.getFloat("medium.particle-optical-depth") / mediumLength(ctx.scene);
+  setUniform(toScattering, "u_scatteringPerParticle", perParticle);
   setUniform(toScattering, "u_resolution", res);
   glUseProgram(toScattering);
   glBindTextureUnit(0, counts.id());
@@ -195,6 +202,8 @@ void DensityStage::execute(StageContext& ctx) {
   ctx.stats["deposited"] = result[0];
   ctx.stats["dropped_outside_grid"] = result[1];
   ctx.stats["grid_bytes"] = double(counts.byteSize() + scattering.byteSize());
+  ctx.stats["medium_length_m"] = mediumLength(ctx.scene);
+  ctx.stats["scattering_per_particle_per_m"] = perParticle;
 }
 
 // --- Phase function ------------------------------------------------------------------------------
@@ -267,8 +276,9 @@ void MarchStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("march.clip", {"grid", "spot-cone"}, 0,
                             "where the samples go: the whole ray inside the density grid, or only its part inside a "
                             "spot light's cone (Vos 2014; the rest only attenuates, integrated separately)"));
-  b.param(ParamDesc::real("medium.haze-scattering", 0.6, 0.0, 100.0,
-                          "sigma_s of a uniform haze filling the density grid, added to the particles'", "1/m"));
+  b.param(ParamDesc::real("medium.haze-optical-depth", kHazeOpticalDepth, 0.0, 100.0,
+                          "optical depth of a uniform haze filling the density grid over the scene's largest extent "
+                          "L: sigma_s = value / L, added to the particles'"));
   b.param(ParamDesc::real("medium.extinction-ratio", 1.0, 0.0, 100.0,
                           "sigma_t = ratio * sigma_s: 1 = nothing absorbed, > 1 absorbing, 0 = no extinction "
                           "(the thesis; unphysical)"));
@@ -345,7 +355,9 @@ void MarchStage::execute(StageContext& ctx) {
   setUniform(program, "u_dither", dither == "bayer" ? 0 : dither == "off" ? 1 : 2);
   setUniform(program, "u_phaseModel", ctx.params.getChoice("march.phase") == "thesis" ? 1 : 0);
   setUniform(program, "u_g", ctx.params.getFloat("medium.anisotropy"));
-  setUniform(program, "u_hazeScattering", ctx.params.getFloat("medium.haze-scattering"));
+  const float haze = ctx.params.getFloat("medium.haze-optical-depth") / mediumLength(ctx.scene);
+  setUniform(program, "u_hazeScattering", haze);
+  ctx.stats["haze_scattering_per_m"] = haze;
   setUniform(program, "u_extinctionRatio", ctx.params.getFloat("medium.extinction-ratio"));
   setUniform(program, "u_clipToCone", ctx.params.getChoice("march.clip") == "spot-cone" ? 1 : 0);
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);

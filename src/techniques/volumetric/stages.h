@@ -4,8 +4,21 @@
 #include <string>
 
 #include "graph/stage.h"
+#include "scene/scene.h"
 
 namespace voxlab::volumetric {
+
+// The medium's coefficients are given per scene: as optical depths over the scene's largest
+// extent L (mediumLength), so sigma_s = depth / L in 1/m. The same defaults then make a medium
+// as transparent across a 0.56 m Cornell box as across a 37 m atrium (a coefficient in 1/m that
+// suits one is a fog or nothing in the other). kHazeOpticalDepth: the haze's optical depth over L
+// (0.6 /m in the Cornell box, 0.009 /m in Sponza); kParticleOpticalDepth: what one particle per
+// voxel adds over L (0.25 /m per particle in the Cornell box at the default 32^3 grid). The
+// particles' counts per voxel do not depend on the scene's size (the plume is placed and sized in
+// fractions of the bounds), so the smoke's optical depth is scene-independent too.
+inline constexpr double kHazeOpticalDepth = 0.336;
+inline constexpr double kParticleOpticalDepth = 0.14;
+float mediumLength(const Scene& scene);  // the scene's largest extent (m)
 
 // The probed pixel's ray, one RaySample per march sample (its visualiser plots and checks them).
 inline constexpr Semantic kRaySamples{"volumetric-ray"};
