@@ -139,8 +139,10 @@ def default_light(exe, out_dir, scenes, turn):
 
 
 # Parameters whose declared unit is a world length (or its inverse) describe the scene's physical
-# size, not the technique's sampling: a participating medium's sigma_s in 1/m is a property of the
-# medium, so the scaled scene gets it scaled (the same haze, measured in the scene's own unit).
+# size, not the technique's sampling: a coefficient in 1/m (e.g. a medium's sigma_s) is a property
+# of the medium, so the scaled scene gets it scaled (the same haze, measured in the scene's own
+# unit). None is declared so today (volumetric's media are optical depths over the scene's extent);
+# the rule stays for the next one.
 # Every other parameter must already be scale-free (in voxels, texels, fractions of the bounds).
 LENGTH_UNITS = {"m": 1.0, "1/m": -1.0}
 
