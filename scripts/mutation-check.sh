@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Mutation check: applies each mutation of tests/mutations/mutations.txt to a copy of the tree and
-# asserts that the tests it names fail. Not part of CI (about 10 minutes here; see docs/testing.md).
+# asserts that the tests it names fail. Not part of CI (about 15 minutes with the first build of the
+# copy, 5 to 6 minutes after it, on this shared machine; see docs/testing.md).
 #
 #   scripts/mutation-check.sh [--only NAME[,NAME...]] [--list FILE] [--work DIR]
 #

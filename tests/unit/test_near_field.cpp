@@ -287,6 +287,37 @@ TEST(NearFieldGrid, EveryMipLevelIsTheOrOfItsChildren) {
   EXPECT_EQ(readLevel(s, "bitmask-hierarchy", maxLevelOf(res))[0], all);
 }
 
+// The Cornell box's columns are too regular to show a wrong child: its walls and blocks give
+// neighbouring columns the same slices, so a hierarchy that ORs child (1, 0) twice and leaves out
+// (1, 1) still matched it (mutation nf-hierarchy-child). Sparse random columns (1 in 8 non-empty,
+// each bit set with probability 1/8) written into binary-voxels make every child count.
+TEST(NearFieldGrid, EveryMipLevelIsTheOrOfItsChildrenOnRandomColumns) {
+  auto& s = session(snapshotRequest());
+  StepCursor& c = s.cursor();
+  const int res = 64;
+  Texture& base = c.board().texture("binary-voxels");
+  std::mt19937 rng(21);
+  std::vector<uint32_t> words(size_t(res) * res * 4, 0u);
+  for (size_t i = 0; i < words.size(); i += 4)
+    if (rng() % 8 == 0)
+      for (int w = 0; w < 4; ++w) words[i + w] = uint32_t(rng()) & uint32_t(rng()) & uint32_t(rng());
+  glTextureSubImage2D(base.id(), 0, 0, 0, res, res, GL_RGBA_INTEGER, GL_UNSIGNED_INT, words.data());
+  const int hierarchy = c.technique().stageIndex("hierarchy");
+  c.invalidate(hierarchy);
+  c.runThrough(hierarchy);
+  auto level0 = readLevel(s, "binary-voxels", 0);
+  auto chain = orMipChain(level0, res);
+  for (int l = 1; l < int(chain.size()); ++l) {
+    auto gpu = readLevel(s, "bitmask-hierarchy", l);
+    ASSERT_EQ(gpu.size(), chain[l].size());
+    size_t differing = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) differing += gpu[i] != chain[l][i];
+    EXPECT_EQ(differing, 0u) << "level " << l;
+  }
+  c.invalidate(c.technique().stageIndex("binary-voxels"));
+  c.runAll();  // leave the shared session as the other tests expect it
+}
+
 TEST(NearFieldGrid, LogicOpOrMergesPointsIntoOneColumn) {
   // The thesis' path (seed 000 Listing 4.43): points into an RGBA32UI target with glLogicOp(GL_OR).
   // Two points in the same texel with different slices must leave both bits set (pitfall 5.8);

@@ -164,10 +164,13 @@ TEST(Sky, VctGridConesSeeTheSkyTheReferenceSees) {
   // defaults (anisotropic mips, 45-degree cones reaching 1.75 volume edges: grazing cones find the
   // floor's directional voxels more opaque than the isotropic average); 1.058 with isotropic mips;
   // 1.031 with the former defaults (isotropic, six 60-degree cones, one edge), worst point 37 %
-  // off beside the tall block. The band fails a missing or doubled escape term (ratio 0 or about
-  // 2) and an escape counted only once a cone's whole sample has left the volume (0.171).
-  EXPECT_GT(ratio, 0.7);
-  EXPECT_LT(ratio, 1.2);
+  // off beside the tall block. The ratio is deterministic (the tracer's seeds are fixed per pixel,
+  // the cones have no noise; 0.813 with LP_NUM_THREADS 1 and 2), so the band is +-0.055 around it:
+  // room for small changes of the cones, but it fails a missing or doubled escape term (ratio 0 or
+  // about 2), an escape counted only once a cone's whole sample has left the volume (0.171), and
+  // the sky added without the cone's remaining transmittance (1.142, mutation sky-transmittance).
+  EXPECT_GT(ratio, 0.758);
+  EXPECT_LT(ratio, 0.868);
 }
 
 

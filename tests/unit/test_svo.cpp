@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <array>
 #include <map>
@@ -27,12 +28,15 @@
 #include "inspect/visualiser.h"
 #include "svo/svo_shared.h"
 #include "techniques/common/voxelize_stage.h"
+#include "ao_next_to_wall.h"
 #include "test_support.h"
 
 namespace voxlab {
 namespace {
 
 using testing_support::capture;
+using testing_support::floorTexelNearest;
+using testing_support::visibleFractionNextToWall;
 using testing_support::session;
 using namespace svo;
 
@@ -685,31 +689,6 @@ TEST(SvoConeTrace, AmbientOcclusionEqualsVctGrid) {
   EXPECT_LT(worst, 0.01);
 }
 
-// Cosine-weighted visible fraction at a floor point (normal +y) in front of the wall rectangle
-// x in [-1, 1], y in [0, 2] at z = 0.1 of tests/data/scenes/wall-floor.gltf (midpoint quadrature
-// over the hemisphere; the same integral as test_vct_grid.cpp's).
-double visibleFractionNextToWall(double px, double pz) {
-  const int nTheta = 300, nPhi = 600;
-  double visible = 0, total = 0;
-  for (int i = 0; i < nTheta; ++i) {
-    double theta = (i + 0.5) / nTheta * M_PI / 2;
-    for (int j = 0; j < nPhi; ++j) {
-      double phi = (j + 0.5) / nPhi * 2 * M_PI;
-      double dx = std::sin(theta) * std::cos(phi), dy = std::cos(theta), dz = std::sin(theta) * std::sin(phi);
-      double w = std::cos(theta) * std::sin(theta);
-      total += w;
-      bool blocked = false;
-      if (dz > 0) {
-        double t = (0.1 - pz) / dz;
-        double x = px + t * dx, y = t * dy;
-        blocked = x >= -1 && x <= 1 && y >= 0 && y <= 2;
-      }
-      if (!blocked) visible += w;
-    }
-  }
-  return visible / total;
-}
-
 TEST(SvoPhysics, AmbientOcclusionNextToAWallAgainstQuadrature) {
   // 16 cones of 30 degrees on a cosine spiral, 128^3, dilation: the octree's AO at floor points
   // 0.15 .. 0.9 m from the wall. Its mips are isotropic (box), so like vct-grid's isotropic mips
@@ -729,15 +708,8 @@ TEST(SvoPhysics, AmbientOcclusionNextToAWallAgainstQuadrature) {
   const double svoLeak[4] = {0.2149, 0.2613, 0.2094, 0.1559};
   int k = 0;
   for (double d : {0.15, 0.3, 0.6, 0.9}) {
-    glm::vec3 target(0.0f, 0.0f, float(0.1 - d));
-    size_t best = 0;
-    float bestDist = 1e30f;
-    for (size_t t = 0; t < pos.texelCount(); ++t) {
-      if (pos.values[t * 4 + 3] == 0 || std::abs(pos.values[t * 4 + 1]) > 1e-3f) continue;
-      glm::vec3 p(pos.values[t * 4], pos.values[t * 4 + 1], pos.values[t * 4 + 2]);
-      float dist = glm::length(p - target);
-      if (dist < bestDist) { bestDist = dist; best = t; }
-    }
+    float bestDist;
+    size_t best = floorTexelNearest(pos, glm::vec3(0.0f, 0.0f, float(0.1 - d)), bestDist);
     EXPECT_LT(bestDist, 0.03f);
     double expected = visibleFractionNextToWall(pos.values[best * 4], pos.values[best * 4 + 2]);
     double measured = ao.levels[0].values[best];
@@ -791,7 +763,7 @@ struct Rect {
 };
 
 // Cosine-weighted fraction of the hemisphere above a floor point (normal +y) whose rays reach no
-// rectangle within 'range' (midpoint quadrature, as visibleFractionNextToWall).
+// rectangle within 'range' (midpoint quadrature, as visibleFractionNextToWall in ao_next_to_wall.cpp).
 double visibleFraction(glm::dvec3 p, const std::vector<Rect>& rects, double range) {
   const int nTheta = 300, nPhi = 600;
   double visible = 0, total = 0;
@@ -941,6 +913,45 @@ TEST(SvoPhysics, FalloffAndBasgierConstellationsStayInRangeAndFalloffNeverDarken
     meanFalloff += b;
   }
   EXPECT_GT(meanFalloff, meanPlain * 1.01) << "the falloff must open the AO up";
+}
+
+// svo.shading=ao: the final image is the ambient occlusion, grey, of the traced pixel whose
+// footprint holds the pixel (half resolution: pixel p shows traced pixel p / 2), and black where
+// the camera sees no surface. Exact up to the RGBA8 store of the final image: measured worst
+// 0.00196 = half an RGBA8 step (LP_NUM_THREADS 1 and 2 alike); allowed half a step + 1e-3 (the AO
+// is fp16). The gi image differs from it by 0.46 on average (measured), so the check can fail.
+TEST(SvoComposite, AoShadingShowsTheAmbientOcclusionAsTheFinalImage) {
+  const std::vector<std::string> sets = {"voxel.resolution=32", "cone.resolution=half"};
+  std::vector<std::string> aoSets = sets;
+  aoSets.push_back("svo.shading=ao");
+  auto& s = session(request("svo", "cornell-box", aoSets, "", 48));
+  CapturedOutput finalAo = capture(s, "composite", "final");
+  CapturedOutput ao = capture(s, "svo-cone-trace", "ambient-occlusion");
+  CapturedOutput position = capture(s, "gbuffer", "position");
+  const LevelData& f = finalAo.levels[0];
+  const LevelData& a = ao.levels[0];
+  const LevelData& p = position.levels[0];
+  ASSERT_EQ(f.size.x, 48);
+  ASSERT_EQ(a.size.x, 24);
+  size_t surfaces = 0;
+  double worst = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const bool surface = p.at(x, y, 0, 3) != 0.0f;
+      const double expected = surface ? a.at(x / 2, y / 2, 0, 0) : 0.0;
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(f.at(x, y, 0, c)) - expected));
+      surfaces += surface ? 1 : 0;
+    }
+  EXPECT_GT(surfaces, 1000u);
+  EXPECT_LE(worst, 0.5 / 255.0 + 1e-3) << "final image against the AO of its traced pixel";
+  // The gi shading of the same run is another image (so the comparison above can fail).
+  CapturedOutput finalGi = capture(session(request("svo", "cornell-box", sets, "", 48)), "composite", "final");
+  double difference = 0;
+  for (size_t i = 0; i < finalGi.levels[0].values.size(); ++i)
+    difference += std::abs(finalGi.levels[0].values[i] - f.values[i]);
+  std::printf("svo.shading=ao: worst |final - AO| %.5f over %zu surface pixels; mean |gi - ao| %.4f\n", worst, surfaces,
+              difference / double(finalGi.levels[0].values.size()));
+  EXPECT_GT(difference / double(finalGi.levels[0].values.size()), 0.05);
 }
 
 // --- Robustness ------------------------------------------------------------------------------------

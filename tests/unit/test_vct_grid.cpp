@@ -20,12 +20,15 @@
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
+#include "ao_next_to_wall.h"
 #include "test_support.h"
 
 namespace voxlab {
 namespace {
 
 using testing_support::capture;
+using testing_support::floorTexelNearest;
+using testing_support::visibleFractionNextToWall;
 using testing_support::session;
 
 RunRequest request(const std::string& scene, std::vector<std::string> sets, const std::string& until = "",
@@ -444,30 +447,6 @@ TEST(VctGridPhysics, CosineWeightsWeighTheNormalConeMore) {
   EXPECT_GT(cosine, 1.08 * equal);
 }
 
-// Cosine-weighted visible fraction at a floor point (normal +y) in front of the wall rectangle
-// x in [-1, 1], y in [0, 2] at z = 0.1, by midpoint quadrature over the hemisphere.
-double visibleFractionNextToWall(double px, double pz) {
-  const int nTheta = 400, nPhi = 800;
-  double visible = 0, total = 0;
-  for (int i = 0; i < nTheta; ++i) {
-    double theta = (i + 0.5) / nTheta * M_PI / 2;
-    for (int j = 0; j < nPhi; ++j) {
-      double phi = (j + 0.5) / nPhi * 2 * M_PI;
-      double dx = std::sin(theta) * std::cos(phi), dy = std::cos(theta), dz = std::sin(theta) * std::sin(phi);
-      double w = std::cos(theta) * std::sin(theta);
-      total += w;
-      bool blocked = false;
-      if (dz > 0) {
-        double t = (0.1 - pz) / dz;
-        double x = px + t * dx, y = t * dy;
-        blocked = x >= -1 && x <= 1 && y >= 0 && y <= 2;
-      }
-      if (!blocked) visible += w;
-    }
-  }
-  return visible / total;
-}
-
 // Ambient occlusion of floor points at distance d from the wall, measured with the given mips.
 // 'cones' empty: the default cones (a ring of 6 of 60 degrees, cosine weights).
 std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode, std::vector<std::string> cones) {
@@ -486,15 +465,8 @@ std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMod
   std::vector<std::pair<double, double>> out;  // (measured, expected)
   for (double d : {0.15, 0.3, 0.6, 0.9}) {
     // The pixel whose floor point is closest to (0, 0, 0.1 - d).
-    glm::vec3 target(0.0f, 0.0f, float(0.1 - d));
-    size_t best = 0;
-    float bestDist = 1e30f;
-    for (size_t t = 0; t < pos.texelCount(); ++t) {
-      if (pos.values[t * 4 + 3] == 0 || std::abs(pos.values[t * 4 + 1]) > 1e-3f) continue;
-      glm::vec3 p(pos.values[t * 4], pos.values[t * 4 + 1], pos.values[t * 4 + 2]);
-      float dist = glm::length(p - target);
-      if (dist < bestDist) { bestDist = dist; best = t; }
-    }
+    float bestDist;
+    size_t best = floorTexelNearest(pos, glm::vec3(0.0f, 0.0f, float(0.1 - d)), bestDist);
     EXPECT_LT(bestDist, 0.02f);
     double px = pos.values[best * 4], pz = pos.values[best * 4 + 2];
     double expected = visibleFractionNextToWall(px, pz);
