@@ -20,13 +20,14 @@ using uint = uint32_t;
 #define LPV_BINDING_GRIDS 13       // SSBO: LpvGrid[2] (fine, coarse)
 #define LPV_BINDING_STATE_IN 14    // SSBO: vec4[6][res^3] propagation state read (light r,g,b, wavefront r,g,b)
 #define LPV_BINDING_STATE_OUT 15   // SSBO: the same, written
+#define LPV_BINDING_VOXEL_FRAGMENTS 16  // SSBO: uint[voxel.resolution^3], fragments per voxel of the fragment list
 
 // One cell of an LPV voxel grid (Listings 4.27-4.29 of seed 000, plus a fragment count).
 struct LpvVoxel {
   uint colorOcclusion;  // bits 0-7 B, 8-15 G, 16-23 R (linear albedo, 8 bit), 24-30 contrast*127, 31 occupied
   uint fragmentCount;   // voxel fragments binned into the cell (surface area = count * fragment voxel^2)
   uint cell;            // the cell's own coordinates packed 10:10:10 (for point views)
-  uint pad;
+  uint area;            // surface area in the cell, in u_areaUnits per fragment voxel^2 (see fragmentAreaUnits)
   uvec4 normals;        // one normal mask per tetrahedron channel (0 = empty): dot field 27-31, x 18-26, y 9-17, z 0-8
 };
 

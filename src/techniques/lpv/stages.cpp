@@ -93,6 +93,15 @@ static size_t cellCount(const ParamSet& p) {
   return res * res * res;
 }
 static size_t voxelBufferBytes(const ParamSet& p) { return sizeof(gpu::LpvVoxel) * cellCount(p); }
+static size_t voxelFragmentsBytes(const ParamSet& p) {
+  const size_t res = size_t(p.getInt("voxel.resolution"));
+  return 4 * res * res * res;
+}
+
+float areaUnits(float cellSize, float voxelSize) {
+  const double edge = std::ceil(double(cellSize) / double(voxelSize)) + 1.0;
+  return float(std::min(65536.0, std::floor(double(1u << 31) / (edge * edge * edge))));
+}
 static size_t unshiftedBytes(const ParamSet& p) { return 64 * cellCount(p); }
 static size_t stateBytes(const ParamSet& p) { return 6 * cellCount(p) * 16; }  // six sections of RGBA32F
 static size_t energyBytes(const ParamSet& p) {
@@ -190,6 +199,7 @@ static BufferLayout voxelLayout() {
   l.fields = {{"color-occlusion", FieldType::U32, 0, FieldRole::Other},
               {"fragments", FieldType::U32, 4, FieldRole::Other},
               {"cell", FieldType::Packed10_10_10, 8, FieldRole::Position},
+              {"area", FieldType::U32, 12, FieldRole::Other},
               {"normal-0", FieldType::U32, 16, FieldRole::Other},
               {"normal-1", FieldType::U32, 20, FieldRole::Other},
               {"normal-2", FieldType::U32, 24, FieldRole::Other},
@@ -213,6 +223,8 @@ void BinStage::declare(StageBuilder& b) const {
              std::string("decoded ") + kCascadeNames[c] + " cells: stored linear albedo, alpha = occupied");
   }
   b.buffer("bin.outside", [](const ParamSet&, const ViewState&) { return size_t(4 * kCascades); });
+  b.write("voxel-fragments");
+  b.buffer("voxel-fragments", [](const ParamSet& p, const ViewState&) { return voxelFragmentsBytes(p); });
   for (int c = 0; c < kCascades; ++c) {
     b.buffer(voxelBuffer(c), [](const ParamSet& p, const ViewState&) { return voxelBufferBytes(p); });
     b.texture(voxelColourVolume(c), [](const ParamSet& p, const ViewState&) {
@@ -229,6 +241,19 @@ void BinStage::execute(StageContext& ctx) {
   Buffer& outside = ctx.board.ensureBuffer("bin.outside", 4 * kCascades);
   const uint32_t zeros[kCascades] = {0, 0};
   outside.upload(zeros, sizeof(zeros));
+  // Fragments per voxel of the fragment list: the fragments of one voxel share its area.
+  Buffer& shared = ctx.board.ensureBuffer("voxel-fragments", voxelFragmentsBytes(ctx.params));
+  glClearNamedBufferData(shared.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  {
+    GLuint program = ctx.shaders.program({"lpv/bin_count.comp.glsl"});
+    space.setUniforms(program);
+    setUniform(program, "u_fragmentCount", unsigned(count));
+    glUseProgram(program);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXEL_FRAGMENTS, shared.id());
+    if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+    barrier();
+  }
   for (int c = 0; c < kCascades; ++c) {
     Buffer& voxels = ctx.board.ensureBuffer(voxelBuffer(c), voxelBufferBytes(ctx.params));
     GLuint clear = ctx.shaders.program({"lpv/bin_clear.comp.glsl"});
@@ -243,9 +268,11 @@ void BinStage::execute(StageContext& ctx) {
     setGridUniforms(program, grids[c]);
     setUniform(program, "u_fragmentCount", unsigned(count));
     setUniform(program, "u_cascade", c);
+    setUniform(program, "u_areaUnits", areaUnits(grids[c].originCell.w, space.voxelSize));
     glUseProgram(program);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, voxels.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXEL_FRAGMENTS, shared.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, outside.id());
     if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
     barrier();
@@ -266,6 +293,20 @@ void BinStage::execute(StageContext& ctx) {
   ctx.stats["fragments"] = count;
   for (int c = 0; c < kCascades; ++c) ctx.stats[std::string("fragments_outside_") + kCascadeNames[c]] = dropped[c];
   ctx.stats["bytes_per_grid"] = double(sizeof(gpu::LpvVoxel)) * res * res * res;
+  // The surface the cells hold (what injection lights) against fragments x voxel^2 (what it lit
+  // before the fragments of a voxel shared its area: 7x more on Sponza at 128^3).
+  for (int c = 0; c < kCascades; ++c) {
+    auto records = ctx.board.buffer(voxelBuffer(c)).download(voxelBufferBytes(ctx.params));
+    double units = 0;
+    for (size_t i = 0; i < records.size() / sizeof(gpu::LpvVoxel); ++i) {
+      gpu::LpvVoxel v;
+      std::memcpy(&v, &records[i * sizeof v], sizeof v);
+      units += v.area;
+    }
+    ctx.stats[std::string("surface_m2_") + kCascadeNames[c]] =
+        units / areaUnits(grids[c].originCell.w, space.voxelSize) * space.voxelSize * space.voxelSize;
+  }
+  ctx.stats["fragments_m2"] = double(count) * space.voxelSize * space.voxelSize;
 }
 
 // --- inject --------------------------------------------------------------------------------------
@@ -276,11 +317,12 @@ static ParamDesc injectSourceParam() {
                            "(probe.cell-x/y/z) for watching propagation alone");
 }
 static ParamDesc injectLightingParam() {
-  return ParamDesc::choice("inject.lighting", {"per-cell", "per-fragment"}, 0,
-                           "per-cell (the thesis): an occupied cell is lit once, through its most light-facing normal "
-                           "and one shadow test, and all its fragments count as lit; per-fragment: every fragment is "
-                           "lit at its own voxel and the cell sums their lobes (what large cells need: on Sponza "
-                           "per-cell lights shaded surfaces)");
+  return ParamDesc::choice("inject.lighting", {"per-cell", "per-fragment"}, 1,
+                           "per-fragment: every fragment is lit at its own voxel with its own normal and shadow test "
+                           "and the cell sums their lobes; per-cell (the thesis): an occupied cell is lit once, "
+                           "through its most light-facing normal and one shadow test, and all its surface counts as "
+                           "lit (on Sponza's 1.74 m cells that lights shaded surface: indirect 1.85x the reference "
+                           "against 0.91x per fragment)");
 }
 static size_t fragmentSumsBytes(const ParamSet& p) { return 12 * sizeof(int32_t) * cellCount(p); }
 
@@ -317,6 +359,7 @@ void InjectStage::declare(StageBuilder& b) const {
   b.buffer("inject.unshifted", [](const ParamSet& p, const ViewState&) { return unshiftedBytes(p); });
   b.read("fragments");
   b.read("fragments.count");
+  b.read("voxel-fragments");
   b.write("inject.fragment-sums");
   b.write("inject.fragment-largest");
   b.buffer("inject.fragment-sums", [](const ParamSet& p, const ViewState&) { return fragmentSumsBytes(p); });
@@ -338,7 +381,9 @@ static float sumFragmentLobes(StageContext& ctx, int c, const gpu::LpvGrid& grid
   setGridUniforms(program, grid);
   setUniform(program, "u_fragmentCount", unsigned(count));
   setUniform(program, "u_fragmentArea", space.voxelSize * space.voxelSize);
+  setUniform(program, "u_areaUnits", areaUnits(grid.originCell.w, space.voxelSize));
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXEL_FRAGMENTS, ctx.board.buffer("voxel-fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, sums.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, largest.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
@@ -382,6 +427,7 @@ void InjectStage::execute(StageContext& ctx) {
     glm::ivec3 vplCell = glm::ivec3(glm::floor((probeWorld - glm::vec3(grids[c].originCell)) / grids[c].originCell.w));
     setGridUniforms(program, grids[c]);
     setUniform(program, "u_fragmentArea", space.voxelSize * space.voxelSize);
+    setUniform(program, "u_areaUnits", areaUnits(grids[c].originCell.w, space.voxelSize));
     setUniform(program, "u_pointVpl", point ? 1 : 0);
     setUniform(program, "u_vplCell", vplCell);
     setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));

@@ -24,6 +24,10 @@ extern const char* const kChannelNames[3];          // "red", "green", "blue"
 std::string shVolume(const char* prefix, int cascade, int channel);
 
 // Where the cascades sit for this scene, camera and parameters (snapped to their cell sizes).
+// Fixed-point units per fragment voxel^2 of a cell's area word (LpvVoxel::area): 2^16, fewer
+// where a cell spans so many voxels that its sum could pass 2^31 (each voxel adds at most about one
+// voxel^2 of surface).
+float areaUnits(float cellSize, float voxelSize);
 std::array<gpu::LpvGrid, kCascades> placeGrids(const voxlab::Scene& scene, const ViewState& view, const ParamSet& params);
 
 // Refuses a grid that does not fit before anything is allocated (one line naming the limit).
