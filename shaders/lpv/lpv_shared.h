@@ -31,6 +31,18 @@ struct LpvVoxel {
   uvec4 normals;        // one normal mask per tetrahedron channel (0 = empty): dot field 27-31, x 18-26, y 9-17, z 0-8
 };
 
+// One cell of the propagate stage's occlusion view: the transmission of light leaving the cell
+// head on through its far face, 1 - clamp(A (0.25 + 0.5 n.d)) with the stored normal the
+// propagation picks for that direction (from step 1 on; step 0 is unoccluded by default).
+struct LpvOcclusion {
+  uint cell;            // the cell's coordinates packed 10:10:10
+  uint occupied;        // 1: the cell's voxel is occupied (only occupied cells block)
+  uint pad0;
+  uint pad1;
+  vec4 plus;            // xyz: transmission of light travelling along +x, +y, +z; w: the least of the six
+  vec4 minus;           // xyz: along -x, -y, -z; w: the mean of the six
+};
+
 // Placement of one cascade: cell i covers origin + [i, i+1) * cellSize.
 struct LpvGrid {
   vec4 originCell;      // xyz: world minimum corner (a multiple of the cell size), w: cell size (m)

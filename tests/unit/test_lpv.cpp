@@ -1019,6 +1019,94 @@ TEST(LpvVisualisers, EnergyPlotShowsTheClampedFirstStep) {
   if (png) std::fclose(png);
 }
 
+// The occlusion view (propagate/occlusion-fine, src/inspect/visualisers/lpv_occlusion.cpp): a
+// floor cell of the Cornell box (one stored normal, +y) blocks light travelling through it head on
+// by 1 - A (0.25 + 0.5) = 0.25 passing at A = 1, light along the floor by 1 - 0.25 = 0.75; the
+// thesis' one-sided rule blocks only light travelling along the normal; none blocks nothing.
+TEST(LpvVisualisers, OcclusionViewShowsWhatBlocksEachDirection) {
+  struct Mode { const char* set; float up, down, side; };
+  const Mode modes[] = {{"lpv.occlusion=two-sided", 0.25f, 0.25f, 0.75f},
+                        {"lpv.occlusion=thesis", 0.25f, 1.0f, 0.75f},
+                        {"lpv.occlusion=none", 1.0f, 1.0f, 1.0f}};
+  for (const Mode& m : modes) {
+    auto& s = session(request({"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=1", m.set}, "propagate"));
+    auto occ = capture(s, "propagate", "occlusion-fine");
+    EXPECT_STREQ(visualiserFor(occ.desc).name(), "lpv-occlusion");
+    ASSERT_EQ(occ.recordCount, 16u * 16u * 16u);
+    std::vector<gpu::LpvOcclusion> cells(occ.recordCount);
+    std::memcpy(cells.data(), occ.records.data(), cells.size() * sizeof(cells[0]));
+    std::vector<gpu::LpvVoxel> voxels = voxelsOf(s, 0);
+    int floorCells = 0;
+    for (size_t i = 0; i < cells.size(); ++i) {
+      ASSERT_EQ(cells[i].cell, voxels[i].cell) << i;  // record i is cell i
+      EXPECT_EQ(cells[i].occupied, decodeOccupied(voxels[i].colorOcclusion) ? 1u : 0u);
+      if (!cells[i].occupied) EXPECT_EQ(cells[i].plus, glm::vec4(1.0f)) << i;
+      int used = 0;
+      glm::vec3 n(0.0f);
+      for (int k = 0; k < 4; ++k)
+        if (voxels[i].normals[k]) ++used, n = decodeNormalMask(voxels[i].normals[k]);
+      if (!cells[i].occupied || used != 1 || n != glm::vec3(0, 1, 0)) continue;
+      ++floorCells;
+      // fp32 products of the SH constants (Y00 x 0.886 = 0.25 to 1 ulp): measured 1.2e-7 off.
+      const float tol = 1e-6f;
+      EXPECT_NEAR(cells[i].plus.y, m.up, tol) << m.set;
+      EXPECT_NEAR(cells[i].minus.y, m.down, tol) << m.set;
+      EXPECT_NEAR(cells[i].plus.x, m.side, tol) << m.set;
+      EXPECT_NEAR(cells[i].minus.z, m.side, tol) << m.set;
+      EXPECT_NEAR(cells[i].plus.w, std::min(m.up, std::min(m.down, m.side)), tol) << m.set;
+    }
+    EXPECT_GT(floorCells, 20) << m.set;
+    nlohmann::json st = outputHandler(occ.desc).statistics(occ)["occlusion"];
+    EXPECT_NEAR(st["least_transmission"].get<double>(), m.up, 1e-6) << m.set;
+    // The slice view: a floor cell's glyph is orange (blocking) where light travels through the
+    // floor, unless nothing blocks.
+    const nlohmann::json none;
+    ViewSettings view;
+    view.slice.axis = 0;  // x slice: right = +z, up = +y
+    VisualiserContext ctx{occ, none, none, view, [](CapturedOutput&, std::string&) { return false; }};
+    SliceImage img = visualiserFor(occ.desc).image2D(ctx);
+    ASSERT_EQ(img.width, 16 * 13);
+    size_t orange = 0;
+    for (size_t p = 0; p < img.rgba.size() / 4; ++p) orange += img.rgba[p * 4] > 150;
+    if (m.up < 1.0f) EXPECT_GT(orange, 100u) << m.set;
+    else EXPECT_EQ(orange, 0u) << m.set;
+  }
+}
+
+// The picked cell's record (propagate/probe-cell, src/inspect/visualisers/lpv_probe.cpp): with a
+// +z point VPL in the picked cell, after the first step the cell still holds its lobe (nothing
+// returns in one step): c00 0.886, c10 1.023, |b|/c00 2/sqrt 3; the glyph of the xz plane is a
+// cosine lobe: orange along +z, blue (the L1 back lobe, -0.25 of the +0.75 peak) along -z.
+TEST(LpvVisualisers, ProbeShowsThePickedCellsCoefficientsAndLobe) {
+  auto& s = session(request({"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=1", "inject.source=point-vpl",
+                             "lpv.occlusion=none"}, "propagate"));
+  auto probe = capture(s, "propagate", "probe-cell");
+  EXPECT_STREQ(visualiserFor(probe.desc).name(), "lpv-probe");
+  nlohmann::json st = outputHandler(probe.desc).statistics(probe)["probe"];
+  EXPECT_EQ(st["cell"], nlohmann::json({8, 8, 8}));
+  for (const char* ch : {"red", "green", "blue"}) {
+    EXPECT_NEAR(st["total"][ch]["c00"].get<double>(), 0.886227, 1e-5) << ch;
+    EXPECT_NEAR(st["total"][ch]["c10"].get<double>(), 1.023327, 1e-5) << ch;
+    EXPECT_NEAR(st["total"][ch]["directionality"].get<double>(), 2.0 / std::sqrt(3.0), 1e-5) << ch;
+    EXPECT_NEAR(st["wavefront"][ch]["c00"].get<double>(), 0.0, 1e-6) << ch;  // nothing came back
+  }
+  const nlohmann::json none;
+  ViewSettings view;
+  VisualiserContext ctx{probe, none, none, view, [](CapturedOutput&, std::string&) { return false; }};
+  SliceImage img = visualiserFor(probe.desc).image2D(ctx);
+  const int panel = img.height;
+  ASSERT_EQ(img.width, 3 * panel);
+  auto at = [&](int p, float right, float up) {  // offsets from the panel's centre, in panels
+    int x = p * panel + int(std::lround(0.5f * panel + right * panel)), y = int(std::lround(0.5f * panel - up * panel));
+    const uint8_t* o = &img.rgba[(size_t(y) * img.width + x) * 4];
+    return glm::ivec3(o[0], o[1], o[2]);
+  };
+  EXPECT_EQ(at(1, 0.05f, 0.3f), glm::ivec3(255, 150, 40));   // xz panel, +z: the lobe
+  EXPECT_EQ(at(1, 0.05f, -0.1f), glm::ivec3(60, 130, 255));  // -z, inside 0.25 / 0.75 of the radius: negative
+  EXPECT_NE(at(1, 0.05f, -0.3f), glm::ivec3(60, 130, 255));  // beyond it: nothing
+  EXPECT_EQ(at(0, 0.1f, 0.1f), glm::ivec3(255, 150, 40));    // xy panel: the lobe's equator, 0.25 of the peak
+}
+
 TEST(LpvVisualisers, CascadeBoxesBoundTheBlend) {
   // The fine grid as large as the box and a shell 3 cells wide: the walls lie beyond the shell's
   // outer box (coarse weight 1), the middle of the box inside its inner box (weight 0).

@@ -13,6 +13,7 @@
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
+#include "techniques/lpv/reference.h"
 #include "techniques/lpv/sh.h"
 
 namespace voxlab::lpv {
@@ -93,6 +94,8 @@ static size_t cellCount(const ParamSet& p) {
   return res * res * res;
 }
 static size_t voxelBufferBytes(const ParamSet& p) { return sizeof(gpu::LpvVoxel) * cellCount(p); }
+static std::string occlusionBuffer(int cascade) { return std::string("occlusion-") + kCascadeNames[cascade]; }
+static size_t occlusionBytes(const ParamSet& p) { return sizeof(gpu::LpvOcclusion) * cellCount(p); }
 static size_t voxelFragmentsBytes(const ParamSet& p) {
   const size_t res = size_t(p.getInt("voxel.resolution"));
   return 4 * res * res * res;
@@ -529,10 +532,25 @@ void PropagateStage::declare(StageBuilder& b) const {
   for (int k = 0; k < 4; ++k) probe.fields.push_back({"normal-" + std::to_string(k), FieldType::U32, uint32_t(128 + 4 * k)});
   const char* dirs[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
   for (int i = 0; i < 6; ++i) probe.fields.push_back({std::string("from") + dirs[i], FieldType::Vec4, uint32_t(144 + 16 * i)});
-  b.output("probe-cell", OutputKind::Buffer, Semantic::Scalar,
+  b.output("probe-cell", OutputKind::Buffer, kLpvProbe,
            "the picked cell (probe.cell-x/y/z, probe.cascade) after the current step: SH per channel, its voxel's "
            "words, and c00 gained from each neighbour (a: mean face transmission)")
       .layout = probe;
+  BufferLayout occ;
+  occ.stride = sizeof(gpu::LpvOcclusion);
+  occ.fields = {{"cell", FieldType::Packed10_10_10, 0, FieldRole::Position},
+                {"occupied", FieldType::U32, 4, FieldRole::Other},
+                {"plus", FieldType::Vec4, 16, FieldRole::Other},
+                {"minus", FieldType::Vec4, 32, FieldRole::Other}};
+  for (int c = 0; c < kCascades; ++c) {
+    b.output(occlusionBuffer(c), OutputKind::Buffer, kLpvOcclusion,
+             std::string("per cell of the ") + kCascadeNames[c] +
+                 " cascade: transmission of light leaving it head on along +x,+y,+z (plus.xyz) and -x,-y,-z "
+                 "(minus.xyz), least (plus.w) and mean (minus.w) of the six, by lpv.occlusion and "
+                 "lpv.occlusion-amplifier from step 1 on")
+        .layout = occ;
+    b.buffer(occlusionBuffer(c), [](const ParamSet& p, const ViewState&) { return occlusionBytes(p); });
+  }
   for (int c = 0; c < kCascades; ++c)
     for (const char* prefix : {"light", "wavefront"})
       for (int ch = 0; ch < 3; ++ch)
@@ -546,6 +564,47 @@ void PropagateStage::declare(StageBuilder& b) const {
 }
 
 int PropagateStage::iterations(const ParamSet& params) const { return params.getInt("lpv.steps"); }
+
+// The occlusion view (outputs occlusion-fine/coarse): per cell and direction of travel the
+// transmission the propagation applies to light leaving the cell head on, from the CPU reference's
+// faceTransmission (the same maths as propagate.comp.glsl, tested against it), at step 1.
+static void writeOcclusionView(StageContext& ctx, int occlusion) {
+  PropagationSettings s;
+  s.occlusion = occlusion == 0 ? Occlusion::TwoSided : occlusion == 1 ? Occlusion::Thesis : Occlusion::None;
+  s.occlusionAmplifier = ctx.params.getFloat("lpv.occlusion-amplifier");
+  double least = 1.0, occupied = 0, blocking = 0;
+  for (int c = 0; c < kCascades; ++c) {
+    auto bytes = ctx.board.buffer(voxelBuffer(c)).download(voxelBufferBytes(ctx.params));
+    const size_t cells = bytes.size() / sizeof(gpu::LpvVoxel);
+    std::vector<gpu::LpvOcclusion> view(cells);
+    for (size_t i = 0; i < cells; ++i) {
+      gpu::LpvVoxel v;
+      std::memcpy(&v, &bytes[i * sizeof v], sizeof v);
+      gpu::LpvOcclusion& o = view[i];
+      o = gpu::LpvOcclusion{};
+      o.cell = v.cell;
+      o.occupied = decodeOccupied(v.colorOcclusion) ? 1u : 0u;
+      float t[6], lo = 1.0f, mean = 0.0f;
+      for (int f = 0; f < 6; ++f) {
+        glm::vec3 travel = faceOffset(f);
+        t[f] = faceTransmission(&v, travel, travel, s, 1);
+        lo = std::min(lo, t[f]);
+        mean += t[f] / 6.0f;
+      }
+      o.plus = glm::vec4(t[0], t[2], t[4], lo);
+      o.minus = glm::vec4(t[1], t[3], t[5], mean);
+      if (c == 0 && o.occupied) {
+        ++occupied;
+        blocking += lo < 1.0f;
+        least = std::min(least, double(lo));
+      }
+    }
+    ctx.board.ensureBuffer(occlusionBuffer(c), occlusionBytes(ctx.params)).upload(view.data(), view.size() * sizeof(view[0]));
+  }
+  ctx.stats["occupied_cells_fine"] = occupied;
+  ctx.stats["blocking_cells_fine"] = blocking;
+  ctx.stats["least_transmission_fine"] = least;
+}
 
 void PropagateStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("lpv.resolution");
@@ -563,6 +622,7 @@ void PropagateStage::execute(StageContext& ctx) {
 
   GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
   GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
+  if (k == 0) writeOcclusionView(ctx, occlusion);
   for (int c = 0; c < kCascades; ++c) {
     // Step k reads the state step k-1 wrote (step 0: the injected VPLs, packed into state 0) and
     // writes the other state, then copies it into the output volumes (buffer -> texture copies).

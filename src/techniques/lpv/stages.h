@@ -16,6 +16,8 @@ constexpr int kCascades = 2;
 // lpv_cascades.cpp).
 inline constexpr Semantic kShL1{"sh-l1"};              // RGBA32F volume: L1 SH (c00, c1-1, c10, c11) per cell
 inline constexpr Semantic kLpvEnergy{"lpv-energy"};    // LpvEnergy records, step * 2 + cascade
+inline constexpr Semantic kLpvOcclusion{"lpv-occlusion"};  // LpvOcclusion records, one per cell
+inline constexpr Semantic kLpvProbe{"lpv-probe"};          // one LpvProbe record: the picked cell
 inline constexpr Semantic kLpvCascades{"lpv-cascades"};  // LpvBox records: cascade boxes and blend shell
 extern const char* const kCascadeNames[kCascades];  // "fine", "coarse"
 extern const char* const kChannelNames[3];          // "red", "green", "blue"
