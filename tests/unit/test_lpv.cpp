@@ -572,7 +572,7 @@ TEST(LpvGpu, LitBorderCellNeverReadsOutside) {
 TEST(LpvGpu, ProbeRecordMatchesCpuGather) {
   // Point VPL (+z) in cell (8,8,8) of 16^3; probe the cell above it after 2 steps.
   auto& s = session(request({"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=2", "inject.source=point-vpl",
-                             "probe.cell-x=0.5", "probe.cell-y=0.5", "probe.cell-z=0.5625", "lpv.occlusion=none"}));
+                             "probe.cell-x=8", "probe.cell-y=8", "probe.cell-z=9", "lpv.occlusion=none"}));
   auto rec = capture(s, "propagate", "probe-cell");
   ASSERT_EQ(rec.recordCount, 1u);
   gpu::LpvProbe p;

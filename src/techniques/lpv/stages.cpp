@@ -49,9 +49,12 @@ static ParamDesc centreParam() {
 static ParamDesc stepsParam() {
   return ParamDesc::integer("lpv.steps", 8, 1, 64, "propagation steps (iterations); light travels one cell per step", "steps");
 }
+// Cell indices, so that the viewer's volume probe (a click on a cell of an lpv volume) sets them;
+// -1 (the default) is the middle cell, larger values are clamped to the grid.
 static ParamDesc probeParam(const char* axis) {
-  return ParamDesc::real(std::string("probe.cell-") + axis, 0.5, 0.0, 1.0,
-                         std::string("picked cell along ") + axis + " as a fraction of the grid (0 first cell, 1 last)");
+  return ParamDesc::integer(std::string("probe.cell-") + axis, -1, -1, 1023,
+                            std::string("picked cell along ") + axis + " (-1: the middle cell; clamped to the grid)",
+                            "cells");
 }
 static ParamDesc probeCascadeParam() {
   return ParamDesc::choice("probe.cascade", {"fine", "coarse"}, 0, "cascade of the picked cell");
@@ -63,7 +66,10 @@ static ParamDesc lookupOffsetParam() {
 
 static glm::ivec3 probeCell(const ParamSet& p) {
   int res = p.getInt("lpv.resolution");
-  auto c = [&](const char* n) { return std::min(int(p.getFloat(n) * float(res)), res - 1); };
+  auto c = [&](const char* n) {
+    const int v = p.getInt(n);
+    return v < 0 ? res / 2 : std::min(v, res - 1);
+  };
   return {c("probe.cell-x"), c("probe.cell-y"), c("probe.cell-z")};
 }
 
@@ -497,6 +503,8 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.param(probeParam("y"));
   b.param(probeParam("z"));
   b.param(probeCascadeParam());
+  // A click on a cell of any volume shown in the viewer picks it (the cascade stays probe.cascade).
+  b.probe(ProbeDesc::volume("probe.cell-x", "probe.cell-y", "probe.cell-z"));
   for (int c = 0; c < kCascades; ++c) {
     b.read(voxelBuffer(c));
     for (int ch = 0; ch < 3; ++ch) b.read(shVolume("vpl", c, ch));
