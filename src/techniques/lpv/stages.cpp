@@ -226,7 +226,8 @@ void BinStage::declare(StageBuilder& b) const {
     b.output(voxelBuffer(c), OutputKind::Buffer, Semantic::Points,
              std::string("the ") + kCascadeNames[c] +
                  " LPV voxel grid, one record per cell: colour/contrast/occupancy word (Listing 4.27), fragment "
-                 "count, cell, four tetrahedron-channel normal masks (Listings 4.28/4.29)")
+                 "count, cell, surface area (fixed point: the fragments of a voxel share its area), four "
+                 "tetrahedron-channel normal masks (Listings 4.28/4.29)")
         .layout = voxelLayout();
     b.output(voxelColourVolume(c), OutputKind::Volume3D, Semantic::Color,
              std::string("decoded ") + kCascadeNames[c] + " cells: stored linear albedo, alpha = occupied");
