@@ -43,7 +43,7 @@ variants=(
   "voxel-path-tracing paths.count=16"
   "svo svo.dilate=true"
   "lpv inject.vpl-shift=0.5"
-  "lpv inject.lighting=per-fragment"
+  "lpv inject.lighting=per-cell"
   "svo svo.layout=tile"
   "lrsm lrsm.estimator=paper"
 )

@@ -29,6 +29,8 @@
                                          under a point light, seen from above (texture paths)
   tests/data/scenes/sunlit-floor.gltf    a floor under a sun shining straight down (volumetric tests)
   tests/data/scenes/sunlit-floor-bright.gltf  the same with a sun 2.5 times as bright
+  tests/data/scenes/sunlit-floor-fine.gltf    the same floor as 4608 triangles (several per voxel)
+  tests/data/scenes/sunlit-slope.gltf         a 2 x 2 m floor tilted 30 degrees under the same sun
   tests/data/scenes/half-roof.gltf       the floor with a roof over its -x half (volumetric shadow tests)
 
 Usage: python3 scripts/make_scenes.py [--root DIR] [--furnace-albedo 0.5]
@@ -447,6 +449,44 @@ def sunlit_floor(path, irradiance, roof):
     b.write(path)
 
 
+def sunlit_floor_fine(path, n=48):
+    """sunlit-floor.gltf's floor and sun, the floor cut into 2 * n^2 triangles (4.2 cm edges): at
+    voxel.resolution 64 every voxel of the floor is touched by several triangles, so the fragment
+    list holds each voxel several times (as Sponza's finely tessellated meshes do)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (sunlit floor, fine triangles)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    points, tris = [], []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            points.append((-1.0 + 2.0 * i / n, 0.0, -1.0 + 2.0 * j / n))
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i
+            c = a + n + 1
+            tris += [(a, c, a + 1), (a + 1, c, c + 1)]
+    b.add_node({"name": "floor", "mesh": b.add_indexed_mesh("floor", grey, points, tris)})
+    b.add_light("sun", {"type": "directional", "color": [1.0, 1.0, 1.0], "intensity": 1.0},
+                (0.0, 3.0, 0.0), LOOK_DOWN)
+    b.add_camera("camera", (0.0, 1.5, 0.0), LOOK_DOWN, 1.2, aspect=1.0, znear=0.01, zfar=20.0)
+    b.write(path)
+
+
+def sunlit_slope(path):
+    """A 2 x 2 m floor tilted 30 degrees about z (normal (-sin 30, cos 30, 0)) under the sun of
+    sunlit-floor.gltf (straight down, 1 W/m^2): irradiance cos 30, reflected flux 0.5 x 0.866 x 4 =
+    1.732 W. A conservative voxelization covers |n|_1 = 1.366 voxels per voxel^2 of it (45 degrees
+    would put the plane on voxel edges, a degenerate case of that count)."""
+    b = GltfBuilder("voxlab scripts/make_scenes.py (sunlit slope)")
+    grey = b.add_material("grey", (0.5, 0.5, 0.5))
+    c, s = math.cos(math.radians(30.0)), math.sin(math.radians(30.0))
+    slope = [[-c, -s, -1.0], [c, s, -1.0], [c, s, 1.0], [-c, -s, 1.0]]
+    b.add_mesh_node("slope", grey, [oriented(slope, [-s, c, 0.0])])
+    b.add_light("sun", {"type": "directional", "color": [1.0, 1.0, 1.0], "intensity": 1.0},
+                (0.0, 3.0, 0.0), LOOK_DOWN)
+    b.add_camera("camera", (0.0, 1.5, 0.0), LOOK_DOWN, 1.2, aspect=1.0, znear=0.01, zfar=20.0)
+    b.write(path)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -482,6 +522,8 @@ def main():
         (os.path.join(tests, "sunlit-floor.gltf"), lambda p: sunlit_floor(p, 1.0, False)),
         (os.path.join(tests, "sunlit-floor-bright.gltf"), lambda p: sunlit_floor(p, 2.5, False)),
         (os.path.join(tests, "half-roof.gltf"), lambda p: sunlit_floor(p, 1.0, True)),
+        (os.path.join(tests, "sunlit-floor-fine.gltf"), sunlit_floor_fine),
+        (os.path.join(tests, "sunlit-slope.gltf"), sunlit_slope),
     ] + [(os.path.join(tests, "voxel-ties-%d.gltf" % r), (lambda r: lambda p: voxel_ties(p, r))(r))
          for r in (64, 128, 256)]
     for path, fn in outputs:

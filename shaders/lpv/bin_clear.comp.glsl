@@ -10,7 +10,7 @@ void main() {
   v.colorOcclusion = 0u;
   v.fragmentCount = 0u;
   v.cell = uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20);
-  v.pad = 0u;
+  v.area = 0u;
   v.normals = uvec4(0u);
   voxels[cellIndex(c)] = v;
 }

@@ -59,6 +59,20 @@ vec3 decodeNormalMask(uint m) {
   return vec3(((m >> 26) & 1u) != 0u ? -v.x : v.x, ((m >> 17) & 1u) != 0u ? -v.y : v.y, ((m >> 8) & 1u) != 0u ? -v.z : v.z);
 }
 
+// The surface area one voxel fragment stands for, in 'units' per fragment voxel^2: the fragment's
+// voxel holds 'count' fragments (every triangle touching a voxel adds one, so finely tessellated
+// surfaces give several per voxel; they share the voxel), and a conservative voxelization of a
+// plane of unit normal n covers |n|_1 / voxel^2 voxels per unit area (a voxel is cut by the plane
+// when its centre lies in a slab |n.x| + |n.y| + |n.z| voxels thick), so one voxel holds
+// voxel^2 / |n|_1 of it. The twin of fragmentAreaUnits in src/techniques/lpv/sh.h.
+uint fragmentAreaUnits(ivec3 k, uint count, float units) {
+  precise float l1 = float(abs(k.x) + abs(k.y) + abs(k.z));
+  precise float l2 = sqrt(float(k.x * k.x + k.y * k.y + k.z * k.z));
+  precise float perVoxel = l1 > 0.0 ? (units * l2) / l1 : units;
+  precise float w = perVoxel / float(max(count, 1u));
+  return uint(w + 0.5);
+}
+
 // One cascade: cell i covers u_gridOrigin + [i, i+1) * u_cellSize.
 uniform vec3 u_gridOrigin;
 uniform float u_cellSize;

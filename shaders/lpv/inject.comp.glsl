@@ -1,8 +1,9 @@
 #version 450
 // Injection, one invocation per cell (seed 000 section 4.3.2, Listings 4.30/4.31, with the
 // physical flux of K&D): an occupied cell is lit with the shadow-mapped light through the stored
-// normal that faces the light most; its reflected flux Phi = albedo * E * A (A = fragments *
-// fragment voxel^2, the surface in the cell) becomes a VPL of intensity (Phi / pi) max(0, n.w),
+// normal that faces the light most; its reflected flux Phi = albedo * E * A (A = the surface in
+// the cell, the bin stage's area word: each voxel's share of the surface, not fragments x voxel^2,
+// which counts a voxel once per triangle touching it) becomes a VPL of intensity (Phi / pi) max(0, n.w),
 // i.e. SH (Phi / pi) lobe(n) per colour channel. In point-VPL mode only u_vplCell holds lobe(n),
 // a VPL of flux pi per channel.
 // Two passes: u_pass 0 computes each cell's VPL and its normal into u_unshifted; u_pass 1 moves each
@@ -21,6 +22,7 @@ layout(std430, binding = LPV_BINDING_STATE_OUT) buffer Unshifted { vec4 u_unshif
 uniform int u_pass;
 uniform float u_shift;
 uniform float u_fragmentArea;
+uniform float u_areaUnits;     // units of LpvVoxel.area per u_fragmentArea
 uniform int u_pointVpl;
 uniform ivec3 u_vplCell;
 uniform vec3 u_vplNormal;
@@ -78,7 +80,7 @@ void main() {
         // cell along the normal instead (pitfall 14 of the technical note).
         float visibility = shadowVisibility(u_shadowMap, p + n * (0.5 * u_cellSize), n);
         vec3 irradiance = lightIrradiance(p) * best * visibility;
-        vec3 flux = decodeColor(v.colorOcclusion) * irradiance * (float(v.fragmentCount) * u_fragmentArea);
+        vec3 flux = decodeColor(v.colorOcclusion) * irradiance * (float(v.area) / u_areaUnits * u_fragmentArea);
         for (int ch = 0; ch < 3; ++ch) sh[ch] = (flux[ch] / PI) * shLobe(n);
         normal = n;
       }

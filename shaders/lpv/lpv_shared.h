@@ -20,14 +20,27 @@ using uint = uint32_t;
 #define LPV_BINDING_GRIDS 13       // SSBO: LpvGrid[2] (fine, coarse)
 #define LPV_BINDING_STATE_IN 14    // SSBO: vec4[6][res^3] propagation state read (light r,g,b, wavefront r,g,b)
 #define LPV_BINDING_STATE_OUT 15   // SSBO: the same, written
+#define LPV_BINDING_VOXEL_FRAGMENTS 16  // SSBO: uint[voxel.resolution^3], fragments per voxel of the fragment list
 
 // One cell of an LPV voxel grid (Listings 4.27-4.29 of seed 000, plus a fragment count).
 struct LpvVoxel {
   uint colorOcclusion;  // bits 0-7 B, 8-15 G, 16-23 R (linear albedo, 8 bit), 24-30 contrast*127, 31 occupied
   uint fragmentCount;   // voxel fragments binned into the cell (surface area = count * fragment voxel^2)
   uint cell;            // the cell's own coordinates packed 10:10:10 (for point views)
-  uint pad;
+  uint area;            // surface area in the cell, in u_areaUnits per fragment voxel^2 (see fragmentAreaUnits)
   uvec4 normals;        // one normal mask per tetrahedron channel (0 = empty): dot field 27-31, x 18-26, y 9-17, z 0-8
+};
+
+// One cell of the propagate stage's occlusion view: the transmission of light leaving the cell
+// head on through its far face, 1 - clamp(A (0.25 + 0.5 n.d)) with the stored normal the
+// propagation picks for that direction (from step 1 on; step 0 is unoccluded by default).
+struct LpvOcclusion {
+  uint cell;            // the cell's coordinates packed 10:10:10
+  uint occupied;        // 1: the cell's voxel is occupied (only occupied cells block)
+  uint pad0;
+  uint pad1;
+  vec4 plus;            // xyz: transmission of light travelling along +x, +y, +z; w: the least of the six
+  vec4 minus;           // xyz: along -x, -y, -z; w: the mean of the six
 };
 
 // Placement of one cascade: cell i covers origin + [i, i+1) * cellSize.

@@ -16,10 +16,12 @@
 //   3. place       fine and coarse grid boxes, centred on the scene or ahead of the camera, snapped to
 //                  a multiple of their cell size
 //   4. bin         the fragments binned into each cascade: colour/contrast/occupancy and four
-//                  tetrahedron-channel normals by atomicMax (Listings 4.27-4.29), fragment counts
-//   5. inject      each occupied cell lit through its most light-facing normal -> a VPL in L1 SH
+//                  tetrahedron-channel normals by atomicMax (Listings 4.27-4.29), fragment counts,
+//                  the surface each cell holds (the fragments of one voxel share its area)
+//   5. inject      each voxel fragment lit with its own normal and shadow test, summed per cell into
+//                  a VPL in L1 SH (inject.lighting=per-cell: each cell once, through its best normal)
 //   6. propagate   one gather step per iteration in both cascades (propagate#k), the energy per step,
-//                  the picked cell's record
+//                  the picked cell's record, the occlusion per cell and direction
 //   7. reflection  a finer colour grid over the fine cascade's box lit by its L0 light (Listing
 //                  4.34), then one mip level per iteration (reflection@L, mean of 8 children)
 //   8. gbuffer     position, normal, albedo from the camera (vct-grid's stage, reused as is)
@@ -40,21 +42,30 @@
 //     where the coarse cascade takes over); coarse cell = lpv.cascade-ratio (2, the thesis' "8 times the
 //     volume") x fine. lpv.centre=scene by default: a scene that fits in the fine grid is best
 //     covered around its own centre; camera is GPU Pro 4's placement for large scenes.
-//   - Injection (physical, K&D): flux Phi = albedo * E * A with A = fragments in the cell x
-//     fragment voxel^2 (exact for axis-aligned surfaces, larger for oblique ones, whose
-//     conservative fragments overlap), intensity (Phi / pi) lobe(n). The thesis omits A and scales
-//     by an unexplained lightMultiplier instead. The shadow map is tested half a cell along the
-//     normal from the cell centre (the centre may lie behind the surface). inject.lighting=per-fragment
-//     (an option) lights every voxel fragment at its own voxel instead (its own normal and shadow
-//     test, as vct-grid's inject) and sums the fragments' lobes per cell in fixed point (integer
-//     atomics, order independent; the unit gives the fullest cell 2^30 steps). With small cells the
-//     two agree (Cornell: indirect RMSE 0.0925 per cell, 0.0841 per fragment); with Sponza's 1.74 m
-//     cells per-cell lights whole cells of shaded surface through one lit test point (indirect 73.9x
-//     the reference; per fragment 13.6x, docs/fidelity.md). It stays an option because the defaults'
-//     calibration (gi.radiance-scale) and the lesson's numbers are per-cell ones.
-//   - VPL shift (inject.vpl-shift, 0): against the reference path tracer 0.5 lowers the image's RMSE
-//     (0.093 -> 0.082) but worsens the floor's colour bleeding ratio (1.08 -> 1.01, reference 1.20),
-//     because the floor's VPLs move into the cells the floor's own lookup reads (docs/fidelity.md).
+//   - Injection (physical, K&D): flux Phi = albedo * E * A, intensity (Phi / pi) lobe(n). A is the
+//     surface a fragment stands for: its voxel's surface voxel^2 / |n|_1 (a conservative
+//     voxelization cuts |n|_1 voxels per voxel^2 of a plane) shared by the fragments of that voxel
+//     (one per triangle touching it; the bin stage counts them). Counting a whole voxel^2 per
+//     fragment, as before, made Sponza's lit surface 7.8 times too large (706k fragments in 98k
+//     voxels at 128^3; indirect light 73.9x the reference) while the Cornell box's large triangles
+//     hid it; tests/unit/test_lpv.cpp, InjectedFluxIsTheReflectedFluxOfTheSurface, cuts a floor
+//     into 4608 triangles and tilts one 30 degrees. The thesis omits A and scales by an unexplained
+//     lightMultiplier instead.
+//     inject.lighting=per-fragment (default) lights every voxel fragment at its own voxel (its own
+//     normal; the shadow map tested |n|_1 half voxels along the normal, where the voxel centre can
+//     lie behind the surface) and sums the fragments' lobes per cell in fixed point (integer
+//     atomics, order independent; the unit gives the fullest cell 2^30 steps). per-cell (the
+//     thesis) lights each occupied cell once through its most light-facing normal with one shadow
+//     test half a cell along it, so a cell holding sunlit and shaded surface, or several
+//     orientations, counts all of it as lit at the best cosine. Against the reference path tracer
+//     (docs/fidelity.md) per fragment is closer on both scenes: Sponza (1.74 m cells) indirect
+//     0.91x the reference's energy, RMSE 0.0108, against 1.85x and 0.0161 per cell; Cornell box
+//     (2.6 cm cells) RMSE 0.0832 against 0.0873 (energy 0.40 and 0.42). It costs a pass over the
+//     fragments (docs/performance.md).
+//   - VPL shift (inject.vpl-shift, 0): against the reference path tracer 0.5 leaves the image's RMSE
+//     as it is (0.0832 -> 0.0829) and worsens the floor's colour bleeding ratio (1.05 -> 0.98,
+//     reference 1.20), because the floor's VPLs move into the cells the floor's own lookup reads
+//     (docs/fidelity.md).
 //   - Propagation weights: lpv.weighting=flux-consistent (default) re-emits the flux F = Omega I(d)
 //     through face j as (F / pi) lobe(o_j), so without the face clamp the total flux is conserved
 //     exactly (30 solid angles sum to 4 pi). thesis = Omega / (4 pi) x lpv.flux-amplifier (GPU Pro
@@ -94,7 +105,8 @@
 //     reference propagation, and the energy records are meaningful. 32^3 x 16 B = 512 KiB per volume;
 //     per cascade 3 channels x (VPL, light, wavefront) = 4.5 MiB of volumes, 6 MiB of propagation
 //     state in two buffers (llvmpipe loads and stores buffers about twice as fast as images), and
-//     1 MiB of LPV voxel records.
+//     1 MiB of LPV voxel records; the bin stage's fragments-per-voxel count is voxel.resolution^3
+//     x 4 B (8 MiB at the default 128^3).
 //   - Reflection grid: reflection.resolution 64 by default (the thesis: 256^3, 128 MiB for level 0
 //     in RGBA16F, too large for llvmpipe runs), RGBA16F, the colour word of Listing 4.27 per voxel,
 //     radiance albedo / pi x the fine cascade's L0 irradiance (direction ignored, as the thesis),

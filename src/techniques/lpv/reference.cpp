@@ -98,8 +98,14 @@ PropagationResult propagate(const ShField& injected, const std::vector<gpu::LpvV
 }
 
 std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin,
-                                        float fragVoxel, glm::vec3 gridOrigin, float cellSize, int res) {
+                                        float fragVoxel, int fragRes, glm::vec3 gridOrigin, float cellSize,
+                                        int res, float areaUnits) {
   std::vector<gpu::LpvVoxel> grid(size_t(res) * res * res);
+  auto voxelIndex = [&](uint32_t pos) {
+    return (size_t((pos >> 20) & 1023u) * fragRes + ((pos >> 10) & 1023u)) * fragRes + (pos & 1023u);
+  };
+  std::vector<uint32_t> sharing(size_t(fragRes) * fragRes * fragRes, 0u);
+  for (const auto& f : fragments) ++sharing[voxelIndex(f.position)];
   for (int z = 0; z < res; ++z)
     for (int y = 0; y < res; ++y)
       for (int x = 0; x < res; ++x) {
@@ -118,6 +124,7 @@ std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragm
     v.colorOcclusion = std::max(v.colorOcclusion, encodeColorOcclusion(rgb8));
     v.fragmentCount += 1;
     glm::ivec3 k = snormComponents(f.normal);
+    v.area += fragmentAreaUnits(k, sharing[voxelIndex(f.position)], areaUnits);
     uint32_t dotField = 0;
     int channel = tetraChannel(k, &dotField);
     v.normals[channel] = std::max(v.normals[channel], encodeNormalMask(k, dotField));

@@ -60,10 +60,12 @@ std::array<SH, 3> gatherFrom(const ShField& source, const std::vector<gpu::LpvVo
                              int i, const PropagationSettings& s, int step);
 
 // Bins voxel fragments (voxel coordinates packed 10:10:10, albedo RGBA8, normal snorm8) of a
-// fragment voxel space (origin, voxel size) into a grid at 'gridOrigin' with 'cellSize'.
+// fragment voxel space (origin, voxel size, voxels per axis) into a grid at 'gridOrigin' with
+// 'cellSize'; the area word counts each fragment's share of its voxel in 'areaUnits' per voxel^2.
 struct FragmentRecord { uint32_t position, albedo, normal, emission; };
 std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin,
-                                        float fragVoxel, glm::vec3 gridOrigin, float cellSize, int res);
+                                        float fragVoxel, int fragRes, glm::vec3 gridOrigin, float cellSize,
+                                        int res, float areaUnits);
 
 // Trilinear SH at a point given in cell units (cell centres at i + 0.5), clamped to the edge texels.
 std::array<SH, 3> sampleTrilinear(const ShField& f, glm::vec3 cellPos);

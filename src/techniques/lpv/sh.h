@@ -95,6 +95,16 @@ inline int tetraChannel(glm::ivec3 k, uint32_t* dotField = nullptr) {
   if (dotField) *dotField = uint32_t(std::fmin(std::fmax(bestDot, 0.0f), 127.0f) * kDotFieldScale);
   return best;
 }
+// The area one voxel fragment stands for, in 'units' per fragment voxel^2 (the twin of
+// shaders/lpv/encoding.glsl's fragmentAreaUnits: its voxel holds 'count' fragments, and a voxel
+// holds voxel^2 / |n|_1 of a conservatively voxelized plane).
+inline uint32_t fragmentAreaUnits(glm::ivec3 k, uint32_t count, float units) {
+  float l1 = float(std::abs(k.x) + std::abs(k.y) + std::abs(k.z));
+  float l2 = std::sqrt(float(k.x * k.x + k.y * k.y + k.z * k.z));
+  float perVoxel = l1 > 0.0f ? (units * l2) / l1 : units;
+  float w = perVoxel / float(count > 0 ? count : 1u);
+  return uint32_t(w + 0.5f);
+}
 // Normal mask of Listing 4.28: |x|*255 at bits 18-25 (sign 26), |y| at 9-16 (sign 17), |z| at
 // 0-7 (sign 8), dot field at 27-31. Magnitudes round(|k| * 255 / 127) in integers.
 inline uint32_t encodeNormalMask(glm::ivec3 k, uint32_t dotField) {

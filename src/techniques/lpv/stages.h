@@ -16,6 +16,8 @@ constexpr int kCascades = 2;
 // lpv_cascades.cpp).
 inline constexpr Semantic kShL1{"sh-l1"};              // RGBA32F volume: L1 SH (c00, c1-1, c10, c11) per cell
 inline constexpr Semantic kLpvEnergy{"lpv-energy"};    // LpvEnergy records, step * 2 + cascade
+inline constexpr Semantic kLpvOcclusion{"lpv-occlusion"};  // LpvOcclusion records, one per cell
+inline constexpr Semantic kLpvProbe{"lpv-probe"};          // one LpvProbe record: the picked cell
 inline constexpr Semantic kLpvCascades{"lpv-cascades"};  // LpvBox records: cascade boxes and blend shell
 extern const char* const kCascadeNames[kCascades];  // "fine", "coarse"
 extern const char* const kChannelNames[3];          // "red", "green", "blue"
@@ -24,6 +26,10 @@ extern const char* const kChannelNames[3];          // "red", "green", "blue"
 std::string shVolume(const char* prefix, int cascade, int channel);
 
 // Where the cascades sit for this scene, camera and parameters (snapped to their cell sizes).
+// Fixed-point units per fragment voxel^2 of a cell's area word (LpvVoxel::area): 2^16, fewer
+// where a cell spans so many voxels that its sum could pass 2^31 (each voxel adds at most about one
+// voxel^2 of surface).
+float areaUnits(float cellSize, float voxelSize);
 std::array<gpu::LpvGrid, kCascades> placeGrids(const voxlab::Scene& scene, const ViewState& view, const ParamSet& params);
 
 // Refuses a grid that does not fit before anything is allocated (one line naming the limit).
