@@ -38,6 +38,16 @@ std::vector<ParamDesc> layoutParams() {
   };
 }
 
+// What the cells hold (as vct-grid's and svo's inject.mode): the scene's direct light, or one
+// uniform radiance in every occupied cell (the furnace and dense-grid equivalence tests).
+std::vector<ParamDesc> injectParams() {
+  return {
+      ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
+                        "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"),
+      ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0, "radiance every voxel gets in uniform mode", "W/(m^2 sr)"),
+  };
+}
+
 std::vector<ParamDesc> pathParams() {
   return {
       ParamDesc::real("clipmap.path-step.x", 0.0, -1e6, 1e6, "x of the camera's displacement per path move", "m"),
@@ -189,7 +199,8 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
   GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
   setClipUniforms(vox, layout, origins);
-  setUniform(vox, "u_mode", 0);
+  setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
+  setUniform(vox, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
   std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
   for (int k = 0; k < layout.levels; ++k) {
     cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
@@ -390,6 +401,7 @@ void AnchorStage::execute(StageContext& ctx) {
 void UpdateStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  for (const auto& p : injectParams()) b.param(p);
   b.readView();
   b.read("clip-levels");
   b.read("shadow-map");
@@ -432,7 +444,7 @@ void UpdateStage::execute(StageContext& ctx) {
   Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
 
-  // What the held texels were built from: the same atlas, layout, scene and light.
+  // What the held texels were built from: the same atlas, layout, scene, injection and light.
   std::vector<uint8_t> key;
   appendBytes(key, layout.n);
   appendBytes(key, layout.levels);
@@ -442,6 +454,8 @@ void UpdateStage::execute(StageContext& ctx) {
   appendBytes(key, accum.id());
   appendBytes(key, &ctx.scene);
   appendBytes(key, ctx.scene.triangleCount());
+  appendBytes(key, ctx.params.getInt("inject.mode"));
+  appendBytes(key, ctx.params.getFloat("inject.uniform-radiance"));
   auto light = ctx.board.buffer("light").download();
   key.insert(key.end(), light.begin(), light.end());
 
@@ -639,6 +653,7 @@ static TextureDesc compareDesc(const ParamSet& p) {
 void CoveredCompareStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  for (const auto& p : injectParams()) b.param(p);
   b.param(ParamDesc::choice("clipmap.compare-covered", {"off", "on"}, 0,
                             "on: voxelize the covered blocks directly as well, to compare with their filtered content"));
   b.readView();

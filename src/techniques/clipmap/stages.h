@@ -43,6 +43,7 @@ struct PathState {
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera);
 std::vector<ParamDesc> layoutParams();
 std::vector<ParamDesc> pathParams();
+std::vector<ParamDesc> injectParams();  // inject.mode, inject.uniform-radiance (as vct-grid's)
 
 // The scene's triangles in runs of at most 2048 of one draw range, with their world bounds: a
 // move dispatches only the runs that can reach a box it revoxelizes.
