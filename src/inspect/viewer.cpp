@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <utility>
@@ -436,7 +437,22 @@ VisualiserContext Viewer::visualiserContext() {
     }
     return false;
   };
-  return VisualiserContext{cap, capStats, capRecords, view, contextVolume};
+  auto contextOutput = [this](const char* semantic, CapturedOutput& out) {
+    const Technique& t = cursor->technique();
+    for (int i = selected; i >= 0; --i) {
+      if (cursor->record(i).state == StageState::NotRun) continue;
+      for (const auto& o : t.decl(i).outputs)
+        if (std::strcmp(o.semantic.name(), semantic) == 0) {
+          try {
+            out = captureOutput(cursor->board(), o);
+            return true;
+          } catch (const Error&) {
+          }
+        }
+    }
+    return false;
+  };
+  return VisualiserContext{cap, capStats, capRecords, view, contextVolume, contextOutput};
 }
 
 void Viewer::handleKeys() {

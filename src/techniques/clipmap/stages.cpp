@@ -407,7 +407,7 @@ void UpdateStage::declare(StageBuilder& b) const {
   b.read("shadow-map");
   b.read("light");
   b.write("clip-accumulators");
-  b.output("clip-atlas", OutputKind::Volume3D, Semantic::Color,
+  b.output("clip-atlas", OutputKind::Volume3D, kClipAtlas,
            "every level's physical texture: blocks of (N+2)^3 texels with one guard texel per side, faces along x "
            "(isotropic, then +x -x +y -y +z -z), levels along y; cell c at texel c & (N-1)");
   BufferLayout counters;

@@ -11,6 +11,11 @@ namespace voxlab::clipmap {
 // The records of "clip-levels" (one per level, after the last move), for its visualiser
 // (src/inspect/visualisers/clip_levels.cpp).
 inline constexpr Semantic kClipLevels{"clip-levels"};
+// The atlas of every level's physical texture, shown by its own view
+// (src/inspect/visualisers/clip_atlas.cpp: a level's physical texture with the logical origin and
+// the physical seam, a hover readout texel -> world cell, unrolled into logical order on request);
+// its texels look like the Color semantic's.
+inline constexpr Semantic kClipAtlas{"clip-atlas"};
 struct LevelRecord {
   glm::vec4 lo;  // world min corner, w = level
   glm::vec4 hi;  // world max corner, w = voxel size
