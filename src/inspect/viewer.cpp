@@ -437,19 +437,21 @@ VisualiserContext Viewer::visualiserContext() {
     }
     return false;
   };
-  auto contextOutput = [this](const char* semantic, CapturedOutput& out) {
+  // An output by semantic (or name) from the selected stage or the latest earlier one that has run.
+  auto contextOutput = [this](const char* what, CapturedOutput& out) {
     const Technique& t = cursor->technique();
-    for (int i = selected; i >= 0; --i) {
-      if (cursor->record(i).state == StageState::NotRun) continue;
-      for (const auto& o : t.decl(i).outputs)
-        if (std::strcmp(o.semantic.name(), semantic) == 0) {
-          try {
-            out = captureOutput(cursor->board(), o);
-            return true;
-          } catch (const Error&) {
+    for (bool byName : {false, true})
+      for (int i = selected; i >= 0; --i) {
+        if (cursor->record(i).state == StageState::NotRun) continue;
+        for (const auto& o : t.decl(i).outputs)
+          if (byName ? o.name == what : std::strcmp(o.semantic.name(), what) == 0) {
+            try {
+              out = captureOutput(cursor->board(), o);
+              return true;
+            } catch (const Error&) {
+            }
           }
-        }
-    }
+      }
     return false;
   };
   return VisualiserContext{cap, capStats, capRecords, view, contextVolume, contextOutput};

@@ -262,27 +262,65 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
 
 // --- Anchor ---------------------------------------------------------------------------------------
 
-
-// One box of cells the last move voxelizes directly (exposed slabs, cells that left the covered
-// block), with where it lands in the physical texture.
-struct SlabRecord {
-  glm::vec4 lo;  // world min corner, w = level
-  glm::vec4 hi;  // world max corner, w = cells in the box
-  int32_t cellLo[4];  // w: 1 = inside the level's old region (coverage change), 0 = newly exposed
-  int32_t cellHi[4];  // w: unused
-  int32_t physLo[4];  // the physical texel of cellLo; w = physical boxes after wrapping (1..8)
-};
-static_assert(sizeof(SlabRecord) == 80, "SlabRecord layout");
 // At most 3 exposed slabs per level, each cut into at most 6 boxes by the covered block, plus at
 // most 6 boxes of cells that left the covered block.
 static constexpr size_t kMaxSlabsPerLevel = 24;
 static size_t slabBytes(int levels) { return sizeof(SlabRecord) * kMaxSlabsPerLevel * size_t(levels); }
 
-struct PlanRecord {
-  uint32_t move, level, exposed, direct, coverageChanged, refiltered;
-  int32_t delta[3];
-};
-static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
+// The records of the boxes a move voxelizes directly (its plans from origins 'before', empty
+// for a full build), with where each lands in the physical texture.
+static std::vector<SlabRecord> slabRecords(const Layout& layout, const std::vector<Cell>& before,
+                                           const std::vector<LevelPlan>& plans) {
+  std::vector<SlabRecord> slabs;
+  for (int k = 0; k < layout.levels; ++k) {
+    const double s = layout.voxelSize(k);
+    const Box previous = before.empty() ? Box{} : region(before[size_t(k)], layout.n);
+    for (const Box& box : plans[size_t(k)].direct) {
+      SlabRecord r{};
+      r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
+      r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
+      const glm::ivec3 t = toroidal(box.lo, layout.n);
+      int pieces = 1;
+      for (int i = 0; i < 3; ++i) {
+        r.cellLo[i] = int32_t(box.lo[i]);
+        r.cellHi[i] = int32_t(box.hi[i]);
+        r.physLo[i] = t[i];
+        if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
+      }
+      r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
+      r.physLo[3] = pieces;
+      slabs.push_back(r);
+    }
+  }
+  return slabs;
+}
+
+static PlanRecord planRecord(uint32_t move, int k, const LevelPlan& p) {
+  return {move, uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells), uint32_t(p.coverageChanged),
+          uint32_t(p.refilteredCells), {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}};
+}
+
+static BufferLayout planLayout() {
+  BufferLayout plan;
+  plan.stride = sizeof(PlanRecord);
+  plan.fields = {{"move", FieldType::U32, 0},         {"level", FieldType::U32, 4},   {"exposed", FieldType::U32, 8},
+                 {"direct", FieldType::U32, 12},      {"coverage-changed", FieldType::U32, 16},
+                 {"refiltered", FieldType::U32, 20},  {"delta.x", FieldType::I32, 24}, {"delta.y", FieldType::I32, 28},
+                 {"delta.z", FieldType::I32, 32}};
+  return plan;
+}
+
+static BufferLayout slabLayout(const std::string& countResource) {
+  BufferLayout slabs;
+  slabs.stride = sizeof(SlabRecord);
+  slabs.fields = {{"min", FieldType::Vec4, 0, FieldRole::Position}, {"max", FieldType::Vec4, 16},
+                  {"cell.x", FieldType::I32, 32},  {"cell.y", FieldType::I32, 36},  {"cell.z", FieldType::I32, 40},
+                  {"was-inside", FieldType::I32, 44}, {"end.x", FieldType::I32, 48}, {"end.y", FieldType::I32, 52},
+                  {"end.z", FieldType::I32, 56},    {"texel.x", FieldType::I32, 64}, {"texel.y", FieldType::I32, 68},
+                  {"texel.z", FieldType::I32, 72},  {"physical-boxes", FieldType::I32, 76}};
+  slabs.countResource = countResource;
+  return slabs;
+}
 
 void AnchorStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
@@ -298,29 +336,15 @@ void AnchorStage::declare(StageBuilder& b) const {
            "one record per level after the last move: world box (min, level; max, voxel size), origin o_k in cells, "
            "moves since its last update, toroidal offset T_k = o_k mod N")
       .layout = levels;
-  BufferLayout plan;
-  plan.stride = sizeof(PlanRecord);
-  plan.fields = {{"move", FieldType::U32, 0},         {"level", FieldType::U32, 4},   {"exposed", FieldType::U32, 8},
-                 {"direct", FieldType::U32, 12},      {"coverage-changed", FieldType::U32, 16},
-                 {"refiltered", FieldType::U32, 20},  {"delta.x", FieldType::I32, 24}, {"delta.y", FieldType::I32, 28},
-                 {"delta.z", FieldType::I32, 32}};
   b.output("clip-plan", OutputKind::Buffer, Semantic::Scalar,
            "per move and level, the planner's cell counts: exposed (N^3 - prod(N - |d_i|)), voxelized directly, "
            "changed coverage, refiltered; and the move d in cells")
-      .layout = plan;
-  BufferLayout slabs;
-  slabs.stride = sizeof(SlabRecord);
-  slabs.fields = {{"min", FieldType::Vec4, 0, FieldRole::Position}, {"max", FieldType::Vec4, 16},
-                  {"cell.x", FieldType::I32, 32},  {"cell.y", FieldType::I32, 36},  {"cell.z", FieldType::I32, 40},
-                  {"was-inside", FieldType::I32, 44}, {"end.x", FieldType::I32, 48}, {"end.y", FieldType::I32, 52},
-                  {"end.z", FieldType::I32, 56},    {"texel.x", FieldType::I32, 64}, {"texel.y", FieldType::I32, 68},
-                  {"texel.z", FieldType::I32, 72},  {"physical-boxes", FieldType::I32, 76}};
-  slabs.countResource = "clip-slabs.count";
+      .layout = planLayout();
   b.output("clip-slabs", OutputKind::Buffer, Semantic::Points,
            "the boxes of cells the last move voxelizes directly (disjoint exposed slabs; cells that left the covered "
            "block): world box (min, level; max, cells), cell range, the physical texel of its min corner and how "
            "many physical boxes it splits into where it wraps")
-      .layout = slabs;
+      .layout = slabLayout("clip-slabs.count");
   b.write("clip-slabs.count");
   b.buffer("clip-slabs", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.buffer("clip-levels", [](const ParamSet& p, const ViewState&) { return sizeof(LevelRecord) * size_t(p.getInt("clipmap.levels")); });
@@ -349,38 +373,11 @@ void AnchorStage::execute(StageContext& ctx) {
   std::vector<PlanRecord> plan;
   for (size_t j = 0; j < path.size(); ++j) {
     auto plans = planMove(layout, j == 0 ? std::vector<Cell>{} : path[j - 1].origins, path[j].origins);
-    for (int k = 0; k < layout.levels; ++k) {
-      const LevelPlan& p = plans[size_t(k)];
-      plan.push_back({uint32_t(j), uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells),
-                      uint32_t(p.coverageChanged), uint32_t(p.refilteredCells),
-                      {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}});
-    }
+    for (int k = 0; k < layout.levels; ++k) plan.push_back(planRecord(uint32_t(j), k, plans[size_t(k)]));
   }
   // The slabs of the last move (the full build's: each level's region outside its covered block).
-  std::vector<SlabRecord> slabs;
-  {
-    const auto plans = planMove(layout, path.size() > 1 ? path[path.size() - 2].origins : std::vector<Cell>{}, last.origins);
-    for (int k = 0; k < layout.levels; ++k) {
-      const double s = layout.voxelSize(k);
-      const Box previous = path.size() > 1 ? region(path[path.size() - 2].origins[size_t(k)], layout.n) : Box{};
-      for (const Box& box : plans[size_t(k)].direct) {
-        SlabRecord r{};
-        r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
-        r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
-        const glm::ivec3 t = toroidal(box.lo, layout.n);
-        int pieces = 1;
-        for (int i = 0; i < 3; ++i) {
-          r.cellLo[i] = int32_t(box.lo[i]);
-          r.cellHi[i] = int32_t(box.hi[i]);
-          r.physLo[i] = t[i];
-          if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
-        }
-        r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
-        r.physLo[3] = pieces;
-        slabs.push_back(r);
-      }
-    }
-  }
+  const std::vector<Cell> previous = path.size() > 1 ? path[path.size() - 2].origins : std::vector<Cell>{};
+  const std::vector<SlabRecord> slabs = slabRecords(layout, previous, planMove(layout, previous, last.origins));
   const uint32_t slabCount = uint32_t(std::min(slabs.size(), kMaxSlabsPerLevel * size_t(layout.levels)));
   Buffer& slabBuffer = ctx.board.ensureBuffer("clip-slabs", slabBytes(layout.levels));
   if (slabCount > 0) slabBuffer.upload(slabs.data(), sizeof(SlabRecord) * slabCount);
@@ -417,10 +414,22 @@ void UpdateStage::declare(StageBuilder& b) const {
                      {"resolved", FieldType::U32, 8},
                      {"refiltered", FieldType::U32, 12},
                      {"guards", FieldType::U32, 16}};
-  b.output("clip-counters", OutputKind::Buffer, Semantic::Scalar,
+  b.output("clip-counters", OutputKind::Buffer, kClipCounters,
            "per level, what the last move's shaders wrote, counted by atomics: accumulators cleared, triangle/cell "
            "pairs injected, texels resolved, texels refiltered, guard texels")
       .layout = counters;
+  b.output("clip-move", OutputKind::Buffer, Semantic::Scalar,
+           "per level, the plan of the move this run made (from the origins held before: after a viewer camera "
+           "move too): exposed, voxelized directly, changed coverage, refiltered cells and the move d; d = 0 and "
+           "all cells exposed for a full build")
+      .layout = planLayout();
+  b.output("clip-move-boxes", OutputKind::Buffer, Semantic::Points,
+           "the boxes of cells this run's move voxelized directly, as clip-slabs (the viewer's clip-counters view "
+           "draws them)")
+      .layout = slabLayout("clip-move-boxes.count");
+  b.write("clip-move-boxes.count");
+  b.buffer("clip-move", [](const ParamSet& p, const ViewState&) { return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")); });
+  b.buffer("clip-move-boxes", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
   b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
   b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
@@ -545,6 +554,16 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
 
   held_ = Held{after, key};
+  {
+    std::vector<PlanRecord> move;
+    for (int k = 0; k < layout.levels; ++k) move.push_back(planRecord(uint32_t(ctx.iteration), k, plans[size_t(k)]));
+    ctx.board.ensureBuffer("clip-move", sizeof(PlanRecord) * move.size()).upload(move.data(), sizeof(PlanRecord) * move.size());
+    const std::vector<SlabRecord> slabs = slabRecords(layout, before, plans);
+    const uint32_t count = uint32_t(std::min(slabs.size(), kMaxSlabsPerLevel * size_t(layout.levels)));
+    Buffer& boxes = ctx.board.ensureBuffer("clip-move-boxes", slabBytes(layout.levels));
+    if (count > 0) boxes.upload(slabs.data(), sizeof(SlabRecord) * count);
+    ctx.board.ensureBuffer("clip-move-boxes.count", 4).upload(&count, 4);
+  }
 
   std::vector<uint32_t> counted(zero.size());
   auto bytes = counters.download(counted.size() * 4);

@@ -26,6 +26,31 @@ struct LevelRecord {
 };
 static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
 
+// One box of cells the last move voxelizes directly (exposed slabs, cells that left the covered
+// block), with where it lands in the physical texture.
+struct SlabRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = cells in the box
+  int32_t cellLo[4];  // w: 1 = inside the level's old region (coverage change), 0 = newly exposed
+  int32_t cellHi[4];  // w: unused
+  int32_t physLo[4];  // the physical texel of cellLo; w = physical boxes after wrapping (1..8)
+};
+static_assert(sizeof(SlabRecord) == 80, "SlabRecord layout");
+// Per move and level, the planner's counts (clip-plan).
+struct PlanRecord {
+  uint32_t move, level, exposed, direct, coverageChanged, refiltered;
+  int32_t delta[3];
+};
+static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
+
+// The last move's counters (clip-counters, one record per level), for its view
+// (src/inspect/visualisers/clip_move.cpp): what the shaders wrote, counted by atomics.
+inline constexpr Semantic kClipCounters{"clip-counters"};
+struct CounterRecord {
+  uint32_t cleared, pairs, resolved, refiltered, guards;
+};
+static_assert(sizeof(CounterRecord) == 20, "CounterRecord layout");
+
 // The layout the parameters ask for: clipmap.levels, clipmap.resolution and clipmap.voxel-size
 // ("scene": the scene's largest extent E times the power of two that lets the coarsest level span
 // at least 8 E, so a scene in other units gets the same lattice relative to its geometry; the
