@@ -9,6 +9,10 @@
 #include <cstring>
 #include <string>
 
+#include <algorithm>
+#include <cmath>
+
+#include "common/shared.h"
 #include "inspect/visualiser.h"
 #include "inspect/visualisers/clip_atlas.h"
 #include "techniques/clipmap/clipmap_math.h"
@@ -159,6 +163,86 @@ TEST(ClipmapViews, TheAtlasViewFindsTheLevelRecords) {
             std::string::npos)
       << v.describeElement(withLevels, e);
   EXPECT_NE(v.image2D(plain).width, 512) << "without records: the volume's slice view";
+}
+
+
+// The level a cone sample reads (info.z of its record) is max(lod, minimum level) with the minimum
+// level k_min(p), the finest level whose footprint region holds p, raised linearly to k_min + 1
+// within clipmap.transition-band cells of that region's border: recomputed here from the records'
+// positions and diameters and the clip-levels records. The band only ever raises the level, and
+// changes samples near a border (narrow cones, whose width asks for level 0, cross level borders).
+std::vector<gpu::ConeSample> coneSamples(const std::string& band, std::vector<LevelRecord>& levels) {
+  RunRequest r = request(0);
+  r.until = "cone-trace";
+  r.sets.push_back("cone.resolution=full");
+  r.sets.push_back("clipmap.transition-band=" + band);
+  // Narrow cones, so that their level is set by the region they are in, not by their width.
+  r.sets.push_back("cone.aperture=10");
+  r.sets.push_back("specular.roughness=0");
+  auto& s = session(r);
+  levels = levelRecords(capture(s, "anchor", "clip-levels"));
+  const CapturedOutput c = capture(s, "cone-trace", "cone-samples");
+  std::vector<gpu::ConeSample> v(std::min<size_t>(c.recordCount, c.records.size() / sizeof(gpu::ConeSample)));
+  if (!v.empty()) std::memcpy(v.data(), c.records.data(), v.size() * sizeof(gpu::ConeSample));
+  return v;
+}
+
+double expectedLevel(const gpu::ConeSample& sample, const std::vector<LevelRecord>& levels, double band, bool& nearTie) {
+  const int n = levels[0].n, last = int(levels.size()) - 1;
+  const double s0 = levels[0].hi.w;
+  double minimum = -1.0;
+  nearTie = false;
+  for (int k = 0; k <= last && minimum < 0.0; ++k) {
+    const glm::dvec3 u = (glm::dvec3(glm::vec3(sample.position)) - glm::dvec3(glm::vec3(levels[size_t(k)].lo))) /
+                         double(levels[size_t(k)].hi.w);
+    const glm::dvec3 inside = glm::min(u - 0.5, double(n) - 0.5 - u);
+    const double margin = std::min({inside.x, inside.y, inside.z});
+    nearTie = nearTie || std::abs(margin) < 1e-3 || (band > 0.0 && std::abs(margin - band) < 1e-3);
+    if (margin < 0.0) continue;
+    minimum = k == last || band <= 0.0 ? double(k) : double(k) + std::clamp(1.0 - margin / band, 0.0, 1.0);
+  }
+  const double lod = std::max(std::log2(double(sample.position.w) / s0) - 1.0, 0.0);  // cone.lod-bias -1
+  return std::min(std::max(lod, minimum), double(last + 2));                           // 16^3: 2 mips
+}
+
+TEST(ClipmapCones, TransitionBandRampsTheLevelAcrossBorders) {
+  std::vector<LevelRecord> levels;
+  const auto plain = coneSamples("0", levels);
+  const auto banded = coneSamples("4", levels);
+  ASSERT_GT(plain.size(), 20u);
+  size_t checked = 0, raised = 0;
+  double worst = 0.0;
+  for (const auto* set : {&plain, &banded}) {
+    const double band = set == &plain ? 0.0 : 4.0;
+    for (const auto& sample : *set) {
+      bool tie = false;
+      const double want = expectedLevel(sample, levels, band, tie);
+      if (tie) continue;
+      ++checked;
+      worst = std::max(worst, std::abs(double(sample.info.z) - want));
+      EXPECT_NEAR(sample.info.z, want, 1e-3) << "band " << band << " sample at t = " << sample.info.y;
+    }
+  }
+  // Same cones, same sample positions (t depends only on the diameters): compare level by level.
+  for (size_t i = 0; i < std::min(plain.size(), banded.size()); ++i) {
+    if (plain[i].info.x != banded[i].info.x || plain[i].info.y != banded[i].info.y) break;
+    EXPECT_GE(banded[i].info.z, plain[i].info.z - 1e-5f);
+    raised += banded[i].info.z > plain[i].info.z + 0.01f;
+  }
+  // The largest change of level between two samples of one cone: the band spreads the border's
+  // step of a whole level over the samples within 4 cells of it.
+  auto largestStep = [](const std::vector<gpu::ConeSample>& v) {
+    float step = 0.0f;
+    for (size_t i = 1; i < v.size(); ++i)
+      if (v[i].info.x == v[i - 1].info.x) step = std::max(step, std::abs(v[i].info.z - v[i - 1].info.z));
+    return step;
+  };
+  std::printf("transition band: %zu samples checked (worst %.2g), %zu raised by the band of 4 cells; largest level "
+              "step along a cone %.3f without, %.3f with\n",
+              checked, worst, raised, double(largestStep(plain)), double(largestStep(banded)));
+  EXPECT_LT(largestStep(banded), largestStep(plain));
+  EXPECT_GT(checked, 40u);
+  EXPECT_GT(raised, 0u) << "the probed cones must cross a level border for the test to mean anything";
 }
 
 }  // namespace

@@ -777,9 +777,20 @@ static TextureDesc tracedDesc(const ViewState& view, const ParamSet& params, GLe
   return d;
 }
 
+// The transition band: within this many cells of the border of the finest level that holds a
+// sample, the level read ramps up to the next level, so a sample crossing the border changes
+// level continuously instead of jumping (0: off, the finest level's whole region is used).
+static ParamDesc levelBandParam() {
+  return ParamDesc::real("clipmap.transition-band", 0.0, 0.0, 8.0,
+                         "within this many cells of the border of the finest level holding a sample, the level read "
+                         "ramps linearly to the next level (0 = off)",
+                         "cells");
+}
+
 void ConeTraceStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  b.param(levelBandParam());
   b.param(traceResolutionParam());
   b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
   b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
@@ -867,6 +878,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
   setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
   setUniform(program, "u_faces", facesOf(ctx.params));
+  setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
   setUniform(program, "u_mipLevels", mipCount(layout.n));
   glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
   setUniform(program, "u_coneCount", int(cones.size()));
