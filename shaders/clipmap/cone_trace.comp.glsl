@@ -58,6 +58,19 @@ int finestLevel(vec3 p) {
   return -1;
 }
 
+uniform float u_levelBand;  // cells: the transition band inside the finest level's border (0 = off)
+
+// The lowest level a sample at p may read: k_min(p), raised linearly towards k_min + 1 within
+// u_levelBand cells of the border of k_min's footprint region (the next level holds p: levels nest
+// with a margin of N/4 - 1 coarse cells), so the level changes continuously across the border.
+float minimumLevel(vec3 p, int kmin) {
+  if (u_levelBand <= 0.0 || kmin >= u_clipLevels - 1) return float(kmin);
+  vec3 u = (p - u_levelMin[kmin]) / levelVoxel(kmin);
+  vec3 inside = min(u - 0.5, float(u_clipN) - 0.5 - u);
+  float margin = min(inside.x, min(inside.y, inside.z));
+  return float(kmin) + clamp(1.0 - margin / u_levelBand, 0.0, 1.0);
+}
+
 vec4 fetchFace(int face, int k, vec3 phys) {
   float b = float(u_clipN + 2);
   vec3 texel = vec3(float(face) * b + 1.0, float(k) * b + 1.0, 1.0) + phys;
@@ -101,7 +114,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
     vec3 p = origin + dir * t;
     int kmin = finestLevel(p);
     if (kmin < 0) { left = true; break; }  // outside the coarsest region: the cone ends
-    float level = min(max(max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0), float(kmin)), top);
+    float level = min(max(max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0), minimumLevel(p, kmin)), top);
     if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
     vec4 s = sampleAt(p, level, dir);
     float stepLength = diameter * u_stepScale;

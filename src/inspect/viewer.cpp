@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <utility>
@@ -436,7 +437,24 @@ VisualiserContext Viewer::visualiserContext() {
     }
     return false;
   };
-  return VisualiserContext{cap, capStats, capRecords, view, contextVolume};
+  // An output by semantic (or name) from the selected stage or the latest earlier one that has run.
+  auto contextOutput = [this](const char* what, CapturedOutput& out) {
+    const Technique& t = cursor->technique();
+    for (bool byName : {false, true})
+      for (int i = selected; i >= 0; --i) {
+        if (cursor->record(i).state == StageState::NotRun) continue;
+        for (const auto& o : t.decl(i).outputs)
+          if (byName ? o.name == what : std::strcmp(o.semantic.name(), what) == 0) {
+            try {
+              out = captureOutput(cursor->board(), o);
+              return true;
+            } catch (const Error&) {
+            }
+          }
+      }
+    return false;
+  };
+  return VisualiserContext{cap, capStats, capRecords, view, contextVolume, contextOutput};
 }
 
 void Viewer::handleKeys() {

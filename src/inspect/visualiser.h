@@ -40,6 +40,10 @@ struct VisualiserContext {
   // The latest volume output (of a stage before this one that has run), for data placed in a
   // volume (buffer positions, cone samples); false when there is none. 'name' is "stage/output".
   std::function<bool(CapturedOutput& volume, std::string& name)> contextVolume;
+  // The output whose semantic (or, failing that, name) is 'what', of this stage or the latest one
+  // before it that has run, for a view that needs another output's data (the clip atlas reads the
+  // clip-levels records to know each level's origin); false when there is none (or unset).
+  std::function<bool(const char* what, CapturedOutput& out)> contextOutput;
 };
 
 // 3D content a visualiser built, in view units (docs in inspect/view3d.h).

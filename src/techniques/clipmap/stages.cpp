@@ -39,6 +39,16 @@ std::vector<ParamDesc> layoutParams() {
   };
 }
 
+// What the cells hold (as vct-grid's and svo's inject.mode): the scene's direct light, or one
+// uniform radiance in every occupied cell (the furnace and dense-grid equivalence tests).
+std::vector<ParamDesc> injectParams() {
+  return {
+      ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
+                        "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"),
+      ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0, "radiance every voxel gets in uniform mode", "W/(m^2 sr)"),
+  };
+}
+
 std::vector<ParamDesc> pathParams() {
   return {
       ParamDesc::real("clipmap.path-step.x", 0.0, -1e6, 1e6, "x of the camera's displacement per path move", "m"),
@@ -190,7 +200,8 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
   GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
   setClipUniforms(vox, layout, origins);
-  setUniform(vox, "u_mode", 0);
+  setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
+  setUniform(vox, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
   std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
   for (int k = 0; k < layout.levels; ++k) {
     cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
@@ -252,27 +263,65 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
 
 // --- Anchor ---------------------------------------------------------------------------------------
 
-
-// One box of cells the last move voxelizes directly (exposed slabs, cells that left the covered
-// block), with where it lands in the physical texture.
-struct SlabRecord {
-  glm::vec4 lo;  // world min corner, w = level
-  glm::vec4 hi;  // world max corner, w = cells in the box
-  int32_t cellLo[4];  // w: 1 = inside the level's old region (coverage change), 0 = newly exposed
-  int32_t cellHi[4];  // w: unused
-  int32_t physLo[4];  // the physical texel of cellLo; w = physical boxes after wrapping (1..8)
-};
-static_assert(sizeof(SlabRecord) == 80, "SlabRecord layout");
 // At most 3 exposed slabs per level, each cut into at most 6 boxes by the covered block, plus at
 // most 6 boxes of cells that left the covered block.
 static constexpr size_t kMaxSlabsPerLevel = 24;
 static size_t slabBytes(int levels) { return sizeof(SlabRecord) * kMaxSlabsPerLevel * size_t(levels); }
 
-struct PlanRecord {
-  uint32_t move, level, exposed, direct, coverageChanged, refiltered;
-  int32_t delta[3];
-};
-static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
+// The records of the boxes a move voxelizes directly (its plans from origins 'before', empty
+// for a full build), with where each lands in the physical texture.
+static std::vector<SlabRecord> slabRecords(const Layout& layout, const std::vector<Cell>& before,
+                                           const std::vector<LevelPlan>& plans) {
+  std::vector<SlabRecord> slabs;
+  for (int k = 0; k < layout.levels; ++k) {
+    const double s = layout.voxelSize(k);
+    const Box previous = before.empty() ? Box{} : region(before[size_t(k)], layout.n);
+    for (const Box& box : plans[size_t(k)].direct) {
+      SlabRecord r{};
+      r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
+      r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
+      const glm::ivec3 t = toroidal(box.lo, layout.n);
+      int pieces = 1;
+      for (int i = 0; i < 3; ++i) {
+        r.cellLo[i] = int32_t(box.lo[i]);
+        r.cellHi[i] = int32_t(box.hi[i]);
+        r.physLo[i] = t[i];
+        if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
+      }
+      r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
+      r.physLo[3] = pieces;
+      slabs.push_back(r);
+    }
+  }
+  return slabs;
+}
+
+static PlanRecord planRecord(uint32_t move, int k, const LevelPlan& p) {
+  return {move, uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells), uint32_t(p.coverageChanged),
+          uint32_t(p.refilteredCells), {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}};
+}
+
+static BufferLayout planLayout() {
+  BufferLayout plan;
+  plan.stride = sizeof(PlanRecord);
+  plan.fields = {{"move", FieldType::U32, 0},         {"level", FieldType::U32, 4},   {"exposed", FieldType::U32, 8},
+                 {"direct", FieldType::U32, 12},      {"coverage-changed", FieldType::U32, 16},
+                 {"refiltered", FieldType::U32, 20},  {"delta.x", FieldType::I32, 24}, {"delta.y", FieldType::I32, 28},
+                 {"delta.z", FieldType::I32, 32}};
+  return plan;
+}
+
+static BufferLayout slabLayout(const std::string& countResource) {
+  BufferLayout slabs;
+  slabs.stride = sizeof(SlabRecord);
+  slabs.fields = {{"min", FieldType::Vec4, 0, FieldRole::Position}, {"max", FieldType::Vec4, 16},
+                  {"cell.x", FieldType::I32, 32},  {"cell.y", FieldType::I32, 36},  {"cell.z", FieldType::I32, 40},
+                  {"was-inside", FieldType::I32, 44}, {"end.x", FieldType::I32, 48}, {"end.y", FieldType::I32, 52},
+                  {"end.z", FieldType::I32, 56},    {"texel.x", FieldType::I32, 64}, {"texel.y", FieldType::I32, 68},
+                  {"texel.z", FieldType::I32, 72},  {"physical-boxes", FieldType::I32, 76}};
+  slabs.countResource = countResource;
+  return slabs;
+}
 
 void AnchorStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
@@ -288,29 +337,15 @@ void AnchorStage::declare(StageBuilder& b) const {
            "one record per level after the last move: world box (min, level; max, voxel size), origin o_k in cells, "
            "moves since its last update, toroidal offset T_k = o_k mod N")
       .layout = levels;
-  BufferLayout plan;
-  plan.stride = sizeof(PlanRecord);
-  plan.fields = {{"move", FieldType::U32, 0},         {"level", FieldType::U32, 4},   {"exposed", FieldType::U32, 8},
-                 {"direct", FieldType::U32, 12},      {"coverage-changed", FieldType::U32, 16},
-                 {"refiltered", FieldType::U32, 20},  {"delta.x", FieldType::I32, 24}, {"delta.y", FieldType::I32, 28},
-                 {"delta.z", FieldType::I32, 32}};
   b.output("clip-plan", OutputKind::Buffer, Semantic::Scalar,
            "per move and level, the planner's cell counts: exposed (N^3 - prod(N - |d_i|)), voxelized directly, "
            "changed coverage, refiltered; and the move d in cells")
-      .layout = plan;
-  BufferLayout slabs;
-  slabs.stride = sizeof(SlabRecord);
-  slabs.fields = {{"min", FieldType::Vec4, 0, FieldRole::Position}, {"max", FieldType::Vec4, 16},
-                  {"cell.x", FieldType::I32, 32},  {"cell.y", FieldType::I32, 36},  {"cell.z", FieldType::I32, 40},
-                  {"was-inside", FieldType::I32, 44}, {"end.x", FieldType::I32, 48}, {"end.y", FieldType::I32, 52},
-                  {"end.z", FieldType::I32, 56},    {"texel.x", FieldType::I32, 64}, {"texel.y", FieldType::I32, 68},
-                  {"texel.z", FieldType::I32, 72},  {"physical-boxes", FieldType::I32, 76}};
-  slabs.countResource = "clip-slabs.count";
+      .layout = planLayout();
   b.output("clip-slabs", OutputKind::Buffer, Semantic::Points,
            "the boxes of cells the last move voxelizes directly (disjoint exposed slabs; cells that left the covered "
            "block): world box (min, level; max, cells), cell range, the physical texel of its min corner and how "
            "many physical boxes it splits into where it wraps")
-      .layout = slabs;
+      .layout = slabLayout("clip-slabs.count");
   b.write("clip-slabs.count");
   b.buffer("clip-slabs", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.buffer("clip-levels", [](const ParamSet& p, const ViewState&) { return sizeof(LevelRecord) * size_t(p.getInt("clipmap.levels")); });
@@ -339,38 +374,11 @@ void AnchorStage::execute(StageContext& ctx) {
   std::vector<PlanRecord> plan;
   for (size_t j = 0; j < path.size(); ++j) {
     auto plans = planMove(layout, j == 0 ? std::vector<Cell>{} : path[j - 1].origins, path[j].origins);
-    for (int k = 0; k < layout.levels; ++k) {
-      const LevelPlan& p = plans[size_t(k)];
-      plan.push_back({uint32_t(j), uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells),
-                      uint32_t(p.coverageChanged), uint32_t(p.refilteredCells),
-                      {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}});
-    }
+    for (int k = 0; k < layout.levels; ++k) plan.push_back(planRecord(uint32_t(j), k, plans[size_t(k)]));
   }
   // The slabs of the last move (the full build's: each level's region outside its covered block).
-  std::vector<SlabRecord> slabs;
-  {
-    const auto plans = planMove(layout, path.size() > 1 ? path[path.size() - 2].origins : std::vector<Cell>{}, last.origins);
-    for (int k = 0; k < layout.levels; ++k) {
-      const double s = layout.voxelSize(k);
-      const Box previous = path.size() > 1 ? region(path[path.size() - 2].origins[size_t(k)], layout.n) : Box{};
-      for (const Box& box : plans[size_t(k)].direct) {
-        SlabRecord r{};
-        r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
-        r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
-        const glm::ivec3 t = toroidal(box.lo, layout.n);
-        int pieces = 1;
-        for (int i = 0; i < 3; ++i) {
-          r.cellLo[i] = int32_t(box.lo[i]);
-          r.cellHi[i] = int32_t(box.hi[i]);
-          r.physLo[i] = t[i];
-          if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
-        }
-        r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
-        r.physLo[3] = pieces;
-        slabs.push_back(r);
-      }
-    }
-  }
+  const std::vector<Cell> previous = path.size() > 1 ? path[path.size() - 2].origins : std::vector<Cell>{};
+  const std::vector<SlabRecord> slabs = slabRecords(layout, previous, planMove(layout, previous, last.origins));
   const uint32_t slabCount = uint32_t(std::min(slabs.size(), kMaxSlabsPerLevel * size_t(layout.levels)));
   Buffer& slabBuffer = ctx.board.ensureBuffer("clip-slabs", slabBytes(layout.levels));
   if (slabCount > 0) slabBuffer.upload(slabs.data(), sizeof(SlabRecord) * slabCount);
@@ -391,12 +399,13 @@ void AnchorStage::execute(StageContext& ctx) {
 void UpdateStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  for (const auto& p : injectParams()) b.param(p);
   b.readView();
   b.read("clip-levels");
   b.read("shadow-map");
   b.read("light");
   b.write("clip-accumulators");
-  b.output("clip-atlas", OutputKind::Volume3D, Semantic::Color,
+  b.output("clip-atlas", OutputKind::Volume3D, kClipAtlas,
            "every level's physical texture: blocks of (N+2)^3 texels with one guard texel per side, faces along x "
            "(isotropic, then +x -x +y -y +z -z), levels along y; cell c at texel c & (N-1)");
   BufferLayout counters;
@@ -406,10 +415,22 @@ void UpdateStage::declare(StageBuilder& b) const {
                      {"resolved", FieldType::U32, 8},
                      {"refiltered", FieldType::U32, 12},
                      {"guards", FieldType::U32, 16}};
-  b.output("clip-counters", OutputKind::Buffer, Semantic::Scalar,
+  b.output("clip-counters", OutputKind::Buffer, kClipCounters,
            "per level, what the last move's shaders wrote, counted by atomics: accumulators cleared, triangle/cell "
            "pairs injected, texels resolved, texels refiltered, guard texels")
       .layout = counters;
+  b.output("clip-move", OutputKind::Buffer, Semantic::Scalar,
+           "per level, the plan of the move this run made (from the origins held before: after a viewer camera "
+           "move too): exposed, voxelized directly, changed coverage, refiltered cells and the move d; d = 0 and "
+           "all cells exposed for a full build")
+      .layout = planLayout();
+  b.output("clip-move-boxes", OutputKind::Buffer, Semantic::Points,
+           "the boxes of cells this run's move voxelized directly, as clip-slabs (the viewer's clip-counters view "
+           "draws them)")
+      .layout = slabLayout("clip-move-boxes.count");
+  b.write("clip-move-boxes.count");
+  b.buffer("clip-move", [](const ParamSet& p, const ViewState&) { return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")); });
+  b.buffer("clip-move-boxes", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
   b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
   b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
@@ -433,7 +454,7 @@ void UpdateStage::execute(StageContext& ctx) {
   Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
 
-  // What the held texels were built from: the same atlas, layout, scene and light.
+  // What the held texels were built from: the same atlas, layout, scene, injection and light.
   std::vector<uint8_t> key;
   appendBytes(key, layout.n);
   appendBytes(key, layout.levels);
@@ -443,6 +464,8 @@ void UpdateStage::execute(StageContext& ctx) {
   appendBytes(key, accum.id());
   appendBytes(key, &ctx.scene);
   appendBytes(key, ctx.scene.triangleCount());
+  appendBytes(key, ctx.params.getInt("inject.mode"));
+  appendBytes(key, ctx.params.getFloat("inject.uniform-radiance"));
   auto light = ctx.board.buffer("light").download();
   key.insert(key.end(), light.begin(), light.end());
 
@@ -532,6 +555,16 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
 
   held_ = Held{after, key};
+  {
+    std::vector<PlanRecord> move;
+    for (int k = 0; k < layout.levels; ++k) move.push_back(planRecord(uint32_t(ctx.iteration), k, plans[size_t(k)]));
+    ctx.board.ensureBuffer("clip-move", sizeof(PlanRecord) * move.size()).upload(move.data(), sizeof(PlanRecord) * move.size());
+    const std::vector<SlabRecord> slabs = slabRecords(layout, before, plans);
+    const uint32_t count = uint32_t(std::min(slabs.size(), kMaxSlabsPerLevel * size_t(layout.levels)));
+    Buffer& boxes = ctx.board.ensureBuffer("clip-move-boxes", slabBytes(layout.levels));
+    if (count > 0) boxes.upload(slabs.data(), sizeof(SlabRecord) * count);
+    ctx.board.ensureBuffer("clip-move-boxes.count", 4).upload(&count, 4);
+  }
 
   std::vector<uint32_t> counted(zero.size());
   auto bytes = counters.download(counted.size() * 4);
@@ -640,6 +673,7 @@ static TextureDesc compareDesc(const ParamSet& p) {
 void CoveredCompareStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  for (const auto& p : injectParams()) b.param(p);
   b.param(ParamDesc::choice("clipmap.compare-covered", {"off", "on"}, 0,
                             "on: voxelize the covered blocks directly as well, to compare with their filtered content"));
   b.readView();
@@ -744,9 +778,20 @@ static TextureDesc tracedDesc(const ViewState& view, const ParamSet& params, GLe
   return d;
 }
 
+// The transition band: within this many cells of the border of the finest level that holds a
+// sample, the level read ramps up to the next level, so a sample crossing the border changes
+// level continuously instead of jumping (0: off, the finest level's whole region is used).
+static ParamDesc levelBandParam() {
+  return ParamDesc::real("clipmap.transition-band", 0.0, 0.0, 8.0,
+                         "within this many cells of the border of the finest level holding a sample, the level read "
+                         "ramps linearly to the next level (0 = off)",
+                         "cells");
+}
+
 void ConeTraceStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
+  b.param(levelBandParam());
   b.param(traceResolutionParam());
   b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
   b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
@@ -835,6 +880,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
   setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
   setUniform(program, "u_faces", facesOf(ctx.params));
+  setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
   setUniform(program, "u_mipLevels", mipCount(layout.n));
   glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
   setUniform(program, "u_coneCount", int(cones.size()));

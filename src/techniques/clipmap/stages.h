@@ -11,6 +11,11 @@ namespace voxlab::clipmap {
 // The records of "clip-levels" (one per level, after the last move), for its visualiser
 // (src/inspect/visualisers/clip_levels.cpp).
 inline constexpr Semantic kClipLevels{"clip-levels"};
+// The atlas of every level's physical texture, shown by its own view
+// (src/inspect/visualisers/clip_atlas.cpp: a level's physical texture with the logical origin and
+// the physical seam, a hover readout texel -> world cell, unrolled into logical order on request);
+// its texels look like the Color semantic's.
+inline constexpr Semantic kClipAtlas{"clip-atlas"};
 struct LevelRecord {
   glm::vec4 lo;  // world min corner, w = level
   glm::vec4 hi;  // world max corner, w = voxel size
@@ -20,6 +25,31 @@ struct LevelRecord {
   int32_t n;
 };
 static_assert(sizeof(LevelRecord) == 64, "LevelRecord layout");
+
+// One box of cells the last move voxelizes directly (exposed slabs, cells that left the covered
+// block), with where it lands in the physical texture.
+struct SlabRecord {
+  glm::vec4 lo;  // world min corner, w = level
+  glm::vec4 hi;  // world max corner, w = cells in the box
+  int32_t cellLo[4];  // w: 1 = inside the level's old region (coverage change), 0 = newly exposed
+  int32_t cellHi[4];  // w: unused
+  int32_t physLo[4];  // the physical texel of cellLo; w = physical boxes after wrapping (1..8)
+};
+static_assert(sizeof(SlabRecord) == 80, "SlabRecord layout");
+// Per move and level, the planner's counts (clip-plan).
+struct PlanRecord {
+  uint32_t move, level, exposed, direct, coverageChanged, refiltered;
+  int32_t delta[3];
+};
+static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
+
+// The last move's counters (clip-counters, one record per level), for its view
+// (src/inspect/visualisers/clip_move.cpp): what the shaders wrote, counted by atomics.
+inline constexpr Semantic kClipCounters{"clip-counters"};
+struct CounterRecord {
+  uint32_t cleared, pairs, resolved, refiltered, guards;
+};
+static_assert(sizeof(CounterRecord) == 20, "CounterRecord layout");
 
 // The layout the parameters ask for: clipmap.levels, clipmap.resolution and clipmap.voxel-size
 // ("scene": the scene's largest extent E times the power of two that lets the coarsest level span
@@ -43,6 +73,7 @@ struct PathState {
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera);
 std::vector<ParamDesc> layoutParams();
 std::vector<ParamDesc> pathParams();
+std::vector<ParamDesc> injectParams();  // inject.mode, inject.uniform-radiance (as vct-grid's)
 
 // The scene's triangles in runs of at most 2048 of one draw range, with their world bounds: a
 // move dispatches only the runs that can reach a box it revoxelizes.
