@@ -672,8 +672,16 @@ static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
   return d;
 }
 static int tracedScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
-static constexpr size_t kConeSampleBytes = sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
 static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS;
+
+// vct-grid's former cone settings (60-degree cones, at most one volume edge long), which the AO
+// cross-check against vct-grid sets explicitly.
+static ConeDefaults coneDefaults() {
+  ConeDefaults d;
+  d.aperture = 60.0;
+  d.maxDistance = 1.0;
+  return d;
+}
 
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
@@ -682,7 +690,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
-  declareConeParams(b);
+  declareConeParams(b, coneDefaults());
   b.param(ParamDesc::choice("ao.cones", {"diffuse", "basgier-3", "basgier-5", "basgier-8"}, 0,
                             "AO from the diffuse cones (as vct-grid), or Basgier's constellations: 3 cones of 100 deg, "
                             "5 of 90 deg, 8 of 60 deg, ring layout, equal weights"));
@@ -702,7 +710,6 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("light");
-  b.write("cone-samples.count");
   b.write("svo-descent.count");
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones (at cone.resolution)")
@@ -711,17 +718,8 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "weighted visible fraction within ao.range (1 = open)");
   b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the octree (1 = lit)");
-  BufferLayout samples;
-  samples.stride = sizeof(gpu::ConeSample);
-  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
-                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
-                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
-  samples.countResource = "cone-samples.count";
-  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
-                                "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
-                                "cone/distance/mip/alpha");
-  probed.layout = samples;
-  probed.probeRecord = true;
+  coneSamplesOutput(b, "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                       "cone/distance/mip/alpha");
   BufferLayout steps;
   steps.stride = sizeof(SvoDescentStep);
   steps.fields = {{"sample", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"node", FieldType::U32, 8},
@@ -736,8 +734,6 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.texture("indirect-specular", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_RGBA16F); });
   b.texture("ambient-occlusion", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
   b.texture("soft-shadow", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
-  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) { return kConeSampleBytes; });
-  b.buffer("cone-samples.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("svo-descent", [](const ParamSet&, const ViewState&) { return kDescentBytes; });
   b.buffer("svo-descent.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
 }
@@ -751,7 +747,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, scale, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, scale, GL_R16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, scale, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", kConeSampleBytes);
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& descent = ctx.board.ensureBuffer("svo-descent", kDescentBytes);
   Buffer& descentCount = ctx.board.ensureBuffer("svo-descent.count", 4);
