@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "gpu/shader_library.h"
 #include "techniques/common/cone_setup.h"
+#include "techniques/common/fragment_light.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/cone_layout.h"
@@ -357,10 +358,7 @@ static BufferLayout valueLayout() {
 
 void LeavesStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
-                            "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"));
-  b.param(ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0,
-                          "radiance every voxel gets in uniform mode", "W/(m^2 sr)"));
+  declareFragmentLightParams(b);
   b.read("fragments");
   b.read("fragments.count");
   b.read("svo-nodes");
@@ -392,8 +390,7 @@ void LeavesStage::execute(StageContext& ctx) {
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_start", unsigned(levels[depth].start));
   setUniform(program, "u_count", unsigned(levels[depth].count));
-  setUniform(program, "u_mode", ctx.params.getInt("inject.mode"));
-  setUniform(program, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
+  setFragmentLightUniforms(program, ctx.params, space);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
@@ -674,12 +671,16 @@ static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
 static int tracedScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
 static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS;
 
-// vct-grid's former cone settings (60-degree cones, at most one volume edge long), which the AO
-// cross-check against vct-grid sets explicitly.
+// vct-grid's cone settings (issue 11: 45-degree cones, up to 1.75 volume edges, past the
+// diagonal), so the two techniques trace the same cones at their defaults (the AO cross-check).
 static ConeDefaults coneDefaults() {
   ConeDefaults d;
-  d.aperture = 60.0;
-  d.maxDistance = 1.0;
+  d.aperture = 45.0;
+  d.apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
+                   "at 60 their lower edges graze the surface, which then occludes and lights itself)";
+  d.maxDistance = 1.75;
+  d.maxDistanceHelp = "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
+                      "any wall; cones also stop where they leave the volume)";
   return d;
 }
 
