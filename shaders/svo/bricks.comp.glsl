@@ -36,10 +36,7 @@ uniform int u_level;      // pass 2: the level whose bricks are filtered from th
 layout(binding = 0) uniform sampler3D u_poolRead;  // the same pool, read back in pass 2
 #include "svo/octree.glsl"
 
-ivec3 brickOrigin(uint b) {
-  uint bx = uint(u_bricksPerAxis.x), by = uint(u_bricksPerAxis.y);
-  return 3 * ivec3(b % bx, (b / bx) % by, b / (bx * by));
-}
+ivec3 brickOrigin(uint b) { return 3 * ivec3(svoBrickCoords(b, uvec2(u_bricksPerAxis.xy))); }
 
 bool hasBrick(uint n) {
   return (nodes[n].word & SVO_TAG) != 0u && (u_layoutTile == 0 || int(nodes[n].level) < u_depth);

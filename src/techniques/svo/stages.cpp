@@ -526,6 +526,9 @@ void BricksStage::execute(StageContext& ctx) {
   const uint32_t needed = tagged + 1;  // + the zero brick
   const double fraction = ctx.params.getFloat("svo.pool-fraction");
   const uint32_t capacity = fraction >= 1.0 ? needed : std::max(1u, uint32_t(std::floor(needed * fraction)));
+  if (capacity > SVO_MAX_BRICKS)
+    throw Error("svo-bricks: the brick pool needs " + std::to_string(capacity) + " bricks, more than the " +
+                std::to_string(SVO_MAX_BRICKS) + " the cone tracer can address (use a lower voxel.resolution)");
   glm::ivec3 axis = bricksPerAxis(capacity);
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
@@ -652,7 +655,7 @@ void PickStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_PICKED, out.id());
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
-  dispatchCompute({1, 1, 1}, {1, 1, 1});
+  dispatchCompute({1, 1, 1}, {8, 8, 1});
   barrierAll();
   ctx.stats["picked_level"] = level;
 }
@@ -777,19 +780,25 @@ void ConeTraceStage::execute(StageContext& ctx) {
                                        : std::vector<glm::vec4>(1, glm::vec4(0.0f));
 
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;
-  GLuint program = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
-  space.setUniforms(program);
-  setUniform(program, "u_depth", depth);
-  setUniform(program, "u_bricksPerAxis", brickAxis);
-  setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
-  setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
-  glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
-  setUniform(program, "u_aoConeCount", aoCount);
-  setUniform(program, "u_aoAperture", aoAperture);
-  setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
-  setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
-  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
-  glUseProgram(program);
+  // Two programs: every pixel without recording, and the probed pixel alone with its samples and
+  // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
+  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
+  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, "#define SVO_RECORD_PROBE 1\n");
+  glm::ivec2 probe(0);
+  for (GLuint program : {tracer, recorder}) {
+    space.setUniforms(program);
+    setUniform(program, "u_depth", depth);
+    setUniform(program, "u_bricksPerAxis", brickAxis);
+    setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
+    setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
+    glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
+    setUniform(program, "u_aoConeCount", aoCount);
+    setUniform(program, "u_aoAperture", aoAperture);
+    setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
+    setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
+    probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
+  }
+  glUseProgram(tracer);
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
@@ -806,6 +815,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   glBindImageTexture(3, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  barrierAll();
+  glUseProgram(recorder);
+  dispatchCompute({1, 1, 1}, {8, 8, 1});
   barrierAll();
   // Cap the recorded counts at the buffers' capacities (the shader counts on past them).
   auto cap = [](Buffer& count, uint32_t capacity) {
