@@ -45,6 +45,7 @@ variants=(
   "lpv inject.vpl-shift=0.5"
   "lpv inject.lighting=per-cell"
   "svo svo.layout=tile"
+  "svo cone.aperture=60,cone.max-distance=1"
   "lrsm lrsm.estimator=paper"
 )
 

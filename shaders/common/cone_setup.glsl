@@ -1,10 +1,11 @@
-// The set-up a cone-tracing stage shares with the others (svo's cone-trace uses it; vct-grid's
-// cone_trace.comp.glsl declares the same uniforms itself and can switch to this file): the cone
-// table, apertures and distances as uniforms, set by setConeUniforms() in
-// src/techniques/common/cone_setup.cpp from the cone.* / ao.range / specular.roughness /
-// shadow.cone-aperture / probe.* parameters; the G-buffer point a traced pixel shades; the
-// tangent frame the cone table is given in (z = the normal). The step uniforms (u_stepScale,
-// u_lodBias, u_maxSteps) belong to the tracer (common/cone_trace.glsl declares them for vct-grid).
+// The set-up a cone-tracing stage shares with the others (svo's cone-trace includes it; vct-grid's
+// and clipmap's cone_trace.comp.glsl declare the same uniforms themselves): the cone table,
+// apertures and distances as uniforms, set by setConeUniforms() in
+// src/techniques/common/cone_setup.cpp (for all three) from the cone.* / ao.range /
+// specular.roughness / shadow.cone-aperture / probe.* parameters, whose defaults each technique
+// gives (ConeDefaults); the G-buffer point a traced pixel shades; the tangent frame the cone table
+// is given in (z = the normal). The step uniforms (u_stepScale, u_lodBias, u_maxSteps) belong to
+// the tracer (common/cone_trace.glsl declares them for vct-grid).
 #ifndef VOXLAB_CONE_SETUP_GLSL
 #define VOXLAB_CONE_SETUP_GLSL
 #include "common/shared.h"

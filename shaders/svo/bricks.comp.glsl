@@ -36,10 +36,7 @@ uniform int u_level;      // pass 2: the level whose bricks are filtered from th
 layout(binding = 0) uniform sampler3D u_poolRead;  // the same pool, read back in pass 2
 #include "svo/octree.glsl"
 
-ivec3 brickOrigin(uint b) {
-  uint bx = uint(u_bricksPerAxis.x), by = uint(u_bricksPerAxis.y);
-  return 3 * ivec3(b % bx, (b / bx) % by, b / (bx * by));
-}
+ivec3 brickOrigin(uint b) { return 3 * ivec3(svoBrickCoords(b, uvec2(u_bricksPerAxis.xy))); }
 
 bool hasBrick(uint n) {
   return (nodes[n].word & SVO_TAG) != 0u && (u_layoutTile == 0 || int(nodes[n].level) < u_depth);
@@ -207,20 +204,27 @@ void main() {
     ivec3 c = 2 * pc + ivec3(k & 1u, (k >> 1) & 1u, (k >> 2) & 1u);
     vec4 nb[27];  // centre values of the child's 3x3x3 same-level cells (clamped to the volume)
     for (int j = 0; j < 27; ++j) nb[j] = childValue(around, pc, c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, cells);
-    ivec3 origin = brickOrigin(brick);
-    for (int t = 0; t < 27; ++t) {
-      ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
-      // Cells sharing the texel's point, per axis: texel 0 -> offsets {-1, 0}, 1 -> {0}, 2 -> {0, +1}.
-      ivec3 lo = min(tx - 1, ivec3(0)), hi = max(tx - 1, ivec3(0));
-      vec4 sum = vec4(0.0);
-      float count = 0.0;
-      for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-          for (int x = lo.x; x <= hi.x; ++x) {
-            sum += nb[(x + 1) + 3 * (y + 1) + 9 * (z + 1)];
-            count += 1.0;
-          }
-      imageStore(u_brickPool, origin + tx, sum / count);
+    // The mean over the cells sharing a texel's point is separable: per axis texel 0 is the mean
+    // of cells -1 and 0, texel 1 cell 0, texel 2 the mean of cells 0 and +1. Filtering x, then y,
+    // then z adds every pair in the order of increasing position, so two bricks sharing a texel
+    // compute it with the same operations (identical values, test I7).
+    for (int j = 0; j < 9; ++j) {
+      vec4 lo = nb[3 * j], mid = nb[3 * j + 1], hi = nb[3 * j + 2];
+      nb[3 * j] = 0.5 * (lo + mid);
+      nb[3 * j + 2] = 0.5 * (mid + hi);
     }
+    for (int j = 0; j < 9; ++j) {
+      int base = (j % 3) + 9 * (j / 3);
+      vec4 lo = nb[base], mid = nb[base + 3], hi = nb[base + 6];
+      nb[base] = 0.5 * (lo + mid);
+      nb[base + 6] = 0.5 * (mid + hi);
+    }
+    for (int j = 0; j < 9; ++j) {
+      vec4 lo = nb[j], mid = nb[j + 9], hi = nb[j + 18];
+      nb[j] = 0.5 * (lo + mid);
+      nb[j + 18] = 0.5 * (mid + hi);
+    }
+    ivec3 origin = brickOrigin(brick);
+    for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
   }
 }

@@ -47,8 +47,7 @@ uniform int u_maxSteps;
 vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
   uint b = brickIndex[node];
   if (b == 0u) return vec4(0.0);
-  uint bx = uint(u_bricksPerAxis.x), by = uint(u_bricksPerAxis.y);
-  vec3 origin = 3.0 * vec3(b % bx, (b / bx) % by, b / (bx * by));
+  vec3 origin = 3.0 * vec3(svoBrickCoords(b, uvec2(u_bricksPerAxis.xy)));
   float cell = exp2(float(u_depth - level));
   vec3 u = clamp(v / cell - vec3(voxel >> uint(u_depth - level)), 0.0, 1.0);
   return textureLod(u_brickPool, (origin + 0.5 + 2.0 * u) / vec3(textureSize(u_brickPool, 0)), 0.0);
@@ -139,7 +138,19 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
 }
 
 void main() {
+  // The probed pixel's records come from a second program (SVO_RECORD_PROBE), dispatched as one
+  // work group in which only the first invocation runs, tracing that pixel again (the same values)
+  // with record set. In the program for every pixel record is a compile-time false, so the
+  // recording code is not there: llvmpipe runs a branch that depends on the invocation masked in
+  // every invocation, and the cone trace took 3x as long with record = (px == the probed pixel).
+#ifdef SVO_RECORD_PROBE
+  const bool record = true;
+  if (gl_LocalInvocationIndex != 0u) return;
+  ivec2 px = u_probePixel;
+#else
+  const bool record = false;
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+#endif
   if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
   ConeSurface surface = coneSurface(px);
   if (!surface.valid) {
@@ -149,7 +160,6 @@ void main() {
     imageStore(u_softShadow, px, vec4(0.0));
     return;
   }
-  bool record = px == u_probePixel;
   vec3 n = surface.normal;
   vec3 origin = surface.origin;
   float start = u_voxelSize;

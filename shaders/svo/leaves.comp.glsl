@@ -1,6 +1,7 @@
 #version 450
-// svo-leaves. u_pass 0, one invocation per voxel fragment: light the fragment exactly as
-// vct-grid's inject does (Lambert, shadow-mapped, plus emission; or one uniform radiance) and add
+// svo-leaves. u_pass 0, one invocation per voxel fragment: light the fragment with vct-grid's
+// inject code (common/fragment_light.glsl: Lambert, the shadow map read inject.shadow-offset voxels
+// off the voxel centre along the fragment's normal, plus emission; or one uniform radiance) and add
 // it to its leaf's fixed-point sums with atomicAdd (exact and order-independent: no RGBA8
 // compare-and-swap average, whose counter wraps and whose truncation biases the mean, source
 // error P8). u_pass 1, one invocation per leaf node: mean = sums / count, opacity 1.
@@ -8,6 +9,7 @@
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "common/lights.glsl"
+#include "common/fragment_light.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
@@ -23,9 +25,6 @@ uniform uint u_start;  // the leaf level's nodes (pass 1)
 uniform uint u_count;
 uniform int u_depth;
 uniform int u_pass;
-uniform int u_mode;               // 0 = direct light, 1 = uniform radiance (furnace tests)
-uniform vec3 u_uniformRadiance;
-const float PI = 3.14159265358979;
 const float kFixedPoint = 65535.0;  // 16 fractional bits: sums of up to 65536 fragments fit in 32 bits
 #include "svo/octree.glsl"
 
@@ -42,19 +41,7 @@ void main() {
   uvec3 voxel = unpackVoxel10(f.position);
   uint leaf = svoFind(voxel, u_depth);
   if (leaf == SVO_ABSENT) return;
-  vec3 radiance;
-  if (u_mode == 1) {
-    radiance = u_uniformRadiance;
-  } else {
-    vec3 albedo = unpackUnorm4x8(f.albedo).rgb;
-    vec3 n = normalize(unpackSnorm4x8(f.normal).xyz);
-    vec3 p = voxelToWorld(vec3(voxel) + 0.5);
-    vec3 toLight; float dist;
-    lightDirection(p, toLight, dist);
-    float cosine = max(dot(n, toLight), 0.0);
-    vec3 irradiance = lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, n);
-    radiance = albedo / PI * irradiance + unpackUnorm4x8(f.emission).rgb;
-  }
+  vec3 radiance = fragmentRadiance(f, u_shadowMap);
   uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * kFixedPoint + 0.5);
   atomicAdd(sums[leaf].x, fixedPoint.x);
   atomicAdd(sums[leaf].y, fixedPoint.y);

@@ -86,6 +86,9 @@ struct SvoPickedNode {
 #define SVO_BINDING_PICKED 21       // SvoPickedNode: the picked node
 SVO_CONST uint SVO_ABSENT = 0xFFFFFFFFu;
 SVO_CONST uint SVO_MAX_DESCENT_STEPS = 16u * 64u * 10u;
+// Most bricks a pool may hold: the cone tracer finds a brick's place by float division, exact
+// below 2^22 (svoDivide in svo/octree.glsl); 4,194,304 bricks are 453 MB of RGBA8 texels.
+SVO_CONST uint SVO_MAX_BRICKS = 4194304u;
 
 // Quadrilinear level weighting (note 1.6). levelStar = D - (log2(diameter / voxel) + bias),
 // clamped to [0, D]: the fine level is min(D, floor(levelStar) + 1), the coarse one below it, and

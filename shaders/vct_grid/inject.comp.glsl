@@ -1,6 +1,7 @@
 #version 450
 // Light injection, one invocation per voxel fragment: Lambertian direct light from the scene's
-// light (shadow-mapped), plus emission, averaged into the voxel. Two ways to average
+// light (shadow-mapped), plus emission (common/fragment_light.glsl, shared with svo's leaves),
+// averaged into the voxel. Two ways to average
 // (inject.average):
 //  - exact-sum (u_average 0): each channel is added, in fixed point (1/4096 steps), to a 32-bit
 //    sum per voxel with imageAtomicAdd, together with a count; inject_resolve.comp.glsl divides.
@@ -15,6 +16,7 @@
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "common/lights.glsl"
+#include "common/fragment_light.glsl"
 
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
@@ -26,14 +28,7 @@ layout(r32ui, binding = 3) uniform uimage3D u_sumB;
 layout(r32ui, binding = 4) uniform uimage3D u_count;
 layout(binding = 2) uniform sampler2D u_shadowMap;  // a texture unit (image units are separate)
 uniform uint u_fragmentCount;
-uniform int u_mode;               // 0 = direct light, 1 = uniform radiance (furnace tests)
 uniform int u_average;            // 0 = exact-sum, 1 = compare-and-swap
-uniform vec3 u_uniformRadiance;
-// Metres along the fragment's normal from the voxel centre where the shadow map is read: the
-// fragment's surface passes up to half a voxel from the centre (axis-aligned), and a centre behind
-// it would be shadowed by the surface itself (on Sponza at 128^3 that blackened half the floor).
-uniform float u_shadowOffset;
-const float PI = 3.14159265358979;
 const float kFixedPointScale = 4096.0;  // exact-sum: radiance units per integer step
 
 void main() {
@@ -41,19 +36,7 @@ void main() {
   if (i >= u_fragmentCount) return;
   VoxelFragment f = fragments[i];
   ivec3 voxel = ivec3(unpackVoxel10(f.position));
-  vec3 albedo = unpackUnorm4x8(f.albedo).rgb;
-  vec3 n = normalize(unpackSnorm4x8(f.normal).xyz);
-  vec3 radiance;
-  if (u_mode == 1) {
-    radiance = u_uniformRadiance;
-  } else {
-    vec3 p = voxelToWorld(vec3(voxel) + 0.5);
-    vec3 toLight; float dist;
-    lightDirection(p, toLight, dist);
-    float cosine = max(dot(n, toLight), 0.0);
-    vec3 irradiance = lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p + n * u_shadowOffset, n);
-    radiance = albedo / PI * irradiance + unpackUnorm4x8(f.emission).rgb;
-  }
+  vec3 radiance = fragmentRadiance(f, u_shadowMap);
   radiance = clamp(radiance, 0.0, 1.0);
 
   if (u_average == 0) {

@@ -12,11 +12,11 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "techniques/common/sky.h"
+#include "techniques/common/cone_setup.h"
 #include "techniques/vct_grid/cone_layout.h"
 
 namespace voxlab::clipmap {
 
-static constexpr float kDegrees = 3.14159265358979f / 180.0f;
 static constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/clipmap/clipmap.glsl
 static constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
 static constexpr int64_t kMaxCell = int64_t(1) << 30;  // shaders hold cells in int32
@@ -755,6 +755,23 @@ void CoveredCompareStage::execute(StageContext& ctx) {
 
 // --- Cone tracing ---------------------------------------------------------------------------------
 
+// Distances in the coarsest level's edge, the start offset in voxels of the finest level there;
+// no soft-shadow cone.
+static ConeDefaults coneDefaults() {
+  ConeDefaults d;
+  d.aperture = 60.0;
+  d.startOffsetHelp = "cones start this far from the surface along its normal, in voxels of the finest level there";
+  d.lodBiasHelp = "level = log2(diameter / s_0) + bias, at least the finest level holding the sample";
+  d.maxDistance = 0.5;
+  d.maxDistanceLimit = 1.0;
+  d.maxDistanceHelp = "longest cone, as a fraction of the coarsest level's edge";
+  d.aoRange = 0.125;
+  d.aoRangeLimit = 1.0;
+  d.aoRangeHelp = "ambient occlusion counts occluders up to this distance, as a fraction of the coarsest level's edge";
+  d.softShadowCone = false;
+  return d;
+}
+
 static TextureDesc screenDesc(const ViewState& view, GLenum format) {
   TextureDesc d;
   d.format = format;
@@ -793,25 +810,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   for (const auto& p : pathParams()) b.param(p);
   b.param(levelBandParam());
   b.param(traceResolutionParam());
-  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
-  b.param(ParamDesc::real("cone.aperture", 60.0, 5.0, 120.0, "full opening angle of each diffuse cone", "degrees"));
-  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
-                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
-  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
-                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
-  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
-                          "cones start this far from the surface along its normal, in voxels of the finest level there",
-                          "voxels"));
-  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
-  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
-                          "level = log2(diameter / s_0) + bias, at least the finest level holding the sample"));
-  b.param(ParamDesc::real("cone.max-distance", 0.5, 0.05, 1.0, "longest cone, as a fraction of the coarsest level's edge"));
-  b.param(ParamDesc::real("ao.range", 0.125, 0.01, 1.0,
-                          "ambient occlusion counts occluders up to this distance, as a fraction of the coarsest level's edge"));
-  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0, "specular cone aperture = max(2, 90 * roughness) degrees"));
-  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
-  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
-  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  declareConeParams(b, coneDefaults());
   declareSky(b);
   b.readView();
   b.read("clip-atlas");
@@ -820,7 +819,6 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("light");
-  b.write("cone-samples.count");
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones")
       .referenceMode = "indirect-1";
@@ -829,24 +827,12 @@ void ConeTraceStage::declare(StageBuilder& b) const {
            "cosine-weighted visible fraction within ao.range (1 = open)");
   b.output("level-used", OutputKind::Image2D, Semantic::Scalar,
            "per pixel, the finest clip level whose region holds the surface point (-1: outside every level, or sky)");
-  BufferLayout samples;
-  samples.stride = sizeof(gpu::ConeSample);
-  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
-                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
-                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
-  samples.countResource = "cone-samples.count";
-  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
-                                "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
-                                "cone/distance/level read (floor: the finer level, fraction: the next level's weight)/alpha");
-  probed.layout = samples;
-  probed.probeRecord = true;
+  coneSamplesOutput(b, "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                       "cone/distance/level read (floor: the finer level, fraction: the next level's weight)/alpha");
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
                                                    {"ambient-occlusion", GL_R16F}, {"level-used", GL_R16F}};
   for (const auto& [name, format] : traced)
     b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
-  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) {
-    return sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
-  });
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {
@@ -857,16 +843,10 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
   Texture& level = ctx.board.ensureTexture("level-used", tracedDesc(ctx.view, ctx.params, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   const uint32_t zero = 0;
   sampleCount.upload(&zero, 4);
-
-  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
-  auto cones = vct::diffuseCones(ctx.params.getInt("cone.count"), aperture, ctx.params.getChoice("cone.layout"),
-                                 ctx.params.getChoice("cone.weighting"));
-  std::vector<glm::vec4> packed;
-  for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
 
   GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"});
   setClipUniforms(program, layout, origins);
@@ -882,23 +862,10 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_faces", facesOf(ctx.params));
   setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
   setUniform(program, "u_mipLevels", mipCount(layout.n));
-  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
-  setUniform(program, "u_coneCount", int(cones.size()));
-  setUniform(program, "u_diffuseAperture", aperture);
-  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
-  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset"));
-  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
-  setUniform(program, "u_maxSteps", 512);
-  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * coarsestEdge);
-  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * coarsestEdge);
-  setUniform(program, "u_cameraPos", ctx.view.position);
   const glm::ivec3 traced = indirect.desc().size;
-  // probe.y counts from the top of the image; GL rows count from the bottom.
-  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
-  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
-  setUniform(program, "u_scale", traceScale(ctx.params));
-  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  // The start offset is in voxels of the finest level holding the surface (the shader scales it).
+  const glm::ivec2 probe =
+      setConeUniforms(program, ctx.params, ctx.view, 1.0f, coarsestEdge, glm::ivec2(traced), traceScale(ctx.params));
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
@@ -915,10 +882,10 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(3, level.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["diffuse_cones"] = double(ctx.params.getInt("cone.count"));
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
-  ctx.stats["probe_x"] = probeX;
-  ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
+  ctx.stats["probe_x"] = probe.x;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probe.y;
 }
 
 // --- Composite ------------------------------------------------------------------------------------

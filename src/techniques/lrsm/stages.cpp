@@ -11,6 +11,7 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "techniques/common/sky.h"
+#include "techniques/common/cone_setup.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 
@@ -85,7 +86,6 @@ static glm::ivec3 traceSize(const ParamSet& p, const ViewState& v) {
   const int s = traceScale(p);
   return {(v.width + s - 1) / s, (v.height + s - 1) / s, 1};
 }
-static constexpr size_t kConeSamplesBytes = sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
 static constexpr size_t kGatherRecordsBytes = sizeof(gpu::LrsmGatherRecord) * LRSM_MAX_GATHER_RECORDS;
 static constexpr size_t kConeResultsBytes = sizeof(gpu::LrsmConeResult) * (LRSM_MAX_CONES + 1);
 
@@ -370,7 +370,6 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("light");
-  b.write("cone-samples.count");
   b.write("gather-records.count");
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing one-bounce diffuse radiance: albedo / pi * sum_k w_k I_k (at cone.resolution)")
@@ -379,17 +378,8 @@ void ConeGatherStage::declare(StageBuilder& b) const {
            "radiance I gathered by the 10-degree cone along the mirror direction");
   b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction,
            "transmittance of the shadow cone toward the light through the occlusion mips (1 = lit)");
-  BufferLayout samples;
-  samples.stride = sizeof(gpu::ConeSample);
-  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
-                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
-                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
-  samples.countResource = "cone-samples.count";
-  auto& cs = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
-                      "every sphere sample of the probed pixel's cones: centre + diameter, accumulated I + opacity, "
-                      "cone / distance / voxel mip / alpha");
-  cs.layout = samples;
-  cs.probeRecord = true;
+  coneSamplesOutput(b, "every sphere sample of the probed pixel's cones: centre + diameter, accumulated I + opacity, "
+                       "cone / distance / voxel mip / alpha");
   BufferLayout g;
   g.stride = sizeof(gpu::LrsmGatherRecord);
   const char* names[] = {"centre", "cone", "march", "layer", "moments", "coverage", "contribution", "footprint"};
@@ -418,8 +408,6 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.texture("indirect-diffuse", traceTex(GL_RGBA16F));
   b.texture("indirect-specular", traceTex(GL_RGBA16F));
   b.texture("soft-shadow", traceTex(GL_R16F));
-  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) { return kConeSamplesBytes; });
-  b.buffer("cone-samples.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("gather-records", [](const ParamSet&, const ViewState&) { return kGatherRecordsBytes; });
   b.buffer("gather-records.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("cone-results", [](const ParamSet&, const ViewState&) { return kConeResultsBytes; });
@@ -435,7 +423,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc(traced, GL_RGBA16F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", texDesc(traced, GL_RGBA16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", texDesc(traced, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", kConeSamplesBytes);
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& records = ctx.board.ensureBuffer("gather-records", kGatherRecordsBytes);
   Buffer& recordCount = ctx.board.ensureBuffer("gather-records.count", 4);

@@ -11,6 +11,7 @@
 #include "gpu/shader_library.h"
 #include "techniques/common/cone_setup.h"
 #include "techniques/common/sky.h"
+#include "techniques/common/fragment_light.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/cone_layout.h"
@@ -358,10 +359,7 @@ static BufferLayout valueLayout() {
 
 void LeavesStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
-                            "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"));
-  b.param(ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0,
-                          "radiance every voxel gets in uniform mode", "W/(m^2 sr)"));
+  declareFragmentLightParams(b);
   b.read("fragments");
   b.read("fragments.count");
   b.read("svo-nodes");
@@ -393,8 +391,7 @@ void LeavesStage::execute(StageContext& ctx) {
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_start", unsigned(levels[depth].start));
   setUniform(program, "u_count", unsigned(levels[depth].count));
-  setUniform(program, "u_mode", ctx.params.getInt("inject.mode"));
-  setUniform(program, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
+  setFragmentLightUniforms(program, ctx.params, space);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
@@ -530,6 +527,9 @@ void BricksStage::execute(StageContext& ctx) {
   const uint32_t needed = tagged + 1;  // + the zero brick
   const double fraction = ctx.params.getFloat("svo.pool-fraction");
   const uint32_t capacity = fraction >= 1.0 ? needed : std::max(1u, uint32_t(std::floor(needed * fraction)));
+  if (capacity > SVO_MAX_BRICKS)
+    throw Error("svo-bricks: the brick pool needs " + std::to_string(capacity) + " bricks, more than the " +
+                std::to_string(SVO_MAX_BRICKS) + " the cone tracer can address (use a lower voxel.resolution)");
   glm::ivec3 axis = bricksPerAxis(capacity);
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
@@ -656,7 +656,7 @@ void PickStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_PICKED, out.id());
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
-  dispatchCompute({1, 1, 1}, {1, 1, 1});
+  dispatchCompute({1, 1, 1}, {8, 8, 1});
   barrierAll();
   ctx.stats["picked_level"] = level;
 }
@@ -673,8 +673,20 @@ static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
   return d;
 }
 static int tracedScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
-static constexpr size_t kConeSampleBytes = sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
 static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS;
+
+// vct-grid's cone settings (issue 11: 45-degree cones, up to 1.75 volume edges, past the
+// diagonal), so the two techniques trace the same cones at their defaults (the AO cross-check).
+static ConeDefaults coneDefaults() {
+  ConeDefaults d;
+  d.aperture = 45.0;
+  d.apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
+                   "at 60 their lower edges graze the surface, which then occludes and lights itself)";
+  d.maxDistance = 1.75;
+  d.maxDistanceHelp = "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
+                      "any wall; cones also stop where they leave the volume)";
+  return d;
+}
 
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
@@ -683,7 +695,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
-  declareConeParams(b);
+  declareConeParams(b, coneDefaults());
   b.param(ParamDesc::choice("ao.cones", {"diffuse", "basgier-3", "basgier-5", "basgier-8"}, 0,
                             "AO from the diffuse cones (as vct-grid), or Basgier's constellations: 3 cones of 100 deg, "
                             "5 of 90 deg, 8 of 60 deg, ring layout, equal weights"));
@@ -704,7 +716,6 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("light");
-  b.write("cone-samples.count");
   b.write("svo-descent.count");
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones (at cone.resolution)")
@@ -713,17 +724,8 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "weighted visible fraction within ao.range (1 = open)");
   b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the octree (1 = lit)");
-  BufferLayout samples;
-  samples.stride = sizeof(gpu::ConeSample);
-  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
-                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
-                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
-  samples.countResource = "cone-samples.count";
-  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
-                                "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
-                                "cone/distance/mip/alpha");
-  probed.layout = samples;
-  probed.probeRecord = true;
+  coneSamplesOutput(b, "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                       "cone/distance/mip/alpha");
   BufferLayout steps;
   steps.stride = sizeof(SvoDescentStep);
   steps.fields = {{"sample", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"node", FieldType::U32, 8},
@@ -738,8 +740,6 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.texture("indirect-specular", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_RGBA16F); });
   b.texture("ambient-occlusion", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
   b.texture("soft-shadow", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
-  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) { return kConeSampleBytes; });
-  b.buffer("cone-samples.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("svo-descent", [](const ParamSet&, const ViewState&) { return kDescentBytes; });
   b.buffer("svo-descent.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
 }
@@ -753,7 +753,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, scale, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, scale, GL_R16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, scale, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", kConeSampleBytes);
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& descent = ctx.board.ensureBuffer("svo-descent", kDescentBytes);
   Buffer& descentCount = ctx.board.ensureBuffer("svo-descent.count", 4);
@@ -782,20 +782,26 @@ void ConeTraceStage::execute(StageContext& ctx) {
                                        : std::vector<glm::vec4>(1, glm::vec4(0.0f));
 
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;
-  GLuint program = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
-  space.setUniforms(program);
-  setUniform(program, "u_depth", depth);
-  setUniform(program, "u_bricksPerAxis", brickAxis);
-  setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
-  setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
-  glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
-  setUniform(program, "u_aoConeCount", aoCount);
-  setUniform(program, "u_aoAperture", aoAperture);
-  setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
-  setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
-  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  glUseProgram(program);
+  // Two programs: every pixel without recording, and the probed pixel alone with its samples and
+  // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
+  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
+  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, "#define SVO_RECORD_PROBE 1\n");
+  glm::ivec2 probe(0);
+  for (GLuint program : {tracer, recorder}) {
+    space.setUniforms(program);
+    setUniform(program, "u_depth", depth);
+    setUniform(program, "u_bricksPerAxis", brickAxis);
+    setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
+    setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
+    glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
+    setUniform(program, "u_aoConeCount", aoCount);
+    setUniform(program, "u_aoAperture", aoAperture);
+    setUniform(program, "u_aoFalloff", ctx.params.getFloat("ao.falloff"));
+    setUniform(program, "u_aoJitter", ctx.params.getBool("ao.jitter") ? 1 : 0);
+    probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), scale);
+    setSkyUniforms(program, ctx.params, ctx.scene);
+  }
+  glUseProgram(tracer);
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
@@ -812,6 +818,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   glBindImageTexture(3, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  barrierAll();
+  glUseProgram(recorder);
+  dispatchCompute({1, 1, 1}, {8, 8, 1});
   barrierAll();
   // Cap the recorded counts at the buffers' capacities (the shader counts on past them).
   auto cap = [](Buffer& count, uint32_t capacity) {

@@ -17,8 +17,11 @@
 //                      svo-init (root, counters); iteration D only flags the leaves.
 //      svo-neighbours  the six same-level face neighbours of every node (through the closest common
 //                      ancestor), symmetric by construction; the bricks gather by position instead
-//   4. svo-leaves      per fragment: shadow-mapped Lambert + emission (as vct-grid's inject),
-//                      exact fixed-point sums per leaf, then mean and opacity 1
+//   4. svo-leaves      per fragment: shadow-mapped Lambert + emission with vct-grid's inject code
+//                      (common/fragment_light.glsl: the shadow map read inject.shadow-offset
+//                      voxels off the voxel centre along the fragment's normal, so a voxel whose
+//                      centre lies behind its surface is not shadowed by it), exact fixed-point
+//                      sums per leaf, then mean and opacity 1
 //   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; the
 //                      "svo-dense" view resamples each level into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
@@ -26,7 +29,9 @@
 //      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
 //                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
-//   8. svo-cone-trace  vct-grid's cones through the octree; AO; probe records (samples, descents)
+//   8. svo-cone-trace  vct-grid's cones through the octree (the shared cone set-up,
+//                      common/cone_setup.*, with vct-grid's defaults: 6 cones of 45 degrees, up to
+//                      1.75 volume edges); AO; probe records (samples, descents)
 //   9. composite       vct-grid's composite, or the AO image as the final one (svo.shading=ao)
 //
 // Details
@@ -75,6 +80,11 @@
 //     1/8-1/16-1/32-1/64 kernel of the level below's bricks (vertex values read back from the
 //     RGBA8 pool, level by level from D - 2 up); the finest bricks stay the corner means. With the
 //     node layout the kernel collapses to decimation (the note) and is not applied.
+//   - The probed pixel's cone samples and descents are recorded by a second program of the same
+//     shader (SVO_RECORD_PROBE, one invocation that traces that pixel again): llvmpipe runs a
+//     branch that depends on the invocation masked in all of them, so a per-pixel "record" flag
+//     made every pixel pay for the recording (a brick sample per descent level): 3x the cone
+//     trace's time (docs/performance.md, svo).
 //   - Not built (yet): the CAS leaf mode.
 //
 // References

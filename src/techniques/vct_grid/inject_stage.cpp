@@ -5,6 +5,7 @@
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
+#include "techniques/common/fragment_light.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/stages.h"
@@ -37,15 +38,7 @@ static TextureDesc radianceSumsDesc(const ParamSet& p) {
 
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(ParamDesc::choice("inject.mode", {"direct-light", "uniform"}, 0,
-                            "what voxels hold: the scene's direct light, or one uniform radiance (a furnace test)"));
-  b.param(ParamDesc::real("inject.uniform-radiance", 0.5, 0.0, 1.0,
-                          "radiance every voxel gets in uniform mode", "W/(m^2 sr)"));
-  b.param(ParamDesc::real("inject.shadow-offset", 0.5, 0.0, 2.0,
-                          "the shadow map is read this far from the voxel centre along the fragment's normal: an "
-                          "axis-aligned surface passes up to half a voxel from the centre, and a centre behind the "
-                          "surface is shadowed by the surface itself (0 = at the centre)",
-                          "voxels"));
+  declareFragmentLightParams(b);
   b.param(ParamDesc::choice("inject.average", {"exact-sum", "compare-and-swap"}, 0,
                             "how a voxel's fragments are averaged: exact-sum adds fixed-point sums and a count with "
                             "integer atomics (order-independent), compare-and-swap keeps a running RGBA8 average "
@@ -83,7 +76,6 @@ void InjectStage::execute(StageContext& ctx) {
   GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"});
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(count));
-  setUniform(program, "u_mode", ctx.params.getInt("inject.mode"));
   const bool exact = exactSums(ctx.params);
   setUniform(program, "u_average", exact ? 0 : 1);
   Texture* sums[4];
@@ -92,8 +84,7 @@ void InjectStage::execute(StageContext& ctx) {
     const uint32_t none = 0;
     if (exact) glClearTexImage(sums[c]->id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
   }
-  setUniform(program, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
-  setUniform(program, "u_shadowOffset", ctx.params.getFloat("inject.shadow-offset") * space.voxelSize);
+  setFragmentLightUniforms(program, ctx.params, space);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());

@@ -7,6 +7,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/cone_setup.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
@@ -15,7 +16,6 @@
 
 namespace voxlab::vct {
 
-static constexpr float kDegrees = 3.14159265358979f / 180.0f;
 
 static ParamDesc traceResolutionParam() {
   return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
@@ -45,34 +45,23 @@ static TextureDesc screenDesc(const ViewState& view, GLenum format) {
 
 // --- Cone tracing --------------------------------------------------------------------------------
 
+// Issue 11's defaults: 45-degree cones (at 60 the ring's outer cones graze the surface) that may
+// run past the volume's diagonal.
+static ConeDefaults coneDefaults() {
+  ConeDefaults d;
+  d.aperture = 45.0;
+  d.apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
+                   "at 60 their lower edges graze the surface, which then occludes and lights itself)";
+  d.maxDistance = 1.75;
+  d.maxDistanceHelp = "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
+                      "any wall; cones also stop where they leave the volume)";
+  return d;
+}
+
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(traceResolutionParam());
-  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
-  b.param(ParamDesc::real("cone.aperture", 45.0, 5.0, 120.0,
-                          "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
-                          "at 60 their lower edges graze the surface, which then occludes and lights itself)",
-                          "degrees"));
-  b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
-                            "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
-  b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
-                            "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
-  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0,
-                          "cones start this far from the surface along its normal (avoids self-occlusion)", "voxels"));
-  b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
-  b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0,
-                          "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter"));
-  b.param(ParamDesc::real("cone.max-distance", 1.75, 0.05, 2.0,
-                          "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
-                          "any wall; cones also stop where they leave the volume)"));
-  b.param(ParamDesc::real("ao.range", 0.25, 0.01, 2.0,
-                          "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge"));
-  b.param(ParamDesc::real("specular.roughness", 0.2, 0.0, 1.0,
-                          "specular cone aperture = max(2, 90 * roughness) degrees"));
-  b.param(ParamDesc::real("shadow.cone-aperture", 8.0, 1.0, 60.0, "opening angle of the soft-shadow cone", "degrees"));
-  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
-  b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
-  b.probe(ProbeDesc::screen("probe.x", "probe.y"));
+  declareConeParams(b, coneDefaults());
   b.param(mipmapModeParam());
   declareSky(b);
   b.readView();
@@ -82,7 +71,6 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("light");
-  b.write("cone-samples.count");
   b.write("cone-trace.counts");
   b.buffer("cone-trace.counts", [](const ParamSet&, const ViewState&) { return size_t(20); });
   // One diffuse gather of the direct-lit voxels: exactly one indirect bounce (docs/fidelity.md).
@@ -93,23 +81,12 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "cosine-weighted visible fraction within ao.range (1 = open)");
   b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the voxels (1 = lit)");
-  BufferLayout samples;
-  samples.stride = sizeof(gpu::ConeSample);
-  samples.fields = {{"position", FieldType::Vec4, 0, FieldRole::Position},
-                    {"accumulated", FieldType::Vec4, 16, FieldRole::Color},
-                    {"info", FieldType::Vec4, 32, FieldRole::Other}};
-  samples.countResource = "cone-samples.count";
-  OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples,
-           "every sample of the probed pixel's cones (probe.x/probe.y pick the traced pixel): centre+diameter, accumulated radiance+opacity, cone/distance/lod/alpha");
-  probed.layout = samples;
-  probed.probeRecord = true;  // the records of the pixel the screen probe points at
+  coneSamplesOutput(b, "every sample of the probed pixel's cones (probe.x/probe.y pick the traced pixel): centre+diameter, "
+                       "accumulated radiance+opacity, cone/distance/lod/alpha");
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
                                                    {"ambient-occlusion", GL_R16F}, {"soft-shadow", GL_R16F}};
   for (const auto& [name, format] : traced)
     b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
-  b.buffer("cone-samples", [](const ParamSet&, const ViewState&) {
-    return sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE;
-  });
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {
@@ -119,7 +96,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, ctx.params, GL_R16F));
-  Buffer& samples = ctx.board.ensureBuffer("cone-samples", sizeof(gpu::ConeSample) * VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& counts = ctx.board.ensureBuffer("cone-trace.counts", 20);
   glm::ivec3 traced = indirect.desc().size;
@@ -137,31 +114,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
     for (Texture* t : {&indirect, &specular, &ao, &shadow}) glClearTexImage(t->id(), 0, GL_RGBA, GL_FLOAT, none);
   }
 
-  float aperture = ctx.params.getFloat("cone.aperture") * kDegrees;
-  auto cones = diffuseCones(ctx.params.getInt("cone.count"), aperture, ctx.params.getChoice("cone.layout"),
-                            ctx.params.getChoice("cone.weighting"));
-  std::vector<glm::vec4> packed;
-  for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
-
   GLuint program = ctx.shaders.program({"vct_grid/cone_trace.comp.glsl"});
   space.setUniforms(program);
-  glProgramUniform4fv(program, glGetUniformLocation(program, "u_cones"), GLsizei(packed.size()), &packed[0].x);
-  setUniform(program, "u_coneCount", int(cones.size()));
-  setUniform(program, "u_diffuseAperture", aperture);
-  setUniform(program, "u_specularAperture", std::max(2.0f, 90.0f * ctx.params.getFloat("specular.roughness")) * kDegrees);
-  setUniform(program, "u_shadowAperture", ctx.params.getFloat("shadow.cone-aperture") * kDegrees);
-  setUniform(program, "u_startOffset", ctx.params.getFloat("cone.start-offset") * space.voxelSize);
-  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
-  setUniform(program, "u_maxSteps", 512);
-  setUniform(program, "u_maxDistance", ctx.params.getFloat("cone.max-distance") * space.edge());
-  setUniform(program, "u_aoRange", ctx.params.getFloat("ao.range") * space.edge());
-  setUniform(program, "u_cameraPos", ctx.view.position);
-  // probe.y counts from the top of the image; GL rows count from the bottom.
-  int probeX = std::min(int(ctx.params.getFloat("probe.x") * traced.x), traced.x - 1);
-  int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * traced.y), traced.y - 1);
-  setUniform(program, "u_scale", traceScale(ctx.params));
-  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), traceScale(ctx.params));
+  const int probeX = probe.x, probeY = probe.y;
+  const size_t coneCount = size_t(ctx.params.getInt("cone.count"));
 
   setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
   setSkyUniforms(program, ctx.params, ctx.scene);
@@ -193,11 +150,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   ctx.stats["samples_shadow"] = totals[2];
   ctx.stats["volume_fetches"] = totals[3];
   ctx.stats["shaded_pixels"] = totals[4];
-  ctx.stats["samples_per_diffuse_cone"] = totals[0] / (shaded * double(cones.size()));
+  ctx.stats["samples_per_diffuse_cone"] = totals[0] / (shaded * double(coneCount));
   ctx.stats["samples_per_specular_cone"] = totals[1] / shaded;
   ctx.stats["samples_per_shadow_cone"] = totals[2] / shaded;
   ctx.stats["fetches_per_sample"] = totals[3] / allSamples;
-  ctx.stats["diffuse_cones"] = double(cones.size());
+  ctx.stats["diffuse_cones"] = double(coneCount);
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
   ctx.stats["probe_x"] = probeX;
   ctx.stats["probe_y_from_top"] = traced.y - 1 - probeY;
