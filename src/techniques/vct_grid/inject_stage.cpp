@@ -11,7 +11,7 @@
 
 namespace voxlab::vct {
 
-static TextureDesc radianceGridDesc(int res, int levels) {
+TextureDesc radianceGridDesc(int res, int levels) {
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
   d.format = GL_RGBA8;
@@ -196,16 +196,27 @@ int MipmapStage::iterations(const ParamSet& params) const {
 
 void MipmapStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
   const int half = directionalSize(ctx.params);
-  const int k = ctx.iteration;
-  const uint8_t zero[4] = {0, 0, 0, 0};
   Texture& src = ctx.board.texture("radiance-opaque");
   Texture& grid = ctx.board.ensureTexture("radiance", radianceGridDesc(res, 0));
   Texture* dirs[6];
   for (int d = 0; d < 6; ++d) dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0));
+  buildMipLevel(ctx, src, grid, dirs, ctx.iteration);
+  double bytes = double(grid.byteSize());
+  for (auto* d : dirs) bytes += double(d->byteSize());
+  ctx.stats["levels"] = grid.levels();
+  ctx.stats["levels_built"] = std::min(ctx.iteration + 2, grid.levels());
+  ctx.stats["anisotropic"] = ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0;
+  ctx.stats["bytes"] = bytes;
+}
+
+void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k) {
+  const int res = grid.desc().size.x;
+  const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
+  const uint8_t zero[4] = {0, 0, 0, 0};
   if (k == 0) {
-    glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, grid.id(), GL_TEXTURE_3D, 0, 0, 0, 0, res, res, res);
+    if (&src != &grid)
+      glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, grid.id(), GL_TEXTURE_3D, 0, 0, 0, 0, res, res, res);
     for (int level = 1; level < grid.levels(); ++level)
       glClearTexImage(grid.id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
     // In isotropic mode the directional volumes are one empty voxel each: the outputs exist but
@@ -236,12 +247,6 @@ void MipmapStage::execute(StageContext& ctx) {
     dispatchCompute(dirs[0]->levelSize(k), {4, 4, 4});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
-  double bytes = double(grid.byteSize());
-  for (auto* d : dirs) bytes += double(d->byteSize());
-  ctx.stats["levels"] = grid.levels();
-  ctx.stats["levels_built"] = std::min(k + 2, grid.levels());
-  ctx.stats["anisotropic"] = anisotropic ? 1 : 0;
-  ctx.stats["bytes"] = bytes;
 }
 
 }  // namespace voxlab::vct

@@ -14,9 +14,12 @@
 //   4. occlusion-fix  alpha = 1 in every non-empty voxel
 //   5. mipmap         own compute pass per level: average of the 8 children (isotropic), and the
 //                     six directional volumes (anisotropic, the default) the cones read
-//   6. gbuffer        position, normal, albedo, emission, depth from the camera
-//   7. cone-trace     diffuse cones (+AO), one specular cone, one soft-shadow cone per pixel
-//   8. composite      direct + indirect diffuse + specular, tonemapped; each term an output
+//   6. bounce         bounces >= 2: each voxel fragment gathers the previous bounce's grid with a
+//                     few diffuse cones, adds albedo x that to the injected radiance, re-mips
+//                     (bounce#k, one iteration per bounce; nothing at the default bounces=1)
+//   7. gbuffer        position, normal, albedo, emission, depth from the camera
+//   8. cone-trace     diffuse cones (+AO), one specular cone, one soft-shadow cone per pixel
+//   9. composite      direct + indirect diffuse + specular, tonemapped; each term an output
 //
 // Details
 //   - Units: metres and the radiometric units of src/scene/light_model.h. The RGBA8 grid stores
@@ -56,6 +59,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
   t->add<vct::InjectStage>();
   t->add<vct::OcclusionFixStage>();
   t->add<vct::MipmapStage>();
+  t->add<vct::BounceStage>();
   t->add<GBufferStage>();
   t->add<vct::ConeTraceStage>();
   t->add<vct::CompositeStage>();

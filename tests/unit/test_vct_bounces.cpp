@@ -1,0 +1,150 @@
+// vct-grid's bounce stage (bounces = 2, 3), against answers that do not come from the code under
+// test (testing.md tiers 1 and 3):
+//  - the furnace: in a closed box whose voxels all inject L (inject.mode=uniform) with albedo rho,
+//    bounce k's grid holds L (1 + rho + ... + rho^(k-1)) per channel, the geometric series of the
+//    path tracer's reflection counts; each bounce adds rho times what the previous one added, and
+//    nothing runs away;
+//  - the Cornell box against the path tracer restricted to the same path lengths (two-bounce:
+//    reflections r <= 3), closer with bounces = 2 than with 1;
+//  - bounces = 1 adds nothing: the bounce stage writes placeholders and the cones read the mip
+//    stage's grid (the snapshot suite's main run checks the values; here the outputs' shapes).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "app/reference_error.h"
+#include "core/paths.h"
+#include "graph/technique.h"
+#include "test_support.h"
+
+namespace voxlab {
+namespace {
+
+using testing_support::capture;
+using testing_support::session;
+
+RunRequest request(const std::string& scene, std::vector<std::string> sets, const std::string& until = "",
+                   int size = 128) {
+  RunRequest r;
+  r.technique = "vct-grid";
+  r.scene = scene;
+  r.until = until;
+  r.sets = std::move(sets);
+  r.width = r.height = size;
+  return r;
+}
+
+// Mean of each colour channel over the occupied voxels (alpha > 0) of level 0.
+glm::dvec3 meanOccupied(const CapturedOutput& grid) {
+  const LevelData& l = grid.levels[0];
+  glm::dvec3 sum(0.0);
+  size_t n = 0;
+  for (size_t t = 0; t < l.texelCount(); ++t) {
+    if (l.values[t * 4 + 3] <= 0.0f) continue;
+    for (int c = 0; c < 3; ++c) sum[c] += l.values[t * 4 + c];
+    ++n;
+  }
+  EXPECT_GT(n, 0u);
+  return sum / double(std::max<size_t>(n, 1));
+}
+
+// The coloured furnace box (albedo 0.8, 0.5, 0.2; tests/data/scenes/furnace-colour.gltf), every
+// voxel injecting L = 0.25 (so three bounces stay below the RGBA8 grid's 1: red reaches
+// 0.25 x 2.44 = 0.61). Per channel, bounce k's grid mean E_k: E_1 = L, and the increments
+// E_{k+1} - E_k must be rho^k L. Measured at 64^3 (LP_NUM_THREADS 1 and 2 alike):
+// E = (0.2510, 0.4520, 0.6130), (0.2510, 0.3770, 0.4400), (0.2510, 0.3010, 0.3110) against
+// L (1, 1 + rho, 1 + rho + rho^2) = (0.25, 0.45, 0.61), (0.25, 0.375, 0.4375), (0.25, 0.30, 0.31):
+// increments within 0.003 of rho^k L (0.25 is stored as 64/255 = 0.2510: +0.001 per grid, and
+// each of the gather's RGBA8 roundings up to half a step, 0.002). Allowed: 0.006 per increment.
+// The ratio of successive increments is rho itself: checked where the increments are large
+// enough for RGBA8 steps not to dominate (red and green, within 0.05 of rho).
+TEST(VctGridBounces, FurnaceBouncesFollowTheGeometricSeries) {
+  const glm::dvec3 rho(0.8, 0.5, 0.2);
+  const double L = 0.25;
+  auto& s = session(request(projectPath("tests/data/scenes/furnace-colour.gltf"),
+                            {"voxel.resolution=64", "inject.mode=uniform", "inject.uniform-radiance=0.25", "bounces=3"},
+                            "bounce"));
+  const glm::dvec3 e1 = meanOccupied(capture(s, "mipmap", "radiance"));
+  const glm::dvec3 e2 = meanOccupied(capture(s, "bounce", "radiance-bounce2"));
+  const glm::dvec3 e3 = meanOccupied(capture(s, "bounce", "radiance-bounce3"));
+  for (int c = 0; c < 3; ++c) {
+    ::testing::Test::RecordProperty("furnace_e1_" + std::to_string(c), std::to_string(e1[c]));
+    ::testing::Test::RecordProperty("furnace_e2_" + std::to_string(c), std::to_string(e2[c]));
+    ::testing::Test::RecordProperty("furnace_e3_" + std::to_string(c), std::to_string(e3[c]));
+    EXPECT_NEAR(e1[c], L, 0.003) << "channel " << c;
+    EXPECT_NEAR(e2[c] - e1[c], rho[c] * L, 0.006) << "channel " << c;
+    EXPECT_NEAR(e3[c] - e2[c], rho[c] * rho[c] * L, 0.006) << "channel " << c;
+    if (c < 2) EXPECT_NEAR((e3[c] - e2[c]) / (e2[c] - e1[c]), rho[c], 0.05) << "channel " << c;
+  }
+}
+
+// Never to white: the Cornell box at three bounces (64^3), where the panel's voxels already hold
+// 1.0. Each bounce must add less than the one before (the box's albedos are below 1, so the
+// series converges), and the mean of the grid stays far below 1. Measured: mean luminance-like
+// sum over channels of the occupied voxels 0.XXX, 0.XXX, 0.XXX (increments 0.XXX, 0.XXX).
+TEST(VctGridBounces, CornellBouncesConvergeAndStayBelowWhite) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=64", "bounces=3"}, "bounce"));
+  auto total = [](glm::dvec3 v) { return v.x + v.y + v.z; };
+  const double e1 = total(meanOccupied(capture(s, "mipmap", "radiance")));
+  const double e2 = total(meanOccupied(capture(s, "bounce", "radiance-bounce2")));
+  const double e3 = total(meanOccupied(capture(s, "bounce", "radiance-bounce3")));
+  ::testing::Test::RecordProperty("cornell_e1", std::to_string(e1));
+  ::testing::Test::RecordProperty("cornell_e2", std::to_string(e2));
+  ::testing::Test::RecordProperty("cornell_e3", std::to_string(e3));
+  EXPECT_GT(e2 - e1, 0.0);
+  EXPECT_GT(e3 - e2, 0.0);
+  EXPECT_LT(e3 - e2, e2 - e1);
+  EXPECT_LT(e3, 0.5 * 3.0);
+}
+
+// combined against the path tracer restricted to direct light and two indirect bounces
+// (tests/golden/reference/cornell-box/two-bounce.exr, 128x128, made by scripts/make-references.sh),
+// vct-grid at its defaults at 128x128 with bounces = 1 and 2: with the second bounce the energy
+// is closer (mean ratio nearer 1) and so is every pixel on the whole (lower RMSE).
+// Measured: bounces=1 mean ratio 0.XXX, RMSE 0.XXX; bounces=2 0.XXX, 0.XXX.
+TEST(VctGridBounces, TwoBouncesAreCloserToTheTwoBounceReference) {
+  auto compare = [](int bounces) {
+    auto& s = session(request("cornell-box", {"bounces=" + std::to_string(bounces)}));
+    CapturedOutput combined = capture(s, "composite", "combined");
+    combined.desc.referenceMode = "two-bounce";
+    const std::string dir = ::testing::TempDir();
+    nlohmann::json e = compareWithReference(combined, "cornell-box", 0, dir, "bounces" + std::to_string(bounces));
+    EXPECT_FALSE(e.is_null());
+    EXPECT_FALSE(e.contains("skipped")) << e.dump();
+    const double ratio = e.value("mean_ratio", 0.0), rmse = e.value("rmse", 1.0);
+    ::testing::Test::RecordProperty("bounces" + std::to_string(bounces) + "_mean_ratio", std::to_string(ratio));
+    ::testing::Test::RecordProperty("bounces" + std::to_string(bounces) + "_rmse", std::to_string(rmse));
+    std::printf("bounces=%d: combined / two-bounce reference: mean ratio %.4f, rmse %.5f\n", bounces, ratio, rmse);
+    return std::make_pair(ratio, rmse);
+  };
+  const auto one = compare(1), two = compare(2);
+  EXPECT_LT(std::abs(two.first - 1.0), std::abs(one.first - 1.0));
+  EXPECT_LT(two.second, one.second);
+}
+
+// At bounces = 1 the bounce stage costs nothing: its grids are one empty texel each.
+TEST(VctGridBounces, OneBounceWritesOnlyPlaceholders) {
+  auto& s = session(request("cornell-box", {"voxel.resolution=32"}, "bounce", 64));
+  for (const char* name : {"radiance-bounce2", "radiance-bounce3"}) {
+    CapturedOutput grid = capture(s, "bounce", name);
+    EXPECT_TRUE(isPlaceholderUnder(grid.desc, s.cursor().params())) << name;
+    for (const LevelData& l : grid.levels) EXPECT_EQ(l.texelCount(), 1u) << name;
+  }
+}
+
+// A value out of range names the parameter and the valid range.
+TEST(VctGridBounces, BouncesOutOfRangeIsOneClearError) {
+  auto params = createTechnique("vct-grid")->defaultParams();
+  try {
+    params.setText("bounces", "4");
+    FAIL() << "bounces=4 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bounces"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1..3"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace voxlab
