@@ -33,6 +33,8 @@ variants=(
   "vct-grid cone.max-distance=1"
   "vct-grid inject.shadow-offset=0"
   "vct-grid inject.average=compare-and-swap"
+  "vct-grid bounces=2"
+  "vct-grid bounces=3"
   "vct-grid mipmap.mode=isotropic,cone.aperture=60,cone.max-distance=1,inject.shadow-offset=0,inject.average=compare-and-swap"
   "lpv gi.lookup-sign=plus-n"
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"

@@ -54,12 +54,14 @@ glm::dvec3 meanOccupied(const CapturedOutput& grid) {
 // voxel injecting L = 0.25 (so three bounces stay below the RGBA8 grid's 1: red reaches
 // 0.25 x 2.44 = 0.61). Per channel, bounce k's grid mean E_k: E_1 = L, and the increments
 // E_{k+1} - E_k must be rho^k L. Measured at 64^3 (LP_NUM_THREADS 1 and 2 alike):
-// E = (0.2510, 0.4520, 0.6130), (0.2510, 0.3770, 0.4400), (0.2510, 0.3010, 0.3110) against
-// L (1, 1 + rho, 1 + rho + rho^2) = (0.25, 0.45, 0.61), (0.25, 0.375, 0.4375), (0.25, 0.30, 0.31):
-// increments within 0.003 of rho^k L (0.25 is stored as 64/255 = 0.2510: +0.001 per grid, and
-// each of the gather's RGBA8 roundings up to half a step, 0.002). Allowed: 0.006 per increment.
-// The ratio of successive increments is rho itself: checked where the increments are large
-// enough for RGBA8 steps not to dominate (red and green, within 0.05 of rho).
+// E_1 = 0.2510 (0.25 stored as 64/255), E_2 = (0.4506, 0.3765, 0.3020), E_3 = (0.6113, 0.4392,
+// 0.3098); increments (0.1996, 0.1255, 0.0510) against rho L = (0.2, 0.125, 0.05) and (0.1606,
+// 0.0627, 0.0078) against rho^2 L = (0.16, 0.0625, 0.01): worst 0.0022 off (blue's second
+// increment, 2.5 RGBA8 steps of 1/255 stored as 2). Allowed: 0.006 per increment (1.5 steps).
+// Successive increments' ratio is rho itself: measured 0.8046 and 0.4999 where the increments are
+// large enough for RGBA8 steps not to dominate (red, green); allowed 0.02. Without the albedo in
+// the gather the first increment would be L, without the injected radiance in the sum E_2 would
+// be rho L: both fail by far.
 TEST(VctGridBounces, FurnaceBouncesFollowTheGeometricSeries) {
   const glm::dvec3 rho(0.8, 0.5, 0.2);
   const double L = 0.25;
@@ -76,14 +78,17 @@ TEST(VctGridBounces, FurnaceBouncesFollowTheGeometricSeries) {
     EXPECT_NEAR(e1[c], L, 0.003) << "channel " << c;
     EXPECT_NEAR(e2[c] - e1[c], rho[c] * L, 0.006) << "channel " << c;
     EXPECT_NEAR(e3[c] - e2[c], rho[c] * rho[c] * L, 0.006) << "channel " << c;
-    if (c < 2) EXPECT_NEAR((e3[c] - e2[c]) / (e2[c] - e1[c]), rho[c], 0.05) << "channel " << c;
+    if (c < 2) EXPECT_NEAR((e3[c] - e2[c]) / (e2[c] - e1[c]), rho[c], 0.02) << "channel " << c;
   }
 }
 
 // Never to white: the Cornell box at three bounces (64^3), where the panel's voxels already hold
-// 1.0. Each bounce must add less than the one before (the box's albedos are below 1, so the
-// series converges), and the mean of the grid stays far below 1. Measured: mean luminance-like
-// sum over channels of the occupied voxels 0.XXX, 0.XXX, 0.XXX (increments 0.XXX, 0.XXX).
+// 1.0. Each bounce must add less than the one before, by a ratio below the box's largest albedo
+// (the white walls' 0.73: a closed box of that albedo would give exactly that), and the grid's
+// mean stays far below white. Measured (sum over channels of the occupied voxels' mean, LP_NUM_THREADS
+// 1 and 2 alike): 0.3343, 0.5473, 0.6596: increments 0.2130 and 0.1123, ratio 0.527 (the red and
+// green walls reflect less, and light leaves through the open front). Allowed: ratio 0.3..0.73,
+// the last grid below half of white (1.5).
 TEST(VctGridBounces, CornellBouncesConvergeAndStayBelowWhite) {
   auto& s = session(request("cornell-box", {"voxel.resolution=64", "bounces=3"}, "bounce"));
   auto total = [](glm::dvec3 v) { return v.x + v.y + v.z; };
@@ -94,16 +99,20 @@ TEST(VctGridBounces, CornellBouncesConvergeAndStayBelowWhite) {
   ::testing::Test::RecordProperty("cornell_e2", std::to_string(e2));
   ::testing::Test::RecordProperty("cornell_e3", std::to_string(e3));
   EXPECT_GT(e2 - e1, 0.0);
-  EXPECT_GT(e3 - e2, 0.0);
-  EXPECT_LT(e3 - e2, e2 - e1);
+  EXPECT_GT((e3 - e2) / (e2 - e1), 0.3);
+  EXPECT_LT((e3 - e2) / (e2 - e1), 0.73);
   EXPECT_LT(e3, 0.5 * 3.0);
 }
 
 // combined against the path tracer restricted to direct light and two indirect bounces
 // (tests/golden/reference/cornell-box/two-bounce.exr, 128x128, made by scripts/make-references.sh),
 // vct-grid at its defaults at 128x128 with bounces = 1 and 2: with the second bounce the energy
-// is closer (mean ratio nearer 1) and so is every pixel on the whole (lower RMSE).
-// Measured: bounces=1 mean ratio 0.XXX, RMSE 0.XXX; bounces=2 0.XXX, 0.XXX.
+// is closer (mean ratio nearer 1) and so is every pixel on the whole (lower RMSE). Measured
+// (LP_NUM_THREADS 1 and 2 alike): bounces=1 mean ratio 0.8658, RMSE 0.0537; bounces=2 1.0653,
+// 0.0458 (the one-bounce term alone reads 1.04 of its reference: the same excess). The reference's
+// noise (RMS standard error 0.007 per pixel, 1024 spp) moves its mean by under 0.1 % and its
+// RMSE contribution is the same for both runs. Asserted: closer in both, and bounces=2 within the
+// issue's band 0.9..1.1.
 TEST(VctGridBounces, TwoBouncesAreCloserToTheTwoBounceReference) {
   auto compare = [](int bounces) {
     auto& s = session(request("cornell-box", {"bounces=" + std::to_string(bounces)}));
@@ -122,6 +131,8 @@ TEST(VctGridBounces, TwoBouncesAreCloserToTheTwoBounceReference) {
   const auto one = compare(1), two = compare(2);
   EXPECT_LT(std::abs(two.first - 1.0), std::abs(one.first - 1.0));
   EXPECT_LT(two.second, one.second);
+  EXPECT_GT(two.first, 0.9);
+  EXPECT_LT(two.first, 1.1);
 }
 
 // At bounces = 1 the bounce stage costs nothing: its grids are one empty texel each.
