@@ -35,6 +35,8 @@ variants=(
   "vct-grid inject.average=compare-and-swap"
   "vct-grid bounces=2"
   "vct-grid bounces=3"
+  "vct-grid voxel.format=rgba16f"
+  "vct-grid voxel.format=rgba16f,bounces=3"
   "vct-grid mipmap.mode=isotropic,cone.aperture=60,cone.max-distance=1,inject.shadow-offset=0,inject.average=compare-and-swap"
   "lpv gi.lookup-sign=plus-n"
   "lpv lpv.scheme=thesis,lpv.weighting=thesis"

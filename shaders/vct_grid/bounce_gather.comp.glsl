@@ -23,6 +23,7 @@ uniform vec4 u_cones[VOXLAB_MAX_CONES];  // xyz: direction in tangent space (z =
 uniform float u_aperture;                // radians
 uniform float u_startOffset;             // metres from the voxel centre, along the normal
 uniform float u_maxDistance;             // metres
+uniform float u_maxRadiance;             // 1 for RGBA8 grids, higher for RGBA16F
 const float kFixedPointScale = 4096.0;   // as in inject.comp.glsl
 
 void main() {
@@ -41,7 +42,7 @@ void main() {
     ConeResult r = traceCone(origin, d, u_aperture, u_voxelSize, u_maxDistance, u_maxDistance, c, false);
     incoming += u_cones[c].w * r.radiance;
   }
-  vec3 reflected = clamp(albedo * incoming, 0.0, 1.0);
+  vec3 reflected = clamp(albedo * incoming, 0.0, u_maxRadiance);
   uvec3 fixedPoint = uvec3(reflected * kFixedPointScale + 0.5);
   imageAtomicAdd(u_sumR, voxel, fixedPoint.r);
   imageAtomicAdd(u_sumG, voxel, fixedPoint.g);

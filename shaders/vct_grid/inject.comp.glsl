@@ -29,6 +29,8 @@ uniform uint u_fragmentCount;
 uniform int u_mode;               // 0 = direct light, 1 = uniform radiance (furnace tests)
 uniform int u_average;            // 0 = exact-sum, 1 = compare-and-swap
 uniform vec3 u_uniformRadiance;
+// What a voxel can hold: 1 with RGBA8 grids (voxel.format=rgba8), kHdrMaxRadiance with RGBA16F.
+uniform float u_maxRadiance;
 // Metres along the fragment's normal from the voxel centre where the shadow map is read: the
 // fragment's surface passes up to half a voxel from the centre (axis-aligned), and a centre behind
 // it would be shadowed by the surface itself (on Sponza at 128^3 that blackened half the floor).
@@ -54,7 +56,7 @@ void main() {
     vec3 irradiance = lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p + n * u_shadowOffset, n);
     radiance = albedo / PI * irradiance + unpackUnorm4x8(f.emission).rgb;
   }
-  radiance = clamp(radiance, 0.0, 1.0);
+  radiance = clamp(radiance, 0.0, u_maxRadiance);
 
   if (u_average == 0) {
     uvec3 fixedPoint = uvec3(radiance * kFixedPointScale + 0.5);

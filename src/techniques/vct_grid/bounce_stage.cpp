@@ -13,8 +13,8 @@
 //
 // Per fragment, not per voxel: a voxel holding both faces of a thin wall, or a corner, has
 // fragments with different normals, and each gathers around its own (an averaged normal would
-// cancel on a wall's two faces). The voxels store RGBA8 like every other grid: a sum above 1 is
-// clamped, so no bounce can run away.
+// cancel on a wall's two faces). The voxels store what every other grid stores (voxel.format): with
+// RGBA8 a sum above 1 is clamped, with RGBA16F above 64, so no bounce can run away.
 //
 // The cones start bounce.start-offset voxels from the voxel centre along the fragment's normal and
 // take their first sample one voxel further (the cone-trace stage's 1.75 and 1: at level 0 that
@@ -74,11 +74,11 @@ static bool anisotropic(const ParamSet& p) { return p.getChoice("mipmap.mode") =
 
 // A bounce's grid is real when that bounce is gathered, else one empty texel.
 static TextureDesc bounceGridDesc(const ParamSet& p, int bounce) {
-  return radianceGridDesc(bounce <= bounces(p) ? p.getInt("voxel.resolution") : 1, 0);
+  return radianceGridDesc(bounce <= bounces(p) ? p.getInt("voxel.resolution") : 1, 0, gridFormat(p));
 }
 static TextureDesc bounceDirectionalDesc(const ParamSet& p, int bounce) {
   const bool real = bounce <= bounces(p) && anisotropic(p);
-  return radianceGridDesc(real ? std::max(p.getInt("voxel.resolution") / 2, 1) : 1, 0);
+  return radianceGridDesc(real ? std::max(p.getInt("voxel.resolution") / 2, 1) : 1, 0, gridFormat(p));
 }
 static TextureDesc bounceSumsDesc(const ParamSet& p) {
   TextureDesc d;
@@ -92,6 +92,7 @@ static TextureDesc bounceSumsDesc(const ParamSet& p) {
 void BounceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(mipmapModeParam());
+  b.param(voxelFormatParam());
   b.param(bouncesParam());
   b.param(ParamDesc::integer("bounce.cone-count", 6, 1, VOXLAB_MAX_CONES,
                              "diffuse cones each voxel fragment gathers the previous bounce with (ring layout, "
@@ -181,6 +182,7 @@ void BounceStage::execute(StageContext& ctx) {
   setUniform(gather, "u_maxSteps", 512);
   setUniform(gather, "u_anisotropic", anisotropic(ctx.params) ? 1 : 0);
   setUniform(gather, "u_fragmentCount", unsigned(count));
+  setUniform(gather, "u_maxRadiance", gridMaxRadiance(ctx.params));
   setSkyUniform(gather, ctx.params);
   glUseProgram(gather);
   bindRadianceGrid(ctx, bounce - 1);
@@ -191,15 +193,16 @@ void BounceStage::execute(StageContext& ctx) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
   // Resolve: level 0 of this bounce's grid = injected radiance + the voxel's mean gathered light.
-  GLuint resolve = ctx.shaders.program({"vct_grid/bounce_resolve.comp.glsl"});
+  GLuint resolve = ctx.shaders.program({"vct_grid/bounce_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
   setUniform(resolve, "u_fragmentCount", unsigned(count));
+  setUniform(resolve, "u_maxRadiance", gridMaxRadiance(ctx.params));
   glUseProgram(resolve);
   glBindTextureUnit(0, ctx.board.texture("radiance-opaque").id());
   for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
-  glBindImageTexture(0, grids[bounce]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(0, grids[bounce]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, grids[bounce]->desc().format);
   dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, grids[bounce]->desc().format);
   for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
 
   // Re-mip with the mip stage's code: level 0 is already in place.

@@ -10,8 +10,17 @@ namespace voxlab::vct {
 extern const char* const kDirectionalVolumes[6];
 ParamDesc mipmapModeParam();
 
-// An RGBA8 radiance volume of res^3 voxels (levels 0: the whole mip chain).
-TextureDesc radianceGridDesc(int res, int levels);
+// A radiance volume of res^3 voxels (levels 0: the whole mip chain), RGBA8 unless 'format'.
+TextureDesc radianceGridDesc(int res, int levels, GLenum format = GL_RGBA8);
+
+// What the radiance grids store (voxel.format): RGBA8, radiance clamped to [0,1] (the default), or
+// RGBA16F, radiance up to kHdrMaxRadiance (HDR voxels: a bright spot's footprint, the sun, a bounce
+// added to an emitter). The grid shaders take the image format from VOXLAB_GRID_FORMAT.
+ParamDesc voxelFormatParam();
+inline constexpr float kHdrMaxRadiance = 64.0f;  // W/(m^2 sr); keeps the exact sums' uint32 safe
+GLenum gridFormat(const ParamSet& p);             // GL_RGBA8 or GL_RGBA16F
+std::string gridFormatDefines(const ParamSet& p); // "" or "#define VOXLAB_GRID_FORMAT rgba16f\n"
+float gridMaxRadiance(const ParamSet& p);         // 1 or kHdrMaxRadiance
 
 // Iteration k of the mip pyramid (MipmapStage; the bounce stage re-mips each bounce's grid with
 // it): k = 0 copies 'src' into level 0 of 'grid' (unless they are the same texture) and clears the

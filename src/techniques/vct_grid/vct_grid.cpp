@@ -22,8 +22,9 @@
 //   9. composite      direct + indirect diffuse + specular, tonemapped; each term an output
 //
 // Details
-//   - Units: metres and the radiometric units of src/scene/light_model.h. The RGBA8 grid stores
-//     outgoing radiance clamped to [0,1]; the scenes in scenes/ keep injected radiance below 1.
+//   - Units: metres and the radiometric units of src/scene/light_model.h. The grids store outgoing
+//     radiance as RGBA8 clamped to [0,1] by default; voxel.format=rgba16f keeps up to 64 (the
+//     Cornell blocks' tops under the spot reach 4.6: what the clamp costs is in docs/fidelity.md).
 //   - Diffuse cone weights sum to 1 (cone_layout.h), so under uniform incoming radiance L the
 //     indirect diffuse term is exactly albedo * L: the white-furnace test in tests/ checks it.
 //     (The 0.707-style weights in seed 000 and the blog's unweighted sum do not sum to 1.)
