@@ -321,7 +321,7 @@ TEST(ReferenceRender, InvalidSettingsThrowOneLineErrors) {
     parseMode("fancy");
     FAIL() << "parseMode accepted 'fancy'";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("full, direct, one-bounce, indirect, indirect-1, ao"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("full, direct, one-bounce, two-bounce, indirect, indirect-1, indirect-2, ao"), std::string::npos) << e.what();
   }
   for (const auto& name : modeNames()) EXPECT_EQ(modeName(parseMode(name)), name);
 }

@@ -92,8 +92,12 @@ void InjectStage::execute(StageContext& ctx) {
   glClearTexImage(grid.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
 
   // An r32ui view of the RGBA8 grid: image atomics work on 32-bit integers only (compare-and-swap).
+  // Image unit 0 must hold an r32ui image even when the shader does not use it (exact sums):
+  // llvmpipe compiles a variant for the format bound there, and a float image left by an earlier
+  // stage makes LLVM fail on the compare-and-swap. RGBA16F cannot be viewed as r32ui: the first
+  // sum volume stands in.
   GLuint view = 0;
-  if (!exact) {
+  if (format == GL_RGBA8) {
     glGenTextures(1, &view);
     glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
     glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
@@ -119,14 +123,12 @@ void InjectStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
-  if (view) glBindImageTexture(0, view, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(0, view ? view : sums[0]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  if (view) {
-    glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-    glDeleteTextures(1, &view);
-  }
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  if (view) glDeleteTextures(1, &view);
   if (exact) {
     GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
     setUniform(resolve, "u_fragmentCount", unsigned(count));
