@@ -29,6 +29,8 @@ layout(r32ui, binding = 4) uniform uimage3D u_count;
 layout(binding = 2) uniform sampler2D u_shadowMap;  // a texture unit (image units are separate)
 uniform uint u_fragmentCount;
 uniform int u_average;            // 0 = exact-sum, 1 = compare-and-swap
+// What a voxel can hold: 1 with RGBA8 grids (voxel.format=rgba8), kHdrMaxRadiance with RGBA16F.
+uniform float u_maxRadiance;
 const float kFixedPointScale = 4096.0;  // exact-sum: radiance units per integer step
 
 void main() {
@@ -37,7 +39,7 @@ void main() {
   VoxelFragment f = fragments[i];
   ivec3 voxel = ivec3(unpackVoxel10(f.position));
   vec3 radiance = fragmentRadiance(f, u_shadowMap);
-  radiance = clamp(radiance, 0.0, 1.0);
+  radiance = clamp(radiance, 0.0, u_maxRadiance);
 
   if (u_average == 0) {
     uvec3 fixedPoint = uvec3(radiance * kFixedPointScale + 0.5);

@@ -5,13 +5,18 @@
 // same value, so the order does not matter.
 #include "common/shared.h"
 #include "common/packing.glsl"
+// The radiance grids' image format: rgba8 unless the stage builds the program with
+// "#define VOXLAB_GRID_FORMAT rgba16f" (voxel.format=rgba16f).
+#ifndef VOXLAB_GRID_FORMAT
+#define VOXLAB_GRID_FORMAT rgba8
+#endif
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
 layout(r32ui, binding = 1) uniform readonly uimage3D u_sumR;
 layout(r32ui, binding = 2) uniform readonly uimage3D u_sumG;
 layout(r32ui, binding = 3) uniform readonly uimage3D u_sumB;
 layout(r32ui, binding = 4) uniform readonly uimage3D u_count;
-layout(rgba8, binding = 0) uniform writeonly image3D u_radiance;
+layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_radiance;
 uniform uint u_fragmentCount;
 const float kFixedPointScale = 4096.0;  // as in inject.comp.glsl
 void main() {

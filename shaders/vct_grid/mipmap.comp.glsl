@@ -10,9 +10,14 @@
 //    anisotropic mips); seen edge-on it is too opaque (1 instead of the half it covers), which
 //    the cone sees only when it runs along the wall. Radiance keeps the isotropic colour (the
 //    opacity-weighted mean of the children) at the new opacity.
+// The radiance grids' image format: rgba8 unless the stage builds the program with
+// "#define VOXLAB_GRID_FORMAT rgba16f" (voxel.format=rgba16f).
+#ifndef VOXLAB_GRID_FORMAT
+#define VOXLAB_GRID_FORMAT rgba8
+#endif
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(binding = 0) uniform sampler3D u_source;   // the same texture, read at level u_sourceLevel
-layout(rgba8, binding = 0) uniform writeonly image3D u_target;
+layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_target;
 uniform int u_sourceLevel;
 uniform int u_opacityRule;
 void main() {

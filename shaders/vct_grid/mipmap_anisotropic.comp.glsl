@@ -7,6 +7,11 @@
 // per level.
 // Level 1 of the hierarchy is built from the isotropic level-0 voxels; higher levels from the
 // direction's own previous level.
+// The radiance grids' image format: rgba8 unless the stage builds the program with
+// "#define VOXLAB_GRID_FORMAT rgba16f" (voxel.format=rgba16f).
+#ifndef VOXLAB_GRID_FORMAT
+#define VOXLAB_GRID_FORMAT rgba8
+#endif
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(binding = 0) uniform sampler3D u_isotropic;  // level 0 voxels
 // The directional volumes, read at u_sourceLevel (+x -x +y -y +z -z).
@@ -16,12 +21,12 @@ layout(binding = 3) uniform sampler3D u_dir2;
 layout(binding = 4) uniform sampler3D u_dir3;
 layout(binding = 5) uniform sampler3D u_dir4;
 layout(binding = 6) uniform sampler3D u_dir5;
-layout(rgba8, binding = 0) uniform writeonly image3D u_target0;
-layout(rgba8, binding = 1) uniform writeonly image3D u_target1;
-layout(rgba8, binding = 2) uniform writeonly image3D u_target2;
-layout(rgba8, binding = 3) uniform writeonly image3D u_target3;
-layout(rgba8, binding = 4) uniform writeonly image3D u_target4;
-layout(rgba8, binding = 5) uniform writeonly image3D u_target5;
+layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_target0;
+layout(VOXLAB_GRID_FORMAT, binding = 1) uniform writeonly image3D u_target1;
+layout(VOXLAB_GRID_FORMAT, binding = 2) uniform writeonly image3D u_target2;
+layout(VOXLAB_GRID_FORMAT, binding = 3) uniform writeonly image3D u_target3;
+layout(VOXLAB_GRID_FORMAT, binding = 4) uniform writeonly image3D u_target4;
+layout(VOXLAB_GRID_FORMAT, binding = 5) uniform writeonly image3D u_target5;
 uniform int u_fromIsotropic;
 uniform int u_sourceLevel;
 

@@ -4,10 +4,15 @@
 // non-empty; the target was cleared to zero), so it visits ~1e5 voxels instead of resolution^3.
 #include "common/shared.h"
 #include "common/packing.glsl"
+// The radiance grids' image format: rgba8 unless the stage builds the program with
+// "#define VOXLAB_GRID_FORMAT rgba16f" (voxel.format=rgba16f).
+#ifndef VOXLAB_GRID_FORMAT
+#define VOXLAB_GRID_FORMAT rgba8
+#endif
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
 layout(binding = 0) uniform sampler3D u_injected;
-layout(rgba8, binding = 0) uniform writeonly image3D u_opaque;
+layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_opaque;
 uniform uint u_fragmentCount;
 void main() {
   uint i = gl_GlobalInvocationID.x;

@@ -41,7 +41,7 @@ using nlohmann::json;
 bool indirectOnly(const std::string& mode) {
   try {
     reference::Mode m = reference::parseMode(mode);
-    return m == reference::Mode::Indirect || m == reference::Mode::IndirectOne;
+    return m == reference::Mode::Indirect || m == reference::Mode::IndirectOne || m == reference::Mode::IndirectTwo;
   } catch (const Error&) {
     return false;
   }

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "graph/param.h"
 
 namespace voxlab {
 
@@ -16,6 +17,22 @@ const char* kindName(OutputKind k) {
 }
 
 const char* semanticName(Semantic s) { return s.name(); }
+
+bool isPlaceholderUnder(const OutputDesc& desc, const ParamSet& params) {
+  const std::string& c = desc.placeholderUnless;
+  if (c.empty()) return false;
+  if (size_t ge = c.find(">="); ge != std::string::npos) {
+    const std::string number = c.substr(ge + 2);
+    char* end = nullptr;
+    const double least = std::strtod(number.c_str(), &end);
+    if (number.empty() || *end) throw Error("output " + desc.name + ": placeholder condition '" + c + "' is not param>=number");
+    return params.value(c.substr(0, ge)) < least;
+  }
+  const size_t eq = c.find('=');
+  if (eq == std::string::npos) throw Error("output " + desc.name + ": placeholder condition '" + c + "' is not param=value or param>=number");
+  const std::string name = c.substr(0, eq);
+  return params.desc(name).format(params.value(name)) != c.substr(eq + 1);
+}
 
 OutputAddress OutputAddress::parse(const std::string& text) {
   OutputAddress a;

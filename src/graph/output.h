@@ -99,13 +99,20 @@ struct OutputDesc {
   // output in linear radiance with tests/golden/reference/<scene>/<mode>.exr when one exists for
   // the same scene, camera and size (app/reference_error.h).
   std::string referenceMode;
-  // "" always real; else "param=value": under any other value of that parameter the stage writes
-  // only a placeholder here (one empty texel), e.g. the anisotropic volumes under isotropic mips.
-  // The snapshot suite then checks it is empty instead of comparing it with a golden.
+  // "" always real; else "param=value" or "param>=number": when the parameter's value is not that
+  // (not at least that) the stage writes only a placeholder here (one empty texel), e.g. the
+  // anisotropic volumes under isotropic mips, a bounce's grid when fewer bounces are gathered.
+  // The snapshot suite then checks it is empty instead of comparing it with a golden
+  // (isPlaceholderUnder).
   std::string placeholderUnless;
 
   const std::string& resourceName() const { return resource.empty() ? name : resource; }
 };
+
+class ParamSet;
+// Whether 'desc' is only a placeholder under 'params' (OutputDesc::placeholderUnless); throws Error
+// on a condition that names no parameter of 'params' or is neither form.
+bool isPlaceholderUnder(const OutputDesc& desc, const ParamSet& params);
 
 // "technique/stage/output@level" (level optional, -1 = all levels).
 struct OutputAddress {

@@ -137,6 +137,8 @@ Range reflectionRange(Mode mode) {
     case Mode::OneBounce: return {0, 2};
     case Mode::Indirect: return {2, INT_MAX};
     case Mode::IndirectOne: return {2, 2};
+    case Mode::TwoBounce: return {0, 3};
+    case Mode::IndirectTwo: return {2, 3};
     default: return {0, INT_MAX};
   }
 }
@@ -151,13 +153,18 @@ std::string modeName(Mode mode) {
     case Mode::OneBounce: return "one-bounce";
     case Mode::Indirect: return "indirect";
     case Mode::IndirectOne: return "indirect-1";
+    case Mode::TwoBounce: return "two-bounce";
+    case Mode::IndirectTwo: return "indirect-2";
     case Mode::AO: return "ao";
   }
   return "?";
 }
-std::vector<std::string> modeNames() { return {"full", "direct", "one-bounce", "indirect", "indirect-1", "ao"}; }
+std::vector<std::string> modeNames() {
+  return {"full", "direct", "one-bounce", "two-bounce", "indirect", "indirect-1", "indirect-2", "ao"};
+}
 Mode parseMode(const std::string& name) {
-  for (Mode m : {Mode::Full, Mode::Direct, Mode::OneBounce, Mode::Indirect, Mode::IndirectOne, Mode::AO})
+  for (Mode m : {Mode::Full, Mode::Direct, Mode::OneBounce, Mode::TwoBounce, Mode::Indirect, Mode::IndirectOne,
+                 Mode::IndirectTwo, Mode::AO})
     if (modeName(m) == name) return m;
   throw Error("unknown mode '" + name + "'; valid modes: " + joinNames(modeNames()));
 }

@@ -10,10 +10,13 @@
 // Le (1 - rho^(k+1)) / (1 - rho). The modes keep:
 //   direct      r in {0, 1}      -> furnace Le (1 + rho)
 //   one-bounce  r in {0, 1, 2}   -> furnace Le (1 + rho + rho^2)
+//   two-bounce  r in {0, ..., 3} -> furnace Le (1 + rho + rho^2 + rho^3): direct and two indirect
+//               bounces, what vct-grid's combined approximates with bounces=2
 //   indirect    r >= 2           -> furnace Le rho^2 / (1 - rho)   (= full - direct)
 //   indirect-1  r == 2           -> furnace Le rho^2                (= one-bounce - direct): exactly
 //               one indirect bounce, what a single-bounce GI technique (e.g. vct-grid's
 //               indirect-diffuse: one diffuse gather of the direct-lit voxels) approximates
+//   indirect-2  r in {2, 3}      -> furnace Le (rho^2 + rho^3) (= two-bounce - direct)
 //   full        r >= 0           -> furnace Le / (1 - rho)
 //   ao          cosine-weighted visible fraction V at the first hit, rays up to aoRadius long
 // An optional constant sky (setSkyRadiance) is one more emitter: a ray that escapes carries it.
@@ -44,9 +47,9 @@
 
 namespace voxlab::reference {
 
-enum class Mode { Full, Direct, OneBounce, Indirect, AO, IndirectOne };
+enum class Mode { Full, Direct, OneBounce, Indirect, AO, IndirectOne, TwoBounce, IndirectTwo };
 
-std::string modeName(Mode mode);  // "full", "direct", "one-bounce", "indirect", "indirect-1", "ao"
+std::string modeName(Mode mode);  // "full", "direct", "one-bounce", "two-bounce", "indirect", "indirect-1", ...
 std::vector<std::string> modeNames();
 Mode parseMode(const std::string& name);       // throws voxlab::Error listing the valid modes
 

@@ -1,7 +1,7 @@
 # Command-line cases for 'voxlab reference' and 'voxlab compare' (see tests/cli_cases.cmake).
 # tests/data/reference/: constant float EXRs, grey50_4x4 (0.5), grey25_4x4 (0.25), grey50_4x3.
 set(_refdata "@ROOT@/tests/data/reference")
-voxlab_cli_case(reference_unknown_mode 2 "unknown mode 'fancy'; valid modes: full, direct, one-bounce, indirect, indirect-1, ao"
+voxlab_cli_case(reference_unknown_mode 2 "unknown mode 'fancy'; valid modes: full, direct, one-bounce, two-bounce, indirect, indirect-1, indirect-2, ao"
   "reference --scene cornell-box --spp 1 --mode fancy --out @OUT@/x.exr")
 voxlab_cli_case(reference_spp_range 2 "--spp '0' is not an integer in 1..1000000"
   "reference --scene cornell-box --spp 0 --out @OUT@/x.exr")

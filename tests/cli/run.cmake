@@ -1,8 +1,12 @@
 # voxlab run/list/bench: bad arguments give one line naming what is wrong and what is valid, exit 2.
 voxlab_cli_case(run_unknown_technique 2 "unknown technique 'vct-nope'; valid techniques: .*vct-grid"
   "run --technique vct-nope --out @OUT@")
-voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize, light, shadow-map, inject, occlusion-fix, mipmap, gbuffer, cone-trace, composite"
+voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize, light, shadow-map, inject, occlusion-fix, mipmap, bounce, gbuffer, cone-trace, composite"
   "run --technique vct-grid --until shade --out @OUT@")
+voxlab_cli_case(run_bounces_out_of_range 2 "bounces=.4. is not valid; valid: 1..3"
+  "run --technique vct-grid --set bounces=4 --out @OUT@")
+voxlab_cli_case(run_half_float_voxels_with_compare_and_swap 2 "inject.average=compare-and-swap needs voxel.format=rgba8"
+  "run --technique vct-grid --set voxel.format=rgba16f --set inject.average=compare-and-swap --set voxel.resolution=32 --size 64x64 --out @OUT@")
 voxlab_cli_case(run_unknown_parameter 2 "unknown parameter 'voxel.size'; valid parameters: .*voxel.resolution"
   "run --technique vct-grid --set voxel.size=3 --out @OUT@")
 voxlab_cli_case(run_parameter_out_of_range 2 "voxel.resolution=.1024. is not valid; valid: 16..512 .power of two."

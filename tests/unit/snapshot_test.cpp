@@ -100,14 +100,6 @@ std::vector<Settings> runsFor(const std::string& technique) {
   return runs;
 }
 
-// Whether the output is only a placeholder under these parameters (OutputDesc::placeholderUnless,
-// a choice parameter).
-bool isPlaceholder(const OutputDesc& desc, const ParamSet& params) {
-  if (desc.placeholderUnless.empty()) return false;
-  size_t eq = desc.placeholderUnless.find('=');
-  return params.getChoice(desc.placeholderUnless.substr(0, eq)) != desc.placeholderUnless.substr(eq + 1);
-}
-
 // The entry "<address> on <scene>" (e.g. "vct-grid/inject/radiance-injected on sponza") overrides
 // "<address>", which overrides "default".
 GoldenTolerance toleranceFor(const std::string& address, const std::string& scene, CaptureTier tier) {
@@ -154,7 +146,7 @@ class SnapshotTest : public ::testing::Test {
     GoldenRequest q;
     q.tier = captureTier(c.desc);
     if (q.tier == CaptureTier::None) GTEST_SKIP() << address << " is not compared (tier none)";
-    if (isPlaceholder(c.desc, settings_.params())) {
+    if (isPlaceholderUnder(c.desc, settings_.params())) {
       // Declared a placeholder under these parameters: it must be one empty texel, no golden.
       for (const LevelData& level : c.levels) {
         EXPECT_EQ(level.texelCount(), 1u) << address << " is a placeholder unless " << c.desc.placeholderUnless;

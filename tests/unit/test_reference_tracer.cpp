@@ -56,7 +56,8 @@ TEST(ReferenceFurnace, ModesMatchPartialSums) {
   glm::vec3 dir = glm::normalize(glm::vec3(0.3f, -0.2f, -1.0f));
   struct Case { Mode mode; int kMin, kMax; };  // reflections counted: [kMin, kMax], -1 = all
   for (Case c : {Case{Mode::Direct, 0, 1}, Case{Mode::OneBounce, 0, 2}, Case{Mode::Indirect, 2, -1},
-                 Case{Mode::IndirectOne, 2, 2}, Case{Mode::Full, 0, -1}}) {
+                 Case{Mode::IndirectOne, 2, 2}, Case{Mode::Full, 0, -1}, Case{Mode::TwoBounce, 0, 3},
+                 Case{Mode::IndirectTwo, 2, 3}}) {
     double total = an::furnaceRadiance(rho, 1.0, c.kMax);
     double below = c.kMin == 0 ? 0.0 : an::furnaceRadiance(rho, 1.0, c.kMin - 1);
     glm::dvec3 expected = glm::dvec3(le) * (total - below);
@@ -320,7 +321,7 @@ TEST(ReferenceRender, InvalidSettingsThrowOneLineErrors) {
     parseMode("fancy");
     FAIL() << "parseMode accepted 'fancy'";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("full, direct, one-bounce, indirect, indirect-1, ao"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("full, direct, one-bounce, two-bounce, indirect, indirect-1, indirect-2, ao"), std::string::npos) << e.what();
   }
   for (const auto& name : modeNames()) EXPECT_EQ(modeName(parseMode(name)), name);
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/shared.h"
+#include "core/error.h"
 #include "gpu/shader_library.h"
 #include "techniques/common/fragment_light.h"
 #include "techniques/common/voxel_space.h"
@@ -12,15 +13,27 @@
 
 namespace voxlab::vct {
 
-static TextureDesc radianceGridDesc(int res, int levels) {
+TextureDesc radianceGridDesc(int res, int levels, GLenum format) {
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
+  d.format = format;
   d.size = {res, res, res};
   d.levels = levels;
   d.minFilter = levels == 1 ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
   return d;
 }
+
+ParamDesc voxelFormatParam() {
+  return ParamDesc::choice("voxel.format", {"rgba8", "rgba16f"}, 0,
+                           "what the radiance grids store: rgba8 clamps radiance to [0,1] (8 bits per channel); "
+                           "rgba16f keeps up to 64 W/(m^2 sr) in half floats (HDR voxels, twice the memory; needs "
+                           "inject.average=exact-sum)");
+}
+GLenum gridFormat(const ParamSet& p) { return p.getChoice("voxel.format") == "rgba16f" ? GL_RGBA16F : GL_RGBA8; }
+std::string gridFormatDefines(const ParamSet& p) {
+  return gridFormat(p) == GL_RGBA16F ? "#define VOXLAB_GRID_FORMAT rgba16f\n" : "";
+}
+float gridMaxRadiance(const ParamSet& p) { return gridFormat(p) == GL_RGBA16F ? kHdrMaxRadiance : 1.0f; }
 
 static bool exactSums(const ParamSet& p) { return p.getChoice("inject.average") == "exact-sum"; }
 
@@ -43,6 +56,7 @@ void InjectStage::declare(StageBuilder& b) const {
                             "how a voxel's fragments are averaged: exact-sum adds fixed-point sums and a count with "
                             "integer atomics (order-independent), compare-and-swap keeps a running RGBA8 average "
                             "(seed 000: truncates, saturates at 255 fragments, depends on the order)"));
+  b.param(voxelFormatParam());
   b.read("fragments");
   b.read("fragments.count");
   b.read("shadow-map");
@@ -54,30 +68,41 @@ void InjectStage::declare(StageBuilder& b) const {
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
            "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255");
   b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
-    return radianceGridDesc(p.getInt("voxel.resolution"), 1);
+    return radianceGridDesc(p.getInt("voxel.resolution"), 1, gridFormat(p));
   });
 }
 
 void InjectStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
-  Texture& grid = ctx.board.ensureTexture("radiance-injected", radianceGridDesc(res, 1));
+  const bool exact = exactSums(ctx.params);
+  const GLenum format = gridFormat(ctx.params);
+  if (!exact && format != GL_RGBA8)
+    throw Error("inject.average=compare-and-swap needs voxel.format=rgba8 (its running average lives in the RGBA8 "
+                "voxel); use inject.average=exact-sum with voxel.format=rgba16f");
+  Texture& grid = ctx.board.ensureTexture("radiance-injected", radianceGridDesc(res, 1, format));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(grid.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
 
-  // An r32ui view of the RGBA8 grid: image atomics work on 32-bit integers only.
+  // An r32ui view of the RGBA8 grid: image atomics work on 32-bit integers only (compare-and-swap).
+  // Image unit 0 must hold an r32ui image even when the shader does not use it (exact sums):
+  // llvmpipe compiles a variant for the format bound there, and a float image left by an earlier
+  // stage makes LLVM fail on the compare-and-swap. RGBA16F cannot be viewed as r32ui: the first
+  // sum volume stands in.
   GLuint view = 0;
-  glGenTextures(1, &view);
-  glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
-  glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
+  if (format == GL_RGBA8) {
+    glGenTextures(1, &view);
+    glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
+    glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
+  }
 
   uint32_t count = voxelFragmentCount(ctx.board);
 
   GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"});
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(count));
-  const bool exact = exactSums(ctx.params);
   setUniform(program, "u_average", exact ? 0 : 1);
+  setUniform(program, "u_maxRadiance", gridMaxRadiance(ctx.params));
   Texture* sums[4];
   for (int c = 0; c < 4; ++c) {
     sums[c] = &ctx.board.ensureTexture(kSumVolumes[c], radianceSumsDesc(ctx.params));
@@ -89,21 +114,21 @@ void InjectStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
-  glBindImageTexture(0, view, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(0, view ? view : sums[0]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  glDeleteTextures(1, &view);
+  if (view) glDeleteTextures(1, &view);
   if (exact) {
-    GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"});
+    GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
     setUniform(resolve, "u_fragmentCount", unsigned(count));
     glUseProgram(resolve);
     for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
-    glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
     dispatchCompute({int(count), 1, 1}, {64, 1, 1});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
   }
   for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   ctx.stats["fragments_injected"] = count;
@@ -111,30 +136,31 @@ void InjectStage::execute(StageContext& ctx) {
 
 void OcclusionFixStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(voxelFormatParam());
   b.read("radiance-injected");
   b.read("fragments");
   b.read("fragments.count");
   b.output("radiance-opaque", OutputKind::Volume3D, Semantic::Color,
            "radiance per voxel with alpha 1 in every occupied voxel");
   b.texture("radiance-opaque", [](const ParamSet& p, const ViewState&) {
-    return radianceGridDesc(p.getInt("voxel.resolution"), 1);
+    return radianceGridDesc(p.getInt("voxel.resolution"), 1, gridFormat(p));
   });
 }
 
 void OcclusionFixStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   Texture& src = ctx.board.texture("radiance-injected");
-  Texture& dst = ctx.board.ensureTexture("radiance-opaque", radianceGridDesc(res, 1));
+  Texture& dst = ctx.board.ensureTexture("radiance-opaque", radianceGridDesc(res, 1, gridFormat(ctx.params)));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(dst.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   // Only voxels that received fragments can be non-empty: visit those instead of the whole grid.
   uint32_t count = voxelFragmentCount(ctx.board);
-  GLuint program = ctx.shaders.program({"vct_grid/occlusion_fix.comp.glsl"});
+  GLuint program = ctx.shaders.program({"vct_grid/occlusion_fix.comp.glsl"}, gridFormatDefines(ctx.params));
   setUniform(program, "u_fragmentCount", unsigned(count));
   glUseProgram(program);
   glBindTextureUnit(0, src.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
-  glBindImageTexture(0, dst.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(0, dst.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, dst.desc().format);
   dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
@@ -156,6 +182,7 @@ static int directionalSize(const ParamSet& p) {
 
 void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(voxelFormatParam());
   b.param(mipmapModeParam());
   b.read("radiance-opaque");
   b.output("radiance", OutputKind::Volume3D, Semantic::Color,
@@ -169,10 +196,12 @@ void MipmapStage::declare(StageBuilder& b) const {
                  " (one voxel, empty, when mipmap.mode is isotropic)")
         .placeholderUnless = "mipmap.mode=anisotropic";
   b.texture("radiance", [](const ParamSet& p, const ViewState&) {
-    return radianceGridDesc(p.getInt("voxel.resolution"), 0);
+    return radianceGridDesc(p.getInt("voxel.resolution"), 0, gridFormat(p));
   });
   for (const char* name : kDirectionalVolumes)
-    b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceGridDesc(directionalSize(p), 0); });
+    b.texture(name, [](const ParamSet& p, const ViewState&) {
+      return radianceGridDesc(directionalSize(p), 0, gridFormat(p));
+    });
 }
 
 // One iteration per level: iteration k builds level k+1 of the grid from level k (and, with
@@ -187,16 +216,29 @@ int MipmapStage::iterations(const ParamSet& params) const {
 
 void MipmapStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
   const int half = directionalSize(ctx.params);
-  const int k = ctx.iteration;
-  const uint8_t zero[4] = {0, 0, 0, 0};
   Texture& src = ctx.board.texture("radiance-opaque");
-  Texture& grid = ctx.board.ensureTexture("radiance", radianceGridDesc(res, 0));
+  const GLenum format = gridFormat(ctx.params);
+  Texture& grid = ctx.board.ensureTexture("radiance", radianceGridDesc(res, 0, format));
   Texture* dirs[6];
-  for (int d = 0; d < 6; ++d) dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0));
+  for (int d = 0; d < 6; ++d)
+    dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0, format));
+  buildMipLevel(ctx, src, grid, dirs, ctx.iteration);
+  double bytes = double(grid.byteSize());
+  for (auto* d : dirs) bytes += double(d->byteSize());
+  ctx.stats["levels"] = grid.levels();
+  ctx.stats["levels_built"] = std::min(ctx.iteration + 2, grid.levels());
+  ctx.stats["anisotropic"] = ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0;
+  ctx.stats["bytes"] = bytes;
+}
+
+void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k) {
+  const int res = grid.desc().size.x;
+  const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
+  const uint8_t zero[4] = {0, 0, 0, 0};
   if (k == 0) {
-    glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, grid.id(), GL_TEXTURE_3D, 0, 0, 0, 0, res, res, res);
+    if (&src != &grid)
+      glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, grid.id(), GL_TEXTURE_3D, 0, 0, 0, 0, res, res, res);
     for (int level = 1; level < grid.levels(); ++level)
       glClearTexImage(grid.id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
     // In isotropic mode the directional volumes are one empty voxel each: the outputs exist but
@@ -207,32 +249,26 @@ void MipmapStage::execute(StageContext& ctx) {
   }
 
   if (k + 1 < grid.levels()) {
-    GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"});
+    GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"}, gridFormatDefines(ctx.params));
     glUseProgram(program);
     glBindTextureUnit(0, grid.id());
     setUniform(program, "u_sourceLevel", k);
     setUniform(program, "u_opacityRule", ctx.params.getChoice("mipmap.mode") == "max-opacity" ? 1 : 0);
-    glBindImageTexture(0, grid.id(), k + 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, grid.id(), k + 1, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
     dispatchCompute(grid.levelSize(k + 1), {4, 4, 4});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
   if (anisotropic && k < dirs[0]->levels()) {
-    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"});
+    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"}, gridFormatDefines(ctx.params));
     glUseProgram(aniso);
     glBindTextureUnit(0, src.id());
     for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
     setUniform(aniso, "u_fromIsotropic", k == 0 ? 1 : 0);
     setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
-    for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), k, GL_TRUE, 0, GL_WRITE_ONLY, dirs[d]->desc().format);
     dispatchCompute(dirs[0]->levelSize(k), {4, 4, 4});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
-  double bytes = double(grid.byteSize());
-  for (auto* d : dirs) bytes += double(d->byteSize());
-  ctx.stats["levels"] = grid.levels();
-  ctx.stats["levels_built"] = std::min(k + 2, grid.levels());
-  ctx.stats["anisotropic"] = anisotropic ? 1 : 0;
-  ctx.stats["bytes"] = bytes;
 }
 
 }  // namespace voxlab::vct

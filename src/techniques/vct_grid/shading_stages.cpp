@@ -65,8 +65,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(mipmapModeParam());
   declareSky(b);
   b.readView();
-  b.read("radiance");
-  for (const char* name : kDirectionalVolumes) b.read(name);
+  declareGatheredGridReads(b);  // the mip stage's grid, or the last bounce's (bounce_stage.cpp)
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -123,8 +122,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
-  glBindTextureUnit(0, ctx.board.texture("radiance").id());
-  for (int d = 0; d < 6; ++d) glBindTextureUnit(8 + d, ctx.board.texture(kDirectionalVolumes[d]).id());
+  bindRadianceGrid(ctx, ctx.params.getInt("bounces"));
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
   glBindTextureUnit(3, ctx.board.texture("albedo").id());

@@ -1,5 +1,7 @@
 // The stages of vct-grid after voxelization and the shadow map (see vct_grid.cpp for the overview).
 #pragma once
+#include <string>
+
 #include "graph/stage.h"
 
 namespace voxlab::vct {
@@ -7,6 +9,33 @@ namespace voxlab::vct {
 // Names of the six anisotropic volumes (+x -x +y -y +z -z) and the parameter that enables them.
 extern const char* const kDirectionalVolumes[6];
 ParamDesc mipmapModeParam();
+
+// A radiance volume of res^3 voxels (levels 0: the whole mip chain), RGBA8 unless 'format'.
+TextureDesc radianceGridDesc(int res, int levels, GLenum format = GL_RGBA8);
+
+// What the radiance grids store (voxel.format): RGBA8, radiance clamped to [0,1] (the default), or
+// RGBA16F, radiance up to kHdrMaxRadiance (HDR voxels: a bright spot's footprint, the sun, a bounce
+// added to an emitter). The grid shaders take the image format from VOXLAB_GRID_FORMAT.
+ParamDesc voxelFormatParam();
+inline constexpr float kHdrMaxRadiance = 64.0f;  // W/(m^2 sr); keeps the exact sums' uint32 safe
+GLenum gridFormat(const ParamSet& p);             // GL_RGBA8 or GL_RGBA16F
+std::string gridFormatDefines(const ParamSet& p); // "" or "#define VOXLAB_GRID_FORMAT rgba16f\n"
+float gridMaxRadiance(const ParamSet& p);         // 1 or kHdrMaxRadiance
+
+// Iteration k of the mip pyramid (MipmapStage; the bounce stage re-mips each bounce's grid with
+// it): k = 0 copies 'src' into level 0 of 'grid' (unless they are the same texture) and clears the
+// coarser levels and the six directional volumes; then level k+1 of 'grid' is built from level k,
+// and with mipmap.mode=anisotropic level k of 'dirs' (built from level 0 of 'src' when k = 0).
+void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k);
+
+// Indirect bounces (bounce_stage.cpp): the parameter, the volumes each bounce's grid is made of,
+// and the grid the cones gather from (the mip stage's when bounces = 1, else the last bounce's).
+ParamDesc bouncesParam();
+inline constexpr int kMaxBounces = 3;
+std::string bounceGridName(int bounce);                  // 1: "radiance"; k >= 2: "radiance-bounce<k>"
+std::string bounceDirectionalName(int bounce, int direction);  // "radiance-dir+x", "radiance-bounce2-dir+x", ...
+void declareGatheredGridReads(StageBuilder& b);         // reads every bounce's volumes, declares bounces
+void bindRadianceGrid(StageContext& ctx, int bounce);   // texture units 0 and 8..13 (common/cone_trace.glsl)
 
 class InjectStage : public Stage {
  public:
@@ -39,6 +68,21 @@ class MipmapStage : public Stage {
   const char* summary() const override {
     return "Average each 2x2x2 block into the next level (our own compute pass per level), so a wide cone "
            "can read a whole region in one sample. One iteration per level: step them to watch the pyramid grow.";
+  }
+  void declare(StageBuilder& b) const override;
+  int iterations(const ParamSet& params) const override;
+  void execute(StageContext& ctx) override;
+};
+
+class BounceStage : public Stage {
+ public:
+  const char* id() const override { return "bounce"; }
+  const char* title() const override { return "Bounce the light between the voxels"; }
+  const char* summary() const override {
+    return "For bounces above 1: every voxel fragment gathers the light of the previous bounce's grid with a few "
+           "diffuse cones around its normal, times its albedo; the voxel's mean is added to the injected radiance and "
+           "the sum mipmapped again, the grid of the next bounce. One iteration per bounce (bounce#k); at bounces=1 it "
+           "does nothing and the cones read the mip stage's grid.";
   }
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override;

@@ -14,13 +14,17 @@
 //   4. occlusion-fix  alpha = 1 in every non-empty voxel
 //   5. mipmap         own compute pass per level: average of the 8 children (isotropic), and the
 //                     six directional volumes (anisotropic, the default) the cones read
-//   6. gbuffer        position, normal, albedo, emission, depth from the camera
-//   7. cone-trace     diffuse cones (+AO), one specular cone, one soft-shadow cone per pixel
-//   8. composite      direct + indirect diffuse + specular, tonemapped; each term an output
+//   6. bounce         bounces >= 2: each voxel fragment gathers the previous bounce's grid with a
+//                     few diffuse cones, adds albedo x that to the injected radiance, re-mips
+//                     (bounce#k, one iteration per bounce; nothing at the default bounces=1)
+//   7. gbuffer        position, normal, albedo, emission, depth from the camera
+//   8. cone-trace     diffuse cones (+AO), one specular cone, one soft-shadow cone per pixel
+//   9. composite      direct + indirect diffuse + specular, tonemapped; each term an output
 //
 // Details
-//   - Units: metres and the radiometric units of src/scene/light_model.h. The RGBA8 grid stores
-//     outgoing radiance clamped to [0,1]; the scenes in scenes/ keep injected radiance below 1.
+//   - Units: metres and the radiometric units of src/scene/light_model.h. The grids store outgoing
+//     radiance as RGBA8 clamped to [0,1] by default; voxel.format=rgba16f keeps up to 64 (the
+//     Cornell blocks' tops under the spot reach 4.6: what the clamp costs is in docs/fidelity.md).
 //   - Diffuse cone weights sum to 1 (cone_layout.h), so under uniform incoming radiance L the
 //     indirect diffuse term is exactly albedo * L: the white-furnace test in tests/ checks it.
 //     (The 0.707-style weights in seed 000 and the blog's unweighted sum do not sum to 1.)
@@ -56,6 +60,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
   t->add<vct::InjectStage>();
   t->add<vct::OcclusionFixStage>();
   t->add<vct::MipmapStage>();
+  t->add<vct::BounceStage>();
   t->add<GBufferStage>();
   t->add<vct::ConeTraceStage>();
   t->add<vct::CompositeStage>();
