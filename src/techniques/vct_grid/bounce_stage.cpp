@@ -102,7 +102,7 @@ void BounceStage::declare(StageBuilder& b) const {
                           "degrees"));
   b.param(ParamDesc::real("bounce.start-offset", 1.75, 0.0, 8.0,
                           "bounce cones start this far from the voxel centre along the fragment's normal", "voxels"));
-  b.param(skyRadianceParam());
+  declareSky(b);
   b.read("fragments");
   b.read("fragments.count");
   b.read("radiance-opaque");
@@ -183,7 +183,7 @@ void BounceStage::execute(StageContext& ctx) {
   setUniform(gather, "u_anisotropic", anisotropic(ctx.params) ? 1 : 0);
   setUniform(gather, "u_fragmentCount", unsigned(count));
   setUniform(gather, "u_maxRadiance", gridMaxRadiance(ctx.params));
-  setSkyUniform(gather, ctx.params);
+  setSkyUniforms(gather, ctx.params, ctx.scene);
   glUseProgram(gather);
   bindRadianceGrid(ctx, bounce - 1);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
