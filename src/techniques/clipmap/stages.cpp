@@ -760,6 +760,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
 static ConeDefaults coneDefaults() {
   ConeDefaults d;
   d.aperture = 60.0;
+  d.apertureHelp = "full opening angle of each diffuse cone";
   d.startOffsetHelp = "cones start this far from the surface along its normal, in voxels of the finest level there";
   d.lodBiasHelp = "level = log2(diameter / s_0) + bias, at least the finest level holding the sample";
   d.maxDistance = 0.5;

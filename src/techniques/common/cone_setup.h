@@ -17,13 +17,17 @@ namespace voxlab {
 
 // What differs between techniques: defaults, the largest distances and the wording (clipmap
 // measures distances in its coarsest level's edge, the others in the volume's edge).
+// The defaults are those of cones in one voxel volume (vct-grid, svo: issue 11's 45-degree cones that
+// may run past the volume's diagonal); a technique with other units (clipmap) overrides them.
 struct ConeDefaults {
   double aperture = 45.0;  // degrees, full angle
-  std::string apertureHelp = "full opening angle of each diffuse cone";
+  std::string apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
+                             "at 60 their lower edges graze the surface, which then occludes and lights itself)";
   std::string startOffsetHelp = "cones start this far from the surface along its normal (avoids self-occlusion)";
   std::string lodBiasHelp = "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter";
   double maxDistance = 1.75, maxDistanceLimit = 2.0;  // fractions of the distance unit
-  std::string maxDistanceHelp = "longest cone, as a fraction of the volume edge";
+  std::string maxDistanceHelp = "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can "
+                                "reach any wall; cones also stop where they leave the volume)";
   double aoRange = 0.25, aoRangeLimit = 2.0;
   std::string aoRangeHelp = "ambient occlusion counts occluders up to this distance, as a fraction of the volume edge";
   bool softShadowCone = true;  // declares shadow.cone-aperture

@@ -675,19 +675,6 @@ static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
 static int tracedScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
 static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS;
 
-// vct-grid's cone settings (issue 11: 45-degree cones, up to 1.75 volume edges, past the
-// diagonal), so the two techniques trace the same cones at their defaults (the AO cross-check).
-static ConeDefaults coneDefaults() {
-  ConeDefaults d;
-  d.aperture = 45.0;
-  d.apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
-                   "at 60 their lower edges graze the surface, which then occludes and lights itself)";
-  d.maxDistance = 1.75;
-  d.maxDistanceHelp = "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
-                      "any wall; cones also stop where they leave the volume)";
-  return d;
-}
-
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(dilateParam());
@@ -695,7 +682,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
-  declareConeParams(b, coneDefaults());
+  // vct-grid's cones (cone_setup.h's defaults), so that both trace the same cones at their
+  // defaults (the AO cross-check).
+  declareConeParams(b, ConeDefaults{});
   b.param(ParamDesc::choice("ao.cones", {"diffuse", "basgier-3", "basgier-5", "basgier-8"}, 0,
                             "AO from the diffuse cones (as vct-grid), or Basgier's constellations: 3 cones of 100 deg, "
                             "5 of 90 deg, 8 of 60 deg, ring layout, equal weights"));

@@ -45,23 +45,10 @@ static TextureDesc screenDesc(const ViewState& view, GLenum format) {
 
 // --- Cone tracing --------------------------------------------------------------------------------
 
-// Issue 11's defaults: 45-degree cones (at 60 the ring's outer cones graze the surface) that may
-// run past the volume's diagonal.
-static ConeDefaults coneDefaults() {
-  ConeDefaults d;
-  d.aperture = 45.0;
-  d.apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
-                   "at 60 their lower edges graze the surface, which then occludes and lights itself)";
-  d.maxDistance = 1.75;
-  d.maxDistanceHelp = "longest cone, as a fraction of the volume edge (1.75: past the diagonal, so a cone can reach "
-                      "any wall; cones also stop where they leave the volume)";
-  return d;
-}
-
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(traceResolutionParam());
-  declareConeParams(b, coneDefaults());
+  declareConeParams(b, ConeDefaults{});  // one voxel volume's cones (cone_setup.h)
   b.param(mipmapModeParam());
   declareSky(b);
   b.readView();
