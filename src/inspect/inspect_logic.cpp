@@ -453,9 +453,10 @@ const VerbSpec kVerbs[] = {
     {"expect-gl-log", 1, 32, "expect-gl-log TEXT... (a message in the GL debug log contains TEXT)"},
     {"expect-no-gl-failures", 0, 0, "expect-no-gl-failures (no GL message of severity high or medium since the script "
                                     "started)"},
-    {"soak", 4, 4, "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH (random valid actions across every "
-                   "technique for SECONDS from SEED, GL and frame checks after each; the last third's peak RSS and "
-                   "live GL objects may exceed the first third's by at most the bounds)"},
+    {"soak", 4, 5, "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] (a warm-up tour of every "
+                   "technique, then random valid actions from SEED for SECONDS, or exactly ACTIONS of them when given "
+                   "(a replay), GL and frame checks after each; settled at the default state before and after, the "
+                   "resident memory and live GL objects may grow by at most the bounds)"},
     {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
     {"quit", 0, 0, "quit"},
 };

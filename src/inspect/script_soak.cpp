@@ -1,20 +1,24 @@
 // The viewer soak (script verb `soak`, tests/viewer/soak.txt): random but valid UI actions across
-// every registered technique for a given time, reproducible from a seed, with checks after each
-// action and a leak check at the end. Everything comes from the registries and declarations
-// (techniques, stages, outputs, ParamDescs, lessons/); nothing here names a technique.
+// every registered technique, reproducible from a seed, with checks after each action and a leak
+// check at the end. Everything comes from the registries and declarations (techniques, stages,
+// outputs, ParamDescs, lessons/); nothing here names a technique.
 //
-//   soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH
+//   soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS]
 //
-// Random actions until SECONDS have passed: switch technique, run all, select and run a stage,
-// set a parameter to a valid value near its default, reset the parameters, probe a pixel, show
-// another output, toggle 3D views and overlays, orbit, reload shaders, load a good or a broken
-// scene, open a lesson and step it. Each is printed with its number before it runs; after each:
-// no GL message of severity high or medium, the UI drew a frame since, and the resident set size
-// and the live GL objects (gpu/gl_debug.h: liveGLObjects) are sampled. The first third of the
-// time is the warm-up (programs compiled, the viewer's lazily made views and driver caches
-// filled); the peaks of the last third may exceed the warm-up's peaks by at most the bounds.
-// The sequence depends only on the seed and on the number of actions the time allowed, so
-// `soak SECONDS SEED ...` with the printed seed replays a failing run.
+// First a warm-up tour runs every technique once at its defaults (programs compiled, CPU buffers
+// at their sizes, the driver's caches filled), then the viewer is settled (default scene, first
+// technique, default parameters, run to the end, slice view, no overlays) and the resident set
+// size and the live GL objects (gpu/gl_debug.h: liveGLObjects) are taken as the baseline. Then
+// random actions for SECONDS (or exactly ACTIONS of them): switch technique, run all, select and
+// run a stage, set a parameter to a valid value near its default, reset the parameters, probe a
+// pixel, show another output, toggle 3D views and overlays, orbit, reload shaders, load a good or
+// a broken scene, open a lesson and step it. Each is printed with its number before it runs; after
+// each: no GL message of severity high or medium and the UI drew a frame since. At the end the
+// viewer is settled the same way and measured again: what grew beyond the bounds was kept by
+// actions that should have released it. Both measurements are taken in the same state, so the
+// result does not depend on which technique the random actions happened to end in, nor on how
+// fast the machine was. The sequence depends only on the seed, and the end prints the `soak`
+// line (with ACTIONS) that replays it exactly.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -151,6 +155,20 @@ std::vector<ScriptAction> Viewer::soakRandomActions(int line) {
 
 void Viewer::executeSoak(const ScriptAction& a) {
   auto insert = [&](const std::vector<ScriptAction>& more) { script.insert(script.begin() + long(pc), more.begin(), more.end()); };
+  // The settled state both measurements are taken in: the default scene, the first technique at
+  // its default parameters, run to its last stage, the slice view without overlays. Whatever the
+  // random actions made on the way (scenes, techniques, parameter variants, 3D views) is either
+  // released by then or is a cache that the bounds allow for.
+  auto settled = [&](const std::string& then) {
+    return std::vector<ScriptAction>{
+        action("scene", {"cornell-box"}, a.line),        action("technique", {techniqueRegistry().front().id}, a.line),
+        action("reset-params", {}, a.line),              action("view-mode", {"slice"}, a.line),
+        action("overlay", {"bounds", "off"}, a.line),    action("overlay", {"voxels", "off"}, a.line),
+        action("runall", {}, a.line),                    action(then, {}, a.line)};
+  };
+  auto elapsedSince = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
   const std::string& v = a.verb;
   if (v == "soak") {
     if (soak.active) scriptFail(a, "a soak is already running");
@@ -161,22 +179,46 @@ void Viewer::executeSoak(const ScriptAction& a) {
       soak.seed = std::stoull(a.args.at(1));
       soak.maxRssGrowthMiB = std::stod(a.args.at(2));
       soak.maxObjectGrowth = std::stoi(a.args.at(3));
+      if (a.args.size() > 4) soak.actionLimit = std::stoi(a.args.at(4));
     } catch (const std::exception&) {
-      scriptFail(a, "expected SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH as numbers");
+      scriptFail(a, "expected SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] as numbers");
     }
     soak.rng.seed(soak.seed);
     soak.line = a.line;
-    std::printf("soak: seed %llu, %.0f s of random actions over %zu techniques (replay: soak %s %llu %s %s)\n",
-                (unsigned long long)soak.seed, soak.seconds, techniqueRegistry().size(), a.args[0].c_str(),
-                (unsigned long long)soak.seed, a.args[2].c_str(), a.args[3].c_str());
+    if (soak.actionLimit > 0)
+      std::printf("soak: seed %llu, %d random actions over %zu techniques\n", (unsigned long long)soak.seed,
+                  soak.actionLimit, techniqueRegistry().size());
+    else
+      std::printf("soak: seed %llu, %.0f s of random actions over %zu techniques\n", (unsigned long long)soak.seed,
+                  soak.seconds, techniqueRegistry().size());
+    std::fflush(stdout);
+    // The warm-up: every technique once at its defaults (programs compiled, CPU buffers at their
+    // sizes, the driver's caches filled), then the settled state and the baseline.
+    std::vector<ScriptAction> tour;
+    for (const auto& tech : techniqueRegistry()) {
+      tour.push_back(action("technique", {tech.id}, a.line));
+      tour.push_back(action("runall", {}, a.line));
+      tour.push_back(action("soak-check", {}, a.line));
+    }
+    for (const auto& x : settled("soak-baseline")) tour.push_back(x);
+    insert(tour);
+  } else if (v == "soak-baseline") {
+    soak.rssBaseline = residentBytes();
+    soak.objectsBaseline = liveGLObjects();
+    soak.baselineTaken = true;
+    std::printf("soak: warm-up done; settled: RSS %.1f MiB, GL objects %d (%s)\n", double(soak.rssBaseline) / 1048576.0,
+                soak.objectsBaseline.total(), soak.objectsBaseline.describe().c_str());
     std::fflush(stdout);
     soak.start = std::chrono::steady_clock::now();
     insert({action("soak-step", {}, a.line)});
   } else if (v == "soak-step") {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - soak.start).count();
-    if (elapsed >= soak.seconds) {
-      std::printf("soak: %d random actions in %.1f s\n", soak.actions, elapsed);
-      insert({action("soak-finish", {}, a.line)});
+    const double elapsed = elapsedSince(soak.start);
+    const bool done = soak.actionLimit > 0 ? soak.actions >= soak.actionLimit : elapsed >= soak.seconds;
+    if (done) {
+      std::printf("soak: %d random actions in %.1f s (replay: soak 0 %llu %g %d %d)\n", soak.actions, elapsed,
+                  (unsigned long long)soak.seed, soak.maxRssGrowthMiB, soak.maxObjectGrowth, soak.actions);
+      std::fflush(stdout);
+      insert(settled("soak-finish"));
       return;
     }
     std::vector<ScriptAction> acts;
@@ -195,37 +237,31 @@ void Viewer::executeSoak(const ScriptAction& a) {
     insert(acts);
     soak.frameAtAction = ImGui::GetFrameCount();
   } else if (v == "soak-check") {
-    const std::string where = "after soak action " + std::to_string(soak.actions) + " (seed " + std::to_string(soak.seed) +
-                              ": " + soak.lastAction + ")";
+    const std::string where = soak.baselineTaken ? "after soak action " + std::to_string(soak.actions) + " (seed " +
+                                                       std::to_string(soak.seed) + ": " + soak.lastAction + ")"
+                                                 : "in the soak's warm-up (technique " + cursor->technique().id() + ")";
     if (glFailureCount() != scriptGLFailures) {
       std::string last;
       for (const auto& e : glDebugLog())
         if (isGLFailure(e.message)) last = e.message.describe();
       scriptFail(a, where + ": GL failure: " + last);
     }
-    if (!(ImGui::GetFrameCount() > soak.frameAtAction)) scriptFail(a, where + ": the UI drew no frame");
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - soak.start).count();
-    const size_t rss = residentBytes();
-    const GLObjectCounts objects = liveGLObjects();
-    const int third = elapsed < soak.seconds / 3.0 ? 0 : elapsed < 2.0 * soak.seconds / 3.0 ? 1 : 2;
-    if (third != 1) {
-      size_t& peakRss = third == 0 ? soak.rssWarm : soak.rssEnd;
-      GLObjectCounts& peak = third == 0 ? soak.objectsWarm : soak.objectsEnd;
-      peakRss = std::max(peakRss, rss);
-      if (objects.total() > peak.total()) peak = objects;
+    if (soak.baselineTaken && !(ImGui::GetFrameCount() > soak.frameAtAction))
+      scriptFail(a, where + ": the UI drew no frame");
+    if (soak.baselineTaken && soak.actions % 10 == 0) {
+      const GLObjectCounts objects = liveGLObjects();
+      std::printf("soak at %.0f s: RSS %.1f MiB, GL objects %d (%s)\n", elapsedSince(soak.start),
+                  double(residentBytes()) / 1048576.0, objects.total(), objects.describe().c_str());
     }
-    if (soak.actions % 10 == 0)
-      std::printf("soak at %.0f s: RSS %.1f MiB, GL objects %d (%s)\n", elapsed, double(rss) / 1048576.0, objects.total(),
-                  objects.describe().c_str());
   } else if (v == "soak-finish") {
-    const double growthMiB = (double(soak.rssEnd) - double(soak.rssWarm)) / 1048576.0;
-    const int objectGrowth = soak.objectsEnd.total() - soak.objectsWarm.total();
-    std::printf("soak: peak RSS %.1f MiB in the warm-up (first third), %.1f MiB in the last third (growth %.1f MiB, "
-                "bound %.1f); peak GL objects %d in the warm-up (%s), %d in the last third (%s), growth %d (bound %d); "
-                "%d actions\n",
-                double(soak.rssWarm) / 1048576.0, double(soak.rssEnd) / 1048576.0, growthMiB, soak.maxRssGrowthMiB,
-                soak.objectsWarm.total(), soak.objectsWarm.describe().c_str(), soak.objectsEnd.total(),
-                soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth, soak.actions);
+    soak.rssEnd = residentBytes();
+    soak.objectsEnd = liveGLObjects();
+    const double growthMiB = (double(soak.rssEnd) - double(soak.rssBaseline)) / 1048576.0;
+    const int objectGrowth = soak.objectsEnd.total() - soak.objectsBaseline.total();
+    std::printf("soak: settled after %d actions: RSS %.1f MiB (growth %.1f MiB, bound %.1f), GL objects %d (%s; growth "
+                "%d, bound %d)\n",
+                soak.actions, double(soak.rssEnd) / 1048576.0, growthMiB, soak.maxRssGrowthMiB, soak.objectsEnd.total(),
+                soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth);
     soak.active = false;
     if (growthMiB > soak.maxRssGrowthMiB)
       scriptFail(a, "resident memory grew by " + std::to_string(growthMiB) + " MiB over the soak (seed " +

@@ -362,10 +362,13 @@ bool Viewer::runPendingStage() {
     if (scripted) throw;
   } catch (const Error& e) {
     // A run refused before it allocated (the resource budget, e.g. a lesson's parameters) or a
-    // stage's own error: the viewer keeps what it has and says so; a script fails on it.
+    // stage's own error: the viewer keeps what it has and says so; a script fails on it, except
+    // during a soak, whose random parameters may be refused as a user's are (the soak goes on and
+    // checks that the viewer still draws).
     status = e.what();
     runTarget = iterateStage = -1;
-    if (scripted) throw;
+    if (scripted && !soak.active) throw;
+    if (soak.active) std::printf("soak: the run stopped with: %s (the viewer keeps its state)\n", status.c_str());
     ++generation;
     return true;
   }

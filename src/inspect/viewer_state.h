@@ -84,9 +84,11 @@ struct SoakState {
   std::mt19937_64 rng;
   double seconds = 0.0, maxRssGrowthMiB = 0.0;
   int maxObjectGrowth = 0, line = 0, actions = 0, frameAtAction = 0;
+  int actionLimit = 0;                         // > 0: exactly this many random actions (a replay)
   std::chrono::steady_clock::time_point start;
-  size_t rssWarm = 0, rssEnd = 0;              // peak resident bytes in the first and the last third
-  GLObjectCounts objectsWarm, objectsEnd;      // the largest live GL object counts in each
+  bool baselineTaken = false;
+  size_t rssBaseline = 0, rssEnd = 0;          // resident bytes at the two settled points
+  GLObjectCounts objectsBaseline, objectsEnd;  // live GL objects at the two settled points
   std::string lastAction;
 };
 
