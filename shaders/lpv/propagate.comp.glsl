@@ -92,18 +92,23 @@ void gatherNeighbour(ivec3 cell, int i, inout ShRgb acc, out float meanTransmiss
   ivec3 n = cell + lpvOffset(i);
   if (!cellInside(n)) return;
   ShRgb src = ShRgb(sourceAt(0, n), sourceAt(1, n), sourceAt(2, n));
-  // A neighbour without light adds exactly nothing: skip it (most cells in early steps).
-  if (src.r == vec4(0.0) && src.g == vec4(0.0) && src.b == vec4(0.0)) return;
-  vec3 blockNormal;
-  bool blocks = blocker(voxels[cellIndex(n)], -vec3(lpvOffset(i)), blockNormal);
-  float sumT = 0.0;
-  if (i == 0) { FACES(0, 1, 2, 3, 4, 5); }
-  else if (i == 1) { FACES(1, 0, 2, 3, 4, 5); }
-  else if (i == 2) { FACES(2, 0, 1, 3, 4, 5); }
-  else if (i == 3) { FACES(3, 0, 1, 2, 4, 5); }
-  else if (i == 4) { FACES(4, 0, 1, 2, 3, 5); }
-  else { FACES(5, 0, 1, 2, 3, 4); }
-  meanTransmission = sumT / 5.0;
+  // A neighbour without light adds exactly nothing: skip it (most cells in early steps). The skip
+  // is a loop that runs at most once, not an if: llvmpipe runs both sides of an if for all the
+  // lanes of a SIMD row, but leaves a loop as soon as none of its lanes is active, so a row of
+  // cells whose neighbour is dark skips the face arithmetic and the occlusion entirely.
+  const bool lit = !(src.r == vec4(0.0) && src.g == vec4(0.0) && src.b == vec4(0.0));
+  for (int once = 0; lit && once < 1; ++once) {
+    vec3 blockNormal;
+    bool blocks = blocker(voxels[cellIndex(n)], -vec3(lpvOffset(i)), blockNormal);
+    float sumT = 0.0;
+    if (i == 0) { FACES(0, 1, 2, 3, 4, 5); }
+    else if (i == 1) { FACES(1, 0, 2, 3, 4, 5); }
+    else if (i == 2) { FACES(2, 0, 1, 3, 4, 5); }
+    else if (i == 3) { FACES(3, 0, 1, 2, 4, 5); }
+    else if (i == 4) { FACES(4, 0, 1, 2, 3, 5); }
+    else { FACES(5, 0, 1, 2, 3, 4); }
+    meanTransmission = sumT / 5.0;
+  }
 }
 
 void main() {
