@@ -24,6 +24,9 @@
 #include <filesystem>
 #include <random>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "core/error.h"
 #include "core/paths.h"
@@ -43,6 +46,16 @@ size_t residentBytes() {
     std::fclose(f);
   }
   return size_t(resident) * size_t(sysconf(_SC_PAGESIZE));
+}
+
+// Resident bytes of the live heap: freed memory that the allocator still holds (glibc keeps the
+// high-water mark of each arena, and llvmpipe's threads allocate from several) is handed back
+// first, so that two measurements compare what is in use, not the largest it ever was.
+size_t settledResidentBytes() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+  return residentBytes();
 }
 
 ScriptAction action(std::string verb, std::vector<std::string> args, int line) {
@@ -203,7 +216,7 @@ void Viewer::executeSoak(const ScriptAction& a) {
     for (const auto& x : settled("soak-baseline")) tour.push_back(x);
     insert(tour);
   } else if (v == "soak-baseline") {
-    soak.rssBaseline = residentBytes();
+    soak.rssBaseline = settledResidentBytes();
     soak.objectsBaseline = liveGLObjects();
     soak.baselineTaken = true;
     std::printf("soak: warm-up done; settled: RSS %.1f MiB, GL objects %d (%s)\n", double(soak.rssBaseline) / 1048576.0,
@@ -254,7 +267,7 @@ void Viewer::executeSoak(const ScriptAction& a) {
                   double(residentBytes()) / 1048576.0, objects.total(), objects.describe().c_str());
     }
   } else if (v == "soak-finish") {
-    soak.rssEnd = residentBytes();
+    soak.rssEnd = settledResidentBytes();
     soak.objectsEnd = liveGLObjects();
     const double growthMiB = (double(soak.rssEnd) - double(soak.rssBaseline)) / 1048576.0;
     const int objectGrowth = soak.objectsEnd.total() - soak.objectsBaseline.total();
