@@ -93,15 +93,23 @@ glm::ivec3 Texture::levelSize(int level) const {
   return s;
 }
 
-size_t Texture::byteSize() const {
+size_t textureBytes(const TextureDesc& d) {
+  glm::ivec3 s = glm::max(d.size, glm::ivec3(1));
+  if (d.target != GL_TEXTURE_3D) s.z = 1;
+  int maxDim = std::max(s.x, std::max(s.y, s.z)), fullLevels = 1;
+  while (maxDim > 1) { maxDim >>= 1; ++fullLevels; }
+  const int levels = d.levels <= 0 ? fullLevels : std::min(d.levels, fullLevels);
+  const size_t bpt = size_t(formatInfo(d.format).bytesPerTexel);
   size_t total = 0;
-  int bpt = formatInfo(desc_.format).bytesPerTexel;
-  for (int l = 0; l < desc_.levels; ++l) {
-    glm::ivec3 s = levelSize(l);
-    total += size_t(s.x) * s.y * s.z * bpt;
+  for (int l = 0; l < levels; ++l) {
+    total += size_t(s.x) * size_t(s.y) * size_t(s.z) * bpt;
+    s = glm::max(s / 2, glm::ivec3(1));
+    if (d.target != GL_TEXTURE_3D) s.z = 1;
   }
   return total;
 }
+
+size_t Texture::byteSize() const { return textureBytes(desc_); }
 
 bool Texture::matches(const TextureDesc& d) const {
   int levels = d.levels <= 0 ? fullMipCount(d.size) : d.levels;

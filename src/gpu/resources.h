@@ -54,6 +54,9 @@ struct TextureDesc {
   GLenum wrap = GL_CLAMP_TO_EDGE;
 };
 
+// Bytes of a texture with this description, all levels (levels 0 = the full chain).
+size_t textureBytes(const TextureDesc& desc);
+
 class Texture {
  public:
   Texture() = default;

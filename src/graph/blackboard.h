@@ -36,6 +36,13 @@ class Blackboard {
   size_t totalBytes() const;
   void clear();
 
+  // The memory budget of the run (gpu.memory-budget, set by the step cursor before each stage;
+  // 0 = none). The run's estimate is checked before any allocation (graph/resource_budget.h), but
+  // pools are sized from the scene's counts as the stages go: an ensure* that would take the
+  // blackboard's resources over the budget throws one line naming the resource and the sizes, and
+  // allocates nothing (the resource keeps its former size).
+  void setMemoryBudget(size_t bytes) { memoryBudget_ = bytes; }
+
   // World placement of volumes, so viewers and exports can show voxels in the scene without
   // knowing the stage: the voxel space (set by the stage that defines it) applies to every 3D
   // texture without a placement of its own (e.g. a clip level or a propagation grid sets one).
@@ -49,6 +56,8 @@ class Blackboard {
   std::map<std::string, std::unique_ptr<Buffer>> buffers_;
   std::optional<WorldBox> voxelSpace_;
   std::map<std::string, WorldBox> placements_;
+  size_t memoryBudget_ = 0;
+  void checkGrowth(const std::string& name, size_t oldBytes, size_t newBytes) const;
 };
 
 }  // namespace voxlab

@@ -26,22 +26,6 @@ ResourceLimits ResourceLimits::query() {
   return l;
 }
 
-static size_t textureBytes(const TextureDesc& d) {
-  glm::ivec3 s = glm::max(d.size, glm::ivec3(1));
-  if (d.target != GL_TEXTURE_3D) s.z = 1;
-  int maxDim = std::max(s.x, std::max(s.y, s.z)), fullLevels = 1;
-  while (maxDim > 1) { maxDim >>= 1; ++fullLevels; }
-  const int levels = d.levels <= 0 ? fullLevels : std::min(d.levels, fullLevels);
-  const size_t bpt = size_t(formatInfo(d.format).bytesPerTexel);
-  size_t total = 0;
-  for (int l = 0; l < levels; ++l) {
-    total += size_t(s.x) * size_t(s.y) * size_t(s.z) * bpt;
-    s = glm::max(s / 2, glm::ivec3(1));
-    if (d.target != GL_TEXTURE_3D) s.z = 1;
-  }
-  return total;
-}
-
 ResourceEstimate estimateResources(const Technique& technique, const ParamSet& params, const ViewState& view) {
   ResourceEstimate e;
   for (int i = 0; i < technique.stageCount(); ++i) {

@@ -159,6 +159,7 @@ void StepCursor::runStage(int i, int untilIteration) {
   }
   r.iterationsTotal = total;
   untilIteration = std::min(untilIteration, total);
+  board_.setMemoryBudget(size_t(params_.getInt(memoryBudgetParam().name)) << 20);
   StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0};
   GLDebugScope scope("stage " + technique_->id() + "/" + stage.id());
   GpuTimer timer(technique_->id() + "/" + stage.id() + ".timer");

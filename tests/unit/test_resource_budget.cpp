@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include "core/error.h"
 #include "graph/resource_budget.h"
@@ -192,6 +193,54 @@ void runOrRefuse(const std::string& technique, std::vector<std::string> sets, Ex
     EXPECT_TRUE(s.cursor().board().textures().empty());
     EXPECT_TRUE(s.cursor().board().buffers().empty());
   }
+}
+
+// Pools are sized from the scene's counts as the stages run, so the estimate holds them at their
+// starting size. With the budget set to the smallest that the estimate passes, a technique whose
+// pools grow past it must stop with one line naming the resource (the blackboard's check), having
+// allocated nothing over the budget; one whose pools stay inside it runs. Measured (2026-12-02,
+// Cornell box, defaults): svo's node and brick pools grow past it; at least one technique must be
+// refused so that the check is exercised.
+TEST(ResourceBudget, PoolsGrowingPastTheBudgetStopWithOneLine) {
+  contextLimits();  // a current GL context for the estimates' limits
+  int refused = 0;
+  for (const auto& entry : techniqueRegistry()) {
+    auto t = createTechnique(entry.id);
+    // At 256^3 where the technique takes voxel.resolution: the pools (fragment lists, octree nodes
+    // and bricks) are then large enough against the budget's 64 MiB minimum to show.
+    ParamSet p = t->defaultParams();
+    std::vector<std::string> sets;
+    if (declaresResolution(*t)) {
+      p.set("voxel.resolution", 256);
+      sets.push_back("voxel.resolution=256");
+    }
+    const ResourceEstimate e = estimateResources(*t, p, ViewState{});
+    if (std::none_of(e.items.begin(), e.items.end(), [](const ResourceEstimateItem& i) { return i.pool; })) continue;
+    // The smallest budget the estimate passes (the parameter's minimum is 64 MiB).
+    const size_t budgetMiB = std::max<size_t>((e.totalBytes >> 20) + 1, size_t(memoryBudgetParam().minValue));
+    const std::string budgetSet = "gpu.memory-budget=" + std::to_string(budgetMiB);
+    SCOPED_TRACE(entry.id + " with " + budgetSet);
+    // The run's view is 32x32, smaller than the estimate's default view: the estimate passes.
+    sets.push_back(budgetSet);
+    const RunRequest r = smallRun(entry.id, sets);
+    try {
+      HeadlessSession& s = session(r);
+      std::printf("%s ran: estimate %s, allocated %s\n", entry.id.c_str(), formatBytes(e.totalBytes).c_str(),
+                  formatBytes(s.cursor().board().totalBytes()).c_str());
+      EXPECT_LE(s.cursor().board().totalBytes(), budgetMiB << 20);
+    } catch (const Error& err) {
+      const std::string what = err.what();
+      ++refused;
+      std::printf("%s stopped at gpu.memory-budget=%zu (estimate %s): %s\n", entry.id.c_str(), budgetMiB,
+                  formatBytes(e.totalBytes).c_str(), what.c_str());
+      EXPECT_NE(what.find("over gpu.memory-budget=" + std::to_string(budgetMiB) + " MiB (sized from the scene's counts"),
+                std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      HeadlessSession& s = session(r);  // the stopped session, kept by the cache
+      EXPECT_LE(s.cursor().board().totalBytes(), budgetMiB << 20);
+    }
+  }
+  EXPECT_GE(refused, 1);
 }
 
 // At the default budget (4 GiB) what fits runs; at least one technique must actually run at 512
