@@ -24,6 +24,8 @@
 #include <cstring>
 #include <random>
 #include <set>
+#include <array>
+#include <cstdio>
 
 #include "gpu/gl_debug.h"
 #include "inspect/visualiser.h"
@@ -815,6 +817,58 @@ TEST(NearFieldProbe, RecordedSurfacePointAndGapsAgreeWithAnIndependentComputatio
     }
   EXPECT_GE(withSurface, 4);
   EXPECT_GE(withGap, 4);
+}
+
+// --- What the views say: categories, the RSM lookup, slice depths ----------------------------------
+
+// The category image has its own visualiser: a distinct colour per category (exact tier), the
+// category's name under the cursor, and per-category pixel counts that equal the stage's own
+// counters (one ray per pixel, so the image holds every ray's category).
+TEST(NearFieldViews, CategoryImageNamesAndCountsEveryCategory) {
+  auto& s = session(request({"voxel.resolution=64", "rays.count=1", "rsm.resolution=128", "shadow.resolution=256"}));
+  const CapturedOutput out = capture(s, "rays", "ray-category");
+  const Visualiser& vis = visualiserFor(out.desc);
+  EXPECT_STREQ(vis.name(), "rsm-lookup-category");
+  EXPECT_EQ(vis.defaultTier(out.desc), CaptureTier::Exact);
+  const nlohmann::json cats = vis.statistics(out).at("categories");
+  const auto& stats = s.cursor().record(s.cursor().technique().stageIndex("rays")).stats;
+  const char* keys[NF_CATEGORIES] = {"valid", "no_hit", "not_in_rsm", "too_far", "wrong_facing", "budget_spent", "dropped", "no_receiver"};
+  double traced = 0;
+  for (int k = 0; k < NF_CATEGORIES - 1; ++k) {  // no_receiver pixels trace no ray: the counters skip them
+    EXPECT_EQ(cats.at(keys[k]).get<double>(), stats.at(std::string("rays_") + keys[k])) << keys[k];
+    traced += cats.at(keys[k]).get<double>();
+  }
+  EXPECT_EQ(traced, stats.at("rays_traced"));
+  EXPECT_EQ(cats.at("unknown").get<int>(), 0);
+  std::printf("ray-category: %s\n", cats.dump().c_str());
+  EXPECT_GT(cats.at("valid").get<int>(), 0);
+  EXPECT_GT(cats.at("no_hit").get<int>(), 0);
+  // Every category its own colour.
+  const TexelMapping& m = texelMapping(out.desc.semantic);
+  std::set<std::array<uint8_t, 3>> colours;
+  for (int k = 0; k < NF_CATEGORIES; ++k) {
+    const float v = float(k);
+    std::array<uint8_t, 3> rgb{};
+    m.map(&v, 1, 1.0f, 0.0f, 0.0f, rgb.data());
+    colours.insert(rgb);
+  }
+  EXPECT_EQ(colours.size(), size_t(NF_CATEGORIES));
+  // Hover: the category by name, at the same pixel as the image's value.
+  ViewSettings view;
+  nlohmann::json st, rec;
+  VisualiserContext ctx{out, st, rec, view, nullptr};
+  const LevelData& L = out.levels.at(0);
+  int named = 0;
+  for (int y = 0; y < L.size.y; y += 5)
+    for (int x = 0; x < L.size.x; x += 5) {
+      const int k = int(L.at(x, y, 0, 0));
+      const std::string line = vis.describeElement(ctx, {x, y, 0});
+      const std::string name = k == 0 ? "valid" : k == 1 ? "no hit" : k == 3 ? "too far" : k == 7 ? "no receiver" : "";
+      if (name.empty()) continue;
+      EXPECT_NE(line.find(": " + name), std::string::npos) << line;
+      ++named;
+    }
+  EXPECT_GT(named, 100);
 }
 
 // --- RSM ------------------------------------------------------------------------------------------

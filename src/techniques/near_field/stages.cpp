@@ -265,7 +265,9 @@ void RaysStage::declare(StageBuilder& b) const {
   b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
            "near-field indirect radiance so far: (albedo / N) * sum of valid hits' reflected radiance (at rays.resolution)")
       .referenceMode = "indirect-1";
-  auto& cat = b.output("ray-category", OutputKind::Image2D, Semantic::Scalar,
+  // Its own semantic: a colour per category, a legend and the category's name under the cursor
+  // (src/inspect/visualisers/ray_category.cpp).
+  auto& cat = b.output("ray-category", OutputKind::Image2D, Semantic("rsm-lookup-category"),
                        "the last ray's outcome: 0 valid, 1 no hit, 2 not in the RSM, 3 too far from the RSM's surface, "
                        "4 wrong facing, 5 step budget spent, 6 dropped (offset > radius), 7 no receiver");
   cat.tier = CaptureTier::Exact;
