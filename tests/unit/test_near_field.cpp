@@ -871,6 +871,49 @@ TEST(NearFieldViews, CategoryImageNamesAndCountsEveryCategory) {
   EXPECT_GT(named, 100);
 }
 
+// The probed ray's RSM lookup: the recorded texel's position and normal are the RSM's own texels,
+// the distance is |hit - RSM position|, the category follows from distance and facing; the view's
+// check passes on the record and fails on a category that contradicts the values.
+TEST(NearFieldViews, ProbeRecordCarriesTheRsmLookupAndItsCheckCatchesAWrongCategory) {
+  int looked = 0;
+  for (int ray = 0; ray < 4; ++ray) {
+    auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256",
+                               "probe.x=0.3", "probe.y=0.8", "probe.ray=" + std::to_string(ray)}));
+    const CapturedOutput out = capture(s, "rays", "probe-ray");
+    gpu::ProbeRay p;
+    ASSERT_EQ(out.records.size(), sizeof(p));
+    std::memcpy(&p, out.records.data(), sizeof(p));
+    const Visualiser& vis = visualiserFor(out.desc);
+    const RecordCheck ok = vis.checkRecords(out);
+    EXPECT_TRUE(ok.error.empty()) << ok.error;
+    EXPECT_NE(ok.summary.find("RSM lookup: "), std::string::npos) << ok.summary;
+    const int cat = int(p.rsmRadiance.w);
+    EXPECT_EQ(int(p.rsmNormal.w), 1) << "rsm.normal-check on, distance validity: flags 1";
+    if (cat != NF_CAT_VALID && cat != NF_CAT_TOO_FAR && cat != NF_CAT_WRONG_FACING) continue;
+    ++looked;
+    std::printf("probe ray %d: category %d, distance %.5f m vs threshold %.5f m, facing %.3f\n", ray, cat, p.rsmSample.z,
+                p.rsmSample.w, p.steps.z);
+    const Readback pos = readFloat(s, "rsm-position"), nrm = readFloat(s, "rsm-normal");
+    const int tx = int(p.rsmSample.x), ty = int(p.rsmSample.y);
+    ASSERT_TRUE(tx >= 0 && ty >= 0 && tx < pos.w && ty < pos.h);
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(p.rsmPosition[c], pos.at(tx, ty)[c]) << "position channel " << c;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(p.rsmNormal[c], nrm.at(tx, ty)[c]) << "normal channel " << c;
+    // Same float inputs on GPU and CPU: measured 0 m apart (3 lookups, 1 and 2 threads); another
+    // rounding order would move it by float steps at metre scale (1e-7 m); 1e-5 m is 1/1300 of a
+    // voxel diagonal (0.0133 m), far below the 0.013-0.036 m thresholds it is compared with.
+    const float cpuDistance = glm::length(glm::vec3(p.hitPoint) - glm::vec3(p.rsmPosition));
+    std::printf("  distance GPU - CPU: %.3g m\n", p.rsmSample.z - cpuDistance);
+    EXPECT_NEAR(p.rsmSample.z, cpuDistance, 1e-5f);
+    EXPECT_EQ(cat == NF_CAT_TOO_FAR, p.rsmSample.z > p.rsmSample.w);
+    CapturedOutput broken = out;
+    gpu::ProbeRay q = p;
+    q.rsmRadiance.w = float(cat == NF_CAT_TOO_FAR ? NF_CAT_VALID : NF_CAT_TOO_FAR);
+    std::memcpy(broken.records.data(), &q, sizeof(q));
+    EXPECT_NE(vis.checkRecords(broken).error, "") << "a category that contradicts the distance passed the check";
+  }
+  EXPECT_GE(looked, 1) << "no probed ray reached the RSM lookup";
+}
+
 // --- RSM ------------------------------------------------------------------------------------------
 
 TEST(NearFieldRsm, ReflectedRadianceIsAlbedoOverPiTimesTheLightModelsIrradiance) {

@@ -15,12 +15,16 @@
 // non-empty and an advance only where it is empty, a hit only at level 0 and only as the last
 // step, the ray mask exactly the slices first..last, the AND inside the ray mask, and t entering
 // <= t leaving <= the segment's end. The probed ray's record (ProbeRay) gets a view of its hit voxel
-// beside the true surface point on the same ray and the distance between them in voxels.
+// beside the true surface point on the same ray and the distance between them in voxels, and its
+// RSM lookup (texel, the RSM's position and normal there, distance vs threshold, normal test,
+// category by name), whose check asserts the category follows from the recorded values.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +33,7 @@
 
 #include "inspect/visualisers/buffer.h"
 #include "inspect/visualisers/levels.h"
+#include "inspect/visualisers/ray_category.h"
 #include "near_field/near_field_shared.h"
 
 namespace voxlab {
@@ -374,6 +379,103 @@ bool decodeProbeRay(const CapturedOutput& out, gpu::ProbeRay& p) {
   return true;
 }
 
+// The RSM lookup of the probed ray: the texel, what the RSM holds there, the distance against the
+// threshold, the normal test, and the category they give (the order of ray_common.glsl's lookupRsm:
+// distance first, then facing). Returns "" when the record is consistent, else what is not.
+struct RsmLookupView {
+  int category = -1;
+  bool traced = false;     // the record was written (a ray of the probed index ran)
+  bool looked = false;     // the walk hit and the hit has a texel in the RSM
+  bool covered = false;    // that texel holds a surface
+  bool normalCheck = false, plane = false;
+  std::string error;
+};
+
+RsmLookupView rsmLookupOf(const gpu::ProbeRay& p) {
+  RsmLookupView v;
+  v.category = int(p.rsmRadiance.w);
+  v.traced = !(p.receiver.w < 0.5f && v.category == 0);  // an all-zero record: the probed ray index has not run
+  v.looked = p.result.w == NF_END_HIT && p.rsmSample.x >= 0.0f;
+  v.covered = v.looked && p.rsmPosition.w > 0.0f;
+  const int flags = int(p.rsmNormal.w);
+  v.normalCheck = (flags & 1) != 0;
+  v.plane = (flags & 2) != 0;
+  if (!v.traced) return v;
+  if (float(v.category) != p.rsmRadiance.w || v.category < 0 || v.category >= NF_CATEGORIES) {
+    v.error = "the RSM lookup's category is not one of 0..7";
+    return v;
+  }
+  const bool within = p.rsmSample.z <= p.rsmSample.w, faces = p.steps.z >= 0.0f;
+  const bool looked = v.category == NF_CAT_VALID || v.category == NF_CAT_TOO_FAR || v.category == NF_CAT_WRONG_FACING;
+  if (p.receiver.w < 0.5f) {
+    if (v.category != NF_CAT_NO_RECEIVER) v.error = "a pixel without a receiver has a lookup category other than no receiver";
+  } else if (looked && !v.covered) {
+    v.error = "a lookup category that needs an RSM surface without a hit or a covered RSM texel";
+  } else if (v.category == NF_CAT_TOO_FAR && within) {
+    v.error = "category too far with the distance within the threshold";
+  } else if ((v.category == NF_CAT_VALID || v.category == NF_CAT_WRONG_FACING) && !within) {
+    v.error = "category valid or wrong facing with the distance beyond the threshold";
+  } else if (v.category == NF_CAT_WRONG_FACING && !(v.normalCheck && !faces)) {
+    v.error = "category wrong facing without a failed normal test";
+  } else if (v.category == NF_CAT_VALID && v.normalCheck && !faces) {
+    v.error = "category valid with a failed normal test";
+  } else if (p.result.w == NF_END_HIT && !looked && v.category != NF_CAT_NOT_IN_RSM) {
+    v.error = "a hit whose lookup category is not valid, not in the RSM, too far or wrong facing";
+  } else if (p.result.w != NF_END_HIT && looked) {
+    v.error = "an RSM lookup without a hit";
+  } else if (looked && !v.plane) {
+    // The distance is |hit - RSM position| of the same two points, both recorded in float (measured
+    // equal to the shader's on the Cornell box); another rounding order moves it by about 1e-7
+    // relative, so 1e-5 relative (Sponza's 30 m: 0.3 mm) is far below the voxel-sized threshold.
+    const float d = glm::length(glm::vec3(p.hitPoint) - glm::vec3(p.rsmPosition));
+    if (std::abs(d - p.rsmSample.z) > 1e-5f * std::max(1.0f, glm::length(glm::vec3(p.hitPoint))))
+      v.error = "the recorded distance is not |hit point - RSM position|";
+  }
+  return v;
+}
+
+void drawRsmLookup(const gpu::ProbeRay& p) {
+  const RsmLookupView v = rsmLookupOf(p);
+  ImGui::Separator();
+  ImGui::TextUnformatted("RSM lookup");
+  if (!v.traced) {
+    ImGui::TextDisabled("the probed ray index has not been traced yet");
+    return;
+  }
+  if (p.result.w != NF_END_HIT) {
+    ImGui::TextUnformatted("no lookup: the walk did not hit a voxel");
+  } else if (!v.looked) {
+    ImGui::TextUnformatted("no texel: the hit point is behind the light or outside its map");
+  } else {
+    ImGui::Text("texel (%.0f, %.0f) of the RSM", p.rsmSample.x, p.rsmSample.y);
+    if (!v.covered) {
+      ImGui::TextUnformatted("the texel is empty: the light's map sees no surface there");
+    } else {
+      ImGui::Text("RSM position (%.4f, %.4f, %.4f), texel footprint %.4f m", p.rsmPosition.x, p.rsmPosition.y,
+                  p.rsmPosition.z, p.rsmPosition.w);
+      ImGui::Text("RSM normal   (%.3f, %.3f, %.3f)", p.rsmNormal.x, p.rsmNormal.y, p.rsmNormal.z);
+      const bool within = p.rsmSample.z <= p.rsmSample.w;
+      if (p.rsmSample.z >= 1e29f)
+        ImGui::Text("distance: the RSM surface lies beyond 4 voxel diagonals + the footprint along its plane -> too far");
+      else
+        ImGui::Text("distance %s = %.4f m vs threshold %.4f m -> %s",
+                    v.plane ? "from the RSM surface's plane" : "|hit - RSM position|", p.rsmSample.z, p.rsmSample.w,
+                    within ? "the same surface (within)" : "another surface (too far)");
+      if (!within)
+        ImGui::TextDisabled("normal test: not reached (the distance test failed first)");
+      else if (!v.normalCheck)
+        ImGui::Text("normal test: off (rsm.normal-check); cos(RSM normal, hit -> receiver) = %.3f", p.steps.z);
+      else
+        ImGui::Text("normal test: cos(RSM normal, hit -> receiver) = %.3f -> %s", p.steps.z,
+                    p.steps.z >= 0.0f ? "faces the receiver (pass)" : "faces away (fail)");
+    }
+  }
+  ImGui::Text("category %d: %s (%s)", v.category, rsmLookupCategoryName(v.category), rsmLookupCategoryMeaning(v.category));
+  if (v.category == NF_CAT_VALID)
+    ImGui::Text("reflected radiance L~ (%.4g, %.4g, %.4g)", p.rsmRadiance.x, p.rsmRadiance.y, p.rsmRadiance.z);
+  if (!v.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", v.error.c_str());
+}
+
 // The check holds what the record's CPU half must keep: the surface point lies on the recorded
 // ray at its t, within the radius left; the gaps are set exactly when there are both a hit voxel
 // and a surface point, and the largest axis distance is at most the Euclidean one and at least
@@ -403,11 +505,14 @@ class ProbeRayVisualiser : public BufferVisualiser {
     if (gapSet != (surface && hit)) c.error = "the voxel gap is set without both a hit voxel and a surface point (or missing)";
     if (gapSet && !(p.surfaceGap.x <= p.surfaceGap.y * (1.0f + 1e-6f) && p.surfaceGap.y <= 1.7320509f * p.surfaceGap.x * (1.0f + 1e-6f) + 1e-6f))
       c.error = "the voxel gap's largest axis distance and Euclidean length disagree";
+    const RsmLookupView lookup = rsmLookupOf(p);
+    if (!lookup.error.empty()) c.error = lookup.error;
     if (!hit) std::snprintf(buf, sizeof buf, "walk: %s; %s", endName(p.result.w), surface ? "a surface lies within the radius" : "no surface within the radius");
     else if (!surface) std::snprintf(buf, sizeof buf, "hit voxel (%u, %u, %u); no surface within the radius", p.result.x, p.result.y, p.result.z);
     else std::snprintf(buf, sizeof buf, "hit voxel (%u, %u, %u), true surface %.3g voxels away (%s)", p.result.x, p.result.y, p.result.z,
                        p.surfaceGap.x, p.surfaceGap.x == 0.0f ? "inside it" : p.surfaceGap.x <= 1.0f ? "in a neighbour" : "farther");
     c.summary = buf;
+    if (lookup.traced) c.summary += std::string("; RSM lookup: ") + rsmLookupCategoryName(lookup.category);
     return c;
   }
 
@@ -435,6 +540,7 @@ class ProbeRayVisualiser : public BufferVisualiser {
                                                      : "the walk stopped earlier: another surface's conservative voxel, or a grazing ray");
       }
     }
+    if (decodeProbeRay(ctx.out, p)) drawRsmLookup(p);
     ImGui::Text("%s", check.summary.c_str());
     if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
     BufferVisualiser::drawRecordView(ctx);

@@ -305,7 +305,9 @@ void RaysStage::declare(StageBuilder& b) const {
                {"rsm-radiance", FieldType::Vec4, 96, FieldRole::Color},
                {"steps", FieldType::Vec4, 112, FieldRole::Other},
                {"surface", FieldType::Vec4, 128, FieldRole::Other},
-               {"surface-gap", FieldType::Vec4, 144, FieldRole::Other}};
+               {"surface-gap", FieldType::Vec4, 144, FieldRole::Other},
+               {"rsm-position", FieldType::Vec4, 160, FieldRole::Other},
+               {"rsm-normal", FieldType::Vec4, 176, FieldRole::Other}};
   BufferLayout dl;
   dl.stride = 32;
   dl.fields = {{"cell", FieldType::Vec3, 0, FieldRole::Other},
@@ -328,7 +330,8 @@ void RaysStage::declare(StageBuilder& b) const {
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
            "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), "
            "steps, the true surface point on the same ray (w t; exact ray/triangle query on the CPU) and its distance "
-           "from the hit voxel in voxels (x largest axis, y Euclidean, z along the ray in voxel diagonals, w triangle)");
+           "from the hit voxel in voxels (x largest axis, y Euclidean, z along the ray in voxel diagonals, w triangle), "
+           "the RSM texel's position (w footprint) and normal (w: 1 normal test on, + 2 plane validity)");
   pr.layout = pl;
   pr.probeRecord = true;
   declareTraced(b, "indirect", GL_RGBA32F);
