@@ -188,6 +188,16 @@ Mask sliceRange(int first, int last) {
 
 const char* actionName(uint32_t a) { return a == kHit ? "hit" : a == kDescend ? "descend" : a == kAdvance ? "advance" : "?"; }
 
+// "step 3: level 2, texel (5, 7), slices 10..14, t 0.1..0.2 of 0.5 -> descend" (t in fractions of the segment).
+std::string stepLine(const Step& s) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "step %u: level %u, texel (%u, %u), slices %u..%u, t %.4f..%.4f of %.4f -> %s", s.step,
+                s.level, s.x, s.y, s.first, s.last, s.tEnter, s.tExit, s.tEnd, actionName(s.action));
+  std::string line = buf;
+  if (s.action == kHit) line += " slice " + std::to_string(s.hitSlice);
+  return line;
+}
+
 class TraversalVisualiser : public BufferVisualiser {
  public:
   const char* name() const override { return "near-field-traversal"; }
@@ -242,14 +252,21 @@ class TraversalVisualiser : public BufferVisualiser {
     return c;
   }
 
+  size_t recordSteps(const CapturedOutput& out) const override { return decodeSteps(out).size(); }
+  std::string describeRecordStep(const CapturedOutput& out, size_t k) const override {
+    const auto steps = decodeSteps(out);
+    return k < steps.size() ? stepLine(steps[k]) : "";
+  }
+
   void drawRecordView(const VisualiserContext& ctx) const override {
     const auto steps = decodeSteps(ctx.out);
     const RecordCheck check = checkRecords(ctx.out);
     ImGui::Text("%s", check.summary.c_str());
     if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
-    // Step through the walk one step at a time: the chosen step's ray mask and AND as stacks.
+    // Step through the walk one step at a time: the chosen step's ray mask and AND as stacks. The
+    // slider's value is the viewer's (ctx.recordStep: the script verb record-step moves it too).
     static std::map<const ViewSettings*, int> chosen;
-    int& k = chosen[&ctx.view];
+    int& k = ctx.recordStep ? *ctx.recordStep : chosen[&ctx.view];
     if (!steps.empty()) {
       k = std::clamp(k, 0, int(steps.size()) - 1);
       ImGui::SliderInt("step", &k, 0, int(steps.size()) - 1);
@@ -258,8 +275,7 @@ class TraversalVisualiser : public BufferVisualiser {
       ImGui::SameLine();
       if (ImGui::ArrowButton("next", ImGuiDir_Right)) k = std::min(k + 1, int(steps.size()) - 1);
       const Step& s = steps[size_t(k)];
-      ImGui::Text("step %u: level %u, texel (%u, %u), slices %u..%u, t %.4f..%.4f of %.4f -> %s", s.step, s.level, s.x, s.y,
-                  s.first, s.last, s.tEnter, s.tExit, s.tEnd, actionName(s.action));
+      ImGui::TextUnformatted(stepLine(s).c_str());
       drawStack("ray mask", s.ray, nullptr, 1.5f);
       ImGui::SameLine();
       drawStack("AND column", s.hit, nullptr, 1.5f);
