@@ -914,6 +914,40 @@ TEST(NearFieldViews, ProbeRecordCarriesTheRsmLookupAndItsCheckCatchesAWrongCateg
   EXPECT_GE(looked, 1) << "no probed ray reached the RSM lookup";
 }
 
+// The binary grid and its hierarchy are placed in the world, so a column's slices read as depth
+// intervals in metres; the ray-mask table's entry (i, j) reads slices i..j at the grid's depths.
+TEST(NearFieldViews, SliceDepthsAreInWorldUnits) {
+  auto& s = session(snapshotRequest());
+  const Scene& scene = s.cursor().scene();
+  const WorldBox box = VoxelSpace::fromScene(scene, 64).box();
+  const CapturedOutput grid = capture(s, "binary-voxels", "binary-voxels");
+  ASSERT_TRUE(grid.world.has_value());
+  EXPECT_EQ(grid.world->lo, box.lo);
+  EXPECT_EQ(grid.world->hi, box.hi);
+  ASSERT_TRUE(capture(s, "hierarchy", "bitmask-hierarchy").world.has_value());
+  const float z0 = box.lo.z, dz = (box.hi.z - box.lo.z) / 128.0f;
+  auto expectRange = [&](int i, int j) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%d-%d (z %.4g..%.4g m)", i, j, z0 + i * dz, z0 + (j + 1) * dz);
+    return std::string(buf);
+  };
+  const CapturedOutput masks = capture(s, "bitmask-tables", "ray-masks");
+  EXPECT_FALSE(masks.world.has_value()) << "the table is not placed itself";
+  ViewSettings view;
+  nlohmann::json st, rec;
+  VisualiserContext ctx{masks, st, rec, view, nullptr};
+  ctx.contextOutput = [&](const char* what, CapturedOutput& o) {
+    if (std::string(what) != "binary-voxels") return false;
+    o = grid;
+    return true;
+  };
+  const Visualiser& vis = visualiserFor(masks.desc);
+  const std::string line = vis.describeElement(ctx, {10, 20, 0});
+  EXPECT_NE(line.find(expectRange(10, 20)), std::string::npos) << line;
+  ctx.contextOutput = nullptr;
+  EXPECT_EQ(vis.describeElement(ctx, {10, 20, 0}).find(" m)"), std::string::npos) << "a depth without a placement";
+}
+
 // --- RSM ------------------------------------------------------------------------------------------
 
 TEST(NearFieldRsm, ReflectedRadianceIsAlbedoOverPiTimesTheLightModelsIrradiance) {

@@ -2,8 +2,9 @@
 // texel holds 128 one-bit slices along the voxelization axis (z), MSB first in each channel
 // (slice k is bit 31 - k % 32 of channel k / 32): the binary voxel grid, its 2D OR hierarchy and
 // the OR / XOR / ray-mask tables. The 2D view is white where any slice is set. The value under the
-// cursor names the set slices; the inspector draws the picked column as a 128-bit stack with each
-// slice's depth interval (a fraction of the volume's edge along z) and, on a level above 0 of the
+// cursor names the set slices with their depth intervals in metres (z along the world axis, from the
+// binary grid's placement; the tables take the grid's); the inspector draws the picked column as a
+// 128-bit stack with each slice's depth interval (hover a slice) and, on a level above 0 of the
 // hierarchy, its four children one level down and their OR, marking every slice where the OR
 // differs from the column (it must not: the hierarchy's invariant).
 //
@@ -58,14 +59,41 @@ bool columnAt(const LevelData& L, int x, int y, Mask& m) {
   return true;
 }
 
-// "0-3, 17, 20-40": the set slices as ranges.
-std::string sliceRanges(const Mask& m) {
+// Where the slices lie along z in the world: slice k covers [z0 + k dz, z0 + (k + 1) dz).
+struct SliceDepth {
+  bool known = false;
+  float z0 = 0.0f, dz = 0.0f;
+};
+
+// The columns' own placement (the binary grid and its hierarchy place themselves), else that of
+// the binary grid the tables index (the ray-mask table's slices are the grid's slices).
+SliceDepth sliceDepthOf(const VisualiserContext& ctx) {
+  SliceDepth d;
+  std::optional<WorldBox> box = ctx.out.world;
+  if (!box && ctx.contextOutput) {
+    CapturedOutput grid;
+    if (ctx.contextOutput("binary-voxels", grid)) box = grid.world;
+  }
+  if (!box) return d;
+  d.known = true;
+  d.z0 = box->lo.z;
+  d.dz = (box->hi.z - box->lo.z) / float(kSlices);
+  return d;
+}
+
+// "0-3, 17, 20-40": the set slices as ranges; with depths "0-3 (z -0.512..-0.496 m), ...".
+std::string sliceRanges(const Mask& m, const SliceDepth& depth = {}) {
   std::string s;
   for (int k = 0; k < kSlices; ++k) {
     if (!sliceSet(m, k)) continue;
     int e = k;
     while (e + 1 < kSlices && sliceSet(m, e + 1)) ++e;
     s += (s.empty() ? "" : ", ") + std::to_string(k) + (e > k ? "-" + std::to_string(e) : "");
+    if (depth.known) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " (z %.4g..%.4g m)", depth.z0 + k * depth.dz, depth.z0 + (e + 1) * depth.dz);
+      s += buf;
+    }
     k = e;
   }
   return s.empty() ? "none" : s;
@@ -78,7 +106,8 @@ std::map<const ViewSettings*, glm::ivec2>& picked() {
 }
 
 // A vertical stack of 128 cells (slice 0 at the top), set slices filled; 'differs' outlines in red.
-void drawStack(const char* label, const Mask& m, const Mask* differs, float cellH) {
+// Hovering a cell names its slice and, when the depth is known, the slice's z interval in metres.
+void drawStack(const char* label, const Mask& m, const Mask* differs, float cellH, const SliceDepth& depth = {}) {
   ImGui::BeginGroup();
   ImGui::TextUnformatted(label);
   ImDrawList* dl = ImGui::GetWindowDrawList();
@@ -90,6 +119,14 @@ void drawStack(const char* label, const Mask& m, const Mask* differs, float cell
     if (differs && sliceSet(*differs, k)) dl->AddRect(a, b, IM_COL32(255, 60, 60, 255));
   }
   ImGui::Dummy(ImVec2(w, kSlices * cellH));
+  if (ImGui::IsItemHovered()) {
+    const int k = std::clamp(int((ImGui::GetIO().MousePos.y - at.y) / cellH), 0, kSlices - 1);
+    if (depth.known)
+      ImGui::SetTooltip("slice %d (%s): z in [%.4g, %.4g) m", k, sliceSet(m, k) ? "set" : "empty", depth.z0 + k * depth.dz,
+                        depth.z0 + (k + 1) * depth.dz);
+    else
+      ImGui::SetTooltip("slice %d (%s)", k, sliceSet(m, k) ? "set" : "empty");
+  }
   ImGui::Text("%d set", popcount(m));
   ImGui::EndGroup();
 }
@@ -105,7 +142,7 @@ class BitmaskColumnsVisualiser : public ImageVisualiser {
     picked()[&ctx.view] = {t.x, t.y};
     char head[96];
     std::snprintf(head, sizeof head, "column (%d, %d), level %d: %d of 128 slices set: ", t.x, t.y, ctx.view.level, popcount(m));
-    return head + sliceRanges(m);
+    return head + sliceRanges(m, sliceDepthOf(ctx));
   }
 
   void drawInspector(const VisualiserContext& ctx) const override {
@@ -115,10 +152,16 @@ class BitmaskColumnsVisualiser : public ImageVisualiser {
     if (L && it != picked().end() && columnAt(*L, it->second.x, it->second.y, m)) {
       const glm::ivec2 c = it->second;
       ImGui::Text("column (%d, %d) at level %d (hover or click a texel to pick)", c.x, c.y, ctx.view.level);
-      ImGui::TextWrapped("slices set: %s", sliceRanges(m).c_str());
-      ImGui::TextDisabled("slice k covers z in [k/128, (k+1)/128) of the volume's edge; slice 0 at the top");
+      const SliceDepth depth = sliceDepthOf(ctx);
+      ImGui::TextWrapped("slices set: %s", sliceRanges(m, depth).c_str());
+      if (depth.known)
+        ImGui::TextDisabled("slice k covers z in [%.4g + k %.4g, %.4g + (k+1) %.4g) m (the volume spans z %.4g..%.4g m); "
+                            "slice 0 at the top; hover a slice for its interval",
+                            depth.z0, depth.dz, depth.z0, depth.dz, depth.z0, depth.z0 + kSlices * depth.dz);
+      else
+        ImGui::TextDisabled("slice k covers z in [k/128, (k+1)/128) of the volume's edge (no world placement); slice 0 at the top");
       const float cellH = 2.0f;
-      drawStack("column", m, nullptr, cellH);
+      drawStack("column", m, nullptr, cellH, depth);
       const int level = std::clamp(ctx.view.level, 0, int(ctx.out.levels.size()) - 1);
       if (level > 0) {
         const LevelData& F = ctx.out.levels[size_t(level - 1)];
@@ -130,12 +173,12 @@ class BitmaskColumnsVisualiser : public ImageVisualiser {
           char label[48];
           std::snprintf(label, sizeof label, "(%d,%d)", 2 * c.x + (k & 1), 2 * c.y + (k >> 1));
           ImGui::SameLine();
-          drawStack(label, child, nullptr, cellH);
+          drawStack(label, child, nullptr, cellH, depth);
         }
         Mask diff;
         for (int j = 0; j < 4; ++j) diff[j] = orOfChildren[j] ^ m[j];
         ImGui::SameLine();
-        drawStack("OR", orOfChildren, &diff, cellH);
+        drawStack("OR", orOfChildren, &diff, cellH, depth);
         if (popcount(diff) == 0) ImGui::TextUnformatted("OR of the four children = the column");
         else ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "OR of the children differs in %d slices (%s)", popcount(diff),
                                 sliceRanges(diff).c_str());

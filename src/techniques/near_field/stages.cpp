@@ -207,6 +207,7 @@ void HierarchyStage::execute(StageContext& ctx) {
   const int maxLevel = maxLevelOf(res);
   Texture& h = ctx.board.ensureTexture("bitmask-hierarchy", hierarchyDesc(res, GL_RGBA32UI));
   Texture& pc = ctx.board.ensureTexture("hierarchy-popcount", hierarchyDesc(res, GL_R32UI));
+  ctx.board.place("bitmask-hierarchy", VoxelSpace::fromScene(ctx.scene, res).box());  // slices in metres in its views
   if (ctx.iteration == 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};
     for (int l = 1; l <= maxLevel; ++l) {
