@@ -8,6 +8,8 @@
 //    sum with its own dither offset, and the analytic integral within the Riemann-sum bound
 //    (with and without extinction); linear in sigma_s and in the light; exactly 0 in shadow;
 //  - no NaN or Inf for g near +-1, pixels without a surface, rays that miss the grid;
+//  - the bilateral blur keeps a constant constant, does not bleed across a depth edge, and turns a
+//    dithered homogeneous march into the mean of its 16 dithered estimates (the dither identity);
 //  - upsampling keeps a constant constant and does not carry values across a depth edge;
 //  - the Cornell box with haze against the CPU quadrature with Embree shadow rays;
 //  - the stages appended to vct-grid compose over its image.
