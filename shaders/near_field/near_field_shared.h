@@ -70,6 +70,10 @@ struct ProbeRay {
                      // distance from the voxel's box (0 inside or on a face, <= 1 in a 26-neighbour), y: the
                      // same as a Euclidean length, z: (surface t - hit t) / voxel diagonal; all -1 unless both
                      // exist; w: the surface's triangle index (-1 none)
+  // The RSM lookup's texel (shader again): what the RSM sees there, beside rsmSample's distance and threshold.
+  vec4 rsmPosition;  // xyz: the RSM texel's surface position (world), w: its footprint (m; 0 = an empty texel)
+  vec4 rsmNormal;    // xyz: that surface's normal, w: 1 if the normal test (rsm.normal-check) is on, + 2 if the
+                     // distance is to the surface's plane (rsm.validity=plane)
 };
 
 #ifdef __cplusplus

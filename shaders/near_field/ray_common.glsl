@@ -37,6 +37,7 @@ struct RsmLookup {
   uint category;   // NF_CAT_VALID, NF_CAT_NOT_IN_RSM, NF_CAT_TOO_FAR or NF_CAT_WRONG_FACING
   vec3 radiance;   // reflected radiance of the sender (valid only)
   vec3 normal;     // sender's lit-side normal (when the texel is covered)
+  vec4 position;   // the RSM texel's position (xyz) and footprint (w; 0 = empty texel)
   vec2 texel;      // RSM texel (-1 outside)
   float dist, epsilon, facing;
 };
@@ -47,6 +48,7 @@ RsmLookup lookupRsm(vec3 hit, vec3 receiver) {
   r.category = NF_CAT_NOT_IN_RSM;
   r.radiance = vec3(0.0);
   r.normal = vec3(0.0);
+  r.position = vec4(0.0);
   r.texel = vec2(-1.0);
   r.dist = 0.0; r.epsilon = 0.0; r.facing = 0.0;
   vec4 clip = u_light.shadowViewProj * vec4(hit, 1.0);
@@ -55,6 +57,7 @@ RsmLookup lookupRsm(vec3 hit, vec3 receiver) {
     ivec2 texel = ivec2(uv * vec2(textureSize(u_rsmPosition, 0)));
     r.texel = vec2(texel);
     vec4 sender = texelFetch(u_rsmPosition, texel, 0);
+    r.position = sender;
     if (sender.w > 0.0) {
       vec3 ns = texelFetch(u_rsmNormal, texel, 0).xyz;
       r.normal = ns;

@@ -45,6 +45,8 @@ void main() {
   float cosTheta = 0.0, radiusLeft = 0.0, dist = 0.0, epsilon = 0.0, facing = 0.0;
   bool escapedToSky = false;
   vec2 rsmTexel = vec2(-1.0);
+  vec4 rsmPosition = vec4(0.0);
+  vec3 rsmNormal = vec3(0.0);
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
     // Cosine-distributed direction in the cone of the hemisphere that 'spread' keeps.
@@ -77,6 +79,8 @@ void main() {
         dist = look.dist;
         epsilon = look.epsilon;
         facing = look.facing;
+        rsmPosition = look.position;
+        rsmNormal = look.normal;
       }
     }
     if (category == NF_CAT_VALID || escapedToSky) {
@@ -100,5 +104,7 @@ void main() {
     probe.rsmSample = vec4(rsmTexel, dist, epsilon);
     probe.rsmRadiance = vec4(radiance, float(category));
     probe.steps = vec4(float(w.steps), float(u_budget), facing, 0.0);
+    probe.rsmPosition = rsmPosition;
+    probe.rsmNormal = vec4(rsmNormal, float((u_normalCheck != 0 ? 1 : 0) + (u_planeTest != 0 ? 2 : 0)));
   }
 }

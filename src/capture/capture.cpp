@@ -61,7 +61,9 @@ CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc) {
   for (int l = 0; l < tex.levels(); ++l) {
     out.levels.push_back(readTextureLevel(tex, l));
   }
-  if (desc.kind == OutputKind::Volume3D) out.world = board.placementOf(desc.resourceName());
+  // Volumes: their placement or the voxel space; images only when a stage placed them (columns of a
+  // volume, as the bitmask columns: Blackboard::placementOf gives a 2D texture no default).
+  out.world = board.placementOf(desc.resourceName());
   return out;
 }
 

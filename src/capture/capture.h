@@ -35,7 +35,7 @@ struct CapturedOutput {
   std::vector<LevelData> levels;   // images and volumes
   uint32_t recordCount = 0;        // buffers
   std::vector<uint8_t> records;    // buffers: recordCount * layout.stride bytes
-  std::optional<WorldBox> world;   // volumes: where level 0 sits in the scene (Blackboard::placementOf)
+  std::optional<WorldBox> world;   // volumes (and placed images): where level 0 sits in the scene (Blackboard::placementOf)
 };
 
 CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc);

@@ -431,6 +431,10 @@ const VerbSpec kVerbs[] = {
                     "every stage with a probe in that image's space)"},
     {"expect-probe-records", 1, 1, "expect-probe-records MIN (every probe record has more than MIN elements and "
                                    "passes its visualiser's check)"},
+    {"record-step", 2, 2, "record-step STAGE/OUTPUT N|first|last|next|prev (move a probe record's step slider in the "
+                          "Probe tab, as dragging it: a walk's step; prints what the step shows)"},
+    {"expect-record-step", 2, 32, "expect-record-step STAGE/OUTPUT TEXT... (the step the probe record's slider shows is "
+                                  "described with TEXT)"},
     {"expect-visualiser", 1, 1, "expect-visualiser NAME (the shown output's visualiser)"},
     {"keep-snapshot", 0, 0, "keep-snapshot (keep the shown output to compare with later, as Keep snapshot)"},
     {"compare-with", 1, 2, "compare-with output STAGE/OUTPUT | snapshot | file PATH | off (the compare view)"},

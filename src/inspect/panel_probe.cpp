@@ -168,7 +168,9 @@ void Viewer::drawProbe() {
     const Visualiser& vis = visualiserFor(r.out.desc);
     nlohmann::json stats;  // the record view needs none
     ImGui::PushID(r.desc);
-    vis.drawRecordView(VisualiserContext{r.out, stats, r.records, view, nullptr});
+    VisualiserContext ctx{r.out, stats, r.records, view, nullptr};
+    ctx.recordStep = &recordStep[std::string(t.stage(r.stage).id()) + "/" + r.desc->name];
+    vis.drawRecordView(ctx);
     ImGui::PopID();
   }
   ImGui::EndChild();

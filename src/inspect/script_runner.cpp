@@ -260,6 +260,39 @@ void Viewer::execute(const ScriptAction& a) {
       if (!c.error.empty()) scriptFail(a, name + ": " + c.error);
       std::printf("probe: %s (%s): %s\n", name.c_str(), vis.name(), c.summary.c_str());
     }
+  } else if (v == "record-step" || v == "expect-record-step") {
+    // The step slider of a probe record's view (Visualiser::recordSteps): the same int the Probe
+    // tab's slider moves, kept per record output.
+    const ProbeRecords* rec = nullptr;
+    std::vector<std::string> names;
+    for (const auto& r : probeRecords()) {
+      const std::string name = std::string(t.stage(r.stage).id()) + "/" + r.desc->name;
+      if (r.error.empty() && visualiserFor(r.out.desc).recordSteps(r.out) > 0) names.push_back(name);
+      if (name == arg(0)) rec = &r;
+    }
+    if (!rec) scriptFail(a, "no probe record '" + arg(0) + "'; with steps now: " + joinNames(names));
+    if (!rec->error.empty()) scriptFail(a, arg(0) + ": " + rec->error);
+    const Visualiser& vis = visualiserFor(rec->out.desc);
+    const int n = int(vis.recordSteps(rec->out));
+    if (n == 0) scriptFail(a, arg(0) + " (" + vis.name() + ") has no steps to show; with steps now: " + joinNames(names));
+    int& k = recordStep[arg(0)];
+    if (v == "record-step") {
+      if (arg(1) == "first") k = 0;
+      else if (arg(1) == "last") k = n - 1;
+      else if (arg(1) == "next") k = k + 1;
+      else if (arg(1) == "prev") k = k - 1;
+      else k = intArg(1);
+      if (k < 0 || k >= n) scriptFail(a, "step " + std::to_string(k) + " is outside 0.." + std::to_string(n - 1));
+    }
+    k = std::clamp(k, 0, n - 1);
+    const std::string said = vis.describeRecordStep(rec->out, size_t(k));
+    std::printf("%s step %d of %d: %s\n", arg(0).c_str(), k, n, said.c_str());
+    if (v == "expect-record-step") {
+      std::string text;
+      for (size_t i = 1; i < a.args.size(); ++i) text += (text.empty() ? "" : " ") + a.args[i];
+      if (said.find(text) == std::string::npos)
+        scriptFail(a, arg(0) + " step " + std::to_string(k) + " shows '" + said + "', expected it to contain '" + text + "'");
+    }
   } else if (v == "expect-state") {
     int i = t.stageIndex(arg(0));
     std::string want = arg(1) == "not-run" ? "not run" : arg(1);

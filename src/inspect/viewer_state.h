@@ -18,6 +18,7 @@
 #pragma once
 #include <chrono>
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <random>
@@ -293,6 +294,7 @@ class Viewer {
   // Probe records (probeRecords()).
   std::vector<ProbeRecords> probeCache;
   long probeCacheKey = -1;
+  std::map<std::string, int> recordStep;  // per probe record "stage/output": the step its record view shows
 
   // Scene overlay.
   std::unique_ptr<SceneOverlay> overlay;

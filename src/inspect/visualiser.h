@@ -44,6 +44,10 @@ struct VisualiserContext {
   // before it that has run, for a view that needs another output's data (the clip atlas reads the
   // clip-levels records to know each level's origin); false when there is none (or unset).
   std::function<bool(const char* what, CapturedOutput& out)> contextOutput;
+  // The step a record view that can be stepped shows (its step slider, recordSteps() below), kept
+  // by the viewer per probe-record output so the script verb `record-step` moves the same slider;
+  // nullptr outside the Probe tab (the view then keeps its own).
+  int* recordStep = nullptr;
 };
 
 // 3D content a visualiser built, in view units (docs in inspect/view3d.h).
@@ -84,6 +88,11 @@ class Visualiser : public OutputHandler {
   // The Probe tab's view of a probe record output (ImGui); the table by default.
   virtual void drawRecordView(const VisualiserContext& ctx) const;
   virtual RecordCheck checkRecords(const CapturedOutput& out) const;
+  // A record that is a sequence of steps (a walk, a descent) can be stepped through one at a time
+  // in its record view: how many steps it has (0: not steppable) and one line saying what step k
+  // shows (script verbs `record-step`, `expect-record-step`).
+  virtual size_t recordSteps(const CapturedOutput& out) const { return 0; }
+  virtual std::string describeRecordStep(const CapturedOutput& out, size_t k) const { return ""; }
 };
 
 // The visualiser for (kind, semantic), else for the kind. Throws Error for a kind without one.

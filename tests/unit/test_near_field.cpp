@@ -24,6 +24,8 @@
 #include <cstring>
 #include <random>
 #include <set>
+#include <array>
+#include <cstdio>
 
 #include "gpu/gl_debug.h"
 #include "inspect/visualiser.h"
@@ -815,6 +817,135 @@ TEST(NearFieldProbe, RecordedSurfacePointAndGapsAgreeWithAnIndependentComputatio
     }
   EXPECT_GE(withSurface, 4);
   EXPECT_GE(withGap, 4);
+}
+
+// --- What the views say: categories, the RSM lookup, slice depths ----------------------------------
+
+// The category image has its own visualiser: a distinct colour per category (exact tier), the
+// category's name under the cursor, and per-category pixel counts that equal the stage's own
+// counters (one ray per pixel, so the image holds every ray's category).
+TEST(NearFieldViews, CategoryImageNamesAndCountsEveryCategory) {
+  auto& s = session(request({"voxel.resolution=64", "rays.count=1", "rsm.resolution=128", "shadow.resolution=256"}));
+  const CapturedOutput out = capture(s, "rays", "ray-category");
+  const Visualiser& vis = visualiserFor(out.desc);
+  EXPECT_STREQ(vis.name(), "rsm-lookup-category");
+  EXPECT_EQ(vis.defaultTier(out.desc), CaptureTier::Exact);
+  const nlohmann::json cats = vis.statistics(out).at("categories");
+  const auto& stats = s.cursor().record(s.cursor().technique().stageIndex("rays")).stats;
+  const char* keys[NF_CATEGORIES] = {"valid", "no_hit", "not_in_rsm", "too_far", "wrong_facing", "budget_spent", "dropped", "no_receiver"};
+  double traced = 0;
+  for (int k = 0; k < NF_CATEGORIES - 1; ++k) {  // no_receiver pixels trace no ray: the counters skip them
+    EXPECT_EQ(cats.at(keys[k]).get<double>(), stats.at(std::string("rays_") + keys[k])) << keys[k];
+    traced += cats.at(keys[k]).get<double>();
+  }
+  EXPECT_EQ(traced, stats.at("rays_traced"));
+  EXPECT_EQ(cats.at("unknown").get<int>(), 0);
+  std::printf("ray-category: %s\n", cats.dump().c_str());
+  EXPECT_GT(cats.at("valid").get<int>(), 0);
+  EXPECT_GT(cats.at("no_hit").get<int>(), 0);
+  // Every category its own colour.
+  const TexelMapping& m = texelMapping(out.desc.semantic);
+  std::set<std::array<uint8_t, 3>> colours;
+  for (int k = 0; k < NF_CATEGORIES; ++k) {
+    const float v = float(k);
+    std::array<uint8_t, 3> rgb{};
+    m.map(&v, 1, 1.0f, 0.0f, 0.0f, rgb.data());
+    colours.insert(rgb);
+  }
+  EXPECT_EQ(colours.size(), size_t(NF_CATEGORIES));
+  // Hover: the category by name, at the same pixel as the image's value.
+  ViewSettings view;
+  nlohmann::json st, rec;
+  VisualiserContext ctx{out, st, rec, view, nullptr};
+  const LevelData& L = out.levels.at(0);
+  int named = 0;
+  for (int y = 0; y < L.size.y; y += 5)
+    for (int x = 0; x < L.size.x; x += 5) {
+      const int k = int(L.at(x, y, 0, 0));
+      const std::string line = vis.describeElement(ctx, {x, y, 0});
+      const std::string name = k == 0 ? "valid" : k == 1 ? "no hit" : k == 3 ? "too far" : k == 7 ? "no receiver" : "";
+      if (name.empty()) continue;
+      EXPECT_NE(line.find(": " + name), std::string::npos) << line;
+      ++named;
+    }
+  EXPECT_GT(named, 100);
+}
+
+// The probed ray's RSM lookup: the recorded texel's position and normal are the RSM's own texels,
+// the distance is |hit - RSM position|, the category follows from distance and facing; the view's
+// check passes on the record and fails on a category that contradicts the values.
+TEST(NearFieldViews, ProbeRecordCarriesTheRsmLookupAndItsCheckCatchesAWrongCategory) {
+  int looked = 0;
+  for (int ray = 0; ray < 4; ++ray) {
+    auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256",
+                               "probe.x=0.3", "probe.y=0.8", "probe.ray=" + std::to_string(ray)}));
+    const CapturedOutput out = capture(s, "rays", "probe-ray");
+    gpu::ProbeRay p;
+    ASSERT_EQ(out.records.size(), sizeof(p));
+    std::memcpy(&p, out.records.data(), sizeof(p));
+    const Visualiser& vis = visualiserFor(out.desc);
+    const RecordCheck ok = vis.checkRecords(out);
+    EXPECT_TRUE(ok.error.empty()) << ok.error;
+    EXPECT_NE(ok.summary.find("RSM lookup: "), std::string::npos) << ok.summary;
+    const int cat = int(p.rsmRadiance.w);
+    EXPECT_EQ(int(p.rsmNormal.w), 1) << "rsm.normal-check on, distance validity: flags 1";
+    if (cat != NF_CAT_VALID && cat != NF_CAT_TOO_FAR && cat != NF_CAT_WRONG_FACING) continue;
+    ++looked;
+    std::printf("probe ray %d: category %d, distance %.5f m vs threshold %.5f m, facing %.3f\n", ray, cat, p.rsmSample.z,
+                p.rsmSample.w, p.steps.z);
+    const Readback pos = readFloat(s, "rsm-position"), nrm = readFloat(s, "rsm-normal");
+    const int tx = int(p.rsmSample.x), ty = int(p.rsmSample.y);
+    ASSERT_TRUE(tx >= 0 && ty >= 0 && tx < pos.w && ty < pos.h);
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(p.rsmPosition[c], pos.at(tx, ty)[c]) << "position channel " << c;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(p.rsmNormal[c], nrm.at(tx, ty)[c]) << "normal channel " << c;
+    // Same float inputs on GPU and CPU: measured 0 m apart (3 lookups, 1 and 2 threads); another
+    // rounding order would move it by float steps at metre scale (1e-7 m); 1e-5 m is 1/1300 of a
+    // voxel diagonal (0.0133 m), far below the 0.013-0.036 m thresholds it is compared with.
+    const float cpuDistance = glm::length(glm::vec3(p.hitPoint) - glm::vec3(p.rsmPosition));
+    std::printf("  distance GPU - CPU: %.3g m\n", p.rsmSample.z - cpuDistance);
+    EXPECT_NEAR(p.rsmSample.z, cpuDistance, 1e-5f);
+    EXPECT_EQ(cat == NF_CAT_TOO_FAR, p.rsmSample.z > p.rsmSample.w);
+    CapturedOutput broken = out;
+    gpu::ProbeRay q = p;
+    q.rsmRadiance.w = float(cat == NF_CAT_TOO_FAR ? NF_CAT_VALID : NF_CAT_TOO_FAR);
+    std::memcpy(broken.records.data(), &q, sizeof(q));
+    EXPECT_NE(vis.checkRecords(broken).error, "") << "a category that contradicts the distance passed the check";
+  }
+  EXPECT_GE(looked, 1) << "no probed ray reached the RSM lookup";
+}
+
+// The binary grid and its hierarchy are placed in the world, so a column's slices read as depth
+// intervals in metres; the ray-mask table's entry (i, j) reads slices i..j at the grid's depths.
+TEST(NearFieldViews, SliceDepthsAreInWorldUnits) {
+  auto& s = session(snapshotRequest());
+  const Scene& scene = s.cursor().scene();
+  const WorldBox box = VoxelSpace::fromScene(scene, 64).box();
+  const CapturedOutput grid = capture(s, "binary-voxels", "binary-voxels");
+  ASSERT_TRUE(grid.world.has_value());
+  EXPECT_EQ(grid.world->lo, box.lo);
+  EXPECT_EQ(grid.world->hi, box.hi);
+  ASSERT_TRUE(capture(s, "hierarchy", "bitmask-hierarchy").world.has_value());
+  const float z0 = box.lo.z, dz = (box.hi.z - box.lo.z) / 128.0f;
+  auto expectRange = [&](int i, int j) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%d-%d (z %.4g..%.4g m)", i, j, z0 + i * dz, z0 + (j + 1) * dz);
+    return std::string(buf);
+  };
+  const CapturedOutput masks = capture(s, "bitmask-tables", "ray-masks");
+  EXPECT_FALSE(masks.world.has_value()) << "the table is not placed itself";
+  ViewSettings view;
+  nlohmann::json st, rec;
+  VisualiserContext ctx{masks, st, rec, view, nullptr};
+  ctx.contextOutput = [&](const char* what, CapturedOutput& o) {
+    if (std::string(what) != "binary-voxels") return false;
+    o = grid;
+    return true;
+  };
+  const Visualiser& vis = visualiserFor(masks.desc);
+  const std::string line = vis.describeElement(ctx, {10, 20, 0});
+  EXPECT_NE(line.find(expectRange(10, 20)), std::string::npos) << line;
+  ctx.contextOutput = nullptr;
+  EXPECT_EQ(vis.describeElement(ctx, {10, 20, 0}).find(" m)"), std::string::npos) << "a depth without a placement";
 }
 
 // --- RSM ------------------------------------------------------------------------------------------

@@ -2,8 +2,9 @@
 // texel holds 128 one-bit slices along the voxelization axis (z), MSB first in each channel
 // (slice k is bit 31 - k % 32 of channel k / 32): the binary voxel grid, its 2D OR hierarchy and
 // the OR / XOR / ray-mask tables. The 2D view is white where any slice is set. The value under the
-// cursor names the set slices; the inspector draws the picked column as a 128-bit stack with each
-// slice's depth interval (a fraction of the volume's edge along z) and, on a level above 0 of the
+// cursor names the set slices with their depth intervals in metres (z along the world axis, from the
+// binary grid's placement; the tables take the grid's); the inspector draws the picked column as a
+// 128-bit stack with each slice's depth interval (hover a slice) and, on a level above 0 of the
 // hierarchy, its four children one level down and their OR, marking every slice where the OR
 // differs from the column (it must not: the hierarchy's invariant).
 //
@@ -15,12 +16,16 @@
 // non-empty and an advance only where it is empty, a hit only at level 0 and only as the last
 // step, the ray mask exactly the slices first..last, the AND inside the ray mask, and t entering
 // <= t leaving <= the segment's end. The probed ray's record (ProbeRay) gets a view of its hit voxel
-// beside the true surface point on the same ray and the distance between them in voxels.
+// beside the true surface point on the same ray and the distance between them in voxels, and its
+// RSM lookup (texel, the RSM's position and normal there, distance vs threshold, normal test,
+// category by name), whose check asserts the category follows from the recorded values.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +34,7 @@
 
 #include "inspect/visualisers/buffer.h"
 #include "inspect/visualisers/levels.h"
+#include "inspect/visualisers/ray_category.h"
 #include "near_field/near_field_shared.h"
 
 namespace voxlab {
@@ -53,14 +59,41 @@ bool columnAt(const LevelData& L, int x, int y, Mask& m) {
   return true;
 }
 
-// "0-3, 17, 20-40": the set slices as ranges.
-std::string sliceRanges(const Mask& m) {
+// Where the slices lie along z in the world: slice k covers [z0 + k dz, z0 + (k + 1) dz).
+struct SliceDepth {
+  bool known = false;
+  float z0 = 0.0f, dz = 0.0f;
+};
+
+// The columns' own placement (the binary grid and its hierarchy place themselves), else that of
+// the binary grid the tables index (the ray-mask table's slices are the grid's slices).
+SliceDepth sliceDepthOf(const VisualiserContext& ctx) {
+  SliceDepth d;
+  std::optional<WorldBox> box = ctx.out.world;
+  if (!box && ctx.contextOutput) {
+    CapturedOutput grid;
+    if (ctx.contextOutput("binary-voxels", grid)) box = grid.world;
+  }
+  if (!box) return d;
+  d.known = true;
+  d.z0 = box->lo.z;
+  d.dz = (box->hi.z - box->lo.z) / float(kSlices);
+  return d;
+}
+
+// "0-3, 17, 20-40": the set slices as ranges; with depths "0-3 (z -0.512..-0.496 m), ...".
+std::string sliceRanges(const Mask& m, const SliceDepth& depth = {}) {
   std::string s;
   for (int k = 0; k < kSlices; ++k) {
     if (!sliceSet(m, k)) continue;
     int e = k;
     while (e + 1 < kSlices && sliceSet(m, e + 1)) ++e;
     s += (s.empty() ? "" : ", ") + std::to_string(k) + (e > k ? "-" + std::to_string(e) : "");
+    if (depth.known) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " (z %.4g..%.4g m)", depth.z0 + k * depth.dz, depth.z0 + (e + 1) * depth.dz);
+      s += buf;
+    }
     k = e;
   }
   return s.empty() ? "none" : s;
@@ -73,7 +106,8 @@ std::map<const ViewSettings*, glm::ivec2>& picked() {
 }
 
 // A vertical stack of 128 cells (slice 0 at the top), set slices filled; 'differs' outlines in red.
-void drawStack(const char* label, const Mask& m, const Mask* differs, float cellH) {
+// Hovering a cell names its slice and, when the depth is known, the slice's z interval in metres.
+void drawStack(const char* label, const Mask& m, const Mask* differs, float cellH, const SliceDepth& depth = {}) {
   ImGui::BeginGroup();
   ImGui::TextUnformatted(label);
   ImDrawList* dl = ImGui::GetWindowDrawList();
@@ -85,6 +119,14 @@ void drawStack(const char* label, const Mask& m, const Mask* differs, float cell
     if (differs && sliceSet(*differs, k)) dl->AddRect(a, b, IM_COL32(255, 60, 60, 255));
   }
   ImGui::Dummy(ImVec2(w, kSlices * cellH));
+  if (ImGui::IsItemHovered()) {
+    const int k = std::clamp(int((ImGui::GetIO().MousePos.y - at.y) / cellH), 0, kSlices - 1);
+    if (depth.known)
+      ImGui::SetTooltip("slice %d (%s): z in [%.4g, %.4g) m", k, sliceSet(m, k) ? "set" : "empty", depth.z0 + k * depth.dz,
+                        depth.z0 + (k + 1) * depth.dz);
+    else
+      ImGui::SetTooltip("slice %d (%s)", k, sliceSet(m, k) ? "set" : "empty");
+  }
   ImGui::Text("%d set", popcount(m));
   ImGui::EndGroup();
 }
@@ -100,7 +142,7 @@ class BitmaskColumnsVisualiser : public ImageVisualiser {
     picked()[&ctx.view] = {t.x, t.y};
     char head[96];
     std::snprintf(head, sizeof head, "column (%d, %d), level %d: %d of 128 slices set: ", t.x, t.y, ctx.view.level, popcount(m));
-    return head + sliceRanges(m);
+    return head + sliceRanges(m, sliceDepthOf(ctx));
   }
 
   void drawInspector(const VisualiserContext& ctx) const override {
@@ -110,10 +152,16 @@ class BitmaskColumnsVisualiser : public ImageVisualiser {
     if (L && it != picked().end() && columnAt(*L, it->second.x, it->second.y, m)) {
       const glm::ivec2 c = it->second;
       ImGui::Text("column (%d, %d) at level %d (hover or click a texel to pick)", c.x, c.y, ctx.view.level);
-      ImGui::TextWrapped("slices set: %s", sliceRanges(m).c_str());
-      ImGui::TextDisabled("slice k covers z in [k/128, (k+1)/128) of the volume's edge; slice 0 at the top");
+      const SliceDepth depth = sliceDepthOf(ctx);
+      ImGui::TextWrapped("slices set: %s", sliceRanges(m, depth).c_str());
+      if (depth.known)
+        ImGui::TextDisabled("slice k covers z in [%.4g + k %.4g, %.4g + (k+1) %.4g) m (the volume spans z %.4g..%.4g m); "
+                            "slice 0 at the top; hover a slice for its interval",
+                            depth.z0, depth.dz, depth.z0, depth.dz, depth.z0, depth.z0 + kSlices * depth.dz);
+      else
+        ImGui::TextDisabled("slice k covers z in [k/128, (k+1)/128) of the volume's edge (no world placement); slice 0 at the top");
       const float cellH = 2.0f;
-      drawStack("column", m, nullptr, cellH);
+      drawStack("column", m, nullptr, cellH, depth);
       const int level = std::clamp(ctx.view.level, 0, int(ctx.out.levels.size()) - 1);
       if (level > 0) {
         const LevelData& F = ctx.out.levels[size_t(level - 1)];
@@ -125,12 +173,12 @@ class BitmaskColumnsVisualiser : public ImageVisualiser {
           char label[48];
           std::snprintf(label, sizeof label, "(%d,%d)", 2 * c.x + (k & 1), 2 * c.y + (k >> 1));
           ImGui::SameLine();
-          drawStack(label, child, nullptr, cellH);
+          drawStack(label, child, nullptr, cellH, depth);
         }
         Mask diff;
         for (int j = 0; j < 4; ++j) diff[j] = orOfChildren[j] ^ m[j];
         ImGui::SameLine();
-        drawStack("OR", orOfChildren, &diff, cellH);
+        drawStack("OR", orOfChildren, &diff, cellH, depth);
         if (popcount(diff) == 0) ImGui::TextUnformatted("OR of the four children = the column");
         else ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "OR of the children differs in %d slices (%s)", popcount(diff),
                                 sliceRanges(diff).c_str());
@@ -182,6 +230,16 @@ Mask sliceRange(int first, int last) {
 }
 
 const char* actionName(uint32_t a) { return a == kHit ? "hit" : a == kDescend ? "descend" : a == kAdvance ? "advance" : "?"; }
+
+// "step 3: level 2, texel (5, 7), slices 10..14, t 0.1..0.2 of 0.5 -> descend" (t in fractions of the segment).
+std::string stepLine(const Step& s) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "step %u: level %u, texel (%u, %u), slices %u..%u, t %.4f..%.4f of %.4f -> %s", s.step,
+                s.level, s.x, s.y, s.first, s.last, s.tEnter, s.tExit, s.tEnd, actionName(s.action));
+  std::string line = buf;
+  if (s.action == kHit) line += " slice " + std::to_string(s.hitSlice);
+  return line;
+}
 
 class TraversalVisualiser : public BufferVisualiser {
  public:
@@ -237,14 +295,21 @@ class TraversalVisualiser : public BufferVisualiser {
     return c;
   }
 
+  size_t recordSteps(const CapturedOutput& out) const override { return decodeSteps(out).size(); }
+  std::string describeRecordStep(const CapturedOutput& out, size_t k) const override {
+    const auto steps = decodeSteps(out);
+    return k < steps.size() ? stepLine(steps[k]) : "";
+  }
+
   void drawRecordView(const VisualiserContext& ctx) const override {
     const auto steps = decodeSteps(ctx.out);
     const RecordCheck check = checkRecords(ctx.out);
     ImGui::Text("%s", check.summary.c_str());
     if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
-    // Step through the walk one step at a time: the chosen step's ray mask and AND as stacks.
+    // Step through the walk one step at a time: the chosen step's ray mask and AND as stacks. The
+    // slider's value is the viewer's (ctx.recordStep: the script verb record-step moves it too).
     static std::map<const ViewSettings*, int> chosen;
-    int& k = chosen[&ctx.view];
+    int& k = ctx.recordStep ? *ctx.recordStep : chosen[&ctx.view];
     if (!steps.empty()) {
       k = std::clamp(k, 0, int(steps.size()) - 1);
       ImGui::SliderInt("step", &k, 0, int(steps.size()) - 1);
@@ -253,8 +318,7 @@ class TraversalVisualiser : public BufferVisualiser {
       ImGui::SameLine();
       if (ImGui::ArrowButton("next", ImGuiDir_Right)) k = std::min(k + 1, int(steps.size()) - 1);
       const Step& s = steps[size_t(k)];
-      ImGui::Text("step %u: level %u, texel (%u, %u), slices %u..%u, t %.4f..%.4f of %.4f -> %s", s.step, s.level, s.x, s.y,
-                  s.first, s.last, s.tEnter, s.tExit, s.tEnd, actionName(s.action));
+      ImGui::TextUnformatted(stepLine(s).c_str());
       drawStack("ray mask", s.ray, nullptr, 1.5f);
       ImGui::SameLine();
       drawStack("AND column", s.hit, nullptr, 1.5f);
@@ -374,6 +438,103 @@ bool decodeProbeRay(const CapturedOutput& out, gpu::ProbeRay& p) {
   return true;
 }
 
+// The RSM lookup of the probed ray: the texel, what the RSM holds there, the distance against the
+// threshold, the normal test, and the category they give (the order of ray_common.glsl's lookupRsm:
+// distance first, then facing). Returns "" when the record is consistent, else what is not.
+struct RsmLookupView {
+  int category = -1;
+  bool traced = false;     // the record was written (a ray of the probed index ran)
+  bool looked = false;     // the walk hit and the hit has a texel in the RSM
+  bool covered = false;    // that texel holds a surface
+  bool normalCheck = false, plane = false;
+  std::string error;
+};
+
+RsmLookupView rsmLookupOf(const gpu::ProbeRay& p) {
+  RsmLookupView v;
+  v.category = int(p.rsmRadiance.w);
+  v.traced = !(p.receiver.w < 0.5f && v.category == 0);  // an all-zero record: the probed ray index has not run
+  v.looked = p.result.w == NF_END_HIT && p.rsmSample.x >= 0.0f;
+  v.covered = v.looked && p.rsmPosition.w > 0.0f;
+  const int flags = int(p.rsmNormal.w);
+  v.normalCheck = (flags & 1) != 0;
+  v.plane = (flags & 2) != 0;
+  if (!v.traced) return v;
+  if (float(v.category) != p.rsmRadiance.w || v.category < 0 || v.category >= NF_CATEGORIES) {
+    v.error = "the RSM lookup's category is not one of 0..7";
+    return v;
+  }
+  const bool within = p.rsmSample.z <= p.rsmSample.w, faces = p.steps.z >= 0.0f;
+  const bool looked = v.category == NF_CAT_VALID || v.category == NF_CAT_TOO_FAR || v.category == NF_CAT_WRONG_FACING;
+  if (p.receiver.w < 0.5f) {
+    if (v.category != NF_CAT_NO_RECEIVER) v.error = "a pixel without a receiver has a lookup category other than no receiver";
+  } else if (looked && !v.covered) {
+    v.error = "a lookup category that needs an RSM surface without a hit or a covered RSM texel";
+  } else if (v.category == NF_CAT_TOO_FAR && within) {
+    v.error = "category too far with the distance within the threshold";
+  } else if ((v.category == NF_CAT_VALID || v.category == NF_CAT_WRONG_FACING) && !within) {
+    v.error = "category valid or wrong facing with the distance beyond the threshold";
+  } else if (v.category == NF_CAT_WRONG_FACING && !(v.normalCheck && !faces)) {
+    v.error = "category wrong facing without a failed normal test";
+  } else if (v.category == NF_CAT_VALID && v.normalCheck && !faces) {
+    v.error = "category valid with a failed normal test";
+  } else if (p.result.w == NF_END_HIT && !looked && v.category != NF_CAT_NOT_IN_RSM) {
+    v.error = "a hit whose lookup category is not valid, not in the RSM, too far or wrong facing";
+  } else if (p.result.w != NF_END_HIT && looked) {
+    v.error = "an RSM lookup without a hit";
+  } else if (looked && !v.plane) {
+    // The distance is |hit - RSM position| of the same two points, both recorded in float (measured
+    // equal to the shader's on the Cornell box); another rounding order moves it by about 1e-7
+    // relative, so 1e-5 relative (Sponza's 30 m: 0.3 mm) is far below the voxel-sized threshold.
+    const float d = glm::length(glm::vec3(p.hitPoint) - glm::vec3(p.rsmPosition));
+    if (std::abs(d - p.rsmSample.z) > 1e-5f * std::max(1.0f, glm::length(glm::vec3(p.hitPoint))))
+      v.error = "the recorded distance is not |hit point - RSM position|";
+  }
+  return v;
+}
+
+void drawRsmLookup(const gpu::ProbeRay& p) {
+  const RsmLookupView v = rsmLookupOf(p);
+  ImGui::Separator();
+  ImGui::TextUnformatted("RSM lookup");
+  if (!v.traced) {
+    ImGui::TextDisabled("the probed ray index has not been traced yet");
+    return;
+  }
+  if (p.result.w != NF_END_HIT) {
+    ImGui::TextUnformatted("no lookup: the walk did not hit a voxel");
+  } else if (!v.looked) {
+    ImGui::TextUnformatted("no texel: the hit point is behind the light or outside its map");
+  } else {
+    ImGui::Text("texel (%.0f, %.0f) of the RSM", p.rsmSample.x, p.rsmSample.y);
+    if (!v.covered) {
+      ImGui::TextUnformatted("the texel is empty: the light's map sees no surface there");
+    } else {
+      ImGui::Text("RSM position (%.4f, %.4f, %.4f), texel footprint %.4f m", p.rsmPosition.x, p.rsmPosition.y,
+                  p.rsmPosition.z, p.rsmPosition.w);
+      ImGui::Text("RSM normal   (%.3f, %.3f, %.3f)", p.rsmNormal.x, p.rsmNormal.y, p.rsmNormal.z);
+      const bool within = p.rsmSample.z <= p.rsmSample.w;
+      if (p.rsmSample.z >= 1e29f)
+        ImGui::Text("distance: the RSM surface lies beyond 4 voxel diagonals + the footprint along its plane -> too far");
+      else
+        ImGui::Text("distance %s = %.4f m vs threshold %.4f m -> %s",
+                    v.plane ? "from the RSM surface's plane" : "|hit - RSM position|", p.rsmSample.z, p.rsmSample.w,
+                    within ? "the same surface (within)" : "another surface (too far)");
+      if (!within)
+        ImGui::TextDisabled("normal test: not reached (the distance test failed first)");
+      else if (!v.normalCheck)
+        ImGui::Text("normal test: off (rsm.normal-check); cos(RSM normal, hit -> receiver) = %.3f", p.steps.z);
+      else
+        ImGui::Text("normal test: cos(RSM normal, hit -> receiver) = %.3f -> %s", p.steps.z,
+                    p.steps.z >= 0.0f ? "faces the receiver (pass)" : "faces away (fail)");
+    }
+  }
+  ImGui::Text("category %d: %s (%s)", v.category, rsmLookupCategoryName(v.category), rsmLookupCategoryMeaning(v.category));
+  if (v.category == NF_CAT_VALID)
+    ImGui::Text("reflected radiance L~ (%.4g, %.4g, %.4g)", p.rsmRadiance.x, p.rsmRadiance.y, p.rsmRadiance.z);
+  if (!v.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", v.error.c_str());
+}
+
 // The check holds what the record's CPU half must keep: the surface point lies on the recorded
 // ray at its t, within the radius left; the gaps are set exactly when there are both a hit voxel
 // and a surface point, and the largest axis distance is at most the Euclidean one and at least
@@ -403,11 +564,14 @@ class ProbeRayVisualiser : public BufferVisualiser {
     if (gapSet != (surface && hit)) c.error = "the voxel gap is set without both a hit voxel and a surface point (or missing)";
     if (gapSet && !(p.surfaceGap.x <= p.surfaceGap.y * (1.0f + 1e-6f) && p.surfaceGap.y <= 1.7320509f * p.surfaceGap.x * (1.0f + 1e-6f) + 1e-6f))
       c.error = "the voxel gap's largest axis distance and Euclidean length disagree";
+    const RsmLookupView lookup = rsmLookupOf(p);
+    if (!lookup.error.empty()) c.error = lookup.error;
     if (!hit) std::snprintf(buf, sizeof buf, "walk: %s; %s", endName(p.result.w), surface ? "a surface lies within the radius" : "no surface within the radius");
     else if (!surface) std::snprintf(buf, sizeof buf, "hit voxel (%u, %u, %u); no surface within the radius", p.result.x, p.result.y, p.result.z);
     else std::snprintf(buf, sizeof buf, "hit voxel (%u, %u, %u), true surface %.3g voxels away (%s)", p.result.x, p.result.y, p.result.z,
                        p.surfaceGap.x, p.surfaceGap.x == 0.0f ? "inside it" : p.surfaceGap.x <= 1.0f ? "in a neighbour" : "farther");
     c.summary = buf;
+    if (lookup.traced) c.summary += std::string("; RSM lookup: ") + rsmLookupCategoryName(lookup.category);
     return c;
   }
 
@@ -435,6 +599,7 @@ class ProbeRayVisualiser : public BufferVisualiser {
                                                      : "the walk stopped earlier: another surface's conservative voxel, or a grazing ray");
       }
     }
+    if (decodeProbeRay(ctx.out, p)) drawRsmLookup(p);
     ImGui::Text("%s", check.summary.c_str());
     if (!check.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", check.error.c_str());
     BufferVisualiser::drawRecordView(ctx);

@@ -94,6 +94,8 @@ void BinaryVoxelsStage::execute(StageContext& ctx) {
   Texture& scratch = ctx.board.ensureTexture("binary-voxels.words", binaryWordsDesc(res));
   Texture& grid = ctx.board.ensureTexture("binary-voxels", binaryColumnsDesc(res));
   Texture& popcountTex = ctx.board.ensureTexture("binary-popcount", binaryPopcountDesc(res));
+  // The columns' place in the world, so their views give each slice's depth interval in metres.
+  ctx.board.place("binary-voxels", VoxelSpace::fromScene(ctx.scene, res).box());
   const uint32_t zero = 0;
   glClearTexImage(scratch.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 

@@ -207,6 +207,7 @@ void HierarchyStage::execute(StageContext& ctx) {
   const int maxLevel = maxLevelOf(res);
   Texture& h = ctx.board.ensureTexture("bitmask-hierarchy", hierarchyDesc(res, GL_RGBA32UI));
   Texture& pc = ctx.board.ensureTexture("hierarchy-popcount", hierarchyDesc(res, GL_R32UI));
+  ctx.board.place("bitmask-hierarchy", VoxelSpace::fromScene(ctx.scene, res).box());  // slices in metres in its views
   if (ctx.iteration == 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};
     for (int l = 1; l <= maxLevel; ++l) {
@@ -265,7 +266,9 @@ void RaysStage::declare(StageBuilder& b) const {
   b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
            "near-field indirect radiance so far: (albedo / N) * sum of valid hits' reflected radiance (at rays.resolution)")
       .referenceMode = "indirect-1";
-  auto& cat = b.output("ray-category", OutputKind::Image2D, Semantic::Scalar,
+  // Its own semantic: a colour per category, a legend and the category's name under the cursor
+  // (src/inspect/visualisers/ray_category.cpp).
+  auto& cat = b.output("ray-category", OutputKind::Image2D, Semantic("rsm-lookup-category"),
                        "the last ray's outcome: 0 valid, 1 no hit, 2 not in the RSM, 3 too far from the RSM's surface, "
                        "4 wrong facing, 5 step budget spent, 6 dropped (offset > radius), 7 no receiver");
   cat.tier = CaptureTier::Exact;
@@ -303,7 +306,9 @@ void RaysStage::declare(StageBuilder& b) const {
                {"rsm-radiance", FieldType::Vec4, 96, FieldRole::Color},
                {"steps", FieldType::Vec4, 112, FieldRole::Other},
                {"surface", FieldType::Vec4, 128, FieldRole::Other},
-               {"surface-gap", FieldType::Vec4, 144, FieldRole::Other}};
+               {"surface-gap", FieldType::Vec4, 144, FieldRole::Other},
+               {"rsm-position", FieldType::Vec4, 160, FieldRole::Other},
+               {"rsm-normal", FieldType::Vec4, 176, FieldRole::Other}};
   BufferLayout dl;
   dl.stride = 32;
   dl.fields = {{"cell", FieldType::Vec3, 0, FieldRole::Other},
@@ -326,7 +331,8 @@ void RaysStage::declare(StageBuilder& b) const {
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
            "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), "
            "steps, the true surface point on the same ray (w t; exact ray/triangle query on the CPU) and its distance "
-           "from the hit voxel in voxels (x largest axis, y Euclidean, z along the ray in voxel diagonals, w triangle)");
+           "from the hit voxel in voxels (x largest axis, y Euclidean, z along the ray in voxel diagonals, w triangle), "
+           "the RSM texel's position (w footprint) and normal (w: 1 normal test on, + 2 plane validity)");
   pr.layout = pl;
   pr.probeRecord = true;
   declareTraced(b, "indirect", GL_RGBA32F);
