@@ -384,9 +384,10 @@ std::vector<uint32_t> u32Records(const CapturedOutput& c) {
 
 // The camera path of the issue: --look-from P with K moves of D ends with clip levels equal, bit
 // for bit, to those of --look-from P + K D built from scratch (guards included).
-void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const std::string& what,
-                             std::vector<std::string> extra = {}, const std::string& scene = "cornell-box",
-                             const std::string& voxelSize = "0.015625") {
+// Returns the moved run's clip-plan records (9 words per move and level).
+std::vector<uint32_t> expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const std::string& what,
+                                              std::vector<std::string> extra = {}, const std::string& scene = "cornell-box",
+                                              const std::string& voxelSize = "0.015625") {
   auto sets = extra;
   sets.push_back("clipmap.path-step.x=" + exact(step.x));
   sets.push_back("clipmap.path-step.y=" + exact(step.y));
@@ -402,7 +403,10 @@ void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const s
   const glm::dvec3 end = glm::dvec3(start) + double(moves) * glm::dvec3(step);
   auto& scratch = session(clipRequest(glm::vec3(end), extra, "mips", scene, voxelSize));
   CapturedOutput b = capture(scratch, "update", "clip-atlas");
-  ASSERT_EQ(a.levels[0].values.size(), b.levels[0].values.size());
+  if (a.levels[0].values.size() != b.levels[0].values.size()) {
+    ADD_FAILURE() << what << ": atlas sizes differ";
+    return plan;
+  }
   size_t differ = 0, nonEmpty = 0;
   for (size_t i = 0; i < a.levels[0].values.size(); ++i) {
     if (a.levels[0].values[i] != b.levels[0].values[i]) ++differ;
@@ -419,7 +423,11 @@ void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const s
     EXPECT_EQ(counters[size_t(5 * k + 2)], p[3]) << what << " level " << k << ": resolved != planned direct cells";
     EXPECT_EQ(counters[size_t(5 * k + 3)], p[5]) << what << " level " << k << ": refiltered != covered block";
   }
+  return plan;
 }
+
+// The exposed cells (N^3 - prod(N - |d_i|)) of level k in move j of a clip-plan (4 levels).
+uint32_t exposedIn(const std::vector<uint32_t>& plan, int move, int k) { return plan[size_t(9 * (move * 4 + k) + 2)]; }
 
 const glm::vec3 kInside(69.0f / 256.0f, 77.0f / 256.0f, 57.0f / 256.0f);  // inside the Cornell box
 
@@ -440,9 +448,47 @@ TEST(ClipmapGpu, DiagonalAndLargeMovesEqualScratch) {
   expectPathEqualsScratch({26.0f / 256.0f, 26.0f / 256.0f, 26.0f / 256.0f}, {0.0f, 0.0f, 21.0f / 64.0f}, 1, "N+5 along z");
 }
 
+// The path types of the CPU model (ClipmapMath.IncrementalEqualsFullAlongPaths) on the GPU, at
+// N = 16 with level-0 voxels of 1/64 m = 4/256 m (every start and step a multiple of 1/256 m).
+TEST(ClipmapGpu, PathTypesOfTheCpuModelEqualScratch) {
+  struct Path {
+    const char* what;
+    glm::vec3 step;
+    int moves;
+  };
+  const float v = 1.0f / 64.0f;  // one level-0 voxel
+  const Path paths[] = {
+      // A quarter voxel per move: level 0 snaps to 2/64 m, so no level's origin changes.
+      {"no snap", {0.25f * v, 0.25f * v, 0.25f * v}, 1},
+      {"N/2-2 = 6 voxels along z", {0.0f, 0.0f, 6.0f * v}, 2},
+      {"N-2 = 14 voxels along -x", {-14.0f * v, 0.0f, 0.0f}, 1},
+  };
+  for (const Path& p : paths) {
+    const auto plan = expectPathEqualsScratch(kInside, p.step, p.moves, p.what);
+    if (std::string(p.what) == "no snap")
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(exposedIn(plan, 1, k), 0u) << "no snap: level " << k << " moved";
+    else
+      EXPECT_GT(exposedIn(plan, p.moves, 0), 0u) << p.what << ": level 0 must move";
+  }
+  // N = 16 voxels along y, six faces: level 0's new region shares no cell with the old one.
+  const auto plan = expectPathEqualsScratch(kInside, {0.0f, 16.0f * v, 0.0f}, 1, "N along y, anisotropic",
+                                            {"clipmap.faces=anisotropic"});
+  EXPECT_EQ(exposedIn(plan, 1, 0), 16u * 16u * 16u);
+}
+
 TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
-  // Priority: after 2^(L-1) further moves of zero length every level has caught up.
   expectPathEqualsScratch(kInside, {0.0f, -3.0f / 64.0f, 0.0f}, 2, "anisotropic -y", {"clipmap.faces=anisotropic"});
+  // clipmap.policy=priority (L = 4): moves 1..8 update levels 0 1 0 2 0 1 0 3, so move 8 changes
+  // only the coarsest level. Start x = 60/256 m and steps of 1/256 m (x, y) and -1/256 m (z): x
+  // crosses 64/256 m, a level-3 snap (s_4 = 1/4 m), at the last move, and each finer level's last
+  // update (moves 7, 6, 4) already snapped to the end's origins, so every level has caught up and
+  // the atlas must equal the build from scratch at the end.
+  const glm::vec3 start(60.0f / 256.0f, 77.0f / 256.0f, 57.0f / 256.0f);
+  const auto plan = expectPathEqualsScratch(start, {1.0f / 256.0f, 1.0f / 256.0f, -1.0f / 256.0f}, 8,
+                                            "priority, coarse level only at the last move",
+                                            {"clipmap.policy=priority", "clipmap.faces=anisotropic"});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(exposedIn(plan, 8, k), 0u) << "level " << k << " moved at the last move";
+  EXPECT_GT(exposedIn(plan, 8, 3), 0u) << "the coarsest level moves at the last move";
 }
 
 // The camera follows the path: the G-buffer, the cone tracing and the composite of a run from P
