@@ -8,13 +8,18 @@
 //    (both policies: priority converges within 2^(L-1) moves of the camera stopping);
 //  - GPU: the GLSL toroidal address equals the C++ one (a compute shader writes the map); the
 //    atlas after a camera path equals, bit for bit, the atlas built from scratch at the end of
-//    the path (every level, face and guard texel); the shaders' atomic counters equal the
-//    planner's counts and a small move writes far fewer than N^3 texels; an L-shaped object
-//    lands in the expected world cells.
+//    the path (every level, face and guard texel; the CPU model's path types, both policies);
+//    so do the G-buffer, cone tracing and composite (the camera follows the path); the shaders'
+//    atomic counters equal the planner's counts and a small move writes far fewer than N^3
+//    texels; an L-shaped object lands in the expected world cells after +-x/y/z moves.
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <map>
 #include <random>
@@ -761,6 +766,121 @@ TEST(ClipmapGpu, EveryMoveEqualsScratch) {
     for (size_t i = 0; i < b.values.size(); ++i) differ += stepped[size_t(j)].values[i] != b.values[i];
     EXPECT_EQ(differ, 0u) << "after move " << j << ": " << differ << " atlas values differ from the build from scratch";
   }
+}
+
+// A scene of the given triangles (positions in metres, one grey material) and a camera with a
+// near plane of 1 cm (the loader's framing camera would put it at half its distance), written as
+// glTF into the test's temporary folder; the loader adds the default sun.
+std::string writeTriangleScene(const std::string& name, const std::vector<glm::vec3>& positions,
+                               const std::vector<uint32_t>& indices) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir());
+  const std::string bin = name + ".bin";
+  const size_t p = positions.size() * 12, i = indices.size() * 4;
+  std::ofstream out((dir / bin).string(), std::ios::binary);
+  out.write(reinterpret_cast<const char*>(positions.data()), std::streamsize(p));
+  out.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(i));
+  out.close();
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& v : positions) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  nlohmann::json g = {
+      {"asset", {{"version", "2.0"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0, 1}}}}},
+      {"nodes", {{{"mesh", 0}}, {{"camera", 0}, {"translation", {0.0, 0.5, 2.0}}}}},
+      {"cameras", {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}, {"zfar", 20.0}}}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}}}},
+      {"materials", {{{"name", "grey"}, {"doubleSided", true}}}},
+      {"buffers", {{{"uri", bin}, {"byteLength", p + i}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", p}}, {{"buffer", 0}, {"byteOffset", p}, {"byteLength", i}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", positions.size()}, {"type", "VEC3"},
+         {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}},
+        {{"bufferView", 1}, {"componentType", 5125}, {"count", indices.size()}, {"type", "SCALAR"}}}}};
+  const std::string path = (dir / (name + ".gltf")).string();
+  std::ofstream(path) << g.dump();
+  return path;
+}
+
+// An L-shaped object of three arms from corner cell K = (-20, -6, -9) of level 0 (1/64 m): 80
+// cells along +x, 24 along +y, 12 along +z, each arm a thin quad strictly inside one row of
+// cells (its plane at a cell's middle, its width from 1/4 to 3/4 of a cell), so the level-0
+// cells it meets are known without a voxelizer, and the level-k cells are their floor(c / 2^k).
+// The arms' different lengths tell the axes and their signs apart: a Y flip, a swapped axis or
+// a scroll of the wrong sign puts occupied cells where none are expected.
+TEST(ClipmapGpu, LShapedObjectLandsInTheRightWorldCellsAfterMoves) {
+  const float s = 1.0f / 64.0f;
+  const glm::ivec3 k0(-20, -6, -9);
+  const int arm[3] = {80, 24, 12};
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
+  std::set<std::tuple<int64_t, int64_t, int64_t>> cells0;
+  for (int axis = 0; axis < 3; ++axis) {
+    // Along 'axis' from K + 1/4 to K + arm - 1/4 cells; across it 1/4..3/4 of a cell along 'wide';
+    // at the middle of K's cell along the third axis.
+    const int wide = axis == 2 ? 1 : (axis + 1) % 3, flat = 3 - axis - wide;
+    const uint32_t base = uint32_t(positions.size());
+    for (int corner = 0; corner < 4; ++corner) {
+      glm::vec3 c;
+      c[axis] = float(k0[axis]) + ((corner & 1) ? float(arm[axis]) - 0.25f : 0.25f);
+      c[wide] = float(k0[wide]) + ((corner & 2) ? 0.75f : 0.25f);
+      c[flat] = float(k0[flat]) + 0.5f;
+      positions.push_back(c * s);
+    }
+    indices.insert(indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});
+    for (int i = 0; i < arm[axis]; ++i) {
+      Cell c(k0);
+      c[axis] += i;
+      cells0.insert({c.x, c.y, c.z});
+    }
+  }
+  const std::string scene = writeTriangleScene("voxlab-clipmap-l-shape", positions, indices);
+  const glm::vec3 start(-54.0f / 256.0f, -6.0f / 256.0f, -18.0f / 256.0f);  // near K, multiples of 1/256 m
+  const int n = 16, levelCount = 4, b = n + 2;
+  std::vector<size_t> occupiedPerLevel(levelCount, 0);
+  for (int axis = 0; axis < 3; ++axis)
+    for (float sign : {1.0f, -1.0f}) {
+      glm::vec3 step(0.0f);
+      step[axis] = sign * 3.0f * s;  // 3 level-0 voxels per move: every move snaps level 0
+      const std::string what = std::string(sign > 0 ? "+" : "-") + "xyz"[axis];
+      auto& run = session(clipRequest(start,
+                                      {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
+                                       "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=2",
+                                       "inject.mode=uniform"},
+                                      "update", scene));
+      const LevelData a = capture(run, "update", "clip-atlas").levels[0];
+      const CapturedOutput levels = capture(run, "anchor", "clip-levels");
+      std::vector<Cell> origins;
+      for (int k = 0; k < levelCount; ++k) {
+        LevelRecord r;
+        std::memcpy(&r, levels.records.data() + size_t(k) * sizeof(LevelRecord), sizeof(LevelRecord));
+        origins.push_back(Cell(r.origin[0], r.origin[1], r.origin[2]));
+      }
+      // The origins are the end of the path's (the anchor moved 6 voxels along 'axis').
+      EXPECT_EQ(origins, snapOrigins(Layout{levelCount, n, 1.0 / 64.0}, glm::dvec3(start) + 2.0 * glm::dvec3(step)))
+          << what;
+      for (int k = 0; k < levelCount; ++k) {
+        std::set<std::tuple<int64_t, int64_t, int64_t>> expected;
+        for (const auto& [x, y, z] : cells0)
+          expected.insert({floorDiv(x, int64_t(1) << k), floorDiv(y, int64_t(1) << k), floorDiv(z, int64_t(1) << k)});
+        const Box r = region(origins[size_t(k)], n), cov = coveredBlock(origins, k, n);
+        size_t wrong = 0;
+        for (int64_t z = r.lo.z; z < r.hi.z; ++z)
+          for (int64_t y = r.lo.y; y < r.hi.y; ++y)
+            for (int64_t x = r.lo.x; x < r.hi.x; ++x) {
+              const Cell c(x, y, z);
+              if (cov.contains(c)) continue;  // filtered from level k-1 (AtlasMatchesCpuVoxelsAndFilter)
+              const glm::ivec3 t = toroidal(c, n);
+              const bool got = a.at(1 + t.x, k * b + 1 + t.y, 1 + t.z, 3) > 0.0f, want = expected.count({x, y, z}) != 0;
+              if (got != want && ++wrong <= 5)
+                ADD_FAILURE() << what << ": level " << k << " cell " << describe(c) << (want ? " empty" : " occupied");
+              occupiedPerLevel[size_t(k)] += want;
+            }
+        EXPECT_EQ(wrong, 0u) << what << ": level " << k;
+      }
+    }
+  // Every level holds part of the L in its uncovered cells, so every level's addressing is checked.
+  for (int k = 0; k < levelCount; ++k) EXPECT_GT(occupiedPerLevel[size_t(k)], 6u) << "level " << k;
 }
 
 TEST(ClipmapGpu, SponzaPathEqualsScratch) {
