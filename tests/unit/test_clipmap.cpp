@@ -947,9 +947,10 @@ TEST(ClipmapGpu, SamplesOutsideTheCoarsestRegionContributeNothing) {
 }
 
 // One bounce against the path tracer (indirect-1) on the Cornell box, camera 0, at the snapshot
-// size with the defaults (32^3 cells, 5 levels): measured mean ratio 1.00 and RMSE 0.055 at
-// 512x512 (docs/fidelity.md); at 128x128 see the printed line. The band fails on a lost or extra
-// pi, a lost cone or a level read at the wrong place (each shifts the ratio by far more).
+// size with the defaults (32^3 cells, 5 levels, s_0 = E/64): measured mean ratio 0.78 and RMSE
+// 0.0617 at 512x512 (docs/fidelity.md), 0.781 and 0.0608 here at 128x128 (the printed line). The
+// band fails on a lost or extra pi (ratio 0.25 or 2.5), a lost cone or a level read at the wrong
+// place (each shifts the ratio by far more than the 0.08 to its lower bound).
 TEST(ClipmapPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
   RunRequest r;
   r.technique = "clipmap";
