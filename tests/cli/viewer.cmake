@@ -52,6 +52,13 @@ add_test(NAME viewer.lesson_lpv
 set_tests_properties(viewer.lesson_lpv PROPERTIES
   ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
 
+# Lesson 08 (clipmap) played to its end, the update stage stopped after its first and second move.
+add_test(NAME viewer.lesson_clipmap
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
+          ${CMAKE_SOURCE_DIR}/tests/viewer/lesson_clipmap.txt ${CMAKE_BINARY_DIR}/viewer-out/lesson_clipmap)
+set_tests_properties(viewer.lesson_clipmap PROPERTIES
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+
 # Scripts whose checks must fail on a deliberately wrong input (tests/viewer/failing/*.txt, each
 # with its expected message): an image pair one pixel apart, a flat 3D view (exposure 0).
 add_test(NAME viewer.failing_checks

@@ -8,13 +8,19 @@
 //    (both policies: priority converges within 2^(L-1) moves of the camera stopping);
 //  - GPU: the GLSL toroidal address equals the C++ one (a compute shader writes the map); the
 //    atlas after a camera path equals, bit for bit, the atlas built from scratch at the end of
-//    the path (every level, face and guard texel); the shaders' atomic counters equal the
-//    planner's counts and a small move writes far fewer than N^3 texels; an L-shaped object
-//    lands in the expected world cells.
+//    the path (every level, face and guard texel; the CPU model's path types, both policies);
+//    so do the G-buffer, cone tracing and composite (the camera follows the path); the shaders'
+//    atomic counters equal the planner's counts and a small move writes far fewer than N^3
+//    texels; an L-shaped object lands in the expected world cells after +-x/y/z moves.
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
 #include <set>
@@ -383,9 +389,10 @@ std::vector<uint32_t> u32Records(const CapturedOutput& c) {
 
 // The camera path of the issue: --look-from P with K moves of D ends with clip levels equal, bit
 // for bit, to those of --look-from P + K D built from scratch (guards included).
-void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const std::string& what,
-                             std::vector<std::string> extra = {}, const std::string& scene = "cornell-box",
-                             const std::string& voxelSize = "0.015625") {
+// Returns the moved run's clip-plan records (9 words per move and level).
+std::vector<uint32_t> expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const std::string& what,
+                                              std::vector<std::string> extra = {}, const std::string& scene = "cornell-box",
+                                              const std::string& voxelSize = "0.015625") {
   auto sets = extra;
   sets.push_back("clipmap.path-step.x=" + exact(step.x));
   sets.push_back("clipmap.path-step.y=" + exact(step.y));
@@ -401,7 +408,10 @@ void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const s
   const glm::dvec3 end = glm::dvec3(start) + double(moves) * glm::dvec3(step);
   auto& scratch = session(clipRequest(glm::vec3(end), extra, "mips", scene, voxelSize));
   CapturedOutput b = capture(scratch, "update", "clip-atlas");
-  ASSERT_EQ(a.levels[0].values.size(), b.levels[0].values.size());
+  if (a.levels[0].values.size() != b.levels[0].values.size()) {
+    ADD_FAILURE() << what << ": atlas sizes differ";
+    return plan;
+  }
   size_t differ = 0, nonEmpty = 0;
   for (size_t i = 0; i < a.levels[0].values.size(); ++i) {
     if (a.levels[0].values[i] != b.levels[0].values[i]) ++differ;
@@ -418,7 +428,11 @@ void expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const s
     EXPECT_EQ(counters[size_t(5 * k + 2)], p[3]) << what << " level " << k << ": resolved != planned direct cells";
     EXPECT_EQ(counters[size_t(5 * k + 3)], p[5]) << what << " level " << k << ": refiltered != covered block";
   }
+  return plan;
 }
+
+// The exposed cells (N^3 - prod(N - |d_i|)) of level k in move j of a clip-plan (4 levels).
+uint32_t exposedIn(const std::vector<uint32_t>& plan, int move, int k) { return plan[size_t(9 * (move * 4 + k) + 2)]; }
 
 const glm::vec3 kInside(69.0f / 256.0f, 77.0f / 256.0f, 57.0f / 256.0f);  // inside the Cornell box
 
@@ -439,9 +453,86 @@ TEST(ClipmapGpu, DiagonalAndLargeMovesEqualScratch) {
   expectPathEqualsScratch({26.0f / 256.0f, 26.0f / 256.0f, 26.0f / 256.0f}, {0.0f, 0.0f, 21.0f / 64.0f}, 1, "N+5 along z");
 }
 
+// The path types of the CPU model (ClipmapMath.IncrementalEqualsFullAlongPaths) on the GPU, at
+// N = 16 with level-0 voxels of 1/64 m = 4/256 m (every start and step a multiple of 1/256 m).
+TEST(ClipmapGpu, PathTypesOfTheCpuModelEqualScratch) {
+  struct Path {
+    const char* what;
+    glm::vec3 step;
+    int moves;
+  };
+  const float v = 1.0f / 64.0f;  // one level-0 voxel
+  const Path paths[] = {
+      // A quarter voxel per move: level 0 snaps to 2/64 m, so no level's origin changes.
+      {"no snap", {0.25f * v, 0.25f * v, 0.25f * v}, 1},
+      {"N/2-2 = 6 voxels along z", {0.0f, 0.0f, 6.0f * v}, 2},
+      {"N-2 = 14 voxels along -x", {-14.0f * v, 0.0f, 0.0f}, 1},
+  };
+  for (const Path& p : paths) {
+    const auto plan = expectPathEqualsScratch(kInside, p.step, p.moves, p.what);
+    if (std::string(p.what) == "no snap")
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(exposedIn(plan, 1, k), 0u) << "no snap: level " << k << " moved";
+    else
+      EXPECT_GT(exposedIn(plan, p.moves, 0), 0u) << p.what << ": level 0 must move";
+  }
+  // N = 16 voxels along y, six faces: level 0's new region shares no cell with the old one.
+  const auto plan = expectPathEqualsScratch(kInside, {0.0f, 16.0f * v, 0.0f}, 1, "N along y, anisotropic",
+                                            {"clipmap.faces=anisotropic"});
+  EXPECT_EQ(exposedIn(plan, 1, 0), 16u * 16u * 16u);
+}
+
 TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
-  // Priority: after 2^(L-1) further moves of zero length every level has caught up.
   expectPathEqualsScratch(kInside, {0.0f, -3.0f / 64.0f, 0.0f}, 2, "anisotropic -y", {"clipmap.faces=anisotropic"});
+  // clipmap.policy=priority (L = 4): moves 1..8 update levels 0 1 0 2 0 1 0 3, so move 8 changes
+  // only the coarsest level. Start x = 60/256 m and steps of 1/256 m (x, y) and -1/256 m (z): x
+  // crosses 64/256 m, a level-3 snap (s_4 = 1/4 m), at the last move, and each finer level's last
+  // update (moves 7, 6, 4) already snapped to the end's origins, so every level has caught up and
+  // the atlas must equal the build from scratch at the end.
+  const glm::vec3 start(60.0f / 256.0f, 77.0f / 256.0f, 57.0f / 256.0f);
+  const auto plan = expectPathEqualsScratch(start, {1.0f / 256.0f, 1.0f / 256.0f, -1.0f / 256.0f}, 8,
+                                            "priority, coarse level only at the last move",
+                                            {"clipmap.policy=priority", "clipmap.faces=anisotropic"});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(exposedIn(plan, 8, k), 0u) << "level " << k << " moved at the last move";
+  EXPECT_GT(exposedIn(plan, 8, 3), 0u) << "the coarsest level moves at the last move";
+}
+
+// The camera follows the path: the G-buffer, the cone tracing and the composite of a run from P
+// with K moves of D are those of a run from P + K D with no moves, bit for bit (the clip levels
+// are equal bit for bit, the view matrix is rebuilt as lookAtRH builds it, and each pixel's
+// result depends only on those).
+TEST(ClipmapGpu, PathImagesEqualScratch) {
+  const glm::vec3 start(69.0f / 256.0f, 77.0f / 256.0f, -64.0f / 256.0f);  // in front of the box
+  const glm::vec3 step(2.0f / 64.0f, -1.0f / 64.0f, 5.0f / 64.0f);
+  const int moves = 3;
+  const std::pair<const char*, const char*> images[] = {{"gbuffer", "position"},
+                                                        {"cone-trace", "indirect-diffuse"},
+                                                        {"cone-trace", "indirect-specular"},
+                                                        {"composite", "combined"},
+                                                        {"composite", "final"}};
+  std::vector<LevelData> moved;
+  {
+    auto& s = session(clipRequest(start,
+                                  {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
+                                   "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)},
+                                  "composite"));
+    for (const auto& [stage, output] : images) moved.push_back(capture(s, stage, output).levels[0]);
+  }
+  const glm::vec3 end = glm::vec3(glm::dvec3(start) + double(moves) * glm::dvec3(step));
+  auto& scratch = session(clipRequest(end, {}, "composite"));
+  size_t covered = 0;
+  for (size_t i = 0; i < std::size(images); ++i) {
+    const LevelData b = capture(scratch, images[i].first, images[i].second).levels[0];
+    ASSERT_EQ(moved[i].values.size(), b.values.size());
+    size_t differ = 0;
+    for (size_t j = 0; j < b.values.size(); ++j) differ += moved[i].values[j] != b.values[j];
+    EXPECT_EQ(differ, 0u) << images[i].first << "/" << images[i].second << ": " << differ
+                          << " values differ from the run started at P + K D";
+    if (i == 0)
+      for (int y = 0; y < b.size.y; ++y)
+        for (int x = 0; x < b.size.x; ++x) covered += b.at(x, y, 0, 3) > 0.0f;
+  }
+  // The camera at P + K D sees the box (a camera left at P sees other pixels: the test can fail).
+  EXPECT_GT(covered, size_t(32 * 32 / 2));
 }
 
 // The cells of box 'r' (cells of edge 1 / cellsPerMetre of the world lattice) that a triangle
@@ -677,6 +768,121 @@ TEST(ClipmapGpu, EveryMoveEqualsScratch) {
   }
 }
 
+// A scene of the given triangles (positions in metres, one grey material) and a camera with a
+// near plane of 1 cm (the loader's framing camera would put it at half its distance), written as
+// glTF into the test's temporary folder; the loader adds the default sun.
+std::string writeTriangleScene(const std::string& name, const std::vector<glm::vec3>& positions,
+                               const std::vector<uint32_t>& indices) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir());
+  const std::string bin = name + ".bin";
+  const size_t p = positions.size() * 12, i = indices.size() * 4;
+  std::ofstream out((dir / bin).string(), std::ios::binary);
+  out.write(reinterpret_cast<const char*>(positions.data()), std::streamsize(p));
+  out.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(i));
+  out.close();
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& v : positions) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  nlohmann::json g = {
+      {"asset", {{"version", "2.0"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0, 1}}}}},
+      {"nodes", {{{"mesh", 0}}, {{"camera", 0}, {"translation", {0.0, 0.5, 2.0}}}}},
+      {"cameras", {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}, {"zfar", 20.0}}}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}}}},
+      {"materials", {{{"name", "grey"}, {"doubleSided", true}}}},
+      {"buffers", {{{"uri", bin}, {"byteLength", p + i}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", p}}, {{"buffer", 0}, {"byteOffset", p}, {"byteLength", i}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", positions.size()}, {"type", "VEC3"},
+         {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}},
+        {{"bufferView", 1}, {"componentType", 5125}, {"count", indices.size()}, {"type", "SCALAR"}}}}};
+  const std::string path = (dir / (name + ".gltf")).string();
+  std::ofstream(path) << g.dump();
+  return path;
+}
+
+// An L-shaped object of three arms from corner cell K = (-20, -6, -9) of level 0 (1/64 m): 80
+// cells along +x, 24 along +y, 12 along +z, each arm a thin quad strictly inside one row of
+// cells (its plane at a cell's middle, its width from 1/4 to 3/4 of a cell), so the level-0
+// cells it meets are known without a voxelizer, and the level-k cells are their floor(c / 2^k).
+// The arms' different lengths tell the axes and their signs apart: a Y flip, a swapped axis or
+// a scroll of the wrong sign puts occupied cells where none are expected.
+TEST(ClipmapGpu, LShapedObjectLandsInTheRightWorldCellsAfterMoves) {
+  const float s = 1.0f / 64.0f;
+  const glm::ivec3 k0(-20, -6, -9);
+  const int arm[3] = {80, 24, 12};
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
+  std::set<std::tuple<int64_t, int64_t, int64_t>> cells0;
+  for (int axis = 0; axis < 3; ++axis) {
+    // Along 'axis' from K + 1/4 to K + arm - 1/4 cells; across it 1/4..3/4 of a cell along 'wide';
+    // at the middle of K's cell along the third axis.
+    const int wide = axis == 2 ? 1 : (axis + 1) % 3, flat = 3 - axis - wide;
+    const uint32_t base = uint32_t(positions.size());
+    for (int corner = 0; corner < 4; ++corner) {
+      glm::vec3 c;
+      c[axis] = float(k0[axis]) + ((corner & 1) ? float(arm[axis]) - 0.25f : 0.25f);
+      c[wide] = float(k0[wide]) + ((corner & 2) ? 0.75f : 0.25f);
+      c[flat] = float(k0[flat]) + 0.5f;
+      positions.push_back(c * s);
+    }
+    indices.insert(indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});
+    for (int i = 0; i < arm[axis]; ++i) {
+      Cell c(k0);
+      c[axis] += i;
+      cells0.insert({c.x, c.y, c.z});
+    }
+  }
+  const std::string scene = writeTriangleScene("voxlab-clipmap-l-shape", positions, indices);
+  const glm::vec3 start(-54.0f / 256.0f, -6.0f / 256.0f, -18.0f / 256.0f);  // near K, multiples of 1/256 m
+  const int n = 16, levelCount = 4, b = n + 2;
+  std::vector<size_t> occupiedPerLevel(levelCount, 0);
+  for (int axis = 0; axis < 3; ++axis)
+    for (float sign : {1.0f, -1.0f}) {
+      glm::vec3 step(0.0f);
+      step[axis] = sign * 3.0f * s;  // 3 level-0 voxels per move: every move snaps level 0
+      const std::string what = std::string(sign > 0 ? "+" : "-") + "xyz"[axis];
+      auto& run = session(clipRequest(start,
+                                      {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
+                                       "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=2",
+                                       "inject.mode=uniform"},
+                                      "update", scene));
+      const LevelData a = capture(run, "update", "clip-atlas").levels[0];
+      const CapturedOutput levels = capture(run, "anchor", "clip-levels");
+      std::vector<Cell> origins;
+      for (int k = 0; k < levelCount; ++k) {
+        LevelRecord r;
+        std::memcpy(&r, levels.records.data() + size_t(k) * sizeof(LevelRecord), sizeof(LevelRecord));
+        origins.push_back(Cell(r.origin[0], r.origin[1], r.origin[2]));
+      }
+      // The origins are the end of the path's (the anchor moved 6 voxels along 'axis').
+      EXPECT_EQ(origins, snapOrigins(Layout{levelCount, n, 1.0 / 64.0}, glm::dvec3(start) + 2.0 * glm::dvec3(step)))
+          << what;
+      for (int k = 0; k < levelCount; ++k) {
+        std::set<std::tuple<int64_t, int64_t, int64_t>> expected;
+        for (const auto& [x, y, z] : cells0)
+          expected.insert({floorDiv(x, int64_t(1) << k), floorDiv(y, int64_t(1) << k), floorDiv(z, int64_t(1) << k)});
+        const Box r = region(origins[size_t(k)], n), cov = coveredBlock(origins, k, n);
+        size_t wrong = 0;
+        for (int64_t z = r.lo.z; z < r.hi.z; ++z)
+          for (int64_t y = r.lo.y; y < r.hi.y; ++y)
+            for (int64_t x = r.lo.x; x < r.hi.x; ++x) {
+              const Cell c(x, y, z);
+              if (cov.contains(c)) continue;  // filtered from level k-1 (AtlasMatchesCpuVoxelsAndFilter)
+              const glm::ivec3 t = toroidal(c, n);
+              const bool got = a.at(1 + t.x, k * b + 1 + t.y, 1 + t.z, 3) > 0.0f, want = expected.count({x, y, z}) != 0;
+              if (got != want && ++wrong <= 5)
+                ADD_FAILURE() << what << ": level " << k << " cell " << describe(c) << (want ? " empty" : " occupied");
+              occupiedPerLevel[size_t(k)] += want;
+            }
+        EXPECT_EQ(wrong, 0u) << what << ": level " << k;
+      }
+    }
+  // Every level holds part of the L in its uncovered cells, so every level's addressing is checked.
+  for (int k = 0; k < levelCount; ++k) EXPECT_GT(occupiedPerLevel[size_t(k)], 6u) << "level " << k;
+}
+
 TEST(ClipmapGpu, SponzaPathEqualsScratch) {
   // The natural scene: larger than any level. Levels of 1/4 m .. 2 m around the nave, three moves
   // of 2.5 level-0 voxels diagonally (every level snaps at some move).
@@ -690,16 +896,21 @@ namespace voxlab {
 namespace {
 
 // Toroidal addressing returns some texel for any position: the tracer must end a cone outside the
-// coarsest region. Two levels of 1/64 m and 1/32 m (the coarsest spans 0.5 m) around an anchor
-// moved 0.9 m into the box from the camera, cones at most 0.05 m long: the back wall lies 0.2 m
-// beyond the region, and its cells' aliases (z mod 0.5 m) are cells of the floor and walls the
-// atlas holds. Pixels farther from the region than a cone reaches must gather nothing (without
-// the bounds check they read the aliases), where pixels inside the region do gather.
+// coarsest region. Two levels of 1/64 m and 1/32 m (the coarsest spans 0.5 m) around the camera,
+// which the path moves 0.9 m from camera 0's position into the box (to z = 0.1 m), looking at the
+// back left lower corner; cones at most 0.05 m long. The floor and left wall beyond z = 0.46 m lie
+// farther outside the region than a cone reaches, and their cells' aliases (z mod 0.5 m) are
+// cells of the floor and left wall near the box's opening, which the atlas holds. Far pixels must
+// gather nothing (without the bounds check they read the aliases: checked by mutating the
+// tracer's "outside the coarsest region" test into "read the coarsest level": 1022 of the 1931
+// far pixels then gather light), where pixels inside the region do gather (422).
 TEST(ClipmapGpu, SamplesOutsideTheCoarsestRegionContributeNothing) {
   RunRequest r;
   r.technique = "clipmap";
   r.scene = "cornell-box";
   r.width = r.height = 64;
+  r.lookFrom = glm::vec3(0.278f, 0.273f, -0.8f);
+  r.lookAt = *r.lookFrom + glm::vec3(-0.278f, -0.273f, 0.46f);  // from (0.278, 0.273, 0.1) to (0, 0, 0.56)
   r.sets = {"clipmap.resolution=16", "clipmap.levels=2", "clipmap.voxel-size=0.015625", "clipmap.path-moves=1",
             "clipmap.path-step.z=0.9", "cone.resolution=full", "cone.max-distance=0.1"};
   auto& s = session(r);
@@ -730,14 +941,16 @@ TEST(ClipmapGpu, SamplesOutsideTheCoarsestRegionContributeNothing) {
         ++insideLit;
       }
     }
+  std::printf("far pixels %zu (all dark), inside pixels that gathered light %zu\n", far, insideLit);
   EXPECT_GT(far, 200u);
   EXPECT_GT(insideLit, 200u);
 }
 
 // One bounce against the path tracer (indirect-1) on the Cornell box, camera 0, at the snapshot
-// size with the defaults (32^3 cells, 5 levels): measured mean ratio 1.00 and RMSE 0.055 at
-// 512x512 (docs/fidelity.md); at 128x128 see the printed line. The band fails on a lost or extra
-// pi, a lost cone or a level read at the wrong place (each shifts the ratio by far more).
+// size with the defaults (32^3 cells, 5 levels, s_0 = E/64): measured mean ratio 0.78 and RMSE
+// 0.0617 at 512x512 (docs/fidelity.md), 0.781 and 0.0608 here at 128x128 (the printed line). The
+// band fails on a lost or extra pi (ratio 0.25 or 2.5), a lost cone or a level read at the wrong
+// place (each shifts the ratio by far more than the 0.08 to its lower bound).
 TEST(ClipmapPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
   RunRequest r;
   r.technique = "clipmap";

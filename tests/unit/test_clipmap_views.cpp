@@ -166,6 +166,81 @@ TEST(ClipmapViews, TheAtlasViewFindsTheLevelRecords) {
 }
 
 
+// The clip-levels top view marks the anchor (a white cross over the level-1 cell it snaps to) and,
+// given the anchor stage's clip-slabs through the context, draws each box of the last move.
+TEST(ClipmapViews, TheLevelsViewMarksTheAnchorAndTheLastMovesSlabs) {
+  auto& s = session(request(1));
+  const CapturedOutput levels = capture(s, "anchor", "clip-levels");
+  const CapturedOutput slabs = capture(s, "anchor", "clip-slabs");
+  const Visualiser& v = visualiserFor(levels.desc);
+  EXPECT_STREQ(v.name(), "clip-levels");
+  nlohmann::json none;
+  ViewSettings view;
+  VisualiserContext plain{levels, none, none, view, nullptr, nullptr};
+  VisualiserContext withSlabs{levels, none, none, view, nullptr, [&](const char* what, CapturedOutput& out) {
+                                if (std::strcmp(what, "clip-slabs") != 0) return false;
+                                out = slabs;
+                                return true;
+                              }};
+  const SliceImage a = v.image2D(plain), b = v.image2D(withSlabs);
+  ASSERT_EQ(a.width, 512);
+  ASSERT_EQ(b.rgba.size(), a.rgba.size());
+  const auto records = levelRecords(levels);
+  const LevelRecord& last = records.back();
+  const float scale = std::max(last.hi.x - last.lo.x, last.hi.z - last.lo.z) / 512.0f;
+  auto pixel = [&](const SliceImage& img, float x, float z) {
+    const int px = int(std::floor((x - last.lo.x) / scale)), py = int(std::floor((z - last.lo.z) / scale));
+    return &img.rgba[(size_t(py) * 512 + size_t(px)) * 4];
+  };
+  // The anchor (kInside + the move) lies in the marked level-1 cell; the cross's centre is white.
+  const float s0 = records[0].hi.w;
+  const glm::vec2 cell((float(records[0].origin[0]) + kN / 2 + 1.0f) * s0, (float(records[0].origin[2]) + kN / 2 + 1.0f) * s0);
+  const glm::vec3 anchor = kInside + glm::vec3(0.046875f, -0.03125f, 0.078125f);
+  EXPECT_LT(std::abs(anchor.x - cell.x), s0 + 1e-6f);
+  EXPECT_LT(std::abs(anchor.z - cell.y), s0 + 1e-6f);
+  const uint8_t* centre = pixel(a, cell.x, cell.y);
+  EXPECT_EQ(centre[0], 255);
+  EXPECT_EQ(centre[1], 255);
+  EXPECT_EQ(centre[2], 255);
+  // Every slab's interior changes colour when the slabs are given (and only then).
+  const SlabRecord* rec = reinterpret_cast<const SlabRecord*>(slabs.records.data());
+  ASSERT_GT(slabs.recordCount, 0u);
+  size_t changed = 0;
+  for (size_t i = 0; i < slabs.recordCount; ++i) {
+    const glm::vec2 mid((rec[i].lo.x + rec[i].hi.x) / 2.0f, (rec[i].lo.z + rec[i].hi.z) / 2.0f);
+    changed += std::memcmp(pixel(a, mid.x, mid.y), pixel(b, mid.x, mid.y), 3) != 0;
+  }
+  EXPECT_GT(changed, slabs.recordCount / 2) << "slab interiors drawn";
+  EXPECT_NE(v.caption(plain).find("cross: the anchor"), std::string::npos);
+
+  // The atlas view outlines, in yellow, the texels of level 0's slice z = N/2 whose cells the
+  // move voxelized (its x slab crosses every slice): yellow only with the move's boxes given.
+  const CapturedOutput atlas = capture(s, "update", "clip-atlas");
+  const CapturedOutput boxes = capture(s, "update", "clip-move-boxes");
+  const Visualiser& av = visualiserFor(atlas.desc);
+  auto context = [&](bool withBoxes) {
+    return [&, withBoxes](const char* what, CapturedOutput& out) {
+      if (std::strcmp(what, kClipLevels.name()) == 0) {
+        out = levels;
+        return true;
+      }
+      if (!withBoxes || std::strcmp(what, "clip-move-boxes") != 0) return false;
+      out = boxes;
+      return true;
+    };
+  };
+  VisualiserContext levelsOnly{atlas, none, none, view, nullptr, context(false)};
+  VisualiserContext levelsAndBoxes{atlas, none, none, view, nullptr, context(true)};
+  auto yellow = [](const SliceImage& img) {
+    size_t count = 0;
+    for (size_t i = 0; i + 3 < img.rgba.size(); i += 4)
+      count += img.rgba[i] == 255 && img.rgba[i + 1] == 220 && img.rgba[i + 2] == 0;
+    return count;
+  };
+  EXPECT_EQ(yellow(av.image2D(levelsOnly)), 0u);
+  EXPECT_GT(yellow(av.image2D(levelsAndBoxes)), 32u) << "the x slab's outline in the physical slice";
+}
+
 // The level a cone sample reads (info.z of its record) is max(lod, minimum level) with the minimum
 // level k_min(p), the finest level whose footprint region holds p, raised linearly to k_min + 1
 // within clipmap.transition-band cells of that region's border: recomputed here from the records'

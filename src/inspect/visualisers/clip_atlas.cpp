@@ -9,7 +9,9 @@
 //          - unrolled (logical order): texel (x, y) of slice z shows cell o_k + (x, y, z), read at
 //            its toroidal address; the dashed lines are the physical seam (texel N-1 next to
 //            texel 0), at logical (N - T_k) mod N.
-//          Hovering reads out the texel -> world cell -> world box and the value.
+//          Hovering reads out the texel -> world cell -> world box and the value. The texels of
+//          the cells the last move voxelized (the update stage's clip-move-boxes, when the viewer
+//          has them) are outlined in yellow: a slab's physical boxes after wrapping.
 // Inspector: level, face, slice, the unroll toggle, then the volume's controls and statistics.
 #include "inspect/visualisers/clip_atlas.h"
 
@@ -105,6 +107,38 @@ class ClipAtlasVisualiser : public VolumeVisualiser {
     const int ox = s.unrolled ? 0 : t.x * scale, oy = s.unrolled ? img.height : (n - t.y) * scale;
     for (int dy = -4; dy <= 4; ++dy)
       for (int dx = -4; dx <= 4; ++dx) put(ox + dx, oy - 1 + dy, std::abs(dx) == 4 || std::abs(dy) == 4 ? 0 : 255);
+    // The last move's boxes of this level: outline the region of slice texels whose cells they hold.
+    CapturedOutput boxesOut;
+    if (ctx.contextOutput && ctx.contextOutput("clip-move-boxes", boxesOut) &&
+        boxesOut.desc.layout.stride == sizeof(clipmap::SlabRecord)) {
+      std::vector<clipmap::SlabRecord> boxes(std::min<size_t>(boxesOut.recordCount, boxesOut.records.size() / sizeof(clipmap::SlabRecord)));
+      if (!boxes.empty()) std::memcpy(boxes.data(), boxesOut.records.data(), boxes.size() * sizeof(clipmap::SlabRecord));
+      auto inBox = [&](int x, int y) {
+        if (x < 0 || y < 0 || x >= n || y >= n) return false;
+        const clipmap::Cell c = clipmap::atlasSliceCell(r, s, x, y);
+        for (const auto& b : boxes)
+          if (int(b.lo.w) == s.level && c.x >= b.cellLo[0] && c.y >= b.cellLo[1] && c.z >= b.cellLo[2] &&
+              c.x < b.cellHi[0] && c.y < b.cellHi[1] && c.z < b.cellHi[2])
+            return true;
+        return false;
+      };
+      auto yellow = [&](int x, int y) {
+        if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
+        uint8_t* p = &img.rgba[(size_t(y) * img.width + x) * 4];
+        p[0] = 255, p[1] = 220, p[2] = 0, p[3] = 255;
+      };
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          if (!inBox(x, y)) continue;
+          const int left = x * scale, right = (x + 1) * scale - 1, top = (n - 1 - y) * scale, bottom = (n - y) * scale - 1;
+          for (int i = 0; i < scale; ++i) {
+            if (!inBox(x - 1, y)) yellow(left, top + i);
+            if (!inBox(x + 1, y)) yellow(right, top + i);
+            if (!inBox(x, y + 1)) yellow(left + i, top);
+            if (!inBox(x, y - 1)) yellow(left + i, bottom);
+          }
+        }
+    }
     return img;
   }
 

@@ -4,7 +4,11 @@
 //          on top, with its physical seam (where texel N-1 meets texel 0: world cell
 //          o + ((-o) mod N)) dashed and its logical origin (min corner) as a dot. Hovering reads
 //          out the finest level there, the world cell under the cursor at that level and the
-//          physical texel it lives at (cell & (N-1)).
+//          physical texel it lives at (cell & (N-1)). Over them: the anchor (the camera at the
+//          end of the path) as a white cross in the level-1 cell it snaps to (cells
+//          [o_0 + N/2, o_0 + N/2 + 2) of level 0: exact from the records), and the boxes of cells
+//          the last move voxelized (the anchor stage's clip-slabs, when the viewer has them),
+//          outlined in white over their level's colour.
 // 3D view: the nested level boxes in level-0 voxels, with each level's seam planes' edges.
 // Records are exact integers plus their world boxes: the golden is exact.
 #include <algorithm>
@@ -23,6 +27,15 @@ namespace voxlab {
 namespace {
 
 using clipmap::LevelRecord;
+using clipmap::SlabRecord;
+
+std::vector<SlabRecord> decodeSlabs(const CapturedOutput& out) {
+  std::vector<SlabRecord> slabs;
+  if (out.desc.layout.stride != sizeof(SlabRecord)) return slabs;
+  slabs.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(SlabRecord)));
+  if (!slabs.empty()) std::memcpy(slabs.data(), out.records.data(), slabs.size() * sizeof(SlabRecord));
+  return slabs;
+}
 
 std::vector<LevelRecord> decodeLevels(const CapturedOutput& out) {
   std::vector<LevelRecord> levels;
@@ -78,9 +91,13 @@ class ClipLevelsVisualiser : public BufferVisualiser {
     return entry;
   }
 
-  SliceImage image2D(const VisualiserContext& ctx) const override { return topImage(ctx.out); }
+  SliceImage image2D(const VisualiserContext& ctx) const override {
+    CapturedOutput slabs;
+    if (ctx.contextOutput && ctx.contextOutput("clip-slabs", slabs)) return topImage(ctx.out, decodeSlabs(slabs));
+    return topImage(ctx.out);
+  }
 
-  static SliceImage topImage(const CapturedOutput& out) {
+  static SliceImage topImage(const CapturedOutput& out, const std::vector<SlabRecord>& slabs = {}) {
     SliceImage img;
     auto levels = decodeLevels(out);
     if (levels.empty()) return img;
@@ -116,6 +133,25 @@ class ClipLevelsVisualiser : public BufferVisualiser {
       for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) put(x0 + dx, y0 + dy, glm::vec3(1.0f), 1.0f);
     }
+    // The last move's slabs: their level's colour, outlined in white.
+    for (const SlabRecord& b : slabs) {
+      const glm::vec3 c = levelColour(int(b.lo.w));
+      const int x0 = v.px(b.lo.x), x1 = std::max(v.px(b.hi.x), x0 + 1), y0 = v.py(b.lo.z), y1 = std::max(v.py(b.hi.z), y0 + 1);
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) put(x, y, c, 0.6f);
+      for (int x = x0; x < x1; ++x) put(x, y0, glm::vec3(1.0f), 1.0f), put(x, y1 - 1, glm::vec3(1.0f), 1.0f);
+      for (int y = y0; y < y1; ++y) put(x0, y, glm::vec3(1.0f), 1.0f), put(x1 - 1, y, glm::vec3(1.0f), 1.0f);
+    }
+    // The anchor: a white cross over the level-1 cell it snaps to, [o_0 + N/2, o_0 + N/2 + 2) s_0.
+    const LevelRecord& l0 = levels[0];
+    const float s0 = l0.hi.w;
+    const glm::vec2 lo((float(l0.origin[0]) + float(l0.n / 2)) * s0, (float(l0.origin[2]) + float(l0.n / 2)) * s0);
+    const int ax0 = v.px(lo.x), ax1 = std::max(v.px(lo.x + 2.0f * s0), ax0 + 1);
+    const int ay0 = v.py(lo.y), ay1 = std::max(v.py(lo.y + 2.0f * s0), ay0 + 1);
+    const int cx = (ax0 + ax1) / 2, cy = (ay0 + ay1) / 2;
+    for (int d = -8; d <= 8; ++d) put(cx + d, cy, glm::vec3(1.0f), 1.0f), put(cx, cy + d, glm::vec3(1.0f), 1.0f);
+    for (int x = ax0; x < ax1; ++x) put(x, ay0, glm::vec3(1.0f), 1.0f), put(x, ay1 - 1, glm::vec3(1.0f), 1.0f);
+    for (int y = ay0; y < ay1; ++y) put(ax0, y, glm::vec3(1.0f), 1.0f), put(ax1 - 1, y, glm::vec3(1.0f), 1.0f);
     return img;
   }
 
@@ -152,7 +188,8 @@ class ClipLevelsVisualiser : public BufferVisualiser {
 
   std::string caption(const VisualiserContext& ctx) const override {
     return std::to_string(ctx.out.recordCount) + " clip levels from above (x right, z down); dashed: physical seam, "
-           "dot: logical origin";
+           "dot: logical origin; cross: the anchor (the camera), in the level-1 cell it snaps to; white boxes: the "
+           "cells the last move voxelized (clip-slabs)";
   }
 
   bool has3D(const OutputDesc&) const override { return true; }
@@ -183,6 +220,16 @@ class ClipLevelsVisualiser : public BufferVisualiser {
       const LevelRecord& r = levels[k];
       ImGui::Text("level %zu: s = %.4g m, origin (%d, %d, %d), T = (%d, %d, %d), lag %d", k, double(r.hi.w), r.origin[0],
                   r.origin[1], r.origin[2], r.offset[0], r.offset[1], r.offset[2], r.lag);
+    }
+    CapturedOutput slabOut;
+    if (ctx.contextOutput && ctx.contextOutput("clip-slabs", slabOut)) {
+      const auto slabs = decodeSlabs(slabOut);
+      ImGui::Text("last move: %zu boxes voxelized", slabs.size());
+      for (const SlabRecord& b : slabs)
+        ImGui::Text("level %d: cells [%d %d %d]..[%d %d %d) -> physical texel (%d, %d, %d), %d physical box%s%s",
+                    int(b.lo.w), b.cellLo[0], b.cellLo[1], b.cellLo[2], b.cellHi[0], b.cellHi[1], b.cellHi[2],
+                    b.physLo[0], b.physLo[1], b.physLo[2], b.physLo[3], b.physLo[3] == 1 ? "" : "es",
+                    b.cellLo[3] ? " (coverage change)" : "");
     }
     BufferVisualiser::drawInspector(ctx);
   }

@@ -21,7 +21,8 @@
 //                  unrolled for display (clip-logical)
 //   5. covered-compare  (clipmap.compare-covered) covered cells voxelized directly beside their
 //                  filtered content, and the difference (the source of popping)
-//   6. gbuffer     position, normal, albedo, emission, depth from the camera (shared)
+//   6. gbuffer     position, normal, albedo, emission, depth from the camera at the end of the path
+//                  (the shared stage, given the moved view)
 //   7. cone-trace  diffuse cones (+AO) and a specular cone across levels; level-used image; probe
 //   8. composite   direct + indirect diffuse + specular, tonemapped (vct-grid's composite shader)
 //
@@ -42,9 +43,11 @@
 //   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same
 //     lattice for the same scene in any unit); set to a power of two of metres, p / s_k is exact
 //     in float (the exactness tests do).
-//   - The path parameters move the clip levels' anchor; the G-buffer is rendered from the camera
-//     given (--look-from): the clip levels of a run with K moves of D equal, bit for bit, those of
-//     a run started at P + K D (tests/unit/test_clipmap.cpp).
+//   - The path parameters move the camera: the clip levels' anchor along the path, and the G-buffer,
+//     cone tracing and composite from its end (pathEndView; the shared G-buffer stage is given the
+//     moved view, so no shared code knows about the path). The clip levels and the images of a run
+//     from P with K moves of D equal, bit for bit, those of a run started at P + K D
+//     (tests/unit/test_clipmap.cpp).
 //   - In the viewer, a camera move re-runs update#0 incrementally from the held origins (the
 //     stage keeps them with a key of layout, scene, light and atlas; any change rebuilds fully).
 //
@@ -55,7 +58,6 @@
 //   Illumination for Current GPUs", GTC 2014; Tanner, Migdal, Jones, "The Clipmap", 1998.
 #include "graph/technique.h"
 #include "techniques/clipmap/stages.h"
-#include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 
@@ -72,7 +74,7 @@ static std::unique_ptr<Technique> makeClipmap() {
   t->add<clipmap::UpdateStage>();
   t->add<clipmap::MipsStage>();
   t->add<clipmap::CoveredCompareStage>();
-  t->add<GBufferStage>();
+  t->add<clipmap::PathGBufferStage>();
   t->add<clipmap::ConeTraceStage>();
   t->add<clipmap::CompositeStage>();
   t->setFinalOutput("composite", "final");

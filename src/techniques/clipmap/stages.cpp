@@ -150,6 +150,31 @@ std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, co
   return path;
 }
 
+ViewState pathEndView(const ParamSet& params, const ViewState& view) {
+  const int moves = params.getInt("clipmap.path-moves");
+  const glm::dvec3 step(params.value("clipmap.path-step.x"), params.value("clipmap.path-step.y"),
+                        params.value("clipmap.path-step.z"));
+  ViewState moved = view;
+  if (moves == 0 || step == glm::dvec3(0.0)) return moved;
+  // The end of the path as cameraPath computes the anchor's (in double, then rounded once).
+  moved.position = glm::vec3(glm::dvec3(view.position) + double(moves) * step);
+  // lookAtRH: column 3 holds (-dot(s, eye), -dot(u, eye), dot(f, eye)) with rows s, u, -f.
+  for (int i = 0; i < 3; ++i)
+    moved.view[3][i] = -glm::dot(glm::vec3(view.view[0][i], view.view[1][i], view.view[2][i]), moved.position);
+  return moved;
+}
+
+void PathGBufferStage::declare(StageBuilder& b) const {
+  GBufferStage::declare(b);
+  for (const auto& p : pathParams()) b.param(p);
+}
+
+void PathGBufferStage::execute(StageContext& ctx) {
+  const ViewState moved = pathEndView(ctx.params, ctx.view);
+  StageContext at{ctx.scene, ctx.gpuScene, ctx.params, ctx.board, ctx.shaders, moved, ctx.stats, ctx.iteration};
+  GBufferStage::execute(at);
+}
+
 // The uniforms every clipmap shader shares (shaders/clipmap/clipmap.glsl).
 static void setClipUniforms(GLuint program, const Layout& layout, const std::vector<Cell>& origins) {
   setUniform(program, "u_clipN", layout.n);
@@ -865,8 +890,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_mipLevels", mipCount(layout.n));
   const glm::ivec3 traced = indirect.desc().size;
   // The start offset is in voxels of the finest level holding the surface (the shader scales it).
-  const glm::ivec2 probe =
-      setConeUniforms(program, ctx.params, ctx.view, 1.0f, coarsestEdge, glm::ivec2(traced), traceScale(ctx.params));
+  // The camera at the end of the path (the G-buffer's), for the specular cone's view direction.
+  const glm::ivec2 probe = setConeUniforms(program, ctx.params, pathEndView(ctx.params, ctx.view), 1.0f, coarsestEdge,
+                                           glm::ivec2(traced), traceScale(ctx.params));
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());

@@ -5,6 +5,7 @@
 
 #include "graph/stage.h"
 #include "techniques/clipmap/clipmap_math.h"
+#include "techniques/common/gbuffer_stage.h"
 
 namespace voxlab::clipmap {
 
@@ -71,6 +72,12 @@ struct PathState {
   std::vector<int> lag;  // moves since each level was last updated
 };
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera);
+// The camera at the end of the path: the view given (the path's start P, --look-from or the
+// viewer's camera) moved to P + clipmap.path-moves * clipmap.path-step with its orientation kept.
+// The translation is recomputed from the rotation rows as glm::lookAtRH does (-dot(row, eye)),
+// so a path ending at P + K D gives the same matrix, bit for bit, as a camera placed there when
+// the two cameras' rotations are equal (tested: ClipmapGpu.PathImagesEqualScratch).
+ViewState pathEndView(const ParamSet& params, const ViewState& view);
 std::vector<ParamDesc> layoutParams();
 std::vector<ParamDesc> pathParams();
 std::vector<ParamDesc> injectParams();  // inject.mode, inject.uniform-radiance (as vct-grid's)
@@ -101,6 +108,20 @@ class AnchorStage : public Stage {
     return "Per level, snap the origin to the next level's voxel around the anchor (the camera plus the path's "
            "moves) and plan each move: the disjoint slabs of newly exposed cells, the cells whose coverage by the "
            "finer level changed, the covered blocks to refilter.";
+  }
+  void declare(StageBuilder& b) const override;
+  void execute(StageContext& ctx) override;
+};
+
+// The shared G-buffer stage rendered from the end of the camera path (pathEndView): the same
+// stage id, outputs and shader; it also declares the path parameters, so a path change makes it
+// stale. No shared code knows about the path.
+class PathGBufferStage : public GBufferStage {
+ public:
+  const char* title() const override { return "G-buffer from the camera at the end of the path"; }
+  const char* summary() const override {
+    return "Rasterize the visible surface per pixel from the camera moved along the path (P + K D): position, "
+           "normal, albedo, emission and depth.";
   }
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;
