@@ -75,10 +75,17 @@ TEST(LightParams, SceneWithoutLightGetsTheDefaultSun) {
   Scene s = loadScene(projectPath("tests/data/scenes/no-light-blocks.gltf"));
   ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_EQ(s.lights[0].name, kDefaultSunName);
-  EXPECT_EQ(s.cameras.at(0).name, "framing-camera");
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.cameras[0].name, kFramingCameraName);
+  // frameBounds' pose, renamed only.
+  const Camera framed = frameBounds(s.bounds, Camera{}.yfov);
+  EXPECT_EQ(s.cameras[0].position, framed.position);
+  EXPECT_EQ(s.cameras[0].forward, framed.forward);
   Scene cornell = loadScene(resolveScenePath("cornell-box"));
   ASSERT_EQ(cornell.lights.size(), 1u);
   EXPECT_NE(cornell.lights[0].name, kDefaultSunName);
+  ASSERT_FALSE(cornell.cameras.empty());
+  EXPECT_NE(cornell.cameras[0].name, kFramingCameraName);
 }
 
 // Changing light.0.* marks the light stage, the shadow map (the stage that writes "light") and the
