@@ -227,9 +227,9 @@ def default_light(exe, out_dir, scenes, turn, shading_view=None):
                     f"manifest light: {manifest.get('light')!r}, camera: {manifest.get('camera')!r}")
             print(line)
             # Thresholds: a black image has mean 0 and a flat one sd 0. Measured on no-light-blocks
-            # (96x96, 8-bit steps): means 12.1 (vct-grid) .. 63.0 (volumetric, haze), sd 41..43,
-            # voxelization (voxels shown, not lit) 13.8 / 4.3; before the default sun the lit
-            # techniques gave mean 0. 2 steps of mean and 2 of sd separate lit from black / flat.
+            # (96x96, 8-bit steps, 2026-12-02): means 11.9 (lrsm) .. 42.5 (volumetric, haze), sd
+            # 40.5..43.1, voxelization (voxels shown, not lit) 13.8 / 4.3; before the default sun
+            # the lit techniques gave mean 0. 2 steps of mean and 2 of sd separate lit from black / flat.
             if not said: failures.append(line + ": stderr lacks the default-sun line")
             if manifest.get("light") != DEFAULT_SUN: failures.append(line + ": manifest light is wrong")
             # A scene without a camera (no-light-blocks, the raw Sponza) gets the framing camera,
