@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Mutation check: applies each mutation of tests/mutations/mutations.txt to a copy of the tree and
-# asserts that the tests it names fail. Not part of CI (about 15 minutes with the first build of the
-# copy, 5 to 6 minutes after it, on this shared machine; see docs/testing.md).
+# asserts that the tests it names fail (a gtest filter of voxlab_tests, or ctest:REGEX for CTest
+# tests of the copy's build). Not part of CI (the copy's first build takes 10 to 30 minutes on this
+# shared machine, the 87 mutations about 7 minutes after it; see docs/testing.md).
 #
 #   scripts/mutation-check.sh [--only NAME[,NAME...]] [--list FILE] [--work DIR]
 #
