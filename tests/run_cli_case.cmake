@@ -4,6 +4,13 @@
 # (|-separated) must exist and be non-empty, and a follow-up command voxlab THEN_ARGS must exit
 # with THEN_CODE with its stdout and stderr together matching THEN_REGEX.
 separate_arguments(arg_list UNIX_COMMAND "${ARGS}")
+# The expected files are removed first, so that one left by an earlier run cannot pass for one this
+# run did not write (found by the mutation cli-reference-stderr-file: a reference command that
+# never wrote its standard-error file passed on the previous run's).
+string(REPLACE "|" ";" expect_files "${EXPECT_FILES}")
+foreach(f ${expect_files})
+  file(REMOVE "${f}")
+endforeach()
 execute_process(COMMAND ${EXE} ${arg_list}
   WORKING_DIRECTORY ${WORKDIR}
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
@@ -22,7 +29,6 @@ endif()
 if(DEFINED EXPECT_STDOUT AND NOT out MATCHES "${EXPECT_STDOUT}")
   message(FATAL_ERROR "stdout does not match '${EXPECT_STDOUT}':\n${out}")
 endif()
-string(REPLACE "|" ";" expect_files "${EXPECT_FILES}")
 foreach(f ${expect_files})
   if(NOT EXISTS "${f}")
     message(FATAL_ERROR "expected file ${f} was not written")

@@ -80,6 +80,12 @@ json HeadlessSession::manifestHeader() const {
   m["light"] = lights.empty() ? std::string("none")
                : lights[0].name == kDefaultSunName ? std::string(kDefaultSunName)
                                                    : "scene light '" + lights[0].name + "'";
+  // Which camera the view starts from: a scene camera, the loader's framing camera, or
+  // --look-from/--look-at (which starts from camera 'view.camera' and replaces its pose).
+  const Camera& sceneCamera = cursor_->scene().cameras.at(request_.camera);
+  m["camera"] = request_.lookFrom                           ? std::string("look-from/look-at")
+                : sceneCamera.name == kFramingCameraName ? std::string(kFramingCameraName)
+                                                          : "scene camera '" + sceneCamera.name + "'";
   m["view"] = {{"width", cursor_->view().width}, {"height", cursor_->view().height},
                {"camera", request_.camera}, {"camera_name", cursor_->camera().name}};
   if (request_.lookFrom) {

@@ -1137,7 +1137,11 @@ void Loader::buildScene(Scene& scene) {
     m.name = "default";
     scene.materials.push_back(m);
   }
-  if (scene.cameras.empty()) scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
+  if (scene.cameras.empty()) {
+    scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
+    scene.cameras.back().name = kFramingCameraName;
+    log::warn(scene.name + ": " + kFramingCameraName + "; added a camera on the +z side looking along -z at the bounds' centre, the whole scene in view (--look-from/--look-at or the viewer to change it)");
+  }
   if (scene.lights.empty()) {
     scene.lights.push_back(defaultSun());
     log::warn(scene.name + ": " + kDefaultSunName + "; added a white sun from elevation 60, azimuth 30 degrees, 5 W/m^2 (set light.0.* to change it)");

@@ -93,6 +93,9 @@ void sunAngles(const glm::vec3& direction, float& azimuthDeg, float& elevationDe
 // shadow map is fitted to the scene's bounds. Named kDefaultSunName.
 inline constexpr const char* kDefaultSunName = "default sun (scene has none)";
 Light defaultSun();
+// The camera a scene without cameras gets: frameBounds() of its bounds at the default field of
+// view, named so that the stderr notice, the manifest and the viewer say where it came from.
+inline constexpr const char* kFramingCameraName = "framing camera (scene has none)";
 
 // Triangles [firstIndex/3, firstIndex/3 + indexCount/3) all use one material.
 struct DrawRange {

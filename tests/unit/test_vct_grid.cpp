@@ -405,7 +405,7 @@ TEST(VctGridPhysics, ColouredFurnaceGivesAlbedoTimesRadiancePerChannel) {
 // Cone weights, checked where they matter: from the centre of a floor under a small lid (nothing
 // else around, uniform injected radiance), only cones towards the lid see much radiance. A ring of
 // 6 cones of 40 degrees has one cone along the normal and five tilted by 40 degrees (narrower
-// cones than the default 60 so the tilted ones do not graze the floor); cosine weights are
+// than the default 45 and the former default 60, whose tilted cones graze the floor); cosine weights are
 // 1 / (1 + 5 cos 40) = 0.2070 for the normal cone, equal weights 1/6. A single cone (the normal
 // one, weight 1) measures that cone's value A; the tilted cones' mean B follows from the cosine
 // run C = 0.2070 A + 0.7930 B, and the equal-weight run must then be A / 6 + 5 B / 6.
@@ -448,7 +448,7 @@ TEST(VctGridPhysics, CosineWeightsWeighTheNormalConeMore) {
 }
 
 // Ambient occlusion of floor points at distance d from the wall, measured with the given mips.
-// 'cones' empty: the default cones (a ring of 6 of 60 degrees, cosine weights).
+// 'cones' empty: the default cones (a ring of 6 of 45 degrees, cosine weights).
 std::vector<std::pair<double, double>> aoNextToWall(const std::string& mipmapMode, std::vector<std::string> cones) {
   // cone.max-distance=1 (one volume edge; the default 1.75 reaches every wall of a closed box): on
   // this open floor longer cones reach coarse levels whose texels, thickened by the level, hold the

@@ -538,6 +538,9 @@ void VoxelAttributesStage::execute(StageContext& ctx) {
   glGenTextures(2, views);
   glTextureView(views[0], GL_TEXTURE_3D, albedo.id(), GL_R32UI, 0, 1, 0, 1);
   glTextureView(views[1], GL_TEXTURE_3D, normal.id(), GL_R32UI, 0, 1, 0, 1);
+  // Labelled like every other GL object (src/gpu/resources.h), so a debug message names them.
+  glObjectLabel(GL_TEXTURE, views[0], -1, "voxel-albedo.r32ui-view");
+  glObjectLabel(GL_TEXTURE, views[1], -1, "voxel-normal.r32ui-view");
   const uint32_t fragments = voxelFragmentCount(ctx.board);
   GLuint program = ctx.shaders.program({"near_field/voxel_attributes.comp.glsl"});
   setUniform(program, "u_fragmentCount", fragments);
