@@ -2,7 +2,9 @@
 // driven only by its OutputDesc (kind, semantic, layout). Used by `voxlab run`, the snapshot
 // suite, the viewer's export and the benchmark.
 #pragma once
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -83,5 +85,16 @@ void writePng(const DisplayImage& image, const std::string& path);
 
 // Decoded records of a buffer output as JSON (first 'limit' records).
 nlohmann::json recordsJson(const CapturedOutput& out, size_t limit);
+
+// The records of a buffer output as structs of type T (a shared layout from shaders/*_shared.h):
+// empty when the output's stride is not sizeof(T), else min(recordCount, what the bytes hold).
+template <typename T>
+std::vector<T> recordsAs(const CapturedOutput& out) {
+  std::vector<T> v;
+  if (out.desc.layout.stride != sizeof(T)) return v;
+  v.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(T)));
+  if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), out.records.data(), v.size() * sizeof(T));
+  return v;
+}
 
 }  // namespace voxlab

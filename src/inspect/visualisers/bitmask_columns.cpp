@@ -212,16 +212,7 @@ struct Step {
 };
 static_assert(sizeof(Step) == 80, "TraversalStep is 80 bytes");
 
-std::vector<Step> decodeSteps(const CapturedOutput& out) {
-  if (out.desc.layout.stride != sizeof(Step)) return {};
-  std::vector<Step> s;
-  for (size_t i = 0; i < out.recordCount && (i + 1) * sizeof(Step) <= out.records.size(); ++i) {
-    Step r;
-    std::memcpy(&r, out.records.data() + i * sizeof(Step), sizeof(Step));
-    s.push_back(r);
-  }
-  return s;
-}
+std::vector<Step> decodeSteps(const CapturedOutput& out) { return recordsAs<Step>(out); }
 
 Mask sliceRange(int first, int last) {
   Mask m{0, 0, 0, 0};
@@ -366,12 +357,7 @@ struct DdaRecord {
   uint32_t set, walkHit, pad[2];
 };
 
-std::vector<DdaRecord> decodeDda(const CapturedOutput& out) {
-  if (out.desc.layout.stride != sizeof(DdaRecord)) return {};
-  std::vector<DdaRecord> r(std::min<size_t>(out.recordCount, out.records.size() / sizeof(DdaRecord)));
-  if (!r.empty()) std::memcpy(r.data(), out.records.data(), r.size() * sizeof(DdaRecord));
-  return r;
-}
+std::vector<DdaRecord> decodeDda(const CapturedOutput& out) { return recordsAs<DdaRecord>(out); }
 
 // The DDA visits face neighbours in order and stops at the first set cell; the walk's hit, when the
 // DDA visits that cell, is that first set cell (the hierarchy finds what the DDA finds).

@@ -27,13 +27,7 @@
 namespace voxlab {
 namespace clipmap {
 
-std::vector<LevelRecord> levelRecords(const CapturedOutput& out) {
-  std::vector<LevelRecord> levels;
-  if (out.desc.layout.stride != sizeof(LevelRecord)) return levels;
-  levels.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(LevelRecord)));
-  if (!levels.empty()) std::memcpy(levels.data(), out.records.data(), levels.size() * sizeof(LevelRecord));
-  return levels;
-}
+std::vector<LevelRecord> levelRecords(const CapturedOutput& out) { return recordsAs<LevelRecord>(out); }
 
 static Cell originOf(const LevelRecord& r) { return Cell(r.origin[0], r.origin[1], r.origin[2]); }
 

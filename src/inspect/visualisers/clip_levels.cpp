@@ -29,21 +29,9 @@ namespace {
 using clipmap::LevelRecord;
 using clipmap::SlabRecord;
 
-std::vector<SlabRecord> decodeSlabs(const CapturedOutput& out) {
-  std::vector<SlabRecord> slabs;
-  if (out.desc.layout.stride != sizeof(SlabRecord)) return slabs;
-  slabs.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(SlabRecord)));
-  if (!slabs.empty()) std::memcpy(slabs.data(), out.records.data(), slabs.size() * sizeof(SlabRecord));
-  return slabs;
-}
+std::vector<SlabRecord> decodeSlabs(const CapturedOutput& out) { return recordsAs<SlabRecord>(out); }
 
-std::vector<LevelRecord> decodeLevels(const CapturedOutput& out) {
-  std::vector<LevelRecord> levels;
-  if (out.desc.layout.stride != sizeof(LevelRecord)) return levels;
-  levels.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(LevelRecord)));
-  if (!levels.empty()) std::memcpy(levels.data(), out.records.data(), levels.size() * sizeof(LevelRecord));
-  return levels;
-}
+std::vector<LevelRecord> decodeLevels(const CapturedOutput& out) { return recordsAs<LevelRecord>(out); }
 
 glm::vec3 levelColour(int k) {
   static const glm::vec3 colours[8] = {{0.95f, 0.35f, 0.2f}, {0.95f, 0.75f, 0.2f}, {0.45f, 0.85f, 0.3f},

@@ -26,14 +26,6 @@ namespace {
 
 using namespace clipmap;
 
-template <typename T>
-std::vector<T> recordsAs(const CapturedOutput& out) {
-  std::vector<T> v;
-  if (out.desc.layout.stride != sizeof(T)) return v;
-  v.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(T)));
-  if (!v.empty()) std::memcpy(v.data(), out.records.data(), v.size() * sizeof(T));
-  return v;
-}
 
 glm::vec3 levelColour(int k) {  // as clip_levels.cpp
   static const glm::vec3 colours[8] = {{0.95f, 0.35f, 0.2f}, {0.95f, 0.75f, 0.2f}, {0.45f, 0.85f, 0.3f},

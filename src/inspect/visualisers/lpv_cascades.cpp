@@ -22,13 +22,7 @@ namespace {
 
 using lpv::gpu::LpvBox;
 
-std::vector<LpvBox> decode(const CapturedOutput& out) {
-  std::vector<LpvBox> boxes;
-  if (out.desc.layout.stride != sizeof(LpvBox)) return boxes;
-  boxes.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(LpvBox)));
-  if (!boxes.empty()) std::memcpy(boxes.data(), out.records.data(), boxes.size() * sizeof(LpvBox));
-  return boxes;
-}
+std::vector<LpvBox> decode(const CapturedOutput& out) { return recordsAs<LpvBox>(out); }
 
 glm::vec4 colourOf(int kind) {
   switch (kind) {

@@ -23,14 +23,7 @@ struct GatherRecord {
   float v[8][4];
 };
 
-std::vector<GatherRecord> decode(const CapturedOutput& out) {
-  std::vector<GatherRecord> r(out.recordCount);
-  const size_t stride = out.desc.layout.stride;
-  if (stride != sizeof(GatherRecord)) return {};
-  for (size_t i = 0; i < r.size() && (i + 1) * stride <= out.records.size(); ++i)
-    std::memcpy(&r[i], out.records.data() + i * stride, stride);
-  return r;
-}
+std::vector<GatherRecord> decode(const CapturedOutput& out) { return recordsAs<GatherRecord>(out); }
 
 enum { kCentre, kCone, kMarch, kLayer, kMoments, kCoverage, kContribution, kFootprint };
 

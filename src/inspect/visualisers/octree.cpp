@@ -35,21 +35,9 @@ static_assert(sizeof(SvoPickedNode) == 512, "std430 layout of SvoPickedNode");
 
 glm::uvec3 unpack10(uint32_t p) { return {p & 1023u, (p >> 10) & 1023u, (p >> 20) & 1023u}; }
 
-std::vector<SvoNode> decodeNodes(const CapturedOutput& out) {
-  std::vector<SvoNode> nodes;
-  if (out.desc.layout.stride != sizeof(SvoNode)) return nodes;
-  nodes.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(SvoNode)));
-  if (!nodes.empty()) std::memcpy(nodes.data(), out.records.data(), nodes.size() * sizeof(SvoNode));
-  return nodes;
-}
+std::vector<SvoNode> decodeNodes(const CapturedOutput& out) { return recordsAs<SvoNode>(out); }
 
-std::vector<SvoDescentStep> decodeSteps(const CapturedOutput& out) {
-  std::vector<SvoDescentStep> steps;
-  if (out.desc.layout.stride != sizeof(SvoDescentStep)) return steps;
-  steps.resize(std::min<size_t>(out.recordCount, out.records.size() / sizeof(SvoDescentStep)));
-  if (!steps.empty()) std::memcpy(steps.data(), out.records.data(), steps.size() * sizeof(SvoDescentStep));
-  return steps;
-}
+std::vector<SvoDescentStep> decodeSteps(const CapturedOutput& out) { return recordsAs<SvoDescentStep>(out); }
 
 // Octree depth: from the context volume's level 0 (voxels per axis) when there is one, else the
 // deepest level in the records.

@@ -25,16 +25,7 @@ struct RayRecord {
   float voxel[4], world[4], medium[4], phase[4], contribution[4];
 };
 
-std::vector<RayRecord> decode(const CapturedOutput& out) {
-  if (out.desc.layout.stride != sizeof(RayRecord)) return {};
-  std::vector<RayRecord> r;
-  for (size_t i = 0; i < out.recordCount && (i + 1) * sizeof(RayRecord) <= out.records.size(); ++i) {
-    RayRecord rec;
-    std::memcpy(&rec, out.records.data() + i * sizeof(RayRecord), sizeof(RayRecord));
-    r.push_back(rec);
-  }
-  return r;
-}
+std::vector<RayRecord> decode(const CapturedOutput& out) { return recordsAs<RayRecord>(out); }
 
 float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
 
