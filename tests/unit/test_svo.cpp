@@ -961,7 +961,7 @@ TEST(SvoComposite, AoShadingShowsTheAmbientOcclusionAsTheFinalImage) {
 // --- Robustness ------------------------------------------------------------------------------------
 
 TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
-  RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.pool-fraction=0.5"}, "svo-build");
+  RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.node-pool-fraction=0.5"}, "svo-build");
   HeadlessSession s(r);
   std::string message;
   try {
@@ -971,7 +971,7 @@ TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
   }
   // Level 0 holds the root: level 1 needs 1 + 8 nodes, half of that (floor 4.5) is given.
   EXPECT_EQ(message, "svo-build: node pool overflow at level 1: it holds 4 nodes, the level needs 9 "
-                     "(svo.pool-fraction=0.5; 1 sizes the pool exactly)");
+                     "(svo.node-pool-fraction=0.5; 1 sizes the pool exactly)");
   EXPECT_EQ(message.find('\n'), std::string::npos);
   std::vector<uint8_t> bytes = s.cursor().board().buffer("svo-nodes").download();
   ASSERT_GE(bytes.size(), size_t(12 * 16));
@@ -981,6 +981,54 @@ TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
     std::memcpy(&word, &bytes[w * 4], 4);
     EXPECT_EQ(word, 0xA5A5A5A5u) << "guard word " << w;
   }
+}
+
+// The brick pool undersized behind an exact node pool: svo-bricks gives every tagged node (layout N,
+// the default) its rank + 1 as brick (0 = the zero brick). Ranks past the capacity must set the
+// flag, keep brick 0 and write nothing: the pool's texture has spare slots past its capacity (its
+// slots fill a whole number of rows), and a write past the end would land in them.
+TEST(SvoPools, UndersizedBrickPoolFailsWithOneLineAndWritesNothingPastTheEnd) {
+  RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.brick-pool-fraction=0.5"}, "svo-bricks");
+  HeadlessSession s(r);
+  std::string message;
+  try {
+    s.run();
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  std::vector<SvoLevel> levels = records<SvoLevel>(capture(s, "svo-build", "svo-levels"));
+  uint32_t needed = 1;  // the zero brick
+  for (const SvoLevel& l : levels) needed += l.tagged;
+  const uint32_t capacity = needed / 2;
+  EXPECT_EQ(message, "svo-bricks: brick pool overflow: it holds " + std::to_string(capacity) +
+                         " bricks, the octree needs " + std::to_string(needed) +
+                         " (svo.brick-pool-fraction=0.5; 1 sizes the pool exactly)");
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+  // Every node's brick is inside the pool, and exactly the bricks 1 .. capacity - 1 were handed out.
+  std::vector<uint32_t> brickOf = records<uint32_t>(capture(s, "svo-bricks", "svo-brick-index"));
+  std::set<uint32_t> handedOut;
+  for (uint32_t b : brickOf) {
+    EXPECT_LT(b, capacity);
+    if (b) handedOut.insert(b);
+  }
+  EXPECT_EQ(handedOut.size(), size_t(capacity - 1));
+  CapturedOutput pool = capture(s, "svo-bricks", "svo-brick-pool");
+  const LevelData& P = pool.levels[0];
+  const glm::ivec3 axis = P.size / 3;
+  const uint32_t slots = uint32_t(axis.x * axis.y * axis.z);
+  ASSERT_GT(slots, capacity) << "no spare slot past the capacity: the check below could not fail";
+  size_t writtenInside = 0, writtenPast = 0;
+  for (uint32_t b = 0; b < slots; ++b) {
+    const glm::ivec3 o = 3 * glm::ivec3(b % axis.x, (b / axis.x) % axis.y, b / (axis.x * axis.y));
+    bool any = false;
+    for (int t = 0; t < 27; ++t)
+      for (int ch = 0; ch < 4; ++ch) any |= P.at(o.x + t % 3, o.y + (t / 3) % 3, o.z + t / 9, ch) != 0.0f;
+    (b < capacity ? writtenInside : writtenPast) += any ? 1 : 0;
+  }
+  EXPECT_GT(writtenInside, size_t(capacity / 2)) << "the bricks that fit were filled";
+  EXPECT_EQ(writtenPast, size_t(0)) << "bricks written past the pool's capacity of " << capacity;
+  std::printf("brick pool: capacity %u of %u needed, %u slots; %zu bricks filled inside, %zu past the end\n",
+              capacity, needed, slots, writtenInside, writtenPast);
 }
 
 }  // namespace
