@@ -85,7 +85,7 @@ std::vector<ParamDesc> injectParams();
 // cell holds before its sums can overflow (declared by every stage that voxelizes).
 ParamDesc fixedPointParam();  // inject.mode, inject.uniform-radiance (as vct-grid's)
 
-// The scene's triangles in runs of at most 2048 of one draw range, with their world bounds: a
+// The scene's triangles in runs of at most 512 of one draw range, with their world bounds: a
 // move dispatches only the runs that can reach a box it revoxelizes.
 struct TriangleRun {
   uint32_t firstTriangle, triangles, material;
