@@ -213,7 +213,7 @@ TEST(Sky, EveryTechniqueWithTheSkySeesTheSkyTheReferenceSees) {
   for (Light& l : scene.lights) l.intensity = 0.0f;
   reference::ReferenceTracer tracer(scene);
   tracer.setSkyRadiance(glm::vec3(L));
-  std::map<std::pair<int, int>, double> referenceAt;  // (pixel index, mode) -> red channel
+  std::map<std::pair<int, int>, double> referenceAt;  // (pixel index, mode kind: direct or full) -> red channel
   std::vector<std::string> withSky;
   for (const std::string& id : techniqueIds()) {
     auto technique = createTechnique(id);
@@ -280,11 +280,11 @@ TEST(Sky, EveryTechniqueWithTheSkySeesTheSkyTheReferenceSees) {
         const glm::vec3 n(N.at(x, y, 0, 0), N.at(x, y, 0, 1), N.at(x, y, 0, 2));
         if (glm::dot(n, cam.position - p) <= 0.0f) continue;
         const int pixel = y * P.size.x + x;
-        auto cached = referenceAt.find({pixel, int(mode)});
+        auto cached = referenceAt.find({pixel, int(mode.kind)});
         if (cached == referenceAt.end()) {
           reference::Estimate e =
               tracer.estimateRadiance(cam.position, p - cam.position, mode, 256, uint64_t(pixel));
-          cached = referenceAt.emplace(std::make_pair(pixel, int(mode)), double(e.mean.x)).first;
+          cached = referenceAt.emplace(std::make_pair(pixel, int(mode.kind)), double(e.mean.x)).first;
         }
         gpu += I.at(x / scale, y / scale, 0, 0);
         ref += cached->second;
