@@ -48,6 +48,9 @@ for scene in $scenes; do
       render cornell-box 512x512 indirect-1 512
       render cornell-box 512x512 full 512
       render cornell-box 512x512 indirect 512
+      # voxel-path-tracing's default paths.bounces=2 declares indirect-{paths.bounces}: r in {2, 3};
+      # RMS standard error 0.0101
+      render cornell-box 512x512 indirect-2 512
       # vct-grid's bounces test (tests/unit/test_vct_bounces.cpp) runs at 128x128: direct light
       # and two indirect bounces (r <= 3), RMS standard error about 0.005
       render cornell-box 128x128 two-bounce 1024
@@ -57,6 +60,8 @@ for scene in $scenes; do
       render sponza 512x512 indirect-1 128
       render sponza 512x512 full 64
       render sponza 512x512 indirect 64
+      # voxel-path-tracing's default paths.bounces=2 (indirect-{paths.bounces}); RMS standard error 0.0035
+      render sponza 512x512 indirect-2 64
       ;;
     cornell-box-panel-only)  # the emissive panel as the only light (vct-grid's emissive-only row)
       f="$root/tests/data/scenes/cornell-box-panel-only.gltf"
