@@ -125,7 +125,20 @@ if begin in text and end in text:
             kept.append(line)
         if not placed:
             kept = kept[:2] + rows[2:] + kept[2:]
-        table = "\n".join(kept) + "\n"
+        # The references line lists every mode the table uses: the kept rows' and the new ones'.
+        used, refs = {}, ""
+        for line in kept:
+            cells = [c.strip() for c in line.split("|")]
+            if len(cells) > 4 and cells[1] not in ("technique", "---"):
+                used[cells[4]] = True
+            if line.startswith("References used"):
+                for entry in line.split(": ", 1)[1].rstrip(".").split(", "):
+                    mode, rest = entry.split(" ", 1)
+                    spp, err = rest.split(" spp / ")
+                    notes.setdefault(mode, (int(spp), float(err)))
+        kept = [line for line in kept if line.strip() and not line.startswith("References used")]
+        table = "\n".join(kept) + "\n\nReferences used (spp, RMS standard error): " + ", ".join(
+            f"{k} {v[0]} spp / {v[1]:.4g}" for k, v in sorted(notes.items()) if v[1] is not None and k in used) + ".\n"
     open(doc, "w").write(head + begin + "\n" + table + end + tail)
     print(f"fidelity: updated {doc}", file=sys.stderr)
 else:

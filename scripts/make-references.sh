@@ -20,6 +20,8 @@
 #   direct       32 spp   0.00011 / 0.00020     15 s
 #   indirect    512 spp   0.00879 / 0.0115     296 s
 #   indirect-1  512 spp   0.00623 / 0.0090     246 s
+#   indirect-2  512 spp   0.00751 / 0.0101     821 s on 2 threads, load about 10 (2026-12-02)
+#   indirect-4  512 spp   0.00840 / 0.0111     436 s on 2 threads, load 5 to 8 (2026-12-02)
 # direct converges fastest: the spot light is evaluated exactly and the light panel is sampled
 # by MIS.
 #
@@ -48,6 +50,11 @@ for scene in $scenes; do
       render cornell-box 512x512 indirect-1 512
       render cornell-box 512x512 full 512
       render cornell-box 512x512 indirect 512
+      # voxel-path-tracing's default paths.bounces=2 declares indirect-{paths.bounces}: r in {2, 3};
+      # RMS standard error 0.0101
+      render cornell-box 512x512 indirect-2 512
+      # and paths.bounces=4, scripts/fidelity.sh's variant: r in {2, ..., 5}; RMS standard error 0.0111
+      render cornell-box 512x512 indirect-4 512
       # vct-grid's bounces test (tests/unit/test_vct_bounces.cpp) runs at 128x128: direct light
       # and two indirect bounces (r <= 3), RMS standard error about 0.005
       render cornell-box 128x128 two-bounce 1024
@@ -57,6 +64,8 @@ for scene in $scenes; do
       render sponza 512x512 indirect-1 128
       render sponza 512x512 full 64
       render sponza 512x512 indirect 64
+      # voxel-path-tracing's default paths.bounces=2 (indirect-{paths.bounces}); RMS standard error 0.0035
+      render sponza 512x512 indirect-2 64
       ;;
     cornell-box-panel-only)  # the emissive panel as the only light (vct-grid's emissive-only row)
       f="$root/tests/data/scenes/cornell-box-panel-only.gltf"

@@ -6,8 +6,9 @@
 // scripts/fidelity.sh makes from `voxlab run` manifests). What is shown comes from the
 // declarations alone: the final output (Technique::finalOutput), and every output tagged with a
 // reference mode (OutputDesc::referenceMode) with the reference image of that mode, the error
-// image and the metrics. An output whose mode counts only indirect light (reference::Mode
-// Indirect or IndirectOne: r >= 2 or r == 2) is the technique's indirect term. The time per frame
+// image and the metrics (the mode under the run's parameters, referenceModeUnder). An output
+// whose mode counts only indirect light (reference::Mode::indirectOnly: indirect, indirect-K) is
+// the technique's indirect term. The time per frame
 // is the median over --bench-runs runs of all stages, measured as `voxlab bench` measures it.
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include "core/args.h"
 #include "core/error.h"
 #include "core/paths.h"
+#include "graph/reference_mode.h"
 #include "graph/technique.h"
 #include "lesson/handout.h"
 #include "lesson/step_picture.h"
@@ -40,8 +42,7 @@ using nlohmann::json;
 
 bool indirectOnly(const std::string& mode) {
   try {
-    reference::Mode m = reference::parseMode(mode);
-    return m == reference::Mode::Indirect || m == reference::Mode::IndirectOne || m == reference::Mode::IndirectTwo;
+    return reference::parseMode(mode).indirectOnly();
   } catch (const Error&) {
     return false;
   }
@@ -171,8 +172,9 @@ int runGallery(const std::vector<std::string>& argv) {
         oj["image"] = rel + "/" + png;
         std::string role = e["final"].get<bool>() ? "final image" : "";
         if (!desc->referenceMode.empty()) {
-          oj["reference_mode"] = desc->referenceMode;
-          if (indirectOnly(desc->referenceMode)) role += std::string(role.empty() ? "" : ", ") + "indirect term";
+          const std::string mode = referenceModeUnder(*desc, session.cursor().params());
+          oj["reference_mode"] = mode;
+          if (indirectOnly(mode)) role += std::string(role.empty() ? "" : ", ") + "indirect term";
           if (e.contains("reference_error")) {
             const json& r = e["reference_error"];
             oj["reference_error"] = r;

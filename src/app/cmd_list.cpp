@@ -6,6 +6,7 @@
 #include "app/command.h"
 #include "core/args.h"
 #include "core/error.h"
+#include "graph/reference_mode.h"
 #include "graph/resource_budget.h"
 #include "graph/technique.h"
 #include "scene/scene.h"
@@ -67,7 +68,11 @@ json describeTechnique(const Technique& t) {
     for (const auto& o : d.outputs) {
       json oj = {{"name", o.name}, {"address", t.id() + "/" + t.stage(i).id() + "/" + o.name},
                  {"kind", kindName(o.kind)}, {"semantic", semanticName(o.semantic)}, {"help", o.help}};
-      if (!o.referenceMode.empty()) oj["reference_mode"] = o.referenceMode;
+      if (!o.referenceMode.empty()) {
+        // At the default parameters, as "iterations"; the declared form too when it names parameters.
+        oj["reference_mode"] = referenceModeUnder(o, t.defaultParams());
+        if (!referenceModeParams(o).empty()) oj["reference_mode_declared"] = o.referenceMode;
+      }
       if (o.probeRecord) oj["probe_record"] = true;
       s["outputs"].push_back(oj);
     }

@@ -65,7 +65,7 @@ int runReference(const std::vector<std::string>& argv) {
              {"--camera", true, false, "camera name (default: the scene's first camera)"},
              {"--size", true, false, "image size WxH (default 512x512)"},
              {"--spp", true, false, "samples per pixel, 1..1000000"},
-             {"--mode", true, false, "full, direct, one-bounce, two-bounce, indirect, indirect-1, indirect-2 or ao (default full)"},
+             {"--mode", true, false, "full, direct, one-bounce, two-bounce, indirect, indirect-K (K = 1..8 indirect bounces) or ao (default full)"},
              {"--ao-radius", true, false, "ao mode: maximum occluder distance (default inf)"},
              {"--sky", true, false, "constant sky radiance seen by rays that leave the scene, W/(m^2 sr) (default 0)"},
              {"--threads", true, false, "worker threads (default: $VOXLAB_THREADS or all cores)"},
@@ -169,7 +169,7 @@ int runReference(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("reference",
                          "voxlab reference --scene S [--camera NAME] [--size WxH] --spp N "
-                         "[--mode full|direct|one-bounce|two-bounce|indirect|indirect-1|indirect-2|ao] [--ao-radius R] [--threads N] "
+                         "[--mode full|direct|one-bounce|two-bounce|indirect|indirect-K|ao] [--ao-radius R] [--threads N] "
                          "[--seed N] [--jitter] [--no-stderr] [--half] [--quiet] --out FILE.exr",
                          "render a ground-truth image with the CPU reference path tracer (Embree)",
                          &runReference);

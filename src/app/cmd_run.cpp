@@ -60,6 +60,13 @@ int runRun(const std::vector<std::string>& argv) {
   std::printf("voxlab run: %s on %s, %zu stages, %zu files, %.1f ms (cpu), written to %s/manifest.json\n",
               req.technique.c_str(), manifest["scene"].get<std::string>().c_str(), manifest["stages"].size(),
               files, manifest["total_cpu_ms"].get<double>(), out.c_str());
+  for (const auto& s : manifest["stages"])
+    for (const auto& o : s["outputs"])
+      if (o.contains("reference_missing"))
+        std::printf("voxlab run: %s not compared: no reference image of mode %s (%s); make it with voxlab reference --mode %s\n",
+                    o["address"].get<std::string>().c_str(), o["reference_missing"]["mode"].get<std::string>().c_str(),
+                    o["reference_missing"]["reference"].get<std::string>().c_str(),
+                    o["reference_missing"]["mode"].get<std::string>().c_str());
   if (manifest.contains("references_skipped"))
     std::printf("voxlab run: not compared with the reference images: %s\n",
                 manifest["references_skipped"].get<std::string>().c_str());

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include "core/error.h"
 #include "core/paths.h"
@@ -14,6 +16,13 @@ using nlohmann::json;
 
 std::string referenceImagePath(const std::string& scene, const std::string& mode) {
   return projectPath("tests/golden/reference/" + scene + "/" + mode + ".exr");
+}
+
+bool hasReferences(const std::string& scene) {
+  std::error_code ec;
+  for (const auto& f : std::filesystem::directory_iterator(projectPath("tests/golden/reference/" + scene), ec))
+    if (f.path().extension() == ".exr") return true;
+  return false;
 }
 
 namespace {
@@ -31,6 +40,9 @@ json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 json compareWithReference(const CapturedOutput& out, const std::string& scene, int camera,
                           const std::string& dir, const std::string& prefix) {
   const std::string& mode = out.desc.referenceMode;
+  if (mode.find_first_of("{}") != std::string::npos)
+    throw Error("output " + out.desc.name + ": reference mode '" + mode +
+                "' is not resolved; pass the mode under the run's parameters (referenceModeUnder)");
   if (mode.empty() || out.desc.kind != OutputKind::Image2D || out.levels.empty()) return nullptr;
   std::string path = referenceImagePath(scene, mode);
   if (!fileExists(path)) return nullptr;

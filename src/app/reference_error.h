@@ -20,7 +20,11 @@ namespace voxlab {
 // Where the reference for (scene, mode) would be; it may not exist.
 std::string referenceImagePath(const std::string& scene, const std::string& mode);
 
-// Compares 'out' (an Image2D capture, level 0) with the reference for out.desc.referenceMode.
+// Whether tests/golden/reference/<scene>/ holds any reference image (of any mode).
+bool hasReferences(const std::string& scene);
+
+// Compares 'out' (an Image2D capture, level 0) with the reference for out.desc.referenceMode,
+// which must be resolved (referenceModeUnder: no {parameter} left; throws Error otherwise).
 // Returns null when the output is not comparable or no reference file exists. Otherwise the
 // manifest's "reference_error" object: mode, reference (path relative to the project root), spp,
 // rms_stderr of the reference, mean_ratio (the output's mean over the reference's: overall energy

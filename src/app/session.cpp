@@ -13,6 +13,7 @@
 #include "capture/capture.h"
 #include "core/error.h"
 #include "core/paths.h"
+#include "graph/reference_mode.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -145,6 +146,8 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
         onlyLevel = hit->level;
       }
       auto cap = std::make_shared<CapturedOutput>(captureOutput(cursor_->board(), o));
+      // The mode under this run's parameters ("indirect-{paths.bounces}" -> "indirect-2").
+      cap->desc.referenceMode = referenceModeUnder(o, cursor_->params());
       if (onlyLevel >= 0) {
         if (onlyLevel >= int(cap->levels.size()))
           throw Error("output " + t.id() + "/" + t.stage(i).id() + "/" + o.name + " has levels 0.." +
@@ -167,13 +170,18 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
         e["final"] = isFinal;
         // Outputs tagged with a reference mode: error against the checked-in ground truth, if any.
         json refErr;
-        if (compare && !physicsChanged.empty() && !cap->desc.referenceMode.empty() &&
-            fileExists(referenceImagePath(sceneName, cap->desc.referenceMode)))
-          refErr = {{"mode", cap->desc.referenceMode},
+        const std::string& mode = cap->desc.referenceMode;
+        if (compare && !physicsChanged.empty() && !mode.empty() && fileExists(referenceImagePath(sceneName, mode)))
+          refErr = {{"mode", mode},
                     {"skipped", "the run sets " + physicsChanged +
                                     "; the reference is of the scene's own light and no sky"}};
         else if (compare)
           refErr = compareWithReference(*cap, sceneName, camera, dir, prefix);
+        // The scene has references, but none of this output's mode: said, never replaced by another mode.
+        if (compare && !mode.empty() && cap->desc.kind == OutputKind::Image2D &&
+            !fileExists(referenceImagePath(sceneName, mode)) && hasReferences(sceneName))
+          e["reference_missing"] = {{"mode", mode},
+                                    {"reference", "tests/golden/reference/" + sceneName + "/" + mode + ".exr"}};
         if (!refErr.is_null()) {
           if (refErr.contains("files"))
             for (const auto& f : refErr["files"]) e["files"].push_back(f);

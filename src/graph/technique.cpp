@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "graph/reference_mode.h"
 #include "graph/resource_budget.h"
 
 namespace voxlab {
@@ -104,7 +105,16 @@ void Technique::validate() const {
         throw Error(id_ + ": resource '" + r + "' is written by both " + it->second + " and " + stages_[i]->id());
     }
   }
-  defaultParams();  // throws on conflicting declarations
+  const ParamSet defaults = defaultParams();  // throws on conflicting declarations
+  // A reference mode's {name}s are parameters of the technique (any stage's).
+  for (int i = 0; i < stageCount(); ++i)
+    for (const auto& o : decls_[i].outputs) {
+      try {
+        referenceModeUnder(o, defaults);
+      } catch (const Error& e) {
+        throw Error(id_ + "/" + stages_[i]->id() + ": " + e.what());
+      }
+    }
   findOutput(finalStage_, finalOutput_);
 }
 

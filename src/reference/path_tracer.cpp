@@ -132,13 +132,12 @@ struct Range {
   int rMin, rMax;
 };
 Range reflectionRange(Mode mode) {
-  switch (mode) {
+  switch (mode.kind) {
     case Mode::Direct: return {0, 1};
     case Mode::OneBounce: return {0, 2};
     case Mode::Indirect: return {2, INT_MAX};
-    case Mode::IndirectOne: return {2, 2};
+    case Mode::IndirectBounces: return {2, 1 + mode.bounces};
     case Mode::TwoBounce: return {0, 3};
-    case Mode::IndirectTwo: return {2, 3};
     default: return {0, INT_MAX};
   }
 }
@@ -147,26 +146,34 @@ Range reflectionRange(Mode mode) {
 
 // ---- Modes ------------------------------------------------------------------------------------
 std::string modeName(Mode mode) {
-  switch (mode) {
+  switch (mode.kind) {
     case Mode::Full: return "full";
     case Mode::Direct: return "direct";
     case Mode::OneBounce: return "one-bounce";
-    case Mode::Indirect: return "indirect";
-    case Mode::IndirectOne: return "indirect-1";
     case Mode::TwoBounce: return "two-bounce";
-    case Mode::IndirectTwo: return "indirect-2";
+    case Mode::Indirect: return "indirect";
+    case Mode::IndirectBounces: return "indirect-" + std::to_string(mode.bounces);
     case Mode::AO: return "ao";
   }
   return "?";
 }
 std::vector<std::string> modeNames() {
-  return {"full", "direct", "one-bounce", "two-bounce", "indirect", "indirect-1", "indirect-2", "ao"};
+  std::vector<std::string> names = {"full", "direct", "one-bounce", "two-bounce", "indirect"};
+  for (int k = 1; k <= Mode::kMaxIndirectBounces; ++k) names.push_back(modeName(Mode::indirect(k)));
+  names.push_back("ao");
+  return names;
+}
+std::string modeForms() {
+  return "full, direct, one-bounce, two-bounce, indirect, indirect-K (K = 1.." +
+         std::to_string(Mode::kMaxIndirectBounces) + ": K indirect bounces), ao";
 }
 Mode parseMode(const std::string& name) {
-  for (Mode m : {Mode::Full, Mode::Direct, Mode::OneBounce, Mode::TwoBounce, Mode::Indirect, Mode::IndirectOne,
-                 Mode::IndirectTwo, Mode::AO})
+  for (Mode m : {Mode::Full, Mode::Direct, Mode::OneBounce, Mode::TwoBounce, Mode::Indirect, Mode::AO})
     if (modeName(m) == name) return m;
-  throw Error("unknown mode '" + name + "'; valid modes: " + joinNames(modeNames()));
+  // indirect-K: K written in decimal without sign or leading zero, 1..kMaxIndirectBounces.
+  for (int k = 1; k <= Mode::kMaxIndirectBounces; ++k)
+    if (modeName(Mode::indirect(k)) == name) return Mode::indirect(k);
+  throw Error("unknown mode '" + name + "'; valid modes: " + modeForms());
 }
 
 int defaultThreadCount() {

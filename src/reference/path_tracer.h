@@ -17,6 +17,10 @@
 //               one indirect bounce, what a single-bounce GI technique (e.g. vct-grid's
 //               indirect-diffuse: one diffuse gather of the direct-lit voxels) approximates
 //   indirect-2  r in {2, 3}      -> furnace Le (rho^2 + rho^3) (= two-bounce - direct)
+//   indirect-K  r in {2, ..., K+1}, K = 1..8 -> furnace Le (rho^2 + ... + rho^(K+1)): K indirect
+//               bounces, what a technique that gathers K diffuse bounces approximates (e.g.
+//               voxel-path-tracing's paths of paths.bounces = K); indirect-1 and indirect-2 are
+//               the cases K = 1 and 2
 //   full        r >= 0           -> furnace Le / (1 - rho)
 //   ao          cosine-weighted visible fraction V at the first hit, rays up to aoRadius long
 // An optional constant sky (setSkyRadiance) is one more emitter: a ray that escapes carries it.
@@ -47,11 +51,38 @@
 
 namespace voxlab::reference {
 
-enum class Mode { Full, Direct, OneBounce, Indirect, AO, IndirectOne, TwoBounce, IndirectTwo };
+// A mode: a kind, and for IndirectBounces the number of indirect bounces K (r in {2, ..., K+1}).
+// Mode::Full, Mode::Direct, ... convert to a Mode; Mode::indirect(K) makes indirect-K.
+struct Mode {
+  enum Kind { Full, Direct, OneBounce, TwoBounce, Indirect, IndirectBounces, AO };
+  static constexpr int kMaxIndirectBounces = 8;
 
-std::string modeName(Mode mode);  // "full", "direct", "one-bounce", "two-bounce", "indirect", "indirect-1", ...
+  Kind kind = Full;
+  int bounces = 0;  // IndirectBounces only: K in 1..kMaxIndirectBounces
+
+  constexpr Mode(Kind k = Full) : kind(k) {}
+  static constexpr Mode indirect(int k) {
+    Mode m(IndirectBounces);
+    m.bounces = k;
+    return m;
+  }
+  static const Mode IndirectOne;  // indirect-1: r == 2
+  static const Mode IndirectTwo;  // indirect-2: r in {2, 3}
+
+  // Counts indirect light only (no emission seen directly, no direct lighting): indirect, indirect-K.
+  constexpr bool indirectOnly() const { return kind == Indirect || kind == IndirectBounces; }
+  friend constexpr bool operator==(const Mode& a, const Mode& b) { return a.kind == b.kind && a.bounces == b.bounces; }
+  friend constexpr bool operator!=(const Mode& a, const Mode& b) { return !(a == b); }
+};
+inline constexpr Mode Mode::IndirectOne = Mode::indirect(1);
+inline constexpr Mode Mode::IndirectTwo = Mode::indirect(2);
+
+std::string modeName(Mode mode);  // "full", "direct", "one-bounce", "two-bounce", "indirect", "indirect-K", "ao"
+// Every mode by name: full, direct, one-bounce, two-bounce, indirect, indirect-1 .. indirect-8, ao.
 std::vector<std::string> modeNames();
-Mode parseMode(const std::string& name);       // throws voxlab::Error listing the valid modes
+// The valid forms in one line, for error messages: "full, direct, ..., indirect-K (K = 1..8), ao".
+std::string modeForms();
+Mode parseMode(const std::string& name);       // throws voxlab::Error naming the valid forms
 
 struct ReferenceSettings {
   Mode mode = Mode::Full;

@@ -1,8 +1,13 @@
 # Command-line cases for 'voxlab reference' and 'voxlab compare' (see tests/cli_cases.cmake).
 # tests/data/reference/: constant float EXRs, grey50_4x4 (0.5), grey25_4x4 (0.25), grey50_4x3.
 set(_refdata "@ROOT@/tests/data/reference")
-voxlab_cli_case(reference_unknown_mode 2 "unknown mode 'fancy'; valid modes: full, direct, one-bounce, two-bounce, indirect, indirect-1, indirect-2, ao"
+voxlab_cli_case(reference_unknown_mode 2 "unknown mode 'fancy'; valid modes: full, direct, one-bounce, two-bounce, indirect, indirect-K \\(K = 1..8: K indirect bounces\\), ao"
   "reference --scene cornell-box --spp 1 --mode fancy --out @OUT@/x.exr")
+# indirect-K exists for K = 1..8 only: one past the range, zero and a leading zero are refused alike.
+voxlab_cli_case(reference_indirect_bounces_range 2 "unknown mode 'indirect-9'; valid modes: .*indirect-K \\(K = 1..8"
+  "reference --scene cornell-box --spp 1 --mode indirect-9 --out @OUT@/x.exr")
+voxlab_cli_case(reference_indirect_bounces_zero 2 "unknown mode 'indirect-0'; valid modes: "
+  "reference --scene cornell-box --spp 1 --mode indirect-0 --out @OUT@/x.exr")
 voxlab_cli_case(reference_spp_range 2 "--spp '0' is not an integer in 1..1000000"
   "reference --scene cornell-box --spp 0 --out @OUT@/x.exr")
 voxlab_cli_case(reference_unknown_camera 2 "has no camera 'nope'; its cameras: "

@@ -46,3 +46,10 @@ voxlab_cli_case_output(run_physics_changed_skips_references 0 ""
   "run --technique vct-grid --set voxel.resolution=32 --set sky.radiance=0.5 --only vct-grid/cone-trace/indirect-diffuse --out @OUT@"
   "not compared with the reference images: the run sets sky.radiance=0.5; the references are of the scene's own light and no sky"
   "@OUT@/manifest.json" 0 "" "")
+# A reference mode that follows a parameter (voxel-path-tracing's indirect-{paths.bounces}) whose
+# image the scene does not store (the Cornell box has indirect-1 and indirect-2, not indirect-7):
+# the output is not compared with another mode, and the run says so in one line.
+voxlab_cli_case_output(run_reference_mode_missing 0 ""
+  "run --technique voxel-path-tracing --set voxel.resolution=64 --set paths.count=1 --set paths.bounces=7 --size 64x64 --only voxel-path-tracing/paths/indirect --out @OUT@"
+  "voxel-path-tracing/paths/indirect not compared: no reference image of mode indirect-7 \\(tests/golden/reference/cornell-box/indirect-7.exr\\); make it with voxlab reference --mode indirect-7"
+  "@OUT@/manifest.json" 0 "" "")

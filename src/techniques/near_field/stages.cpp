@@ -579,7 +579,7 @@ void PathsStage::declare(StageBuilder& b) const {
   b.write("paths.weight");
   b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
            "indirect radiance of paths.bounces diffuse bounces so far: (1/P) sum over paths of sum_k W_k L~_k")
-      .referenceMode = "indirect";
+      .referenceMode = "indirect-{paths.bounces}";  // K bounces: the reference's r in {2, ..., K+1}
   b.output("path-vertex", OutputKind::Image2D, Semantic::Scalar,
            "the current path vertex per pixel (world xyz), w = 1 while the path is alive");
   for (const char* name : {"indirect", "path-vertex", "paths.normal", "paths.weight"})

@@ -78,7 +78,7 @@ class PathsStage : public Stage {
 class FilterStage : public Stage {
  public:
   // 'referenceMode': what the filtered image approximates ("indirect-1" for near-field's one
-  // bounce, "indirect" for voxel path tracing's several).
+  // bounce, "indirect-{paths.bounces}" for voxel path tracing's K; OutputDesc::referenceMode).
   explicit FilterStage(const char* referenceMode = "indirect-1") : referenceMode_(referenceMode) {}
   const char* id() const override { return "filter"; }
   const char* title() const override { return "Geometry-aware filter"; }

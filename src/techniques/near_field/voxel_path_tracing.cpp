@@ -25,6 +25,11 @@
 //   - No radius: a bounce's ray runs to the volume's edge. With paths.bounces = 1 the estimator is
 //     near-field's with an unlimited radius (tests/unit/test_near_field.cpp compares them).
 //   - Direct light at the pixel itself is composite's, as in near-field; emission is not carried.
+//   - What it is compared with: paths of K = paths.bounces bounces carry light reflected 2..K+1
+//     times (r in the reference's counting), so `indirect` and `indirect-filtered` declare the
+//     reference mode "indirect-{paths.bounces}" (indirect-K, resolved against the run's parameters;
+//     OutputDesc::referenceMode), not the all-bounce "indirect": a K-bounce estimate is not charged
+//     for the bounces it does not trace. `combined` is compared with `full`, as every technique's.
 //   - Sky (sky.radiance, shaders/common/sky.glsl): a bounce whose ray crosses the volume without a
 //     hit ends the path in the sky: it adds L times the albedos of the path's vertices so far (the
 //     sky reflected once per vertex).
@@ -57,7 +62,7 @@ static std::unique_ptr<Technique> makeVoxelPathTracing() {
   t->add<RsmStage>();
   t->add<GBufferStage>();
   t->add<nearfield::PathsStage>();
-  t->add<nearfield::FilterStage>("indirect");
+  t->add<nearfield::FilterStage>("indirect-{paths.bounces}");
   t->add<nearfield::CompositeStage>();
   t->setFinalOutput("composite", "final");
   return t;
