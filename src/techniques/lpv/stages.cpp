@@ -541,10 +541,19 @@ void PropagateStage::declare(StageBuilder& b) const {
   for (int k = 0; k < 4; ++k) probe.fields.push_back({"normal-" + std::to_string(k), FieldType::U32, uint32_t(128 + 4 * k)});
   const char* dirs[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
   for (int i = 0; i < 6; ++i) probe.fields.push_back({std::string("from") + dirs[i], FieldType::Vec4, uint32_t(144 + 16 * i)});
-  b.output("probe-cell", OutputKind::Buffer, kLpvProbe,
+  for (int part = 0; part < 2; ++part)
+    for (int f = 0; f < 30; ++f) {
+      const int i = f / 5, k = f % 5, j = k < i ? k : k + 1;
+      probe.fields.push_back({std::string(part == 0 ? "intensity" : "flux") + dirs[i] + "-face" + dirs[j],
+                              FieldType::Vec4, uint32_t(240 + 480 * part + 16 * f)});
+    }
+  probe.fields.push_back({"weight", FieldType::F32, 1200});
+  OutputDesc& cellRecord = b.output("probe-cell", OutputKind::Buffer, kLpvProbe,
            "the picked cell (probe.cell-x/y/z, probe.cascade) after the current step: SH per channel, its voxel's "
-           "words, and c00 gained from each neighbour (a: mean face transmission)")
-      .layout = probe;
+           "words, c00 gained from each neighbour (a: mean face transmission), and per neighbour its five face "
+           "evaluations (intensity towards the face, solid angle, transmission, flux) that sum to it");
+  cellRecord.layout = probe;
+  cellRecord.probeRecord = true;  // checked and drawn by src/inspect/visualisers/lpv_probe.cpp
   BufferLayout occ;
   occ.stride = sizeof(gpu::LpvOcclusion);
   occ.fields = {{"cell", FieldType::Packed10_10_10, 0, FieldRole::Position},
@@ -630,6 +639,8 @@ void PropagateStage::execute(StageContext& ctx) {
   const int probeCascade = ctx.params.getInt("probe.cascade");
 
   GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
+  // The picked cell's record comes from the same shader built with the recording (one invocation).
+  GLuint recorder = ctx.shaders.program({"lpv/propagate.comp.glsl"}, "#define LPV_PROBE 1\n");
   GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
   if (k == 0) writeOcclusionView(ctx, occlusion);
   for (int c = 0; c < kCascades; ++c) {
@@ -672,7 +683,6 @@ void PropagateStage::execute(StageContext& ctx) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
     };
     bindCommon(prop);
-    setUniform(prop, "u_probeMode", 0);
     dispatchCompute({res, res, res}, {4, 4, 4});
     barrier();
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, out.id());
@@ -683,10 +693,9 @@ void PropagateStage::execute(StageContext& ctx) {
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     barrier();
     if (c == probeCascade) {
-      bindCommon(prop);
-      setUniform(prop, "u_probeMode", 1);
-      setUniform(prop, "u_probeCell", probeCell(ctx.params));
-      setUniform(prop, "u_cascade", c);
+      setUniform(recorder, "u_probeCell", probeCell(ctx.params));
+      setUniform(recorder, "u_cascade", c);
+      bindCommon(recorder);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, probe.id());
       dispatchCompute({1, 1, 1}, {4, 4, 4});
       barrier();
