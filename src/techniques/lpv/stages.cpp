@@ -579,6 +579,7 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.buffer("energy.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("probe-cell", [](const ParamSet&, const ViewState&) { return sizeof(gpu::LpvProbe); });
   b.buffer("propagate.energy-rows", [](const ParamSet& p, const ViewState&) { return energyRowsBytes(p); });
+  b.buffer("propagate.active-boxes", [](const ParamSet&, const ViewState&) { return 2 * kCascades * sizeof(glm::ivec4); });
 }
 
 int PropagateStage::iterations(const ParamSet& params) const { return params.getInt("lpv.steps"); }
@@ -643,6 +644,13 @@ void PropagateStage::execute(StageContext& ctx) {
   GLuint recorder = ctx.shaders.program({"lpv/propagate.comp.glsl"}, "#define LPV_PROBE 1\n");
   GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
   if (k == 0) writeOcclusionView(ctx, occlusion);
+  // Per cascade the lowest and highest cell holding injected light (none: lo > hi), found at step 0.
+  std::array<glm::ivec4, 2 * kCascades> activeBoxes;
+  if (k > 0) {
+    auto bytes = ctx.board.buffer("propagate.active-boxes").download(sizeof(activeBoxes));
+    std::memcpy(activeBoxes.data(), bytes.data(), sizeof(activeBoxes));
+  }
+  double updated = 0;
   for (int c = 0; c < kCascades; ++c) {
     // Step k reads the state step k-1 wrote (step 0: the injected VPLs, packed into state 0) and
     // writes the other state, then copies it into the output volumes (buffer -> texture copies).
@@ -667,7 +675,30 @@ void PropagateStage::execute(StageContext& ctx) {
                             reinterpret_cast<void*>((part * 3 + ch) * section));
       glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
       barrier();
+      // The box of cells holding injected light; cells outside the other state are never written.
+      glClearNamedBufferData(out.id(), GL_R32F, GL_RED, GL_FLOAT, nullptr);
+      auto injected = in.download(3 * section);
+      glm::ivec4 lo(res, res, res, 0), hi(-1, -1, -1, 0);
+      for (int ch = 0; ch < 3; ++ch) {
+        const float* v = reinterpret_cast<const float*>(injected.data() + ch * section);
+        for (size_t i = 0; i < cells; ++i) {
+          if (v[4 * i] == 0.0f && v[4 * i + 1] == 0.0f && v[4 * i + 2] == 0.0f && v[4 * i + 3] == 0.0f) continue;
+          const glm::ivec3 cell(int(i % res), int(i / res % res), int(i / (size_t(res) * res)));
+          lo = glm::ivec4(glm::min(glm::ivec3(lo), cell), 0);
+          hi = glm::ivec4(glm::max(glm::ivec3(hi), cell), 0);
+        }
+      }
+      activeBoxes[2 * c] = lo;
+      activeBoxes[2 * c + 1] = hi;
+      ctx.board.ensureBuffer("propagate.active-boxes", sizeof(activeBoxes)).upload(activeBoxes.data(), sizeof(activeBoxes));
     }
+    // Light moves at most one cell per step (locality), so after step k only cells within k + 1
+    // cells of an injected one can hold any: the step runs over that box alone. Every cell outside
+    // it would gather exactly 0 from dark neighbours and keep its 0, which both states hold there.
+    const glm::ivec3 boxLo = glm::max(glm::ivec3(activeBoxes[2 * c]) - (k + 1), glm::ivec3(0));
+    const glm::ivec3 boxHi = glm::min(glm::ivec3(activeBoxes[2 * c + 1]) + (k + 1), glm::ivec3(res - 1));
+    const glm::ivec3 boxSize = glm::max(boxHi - boxLo + 1, glm::ivec3(0));
+    updated += double(boxSize.x) * boxSize.y * boxSize.z;
     auto bindCommon = [&](GLuint program) {
       setUniform(program, "u_gridRes", res);
       setUniform(program, "u_step", k);
@@ -683,7 +714,10 @@ void PropagateStage::execute(StageContext& ctx) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
     };
     bindCommon(prop);
-    dispatchCompute({res, res, res}, {4, 4, 4});
+    setUniform(prop, "u_boxLo", boxLo);
+    setUniform(prop, "u_boxHi", boxHi);
+    glUseProgram(prop);
+    if (boxSize.x > 0) dispatchCompute({boxSize.x, boxSize.y, boxSize.z}, {8, 2, 4});  // propagate.comp.glsl's local size
     barrier();
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, out.id());
     for (int ch = 0; ch < 3; ++ch) {
@@ -731,6 +765,7 @@ void PropagateStage::execute(StageContext& ctx) {
   uint32_t records = uint32_t((k + 2) * kCascades);
   energyCount.upload(&records, 4);
   ctx.stats["steps_done"] = k + 1;
+  ctx.stats["cells_updated_fraction"] = updated / (double(kCascades) * res * res * res);
   // Per cascade: VPL, light and wavefront volumes (3 channels each) and two states of 6 sections.
   ctx.stats["bytes_sh_per_cascade"] = double(res) * res * res * 16.0 * (9 + 12);
 }
