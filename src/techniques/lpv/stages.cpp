@@ -698,7 +698,12 @@ void PropagateStage::execute(StageContext& ctx) {
     const glm::ivec3 boxLo = glm::max(glm::ivec3(activeBoxes[2 * c]) - (k + 1), glm::ivec3(0));
     const glm::ivec3 boxHi = glm::min(glm::ivec3(activeBoxes[2 * c + 1]) + (k + 1), glm::ivec3(res - 1));
     const glm::ivec3 boxSize = glm::max(boxHi - boxLo + 1, glm::ivec3(0));
-    updated += double(boxSize.x) * boxSize.y * boxSize.z;
+    for (int j = 0; j <= k; ++j) {  // the cells steps 0..k updated (statistic)
+      const glm::ivec3 lo = glm::max(glm::ivec3(activeBoxes[2 * c]) - (j + 1), glm::ivec3(0));
+      const glm::ivec3 hi = glm::min(glm::ivec3(activeBoxes[2 * c + 1]) + (j + 1), glm::ivec3(res - 1));
+      const glm::ivec3 n = glm::max(hi - lo + 1, glm::ivec3(0));
+      updated += double(n.x) * n.y * n.z;
+    }
     auto bindCommon = [&](GLuint program) {
       setUniform(program, "u_gridRes", res);
       setUniform(program, "u_step", k);
@@ -765,7 +770,8 @@ void PropagateStage::execute(StageContext& ctx) {
   uint32_t records = uint32_t((k + 2) * kCascades);
   energyCount.upload(&records, 4);
   ctx.stats["steps_done"] = k + 1;
-  ctx.stats["cells_updated_fraction"] = updated / (double(kCascades) * res * res * res);
+  // Of all cells of both cascades over the steps so far, the fraction the steps ran over.
+  ctx.stats["cells_updated_fraction"] = updated / (double(kCascades) * (k + 1) * res * res * res);
   // Per cascade: VPL, light and wavefront volumes (3 channels each) and two states of 6 sections.
   ctx.stats["bytes_sh_per_cascade"] = double(res) * res * res * 16.0 * (9 + 12);
 }
