@@ -1262,6 +1262,28 @@ TEST(LpvVisualisers, ProbeShowsThePickedCellsCoefficientsAndLobe) {
   EXPECT_EQ(at(0, 0.1f, 0.1f), glm::ivec3(255, 150, 40));    // xy panel: the lobe's equator, 0.25 of the peak
 }
 
+// Lesson 05's facing-plates step: the point VPL two cells below the picked cell (inject.vpl-distance),
+// the probe record's lookups there are LpvLookup.FacingPlatesDecideTheSign's receivers.
+TEST(LpvVisualisers, ProbeShowsTheFacingPlatesLookup) {
+  auto& s = session(request({"inject.source=point-vpl", "lpv.occlusion=none", "inject.vpl-distance=2"}));
+  auto probe = capture(s, "propagate", "probe-cell");
+  nlohmann::json st = outputHandler(probe.desc).statistics(probe)["probe"];
+  EXPECT_EQ(st["cell"], nlohmann::json({16, 16, 16}));
+  ShField injected = fieldOf(s, "vpl", 0, "inject");
+  EXPECT_EQ(injected.at({16, 16, 14})[0], shLobe({0, 0, 1}));  // the emitter, two cells below
+  const glm::ivec3 e(10, 10, 10), r = e + glm::ivec3(0, 0, 2);
+  auto cpu = propagate(pointSource(21, e, {0, 0, 1}), {}, open(), 8);
+  const nlohmann::json &facing = st["lookup"]["-z"], &away = st["lookup"]["+z"];
+  for (int ch = 0; ch < 3; ++ch) {
+    // The same propagation (bit for bit, away from the grid's border) and the same lookup formula.
+    EXPECT_EQ(facing["minus_n"][ch].get<float>(), lookup(cpu.total, r, {0, 0, -1}, -1));
+    EXPECT_EQ(away["minus_n"][ch].get<float>(), lookup(cpu.total, r, {0, 0, 1}, -1));
+    EXPECT_EQ(facing["plus_n"][ch].get<float>(), away["minus_n"][ch].get<float>());
+    EXPECT_EQ(away["plus_n"][ch].get<float>(), facing["minus_n"][ch].get<float>());
+  }
+  EXPECT_GT(facing["minus_n"][0].get<float>(), away["minus_n"][0].get<float>());
+}
+
 TEST(LpvVisualisers, CascadeBoxesBoundTheBlend) {
   // The fine grid as large as the box and a shell 3 cells wide: the walls lie beyond the shell's
   // outer box (coarse weight 1), the middle of the box inside its inner box (weight 0).

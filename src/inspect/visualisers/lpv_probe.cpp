@@ -9,7 +9,8 @@
 // drawn filled and the last step's wavefront as an outline. Statistics and inspector: per channel
 // the four coefficients (c00, c1-1, c10, c11), |b|/c00 and flux; the voxel's colour, contrast,
 // occupancy, fragments and decoded normals; the c00 each neighbour added in this step and its
-// mean face transmission, and under each neighbour its five face evaluations (the neighbour's
+// mean face transmission, what a surface in the cell would read for each axis normal with either
+// lookup sign (the facing-plates experiment), and under each neighbour its five face evaluations (the neighbour's
 // intensity towards the face, the face's solid angle, the transmission, the flux through it) that
 // sum to it. The record check recomputes those sums: per neighbour its c00, over all 30 faces in
 // the propagation's order the cell's gathered SH (the wavefront), both exact.
@@ -95,6 +96,18 @@ std::string checkFaceSums(const LpvProbe& p) {
   return "";
 }
 
+glm::vec3 axisNormal(int i) {
+  glm::vec3 n(0.0f);
+  n[i >> 1] = (i & 1) == 0 ? 1.0f : -1.0f;
+  return n;
+}
+// max(0, <sh, lobe(d)>): the cell's light convolved with a clamped cosine around d (sh.glsl's
+// shDotLobe in the same order).
+float lookup(const glm::vec4& sh, const glm::vec3& d) {
+  const float a = sh.x * kLobe0, b = sh.y * (-kLobe1 * d.y), c = sh.z * (kLobe1 * d.z), e = sh.w * (-kLobe1 * d.x);
+  return std::max(0.0f, ((a + b) + c) + e);
+}
+
 DisplayImage lobes(const LpvProbe& p) {
   DisplayImage img;
   img.width = 3 * kPanel, img.height = kPanel;
@@ -173,6 +186,17 @@ class LpvProbeVisualiser : public BufferVisualiser {
                                                 {"faces", faces}};
     }
     cell["weight"] = p.weight.x;
+    // What a surface in this cell with normal n reads (gi.comp.glsl per unit of gi.radiance-scale /
+    // cell^2): the light convolved with a cosine around -n (the default lookup) or +n (the thesis).
+    for (int i = 0; i < 6; ++i) {
+      const glm::vec3 n = axisNormal(i);
+      nlohmann::json minus = nlohmann::json::array(), plus = nlohmann::json::array();
+      for (int ch = 0; ch < 3; ++ch) {
+        minus.push_back(lookup(p.total[ch], -n));
+        plus.push_back(lookup(p.total[ch], n));
+      }
+      cell["lookup"][kNeighbours[i]] = {{"minus_n", minus}, {"plus_n", plus}};
+    }
     st["probe"] = cell;
     return st;
   }
@@ -252,6 +276,23 @@ class LpvProbeVisualiser : public BufferVisualiser {
             ImGui::Text("%.3f", fl.w);
             ImGui::TableNextColumn();
             ImGui::Text("%.3g, %.3g, %.3g", fl.x, fl.y, fl.z);
+          }
+          ImGui::EndTable();
+        }
+        ImGui::TreePop();
+      }
+      if (ImGui::TreeNode("lpv-probe-lookup", "what a surface in this cell reads (red), per normal n")) {
+        if (ImGui::BeginTable("lpv-probe-lookup-table", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg)) {
+          for (const char* h : {"normal n", "cosine around -n (default)", "around +n (thesis)"}) ImGui::TableSetupColumn(h);
+          ImGui::TableHeadersRow();
+          for (int i = 0; i < 6; ++i) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::Text("%s", kNeighbours[i]);
+            ImGui::TableNextColumn();
+            ImGui::Text("%.4f", lookup(p.total[0], -axisNormal(i)));
+            ImGui::TableNextColumn();
+            ImGui::Text("%.4f", lookup(p.total[0], axisNormal(i)));
           }
           ImGui::EndTable();
         }

@@ -341,6 +341,15 @@ static ParamDesc vplDirectionParam() {
                            "normal of the point VPL's clamped-cosine lobe");
 }
 
+// The facing-plates experiment of the technical note (lesson 05, LpvLookup.FacingPlatesDecideTheSign):
+// the point VPL this many cells behind the picked cell, so the probe record shows what receivers
+// in front of an emitter read.
+static ParamDesc vplDistanceParam() {
+  return ParamDesc::integer("inject.vpl-distance", 0, 0, 16,
+                            "the point VPL sits this many cells from the picked cell against its normal (0: in it)",
+                            "cells");
+}
+
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(ParamDesc::real("inject.vpl-shift", 0.0, 0.0, 1.0,
@@ -350,6 +359,7 @@ void InjectStage::declare(StageBuilder& b) const {
   b.param(injectSourceParam());
   b.param(injectLightingParam());
   b.param(vplDirectionParam());
+  b.param(vplDistanceParam());
   b.param(probeParam("x"));
   b.param(probeParam("y"));
   b.param(probeParam("z"));
@@ -429,7 +439,10 @@ void InjectStage::execute(StageContext& ctx) {
   auto grids = readGrids(ctx.board);
   const bool point = ctx.params.getChoice("inject.source") == "point-vpl";
   glm::ivec3 probe = probeCell(ctx.params);
-  glm::vec3 probeWorld = glm::vec3(grids[0].originCell) + (glm::vec3(probe) + 0.5f) * grids[0].originCell.w;
+  const glm::ivec3 vplNormal = faceOffset(ctx.params.getInt("inject.vpl-direction"));
+  glm::vec3 probeWorld = glm::vec3(grids[0].originCell) +
+                         (glm::vec3(probe - ctx.params.getInt("inject.vpl-distance") * vplNormal) + 0.5f) *
+                             grids[0].originCell.w;
   GLuint program = ctx.shaders.program({"lpv/inject.comp.glsl"});
   for (int c = 0; c < kCascades; ++c) {
     Texture* out[3];
@@ -440,7 +453,7 @@ void InjectStage::execute(StageContext& ctx) {
     setUniform(program, "u_areaUnits", areaUnits(grids[c].originCell.w, space.voxelSize));
     setUniform(program, "u_pointVpl", point ? 1 : 0);
     setUniform(program, "u_vplCell", vplCell);
-    setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
+    setUniform(program, "u_vplNormal", glm::vec3(vplNormal));
     setUniform(program, "u_shift", ctx.params.getFloat("inject.vpl-shift"));
     Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", unshiftedBytes(ctx.params));
     Buffer& sums = ctx.board.ensureBuffer("inject.fragment-sums", fragmentSumsBytes(ctx.params));
