@@ -32,6 +32,9 @@ uint accumulatorIndex(int level, ivec3 phys) {
 }
 
 // Fixed-point scale of the accumulated radiance: integer sums are order-independent, so a cell
-// built in a slab gets the bits it gets in a full build.
-const float CLIPMAP_FIXED_SCALE = 16384.0;
-const uint CLIPMAP_MAX_FRAGMENTS = 262144u;  // 2^32 / CLIPMAP_FIXED_SCALE
+// built in a slab gets the bits it gets in a full build. u_fixedScale = 2^b with b =
+// clipmap.fixed-point-bits (default 14); each fragment adds at most 2^b to a 32-bit sum, so a
+// cell holds u_maxFragments = 2^(32 - b) fragments before its sums can overflow (counted by the
+// resolve passes, reported by the stages).
+uniform float u_fixedScale;
+uniform uint u_maxFragments;

@@ -7,6 +7,7 @@
 #include "clipmap/clipmap.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) readonly buffer Accumulators { uint accum[]; };
+layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 layout(rgba8, binding = 0) uniform readonly image3D u_atlas;
 layout(rgba8, binding = 1) uniform writeonly image3D u_direct;
 layout(rgba8, binding = 2) uniform writeonly image3D u_difference;
@@ -23,7 +24,9 @@ void main() {
     ivec3 phys = toroidalAddress(cell);
     uint i = accumulatorIndex(k, phys);
     uint count = accum[i];
-    if (count > 0u) direct = vec4(vec3(uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count) / CLIPMAP_FIXED_SCALE, 1.0);
+    // Sums that may have overflowed (as resolve.comp.glsl): counted after the levels' counters.
+    if (count >= u_maxFragments) atomicAdd(counters[5 * u_clipLevels], 1u);
+    if (count > 0u) direct = vec4(vec3(uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count) / u_fixedScale, 1.0);
     difference = abs(direct - imageLoad(u_atlas, atlasTexel(0, k, phys)));
   }
   imageStore(u_direct, g, direct);

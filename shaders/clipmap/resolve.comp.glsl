@@ -21,14 +21,14 @@ void main() {
   ivec3 phys = toroidalAddress(cell);
   uint i = accumulatorIndex(u_level, phys);
   uint count = accum[i];
-  // More fragments than the fixed-point sums hold (each adds up to CLIPMAP_FIXED_SCALE to a
+  // More fragments than the fixed-point sums hold (each adds up to u_fixedScale to a
   // 32-bit sum): counted after the last level's counters, reported by the stage.
-  if (count >= CLIPMAP_MAX_FRAGMENTS) atomicAdd(counters[5 * u_clipLevels], 1u);
+  if (count >= u_maxFragments) atomicAdd(counters[5 * u_clipLevels], 1u);
   vec4 value = vec4(0.0);
   if (count > 0u) {
     // Integer division first: the same sums give the same texel on every run.
     uvec3 mean = uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count;
-    value = vec4(vec3(mean) / CLIPMAP_FIXED_SCALE, 1.0);
+    value = vec4(vec3(mean) / u_fixedScale, 1.0);
   }
   for (int f = 0; f < u_faces; ++f) imageStore(u_atlas, atlasTexel(f, u_level, phys), value);
   atomicAdd(counters[5 * u_level + 2], 1u);

@@ -64,6 +64,21 @@ std::string markdown(const json& r) {
   std::snprintf(line, sizeof line, "| **all stages** | **%.1f** | **%.1f** | %.1f |\n\n", r["total_cpu_ms_median"].get<double>(),
                 r["total_gpu_ms_median"].get<double>(), r["total_cpu_ms_first"].get<double>());
   md << line;
+  bool anySub = false;
+  for (const auto& s : r["stages"]) anySub = anySub || s.contains("sub_ms_median");
+  if (anySub) {
+    md << "Timings the stages report about their own work (statistics named `*_ms`; medians of the timed runs):\n\n";
+    md << "| stage | timing | median ms |\n|---|---|---:|\n";
+    for (const auto& s : r["stages"]) {
+      if (!s.contains("sub_ms_median")) continue;
+      for (const auto& [name, value] : s["sub_ms_median"].items()) {
+        std::snprintf(line, sizeof line, "| %s | %s | %.1f |\n", s["id"].get<std::string>().c_str(), name.c_str(),
+                      value.get<double>());
+        md << line;
+      }
+    }
+    md << "\n";
+  }
   if (r.contains("process_wall_ms_median")) {
     std::snprintf(line, sizeof line,
                   "Whole `voxlab run --final-only` process, start-up and shader compilation included: median %.0f ms "
@@ -128,6 +143,18 @@ int runBench(const std::vector<std::string>& argv) {
                              {"cpu_ms_first", first[i]},
                              {"cpu_ms", cpu[i]},
                              {"gpu_ms", gpu[i]}});
+      json& stage = r["stages"].back();
+      stage["stats_last_run"] = json::object();
+      for (const auto& [name, value] : times.lastStats[i]) stage["stats_last_run"][name] = value;
+      if (!times.sub[i].empty()) {
+        // Timings the stage reports about its own work (statistics named *_ms; StageTimes::sub).
+        stage["sub_ms_median"] = json::object();
+        stage["sub_ms"] = json::object();
+        for (const auto& [name, values] : times.sub[i]) {
+          stage["sub_ms_median"][name] = median(values);
+          stage["sub_ms"][name] = values;
+        }
+      }
       firstTotal += first[i];
     }
     r["total_cpu_ms_median"] = median(totalCpu);

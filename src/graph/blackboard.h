@@ -51,10 +51,22 @@ class Blackboard {
   std::optional<WorldBox> placementOf(const std::string& texture) const;
   const std::optional<WorldBox>& voxelSpace() const { return voxelSpace_; }
 
+  // The camera the camera images were rendered from, recorded by the stage that rasterizes them
+  // (the shared G-buffer stage): the cursor's view, or one a stage derived from it (clipmap renders
+  // from the end of its camera path). The viewer draws its overlays on camera images from it, so
+  // boxes and voxels line up with the picture whatever camera made it.
+  struct RenderedCamera {
+    glm::vec3 position{0.0f};
+    glm::mat4 view{1.0f}, projection{1.0f};
+  };
+  void setRenderedCamera(const RenderedCamera& c) { renderedCamera_ = c; }
+  const std::optional<RenderedCamera>& renderedCamera() const { return renderedCamera_; }
+
  private:
   std::map<std::string, std::unique_ptr<Texture>> textures_;
   std::map<std::string, std::unique_ptr<Buffer>> buffers_;
   std::optional<WorldBox> voxelSpace_;
+  std::optional<RenderedCamera> renderedCamera_;
   std::map<std::string, WorldBox> placements_;
   size_t memoryBudget_ = 0;
   void checkGrowth(const std::string& name, size_t oldBytes, size_t newBytes) const;

@@ -171,8 +171,50 @@ void ParamSet::set(const std::string& name, double v) {
   values_[name] = v;
 }
 
+std::vector<std::string> ParamSet::vectorComponents(const std::string& name) const {
+  if (name.empty() || has(name)) return {};
+  std::vector<std::string> parts;
+  for (const char* axis : {".x", ".y", ".z"}) {
+    if (!has(name + axis)) return {};
+    parts.push_back(name + axis);
+  }
+  return parts;
+}
+
+std::vector<std::pair<std::string, double>> ParamSet::parseText(const std::string& name, const std::string& text) const {
+  const std::vector<std::string> parts = vectorComponents(name);
+  if (parts.empty()) return {{name, desc(name).parse(text)}};
+  // "X,Y,Z": exactly three fields, each valid for its component; nothing is set otherwise.
+  std::vector<std::string> fields;
+  size_t from = 0;
+  for (;;) {
+    size_t comma = text.find(',', from);
+    fields.push_back(text.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
+    if (comma == std::string::npos) break;
+    from = comma + 1;
+  }
+  auto form = [&] {
+    const ParamDesc& x = desc(parts[0]);
+    return "three comma-separated values X,Y,Z (e.g. " + name + "=1.5,0,-2) for " + name + ".x/.y/.z, each " +
+           x.rangeText() + (x.unit.empty() ? "" : " " + x.unit);
+  };
+  if (fields.size() != 3)
+    throw Error("parameter " + name + "='" + text + "' has " + std::to_string(fields.size()) + " value" +
+                (fields.size() == 1 ? "" : "s") + "; valid: " + form());
+  std::vector<std::pair<std::string, double>> out;
+  for (size_t i = 0; i < 3; ++i) {
+    try {
+      out.push_back({parts[i], desc(parts[i]).parse(fields[i])});
+    } catch (const Error&) {
+      throw Error("parameter " + name + "='" + text + "': '" + fields[i] + "' is not a valid " + parts[i] +
+                  "; valid: " + form());
+    }
+  }
+  return out;
+}
+
 void ParamSet::setText(const std::string& name, const std::string& text) {
-  values_[name] = desc(name).parse(text);
+  for (const auto& [n, v] : parseText(name, text)) values_[n] = v;
 }
 
 void ParamSet::setAssignment(const std::string& a) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace voxlab {
@@ -60,8 +61,17 @@ class ParamSet {
   const std::string& getChoice(const std::string& name) const;
 
   void set(const std::string& name, double value);             // validates
-  void setText(const std::string& name, const std::string& text);  // parses + validates
+  // Parses + validates. 'name' may also be a vector parameter (below): "1.5,0,-2" sets its three
+  // components, all or none.
+  void setText(const std::string& name, const std::string& text);
   void setAssignment(const std::string& nameEqualsValue);      // "voxel.resolution=64"
+  // A vector parameter is a name that is not declared itself but whose components NAME.x, NAME.y
+  // and NAME.z are (clipmap.path-step, light.0): --set, lessons, scripts and bench sweeps may set
+  // it as "X,Y,Z". Returns the component names, or nothing when 'name' is not one.
+  std::vector<std::string> vectorComponents(const std::string& name) const;
+  // What setText(name, text) would set: one (name, value), or the three components of a vector
+  // parameter. Throws Error (one line naming the parameter and the valid form) on bad text.
+  std::vector<std::pair<std::string, double>> parseText(const std::string& name, const std::string& text) const;
   void resetToDefaults();
   std::map<std::string, std::string> formatted() const;       // name -> formatted value
 

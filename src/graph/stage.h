@@ -135,6 +135,11 @@ class Stage {
   // execute() is called once per iteration with context.iteration set.
   virtual int iterations(const ParamSet&) const { return 1; }
   virtual void execute(StageContext& context) = 0;
+  // A stage that keeps what it built between runs, to update it incrementally on the next one
+  // (clipmap's update keeps the origins its atlas holds), drops it here, so its next run starts
+  // from scratch. StepCursor::invalidateAll calls it: after a shader reload, and before each of
+  // bench's timed runs (a timed run is a run from scratch).
+  virtual void forgetHeldResults() {}
 };
 
 }  // namespace voxlab

@@ -66,7 +66,7 @@ void StepCursor::setParam(const std::string& name, double value) {
 }
 
 void StepCursor::setParamText(const std::string& name, const std::string& text) {
-  setParam(name, params_.desc(name).parse(text));
+  for (const auto& [n, v] : params_.parseText(name, text)) setParam(n, v);  // a vector parameter sets three
 }
 
 void StepCursor::setParams(const ParamSet& values) {
@@ -75,7 +75,10 @@ void StepCursor::setParams(const ParamSet& values) {
 }
 
 void StepCursor::invalidateAll() {
-  for (int i = 0; i < stageCount(); ++i) markStale(i);
+  for (int i = 0; i < stageCount(); ++i) {
+    technique_->stage(i).forgetHeldResults();
+    markStale(i);
+  }
 }
 
 void StepCursor::invalidate(int stage) {

@@ -72,7 +72,7 @@ class StepCursor {
 
   Blackboard& board() { return board_; }
   ShaderLibrary& shaders() { return shaders_; }
-  void invalidateAll();  // e.g. after a shader reload
+  void invalidateAll();  // e.g. after a shader reload; stages forget held results (Stage::forgetHeldResults)
   void invalidate(int stage);  // that stage and every stage reading what it wrote become Stale
   // The resources the current parameters and view need, from the stages' declarations, and the
   // refusal line when they do not fit the GL limits and gpu.memory-budget ("" = they fit). Every

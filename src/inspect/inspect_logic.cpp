@@ -427,6 +427,9 @@ const VerbSpec kVerbs[] = {
     {"overlay", 2, 2, "overlay bounds|voxels|xray on|off (overlays on camera images)"},
     {"overlay-volume", 2, 2, "overlay-volume STAGE/OUTPUT LEVEL (the volume whose voxels the overlay shows)"},
     {"expect-overlay-pixels", 1, 1, "expect-overlay-pixels MIN (the overlay covers more than MIN pixels)"},
+    {"expect-overlay-camera", 3, 3,
+     "expect-overlay-camera DX DY DZ (the overlay is drawn from the camera the images were rendered from: the "
+     "viewer's camera moved by DX,DY,DZ metres, within 1e-4)"},
     {"click", 2, 2, "click X Y (left click on pixel X, Y of the shown 2D view, from its top left: picks, and probes "
                     "every stage with a probe in that image's space)"},
     {"expect-probe-records", 1, 1, "expect-probe-records MIN (every probe record has more than MIN elements and "

@@ -119,14 +119,26 @@ void Viewer::updateOverlay() {
     overlayContentKey = contentKey();  // with the resolved level, so the next frame matches
     overlayKey.clear();
   }
+  // The camera the shown images were rendered from (Blackboard::renderedCamera: the G-buffer's,
+  // e.g. clipmap's at the end of its path), else the cursor's; while the camera is being moved,
+  // the camera it goes to.
+  const ViewState& vs = cursor->view();
   const Camera& cam = liveCamera();
-  char key[512];
-  std::snprintf(key, sizeof key, "%s|%d%d|%.3f|%g,%g,%g|%g,%g,%g", overlayContentKey.c_str(), o.bounds, o.xray,
-                o.opacity, cam.position.x, cam.position.y, cam.position.z, cam.forward.x, cam.forward.y, cam.forward.z);
+  glm::mat4 viewProj = cam.projection(float(vs.width) / float(vs.height)) * cam.view();
+  glm::vec3 eye = cam.position;
+  const auto& rendered = cursor->board().renderedCamera();
+  const bool moving = pendingCamera.has_value() || flying || orbiting;
+  if (rendered && !moving) {
+    viewProj = rendered->projection * rendered->view;
+    eye = rendered->position;
+  }
+  overlayEye = eye;
+  std::string key = overlayContentKey + "|" + std::to_string(o.bounds) + std::to_string(o.xray) + "|" +
+                    std::to_string(o.opacity);
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) key += "," + std::to_string(viewProj[c][r]);
   if (overlayKey == key) return;
   overlayKey = key;
-  const ViewState& vs = cursor->view();
-  glm::mat4 viewProj = cam.projection(float(vs.width) / float(vs.height)) * cam.view();
   try {
     overlayMs = overlay->render(vs.width, vs.height, viewProj, cursor->gpuScene(), o);
   } catch (const ShaderError& e) {

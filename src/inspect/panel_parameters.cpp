@@ -31,7 +31,33 @@ void Viewer::drawParameters() {
     if (decl.params.empty()) continue;
     bool open = ImGui::TreeNodeEx(t.stage(i).id(), i == selected ? ImGuiTreeNodeFlags_DefaultOpen : 0);
     if (!open) continue;
-    for (const auto& p : decl.params) {
+    for (size_t pi = 0; pi < decl.params.size(); ++pi) {
+      const ParamDesc& p = decl.params[pi];
+      // A vector parameter (NAME.x, .y, .z declared in a row, plain floats; ParamSet::vectorComponents)
+      // is one row of three fields named NAME, as `--set NAME=X,Y,Z` takes it.
+      const std::string base = p.name.size() > 2 ? p.name.substr(0, p.name.size() - 2) : std::string();
+      const auto parts = p.name.size() > 2 && p.name.compare(p.name.size() - 2, 2, ".x") == 0
+                             ? cursor->params().vectorComponents(base)
+                             : std::vector<std::string>{};
+      if (parts.size() == 3 && pi + 2 < decl.params.size() && decl.params[pi + 1].name == parts[1] &&
+          decl.params[pi + 2].name == parts[2] && !p.sceneDefault && p.type == ParamType::Float &&
+          decl.params[pi + 1].type == ParamType::Float && decl.params[pi + 2].type == ParamType::Float &&
+          !decl.params[pi + 1].sceneDefault && !decl.params[pi + 2].sceneDefault) {
+        ImGui::PushID((std::to_string(i) + base).c_str());
+        float v[3], was[3];
+        for (int c = 0; c < 3; ++c) v[c] = was[c] = float(cursor->params().value(parts[size_t(c)]));
+        float lo = float(p.minValue), hi = float(p.maxValue);
+        if (ImGui::DragFloat3(base.c_str(), v, 0.01f, lo, hi, "%.3f")) {
+          for (int c = 0; c < 3; ++c)
+            if (v[c] != was[c]) setParam(parts[size_t(c)], double(v[c]));
+        }
+        if (ImGui::IsItemHovered())
+          ImGui::SetTooltip("%s\nx, y, z: %s%s%s (drag, or Ctrl+click to type)", p.help.c_str(), p.rangeText().c_str(),
+                            p.unit.empty() ? "" : ", ", p.unit.c_str());
+        ImGui::PopID();
+        pi += 2;
+        continue;
+      }
       ImGui::PushID((std::to_string(i) + p.name).c_str());
       double v = cursor->params().value(p.name);
       double nv = v;

@@ -410,6 +410,20 @@ void Viewer::execute(const ScriptAction& a) {
     std::printf("overlay on %s: %zu pixels covered (need > %zu), %zu voxel cubes, %.1f ms; %s\n", cap.desc.name.c_str(), n,
                 want, overlay->cubeCount(), overlayMs, overlayMsg.c_str());
     if (n <= want) scriptFail(a, std::to_string(n) + " pixels covered, expected more than " + arg(0));
+  } else if (v == "expect-overlay-camera") {
+    refreshCapture();
+    if (!capError.empty()) scriptFail(a, capError);
+    if (!isCameraImage(selected, cap)) scriptFail(a, "output " + cap.desc.name + " is not a camera image; overlays apply to those");
+    updateOverlay();
+    if (overlayKey.empty()) scriptFail(a, "no overlay is on (overlay bounds|voxels on)");
+    const glm::vec3 want(floatArg(0), floatArg(1), floatArg(2));
+    const glm::vec3 got = overlayEye - liveCamera().position;
+    std::printf("overlay camera: the viewer's camera + (%g, %g, %g)\n", got.x, got.y, got.z);
+    // Float rounding of P + K D against (P + K D) - P; measured 0 for lesson 08's path (K D = 1 m).
+    if (glm::any(glm::greaterThan(glm::abs(got - want), glm::vec3(1e-4f))))
+      scriptFail(a, "the overlay is drawn from the viewer's camera + (" + std::to_string(got.x) + ", " +
+                        std::to_string(got.y) + ", " + std::to_string(got.z) + "), expected + (" + arg(0) + ", " +
+                        arg(1) + ", " + arg(2) + ")");
   } else if (v == "click") {
     // A left click on pixel (X, Y) of the shown 2D view (from its top left), as the mouse does.
     refreshCapture();

@@ -304,6 +304,7 @@ class Viewer {
   int overlayLevelCount = 1;  // levels of the overlaid volume (for the slider)
   std::string overlayKey, overlayContentKey, overlayMsg;
   double overlayMs = 0.0;
+  glm::vec3 overlayEye{0.0f};  // the camera position the overlay was last drawn from
 
   CompareState compare;
   PresenterState presenter;

@@ -51,4 +51,4 @@ add_test(NAME handout.viewer_match
   COMMAND ${CMAKE_SOURCE_DIR}/tests/cli/handout/viewer_match.sh $<TARGET_FILE:voxlab> ${CMAKE_SOURCE_DIR}
           ${CMAKE_BINARY_DIR}/handout-out/viewer_match)
 set_tests_properties(handout.viewer_match PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)

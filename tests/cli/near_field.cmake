@@ -9,4 +9,4 @@ add_test(NAME viewer.probe_near_field
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/probe_near_field.txt ${CMAKE_BINARY_DIR}/viewer-out/probe_near_field)
 set_tests_properties(viewer.probe_near_field PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)

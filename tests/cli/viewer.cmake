@@ -1,13 +1,13 @@
 # Viewer tests: scripted runs of `voxlab view` under Xvfb (tests/viewer/*.txt, driven by
 # tests/viewer/run_viewer_test.sh; skipped only when xvfb-run is missing), plus command-line
 # cases for bad scripts and lessons, which fail before any window opens.
-foreach(script walk_stages probe probe_lrsm probe_lpv lesson lesson_near_field lesson_volumetric lesson_light scene_error view3d camera_overlay presenter light clipmap_fly clipmap_sponza_fly bounces
+foreach(script walk_stages every_lesson probe probe_lrsm probe_lpv lesson lesson_near_field lesson_volumetric lesson_light scene_error view3d camera_overlay presenter light clipmap_fly clipmap_sponza_fly bounces
                budget_gl_log soak)
   add_test(NAME viewer.${script}
     COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
             ${CMAKE_SOURCE_DIR}/tests/viewer/${script}.txt ${CMAKE_BINARY_DIR}/viewer-out/${script})
   set_tests_properties(viewer.${script} PROPERTIES
-    ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+    ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
 endforeach()
 
 voxlab_cli_case(view_script_unknown_action 2 "bad_verb\\.txt:2: unknown action 'frobnicate'; valid: technique"
@@ -31,7 +31,7 @@ add_test(NAME viewer.compare
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/compare.txt ${CMAKE_BINARY_DIR}/viewer-out/compare)
 set_tests_properties(viewer.compare PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
 
 # Test-only plug-ins: a technique with a volume-space probe and visualisers for test-only
 # semantics (tests/viewer/plugins/), linked into a test build of the viewer only; the shipped
@@ -43,21 +43,21 @@ add_test(NAME viewer.plugins
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab_test_viewer>
           ${CMAKE_SOURCE_DIR}/tests/viewer/plugins.txt ${CMAKE_BINARY_DIR}/viewer-out/plugins)
 set_tests_properties(viewer.plugins PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
 
 # Lesson 05 (lpv) played to its end, propagation stepped one iteration at a time.
 add_test(NAME viewer.lesson_lpv
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/lesson_lpv.txt ${CMAKE_BINARY_DIR}/viewer-out/lesson_lpv)
 set_tests_properties(viewer.lesson_lpv PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
 
 # Lesson 08 (clipmap) played to its end, the update stage stopped after its first and second move.
 add_test(NAME viewer.lesson_clipmap
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/lesson_clipmap.txt ${CMAKE_BINARY_DIR}/viewer-out/lesson_clipmap)
 set_tests_properties(viewer.lesson_clipmap PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
 
 # Scripts whose checks must fail on a deliberately wrong input (tests/viewer/failing/*.txt, each
 # with its expected message): an image pair one pixel apart, a flat 3D view (exposure 0).
@@ -65,4 +65,4 @@ add_test(NAME viewer.failing_checks
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/failing ${CMAKE_BINARY_DIR}/viewer-out/failing)
 set_tests_properties(viewer.failing_checks PROPERTIES
-  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 300 RUN_SERIAL TRUE)
+  ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 300 RESOURCE_LOCK xvfb)

@@ -25,6 +25,7 @@
 #include <random>
 #include <set>
 
+#include "app/bench_runs.h"
 #include "app/reference_error.h"
 #include "reference/cpu_voxelizer.h"
 #include "capture/capture.h"
@@ -446,6 +447,33 @@ TEST(ClipmapGpu, PathOfSmallMovesEqualsScratch) {
   for (int k = 0; k < 4; ++k) written += counters[size_t(5 * k + 2)];
   EXPECT_LT(written, 16u * 16u * 16u / 4u) << "direct texels written by one small move";
   EXPECT_GT(written, 0u);
+}
+
+// bench's timed runs (timeStages) start from scratch and carry the timings the update stage takes
+// of its own parts: after earlier runs the last timed run is still a full build (invalidateAll
+// drops the held origins; without it the run is a move of zero cells), and every level and phase
+// has one *_ms value per timed run, the other statistics none.
+TEST(ClipmapGpu, BenchRunsAreFullBuildsWithPerLevelTimings) {
+  auto& s = session(clipRequest(kInside, {"clipmap.policy=all"}, "composite"));
+  StepCursor& cursor = s.cursor();
+  const int runs = 2;
+  const StageTimes t = timeStages(cursor, runs);
+  const int update = cursor.technique().stageIndex("update");
+  const StageStats& last = t.lastStats[size_t(update)];
+  EXPECT_EQ(last.at("full_build"), 1.0) << "the last timed run is a full build";
+  EXPECT_EQ(last.at("cells_exposed"), 4.0 * 16 * 16 * 16);
+  const auto& sub = t.sub[size_t(update)];
+  std::vector<std::string> want = {"clear_ms", "voxelize_ms", "resolve_ms", "filter_ms", "guards_ms", "move0_ms"};
+  for (int k = 0; k < 4; ++k) want.push_back("level" + std::to_string(k) + "_ms");
+  for (const auto& name : want) {
+    ASSERT_TRUE(sub.count(name)) << name;
+    EXPECT_EQ(sub.at(name).size(), size_t(runs)) << name;
+    for (double v : sub.at(name)) EXPECT_GE(v, 0.0) << name;
+  }
+  EXPECT_FALSE(sub.count("texels_written"));
+  EXPECT_TRUE(isSubTiming("level0_ms"));
+  EXPECT_FALSE(isSubTiming("level0_pairs"));
+  EXPECT_FALSE(isSubTiming("_ms"));
 }
 
 TEST(ClipmapGpu, DiagonalAndLargeMovesEqualScratch) {

@@ -152,6 +152,41 @@ TEST(Presenter, NarrativeBlocksJoinParagraphsAndDropMarkup) {
   EXPECT_EQ(b[4].text, "Last words.");
 }
 
+// A vector parameter (NAME.x/.y/.z declared, NAME not): "X,Y,Z" sets the three components, all
+// or none; a wrong count or a bad component is one line naming the form. Through the ParamSet
+// (--set, lessons, scripts) and the StepCursor's text setter alike.
+TEST(Params, VectorParameterSetsItsThreeComponents) {
+  auto t = createTechnique("clipmap");
+  ParamSet p = t->defaultParams();
+  EXPECT_EQ(p.vectorComponents("clipmap.path-step"),
+            (std::vector<std::string>{"clipmap.path-step.x", "clipmap.path-step.y", "clipmap.path-step.z"}));
+  EXPECT_TRUE(p.vectorComponents("clipmap.path-step.x").empty());  // a parameter itself
+  EXPECT_TRUE(p.vectorComponents("clipmap.path").empty());         // no components
+  p.setAssignment("clipmap.path-step=1.5,0,-2");
+  EXPECT_EQ(p.value("clipmap.path-step.x"), 1.5);
+  EXPECT_EQ(p.value("clipmap.path-step.y"), 0.0);
+  EXPECT_EQ(p.value("clipmap.path-step.z"), -2.0);
+  const std::string form = "; valid: three comma-separated values X,Y,Z (e.g. clipmap.path-step=1.5,0,-2) for "
+                           "clipmap.path-step.x/.y/.z, each -1e+06..1e+06 m";
+  EXPECT_EQ(errorOf([&] { p.setAssignment("clipmap.path-step=1,2"); }),
+            "parameter clipmap.path-step='1,2' has 2 values" + form);
+  EXPECT_EQ(errorOf([&] { p.setAssignment("clipmap.path-step=1"); }), "parameter clipmap.path-step='1' has 1 value" + form);
+  EXPECT_EQ(errorOf([&] { p.setAssignment("clipmap.path-step=1,2,3,4"); }),
+            "parameter clipmap.path-step='1,2,3,4' has 4 values" + form);
+  EXPECT_EQ(errorOf([&] { p.setAssignment("clipmap.path-step=1,up,3"); }),
+            "parameter clipmap.path-step='1,up,3': 'up' is not a valid clipmap.path-step.y" + form);
+  EXPECT_EQ(errorOf([&] { p.setAssignment("clipmap.path-step=1,2,"); }),
+            "parameter clipmap.path-step='1,2,': '' is not a valid clipmap.path-step.z" + form);
+  EXPECT_EQ(errorOf([&] { p.setAssignment("clipmap.path-step=0,0,2e6"); }),
+            "parameter clipmap.path-step='0,0,2e6': '2e6' is not a valid clipmap.path-step.z" + form);
+  // Nothing was set by the refused assignments.
+  EXPECT_EQ(p.value("clipmap.path-step.x"), 1.5);
+  EXPECT_EQ(p.value("clipmap.path-step.z"), -2.0);
+  // An unknown name stays an unknown parameter.
+  EXPECT_NE(errorOf([&] { p.setAssignment("clipmap.path-stride=1,2,3"); }).find("unknown parameter 'clipmap.path-stride'"),
+            std::string::npos);
+}
+
 TEST(Reproduce, ListsOnlyChangedParameters) {
   auto t = createTechnique("vct-grid");
   ParamSet d = t->defaultParams(), p = d;

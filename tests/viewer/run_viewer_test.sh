@@ -17,6 +17,16 @@ case "${script##*/}" in  # the file name: a checkout path may contain any of the
       "$exe" run --technique "$t" --scene cornell-box --out "$VOXLAB_VIEWER_RUN" >/dev/null
       view
     done ;;
+  *every_lesson*)
+    # Every lesson in lessons/ played from its first step to its last (tests/viewer/every_lesson.txt).
+    for f in "$VOXLAB_ROOT"/lessons/[0-9]*.md; do
+      name=$(basename "$f" .md)
+      echo "== playing $name"
+      export VOXLAB_LESSON="$f" VOXLAB_VIEWER_OUT="$out/$name"
+      mkdir -p "$VOXLAB_VIEWER_OUT"
+      view >"$VOXLAB_VIEWER_OUT/log.txt" 2>&1 || { cat "$VOXLAB_VIEWER_OUT/log.txt"; exit 1; }
+      grep "^lesson step" "$VOXLAB_VIEWER_OUT/log.txt" | tail -n 1
+    done ;;
   *camera_overlay*)
     export VOXLAB_VIEWER_OUT="$out"
     view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }

@@ -12,11 +12,11 @@
 //   1. shadow-map  depth from the light (shared)
 //   2. anchor      per level o_k = 2 floor(a / s_{k+1}) - N/2 around the anchor a (the camera plus
 //                  the path's moves); per move the planner's disjoint slabs and counts
-//   3. update      iterative, one camera move per iteration (update#0 = the full build): clear the
-//                  accumulators of the cells to voxelize, voxelize + inject them (shadow-mapped
-//                  Lambert, fixed-point atomics), resolve into the RGBA8 atlas, refilter every
-//                  covered block from the finer level (isotropic mean; six faces by the under
-//                  operator), refresh the guard texels
+//   3. update      iterative, one camera move per iteration (update#0 = the full build): level by
+//                  level, clear the accumulators of the cells to voxelize, voxelize + inject them
+//                  (shadow-mapped Lambert, fixed-point atomics), resolve into the RGBA8 atlas,
+//                  refilter the covered block from the finer level (isotropic mean; six faces by
+//                  the under operator); then refresh the guard texels (timed per level and phase)
 //   4. mips        the coarsest level unrolled into logical order, mipped down to 4^3; every level
 //                  unrolled for display (clip-logical)
 //   5. covered-compare  (clipmap.compare-covered) covered cells voxelized directly beside their
@@ -38,6 +38,9 @@
 //     block, F(level k-1) inside), so the plan rebuilds exactly the cells whose definition
 //     changed: exposed slabs (N^3 - prod(N - |d_i|) cells), cells that left the covered block
 //     (coverage changes most implementations miss) and the covered block itself.
+//   - The fixed-point sums have clipmap.fixed-point-bits b fraction bits (default 14): a cell holds
+//     2^(32-b) fragments before they can overflow; cells that reach it are counted and reported
+//     (accumulator_overflow_cells and one warning line), never silently wrapped.
 //   - Guard texels on every side of every block make trilinear filtering across the physical seam
 //     correct; a level serves a sample only when its footprint lies inside the level's region.
 //   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same

@@ -49,6 +49,31 @@ std::vector<ParamDesc> injectParams() {
   };
 }
 
+ParamDesc fixedPointParam() {
+  return ParamDesc::integer("clipmap.fixed-point-bits", 14, 8, 30,
+                            "fraction bits b of the fixed-point radiance sums: steps of 2^-b; a cell holds 2^(32-b) "
+                            "fragments before its 32-bit sums can overflow (such cells are counted and reported)",
+                            "bits");
+}
+
+// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments).
+static void setFixedPointUniforms(GLuint program, const ParamSet& params) {
+  const int bits = params.getInt("clipmap.fixed-point-bits");
+  setUniform(program, "u_fixedScale", float(std::ldexp(1.0, bits)));
+  setUniform(program, "u_maxFragments", unsigned(uint64_t(1) << (32 - bits)));
+}
+
+// One line on stderr and a statistic when cells may have overflowed their fixed-point sums.
+static void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells) {
+  ctx.stats["accumulator_overflow_cells"] = cells;
+  if (cells == 0) return;
+  const int bits = ctx.params.getInt("clipmap.fixed-point-bits");
+  log::warn(std::string("clipmap/") + stage + ": " + std::to_string(cells) + " cells received " +
+            std::to_string(uint64_t(1) << (32 - bits)) + " fragments or more, so their fixed-point sums may have " +
+            "overflowed (clipmap.fixed-point-bits=" + std::to_string(bits) + "); lower clipmap.fixed-point-bits, or " +
+            "clipmap.voxel-size so that fewer triangles share a cell");
+}
+
 std::vector<ParamDesc> pathParams() {
   return {
       ParamDesc::real("clipmap.path-step.x", 0.0, -1e6, 1e6, "x of the camera's displacement per path move", "m"),
@@ -198,7 +223,9 @@ static constexpr GLbitfield kAllShaderWrites =
     GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
 
 std::vector<TriangleRun> triangleRuns(const Scene& scene) {
-  constexpr uint32_t kRunTriangles = 2048;
+  // 512: a move's thin slabs reach fewer triangles than with 2048 (Sponza, 4 moves of 2 voxels:
+  // the median move 0.14-0.19 of a full build against 0.24-0.26; 256 gained nothing more).
+  constexpr uint32_t kRunTriangles = 512;
   std::vector<TriangleRun> runs;
   for (const DrawRange& d : scene.draws) {
     const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
@@ -227,6 +254,7 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   setClipUniforms(vox, layout, origins);
   setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
   setUniform(vox, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
+  setFixedPointUniforms(vox, ctx.params);
   std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
   for (int k = 0; k < layout.levels; ++k) {
     cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));
@@ -249,6 +277,10 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
     std::vector<int> level(count);
     std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
     std::vector<std::pair<glm::dvec3, glm::dvec3>> world(count);  // the boxes in metres, one cell wider
+    // The skip boxes in metres, one cell narrower (empty when there is none): a run inside one
+    // reaches no cell of its entry (a full build's coarse levels, whose covered block holds the
+    // whole scene, dispatch nothing).
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> inner(count);
     for (size_t i = 0; i < count; ++i) {
       const Entry& e = entries[first + i];
       level[i] = e.level;
@@ -256,6 +288,9 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
       skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
       const double s = layout.voxelSize(e.level);
       world[i] = {glm::dvec3(e.box.lo - Cell(1)) * s, glm::dvec3(e.box.hi + Cell(1)) * s};
+      inner[i] = e.skip.empty() ? std::pair<glm::dvec3, glm::dvec3>{glm::dvec3(1.0), glm::dvec3(-1.0)}
+                                : std::pair<glm::dvec3, glm::dvec3>{glm::dvec3(e.skip.lo + Cell(1)) * s,
+                                                                    glm::dvec3(e.skip.hi - Cell(1)) * s};
     }
     setUniform(vox, "u_entryCount", int(count));
     glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
@@ -266,9 +301,15 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
     uint32_t bound = UINT32_MAX;
     for (const TriangleRun& c : runs) {
       bool reaches = false;
-      for (const auto& [wlo, whi] : world)
-        reaches = reaches || (glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
-                              glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo)));
+      for (size_t i = 0; i < count && !reaches; ++i) {
+        const auto& [wlo, whi] = world[i];
+        const auto& [slo, shi] = inner[i];
+        const bool overlaps = glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
+                              glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo));
+        const bool insideSkip = glm::all(glm::greaterThanEqual(glm::dvec3(c.lo), slo)) &&
+                                glm::all(glm::lessThanEqual(glm::dvec3(c.hi), shi));
+        reaches = overlaps && !insideSkip;
+      }
       if (!reaches) continue;
       if (c.material != bound) {
         glProgramUniform1i(vox, materialLoc, int(c.material));
@@ -425,6 +466,7 @@ void UpdateStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
   for (const auto& p : injectParams()) b.param(p);
+  b.param(fixedPointParam());
   b.readView();
   b.read("clip-levels");
   b.read("shadow-map");
@@ -491,6 +533,7 @@ void UpdateStage::execute(StageContext& ctx) {
   appendBytes(key, ctx.scene.triangleCount());
   appendBytes(key, ctx.params.getInt("inject.mode"));
   appendBytes(key, ctx.params.getFloat("inject.uniform-radiance"));
+  appendBytes(key, ctx.params.getInt("clipmap.fixed-point-bits"));
   auto light = ctx.board.buffer("light").download();
   key.insert(key.end(), light.begin(), light.end());
 
@@ -503,7 +546,8 @@ void UpdateStage::execute(StageContext& ctx) {
   const std::vector<Cell>& after = path[size_t(ctx.iteration)].origins;
   const auto plans = planMove(layout, before, after);
   // What each level's shaders visit: the planner's direct boxes, or for a full build the whole
-  // region in one box with the covered block skipped (one pass over the triangles, not six).
+  // region in one box with the covered block skipped (one pass over the triangles per level, not
+  // six).
   std::vector<std::vector<Box>> boxes(size_t(layout.levels));
   std::vector<Box> skips(size_t(layout.levels));
   for (int k = 0; k < layout.levels; ++k) {
@@ -521,56 +565,82 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
 
-  // 1. Clear the accumulators of the cells to voxelize.
-  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
-  setClipUniforms(clear, layout, after);
-  glUseProgram(clear);
-  for (int k = 0; k < layout.levels; ++k) {
-    setUniform(clear, "u_level", k);
-    setSkip(clear, k);
-    for (const Box& box : boxes[size_t(k)]) dispatchBox(clear, box);
-  }
-  glMemoryBarrier(kAllShaderWrites);
-
-  // 2. Voxelize and inject them.
-  std::vector<Entry> entries;
-  for (int k = 0; k < layout.levels; ++k)
-    for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
   if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
     runs_ = triangleRuns(ctx.scene);
     runsScene_ = &ctx.scene;
     runsTriangles_ = ctx.scene.triangleCount();
   }
-  int runsDispatched = 0;
-  const int passes = voxelizeEntries(ctx, layout, after, entries, runs_, runsDispatched);
-
-  // 3. Resolve the sums into the atlas.
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  setClipUniforms(clear, layout, after);
   GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"});
   setClipUniforms(resolve, layout, after);
   setUniform(resolve, "u_faces", faces);
-  glUseProgram(resolve);
-  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  for (int k = 0; k < layout.levels; ++k) {
-    setUniform(resolve, "u_level", k);
-    setSkip(resolve, k);
-    for (const Box& box : boxes[size_t(k)]) dispatchBox(resolve, box);
-  }
-  glMemoryBarrier(kAllShaderWrites);
-
-  // 4. Refilter each covered block from the finer level, fine to coarse.
+  setFixedPointUniforms(resolve, ctx.params);
   GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"});
   setClipUniforms(filter, layout, after);
   setUniform(filter, "u_faces", faces);
-  glUseProgram(filter);
-  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
-  for (int k = 1; k < layout.levels; ++k) {
-    if (plans[size_t(k)].covered.empty()) continue;
-    setUniform(filter, "u_level", k);
-    dispatchBox(filter, plans[size_t(k)].covered);
+
+  // Level by level, fine to coarse, each level's work timed on its own (glFinish between the
+  // phases; the statistics level<k>_ms and <phase>_ms, which bench reports as medians). Level k's
+  // covered block is filtered from level k-1, which is complete by then; a level's direct cells
+  // and its covered block are disjoint, so the order of the levels changes no texel.
+  int passes = 0, runsDispatched = 0;
+  double phaseMs[4] = {0.0, 0.0, 0.0, 0.0};  // clear, voxelize, resolve, filter
+  auto lap = [](std::chrono::steady_clock::time_point& t) {
+    glFinish();
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+    t = now;
+    return ms;
+  };
+  for (int k = 0; k < layout.levels; ++k) {
+    auto t = std::chrono::steady_clock::now();
+    double levelMs = 0.0;
+    auto phase = [&](int i) {
+      const double ms = lap(t);
+      phaseMs[i] += ms;
+      levelMs += ms;
+    };
+    // 1. Clear the accumulators of the level's cells to voxelize.
+    glUseProgram(clear);
+    setUniform(clear, "u_level", k);
+    setSkip(clear, k);
+    for (const Box& box : boxes[size_t(k)]) dispatchBox(clear, box);
     glMemoryBarrier(kAllShaderWrites);
+    phase(0);
+    // 2. Voxelize and inject them.
+    std::vector<Entry> entries;
+    for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
+    if (!entries.empty()) {
+      int dispatched = 0;
+      passes += voxelizeEntries(ctx, layout, after, entries, runs_, dispatched);
+      runsDispatched += dispatched;
+    }
+    phase(1);
+    // 3. Resolve the sums into the atlas.
+    glUseProgram(resolve);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
+    glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    setUniform(resolve, "u_level", k);
+    setSkip(resolve, k);
+    for (const Box& box : boxes[size_t(k)]) dispatchBox(resolve, box);
+    glMemoryBarrier(kAllShaderWrites);
+    phase(2);
+    // 4. Refilter the level's covered block from the finer level.
+    if (k > 0 && !plans[size_t(k)].covered.empty()) {
+      glUseProgram(filter);
+      glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+      setUniform(filter, "u_level", k);
+      dispatchBox(filter, plans[size_t(k)].covered);
+      glMemoryBarrier(kAllShaderWrites);
+    }
+    phase(3);
+    ctx.stats["level" + std::to_string(k) + "_ms"] = levelMs;
   }
 
   // 5. Guard texels of every block.
+  auto t = std::chrono::steady_clock::now();
   GLuint guards = ctx.shaders.program({"clipmap/guards.comp.glsl"});
   setClipUniforms(guards, layout, after);
   glUseProgram(guards);
@@ -578,6 +648,10 @@ void UpdateStage::execute(StageContext& ctx) {
   dispatchCompute(atlas.desc().size, {4, 4, 4});
   glMemoryBarrier(kAllShaderWrites);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  const double guardsMs = lap(t);
+  const char* phaseNames[4] = {"clear_ms", "voxelize_ms", "resolve_ms", "filter_ms"};
+  for (int i = 0; i < 4; ++i) ctx.stats[phaseNames[i]] = phaseMs[i];
+  ctx.stats["guards_ms"] = guardsMs;
 
   held_ = Held{after, key};
   {
@@ -616,11 +690,7 @@ void UpdateStage::execute(StageContext& ctx) {
   ctx.stats["triangle_passes"] = passes;
   ctx.stats["triangle_runs_dispatched"] = runsDispatched;
   ctx.stats["triangle_runs"] = double(runs_.size());
-  const uint32_t overflowed = counted.back();
-  ctx.stats["accumulator_overflow_cells"] = overflowed;
-  if (overflowed > 0)
-    log::warn("clipmap/update: " + std::to_string(overflowed) + " cells received more than 262144 fragments; their "
-              "fixed-point sums overflowed; lower clipmap.voxel-size so that fewer triangles share a cell");
+  reportOverflow(ctx, "update", counted.back());
   ctx.stats["move"] = ctx.iteration;
   ctx.stats["full_build"] = before.empty() ? 1 : 0;
   ctx.stats["cells_exposed"] = exposed;
@@ -699,6 +769,7 @@ void CoveredCompareStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
   for (const auto& p : injectParams()) b.param(p);
+  b.param(fixedPointParam());
   b.param(ParamDesc::choice("clipmap.compare-covered", {"off", "on"}, 0,
                             "on: voxelize the covered blocks directly as well, to compare with their filtered content"));
   b.readView();
@@ -768,6 +839,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   setClipUniforms(program, layout, origins);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredHi"), kMaxLevels, &hi[0].x);
+  setFixedPointUniforms(program, ctx.params);
   glUseProgram(program);
   glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
   glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
@@ -776,6 +848,10 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   glMemoryBarrier(kAllShaderWrites);
   for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
   ctx.stats["covered_cells"] = double(cells);
+  std::vector<uint32_t> counted(zero.size());
+  auto bytes = counters.download(counted.size() * 4);
+  std::memcpy(counted.data(), bytes.data(), counted.size() * 4);
+  reportOverflow(ctx, "covered-compare", counted.back());
 }
 
 // --- Cone tracing ---------------------------------------------------------------------------------

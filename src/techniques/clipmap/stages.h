@@ -80,9 +80,12 @@ std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, co
 ViewState pathEndView(const ParamSet& params, const ViewState& view);
 std::vector<ParamDesc> layoutParams();
 std::vector<ParamDesc> pathParams();
-std::vector<ParamDesc> injectParams();  // inject.mode, inject.uniform-radiance (as vct-grid's)
+std::vector<ParamDesc> injectParams();
+// clipmap.fixed-point-bits: the precision of the accumulated radiance against the fragments a
+// cell holds before its sums can overflow (declared by every stage that voxelizes).
+ParamDesc fixedPointParam();  // inject.mode, inject.uniform-radiance (as vct-grid's)
 
-// The scene's triangles in runs of at most 2048 of one draw range, with their world bounds: a
+// The scene's triangles in runs of at most 512 of one draw range, with their world bounds: a
 // move dispatches only the runs that can reach a box it revoxelizes.
 struct TriangleRun {
   uint32_t firstTriangle, triangles, material;
@@ -139,6 +142,7 @@ class UpdateStage : public Stage {
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override;
   void execute(StageContext& ctx) override;
+  void forgetHeldResults() override { held_.reset(); }  // the next run is a full build
 
  private:
   // The origins the atlas holds after the last execution, and what they were built from: a later

@@ -57,6 +57,7 @@ void GBufferStage::execute(StageContext& ctx) {
   ctx.gpuScene.draw(program);
   glDisable(GL_DEPTH_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  ctx.board.setRenderedCamera({ctx.view.position, ctx.view.view, ctx.view.projection});  // the overlays' camera
 }
 
 }  // namespace voxlab

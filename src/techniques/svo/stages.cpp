@@ -51,10 +51,17 @@ static std::vector<uint32_t> readCounters(Blackboard& board) {
   return c;
 }
 
-static ParamDesc poolFractionParam() {
-  return ParamDesc::real("svo.pool-fraction", 1.0, 0.01, 1.0,
-                         "fraction of the exactly counted size the node and brick pools get (1 = exact; below 1 "
-                         "only to see the overflow check fail)");
+// The fraction of its exactly counted size a pool gets: 1 = exact; below 1 only to see the overflow
+// check fail. One per pool, so that the brick pool can be undersized behind an exact node pool.
+static ParamDesc nodePoolFractionParam() {
+  return ParamDesc::real("svo.node-pool-fraction", 1.0, 0.01, 1.0,
+                         "fraction of the exactly counted size the node pool gets (1 = exact; below 1 only to "
+                         "see svo-build's overflow check fail)");
+}
+static ParamDesc brickPoolFractionParam() {
+  return ParamDesc::real("svo.brick-pool-fraction", 1.0, 0.01, 1.0,
+                         "fraction of the exactly counted size the brick pool gets (1 = exact; below 1 only to "
+                         "see svo-bricks' overflow check fail)");
 }
 static ParamDesc dilateParam() {
   return ParamDesc::boolean("svo.dilate", false,
@@ -155,7 +162,7 @@ static Buffer& ensureNodePool(Blackboard& board, uint32_t used, uint32_t capacit
 void BuildStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(dilateParam());
-  b.param(poolFractionParam());
+  b.param(nodePoolFractionParam());
   b.read("fragments");
   b.read("fragments.count");
   b.write("svo-groups");
@@ -195,7 +202,7 @@ void BuildStage::execute(StageContext& ctx) {
   const int depth = octreeDepth(ctx.params);
   const int level = ctx.iteration;
   const bool dilate = ctx.params.getBool("svo.dilate");
-  const double fraction = ctx.params.getFloat("svo.pool-fraction");
+  const double fraction = ctx.params.getFloat("svo.node-pool-fraction");
   Buffer& counters = ctx.board.ensureBuffer("svo-counters", kCounterBytes);
   Buffer& levelBuffer = ctx.board.ensureBuffer("svo-levels", levelsBytes(ctx.params));
   std::vector<SvoLevel> levels(depth + 1, SvoLevel{0, 0, 0, 0});
@@ -268,7 +275,7 @@ void BuildStage::execute(StageContext& ctx) {
     if (c[SVO_COUNTER_OVERFLOW])
       throw Error("svo-build: node pool overflow at level " + std::to_string(level + 1) + ": it holds " +
                   std::to_string(capacity) + " nodes, the level needs " + std::to_string(1 + 8 * c[SVO_COUNTER_TILES]) +
-                  " (svo.pool-fraction=" + ctx.params.desc("svo.pool-fraction").format(fraction) +
+                  " (svo.node-pool-fraction=" + ctx.params.desc("svo.node-pool-fraction").format(fraction) +
                   "; 1 sizes the pool exactly)");
     levels[level + 1] = {used, 8u * levels[level].tagged, 0, 0};
   }
@@ -492,7 +499,7 @@ static TextureDesc brickPoolDesc(uint32_t bricks) {
 
 void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(poolFractionParam());
+  b.param(brickPoolFractionParam());
   b.param(layoutParam());
   b.param(filterParam());
   b.read("svo-nodes");
@@ -525,7 +532,7 @@ void BricksStage::execute(StageContext& ctx) {
   for (int l = 0; l <= depth; ++l)
     if (!tile || l < depth) tagged += levels[l].tagged;
   const uint32_t needed = tagged + 1;  // + the zero brick
-  const double fraction = ctx.params.getFloat("svo.pool-fraction");
+  const double fraction = ctx.params.getFloat("svo.brick-pool-fraction");
   const uint32_t capacity = fraction >= 1.0 ? needed : std::max(1u, uint32_t(std::floor(needed * fraction)));
   if (capacity > SVO_MAX_BRICKS)
     throw Error("svo-bricks: the brick pool needs " + std::to_string(capacity) + " bricks, more than the " +
@@ -594,8 +601,8 @@ void BricksStage::execute(StageContext& ctx) {
   std::memcpy(c.data(), bytes.data(), c.size() * 4);
   if (c[SVO_COUNTER_OVERFLOW])
     throw Error("svo-bricks: brick pool overflow: it holds " + std::to_string(capacity) + " bricks, the octree needs " +
-                std::to_string(1 + c[SVO_COUNTER_BRICKS]) + " (svo.pool-fraction=" +
-                ctx.params.desc("svo.pool-fraction").format(fraction) + "; 1 sizes the pool exactly)");
+                std::to_string(1 + c[SVO_COUNTER_BRICKS]) + " (svo.brick-pool-fraction=" +
+                ctx.params.desc("svo.brick-pool-fraction").format(fraction) + "; 1 sizes the pool exactly)");
   ctx.stats["bricks"] = c[SVO_COUNTER_BRICKS];
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);

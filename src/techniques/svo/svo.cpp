@@ -51,8 +51,9 @@
 //     the next level is allocated (the pool grows to exactly 1 + 8 * tiles), the brick pool holds
 //     the sum of tagged nodes + the zero brick. Every allocating pass checks capacity and sets an
 //     overflow flag; the stage then fails with one line naming the pool and the size it needs.
-//     svo.pool-fraction < 1 undersizes the pools on purpose; guard words after the node pool show
-//     nothing was written past its end.
+//     svo.node-pool-fraction and svo.brick-pool-fraction < 1 undersize a pool on purpose: guard
+//     words after the node pool, and the brick pool's spare slots past its capacity, staying empty
+//     show that nothing was written past its end (tests/unit/test_svo.cpp, SvoPools.*).
 //   - Quadrilinear: levelStar = D - max(log2(d / voxel) + bias, 0); fine = min(D, floor + 1),
 //     weight of fine = levelStar - (fine - 1). This is GL's LINEAR_MIPMAP_LINEAR with lod =
 //     D - levelStar, continuous across integer levels (Gomes' listing 4.25 inverts it: P1).
