@@ -70,6 +70,13 @@ struct LpvProbe {
   uvec4 voxel;          // x: colorOcclusion, y: fragmentCount, z: step, w: 0
   uvec4 normals;        // the four normal masks
   vec4 fromNeighbour[6];  // rgb: c00 gained from neighbour +x,-x,+y,-y,+z,-z in this step; a: its mean face transmission
+  // The 30 face evaluations behind fromNeighbour, [5 * i + k]: neighbour i, its k-th face j of this
+  // cell in increasing j with the shared face (j = i) skipped. A dark or outside neighbour's are 0.
+  vec4 faceIntensity[30]; // rgb: the neighbour's intensity towards face j's centre (W/sr; clamped at 0 by
+                          // lpv.clamp-faces), a: the face's solid angle seen from the neighbour (sr)
+  vec4 faceFlux[30];      // rgb: flux through face j = ((intensity * solid angle) * transmission) * weight (W),
+                          // which re-enters as flux * lobe(axis of j): c00 += flux * sqrt(pi) / 2; a: transmission
+  vec4 weight;            // x: the weight scale (1/pi, or lpv.flux-amplifier / 4 pi), yzw: 0
 };
 
 #ifdef __cplusplus

@@ -5,12 +5,25 @@
 // max(0, <SH, Y(d_ij)>), times the face's solid angle, its transmission and the weight scale is a
 // flux that re-enters as a clamped-cosine lobe leaving through face j. Neighbours outside the grid
 // are skipped (never read). The CPU twin is src/techniques/lpv/reference.cpp: same order.
-// u_probeMode = 1: one invocation recomputes the picked cell with per-neighbour contributions.
+// Built twice: as is for every cell, and with LPV_PROBE defined as the program the stage runs as
+// one invocation for the picked cell, which records the 30 face evaluations behind its gathered
+// light (LpvProbe). The recording lives in its own program because llvmpipe runs a branch for all
+// lanes of a SIMD row, so recording code behind a uniform would cost every cell.
 #include "common/sh.glsl"
 #include "lpv/encoding.glsl"
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+// 8 x 2 x 4: llvmpipe runs a work group as SIMD rows of 8 invocations (256-bit vectors), so a row
+// is 8 cells along x, whose neighbour reads are 8 consecutive records of the state buffer (x is
+// the fastest index), and whose dark-neighbour skips agree more often than a 4 x 2 patch's. Against
+// 4 x 4 x 4: 0.45 against 0.55 s of CPU for 8 steps (docs/performance.md, lpv). The stage
+// dispatches with the same shape.
+layout(local_size_x = 8, local_size_y = 2, local_size_z = 4) in;
 layout(std430, binding = LPV_BINDING_VOXELS) readonly buffer Voxels { LpvVoxel voxels[]; };
+uniform ivec3 u_boxLo, u_boxHi;
+#ifdef LPV_PROBE
 layout(std430, binding = LPV_BINDING_PROBE) writeonly buffer Probe { LpvProbe probe; };
+uniform ivec3 u_probeCell;
+uniform int u_cascade;
+#endif
 // The state lives in buffers (llvmpipe loads and stores them far faster than images); the stage
 // copies each step's result into the output volumes. Section s of a state holds cells s * res^3...:
 // 0-2 light r, g, b (what the lookup reads), 3-5 wavefront r, g, b.
@@ -23,26 +36,23 @@ uniform int u_clampFaces;
 uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none
 uniform float u_occlusionAmplifier;
 uniform int u_firstStepUnoccluded;
-uniform int u_probeMode;
-uniform ivec3 u_probeCell;
-uniform int u_cascade;
 
-// Whether the source cell blocks at all in this step, and the stored normal it blocks with: the
-// one nearest the travel direction (two-sided: nearest up to sign), empty channels skipped.
-bool blocker(LpvVoxel v, vec3 travel, out vec3 best) {
-  best = vec3(0.0);
-  if (u_occlusion == 2 || !decodeOccupied(v.colorOcclusion)) return false;
-  if (u_step == 0 && u_firstStepUnoccluded == 1) return false;
+// Whether the voxels block at all in this step (the same for every cell).
+bool occlusionOn() { return u_occlusion != 2 && !(u_step == 0 && u_firstStepUnoccluded == 1); }
+// The stored normal an occupied source cell blocks with: the one nearest the travel direction
+// (two-sided: nearest up to sign), empty channels skipped (none stored: the zero vector).
+vec3 blockNormal(uvec4 normals, vec3 travel) {
+  vec3 best = vec3(0.0);
   float bestDot = -1e30;
   for (int c = 0; c < 4; ++c) {
-    uint m = v.normals[c];
+    uint m = normals[c];
     if (m == 0u) continue;
     vec3 n = decodeNormalMask(m);
     precise float t = (n.x * travel.x + n.y * travel.y) + n.z * travel.z;
     if (u_occlusion == 0 && t < 0.0) { n = -n; t = -t; }
     if (t > bestDot) { bestDot = t; best = n; }
   }
-  return true;
+  return best;
 }
 // Transmission along d: 1 - clamp(A <lobe(n), Y(d)>).
 float transmission(vec3 n, vec3 d) {
@@ -51,82 +61,108 @@ float transmission(vec3 n, vec3 d) {
 }
 
 int cells() { return u_gridRes * u_gridRes * u_gridRes; }
-vec4 sourceAt(int ch, ivec3 n) { return stateIn[(u_thesisScheme == 1 ? ch : 3 + ch) * cells() + cellIndex(n)]; }
+vec4 sourceAt(int ch, int index) { return stateIn[(u_thesisScheme == 1 ? ch : 3 + ch) * cells() + index]; }
 
 // The three colour channels as named members: no array indexed in a loop, so llvmpipe keeps them
 // in registers.
 struct ShRgb { vec4 r, g, b; };
 
-vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, ivec3 oj) {
-  float e = shEvaluateSparse(src, d);
+// One channel of one face: e = the neighbour's intensity towards the face, f = the flux through it.
+vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, ivec3 oj, out float e, out float f) {
+  e = shEvaluateSparse(src, d);
   if (u_clampFaces == 1) e = max(e, 0.0);
-  precise float f = ((e * omega) * occ) * u_weightScale;
-  return shAddAxisLobe(acc, f, oj);
+  precise float flux = ((e * omega) * occ) * u_weightScale;
+  f = flux;
+  return shAddAxisLobe(acc, flux, oj);
 }
 
-// Face j of this cell, lit from neighbour i (src: the neighbour's SH per channel). Called with
-// literal i and j (the FACES lists below), so after inlining the direction, solid angle and lobe
-// axis are constants and the sparse evaluations lose their zero terms and branches: the same
-// operations in the same order as the loop of the CPU reference (bit-identical).
-void addFace(ShRgb src, int i, int j, bool blocks, vec3 blockNormal, inout ShRgb acc, inout float sumT) {
+// Face j of this cell (the k-th of neighbour i's five), lit from neighbour i (src: its SH per
+// channel) through transmission occ. Called with literal i, j and k (the NEIGHBOUR lists below), so
+// after inlining the direction, solid angle and lobe axis are constants and the sparse evaluations
+// lose their zero terms and branches: the same operations in the same order as the loop of the CPU
+// reference (bit-identical).
+void addFace(ShRgb src, int i, int j, int k, float occ, inout ShRgb acc) {
   vec3 d = lpvFaceDirection(i, j);
   float omega = lpvFaceSolidAngle(i, j);
-  float occ = blocks ? transmission(blockNormal, d) : 1.0;
-  sumT += occ;
   ivec3 oj = lpvOffset(j);
-  acc.r = faceChannel(acc.r, src.r, d, omega, occ, oj);
-  acc.g = faceChannel(acc.g, src.g, d, omega, occ, oj);
-  acc.b = faceChannel(acc.b, src.b, d, omega, occ, oj);
+  vec3 e, f;
+  acc.r = faceChannel(acc.r, src.r, d, omega, occ, oj, e.r, f.r);
+  acc.g = faceChannel(acc.g, src.g, d, omega, occ, oj, e.g, f.g);
+  acc.b = faceChannel(acc.b, src.b, d, omega, occ, oj, e.b, f.b);
+#ifdef LPV_PROBE
+  probe.faceIntensity[5 * i + k] = vec4(e, omega);
+  probe.faceFlux[5 * i + k] = vec4(f, occ);
+#endif
 }
 
-// The five faces of neighbour i other than the shared one, in increasing j (the reference's order).
-#define FACES(I, J0, J1, J2, J3, J4)                              \
-  addFace(src, I, J0, blocks, blockNormal, acc, sumT);            \
-  addFace(src, I, J1, blocks, blockNormal, acc, sumT);            \
-  addFace(src, I, J2, blocks, blockNormal, acc, sumT);            \
-  addFace(src, I, J3, blocks, blockNormal, acc, sumT);            \
-  addFace(src, I, J4, blocks, blockNormal, acc, sumT)
+// Neighbour I's five faces J0 < ... < J4 (the shared face left out; the reference's order). The
+// five transmissions stay 1 unless the neighbour's voxel blocks; they are computed in a loop that
+// runs at most once, which llvmpipe leaves at once for a SIMD row without a blocking lane (most
+// rows: the voxels are a thin shell), where an if would compute them for every lane. Multiplying
+// by a transmission of exactly 1 changes nothing, so the result is the reference's either way.
+#define NEIGHBOUR(I, J0, J1, J2, J3, J4)                                        \
+  {                                                                             \
+    float t0 = 1.0, t1 = 1.0, t2 = 1.0, t3 = 1.0, t4 = 1.0;                     \
+    for (int o = 0; blocks && o < 1; ++o) {                                     \
+      vec3 bn = blockNormal(voxels[index].normals, -vec3(lpvOffset(I)));        \
+      t0 = transmission(bn, lpvFaceDirection(I, J0));                           \
+      t1 = transmission(bn, lpvFaceDirection(I, J1));                           \
+      t2 = transmission(bn, lpvFaceDirection(I, J2));                           \
+      t3 = transmission(bn, lpvFaceDirection(I, J3));                           \
+      t4 = transmission(bn, lpvFaceDirection(I, J4));                           \
+    }                                                                           \
+    addFace(src, I, J0, 0, t0, acc);                                            \
+    addFace(src, I, J1, 1, t1, acc);                                            \
+    addFace(src, I, J2, 2, t2, acc);                                            \
+    addFace(src, I, J3, 3, t3, acc);                                            \
+    addFace(src, I, J4, 4, t4, acc);                                            \
+    meanTransmission = ((((t0 + t1) + t2) + t3) + t4) / 5.0;                    \
+  }
 
 void gatherNeighbour(ivec3 cell, int i, inout ShRgb acc, out float meanTransmission) {
   meanTransmission = 1.0;
   ivec3 n = cell + lpvOffset(i);
   if (!cellInside(n)) return;
-  ShRgb src = ShRgb(sourceAt(0, n), sourceAt(1, n), sourceAt(2, n));
+  const int index = cellIndex(n);
+  ShRgb src = ShRgb(sourceAt(0, index), sourceAt(1, index), sourceAt(2, index));
   // A neighbour without light adds exactly nothing: skip it (most cells in early steps). The skip
   // is a loop that runs at most once, not an if: llvmpipe runs both sides of an if for all the
   // lanes of a SIMD row, but leaves a loop as soon as none of its lanes is active, so a row of
   // cells whose neighbour is dark skips the face arithmetic and the occlusion entirely.
   const bool lit = !(src.r == vec4(0.0) && src.g == vec4(0.0) && src.b == vec4(0.0));
   for (int once = 0; lit && once < 1; ++once) {
-    vec3 blockNormal;
-    bool blocks = blocker(voxels[cellIndex(n)], -vec3(lpvOffset(i)), blockNormal);
-    float sumT = 0.0;
-    if (i == 0) { FACES(0, 1, 2, 3, 4, 5); }
-    else if (i == 1) { FACES(1, 0, 2, 3, 4, 5); }
-    else if (i == 2) { FACES(2, 0, 1, 3, 4, 5); }
-    else if (i == 3) { FACES(3, 0, 1, 2, 4, 5); }
-    else if (i == 4) { FACES(4, 0, 1, 2, 3, 5); }
-    else { FACES(5, 0, 1, 2, 3, 4); }
-    meanTransmission = sumT / 5.0;
+    const bool blocks = occlusionOn() && decodeOccupied(voxels[index].colorOcclusion);
+    if (i == 0) NEIGHBOUR(0, 1, 2, 3, 4, 5)
+    else if (i == 1) NEIGHBOUR(1, 0, 2, 3, 4, 5)
+    else if (i == 2) NEIGHBOUR(2, 0, 1, 3, 4, 5)
+    else if (i == 3) NEIGHBOUR(3, 0, 1, 2, 4, 5)
+    else if (i == 4) NEIGHBOUR(4, 0, 1, 2, 3, 5)
+    else NEIGHBOUR(5, 0, 1, 2, 3, 4)
   }
 }
 
 void main() {
-  ivec3 c = u_probeMode == 1 ? u_probeCell : ivec3(gl_GlobalInvocationID);
-  if (u_probeMode == 1 && gl_LocalInvocationIndex != 0u) return;
+#ifdef LPV_PROBE
+  ivec3 c = u_probeCell;
+  if (gl_LocalInvocationIndex != 0u) return;
+#else
+  // The dispatch covers the box of cells that can hold light after this step (the stage's
+  // u_boxLo..u_boxHi, within the grid); the others stay 0 in both states.
+  ivec3 c = u_boxLo + ivec3(gl_GlobalInvocationID);
+  if (any(greaterThan(c, u_boxHi))) return;
+#endif
   if (!cellInside(c)) return;
   ShRgb acc = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
-  vec4 fromNeighbour[6];
-  if (u_probeMode == 1) {
-    for (int i = 0; i < 6; ++i) {
-      float t;
-      ShRgb own = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
-      gatherNeighbour(c, i, own, t);
-      fromNeighbour[i] = vec4(own.r.x, own.g.x, own.b.x, t);
-    }
-  }
-  // Literal neighbour indices (see addFace); the same order as the reference's loop.
   float t;
+#ifdef LPV_PROBE
+  for (int f = 0; f < 30; ++f) probe.faceIntensity[f] = probe.faceFlux[f] = vec4(0.0);
+  for (int i = 0; i < 6; ++i) {
+    ShRgb own = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
+    gatherNeighbour(c, i, own, t);
+    probe.fromNeighbour[i] = vec4(own.r.x, own.g.x, own.b.x, t);
+  }
+#endif
+  // Literal neighbour indices (see addFace); the same order as the reference's loop.
   gatherNeighbour(c, 0, acc, t);
   gatherNeighbour(c, 1, acc, t);
   gatherNeighbour(c, 2, acc, t);
@@ -137,24 +173,23 @@ void main() {
   precise vec4 totalR = stateIn[cell] + acc.r;
   precise vec4 totalG = stateIn[stride + cell] + acc.g;
   precise vec4 totalB = stateIn[2 * stride + cell] + acc.b;
-  if (u_probeMode == 0) {
-    stateOut[cell] = totalR;
-    stateOut[stride + cell] = totalG;
-    stateOut[2 * stride + cell] = totalB;
-    stateOut[3 * stride + cell] = acc.r;
-    stateOut[4 * stride + cell] = acc.g;
-    stateOut[5 * stride + cell] = acc.b;
-    return;
-  }
-  vec4 total[3] = vec4[3](totalR, totalG, totalB);
-  vec4 wave[3] = vec4[3](acc.r, acc.g, acc.b);
-  LpvVoxel v = voxels[cellIndex(c)];
+#ifndef LPV_PROBE
+  stateOut[cell] = totalR;
+  stateOut[stride + cell] = totalG;
+  stateOut[2 * stride + cell] = totalB;
+  stateOut[3 * stride + cell] = acc.r;
+  stateOut[4 * stride + cell] = acc.g;
+  stateOut[5 * stride + cell] = acc.b;
+#else
   probe.cell = ivec4(c, u_cascade);
-  for (int ch = 0; ch < 3; ++ch) {
-    probe.total[ch] = total[ch];
-    probe.wavefront[ch] = wave[ch];
-  }
-  probe.voxel = uvec4(v.colorOcclusion, v.fragmentCount, uint(u_step + 1), 0u);
-  probe.normals = v.normals;
-  for (int i = 0; i < 6; ++i) probe.fromNeighbour[i] = fromNeighbour[i];
+  probe.total[0] = totalR;
+  probe.total[1] = totalG;
+  probe.total[2] = totalB;
+  probe.wavefront[0] = acc.r;
+  probe.wavefront[1] = acc.g;
+  probe.wavefront[2] = acc.b;
+  probe.voxel = uvec4(voxels[cell].colorOcclusion, voxels[cell].fragmentCount, uint(u_step + 1), 0u);
+  probe.normals = voxels[cell].normals;
+  probe.weight = vec4(u_weightScale, 0.0, 0.0, 0.0);
+#endif
 }

@@ -1,5 +1,6 @@
 #include "inspect/visualiser.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -80,6 +81,32 @@ void drawStatisticsTable(const char* id, const nlohmann::json& stats) {
 void drawRecordsTable(const char* id, const nlohmann::json& recs, float height) {
   if (!recs.is_array() || recs.empty() || !recs[0].is_object()) return;
   int cols = int(recs[0].size()) + 1;
+  // Dear ImGui tables hold at most 64 columns: a record with more fields (lpv's probe record: 84)
+  // is drawn transposed, one row per field and one column per record (the first 63 records).
+  if (cols > 64) {
+    const int shown = int(std::min<size_t>(recs.size(), 63));
+    if (shown < int(recs.size())) ImGui::TextDisabled("first %d of %zu records", shown, recs.size());
+    if (!ImGui::BeginTable(id, shown + 1,
+                           ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX |
+                               ImGuiTableFlags_SizingFixedFit,
+                           ImVec2(0, height)))
+      return;
+    ImGui::TableSetupColumn("field");
+    for (int r = 0; r < shown; ++r) ImGui::TableSetupColumn(std::to_string(r).c_str());
+    ImGui::TableHeadersRow();
+    for (auto it = recs[0].begin(); it != recs[0].end(); ++it) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(it.key().c_str());
+      for (int r = 0; r < shown; ++r) {
+        ImGui::TableNextColumn();
+        auto v = recs[size_t(r)].find(it.key());
+        if (v != recs[size_t(r)].end()) ImGui::TextUnformatted(v->dump().c_str());
+      }
+    }
+    ImGui::EndTable();
+    return;
+  }
   if (!ImGui::BeginTable(id, cols,
                          ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX |
                              ImGuiTableFlags_SizingFixedFit,

@@ -100,7 +100,7 @@ TEST(LpvEncoding, Std430Layouts) {
   EXPECT_EQ(offsetof(gpu::LpvVoxel, normals), 16u);
   EXPECT_EQ(sizeof(gpu::LpvGrid), 32u);
   EXPECT_EQ(sizeof(gpu::LpvEnergy), 32u);
-  EXPECT_EQ(sizeof(gpu::LpvProbe), 240u);
+  EXPECT_EQ(sizeof(gpu::LpvProbe), 1216u);
 }
 
 // --- 2-4. Constants, clamped cosine, one step ----------------------------------------------------
@@ -550,6 +550,77 @@ TEST(LpvGpu, PropagationEqualsCpuReference) {
   }
 }
 
+// Inject against the CPU reference, both lightings, from the inputs inject reads (the voxel
+// records or the fragment list, the light block, the shadow map's depths).
+TEST(LpvGpu, InjectionEqualsCpuReference) {
+  for (const char* lighting : {"per-cell", "per-fragment"}) {
+    auto& s = session(request({"voxel.resolution=64", "lpv.resolution=16", std::string("inject.lighting=") + lighting},
+                              "inject"));
+    ShadowedLight light;
+    auto bytes = s.cursor().board().buffer("light").download(sizeof(voxlab::gpu::GpuLight));
+    std::memcpy(&light.light, bytes.data(), sizeof(light.light));
+    auto map = capture(s, "shadow-map", "shadow-map");
+    const LevelData& m = map.levels.at(0);
+    light.width = m.size.x, light.height = m.size.y;
+    for (size_t t = 0; t < m.texelCount(); ++t) light.depth.push_back(m.values[t * m.channels]);
+    ASSERT_GT(light.light.spot.w, 0.5f);  // the shadow map is used
+    const auto grids = gridsOf(s);
+    VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), 64);
+    auto frags = capture(s, "voxelize", "fragments");
+    std::vector<FragmentRecord> fragments(frags.recordCount);
+    std::memcpy(fragments.data(), frags.records.data(), fragments.size() * sizeof(FragmentRecord));
+    const bool perFragment = std::string(lighting) == "per-fragment";
+    for (int c = 0; c < kCascades; ++c) {
+      const float units = areaUnits(grids[c].originCell.w, space.voxelSize);
+      const auto voxels = voxelsOf(s, c);
+      Injected cpu = perFragment ? injectPerFragment(fragments, space.origin, space.voxelSize, 64, grids[c], light, units)
+                                 : injectPerCell(voxels, grids[c], light, space.voxelSize * space.voxelSize, units);
+      ShField gpu = fieldOf(s, "vpl", c, "inject");
+      ASSERT_EQ(gpu.cells.size(), cpu.sh.size());
+      // Per fragment the GPU sums fixed-point coefficients: each fragment's rounds by at most half
+      // a unit, and the unit is 2^-30 of the largest single-fragment coefficient times the most
+      // fragments in a cell (sumFragmentLobes). A fragment's largest coefficient is at most
+      // lobe1 / lobe0 times its c00, which is at most its cell's c00 (all c00 terms are >= 0).
+      double largest = 0, most = 1;
+      for (const auto& v : voxels) most = std::max(most, double(v.fragmentCount));
+      for (const auto& cell : cpu.sh)
+        for (int ch = 0; ch < 3; ++ch) largest = std::max(largest, std::abs(cell[ch].x) * kLobe1 / kLobe0);
+      const double unit = perFragment ? largest * most / double(1u << 30) : 0.0;
+      double worst = 0, scale = 0;
+      size_t lit = 0, outside = 0;
+      for (size_t i = 0; i < cpu.sh.size(); ++i) {
+        const double rounding = perFragment ? 0.5 * unit * double(voxels[i].fragmentCount) : 0.0;
+        lit += gpu.cells[i][0].x != 0.0f;
+        for (int ch = 0; ch < 3; ++ch) {
+          // Relative to the cell's c00 (no coefficient is larger than 1.16 c00: the cone condition).
+          const double size = std::abs(cpu.sh[i][ch].x);
+          for (int k = 0; k < 4; ++k) {
+            const double want = cpu.sh[i][ch][k], got = gpu.cells[i][ch][k];
+            scale = std::max(scale, std::abs(want));
+            const double off = std::max(0.0, std::abs(got - want) - rounding - cpu.marginal[i]);
+            worst = std::max(worst, off / std::max(size, 1e-30));
+            // fp32 on the GPU against the CPU's doubles of the same expressions (normalize, the
+            // light's matrix, the products): measured worst 4.4e-6 of c00 per cell (fine cascade;
+            // coarse 1.0e-6), 0 per fragment beyond the fixed-point allowance above.
+            outside += off > 1e-5 * size;
+          }
+        }
+      }
+      const std::string tag = std::string(lighting) + "_" + kCascadeNames[c];
+      char text[32];
+      std::snprintf(text, sizeof(text), "%.3g", worst);
+      RecordProperty(tag + "_worst_relative", text);
+      RecordProperty(tag + "_marginal_cells", int(cpu.marginalCells));
+      RecordProperty(tag + "_lit_cells", int(lit));
+      EXPECT_EQ(outside, 0u) << tag << ": worst relative " << worst;
+      EXPECT_GT(lit, 50u) << tag;
+      EXPECT_GT(scale, 0.0) << tag;
+      // Shadow taps within rounding of an edge are the exception, not the rule.
+      EXPECT_LT(cpu.marginalCells, lit / 10) << tag;
+    }
+  }
+}
+
 TEST(LpvGpu, LitBorderCellNeverReadsOutside) {
   // A VPL in the corner cell pointing out of the grid and one pointing in: the GPU equals the
   // CPU reference (which never reads outside) and the opposite corner stays dark.
@@ -567,6 +638,40 @@ TEST(LpvGpu, LitBorderCellNeverReadsOutside) {
     EXPECT_EQ(light.at({15, 15, 15})[0], SH(0.0f));
     EXPECT_EQ(light.at({15, 0, 0})[0], SH(0.0f));
   }
+}
+
+// The probe's face records against the CPU reference's faceTerms (bit for bit), and what they sum
+// to: per neighbour its c00 (fromNeighbour), over all 30 in the shader's order the cell's gathered
+// SH (the wavefront record). Returns the number of faces with a transmission below 1.
+size_t expectFacesSumUp(const gpu::LpvProbe& p, const ShField& source, const std::vector<gpu::LpvVoxel>& voxels,
+                        const PropagationSettings& s, int step) {
+  const glm::ivec3 cell(p.cell);
+  std::array<SH, 3> gathered{SH(0.0f), SH(0.0f), SH(0.0f)};
+  size_t blocked = 0, lit = 0;
+  for (int i = 0; i < 6; ++i) {
+    auto terms = faceTerms(source, voxels, cell, i, s, step);
+    std::array<SH, 3> own{SH(0.0f), SH(0.0f), SH(0.0f)};
+    for (int k = 0; k < 5; ++k) {
+      const glm::vec4 &in = p.faceIntensity[5 * i + k], &fl = p.faceFlux[5 * i + k];
+      const FaceTerm& t = terms[k];
+      EXPECT_EQ(glm::vec3(in), t.intensity) << i << " " << k;
+      EXPECT_EQ(in.w, t.solidAngle) << i << " " << k;
+      EXPECT_EQ(glm::vec3(fl), t.flux) << i << " " << k;
+      EXPECT_EQ(fl.w, t.transmission) << i << " " << k;
+      // The flux re-enters as a clamped-cosine lobe around face j's axis.
+      const SH lobe = shLobe(glm::vec3(faceOffset(t.face)));
+      for (int ch = 0; ch < 3; ++ch) {
+        own[ch] = own[ch] + fl[ch] * lobe;
+        gathered[ch] = gathered[ch] + fl[ch] * lobe;
+      }
+      blocked += t.solidAngle > 0.0f && t.transmission < 1.0f;
+      lit += fl.x > 0.0f;
+    }
+    for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(own[ch].x, p.fromNeighbour[i][ch]) << i << " " << ch;
+  }
+  for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(gathered[ch], p.wavefront[ch]) << ch;
+  EXPECT_GT(lit, 0u);
+  return blocked;
 }
 
 TEST(LpvGpu, ProbeRecordMatchesCpuGather) {
@@ -593,6 +698,56 @@ TEST(LpvGpu, ProbeRecordMatchesCpuGather) {
   }
   // The cell above the VPL gets light from its side neighbours in step 2 (they were lit in step 1).
   EXPECT_GT(p.fromNeighbour[0].x, 0.0f);
+  expectFacesSumUp(p, one.wave, {}, open, 1);
+}
+
+// The probe of a cell next to the Cornell box's walls, with the voxels occluding (default
+// settings): its 30 face records equal the CPU reference's, and add up to each neighbour's c00 and
+// to the cell's gathered SH.
+TEST(LpvGpu, ProbeFacesSumToTheGatheredLight) {
+  const std::vector<std::string> base = {"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=3"};
+  // A cell whose lit neighbour blocks at step 3 (index 2): found from a first run's CPU reference.
+  glm::ivec3 pick(-1);
+  {
+    auto& s = session(request(base));
+    auto voxels = voxelsOf(s, 0);
+    auto two = propagate(fieldOf(s, "vpl", 0, "inject"), voxels, PropagationSettings{}, 2);
+    float best = 0;
+    for (int z = 1; z < 15; ++z)
+      for (int y = 1; y < 15; ++y)
+        for (int x = 1; x < 15; ++x)
+          for (int i = 0; i < 6; ++i) {
+            glm::ivec3 n = glm::ivec3(x, y, z) + faceOffset(i);
+            const auto& v = voxels[two.wave.index(n)];
+            const float c00 = two.wave.at(n)[0].x;
+            if (decodeOccupied(v.colorOcclusion) && c00 > best) best = c00, pick = {x, y, z};
+          }
+    ASSERT_GT(best, 0.0f);
+  }
+  auto sets = base;
+  for (int a = 0; a < 3; ++a) sets.push_back(std::string("probe.cell-") + "xyz"[a] + "=" + std::to_string(pick[a]));
+  auto& s = session(request(sets));
+  CapturedOutput record = capture(s, "propagate", "probe-cell");
+  gpu::LpvProbe p;
+  std::memcpy(&p, record.records.data(), sizeof(p));
+  ASSERT_EQ(glm::ivec3(p.cell), pick);
+  // The visualiser's record check (the viewer's Probe tab, expect-probe-records) recomputes the sums
+  // and fails on a record whose faces do not add up.
+  const Visualiser& vis = visualiserFor(record.desc);
+  RecordCheck check = vis.checkRecords(record);
+  EXPECT_EQ(check.error, "");
+  EXPECT_EQ(check.elements, 30u);
+  CapturedOutput broken = record;
+  gpu::LpvProbe q = p;
+  q.faceFlux[7].y *= 1.5f;
+  std::memcpy(broken.records.data(), &q, sizeof(q));
+  EXPECT_NE(vis.checkRecords(broken).error, "");
+  EXPECT_EQ(vis.statistics(record)["probe"]["from_neighbour"]["+x"]["faces"].size(), 5u);
+  auto voxels = voxelsOf(s, 0);
+  auto cpu = propagate(fieldOf(s, "vpl", 0, "inject"), voxels, PropagationSettings{}, 2);
+  EXPECT_EQ(p.weight.x, float(1.0 / kPi));
+  size_t blocked = expectFacesSumUp(p, cpu.wave, voxels, PropagationSettings{}, 2);
+  EXPECT_GT(blocked, 0u);  // some face of the picked cell is occluded
 }
 
 TEST(LpvGpu, SnappingOnTheGpu) {
@@ -1105,6 +1260,28 @@ TEST(LpvVisualisers, ProbeShowsThePickedCellsCoefficientsAndLobe) {
   EXPECT_EQ(at(1, 0.05f, -0.1f), glm::ivec3(60, 130, 255));  // -z, inside 0.25 / 0.75 of the radius: negative
   EXPECT_NE(at(1, 0.05f, -0.3f), glm::ivec3(60, 130, 255));  // beyond it: nothing
   EXPECT_EQ(at(0, 0.1f, 0.1f), glm::ivec3(255, 150, 40));    // xy panel: the lobe's equator, 0.25 of the peak
+}
+
+// Lesson 05's facing-plates step: the point VPL two cells below the picked cell (inject.vpl-distance),
+// the probe record's lookups there are LpvLookup.FacingPlatesDecideTheSign's receivers.
+TEST(LpvVisualisers, ProbeShowsTheFacingPlatesLookup) {
+  auto& s = session(request({"inject.source=point-vpl", "lpv.occlusion=none", "inject.vpl-distance=2"}));
+  auto probe = capture(s, "propagate", "probe-cell");
+  nlohmann::json st = outputHandler(probe.desc).statistics(probe)["probe"];
+  EXPECT_EQ(st["cell"], nlohmann::json({16, 16, 16}));
+  ShField injected = fieldOf(s, "vpl", 0, "inject");
+  EXPECT_EQ(injected.at({16, 16, 14})[0], shLobe({0, 0, 1}));  // the emitter, two cells below
+  const glm::ivec3 e(10, 10, 10), r = e + glm::ivec3(0, 0, 2);
+  auto cpu = propagate(pointSource(21, e, {0, 0, 1}), {}, open(), 8);
+  const nlohmann::json &facing = st["lookup"]["-z"], &away = st["lookup"]["+z"];
+  for (int ch = 0; ch < 3; ++ch) {
+    // The same propagation (bit for bit, away from the grid's border) and the same lookup formula.
+    EXPECT_EQ(facing["minus_n"][ch].get<float>(), lookup(cpu.total, r, {0, 0, -1}, -1));
+    EXPECT_EQ(away["minus_n"][ch].get<float>(), lookup(cpu.total, r, {0, 0, 1}, -1));
+    EXPECT_EQ(facing["plus_n"][ch].get<float>(), away["minus_n"][ch].get<float>());
+    EXPECT_EQ(away["plus_n"][ch].get<float>(), facing["minus_n"][ch].get<float>());
+  }
+  EXPECT_GT(facing["minus_n"][0].get<float>(), away["minus_n"][0].get<float>());
 }
 
 TEST(LpvVisualisers, CascadeBoxesBoundTheBlend) {

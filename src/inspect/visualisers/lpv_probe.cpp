@@ -9,7 +9,11 @@
 // drawn filled and the last step's wavefront as an outline. Statistics and inspector: per channel
 // the four coefficients (c00, c1-1, c10, c11), |b|/c00 and flux; the voxel's colour, contrast,
 // occupancy, fragments and decoded normals; the c00 each neighbour added in this step and its
-// mean face transmission.
+// mean face transmission, what a surface in the cell would read for each axis normal with either
+// lookup sign (the facing-plates experiment), and under each neighbour its five face evaluations (the neighbour's
+// intensity towards the face, the face's solid angle, the transmission, the flux through it) that
+// sum to it. The record check recomputes those sums: per neighbour its c00, over all 30 faces in
+// the propagation's order the cell's gathered SH (the wavefront), both exact.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +31,8 @@ using lpv::gpu::LpvProbe;
 constexpr float kY00 = 0.282094792f;  // as shaders/common/sh.glsl
 constexpr float kY1 = 0.488602512f;
 constexpr float kFluxPerC00 = 3.544907702f;
+constexpr float kLobe0 = 0.886226925f;  // clamped-cosine lobe: sqrt(pi) / 2, sqrt(pi / 3)
+constexpr float kLobe1 = 1.023326708f;
 constexpr int kPanel = 121;  // pixels per plane glyph
 const char* const kChannels[3] = {"red", "green", "blue"};
 const char* const kNeighbours[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
@@ -49,6 +55,57 @@ glm::vec3 decodeNormal(uint32_t m) {
   if ((m >> 17) & 1u) v.y = -v.y;
   if ((m >> 8) & 1u) v.z = -v.z;
   return v;
+}
+
+// Face j of neighbour i's k-th evaluation: increasing j, the shared face (j = i) skipped.
+int faceOf(int i, int k) { return k < i ? k : k + 1; }
+// flux * lobe(axis of face j), as the propagation adds it (shaders/common/sh.glsl shLobe of the axis).
+glm::vec4 axisLobe(int j) {
+  const float s = (j & 1) == 0 ? 1.0f : -1.0f;
+  const int axis = j >> 1;
+  return {kLobe0, axis == 1 ? -kLobe1 * s : 0.0f, axis == 2 ? kLobe1 * s : 0.0f, axis == 0 ? -kLobe1 * s : 0.0f};
+}
+
+// The sums the record's faces must give: per neighbour the c00 it added, over all faces the
+// gathered SH. Returns "" or the first mismatch.
+std::string checkFaceSums(const LpvProbe& p) {
+  glm::vec4 gathered[3] = {glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f)};
+  char buf[160];
+  for (int i = 0; i < 6; ++i) {
+    glm::vec4 own[3] = {glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f)};
+    for (int k = 0; k < 5; ++k) {
+      const glm::vec4 lobe = axisLobe(faceOf(i, k));
+      for (int ch = 0; ch < 3; ++ch) {
+        own[ch] = own[ch] + p.faceFlux[5 * i + k][ch] * lobe;
+        gathered[ch] = gathered[ch] + p.faceFlux[5 * i + k][ch] * lobe;
+      }
+    }
+    for (int ch = 0; ch < 3; ++ch)
+      if (own[ch].x != p.fromNeighbour[i][ch]) {
+        std::snprintf(buf, sizeof buf, "from %s, %s: the faces' fluxes give c00 %.9g, the record %.9g", kNeighbours[i],
+                      kChannels[ch], own[ch].x, p.fromNeighbour[i][ch]);
+        return buf;
+      }
+  }
+  for (int ch = 0; ch < 3; ++ch)
+    if (gathered[ch] != p.wavefront[ch]) {
+      std::snprintf(buf, sizeof buf, "%s: the 30 faces give c00 %.9g, the gathered light (wavefront) %.9g", kChannels[ch],
+                    gathered[ch].x, p.wavefront[ch].x);
+      return buf;
+    }
+  return "";
+}
+
+glm::vec3 axisNormal(int i) {
+  glm::vec3 n(0.0f);
+  n[i >> 1] = (i & 1) == 0 ? 1.0f : -1.0f;
+  return n;
+}
+// max(0, <sh, lobe(d)>): the cell's light convolved with a clamped cosine around d (sh.glsl's
+// shDotLobe in the same order).
+float lookup(const glm::vec4& sh, const glm::vec3& d) {
+  const float a = sh.x * kLobe0, b = sh.y * (-kLobe1 * d.y), c = sh.z * (kLobe1 * d.z), e = sh.w * (-kLobe1 * d.x);
+  return std::max(0.0f, ((a + b) + c) + e);
 }
 
 DisplayImage lobes(const LpvProbe& p) {
@@ -114,9 +171,32 @@ class LpvProbeVisualiser : public BufferVisualiser {
       glm::vec3 n = decodeNormal(p.normals[k]);
       cell["voxel"]["normals"].push_back(p.normals[k] ? nlohmann::json{n.x, n.y, n.z} : nlohmann::json(nullptr));
     }
-    for (int i = 0; i < 6; ++i)
+    for (int i = 0; i < 6; ++i) {
+      nlohmann::json faces = nlohmann::json::array();
+      for (int k = 0; k < 5; ++k) {
+        const glm::vec4 &in = p.faceIntensity[5 * i + k], &fl = p.faceFlux[5 * i + k];
+        faces.push_back({{"face", kNeighbours[faceOf(i, k)]},
+                         {"intensity", {in.x, in.y, in.z}},
+                         {"solid_angle", in.w},
+                         {"transmission", fl.w},
+                         {"flux", {fl.x, fl.y, fl.z}}});
+      }
       cell["from_neighbour"][kNeighbours[i]] = {{"c00", {p.fromNeighbour[i].x, p.fromNeighbour[i].y, p.fromNeighbour[i].z}},
-                                                {"transmission", p.fromNeighbour[i].w}};
+                                                {"transmission", p.fromNeighbour[i].w},
+                                                {"faces", faces}};
+    }
+    cell["weight"] = p.weight.x;
+    // What a surface in this cell with normal n reads (gi.comp.glsl per unit of gi.radiance-scale /
+    // cell^2): the light convolved with a cosine around -n (the default lookup) or +n (the thesis).
+    for (int i = 0; i < 6; ++i) {
+      const glm::vec3 n = axisNormal(i);
+      nlohmann::json minus = nlohmann::json::array(), plus = nlohmann::json::array();
+      for (int ch = 0; ch < 3; ++ch) {
+        minus.push_back(lookup(p.total[ch], -n));
+        plus.push_back(lookup(p.total[ch], n));
+      }
+      cell["lookup"][kNeighbours[i]] = {{"minus_n", minus}, {"plus_n", plus}};
+    }
     st["probe"] = cell;
     return st;
   }
@@ -171,11 +251,73 @@ class LpvProbeVisualiser : public BufferVisualiser {
           }
         ImGui::EndTable();
       }
-      for (int i = 0; i < 6; ++i)
-        ImGui::Text("from %s: c00 (%.3g, %.3g, %.3g), transmission %.3f", kNeighbours[i], p.fromNeighbour[i].x,
-                    p.fromNeighbour[i].y, p.fromNeighbour[i].z, p.fromNeighbour[i].w);
+      ImGui::Text("flux through a face = ((intensity x solid angle) x transmission) x %.4g; c00 += flux x %.4f",
+                  p.weight.x, kLobe0);
+      for (int i = 0; i < 6; ++i) {
+        char title[128];
+        std::snprintf(title, sizeof title, "from %s: c00 (%.3g, %.3g, %.3g), mean transmission %.3f###from%d",
+                      kNeighbours[i], p.fromNeighbour[i].x, p.fromNeighbour[i].y, p.fromNeighbour[i].z,
+                      p.fromNeighbour[i].w, i);
+        if (!ImGui::TreeNode(title)) continue;
+        if (ImGui::BeginTable("lpv-probe-faces", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg)) {
+          for (const char* h : {"face", "intensity r, g, b (W/sr)", "solid angle (sr)", "transmission", "flux r, g, b (W)"})
+            ImGui::TableSetupColumn(h);
+          ImGui::TableHeadersRow();
+          for (int k = 0; k < 5; ++k) {
+            const glm::vec4 &in = p.faceIntensity[5 * i + k], &fl = p.faceFlux[5 * i + k];
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::Text("%s", kNeighbours[faceOf(i, k)]);
+            ImGui::TableNextColumn();
+            ImGui::Text("%.3g, %.3g, %.3g", in.x, in.y, in.z);
+            ImGui::TableNextColumn();
+            ImGui::Text("%.4f", in.w);
+            ImGui::TableNextColumn();
+            ImGui::Text("%.3f", fl.w);
+            ImGui::TableNextColumn();
+            ImGui::Text("%.3g, %.3g, %.3g", fl.x, fl.y, fl.z);
+          }
+          ImGui::EndTable();
+        }
+        ImGui::TreePop();
+      }
+      if (ImGui::TreeNode("lpv-probe-lookup", "what a surface in this cell reads (red), per normal n")) {
+        if (ImGui::BeginTable("lpv-probe-lookup-table", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg)) {
+          for (const char* h : {"normal n", "cosine around -n (default)", "around +n (thesis)"}) ImGui::TableSetupColumn(h);
+          ImGui::TableHeadersRow();
+          for (int i = 0; i < 6; ++i) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::Text("%s", kNeighbours[i]);
+            ImGui::TableNextColumn();
+            ImGui::Text("%.4f", lookup(p.total[0], -axisNormal(i)));
+            ImGui::TableNextColumn();
+            ImGui::Text("%.4f", lookup(p.total[0], axisNormal(i)));
+          }
+          ImGui::EndTable();
+        }
+        ImGui::TreePop();
+      }
+      const std::string error = checkFaceSums(p);
+      if (error.empty()) ImGui::TextDisabled("the faces sum to each neighbour's c00 and to the gathered light");
+      else ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
     }
     BufferVisualiser::drawInspector(ctx);
+  }
+
+  RecordCheck checkRecords(const CapturedOutput& out) const override {
+    RecordCheck r;
+    LpvProbe p;
+    if (!decode(out, p)) {
+      r.error = "not one LpvProbe record";
+      return r;
+    }
+    r.elements = 30;
+    r.summary = "cell (" + std::to_string(p.cell.x) + ", " + std::to_string(p.cell.y) + ", " + std::to_string(p.cell.z) +
+                "), 6 neighbours x 5 faces";
+    r.error = checkFaceSums(p);
+    if (r.error.empty()) r.summary += ", summing to each neighbour's c00 and the gathered light";
+    return r;
   }
 };
 

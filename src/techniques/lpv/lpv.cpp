@@ -30,6 +30,13 @@
 //  10. composite   direct + indirect diffuse (+ composite.glossy x glossy), tonemapped
 //   inject.vpl-shift moves VPLs along their normal (K&D's half cell) by a 27-cell gather, so no
 //   atomics are needed; it is 0 by default (the thesis), see Details.
+//   inject.source=point-vpl puts one VPL in the picked cell, or inject.vpl-distance cells behind it
+//   (0 by default; lesson 05's facing-plates step uses 2, LpvLookup.FacingPlatesDecideTheSign's
+//   receivers), so the probe record can show what a receiver in front of an emitter reads.
+//   propagate runs each step over the box of cells within k + 1 of injected light (light moves
+//   one cell per step; the rest stays 0), in 8 x 2 x 4 work groups (docs/performance.md, lpv); the
+//   probe record comes from the same shader built with LPV_PROBE, one invocation, with the 30 face
+//   evaluations behind the picked cell's gathered light.
 //
 // Details (every constant and default; the technical note is guide/techniques/lpv.md)
 //   - SH storage (c00, c1-1, c10, c11), Condon-Shortley signs, intensity indexed by the direction of

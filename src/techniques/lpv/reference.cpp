@@ -97,6 +97,30 @@ PropagationResult propagate(const ShField& injected, const std::vector<gpu::LpvV
   return r;
 }
 
+std::array<FaceTerm, 5> faceTerms(const ShField& source, const std::vector<gpu::LpvVoxel>& voxels, glm::ivec3 cell,
+                                  int i, const PropagationSettings& s, int step) {
+  std::array<FaceTerm, 5> terms{};
+  for (int k = 0; k < 5; ++k) terms[k].face = k < i ? k : k + 1;
+  glm::ivec3 n = cell + faceOffset(i);
+  if (!source.inside(n)) return terms;
+  const auto& src = source.at(n);
+  if (src[0] == SH(0.0f) && src[1] == SH(0.0f) && src[2] == SH(0.0f)) return terms;
+  const gpu::LpvVoxel* v = voxels.empty() ? nullptr : &voxels[source.index(n)];
+  glm::vec3 travel = -glm::vec3(faceOffset(i));
+  for (FaceTerm& t : terms) {
+    glm::vec3 d = faceDirection(i, t.face);
+    t.solidAngle = faceSolidAngle(i, t.face);
+    t.transmission = faceTransmission(v, travel, d, s, step);
+    for (int ch = 0; ch < 3; ++ch) {
+      float e = shEvaluate(src[ch], d);
+      if (s.clampFaces) e = std::fmax(e, 0.0f);
+      t.intensity[ch] = e;
+      t.flux[ch] = ((e * t.solidAngle) * t.transmission) * s.weightScale;
+    }
+  }
+  return terms;
+}
+
 std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin,
                                         float fragVoxel, int fragRes, glm::vec3 gridOrigin, float cellSize,
                                         int res, float areaUnits) {
@@ -130,6 +154,129 @@ std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragm
     v.normals[channel] = std::max(v.normals[channel], encodeNormalMask(k, dotField));
   }
   return grid;
+}
+
+glm::vec3 directionToLight(const voxlab::gpu::GpuLight& l, glm::vec3 p) {
+  if (int(l.positionType.w) == VOXLAB_LIGHT_DIRECTIONAL) return -glm::vec3(l.directionRange);
+  glm::vec3 d = glm::vec3(l.positionType) - p;
+  return d / std::fmax(glm::length(d), 1e-4f);
+}
+
+glm::vec3 lightIrradiance(const voxlab::gpu::GpuLight& l, glm::vec3 p) {
+  const glm::vec3 radiance(l.radiance);
+  if (int(l.positionType.w) == VOXLAB_LIGHT_DIRECTIONAL) return radiance;
+  glm::vec3 d = glm::vec3(l.positionType) - p;
+  float dist = std::fmax(glm::length(d), 1e-4f);
+  float falloff = 1.0f / std::fmax(dist * dist, 1e-8f);
+  if (l.directionRange.w > 0.0f) {
+    float r = dist / l.directionRange.w;
+    float w = std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
+    falloff *= w * w;
+  }
+  if (int(l.positionType.w) == VOXLAB_LIGHT_SPOT) {
+    float cosA = glm::dot(glm::vec3(l.directionRange), -d / dist);
+    float t = std::clamp((cosA - l.spot.y) / std::fmax(l.spot.x - l.spot.y, 1e-4f), 0.0f, 1.0f);
+    falloff *= t * t;
+  }
+  return radiance * falloff;
+}
+
+float shadowVisibility(const ShadowedLight& l, glm::vec3 p, glm::vec3 n, bool* marginal) {
+  const voxlab::gpu::GpuLight& g = l.light;
+  if (g.spot.w < 0.5f) return 1.0f;
+  float w = (g.shadowViewProj * glm::vec4(p, 1.0f)).w;
+  glm::vec4 clip = g.shadowViewProj * glm::vec4(p + n * (g.spot.z * w), 1.0f);
+  glm::vec3 uvz = glm::vec3(clip) / clip.w * 0.5f + 0.5f;
+  if (glm::any(glm::lessThan(uvz, glm::vec3(0.0f))) || glm::any(glm::greaterThan(uvz, glm::vec3(1.0f)))) return 1.0f;
+  const glm::vec2 texel = 1.0f / glm::vec2(float(l.width), float(l.height));
+  const float threshold = uvz.z - 1e-4f;
+  int lit = 0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x) {
+      glm::vec2 t = (glm::vec2(uvz) + glm::vec2(float(x), float(y)) * texel) * glm::vec2(float(l.width), float(l.height));
+      glm::ivec2 i = glm::clamp(glm::ivec2(glm::floor(t)), glm::ivec2(0), glm::ivec2(l.width - 1, l.height - 1));
+      float depth = l.depth[size_t(i.y) * l.width + i.x];
+      lit += depth >= threshold;
+      glm::vec2 edge = glm::abs(t - glm::round(t));
+      if (marginal && (std::fmin(edge.x, edge.y) < 1e-4f || std::fabs(depth - threshold) < 1e-6f)) *marginal = true;
+    }
+  return float(lit) / 9.0f;
+}
+
+static glm::dvec4 lobeD(glm::vec3 n) { return glm::dvec4(shLobe(n)); }
+
+Injected injectPerCell(const std::vector<gpu::LpvVoxel>& voxels, const gpu::LpvGrid& grid, const ShadowedLight& l,
+                       float fragmentArea, float areaUnits) {
+  Injected out;
+  out.sh.assign(voxels.size(), {glm::dvec4(0.0), glm::dvec4(0.0), glm::dvec4(0.0)});
+  out.marginal.assign(voxels.size(), 0.0);
+  const int res = int(grid.centreRes.w);
+  const float cellSize = grid.originCell.w;
+  for (size_t i = 0; i < voxels.size(); ++i) {
+    const gpu::LpvVoxel& v = voxels[i];
+    if (!decodeOccupied(v.colorOcclusion)) continue;
+    glm::ivec3 c(int(i % res), int(i / res % res), int(i / (size_t(res) * res)));
+    glm::vec3 p = glm::vec3(grid.originCell) + (glm::vec3(c) + 0.5f) * cellSize;
+    glm::vec3 toLight = directionToLight(l.light, p), n(0.0f);
+    float best = -2.0f;
+    for (int k = 0; k < 4; ++k) {
+      if (v.normals[k] == 0u) continue;
+      glm::vec3 m = glm::normalize(decodeNormalMask(v.normals[k]));
+      float d = glm::dot(m, toLight);
+      if (d > best) best = d, n = m;
+    }
+    if (!(best > 0.0f)) continue;
+    bool unsure = false;
+    double visibility = shadowVisibility(l, p + n * (0.5f * cellSize), n, &unsure);
+    glm::dvec3 full = glm::dvec3(decodeColor(v.colorOcclusion)) * glm::dvec3(lightIrradiance(l.light, p)) * double(best) *
+                      (double(v.area) / areaUnits * fragmentArea) / kPi;
+    for (int ch = 0; ch < 3; ++ch) out.sh[i][ch] = full[ch] * visibility * lobeD(n);
+    if (unsure) {
+      out.marginal[i] = std::max({full.x, full.y, full.z}) * double(kLobe1);
+      ++out.marginalCells;
+    }
+  }
+  return out;
+}
+
+Injected injectPerFragment(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin, float fragVoxel,
+                           int fragRes, const gpu::LpvGrid& grid, const ShadowedLight& l, float areaUnits) {
+  const int res = int(grid.centreRes.w);
+  Injected out;
+  out.sh.assign(size_t(res) * res * res, {glm::dvec4(0.0), glm::dvec4(0.0), glm::dvec4(0.0)});
+  out.marginal.assign(out.sh.size(), 0.0);
+  auto voxelIndex = [&](uint32_t pos) {
+    return (size_t((pos >> 20) & 1023u) * fragRes + ((pos >> 10) & 1023u)) * fragRes + (pos & 1023u);
+  };
+  std::vector<uint32_t> sharing(size_t(fragRes) * fragRes * fragRes, 0u);
+  for (const auto& f : fragments) ++sharing[voxelIndex(f.position)];
+  std::vector<char> counted(out.sh.size(), 0);
+  for (const auto& f : fragments) {
+    glm::vec3 vox(float(f.position & 1023u), float((f.position >> 10) & 1023u), float((f.position >> 20) & 1023u));
+    glm::vec3 p = fragOrigin + (vox + 0.5f) * fragVoxel;
+    glm::vec3 u = (p - glm::vec3(grid.originCell)) / grid.originCell.w;
+    glm::ivec3 c(std::floor(u.x), std::floor(u.y), std::floor(u.z));
+    if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, glm::ivec3(res)))) continue;
+    glm::ivec3 k = snormComponents(f.normal);
+    glm::vec3 n = glm::normalize(glm::vec3(k) / 127.0f);
+    float cosine = glm::dot(n, directionToLight(l.light, p));
+    if (!(cosine > 0.0f)) continue;
+    glm::dvec3 albedo(double(f.albedo & 255u), double((f.albedo >> 8) & 255u), double((f.albedo >> 16) & 255u));
+    albedo *= double(kInv255);
+    double area = double(fragmentAreaUnits(k, sharing[voxelIndex(f.position)], areaUnits)) / areaUnits * fragVoxel * fragVoxel;
+    float behind = 0.5f * fragVoxel * (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z));
+    bool unsure = false;
+    double visibility = shadowVisibility(l, p + n * behind, n, &unsure);
+    glm::dvec3 full = albedo * glm::dvec3(lightIrradiance(l.light, p)) * double(cosine) * area / kPi;
+    const size_t cell = (size_t(c.z) * res + c.y) * res + c.x;
+    for (int ch = 0; ch < 3; ++ch) out.sh[cell][ch] += full[ch] * visibility * lobeD(n);
+    if (unsure) {
+      out.marginal[cell] += std::max({full.x, full.y, full.z}) * double(kLobe1);
+      out.marginalCells += !counted[cell];
+      counted[cell] = 1;
+    }
+  }
+  return out;
 }
 
 std::array<SH, 3> sampleTrilinear(const ShField& f, glm::vec3 cellPos) {

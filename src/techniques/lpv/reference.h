@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "common/shared.h"
 #include "lpv/lpv_shared.h"
 #include "techniques/lpv/sh.h"
 
@@ -59,6 +60,20 @@ PropagationResult propagate(const ShField& injected, const std::vector<gpu::LpvV
 std::array<SH, 3> gatherFrom(const ShField& source, const std::vector<gpu::LpvVoxel>& voxels, glm::ivec3 cell,
                              int i, const PropagationSettings& s, int step);
 
+// The five face evaluations of neighbour i for 'cell' (the probe record's faceIntensity/faceFlux):
+// faces j in increasing order, the shared face skipped; all zero when the neighbour lies outside
+// the grid or holds no light (the shader skips it). gatherFrom is the sum of flux * lobe(axis of j)
+// over them in this order.
+struct FaceTerm {
+  int face = 0;                 // j
+  glm::vec3 intensity{0.0f};    // per channel: <SH, Y(d)>, clamped at 0 by s.clampFaces
+  float solidAngle = 0.0f;      // sr
+  float transmission = 0.0f;
+  glm::vec3 flux{0.0f};         // ((intensity * solid angle) * transmission) * weight scale
+};
+std::array<FaceTerm, 5> faceTerms(const ShField& source, const std::vector<gpu::LpvVoxel>& voxels, glm::ivec3 cell,
+                                  int i, const PropagationSettings& s, int step);
+
 // Bins voxel fragments (voxel coordinates packed 10:10:10, albedo RGBA8, normal snorm8) of a
 // fragment voxel space (origin, voxel size, voxels per axis) into a grid at 'gridOrigin' with
 // 'cellSize'; the area word counts each fragment's share of its voxel in 'areaUnits' per voxel^2.
@@ -66,6 +81,38 @@ struct FragmentRecord { uint32_t position, albedo, normal, emission; };
 std::vector<gpu::LpvVoxel> binFragments(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin,
                                         float fragVoxel, int fragRes, glm::vec3 gridOrigin, float cellSize,
                                         int res, float areaUnits);
+
+// --- Injection (shaders/lpv/inject.comp.glsl, inject_fragments.comp.glsl) ----------------------
+// What inject reads besides the voxels: the light block and the shadow map's depths (texel (x, y)
+// at y * width + x, as captured).
+struct ShadowedLight {
+  voxlab::gpu::GpuLight light;
+  int width = 0, height = 0;
+  std::vector<float> depth;
+};
+// Visibility of p (normal n) by the shadow map, as shaders/common/lights.glsl: 3x3 nearest taps with
+// the light's normal offset. 'marginal' (may be null) is set when a tap's texel coordinate lies
+// within 1e-4 texel of a texel edge or its depth within 1e-6 of the test's threshold: there the
+// GPU's float rounding of the same expressions may decide a tap the other way.
+float shadowVisibility(const ShadowedLight& l, glm::vec3 p, glm::vec3 n, bool* marginal);
+glm::vec3 lightIrradiance(const voxlab::gpu::GpuLight& l, glm::vec3 p);
+glm::vec3 directionToLight(const voxlab::gpu::GpuLight& l, glm::vec3 p);
+
+// Injected VPLs of one cascade in double precision, and per cell the largest change of any of
+// its coefficients that marginal shadow taps could make (the flux of the marginal fragments or
+// cells at full visibility).
+struct Injected {
+  std::vector<std::array<glm::dvec4, 3>> sh;
+  std::vector<double> marginal;
+  size_t marginalCells = 0;
+};
+// inject.lighting=per-cell: each occupied cell lit once through its most light-facing normal.
+Injected injectPerCell(const std::vector<gpu::LpvVoxel>& voxels, const gpu::LpvGrid& grid, const ShadowedLight& l,
+                       float fragmentArea, float areaUnits);
+// inject.lighting=per-fragment: every fragment lit at its voxel, summed into its cell (exact sums:
+// the GPU's fixed-point rounding is the caller's to bound).
+Injected injectPerFragment(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin, float fragVoxel,
+                           int fragRes, const gpu::LpvGrid& grid, const ShadowedLight& l, float areaUnits);
 
 // Trilinear SH at a point given in cell units (cell centres at i + 0.5), clamped to the edge texels.
 std::array<SH, 3> sampleTrilinear(const ShField& f, glm::vec3 cellPos);

@@ -341,6 +341,15 @@ static ParamDesc vplDirectionParam() {
                            "normal of the point VPL's clamped-cosine lobe");
 }
 
+// The facing-plates experiment of the technical note (lesson 05, LpvLookup.FacingPlatesDecideTheSign):
+// the point VPL this many cells behind the picked cell, so the probe record shows what receivers
+// in front of an emitter read.
+static ParamDesc vplDistanceParam() {
+  return ParamDesc::integer("inject.vpl-distance", 0, 0, 16,
+                            "the point VPL sits this many cells from the picked cell against its normal (0: in it)",
+                            "cells");
+}
+
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(ParamDesc::real("inject.vpl-shift", 0.0, 0.0, 1.0,
@@ -350,6 +359,7 @@ void InjectStage::declare(StageBuilder& b) const {
   b.param(injectSourceParam());
   b.param(injectLightingParam());
   b.param(vplDirectionParam());
+  b.param(vplDistanceParam());
   b.param(probeParam("x"));
   b.param(probeParam("y"));
   b.param(probeParam("z"));
@@ -429,7 +439,10 @@ void InjectStage::execute(StageContext& ctx) {
   auto grids = readGrids(ctx.board);
   const bool point = ctx.params.getChoice("inject.source") == "point-vpl";
   glm::ivec3 probe = probeCell(ctx.params);
-  glm::vec3 probeWorld = glm::vec3(grids[0].originCell) + (glm::vec3(probe) + 0.5f) * grids[0].originCell.w;
+  const glm::ivec3 vplNormal = faceOffset(ctx.params.getInt("inject.vpl-direction"));
+  glm::vec3 probeWorld = glm::vec3(grids[0].originCell) +
+                         (glm::vec3(probe - ctx.params.getInt("inject.vpl-distance") * vplNormal) + 0.5f) *
+                             grids[0].originCell.w;
   GLuint program = ctx.shaders.program({"lpv/inject.comp.glsl"});
   for (int c = 0; c < kCascades; ++c) {
     Texture* out[3];
@@ -440,7 +453,7 @@ void InjectStage::execute(StageContext& ctx) {
     setUniform(program, "u_areaUnits", areaUnits(grids[c].originCell.w, space.voxelSize));
     setUniform(program, "u_pointVpl", point ? 1 : 0);
     setUniform(program, "u_vplCell", vplCell);
-    setUniform(program, "u_vplNormal", glm::vec3(faceOffset(ctx.params.getInt("inject.vpl-direction"))));
+    setUniform(program, "u_vplNormal", glm::vec3(vplNormal));
     setUniform(program, "u_shift", ctx.params.getFloat("inject.vpl-shift"));
     Buffer& unshifted = ctx.board.ensureBuffer("inject.unshifted", unshiftedBytes(ctx.params));
     Buffer& sums = ctx.board.ensureBuffer("inject.fragment-sums", fragmentSumsBytes(ctx.params));
@@ -541,10 +554,19 @@ void PropagateStage::declare(StageBuilder& b) const {
   for (int k = 0; k < 4; ++k) probe.fields.push_back({"normal-" + std::to_string(k), FieldType::U32, uint32_t(128 + 4 * k)});
   const char* dirs[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
   for (int i = 0; i < 6; ++i) probe.fields.push_back({std::string("from") + dirs[i], FieldType::Vec4, uint32_t(144 + 16 * i)});
-  b.output("probe-cell", OutputKind::Buffer, kLpvProbe,
+  for (int part = 0; part < 2; ++part)
+    for (int f = 0; f < 30; ++f) {
+      const int i = f / 5, k = f % 5, j = k < i ? k : k + 1;
+      probe.fields.push_back({std::string(part == 0 ? "intensity" : "flux") + dirs[i] + "-face" + dirs[j],
+                              FieldType::Vec4, uint32_t(240 + 480 * part + 16 * f)});
+    }
+  probe.fields.push_back({"weight", FieldType::F32, 1200});
+  OutputDesc& cellRecord = b.output("probe-cell", OutputKind::Buffer, kLpvProbe,
            "the picked cell (probe.cell-x/y/z, probe.cascade) after the current step: SH per channel, its voxel's "
-           "words, and c00 gained from each neighbour (a: mean face transmission)")
-      .layout = probe;
+           "words, c00 gained from each neighbour (a: mean face transmission), and per neighbour its five face "
+           "evaluations (intensity towards the face, solid angle, transmission, flux) that sum to it");
+  cellRecord.layout = probe;
+  cellRecord.probeRecord = true;  // checked and drawn by src/inspect/visualisers/lpv_probe.cpp
   BufferLayout occ;
   occ.stride = sizeof(gpu::LpvOcclusion);
   occ.fields = {{"cell", FieldType::Packed10_10_10, 0, FieldRole::Position},
@@ -570,6 +592,7 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.buffer("energy.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("probe-cell", [](const ParamSet&, const ViewState&) { return sizeof(gpu::LpvProbe); });
   b.buffer("propagate.energy-rows", [](const ParamSet& p, const ViewState&) { return energyRowsBytes(p); });
+  b.buffer("propagate.active-boxes", [](const ParamSet&, const ViewState&) { return 2 * kCascades * sizeof(glm::ivec4); });
 }
 
 int PropagateStage::iterations(const ParamSet& params) const { return params.getInt("lpv.steps"); }
@@ -630,8 +653,17 @@ void PropagateStage::execute(StageContext& ctx) {
   const int probeCascade = ctx.params.getInt("probe.cascade");
 
   GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
+  // The picked cell's record comes from the same shader built with the recording (one invocation).
+  GLuint recorder = ctx.shaders.program({"lpv/propagate.comp.glsl"}, "#define LPV_PROBE 1\n");
   GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
   if (k == 0) writeOcclusionView(ctx, occlusion);
+  // Per cascade the lowest and highest cell holding injected light (none: lo > hi), found at step 0.
+  std::array<glm::ivec4, 2 * kCascades> activeBoxes;
+  if (k > 0) {
+    auto bytes = ctx.board.buffer("propagate.active-boxes").download(sizeof(activeBoxes));
+    std::memcpy(activeBoxes.data(), bytes.data(), sizeof(activeBoxes));
+  }
+  double updated = 0;
   for (int c = 0; c < kCascades; ++c) {
     // Step k reads the state step k-1 wrote (step 0: the injected VPLs, packed into state 0) and
     // writes the other state, then copies it into the output volumes (buffer -> texture copies).
@@ -656,6 +688,34 @@ void PropagateStage::execute(StageContext& ctx) {
                             reinterpret_cast<void*>((part * 3 + ch) * section));
       glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
       barrier();
+      // The box of cells holding injected light; cells outside the other state are never written.
+      glClearNamedBufferData(out.id(), GL_R32F, GL_RED, GL_FLOAT, nullptr);
+      auto injected = in.download(3 * section);
+      glm::ivec4 lo(res, res, res, 0), hi(-1, -1, -1, 0);
+      for (int ch = 0; ch < 3; ++ch) {
+        const float* v = reinterpret_cast<const float*>(injected.data() + ch * section);
+        for (size_t i = 0; i < cells; ++i) {
+          if (v[4 * i] == 0.0f && v[4 * i + 1] == 0.0f && v[4 * i + 2] == 0.0f && v[4 * i + 3] == 0.0f) continue;
+          const glm::ivec3 cell(int(i % res), int(i / res % res), int(i / (size_t(res) * res)));
+          lo = glm::ivec4(glm::min(glm::ivec3(lo), cell), 0);
+          hi = glm::ivec4(glm::max(glm::ivec3(hi), cell), 0);
+        }
+      }
+      activeBoxes[2 * c] = lo;
+      activeBoxes[2 * c + 1] = hi;
+      ctx.board.ensureBuffer("propagate.active-boxes", sizeof(activeBoxes)).upload(activeBoxes.data(), sizeof(activeBoxes));
+    }
+    // Light moves at most one cell per step (locality), so after step k only cells within k + 1
+    // cells of an injected one can hold any: the step runs over that box alone. Every cell outside
+    // it would gather exactly 0 from dark neighbours and keep its 0, which both states hold there.
+    const glm::ivec3 boxLo = glm::max(glm::ivec3(activeBoxes[2 * c]) - (k + 1), glm::ivec3(0));
+    const glm::ivec3 boxHi = glm::min(glm::ivec3(activeBoxes[2 * c + 1]) + (k + 1), glm::ivec3(res - 1));
+    const glm::ivec3 boxSize = glm::max(boxHi - boxLo + 1, glm::ivec3(0));
+    for (int j = 0; j <= k; ++j) {  // the cells steps 0..k updated (statistic)
+      const glm::ivec3 lo = glm::max(glm::ivec3(activeBoxes[2 * c]) - (j + 1), glm::ivec3(0));
+      const glm::ivec3 hi = glm::min(glm::ivec3(activeBoxes[2 * c + 1]) + (j + 1), glm::ivec3(res - 1));
+      const glm::ivec3 n = glm::max(hi - lo + 1, glm::ivec3(0));
+      updated += double(n.x) * n.y * n.z;
     }
     auto bindCommon = [&](GLuint program) {
       setUniform(program, "u_gridRes", res);
@@ -672,8 +732,10 @@ void PropagateStage::execute(StageContext& ctx) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, ctx.board.buffer(voxelBuffer(c)).id());
     };
     bindCommon(prop);
-    setUniform(prop, "u_probeMode", 0);
-    dispatchCompute({res, res, res}, {4, 4, 4});
+    setUniform(prop, "u_boxLo", boxLo);
+    setUniform(prop, "u_boxHi", boxHi);
+    glUseProgram(prop);
+    if (boxSize.x > 0) dispatchCompute({boxSize.x, boxSize.y, boxSize.z}, {8, 2, 4});  // propagate.comp.glsl's local size
     barrier();
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, out.id());
     for (int ch = 0; ch < 3; ++ch) {
@@ -683,10 +745,9 @@ void PropagateStage::execute(StageContext& ctx) {
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     barrier();
     if (c == probeCascade) {
-      bindCommon(prop);
-      setUniform(prop, "u_probeMode", 1);
-      setUniform(prop, "u_probeCell", probeCell(ctx.params));
-      setUniform(prop, "u_cascade", c);
+      setUniform(recorder, "u_probeCell", probeCell(ctx.params));
+      setUniform(recorder, "u_cascade", c);
+      bindCommon(recorder);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, probe.id());
       dispatchCompute({1, 1, 1}, {4, 4, 4});
       barrier();
@@ -722,6 +783,8 @@ void PropagateStage::execute(StageContext& ctx) {
   uint32_t records = uint32_t((k + 2) * kCascades);
   energyCount.upload(&records, 4);
   ctx.stats["steps_done"] = k + 1;
+  // Of all cells of both cascades over the steps so far, the fraction the steps ran over.
+  ctx.stats["cells_updated_fraction"] = updated / (double(kCascades) * (k + 1) * res * res * res);
   // Per cascade: VPL, light and wavefront volumes (3 channels each) and two states of 6 sections.
   ctx.stats["bytes_sh_per_cascade"] = double(res) * res * res * 16.0 * (9 + 12);
 }

@@ -32,9 +32,6 @@ std::string shVolume(const char* prefix, int cascade, int channel);
 float areaUnits(float cellSize, float voxelSize);
 std::array<gpu::LpvGrid, kCascades> placeGrids(const voxlab::Scene& scene, const ViewState& view, const ParamSet& params);
 
-// Refuses a grid that does not fit before anything is allocated (one line naming the limit).
-void checkGridBudget(const ParamSet& params);
-
 class PlaceStage : public Stage {
  public:
   const char* id() const override { return "place"; }
