@@ -1,6 +1,6 @@
 #version 450
-// Slab voxelization and light injection: one invocation per triangle of one draw range (one
-// material, whose textures are bound), for a list of entries (level, box of the planner's direct
+// Slab voxelization and light injection: one invocation per listed triangle of one material
+// (whose textures are bound), for a list of entries (level, box of the planner's direct
 // set, box to skip); the stage groups the entries so that no invocation's loops can pass
 // llvmpipe's 65535 iterations (at most 7 N^2 per entry: N^2 columns, up to 6 candidates each). Cells are those of the lattice anchored to the world:
 // cell c of level k covers [c, c+1) * s_k metres, and a vertex's cell coordinates are
@@ -21,6 +21,9 @@ layout(local_size_x = 64) in;
 #include "common/tri_box.glsl"
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) buffer Accumulators { uint accum[]; };
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+// The triangles this pass visits (those whose bounds reach an entry, tested on the CPU), one
+// material per dispatch; u_firstTriangle and u_triangleCount index this list.
+layout(std430, binding = VOXLAB_BINDING_TRIANGLE_LIST) readonly buffer TriangleList { uint triangleList[]; };
 layout(binding = 2) uniform sampler2D u_shadowMap;
 uniform uint u_firstTriangle;
 uniform uint u_triangleCount;
@@ -120,6 +123,6 @@ void voxelizeEntry(uint t, int e) {
 
 void main() {
   if (gl_GlobalInvocationID.x >= u_triangleCount) return;
-  uint t = u_firstTriangle + gl_GlobalInvocationID.x;
+  uint t = triangleList[u_firstTriangle + gl_GlobalInvocationID.x];
   for (int e = 0; e < u_entryCount; ++e) voxelizeEntry(t, e);
 }

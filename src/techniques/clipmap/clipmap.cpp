@@ -38,6 +38,11 @@
 //     block, F(level k-1) inside), so the plan rebuilds exactly the cells whose definition
 //     changed: exposed slabs (N^3 - prod(N - |d_i|) cells), cells that left the covered block
 //     (coverage changes most implementations miss) and the covered block itself.
+//   - Which triangles a pass visits does not change a texel either (sums are order-free, and a
+//     triangle the shader would turn away adds nothing): the stage keeps the scene's triangles in
+//     Morton order per draw range, cut into runs of 512 with bounds, and dispatches only those
+//     whose bounds can reach a box of the pass (mayReach: runs first, then each triangle), so a
+//     move pays for the slabs' triangles, not a pass over the scene.
 //   - The fixed-point sums have clipmap.fixed-point-bits b fraction bits (default 14): a cell holds
 //     2^(32-b) fragments before they can overflow; cells that reach it are counted and reported
 //     (accumulator_overflow_cells and one warning line), never silently wrapped.

@@ -222,34 +222,137 @@ static constexpr GLbitfield kAllShaderWrites =
     GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
     GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT;
 
-std::vector<TriangleRun> triangleRuns(const Scene& scene) {
-  // 512: a move's thin slabs reach fewer triangles than with 2048 (Sponza, 4 moves of 2 voxels:
-  // the median move 0.14-0.19 of a full build against 0.24-0.26; 256 gained nothing more).
-  constexpr uint32_t kRunTriangles = 512;
-  std::vector<TriangleRun> runs;
-  for (const DrawRange& d : scene.draws) {
-    const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
-    for (uint32_t t = 0; t < count; t += kRunTriangles) {
-      TriangleRun c{first + t, std::min(kRunTriangles, count - t), d.material, glm::vec3(1e30f), glm::vec3(-1e30f)};
-      for (uint32_t i = 3 * c.firstTriangle; i < 3 * (c.firstTriangle + c.triangles); ++i) {
-        c.lo = glm::min(c.lo, scene.positions[scene.indices[i]]);
-        c.hi = glm::max(c.hi, scene.positions[scene.indices[i]]);
-      }
-      runs.push_back(c);
-    }
-  }
-  return runs;
+// Spreads the low 21 bits of v to every third bit (bit i to bit 3i).
+static uint64_t spreadBits3(uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffull;
+  v = (v | v << 16) & 0x1f0000ff0000ffull;
+  v = (v | v << 8) & 0x100f00f00f00f00full;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
 }
 
-// Voxelizes and injects 'entries' into the accumulators bound at CLIPMAP_BINDING_ACCUM: one pass
-// over the triangle runs per group of entries (level, box, skip); a group holds at most
-// 60000 / (7 N^2) entries, so no invocation's loops pass llvmpipe's limit of 65535 iterations,
-// and a run whose bounds (widened by a cell) miss every box of the group is not dispatched.
-// Returns the passes; 'dispatched' receives the runs dispatched.
+TriangleOrder triangleOrder(const Scene& scene) {
+  // Runs of 512 triangles: only a first test before each triangle's own (voxelizeEntries).
+  constexpr uint32_t kRunTriangles = 512;
+  const size_t triangles = scene.triangleCount();
+  TriangleOrder order;
+  order.triangles.resize(triangles);
+  order.lo.resize(triangles);
+  order.hi.resize(triangles);
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (uint32_t v : scene.indices) {
+    lo = glm::min(lo, scene.positions[v]);
+    hi = glm::max(hi, scene.positions[v]);
+  }
+  // The Morton code of each centroid on a 2^21 lattice over the scene's bounds.
+  const glm::dvec3 scale = double((1 << 21) - 1) / glm::max(glm::dvec3(hi) - glm::dvec3(lo), glm::dvec3(1e-30));
+  std::vector<uint64_t> code(triangles);
+  for (size_t t = 0; t < triangles; ++t) {
+    glm::dvec3 c(0.0);
+    for (int i = 0; i < 3; ++i) c += glm::dvec3(scene.positions[scene.indices[3 * t + size_t(i)]]);
+    const glm::dvec3 q = glm::clamp((c / 3.0 - glm::dvec3(lo)) * scale, glm::dvec3(0.0), glm::dvec3((1 << 21) - 1));
+    code[t] = spreadBits3(uint64_t(q.x)) | spreadBits3(uint64_t(q.y)) << 1 | spreadBits3(uint64_t(q.z)) << 2;
+  }
+  for (const DrawRange& d : scene.draws) {
+    const uint32_t first = d.firstIndex / 3, count = d.indexCount / 3;
+    auto begin = order.triangles.begin() + first, end = begin + count;
+    for (uint32_t t = 0; t < count; ++t) begin[t] = first + t;
+    std::stable_sort(begin, end, [&](uint32_t a, uint32_t b) { return code[a] < code[b]; });
+    for (uint32_t j = first; j < first + count; ++j) {
+      glm::vec3 tlo(1e30f), thi(-1e30f);
+      for (int i = 0; i < 3; ++i) {
+        const glm::vec3& p = scene.positions[scene.indices[3 * size_t(order.triangles[j]) + size_t(i)]];
+        tlo = glm::min(tlo, p);
+        thi = glm::max(thi, p);
+      }
+      order.lo[j] = tlo, order.hi[j] = thi;
+    }
+    for (uint32_t t = 0; t < count; t += kRunTriangles) {
+      TriangleRun c{first + t, std::min(kRunTriangles, count - t), d.material, glm::vec3(1e30f), glm::vec3(-1e30f)};
+      for (uint32_t j = c.firstTriangle; j < c.firstTriangle + c.triangles; ++j) {
+        c.lo = glm::min(c.lo, order.lo[j]);
+        c.hi = glm::max(c.hi, order.hi[j]);
+      }
+      order.runs.push_back(c);
+    }
+  }
+  return order;
+}
+
+const TriangleOrder& TriangleOrderCache::get(const Scene& scene) {
+  if (scene_ != &scene || triangles_ != scene.triangleCount()) {
+    order_ = triangleOrder(scene);
+    scene_ = &scene;
+    triangles_ = scene.triangleCount();
+  }
+  return order_;
+}
+
+bool mayReach(const Layout& layout, const Entry& e, const glm::vec3& lo, const glm::vec3& hi) {
+  // The shader's cell coordinates are fl(p * c), c = u_cellsPerMetre[k]: p * c is exact in double
+  // and rounding to float moves it by at most 2^-24 of itself, so [down, up] holds the shader's.
+  const double c = double(float(1.0 / layout.voxelSize(e.level)));
+  const glm::dvec3 wl = glm::dvec3(lo) * c, wh = glm::dvec3(hi) * c;
+  const glm::dvec3 down = wl - glm::abs(wl) * 0x1p-22 - 1e-30, up = wh + glm::abs(wh) * 0x1p-22 + 1e-30;
+  // It visits cells floor(lo) .. floor(hi) inside [box.lo, box.hi) and leaves those in
+  // [skip.lo, skip.hi) alone.
+  const bool meets = glm::all(glm::greaterThanEqual(up, glm::dvec3(e.box.lo))) &&
+                     glm::all(glm::lessThan(down, glm::dvec3(e.box.hi)));
+  const bool skipped = !e.skip.empty() && glm::all(glm::greaterThanEqual(down, glm::dvec3(e.skip.lo))) &&
+                       glm::all(glm::lessThan(up, glm::dvec3(e.skip.hi)));
+  return meets && !skipped;
+}
+
+// Voxelizes and injects 'entries' into the accumulators bound at CLIPMAP_BINDING_ACCUM, one pass
+// per group of entries (level, box, skip); a group holds at most 60000 / (7 N^2) entries, so no
+// invocation's loops pass llvmpipe's limit of 65535 iterations. A triangle is dispatched for a
+// group when mayReach holds for one of its entries (a full build's coarse levels, whose covered
+// block holds the whole scene, dispatch nothing); the runs' bounds are tested first, so a move
+// looks at the triangles of a few runs only.
 int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
-                    const std::vector<Entry>& entries, const std::vector<TriangleRun>& runs, int& dispatched) {
+                    const std::vector<Entry>& entries, const TriangleOrder& order, const std::string& visitList,
+                    int& runs, int& triangles) {
   const int n = layout.n;
   const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
+  // Per group, the triangles to dispatch, in order (so grouped by material): one list for the
+  // whole call, uploaded once.
+  struct Dispatch {
+    uint32_t material, first, count;
+  };
+  struct Group {
+    size_t first, count;
+    std::vector<Dispatch> dispatches;
+  };
+  std::vector<Group> groups;
+  std::vector<uint32_t> visit;
+  runs = 0;
+  for (size_t first = 0; first < entries.size(); first += perGroup) {
+    Group g{first, std::min(perGroup, entries.size() - first), {}};
+    auto reaches = [&](const glm::vec3& lo, const glm::vec3& hi) {
+      for (size_t i = 0; i < g.count; ++i)
+        if (mayReach(layout, entries[first + i], lo, hi)) return true;
+      return false;
+    };
+    for (const TriangleRun& c : order.runs) {
+      if (!reaches(c.lo, c.hi)) continue;
+      ++runs;
+      for (uint32_t j = c.firstTriangle; j < c.firstTriangle + c.triangles; ++j) {
+        if (!reaches(order.lo[j], order.hi[j])) continue;
+        if (g.dispatches.empty() || g.dispatches.back().material != c.material)
+          g.dispatches.push_back({c.material, uint32_t(visit.size()), 0});
+        visit.push_back(order.triangles[j]);
+        ++g.dispatches.back().count;
+      }
+    }
+    groups.push_back(std::move(g));
+  }
+  triangles = int(visit.size());
+  if (visit.empty()) return int(groups.size());
+  Buffer& visitBuffer = ctx.board.ensureBuffer(visitList, 4 * visit.size());
+  visitBuffer.upload(visit.data(), 4 * visit.size());
+
   GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
   setClipUniforms(vox, layout, origins);
   setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
@@ -266,65 +369,37 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, visitBuffer.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   ctx.gpuScene.bindCoverage();
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   const GLint materialLoc = glGetUniformLocation(vox, "u_materialIndex");
-  int passes = 0;
-  dispatched = 0;
-  for (size_t first = 0; first < entries.size(); first += perGroup) {
-    const size_t count = std::min(perGroup, entries.size() - first);
-    std::vector<int> level(count);
-    std::vector<glm::ivec3> lo(count), hi(count), skipLo(count), skipHi(count);
-    std::vector<std::pair<glm::dvec3, glm::dvec3>> world(count);  // the boxes in metres, one cell wider
-    // The skip boxes in metres, one cell narrower (empty when there is none): a run inside one
-    // reaches no cell of its entry (a full build's coarse levels, whose covered block holds the
-    // whole scene, dispatch nothing).
-    std::vector<std::pair<glm::dvec3, glm::dvec3>> inner(count);
-    for (size_t i = 0; i < count; ++i) {
-      const Entry& e = entries[first + i];
+  for (const Group& g : groups) {
+    if (g.dispatches.empty()) continue;
+    std::vector<int> level(g.count);
+    std::vector<glm::ivec3> lo(g.count), hi(g.count), skipLo(g.count), skipHi(g.count);
+    for (size_t i = 0; i < g.count; ++i) {
+      const Entry& e = entries[g.first + i];
       level[i] = e.level;
       lo[i] = glm::ivec3(e.box.lo), hi[i] = glm::ivec3(e.box.hi);
       skipLo[i] = glm::ivec3(e.skip.lo), skipHi[i] = glm::ivec3(e.skip.hi);
-      const double s = layout.voxelSize(e.level);
-      world[i] = {glm::dvec3(e.box.lo - Cell(1)) * s, glm::dvec3(e.box.hi + Cell(1)) * s};
-      inner[i] = e.skip.empty() ? std::pair<glm::dvec3, glm::dvec3>{glm::dvec3(1.0), glm::dvec3(-1.0)}
-                                : std::pair<glm::dvec3, glm::dvec3>{glm::dvec3(e.skip.lo + Cell(1)) * s,
-                                                                    glm::dvec3(e.skip.hi - Cell(1)) * s};
     }
-    setUniform(vox, "u_entryCount", int(count));
-    glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(count), level.data());
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryLo"), GLsizei(count), &lo[0].x);
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(count), &hi[0].x);
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(count), &skipLo[0].x);
-    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(count), &skipHi[0].x);
-    uint32_t bound = UINT32_MAX;
-    for (const TriangleRun& c : runs) {
-      bool reaches = false;
-      for (size_t i = 0; i < count && !reaches; ++i) {
-        const auto& [wlo, whi] = world[i];
-        const auto& [slo, shi] = inner[i];
-        const bool overlaps = glm::all(glm::lessThanEqual(glm::dvec3(c.lo), whi)) &&
-                              glm::all(glm::greaterThanEqual(glm::dvec3(c.hi), wlo));
-        const bool insideSkip = glm::all(glm::greaterThanEqual(glm::dvec3(c.lo), slo)) &&
-                                glm::all(glm::lessThanEqual(glm::dvec3(c.hi), shi));
-        reaches = overlaps && !insideSkip;
-      }
-      if (!reaches) continue;
-      if (c.material != bound) {
-        glProgramUniform1i(vox, materialLoc, int(c.material));
-        ctx.gpuScene.bindMaterialTextures(c.material);
-        bound = c.material;
-      }
-      setUniform(vox, "u_firstTriangle", unsigned(c.firstTriangle));
-      setUniform(vox, "u_triangleCount", unsigned(c.triangles));
-      dispatchCompute({int(c.triangles), 1, 1}, {64, 1, 1});
-      ++dispatched;
+    setUniform(vox, "u_entryCount", int(g.count));
+    glProgramUniform1iv(vox, glGetUniformLocation(vox, "u_entryLevel"), GLsizei(g.count), level.data());
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryLo"), GLsizei(g.count), &lo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entryHi"), GLsizei(g.count), &hi[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipLo"), GLsizei(g.count), &skipLo[0].x);
+    glProgramUniform3iv(vox, glGetUniformLocation(vox, "u_entrySkipHi"), GLsizei(g.count), &skipHi[0].x);
+    for (const Dispatch& d : g.dispatches) {
+      glProgramUniform1i(vox, materialLoc, int(d.material));
+      ctx.gpuScene.bindMaterialTextures(d.material);
+      setUniform(vox, "u_firstTriangle", unsigned(d.first));
+      setUniform(vox, "u_triangleCount", unsigned(d.count));
+      dispatchCompute({int(d.count), 1, 1}, {64, 1, 1});
     }
-    ++passes;
   }
   glMemoryBarrier(kAllShaderWrites);
-  return passes;
+  return int(groups.size());
 }
 
 // --- Anchor ---------------------------------------------------------------------------------------
@@ -472,6 +547,7 @@ void UpdateStage::declare(StageBuilder& b) const {
   b.read("shadow-map");
   b.read("light");
   b.write("clip-accumulators");
+  b.write("clip-triangle-visit");
   b.output("clip-atlas", OutputKind::Volume3D, kClipAtlas,
            "every level's physical texture: blocks of (N+2)^3 texels with one guard texel per side, faces along x "
            "(isotropic, then +x -x +y -y +z -z), levels along y; cell c at texel c & (N-1)");
@@ -501,6 +577,8 @@ void UpdateStage::declare(StageBuilder& b) const {
   b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
   b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
   b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
+  // Sized from the triangles a pass dispatches (4 B each).
+  b.buffer("clip-triangle-visit", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
 }
 
 int UpdateStage::iterations(const ParamSet& params) const { return params.getInt("clipmap.path-moves") + 1; }
@@ -520,6 +598,7 @@ void UpdateStage::execute(StageContext& ctx) {
   Texture& atlas = ctx.board.ensureTexture("clip-atlas", atlasDesc(ctx.params));
   Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
+  ctx.board.ensureBuffer("clip-triangle-visit", 4);  // grown by voxelizeEntries
 
   // What the held texels were built from: the same atlas, layout, scene, injection and light.
   std::vector<uint8_t> key;
@@ -565,11 +644,7 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
 
-  if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
-    runs_ = triangleRuns(ctx.scene);
-    runsScene_ = &ctx.scene;
-    runsTriangles_ = ctx.scene.triangleCount();
-  }
+  const TriangleOrder& order = order_.get(ctx.scene);
   GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
   setClipUniforms(clear, layout, after);
   GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"});
@@ -584,7 +659,7 @@ void UpdateStage::execute(StageContext& ctx) {
   // phases; the statistics level<k>_ms and <phase>_ms, which bench reports as medians). Level k's
   // covered block is filtered from level k-1, which is complete by then; a level's direct cells
   // and its covered block are disjoint, so the order of the levels changes no texel.
-  int passes = 0, runsDispatched = 0;
+  int passes = 0, runsReached = 0, trianglesDispatched = 0;
   double phaseMs[4] = {0.0, 0.0, 0.0, 0.0};  // clear, voxelize, resolve, filter
   auto lap = [](std::chrono::steady_clock::time_point& t) {
     glFinish();
@@ -612,9 +687,10 @@ void UpdateStage::execute(StageContext& ctx) {
     std::vector<Entry> entries;
     for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
     if (!entries.empty()) {
-      int dispatched = 0;
-      passes += voxelizeEntries(ctx, layout, after, entries, runs_, dispatched);
-      runsDispatched += dispatched;
+      int reached = 0, triangles = 0;
+      passes += voxelizeEntries(ctx, layout, after, entries, order, "clip-triangle-visit", reached, triangles);
+      runsReached += reached;
+      trianglesDispatched += triangles;
     }
     phase(1);
     // 3. Resolve the sums into the atlas.
@@ -688,8 +764,9 @@ void UpdateStage::execute(StageContext& ctx) {
   if (ctx.iteration < 8) ctx.stats["move" + std::to_string(ctx.iteration) + "_ms"] = ms;
   ctx.stats["last_move_ms"] = ms;
   ctx.stats["triangle_passes"] = passes;
-  ctx.stats["triangle_runs_dispatched"] = runsDispatched;
-  ctx.stats["triangle_runs"] = double(runs_.size());
+  ctx.stats["triangle_runs_reached"] = runsReached;
+  ctx.stats["triangles_dispatched"] = trianglesDispatched;
+  ctx.stats["triangle_runs"] = double(order.runs.size());
   reportOverflow(ctx, "update", counted.back());
   ctx.stats["move"] = ctx.iteration;
   ctx.stats["full_build"] = before.empty() ? 1 : 0;
@@ -778,6 +855,7 @@ void CoveredCompareStage::declare(StageBuilder& b) const {
   b.read("light");
   b.write("covered-accumulators");
   b.write("covered-counters");
+  b.write("covered-triangle-visit");
   b.output("covered-direct", OutputKind::Volume3D, Semantic::Color,
            "covered cells' own voxelization Direct_k in logical order (levels along y, as clip-logical); 0 elsewhere")
       .placeholderUnless = "clipmap.compare-covered=on";
@@ -790,6 +868,7 @@ void CoveredCompareStage::declare(StageBuilder& b) const {
     return compareOn(p) ? accumulatorBytes(p) : size_t(16);
   });
   b.buffer("covered-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
+  b.buffer("covered-triangle-visit", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
 }
 
 void CoveredCompareStage::execute(StageContext& ctx) {
@@ -798,6 +877,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   Buffer& counters = ctx.board.ensureBuffer("covered-counters", countersBytes(ctx.params.getInt("clipmap.levels")));
   const bool on = compareOn(ctx.params);
   Buffer& accum = ctx.board.ensureBuffer("covered-accumulators", on ? accumulatorBytes(ctx.params) : size_t(16));
+  ctx.board.ensureBuffer("covered-triangle-visit", 4);  // grown by voxelizeEntries
   if (!on) {
     const uint8_t zero[4] = {0, 0, 0, 0};
     glClearTexImage(direct.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
@@ -828,13 +908,8 @@ void CoveredCompareStage::execute(StageContext& ctx) {
     cells += covered.volume();
   }
   glMemoryBarrier(kAllShaderWrites);
-  if (runsScene_ != &ctx.scene || runsTriangles_ != ctx.scene.triangleCount()) {
-    runs_ = triangleRuns(ctx.scene);
-    runsScene_ = &ctx.scene;
-    runsTriangles_ = ctx.scene.triangleCount();
-  }
-  int dispatched = 0;
-  voxelizeEntries(ctx, layout, origins, entries, runs_, dispatched);
+  int reached = 0, triangles = 0;
+  voxelizeEntries(ctx, layout, origins, entries, order_.get(ctx.scene), "covered-triangle-visit", reached, triangles);
   GLuint program = ctx.shaders.program({"clipmap/covered_compare.comp.glsl"});
   setClipUniforms(program, layout, origins);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);

@@ -85,23 +85,51 @@ std::vector<ParamDesc> injectParams();
 // cell holds before its sums can overflow (declared by every stage that voxelizes).
 ParamDesc fixedPointParam();  // inject.mode, inject.uniform-radiance (as vct-grid's)
 
-// The scene's triangles in runs of at most 512 of one draw range, with their world bounds: a
-// move dispatches only the runs that can reach a box it revoxelizes.
+// The scene's triangles in the order the voxelizer considers them, cut into runs of at most 512
+// of one draw range with their world bounds. Within each draw range the triangles are sorted by
+// the Morton code of their centroid (ties in scene order), so a run holds neighbouring triangles
+// and its bounds are tight (in scene order a run could span the whole building). The voxelizer's
+// sums are integer atomics, so the order changes no texel.
 struct TriangleRun {
-  uint32_t firstTriangle, triangles, material;
+  uint32_t firstTriangle, triangles, material;  // firstTriangle indexes TriangleOrder::triangles
   glm::vec3 lo, hi;
 };
-std::vector<TriangleRun> triangleRuns(const Scene& scene);
+struct TriangleOrder {
+  std::vector<uint32_t> triangles;  // the scene's triangle indices, in Morton order per draw range
+  std::vector<glm::vec3> lo, hi;    // each one's world bounds, in the same order
+  std::vector<TriangleRun> runs;
+};
+TriangleOrder triangleOrder(const Scene& scene);
+// A stage's copy of the scene's triangle order (CPU), computed once per scene.
+class TriangleOrderCache {
+ public:
+  const TriangleOrder& get(const Scene& scene);
+
+ private:
+  TriangleOrder order_;
+  const Scene* scene_ = nullptr;
+  size_t triangles_ = 0;
+};
 
 // One box of cells of one level to voxelize, minus a box to skip (a full build's covered block).
 struct Entry {
   int level;
   Box box, skip;
 };
+// Whether a triangle with world bounds [lo, hi] can pass the voxelize shader's own bounds test for
+// 'e': whether the cells its bounds span, as the shader computes them (fl(p * (1 / s_k)), bounded
+// from both sides for the rounding), meet e.box outside e.skip. A superset of the triangles that
+// give the entry a pair, so a pass over the triangles it accepts writes what a pass over all does.
+bool mayReach(const Layout& layout, const Entry& e, const glm::vec3& lo, const glm::vec3& hi);
 // Voxelizes and injects the entries into the accumulators bound at binding 12 (counting pairs in
-// the counters at 13); returns the passes over the triangles, 'dispatched' the runs dispatched.
+// the counters at 13). The triangles that can reach an entry (mayReach on the CPU: first the runs'
+// bounds, then each triangle's) are listed in the blackboard buffer 'visitList' (uint per triangle,
+// one writer per stage) and only those are dispatched, one dispatch per material. Returns the
+// passes over the triangles; 'runs' receives the runs that reach an entry, 'triangles' the
+// triangles dispatched.
 int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
-                    const std::vector<Entry>& entries, const std::vector<TriangleRun>& runs, int& dispatched);
+                    const std::vector<Entry>& entries, const TriangleOrder& order, const std::string& visitList,
+                    int& runs, int& triangles);
 
 class AnchorStage : public Stage {
  public:
@@ -152,9 +180,7 @@ class UpdateStage : public Stage {
     std::vector<uint8_t> key;
   };
   std::optional<Held> held_;
-  std::vector<TriangleRun> runs_;
-  const Scene* runsScene_ = nullptr;
-  size_t runsTriangles_ = 0;
+  TriangleOrderCache order_;
 };
 
 class MipsStage : public Stage {
@@ -182,9 +208,7 @@ class CoveredCompareStage : public Stage {
   void execute(StageContext& ctx) override;
 
  private:
-  std::vector<TriangleRun> runs_;
-  const Scene* runsScene_ = nullptr;
-  size_t runsTriangles_ = 0;
+  TriangleOrderCache order_;
 };
 
 class ConeTraceStage : public Stage {
