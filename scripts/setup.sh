@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config ccache python3-glad
   libglfw3-dev libimgui-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
-  libopenexr-dev openimageio-tools libosmesa6-dev libgl-dev libegl-dev
+  libopenexr-dev zlib1g-dev openimageio-tools libosmesa6-dev libgl-dev libegl-dev
   libgtest-dev libembree-dev xvfb xauth libcmark-dev
   clang libclang-rt-dev llvm  # sanitized build and the libFuzzer target (scripts/build-asan.sh)
   chromium  # headless browser for the handout test (tests/cli/handout.cmake)
