@@ -620,6 +620,23 @@ Readback readFloat(HeadlessSession& s, const std::string& name) {
   return r;
 }
 
+// Sum over the surface pixels (position.w != 0) of a size x size image's r+g+b, over the same sum of
+// the reference (ref.width / size times finer, box-filtered onto each pixel; rows bottom-up).
+double surfaceMeanOverReference(const Readback& pos, const Readback& image, const reference::Image& ref, int size) {
+  const int f = ref.width / size;
+  double refSum = 0, sum = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      if (pos.at(x, y)[3] == 0.0f) continue;
+      for (int j = 0; j < f * f; ++j) {
+        const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
+        refSum += (r[0] + r[1] + r[2]) / double(f * f);
+      }
+      sum += image.at(x, y)[0] + image.at(x, y)[1] + image.at(x, y)[2];
+    }
+  return sum / refSum;
+}
+
 // --- Hit voxel vs the true surface ---------------------------------------------------------------
 
 // Distance from world point p to binary voxel v's box, per axis in that axis' voxel size, in
@@ -1048,18 +1065,7 @@ PhysicsResult comparePhysics(float spread, const std::string& scenePath = "corne
   // estimate misses what arrives from beyond the radius, so it must lie below it.
   if (scenePath != "cornell-box") return result;
   reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect-1.exr"));
-  double refSum = 0, gpuLum = 0;
-  const int f = ref.width / size;
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      if (pos.at(x, y)[3] == 0.0f) continue;
-      for (int j = 0; j < f * f; ++j) {
-        const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
-        refSum += (r[0] + r[1] + r[2]) / double(f * f);
-      }
-      gpuLum += ind.at(x, y)[0] + ind.at(x, y)[1] + ind.at(x, y)[2];
-    }
-  result.nearOverOneBounce = gpuLum / refSum;
+  result.nearOverOneBounce = surfaceMeanOverReference(pos, ind, ref, size);
   return result;
 }
 
@@ -1196,19 +1202,7 @@ TEST(VoxelPathTracing, OneBounceEqualsNearFieldWithoutARadius) {
 // Sum of the 64 x 64 indirect image over the pixels the G-buffer covers, over the same sum of
 // 'ref' (512 x 512, box-filtered to 64 x 64): the estimate's share of the reference's energy.
 double vptMeanRatio(HeadlessSession& s, const reference::Image& ref) {
-  Readback pos = readFloat(s, "position"), ind = readFloat(s, "indirect");
-  const int size = 64, f = ref.width / size;
-  double refSum = 0, sum = 0;
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      if (pos.at(x, y)[3] == 0.0f) continue;
-      for (int j = 0; j < f * f; ++j) {
-        const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
-        refSum += (r[0] + r[1] + r[2]) / double(f * f);
-      }
-      sum += ind.at(x, y)[0] + ind.at(x, y)[1] + ind.at(x, y)[2];
-    }
-  return sum / refSum;
+  return surfaceMeanOverReference(readFloat(s, "position"), readFloat(s, "indirect"), ref, 64);
 }
 
 TEST(VoxelPathTracing, MoreBouncesApproachTheAllBounceReference) {

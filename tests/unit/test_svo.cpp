@@ -985,15 +985,20 @@ TEST(SvoComposite, AoShadingShowsTheAmbientOcclusionAsTheFinalImage) {
 
 // --- Robustness ------------------------------------------------------------------------------------
 
-TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
-  RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.node-pool-fraction=0.5"}, "svo-build");
-  HeadlessSession s(r);
-  std::string message;
+// Runs the session and returns the one error it stopped with ("" when it ran to the end).
+std::string runAndCatch(HeadlessSession& s) {
   try {
     s.run();
   } catch (const Error& e) {
-    message = e.what();
+    return e.what();
   }
+  return "";
+}
+
+TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
+  RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.node-pool-fraction=0.5"}, "svo-build");
+  HeadlessSession s(r);
+  const std::string message = runAndCatch(s);
   // Level 0 holds the root: level 1 needs 1 + 8 nodes, half of that (floor 4.5) is given.
   EXPECT_EQ(message, "svo-build: node pool overflow at level 1: it holds 4 nodes, the level needs 9 "
                      "(svo.node-pool-fraction=0.5; 1 sizes the pool exactly)");
@@ -1015,12 +1020,7 @@ TEST(SvoPools, UndersizedNodePoolFailsWithOneLineAndWritesNothingPastTheEnd) {
 TEST(SvoPools, UndersizedBrickPoolFailsWithOneLineAndWritesNothingPastTheEnd) {
   RunRequest r = request("svo", "cornell-box", {"voxel.resolution=32", "svo.brick-pool-fraction=0.5"}, "svo-bricks");
   HeadlessSession s(r);
-  std::string message;
-  try {
-    s.run();
-  } catch (const Error& e) {
-    message = e.what();
-  }
+  const std::string message = runAndCatch(s);
   std::vector<SvoLevel> levels = records<SvoLevel>(capture(s, "svo-build", "svo-levels"));
   uint32_t needed = 1;  // the zero brick
   for (const SvoLevel& l : levels) needed += l.tagged;
