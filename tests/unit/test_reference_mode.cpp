@@ -141,11 +141,12 @@ TEST(ReferenceModeUnder, VoxelPathTracingFollowsPathsBounces) {
     const std::string a = address;
     auto [stage, desc] = t->findOutput(a.substr(0, a.find('/')), a.substr(a.find('/') + 1));
     (void)stage;
-    const ParamDesc& d = t->defaultParams().desc("paths.bounces");
+    const ParamSet defaults = t->defaultParams();  // a copy: desc() points into it
+    const ParamDesc& d = defaults.desc("paths.bounces");
     ASSERT_EQ(int(d.minValue), 1);
     ASSERT_EQ(int(d.maxValue), reference::Mode::kMaxIndirectBounces);
     for (int k = int(d.minValue); k <= int(d.maxValue); ++k) {
-      ParamSet p = t->defaultParams();
+      ParamSet p = defaults;
       p.set("paths.bounces", k);
       const std::string mode = referenceModeUnder(*desc, p);
       EXPECT_EQ(mode, "indirect-" + std::to_string(k)) << address;
