@@ -10,13 +10,13 @@
 #include "common/sky.glsl"
 
 layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; anisotropic: level 0
-// Anisotropic levels 1.. (their level 0 is level 1 of the hierarchy), one per travel direction.
-layout(binding = 8) uniform sampler3D u_dirPosX;
-layout(binding = 9) uniform sampler3D u_dirNegX;
-layout(binding = 10) uniform sampler3D u_dirPosY;
-layout(binding = 11) uniform sampler3D u_dirNegY;
-layout(binding = 12) uniform sampler3D u_dirPosZ;
-layout(binding = 13) uniform sampler3D u_dirNegZ;
+// Anisotropic levels 1.. (their level 0 is level 1 of the hierarchy), one volume per travel
+// direction, two per texture: at each level of u_dirX the volume seen by a cone travelling along
+// +x fills z in [0, n), the one for -x z in [n, 2n) (n: the level's edge); likewise y and z
+// (src/techniques/vct_grid/bounce_stage.cpp, bindRadianceGrid, copies them in).
+layout(binding = 8) uniform sampler3D u_dirX;
+layout(binding = 9) uniform sampler3D u_dirY;
+layout(binding = 10) uniform sampler3D u_dirZ;
 uniform int u_anisotropic;
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
@@ -26,6 +26,30 @@ uniform int u_maxSteps;
 // quadrilinear fetch of up to 16 texels), for the stage's statistics.
 uint g_samples = 0u;
 uint g_fetches = 0u;
+
+// Level 'level' of one direction's volume at uvw (that volume's own [0,1]^3), as a lookup of the
+// volume alone gives it: in z the coordinate is clamped to the centres of the edge texels (what
+// clamp-to-edge does to the texels a linear filter reads), so the half of the other direction is
+// read with weight exactly 0; x and y are clamped by the texture itself. (The edge comes from level
+// 0's size: llvmpipe answers textureSize for one lane's level, so a per-pixel level there would
+// give other pixels the wrong edge.)
+vec4 directionalLevel(sampler3D pair, vec3 uvw, int level, bool negative) {
+  float n = float(max(textureSize(pair, 0).x >> level, 1));
+  float z = clamp(uvw.z * n, 0.5, n - 0.5) + (negative ? n : 0.0);
+  return textureLod(pair, vec3(uvw.xy, z / (2.0 * n)), float(level));
+}
+// One direction's volume at level of detail lod, quadrilinear: its two levels blended, as textureLod
+// blends them. Why not one textureLod of a volume per direction: which volume (+x or -x) depends on
+// the cone's direction, which differs between the pixels of a SIMD row, and llvmpipe then fetches
+// from both volumes for every pixel; here the sign is an offset and every pixel shares the lookups
+// (docs/performance.md, vct-grid).
+vec4 directionalLookup(sampler3D pair, vec3 uvw, float lod, bool negative) {
+  int top = textureQueryLevels(pair) - 1;
+  float l = clamp(lod, 0.0, float(top));
+  int l0 = int(l);
+  int l1 = min(l0 + 1, top);
+  return mix(directionalLevel(pair, uvw, l0, negative), directionalLevel(pair, uvw, l1, negative), l - float(l0));
+}
 
 // The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod'. With
 // anisotropic mips, the three directional volumes facing the cone are blended with weights dir^2
@@ -47,9 +71,9 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase) {
   g_fetches += phase == 1 ? 4u : 3u;
   vec3 w = dir * dir;
   float l = max(lod - 1.0, 0.0);
-  vec4 sx = dir.x >= 0.0 ? textureLod(u_dirPosX, uvw, l) : textureLod(u_dirNegX, uvw, l);
-  vec4 sy = dir.y >= 0.0 ? textureLod(u_dirPosY, uvw, l) : textureLod(u_dirNegY, uvw, l);
-  vec4 sz = dir.z >= 0.0 ? textureLod(u_dirPosZ, uvw, l) : textureLod(u_dirNegZ, uvw, l);
+  vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
+  vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
+  vec4 sz = directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
   vec4 a = w.x * sx + w.y * sy + w.z * sz;
   if (phase == 2) return a;
   return mix(textureLod(u_radiance, uvw, 0.0), a, lod);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
 
 #include "gpu/resources.h"
 
@@ -28,8 +29,12 @@ ResourceLimits ResourceLimits::query() {
 
 ResourceEstimate estimateResources(const Technique& technique, const ParamSet& params, const ViewState& view) {
   ResourceEstimate e;
+  // A resource two stages declare (scratch they share, e.g. vct-grid's packed directional volumes)
+  // is one blackboard object: counted once, as its first declaration sizes it.
+  std::set<std::string> counted;
   for (int i = 0; i < technique.stageCount(); ++i) {
     for (const ResourceDecl& r : technique.decl(i).resources) {
+      if (!counted.insert(r.resource).second) continue;
       ResourceEstimateItem item;
       item.stage = technique.stage(i).id();
       item.resource = r.resource;

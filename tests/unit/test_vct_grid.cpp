@@ -12,11 +12,17 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <filesystem>
 #include <set>
 
 #include "core/paths.h"
 #include "reference/image_io.h"
 #include "graph/technique.h"
+#include "techniques/vct_grid/stages.h"
+#include "platform/gl_context.h"
+#include "gpu/resources.h"
+#include "gpu/shader_library.h"
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
@@ -275,6 +281,94 @@ TEST(VctGridMipmap, DirectionalVolumesNameTheirDirection) {
     ++named;
   }
   EXPECT_EQ(named, 6u);
+}
+
+// The cone tracer reads the +a and -a directional volumes of an axis from one packed texture
+// (common/cone_trace.glsl, directionalLookup; bindRadianceGrid packs them). A packed lookup must
+// give what the volume of its sign gives on its own: at 4096 random points, inside the volume and
+// up to 0.3 of it outside (clamped to the edge texels), at random levels of detail that differ
+// from lane to lane (llvmpipe answers textureSize for one lane's level: an edge taken from it
+// read the other half's texels at the edges), both signs. The reference blends the two levels of
+// the single volume the way directionalLookup does (mix of two integer-level lookups); both read
+// the same texels with the same weights (the packed texture's sizes are powers of two, so the
+// offset and the scaling are exact in float), so they must be equal.
+TEST(VctGridConeTrace, PackedDirectionalLookupEqualsTheVolumeOfItsSign) {
+  auto context = createOffscreenContext();
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") / "packed-lookup-shaders";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  fs::copy(projectPath("shaders/common"), root / "common", fs::copy_options::recursive);
+  std::ofstream(root / "lookup.comp.glsl") << R"(#version 450
+#include "common/cone_trace.glsl"
+layout(local_size_x = 64) in;
+layout(binding = 14) uniform sampler3D u_positive;
+layout(binding = 15) uniform sampler3D u_negative;
+layout(std430, binding = 20) readonly buffer Queries { vec4 queries[]; };  // uvw, lod (-(lod + 1): the negative side)
+layout(std430, binding = 21) writeonly buffer Results { vec4 results[]; };  // per query: packed, single volume
+uniform int u_count;
+void main() {
+  int i = int(gl_GlobalInvocationID.x);
+  if (i >= u_count) return;
+  vec4 q = queries[i];
+  bool negative = q.w < 0.0;
+  float lod = negative ? -q.w - 1.0 : q.w;
+  results[2 * i] = directionalLookup(u_dirX, q.xyz, lod, negative);
+  float top = float(textureQueryLevels(u_positive) - 1), l = clamp(lod, 0.0, top);
+  float l0 = floor(l), l1 = min(l0 + 1.0, top);
+  vec4 a = negative ? textureLod(u_negative, q.xyz, l0) : textureLod(u_positive, q.xyz, l0);
+  vec4 b = negative ? textureLod(u_negative, q.xyz, l1) : textureLod(u_positive, q.xyz, l1);
+  results[2 * i + 1] = mix(a, b, l - l0);
+}
+)";
+  const int edge = 16;
+  Texture positive("positive", vct::radianceGridDesc(edge, 0)), negative("negative", vct::radianceGridDesc(edge, 0));
+  Texture packed("packed", vct::packedDirectionalDesc(edge, GL_RGBA8));
+  ASSERT_EQ(packed.levels(), positive.levels());
+  uint32_t seed = 12345;
+  auto next = [&seed] { seed = seed * 1664525u + 1013904223u; return seed; };
+  auto uniform01 = [&next] { return float(next() >> 8) / float(1 << 24); };
+  for (Texture* t : {&positive, &negative})
+    for (int level = 0; level < t->levels(); ++level) {
+      const glm::ivec3 n = t->levelSize(level);
+      std::vector<uint8_t> texels(size_t(n.x) * n.y * n.z * 4);
+      for (auto& v : texels) v = uint8_t(next() >> 24);
+      glTextureSubImage3D(t->id(), level, 0, 0, 0, n.x, n.y, n.z, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+    }
+  vct::packDirectionalPair(positive, negative, packed);
+  const int count = 4096;
+  std::vector<glm::vec4> queries(count);
+  for (auto& q : queries) {
+    q = glm::vec4(uniform01(), uniform01(), uniform01(), 0.0f) * 1.6f - glm::vec4(0.3f, 0.3f, 0.3f, 0.0f);
+    const float lod = uniform01() * float(positive.levels());  // past the last level too
+    q.w = (next() & 1u) ? -(lod + 1.0f) : lod;
+  }
+  Buffer queryBuffer("queries", count * sizeof(glm::vec4)), results("results", 2 * count * sizeof(glm::vec4));
+  queryBuffer.upload(queries.data(), count * sizeof(glm::vec4));
+  ShaderLibrary library(root.string());
+  GLuint program = library.program({"lookup.comp.glsl"});
+  glUseProgram(program);
+  glUniform1i(glGetUniformLocation(program, "u_count"), count);
+  glBindTextureUnit(8, packed.id());
+  glBindTextureUnit(14, positive.id());
+  glBindTextureUnit(15, negative.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 20, queryBuffer.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 21, results.id());
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  glDispatchCompute(count / 64, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  auto bytes = results.download(2 * count * sizeof(glm::vec4));
+  const auto* r = reinterpret_cast<const glm::vec4*>(bytes.data());
+  int differing = 0;
+  float worst = 0.0f;
+  for (int i = 0; i < count; ++i) {
+    const glm::vec4 e = glm::abs(r[2 * i] - r[2 * i + 1]);
+    const float d = std::max(std::max(e.x, e.y), std::max(e.z, e.w));
+    worst = std::max(worst, d);
+    if (d > 0.0f) ++differing;
+  }
+  fs::remove_all(root);
+  EXPECT_EQ(differing, 0) << "of " << count << " lookups; worst difference " << worst;
 }
 
 // Stepping the mipmap stage builds one level per iteration: after iteration k, levels 0..k+1 of

@@ -60,9 +60,51 @@ void declareGatheredGridReads(StageBuilder& b) {
   }
 }
 
+TextureDesc packedDirectionalDesc(int edge, GLenum format) {
+  TextureDesc d = radianceGridDesc(edge, 0, format);
+  d.size.z = 2 * edge;
+  d.levels = 1;
+  while ((edge >> d.levels) > 0) ++d.levels;  // the directional volumes' levels, not one more
+  // Read one level at a time (directionalLevel, integer lods): a linear mip filter would blend in a
+  // second level with weight 0 at the cost of a second trilinear lookup.
+  d.minFilter = d.levels == 1 ? GL_LINEAR : GL_LINEAR_MIPMAP_NEAREST;
+  return d;
+}
+
+static TextureDesc packedDirectionalDesc(const ParamSet& p) { return packedDirectionalDesc(directionalSize(p), gridFormat(p)); }
+
+void declarePackedDirectional(StageBuilder& b) {
+  for (const char* axis : {"x", "y", "z"})
+    b.texture(kPackedDirectionalPrefix + std::string(axis),
+              [](const ParamSet& p, const ViewState&) { return packedDirectionalDesc(p); });
+}
+
+void packDirectionalPair(const Texture& positive, const Texture& negative, Texture& packed) {
+  for (int side = 0; side < 2; ++side) {
+    const Texture& volume = side == 0 ? positive : negative;
+    for (int level = 0; level < packed.levels() && level < volume.levels(); ++level) {
+      const glm::ivec3 n = volume.levelSize(level);
+      glCopyImageSubData(volume.id(), GL_TEXTURE_3D, level, 0, 0, 0, packed.id(), GL_TEXTURE_3D, level, 0, 0,
+                         side * n.z, n.x, n.y, n.z);
+    }
+  }
+}
+
 void bindRadianceGrid(StageContext& ctx, int bounce) {
   glBindTextureUnit(0, ctx.board.texture(bounceGridName(bounce)).id());
-  for (int d = 0; d < 6; ++d) glBindTextureUnit(8 + d, ctx.board.texture(bounceDirectionalName(bounce, d)).id());
+  // Why packed: a sample reads, per axis, the volume of the sign of the cone's direction, which
+  // differs between the pixels of a SIMD row; llvmpipe then fetches from both volumes for every
+  // lane. From one texture the sign is an offset in z and one lookup per level serves every lane
+  // (common/cone_trace.glsl, directionalLookup). The copies are exact (glCopyImageSubData).
+  const TextureDesc desc = packedDirectionalDesc(ctx.params);
+  const char* const axes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    Texture& packed = ctx.board.ensureTexture(kPackedDirectionalPrefix + std::string(axes[a]), desc);
+    packDirectionalPair(ctx.board.texture(bounceDirectionalName(bounce, 2 * a)),
+                        ctx.board.texture(bounceDirectionalName(bounce, 2 * a + 1)), packed);
+    glBindTextureUnit(8 + a, packed.id());
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
 // --- The stage -----------------------------------------------------------------------------------
@@ -114,6 +156,7 @@ void BounceStage::declare(StageBuilder& b) const {
   }
   b.write("bounce.counts");
   b.buffer("bounce.counts", [](const ParamSet&, const ViewState&) { return size_t(8); });
+  declarePackedDirectional(b);
   for (int k = 2; k <= kMaxBounces; ++k) {
     b.output(bounceGridName(k), OutputKind::Volume3D, Semantic::Color,
              "radiance after " + std::to_string(k) + " bounces: the injected radiance plus albedo x the cones' "

@@ -176,7 +176,7 @@ ParamDesc mipmapModeParam() {
 }
 
 // Edge of the six directional volumes: half the grid with anisotropic mips, one voxel without.
-static int directionalSize(const ParamSet& p) {
+int directionalSize(const ParamSet& p) {
   return p.getChoice("mipmap.mode") == "anisotropic" ? std::max(p.getInt("voxel.resolution") / 2, 1) : 1;
 }
 

@@ -53,6 +53,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   declareSky(b);
   b.readView();
   declareGatheredGridReads(b);  // the mip stage's grid, or the last bounce's (bounce_stage.cpp)
+  declarePackedDirectional(b);
   b.read("position");
   b.read("normal");
   b.read("albedo");

@@ -34,8 +34,20 @@ ParamDesc bouncesParam();
 inline constexpr int kMaxBounces = 3;
 std::string bounceGridName(int bounce);                  // 1: "radiance"; k >= 2: "radiance-bounce<k>"
 std::string bounceDirectionalName(int bounce, int direction);  // "radiance-dir+x", "radiance-bounce2-dir+x", ...
+int directionalSize(const ParamSet& p);                 // edge of the directional volumes (1 unless anisotropic)
 void declareGatheredGridReads(StageBuilder& b);         // reads every bounce's volumes, declares bounces
-void bindRadianceGrid(StageContext& ctx, int bounce);   // texture units 0 and 8..13 (common/cone_trace.glsl)
+// The cone tracer reads the two directional volumes of an axis from one texture, the +a volume in
+// its lower half along z and the -a volume in its upper half, level by level: a stage that traces
+// cones declares the three packed textures (kPackedDirectionalPrefix + "x", "y", "z": scratch the
+// bounce and cone-trace stages share) with declarePackedDirectional, and bindRadianceGrid fills
+// them from a bounce's six volumes and binds texture units 0 and 8..10 of common/cone_trace.glsl.
+inline const char* const kPackedDirectionalPrefix = "radiance-dir-packed-";
+void declarePackedDirectional(StageBuilder& b);
+void bindRadianceGrid(StageContext& ctx, int bounce);
+TextureDesc packedDirectionalDesc(int edge, GLenum format);  // n x n x 2n, the volumes' levels
+// Copies two directional volumes of edge n (full mip chains) into 'packed' (n x n x 2n, as many
+// levels): level by level, 'positive' at z 0..n-1 and 'negative' at z n..2n-1 of that level.
+void packDirectionalPair(const Texture& positive, const Texture& negative, Texture& packed);
 
 class InjectStage : public Stage {
  public:
