@@ -22,7 +22,6 @@
 
 namespace voxlab {
 
-
 std::string ImageFileData::attribute(const std::string& name, const std::string& fallback) const {
   for (const auto& a : attributes)
     if (a.name == name) return a.value;

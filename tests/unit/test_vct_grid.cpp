@@ -12,20 +12,20 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "core/paths.h"
-#include "reference/image_io.h"
-#include "graph/technique.h"
-#include "techniques/vct_grid/stages.h"
-#include "platform/gl_context.h"
 #include "gpu/resources.h"
 #include "gpu/shader_library.h"
+#include "graph/technique.h"
+#include "platform/gl_context.h"
 #include "reference/cpu_voxelizer.h"
+#include "reference/image_io.h"
 #include "scene/scene.h"
 #include "techniques/common/voxel_space.h"
+#include "techniques/vct_grid/stages.h"
 #include "ao_next_to_wall.h"
 #include "test_support.h"
 
