@@ -21,6 +21,7 @@ using uint = uint32_t;
 #define LPV_BINDING_STATE_IN 14    // SSBO: vec4[6][res^3] propagation state read (light r,g,b, wavefront r,g,b)
 #define LPV_BINDING_STATE_OUT 15   // SSBO: the same, written
 #define LPV_BINDING_VOXEL_FRAGMENTS 16  // SSBO: uint[voxel.resolution^3], fragments per voxel of the fragment list
+#define LPV_BINDING_ENERGY_PARTIALS 17  // SSBO: vec4[2 per work group] c00 sums (light, wavefront) of a propagation step
 
 // One cell of an LPV voxel grid (Listings 4.27-4.29 of seed 000, plus a fragment count).
 struct LpvVoxel {

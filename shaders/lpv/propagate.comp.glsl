@@ -1,6 +1,6 @@
 #version 450
 // One propagation step (seed 000 section 4.3.3, Listings 4.32/4.33; K&D 2010), one invocation
-// per cell: gather from the 6 face neighbours, 5 faces each (the shared face is skipped). For
+// per column of cells along x, cell after cell. Each cell gathers from its 6 face neighbours, 5 faces each (the shared face is skipped). For
 // neighbour i and face j of this cell the neighbour's intensity towards the face centre,
 // max(0, <SH, Y(d_ij)>), times the face's solid angle, its transmission and the weight scale is a
 // flux that re-enters as a clamped-cosine lobe leaving through face j. Neighbours outside the grid
@@ -11,12 +11,14 @@
 // lanes of a SIMD row, so recording code behind a uniform would cost every cell.
 #include "common/sh.glsl"
 #include "lpv/encoding.glsl"
-// 8 x 2 x 4: llvmpipe runs a work group as SIMD rows of 8 invocations (256-bit vectors), so a row
-// is 8 cells along x, whose neighbour reads are 8 consecutive records of the state buffer (x is
-// the fastest index), and whose dark-neighbour skips agree more often than a 4 x 2 patch's. Against
-// 4 x 4 x 4: 0.45 against 0.55 s of CPU for 8 steps (docs/performance.md, lpv). The stage
-// dispatches with the same shape.
-layout(local_size_x = 8, local_size_y = 2, local_size_z = 4) in;
+// Work groups of 8 x 4 columns (y, z); llvmpipe runs them as SIMD rows of 8 invocations (256-bit
+// vectors), 8 columns side by side in y, which walk x in step. A column sums its cells' energy in
+// registers as it goes, so the step's energy record needs no extra pass and no barrier. Against
+// one invocation per cell (8 x 2 x 4 cells per work group, a work-group sum through shared memory
+// and a barrier): the stage's 8 steps took 41-58 against 77-104 ms (docs/performance.md, lpv).
+// 1024 invocations for 32^3 cells are few for a GPU, but a step there is microseconds either way.
+// The stage dispatches with the same shape (kPropagateColumns).
+layout(local_size_x = 8, local_size_y = 4, local_size_z = 1) in;
 layout(std430, binding = LPV_BINDING_VOXELS) readonly buffer Voxels { LpvVoxel voxels[]; };
 uniform ivec3 u_boxLo, u_boxHi;
 #ifdef LPV_PROBE
@@ -141,28 +143,11 @@ void gatherNeighbour(ivec3 cell, int i, inout ShRgb acc, out float meanTransmiss
   }
 }
 
-void main() {
-#ifdef LPV_PROBE
-  ivec3 c = u_probeCell;
-  if (gl_LocalInvocationIndex != 0u) return;
-#else
-  // The dispatch covers the box of cells that can hold light after this step (the stage's
-  // u_boxLo..u_boxHi, within the grid); the others stay 0 in both states.
-  ivec3 c = u_boxLo + ivec3(gl_GlobalInvocationID);
-  if (any(greaterThan(c, u_boxHi))) return;
-#endif
-  if (!cellInside(c)) return;
-  ShRgb acc = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
+// The cell's step: gather from the six neighbours (literal indices, see addFace; the reference's
+// order), add to what the lookup read before. Returns the wavefront in acc.
+void propagateCell(ivec3 c, out ShRgb acc, out ShRgb total) {
+  acc = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
   float t;
-#ifdef LPV_PROBE
-  for (int f = 0; f < 30; ++f) probe.faceIntensity[f] = probe.faceFlux[f] = vec4(0.0);
-  for (int i = 0; i < 6; ++i) {
-    ShRgb own = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
-    gatherNeighbour(c, i, own, t);
-    probe.fromNeighbour[i] = vec4(own.r.x, own.g.x, own.b.x, t);
-  }
-#endif
-  // Literal neighbour indices (see addFace); the same order as the reference's loop.
   gatherNeighbour(c, 0, acc, t);
   gatherNeighbour(c, 1, acc, t);
   gatherNeighbour(c, 2, acc, t);
@@ -173,23 +158,65 @@ void main() {
   precise vec4 totalR = stateIn[cell] + acc.r;
   precise vec4 totalG = stateIn[stride + cell] + acc.g;
   precise vec4 totalB = stateIn[2 * stride + cell] + acc.b;
-#ifndef LPV_PROBE
-  stateOut[cell] = totalR;
-  stateOut[stride + cell] = totalG;
-  stateOut[2 * stride + cell] = totalB;
-  stateOut[3 * stride + cell] = acc.r;
-  stateOut[4 * stride + cell] = acc.g;
-  stateOut[5 * stride + cell] = acc.b;
-#else
+  total = ShRgb(totalR, totalG, totalB);
+}
+
+#ifdef LPV_PROBE
+void main() {
+  ivec3 c = u_probeCell;
+  if (gl_LocalInvocationIndex != 0u) return;
+  if (!cellInside(c)) return;
+  float t;
+  for (int f = 0; f < 30; ++f) probe.faceIntensity[f] = probe.faceFlux[f] = vec4(0.0);
+  for (int i = 0; i < 6; ++i) {
+    ShRgb own = ShRgb(vec4(0.0), vec4(0.0), vec4(0.0));
+    gatherNeighbour(c, i, own, t);
+    probe.fromNeighbour[i] = vec4(own.r.x, own.g.x, own.b.x, t);
+  }
+  ShRgb acc, total;
+  propagateCell(c, acc, total);
+  const int cell = cellIndex(c);
   probe.cell = ivec4(c, u_cascade);
-  probe.total[0] = totalR;
-  probe.total[1] = totalG;
-  probe.total[2] = totalB;
+  probe.total[0] = total.r;
+  probe.total[1] = total.g;
+  probe.total[2] = total.b;
   probe.wavefront[0] = acc.r;
   probe.wavefront[1] = acc.g;
   probe.wavefront[2] = acc.b;
   probe.voxel = uvec4(voxels[cell].colorOcclusion, voxels[cell].fragmentCount, uint(u_step + 1), 0u);
   probe.normals = voxels[cell].normals;
   probe.weight = vec4(u_weightScale, 0.0, 0.0, 0.0);
-#endif
 }
+#else
+layout(std430, binding = LPV_BINDING_ENERGY_PARTIALS) writeonly buffer EnergyPartials { vec4 energyPartials[]; };
+
+// The step's energy record, summed where the values are: each column adds its cells' c00 (light
+// and wavefront, per channel) in x order and writes one partial pair; the stage adds the partials in
+// column order (deterministic, whatever the thread count).
+void main() {
+  // The dispatch covers the columns of the box of cells that can hold light after this step (the
+  // stage's u_boxLo..u_boxHi, within the grid); the other cells stay 0 in both states. Columns past
+  // the box write zero partials.
+  ivec2 yz = u_boxLo.yz + ivec2(gl_GlobalInvocationID.xy);
+  precise vec3 light = vec3(0.0), wave = vec3(0.0);
+  if (all(lessThanEqual(yz, u_boxHi.yz))) {
+    for (int x = u_boxLo.x; x <= u_boxHi.x; ++x) {
+      ivec3 c = ivec3(x, yz);
+      ShRgb acc, total;
+      propagateCell(c, acc, total);
+      const int cell = cellIndex(c), stride = cells();
+      stateOut[cell] = total.r;
+      stateOut[stride + cell] = total.g;
+      stateOut[2 * stride + cell] = total.b;
+      stateOut[3 * stride + cell] = acc.r;
+      stateOut[4 * stride + cell] = acc.g;
+      stateOut[5 * stride + cell] = acc.b;
+      light += vec3(total.r.x, total.g.x, total.b.x);
+      wave += vec3(acc.r.x, acc.g.x, acc.b.x);
+    }
+  }
+  const uint column = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
+  energyPartials[2u * column] = vec4(light, 0.0);
+  energyPartials[2u * column + 1u] = vec4(wave, 0.0);
+}
+#endif

@@ -34,9 +34,10 @@
 //   (0 by default; lesson 05's facing-plates step uses 2, LpvLookup.FacingPlatesDecideTheSign's
 //   receivers), so the probe record can show what a receiver in front of an emitter reads.
 //   propagate runs each step over the box of cells within k + 1 of injected light (light moves
-//   one cell per step; the rest stays 0), in 8 x 2 x 4 work groups (docs/performance.md, lpv); the
-//   probe record comes from the same shader built with LPV_PROBE, one invocation, with the 30 face
-//   evaluations behind the picked cell's gathered light.
+//   one cell per step; the rest stays 0), one invocation per column of cells along x, which also
+//   sums the column's energy for the step's record (docs/performance.md, lpv); the probe record
+//   comes from the same shader built with LPV_PROBE, one invocation, with the 30 face evaluations
+//   behind the picked cell's gathered light.
 //
 // Details (every constant and default; the technical note is guide/techniques/lpv.md)
 //   - SH storage (c00, c1-1, c10, c11), Condon-Shortley signs, intensity indexed by the direction of

@@ -116,9 +116,17 @@ static size_t stateBytes(const ParamSet& p) { return 6 * cellCount(p) * 16; }  /
 static size_t energyBytes(const ParamSet& p) {
   return sizeof(gpu::LpvEnergy) * kCascades * size_t(p.getInt("lpv.steps") + 1);
 }
-static size_t energyRowsBytes(const ParamSet& p) {
-  const size_t res = size_t(p.getInt("lpv.resolution"));
-  return 32 * res * res;
+// propagate.comp.glsl runs one invocation per column of cells along x, in work groups of 8 x 4
+// columns (y, z), and writes two vec4 of partial energy sums per column (per invocation of the
+// dispatch, the padding of the last work groups included).
+static const glm::ivec3 kPropagateColumns(8, 4, 1);
+static glm::ivec2 propagateInvocations(glm::ivec3 box) {
+  return glm::ivec2((box.y + kPropagateColumns.x - 1) / kPropagateColumns.x * kPropagateColumns.x,
+                    (box.z + kPropagateColumns.y - 1) / kPropagateColumns.y * kPropagateColumns.y);
+}
+static size_t energyPartialsBytes(const ParamSet& p) {
+  const glm::ivec2 n = propagateInvocations(glm::ivec3(p.getInt("lpv.resolution")));
+  return 32 * size_t(n.x) * n.y;
 }
 static std::string stateBuffer(int p, int cascade) {
   return "propagate.state" + std::to_string(p) + "-" + kCascadeNames[cascade];
@@ -591,7 +599,7 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.buffer("energy", [](const ParamSet& p, const ViewState&) { return energyBytes(p); });
   b.buffer("energy.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.buffer("probe-cell", [](const ParamSet&, const ViewState&) { return sizeof(gpu::LpvProbe); });
-  b.buffer("propagate.energy-rows", [](const ParamSet& p, const ViewState&) { return energyRowsBytes(p); });
+  b.buffer("propagate.energy-partials", [](const ParamSet& p, const ViewState&) { return energyPartialsBytes(p); });
   b.buffer("propagate.active-boxes", [](const ParamSet&, const ViewState&) { return 2 * kCascades * sizeof(glm::ivec4); });
 }
 
@@ -638,6 +646,14 @@ static void writeOcclusionView(StageContext& ctx, int occlusion) {
   ctx.stats["least_transmission_fine"] = least;
 }
 
+// Energy record (step, cascade) from sums of c00 per channel: flux = c00 * 2 sqrt(pi).
+static void writeEnergy(Buffer& energy, int cascade, int step, glm::dvec3 lightC00, glm::dvec3 waveC00) {
+  gpu::LpvEnergy record;
+  record.wavefront = glm::vec4(glm::vec3(waveC00 * double(kFluxPerC00)), float(step));
+  record.total = glm::vec4(glm::vec3(lightC00 * double(kFluxPerC00)), float(cascade));
+  glNamedBufferSubData(energy.id(), GLintptr(sizeof record) * (step * kCascades + cascade), sizeof record, &record);
+}
+
 void PropagateStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("lpv.resolution");
   const int k = ctx.iteration;
@@ -655,7 +671,6 @@ void PropagateStage::execute(StageContext& ctx) {
   GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
   // The picked cell's record comes from the same shader built with the recording (one invocation).
   GLuint recorder = ctx.shaders.program({"lpv/propagate.comp.glsl"}, "#define LPV_PROBE 1\n");
-  GLuint sum = ctx.shaders.program({"lpv/energy.comp.glsl"});
   if (k == 0) writeOcclusionView(ctx, occlusion);
   // Per cascade the lowest and highest cell holding injected light (none: lo > hi), found at step 0.
   std::array<glm::ivec4, 2 * kCascades> activeBoxes;
@@ -703,6 +718,13 @@ void PropagateStage::execute(StageContext& ctx) {
       }
       activeBoxes[2 * c] = lo;
       activeBoxes[2 * c + 1] = hi;
+      // Record 0 of the cascade: the injected flux (wavefront = grid), summed in cell order.
+      glm::dvec3 injectedSum(0.0);
+      for (int ch = 0; ch < 3; ++ch) {
+        const float* v = reinterpret_cast<const float*>(injected.data() + ch * section);
+        for (size_t i = 0; i < cells; ++i) injectedSum[ch] += v[4 * i];
+      }
+      writeEnergy(energy, c, 0, injectedSum, injectedSum);
       ctx.board.ensureBuffer("propagate.active-boxes", sizeof(activeBoxes)).upload(activeBoxes.data(), sizeof(activeBoxes));
     }
     // Light moves at most one cell per step (locality), so after step k only cells within k + 1
@@ -735,8 +757,26 @@ void PropagateStage::execute(StageContext& ctx) {
     setUniform(prop, "u_boxLo", boxLo);
     setUniform(prop, "u_boxHi", boxHi);
     glUseProgram(prop);
-    if (boxSize.x > 0) dispatchCompute({boxSize.x, boxSize.y, boxSize.z}, {8, 2, 4});  // propagate.comp.glsl's local size
+    Buffer& partials = ctx.board.ensureBuffer("propagate.energy-partials", energyPartialsBytes(ctx.params));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY_PARTIALS, partials.id());
+    const glm::ivec2 invocations = propagateInvocations(boxSize);
+    const size_t columns = boxSize.x > 0 ? size_t(invocations.x) * invocations.y : 0;
+    if (columns > 0) dispatchCompute({boxSize.y, boxSize.z, 1}, kPropagateColumns);
     barrier();
+    // The step's energy record: the columns' partial sums added in column order (deterministic
+    // whatever the thread count; cells outside the box hold 0 and add nothing).
+    {
+      glm::dvec3 lightSum(0.0), waveSum(0.0);
+      if (columns > 0) {
+        auto bytes = partials.download(32 * columns);
+        const float* v = reinterpret_cast<const float*>(bytes.data());
+        for (size_t i = 0; i < columns; ++i) {
+          lightSum += glm::dvec3(v[8 * i], v[8 * i + 1], v[8 * i + 2]);
+          waveSum += glm::dvec3(v[8 * i + 4], v[8 * i + 5], v[8 * i + 6]);
+        }
+      }
+      writeEnergy(energy, c, k + 1, lightSum, waveSum);
+    }
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, out.id());
     for (int ch = 0; ch < 3; ++ch) {
       glTextureSubImage3D(light[ch]->id(), 0, 0, 0, 0, res, res, res, GL_RGBA, GL_FLOAT, reinterpret_cast<void*>(ch * section));
@@ -749,36 +789,9 @@ void PropagateStage::execute(StageContext& ctx) {
       setUniform(recorder, "u_cascade", c);
       bindCommon(recorder);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, probe.id());
-      dispatchCompute({1, 1, 1}, {4, 4, 4});
+      dispatchCompute({1, 1, 1}, kPropagateColumns);  // one work group; its first invocation records
       barrier();
     }
-    // Energy: step 0 (injected) once, then the step just made.
-    Buffer& partials = ctx.board.ensureBuffer("propagate.energy-rows", energyRowsBytes(ctx.params));
-    auto sumEnergy = [&](Texture* const* l, Texture* const* w, int step, int record) {
-      setUniform(sum, "u_gridRes", res);
-      setUniform(sum, "u_cascade", c);
-      setUniform(sum, "u_step", step);
-      setUniform(sum, "u_record", record);
-      glUseProgram(sum);
-      for (int ch = 0; ch < 3; ++ch) {
-        glBindTextureUnit(ch, l[ch]->id());
-        glBindTextureUnit(3 + ch, w[ch]->id());
-      }
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, energy.id());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, partials.id());
-      setUniform(sum, "u_pass", 0);
-      dispatchCompute({res, res, 1}, {8, 8, 1});
-      barrier();
-      setUniform(sum, "u_pass", 1);
-      dispatchCompute({1, 1, 1}, {8, 8, 1});
-      barrier();
-    };
-    if (k == 0) {
-      Texture* vpl[3];
-      for (int ch = 0; ch < 3; ++ch) vpl[ch] = &ctx.board.texture(shVolume("vpl", c, ch));
-      sumEnergy(vpl, vpl, 0, c);
-    }
-    sumEnergy(light, wave, k + 1, (k + 1) * kCascades + c);
   }
   uint32_t records = uint32_t((k + 2) * kCascades);
   energyCount.upload(&records, 4);
