@@ -178,7 +178,7 @@ void main() {
   if (record) coneResults[6].info.zw = vec2(2.0 * atan(u_specularTanHalf), 1.0);
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
-  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, false, min(dist, far), 7, record) : vec4(0.0, 0.0, 0.0, 1.0);
+  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, false, min(shadowConeEnd(dist, u_shadowTanHalf, u_lodBias, u_voxelSize), far), 7, record) : vec4(0.0, 0.0, 0.0, 1.0);
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
   vec3 diffuse = albedo / PI * E;
   imageStore(u_diffuse, px, vec4(diffuse, 1.0));

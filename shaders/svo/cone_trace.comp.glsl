@@ -201,7 +201,8 @@ void main() {
   lightDirection(surface.position, toLight, dist);
   float shadowVis = 0.0;
   if (dot(n, toLight) > 0.0) {
-    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(dist, u_maxDistance), 0.0,
+    float end = shadowConeEnd(dist, tan(0.5 * u_shadowAperture), u_lodBias, u_voxelSize);
+    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 0.0,
                               u_coneCount + 1, record);
     shadowVis = 1.0 - sh.opacity;
   }

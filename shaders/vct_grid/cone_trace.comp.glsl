@@ -80,7 +80,8 @@ void main() {
   lightDirection(pos.xyz, toLight, dist);
   float shadowVis = 1.0;
   if (dot(n, toLight) > 0.0) {
-    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(dist, u_maxDistance), 1e30, u_coneCount + 1, record);
+    float end = shadowConeEnd(dist, tan(0.5 * u_shadowAperture), u_lodBias, u_voxelSize);
+    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 1e30, u_coneCount + 1, record);
     shadowVis = 1.0 - sh.opacity;
   } else {
     shadowVis = 0.0;
