@@ -29,6 +29,7 @@ uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_smoothFalloff, u_maxSte
 uniform int u_traceSpecular;  // 1: trace the specular cone
 uniform int u_normalised;  // 1: divide L by the sum of its weights f * alpha * V * N (Eq. 2's denominator)
 uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
+uniform float u_shadowLodBias;  // the shadow cone's (cone.shadow-lod-bias)
 uniform float u_diffuseTanHalf, u_specularTanHalf, u_shadowTanHalf;
 uniform vec3 u_cameraPos;
 uniform vec4 u_diffuseCones[6];  // tangent space direction, weight (sum pi)
@@ -111,7 +112,8 @@ vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
 
 // Marches one cone from p (normal n) along dir; returns I (rgb, Eq. 1) and the opacity (a).
 // radiance = false: the shadow cone (occlusion only, until the light or the volume's edge).
-vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, bool radiance, float maxDistance, int coneIndex, bool record) {
+vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radiance, float maxDistance, int coneIndex,
+               bool record) {
   vec3 origin = p + n * u_voxelSize;
   float t = u_startVoxels * u_voxelSize;
   vec3 I = vec3(0.0);
@@ -124,7 +126,7 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, bool radiance, float max
     vec3 uvw = worldToVolumeUV(x);
     float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
     if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { left = true; break; }
-    float mip = clamp(log2(diameter / u_voxelSize) + u_lodBias, 0.0, float(u_voxelLevels - 1));
+    float mip = clamp(log2(diameter / u_voxelSize) + lodBias, 0.0, float(u_voxelLevels - 1));
     float a = textureLod(u_occlusion, uvw, mip).r;
     float stepLength = diameter * u_stepScale;
     a = 1.0 - pow(max(1.0 - a, 0.0), stepLength / (u_voxelSize * exp2(mip)));
@@ -168,17 +170,19 @@ void main() {
   vec3 E = vec3(0.0);
   for (int k = 0; k < 6; ++k) {
     vec3 d = normalize(u_diffuseCones[k].x * tx + u_diffuseCones[k].y * ty + u_diffuseCones[k].z * n);
-    vec4 c = traceCone(p, n, d, u_diffuseTanHalf, true, far, k, record);
+    vec4 c = traceCone(p, n, d, u_diffuseTanHalf, u_lodBias, true, far, k, record);
     E += u_diffuseCones[k].w * c.rgb;
     if (record) { coneResults[k].direction.w = u_diffuseCones[k].w; coneResults[k].info.zw = vec2(2.0 * atan(u_diffuseTanHalf), 0.0); }
   }
   vec3 view = normalize(p - u_cameraPos);
   vec3 mirror = reflect(view, n);
-  vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, true, far, 6, record) : vec4(0.0);
+  vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, u_lodBias, true, far, 6, record) : vec4(0.0);
   if (record) coneResults[6].info.zw = vec2(2.0 * atan(u_specularTanHalf), 1.0);
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
-  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, false, min(shadowConeEnd(dist, u_shadowTanHalf, u_lodBias, u_voxelSize), far), 7, record) : vec4(0.0, 0.0, 0.0, 1.0);
+  const float shadowEnd = min(shadowConeEnd(dist, u_shadowTanHalf, u_shadowLodBias, u_voxelSize), far);
+  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, u_shadowLodBias, false, shadowEnd, 7, record)
+                                      : vec4(0.0, 0.0, 0.0, 1.0);
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
   vec3 diffuse = albedo / PI * E;
   imageStore(u_diffuse, px, vec4(diffuse, 1.0));

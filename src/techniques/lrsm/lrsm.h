@@ -45,7 +45,10 @@
 //                  and voxlab's materials are Lambertian.
 //   samples        sphere radius r = t tan(half angle); step = cone.step x diameter (default 1:
 //                  touching spheres, as Fig. 4 draws them; 0.5 measured 15 % darker, 1.7x slower); first sample at
-//                  cone.start voxels; voxel mip = log2(diameter / voxel) + cone.lod-bias (voxel units);
+//                  cone.start voxels; voxel mip = log2(diameter / voxel) + cone.lod-bias (voxel units;
+//                  the shadow cone, Crassin's and not the paper's, uses cone.shadow-lod-bias, default
+//                  -1: at 0 it read the boxes' one-voxel shells at coarse mips and saw through them,
+//                  docs/fidelity.md);
 //                  alpha corrected to the step: 1 - (1 - a)^(step / texel size at that mip).
 //   footprint      d_circle = diameter of the sphere projected into the light's image, in LRSM base
 //                  texels; LRSM mip = ceil(log2(d_circle)) clamped to the chain (the first level

@@ -357,6 +357,10 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                              "has a specular component; voxlab's materials are Lambertian, so off by default)"));
   b.param(ParamDesc::real("cone.shadow-aperture", 10.0, 0.5, 30.0,
                           "full apex angle of the shadow cone (10: reaches across the volume within cone.max-steps)", "deg"));
+  b.param(ParamDesc::real("cone.shadow-lod-bias", -1.0, -2.0, 2.0,
+                          "the shadow cone's voxel mip bias (-1: filter support = the sphere's diameter; at 0, the "
+                          "diffuse cones' paper value, it reads the boxes' one-voxel shells at coarse mips and sees "
+                          "through them)"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "probed pixel, fraction of the width"));
   b.param(ParamDesc::real("probe.y", 0.6, 0.0, 1.0, "probed pixel, fraction of the height from the top"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
@@ -453,6 +457,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_normalised", ctx.params.getChoice("lrsm.estimator") == "normalised" ? 1 : 0);
   setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
   setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
+  setUniform(program, "u_shadowLodBias", ctx.params.getFloat("cone.shadow-lod-bias"));
   setUniform(program, "u_maxSteps", ctx.params.getInt("cone.max-steps"));
   setUniform(program, "u_diffuseTanHalf", std::tan(0.5f * kDiffuseAperture));
   setUniform(program, "u_specularTanHalf", std::tan(0.5f * kSpecularAperture));
