@@ -300,8 +300,10 @@ LENGTH_UNITS = {"m": 1.0, "1/m": -1.0}
 # size in powers of two of metres in 22111 values by up to 118 steps. A power-of-two scale scales
 # every float exactly: no allowance, any difference is a length in absolute units. Measured again
 # 2026-12-02: 0 values (lpv, near-field, svo, voxelization), 1 value by 1 step (clipmap, lrsm),
-# 2 by 1 step (volumetric), 1 by 2 steps (vct-grid, voxel-path-tracing).
-ROUNDING_VALUES, ROUNDING_STEPS = 12, 4
+# 2 by 1 step (volumetric), 1 by 2 steps (vct-grid, voxel-path-tracing). Since lrsm's shadow cone
+# reads finer mips (cone.shadow-lod-bias -1, 2026-12-02), one lrsm value moves by 6 steps at x100
+# (a shadow-cone sample on a texel face); at x128 lrsm is exact, so the difference is rounding.
+ROUNDING_VALUES, ROUNDING_STEPS = 12, 6
 
 
 def rounding_allowance(scale):
