@@ -82,8 +82,9 @@ float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
 // distance its last samples take in more or less of it: the soft shadow showed concentric rings
 // over every wall. A sample at distance s has the diameter D = 2 s tanHalf and reads mip level
 // lod = log2(D / voxel) + lodBias, blended with the next coarser level, whose texels are up to
-// 2^(lodBias + 1) D wide; a lookup reaches 1.5 texels from the sample, 6 * 2^lodBias * s * tanHalf
-// (at least 1.5 voxels). The march ends where that reach falls short of the light. (Measured on the
+// 2^(lodBias + 1) D wide; a lookup reaches 1.5 texels from the sample, 6 * 2^lodBias * s * tanHalf.
+// The march ends where that reach plus 1.5 voxels (a level-0 texel's reach) falls short of the
+// light. (Measured on the
 // Cornell box's soft-shadow output at lodBias -1: a reach of 1 or 2 radii, s tanHalf or 2 s
 // tanHalf, still left faint rings; 3, this bound, none.) Light occluded in the last stretch before
 // the light, 17 % of the distance for an 8-degree cone at lodBias -1, is not seen; the shadow map

@@ -11,7 +11,7 @@
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
 layout(std430, binding = LPV_BINDING_VOXELS) buffer Voxels { LpvVoxel voxels[]; };
-layout(std430, binding = LPV_BINDING_ENERGY) buffer Outside { uint outside[]; };
+layout(std430, binding = LPV_BINDING_SCRATCH) buffer Outside { uint outside[]; };
 layout(std430, binding = LPV_BINDING_VOXEL_FRAGMENTS) readonly buffer Counts { uint counts[]; };
 uniform uint u_fragmentCount;
 uniform float u_areaUnits;

@@ -19,7 +19,7 @@
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
 layout(std430, binding = LPV_BINDING_PROBE) buffer Sums { int sums[]; };
-layout(std430, binding = LPV_BINDING_ENERGY) buffer Largest { uint largest; };
+layout(std430, binding = LPV_BINDING_SCRATCH) buffer Largest { uint largest; };
 layout(std430, binding = LPV_BINDING_VOXEL_FRAGMENTS) readonly buffer Counts { uint counts[]; };
 layout(binding = 2) uniform sampler2D u_shadowMap;
 uniform uint u_fragmentCount;

@@ -15,13 +15,13 @@ using uint = uint32_t;
 #endif
 
 #define LPV_BINDING_VOXELS 10      // SSBO: LpvVoxel[res^3] of the cascade being processed
-#define LPV_BINDING_ENERGY 11      // SSBO: LpvEnergy[] (two per step: fine, coarse)
+#define LPV_BINDING_SCRATCH 11     // SSBO: a pass's small counter (bin: fragments outside; inject: largest coefficient)
 #define LPV_BINDING_PROBE 12       // SSBO: LpvProbe (one record)
 #define LPV_BINDING_GRIDS 13       // SSBO: LpvGrid[2] (fine, coarse)
 #define LPV_BINDING_STATE_IN 14    // SSBO: vec4[6][res^3] propagation state read (light r,g,b, wavefront r,g,b)
 #define LPV_BINDING_STATE_OUT 15   // SSBO: the same, written
 #define LPV_BINDING_VOXEL_FRAGMENTS 16  // SSBO: uint[voxel.resolution^3], fragments per voxel of the fragment list
-#define LPV_BINDING_ENERGY_PARTIALS 17  // SSBO: vec4[2 per work group] c00 sums (light, wavefront) of a propagation step
+#define LPV_BINDING_ENERGY_PARTIALS 17  // SSBO: vec4[2 per column] c00 sums (light, wavefront) of a propagation step
 
 // One cell of an LPV voxel grid (Listings 4.27-4.29 of seed 000, plus a fragment count).
 struct LpvVoxel {

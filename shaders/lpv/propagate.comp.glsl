@@ -1,11 +1,11 @@
 #version 450
 // One propagation step (seed 000 section 4.3.3, Listings 4.32/4.33; K&D 2010), one invocation
-// per column of cells along x, cell after cell. Each cell gathers from its 6 face neighbours, 5 faces each (the shared face is skipped). For
-// neighbour i and face j of this cell the neighbour's intensity towards the face centre,
-// max(0, <SH, Y(d_ij)>), times the face's solid angle, its transmission and the weight scale is a
-// flux that re-enters as a clamped-cosine lobe leaving through face j. Neighbours outside the grid
-// are skipped (never read). The CPU twin is src/techniques/lpv/reference.cpp: same order.
-// Built twice: as is for every cell, and with LPV_PROBE defined as the program the stage runs as
+// per column of cells along x, cell after cell. Each cell gathers from its 6 face neighbours, 5
+// faces each (the shared face is skipped). For neighbour i and face j of this cell the
+// neighbour's intensity towards the face centre, max(0, <SH, Y(d_ij)>), times the face's solid
+// angle, its transmission and the weight scale is a flux that re-enters as a clamped-cosine lobe
+// leaving through face j. Neighbours outside the grid are skipped (never read). The CPU twin is
+// src/techniques/lpv/reference.cpp: same order. Built twice: as is for every column, and with LPV_PROBE defined as the program the stage runs as
 // one invocation for the picked cell, which records the 30 face evaluations behind its gathered
 // light (LpvProbe). The recording lives in its own program because llvmpipe runs a branch for all
 // lanes of a SIMD row, so recording code behind a uniform would cost every cell.

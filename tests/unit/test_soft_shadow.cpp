@@ -133,16 +133,19 @@ TEST(SoftShadowCone, AgreesWithExactVisibility) {
     // Measured (256x256, defaults, 5979 pixels; 2026-12-02, one and two llvmpipe threads alike):
     // mean 0.998 (lrsm), 1.000 (svo), 0.997 (vct-grid), with 0.05, 0 and 0.18 % of the pixels below
     // 0.9 (cones starting near a box edge); while the cones ended at the light, inside its
-    // fixture: mean 0.915, 0.936 and 0.610, with 27, 16 and 99.6 % below 0.9.
-    EXPECT_GT(mean, 0.98) << entry.id;
-    EXPECT_LT(double(dark), 0.05 * double(pixels)) << entry.id;
+    // fixture: mean 0.915, 0.936 and 0.610, with 27, 16 and 99.6 % below 0.9. The values are the
+    // same at one and two threads; the bounds (mean above 0.99, under 1 % below 0.9) sit between
+    // the two.
+    EXPECT_GT(mean, 0.99) << entry.id;
+    EXPECT_LT(double(dark), 0.01 * double(pixels)) << entry.id;
     // And where every ray of the cone is blocked (the boxes' shadows on the floor and the red wall),
     // the light must read as mostly hidden. Measured: 441 pixels; mean visibility 0.018 (vct-grid),
     // 0.146 (svo), 0.137 (lrsm; 0.336 with its shadow cone at the diffuse cones' lod bias 0, which
     // reads the boxes' one-voxel shells at coarse mips and sees through them: 140 of the 441 umbra
-    // pixels above 0.5; docs/fidelity.md, lrsm). A cone that ignored the occluders reads 1.
+    // pixels above 0.5; docs/fidelity.md, lrsm). The bound, 0.25, sits between the two; a cone that
+    // ignored the occluders reads 1.
     ASSERT_GT(umbra, 200u) << entry.id;
-    EXPECT_LT(umbraSum / double(umbra), 0.5) << entry.id;
+    EXPECT_LT(umbraSum / double(umbra), 0.25) << entry.id;
     ++checked;
   }
   EXPECT_GE(checked, 3);  // vct-grid, svo and lrsm trace a shadow cone today

@@ -291,7 +291,7 @@ void BinStage::execute(StageContext& ctx) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXELS, voxels.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXEL_FRAGMENTS, shared.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, outside.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_SCRATCH, outside.id());
     if (count > 0) dispatchCompute({int(count), 1, 1}, {64, 1, 1});
     barrier();
 
@@ -413,7 +413,7 @@ static float sumFragmentLobes(StageContext& ctx, int c, const gpu::LpvGrid& grid
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_VOXEL_FRAGMENTS, ctx.board.buffer("voxel-fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_PROBE, sums.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_ENERGY, largest.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_SCRATCH, largest.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   setUniform(program, "u_pass", 0);
@@ -703,13 +703,17 @@ void PropagateStage::execute(StageContext& ctx) {
                             reinterpret_cast<void*>((part * 3 + ch) * section));
       glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
       barrier();
-      // The box of cells holding injected light; cells outside the other state are never written.
+      // The box of cells holding injected light (cells outside it in the other state are never
+      // written), and record 0 of the cascade: the injected flux (wavefront = grid), summed in cell
+      // order.
       glClearNamedBufferData(out.id(), GL_R32F, GL_RED, GL_FLOAT, nullptr);
       auto injected = in.download(3 * section);
       glm::ivec4 lo(res, res, res, 0), hi(-1, -1, -1, 0);
+      glm::dvec3 injectedSum(0.0);
       for (int ch = 0; ch < 3; ++ch) {
         const float* v = reinterpret_cast<const float*>(injected.data() + ch * section);
         for (size_t i = 0; i < cells; ++i) {
+          injectedSum[ch] += v[4 * i];
           if (v[4 * i] == 0.0f && v[4 * i + 1] == 0.0f && v[4 * i + 2] == 0.0f && v[4 * i + 3] == 0.0f) continue;
           const glm::ivec3 cell(int(i % res), int(i / res % res), int(i / (size_t(res) * res)));
           lo = glm::ivec4(glm::min(glm::ivec3(lo), cell), 0);
@@ -718,12 +722,6 @@ void PropagateStage::execute(StageContext& ctx) {
       }
       activeBoxes[2 * c] = lo;
       activeBoxes[2 * c + 1] = hi;
-      // Record 0 of the cascade: the injected flux (wavefront = grid), summed in cell order.
-      glm::dvec3 injectedSum(0.0);
-      for (int ch = 0; ch < 3; ++ch) {
-        const float* v = reinterpret_cast<const float*>(injected.data() + ch * section);
-        for (size_t i = 0; i < cells; ++i) injectedSum[ch] += v[4 * i];
-      }
       writeEnergy(energy, c, 0, injectedSum, injectedSum);
       ctx.board.ensureBuffer("propagate.active-boxes", sizeof(activeBoxes)).upload(activeBoxes.data(), sizeof(activeBoxes));
     }
