@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include "capture/image_files.h"
 #include "capture/output_handler.h"
@@ -69,13 +70,21 @@ CapturedOutput captureOutput(Blackboard& board, const OutputDesc& desc) {
 
 // --- Statistics ----------------------------------------------------------------------------------
 
-bool texelNonEmpty(const CapturedOutput& out, const LevelData& d, size_t t) {
-  const float* v = &d.values[t * d.channels];
-  if (out.desc.kind == OutputKind::Volume3D && d.channels == 4 && texelMapping(out.desc.semantic).alphaIsOpacity)
-    return v[3] != 0.0f;
-  for (int c = 0; c < d.channels; ++c)
+// Whether a texel's emptiness is its alpha alone (an RGBA volume whose alpha is opacity). Looked
+// up once per level: the mapping is found by the semantic's name.
+static bool emptinessIsAlpha(const CapturedOutput& out, const LevelData& d) {
+  return out.desc.kind == OutputKind::Volume3D && d.channels == 4 && texelMapping(out.desc.semantic).alphaIsOpacity;
+}
+
+static bool texelNonEmpty(const float* v, int channels, bool alphaOnly) {
+  if (alphaOnly) return v[3] != 0.0f;
+  for (int c = 0; c < channels; ++c)
     if (v[c] != 0.0f) return true;
   return false;
+}
+
+bool texelNonEmpty(const CapturedOutput& out, const LevelData& d, size_t t) {
+  return texelNonEmpty(&d.values[t * d.channels], d.channels, emptinessIsAlpha(out, d));
 }
 
 static double fieldScalar(const uint8_t* rec, const BufferField& f, int component) {
@@ -146,13 +155,15 @@ json levelStatistics(const CapturedOutput& out) {
     const LevelData& d = out.levels[l];
     std::vector<double> lo(d.channels, 1e300), hi(d.channels, -1e300), sum(d.channels, 0.0);
     size_t nonEmpty = 0, nonFinite = 0;
-    for (size_t t = 0; t < d.texelCount(); ++t) {
-      for (int c = 0; c < d.channels; ++c) {
-        float v = d.values[t * d.channels + c];
-        if (!std::isfinite(v)) { ++nonFinite; continue; }
-        lo[c] = std::min(lo[c], double(v)); hi[c] = std::max(hi[c], double(v)); sum[c] += v;
+    const bool alphaOnly = emptinessIsAlpha(out, d);
+    const int nc = d.channels;
+    const float* v = d.values.data();
+    for (size_t t = 0, n = d.texelCount(); t < n; ++t, v += nc) {
+      for (int c = 0; c < nc; ++c) {
+        if (!std::isfinite(v[c])) { ++nonFinite; continue; }
+        lo[c] = std::min(lo[c], double(v[c])); hi[c] = std::max(hi[c], double(v[c])); sum[c] += v[c];
       }
-      if (texelNonEmpty(out, d, t)) ++nonEmpty;
+      if (texelNonEmpty(v, nc, alphaOnly)) ++nonEmpty;
     }
     json lj;
     lj["level"] = l;
@@ -297,14 +308,38 @@ static std::vector<float> flipSliceRows(const std::vector<float>& in, glm::ivec3
   return out;
 }
 
-void writeLevelExr(const LevelData& d, const std::string& path, const std::string& semantic) {
-  ImageFileData img;
-  img.width = d.size.x;
-  img.height = d.size.y * d.size.z;
-  img.channels = d.channels;
-  img.pixels = flipSliceRows(d.values, d.size, d.channels);
-  img.attributes = {{"voxlab:depth", std::to_string(d.size.z), true}, {"voxlab:semantic", semantic, false}};
-  writeExrFile(path, img);
+// Texture formats of at most 11 significant bits per channel, whose every value a half float keeps:
+// 16-bit floats exactly, 8-bit unorm values k/255 within 2^-12 of their value, so round(255 x)
+// gives the byte back (readImageFile does, by the file's voxlab:format).
+static bool halfKeepsEveryValue(const std::string& format) {
+  static const char* const kFormats[] = {"r8", "rg8", "rgba8", "r16f", "rg16f", "rgba16f"};
+  return std::find(std::begin(kFormats), std::end(kFormats), format) != std::end(kFormats);
+}
+
+void writeLevelExr(const LevelData& d, const std::string& path, const std::string& semantic,
+                   const std::string& textureFormat) {
+  std::vector<ImageFileAttribute> attributes = {{"voxlab:depth", std::to_string(d.size.z), true},
+                                                {"voxlab:semantic", semantic, false}};
+  if (!textureFormat.empty()) attributes.push_back({"voxlab:format", textureFormat, false});
+  // Half floats where that loses nothing of the texture: half the bytes to deflate (a 128^3 RGBA
+  // volume level is 32 MiB as floats), which was most of a run's writing time.
+  const bool half = halfKeepsEveryValue(textureFormat);
+  const int width = d.size.x, height = d.size.y * d.size.z;
+  if (!half) {
+    std::vector<float> rows = flipSliceRows(d.values, d.size, d.channels);
+    writeExrFile(path, width, height, d.channels, attributes, ExrPixels::Float, rows.data());
+    return;
+  }
+  // Flipped and converted in one pass: a 128^3 RGBA level is 32 MiB as floats, 16 as halves.
+  std::unique_ptr<uint16_t[]> halves(new uint16_t[d.values.size()]);  // every value is written below
+  const size_t rowValues = size_t(d.size.x) * d.channels;
+  for (int z = 0; z < d.size.z; ++z)
+    for (int y = 0; y < d.size.y; ++y) {
+      const float* from = &d.values[(size_t(z) * d.size.y + y) * rowValues];
+      uint16_t* to = &halves[(size_t(z) * d.size.y + (d.size.y - 1 - y)) * rowValues];
+      toHalfBits(from, to, rowValues);
+    }
+  writeExrFile(path, width, height, d.channels, attributes, ExrPixels::Half, halves.get());
 }
 
 LevelData readLevelExr(const std::string& path) {
@@ -371,7 +406,7 @@ void writeLevelFiles(const CapturedOutput& out, const std::string& dir, const st
     files.push_back(base + ".png");
     writePng(displayImage(out, int(l)), dir + "/" + base + ".png");
     files.push_back(base + ".exr");
-    writeLevelExr(out.levels[l], dir + "/" + base + ".exr", semanticName(out.desc.semantic));
+    writeLevelExr(out.levels[l], dir + "/" + base + ".exr", semanticName(out.desc.semantic), out.format);
   }
 }
 

@@ -78,8 +78,11 @@ std::vector<RecordPoint> recordPoints(const CapturedOutput& out);
 nlohmann::json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix);
 
 // Values of one level as an EXR (volumes unrolled: width x (height * depth), attribute
-// voxlab:depth). Row order is top-row-first in the file.
-void writeLevelExr(const LevelData& level, const std::string& path, const std::string& semantic);
+// voxlab:depth). Row order is top-row-first in the file. With the texture's format (attribute
+// voxlab:format; writeLevelFiles passes it), 8-bit and 16-bit float textures are stored as half
+// floats, which keep their values; without one (goldens, difference images), 32-bit floats.
+void writeLevelExr(const LevelData& level, const std::string& path, const std::string& semantic,
+                   const std::string& textureFormat = "");
 LevelData readLevelExr(const std::string& path);  // throws Error
 void writePng(const DisplayImage& image, const std::string& path);
 

@@ -5,6 +5,7 @@
 // every start of `voxlab` on this machine (measured with perf: 74 % of `voxlab --help` in the
 // dynamic loader), which is a third of the 1.5 s budget for a whole run.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,13 +24,20 @@ struct ImageFileData {
   int channels = 0;
   std::vector<float> pixels;  // top row first, channels interleaved
   std::vector<ImageFileAttribute> attributes;
-  bool eightBit = false;      // read from an 8-bit file: values are k/255, as stored
+  bool eightBit = false;      // read from an 8-bit file, or an EXR of an 8-bit texture: values are k/255
   std::string attribute(const std::string& name, const std::string& fallback = "") const;
 };
 
 // Writes 1..4 channels as EXR (ZIP compression), channels Y / R,G / R,G,B / R,G,B,A, float or
 // half. Throws Error naming the path.
 void writeExrFile(const std::string& path, const ImageFileData& image, bool half = false);
+// The same from values already laid out: width x height pixels, top row first, 'channels'
+// interleaved, as 32-bit floats or as the bits of half floats (toHalfBits).
+enum class ExrPixels { Float, Half };
+void writeExrFile(const std::string& path, int width, int height, int channels,
+                  const std::vector<ImageFileAttribute>& attributes, ExrPixels type, const void* pixels);
+// IEEE 754 binary16 bits of each value (OpenEXR's half), rounded to nearest, ties to even.
+void toHalfBits(const float* in, uint16_t* out, size_t count);
 // Writes 8-bit PNG (1..4 channels, top row first). Throws Error naming the path.
 void writePngFile(const std::string& path, int width, int height, int channels, const uint8_t* data);
 // Reads EXR (any channels; R,G,B,A or Y first) or an 8-bit format stb reads. Throws Error.

@@ -1,14 +1,21 @@
 // The PNG writer (src/capture/image_files.cpp: zlib deflate of "Sub"-filtered rows) read back by
 // an independent decoder (stb_image) gives the same bytes, for every channel count, at sizes that
 // are not multiples of anything, and with values that make the Sub filter wrap around 0 and 255.
+// The half floats of a run's EXRs: the conversion against a reference written here, and what a
+// run's level files read back as. The table-driven sRGB byte against the function it replaces.
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <random>
 #include <vector>
 
+#include "capture/capture.h"
 #include "capture/image_files.h"
+#include "capture/output_handler.h"
 #include "core/error.h"
 
 namespace voxlab {
@@ -40,6 +47,123 @@ TEST(ImageFiles, PngWriterRefusesWhatPngCannotHoldAndMissingFolders) {
   EXPECT_THROW(writePngFile(::testing::TempDir() + "x.png", 1, 1, 5, pixel), Error);
   EXPECT_THROW(writePngFile(::testing::TempDir() + "x.png", 0, 1, 3, pixel), Error);
   EXPECT_THROW(writePngFile(::testing::TempDir() + "no-such-folder/x.png", 1, 1, 3, pixel), Error);
+}
+
+// float -> binary16, round to nearest, ties to even, written from the format's definition.
+uint16_t referenceHalf(float f) {
+  uint32_t x;
+  std::memcpy(&x, &f, 4);
+  const uint16_t sign = uint16_t((x >> 16) & 0x8000u);
+  const uint32_t e = (x >> 23) & 0xffu, m = x & 0x7fffffu;
+  if (e == 0xffu) return uint16_t(sign | 0x7c00u | (m ? 0x200u | (m >> 13) : 0u));
+  const int E = int(e) - 127 + 15;  // the half's biased exponent
+  if (E >= 31) return uint16_t(sign | 0x7c00u);
+  auto roundShift = [](uint32_t v, int shift) {  // v / 2^shift, to nearest, ties to even
+    if (shift > 24) return 0u;
+    uint32_t q = v >> shift, r = v & ((1u << shift) - 1u), half = 1u << (shift - 1);
+    return q + ((r > half || (r == half && (q & 1u))) ? 1u : 0u);
+  };
+  if (e == 0) return sign;  // a float denormal is far below half the smallest half denormal
+  if (E <= 0) return uint16_t(sign | roundShift(m | 0x800000u, 14 - E));  // a half denormal (2^-24 units)
+  return uint16_t(sign | roundShift((uint32_t(E) << 23) | m, 13));
+}
+
+TEST(ImageFiles, HalfBitsRoundToNearestEvenLikeTheFormatsDefinition) {
+  std::vector<float> values;
+  for (uint64_t bits = 0; bits <= 0xffffffffull; bits += 4093) {  // every sign, exponent and mantissa region
+    uint32_t b = uint32_t(bits);
+    float f;
+    std::memcpy(&f, &b, 4);
+    values.push_back(f);
+  }
+  // Ties and edges: 1 + 2^-11 (a tie, to 1), 1 + 3 * 2^-11 (a tie, up), the largest half and the
+  // first value that rounds to infinity, the smallest denormal and half of it (a tie, to 0).
+  for (float f : {1.0f + std::ldexp(1.0f, -11), 1.0f + 3 * std::ldexp(1.0f, -11), 65504.0f, 65519.99f, 65520.0f,
+                  std::ldexp(1.0f, -24), std::ldexp(1.0f, -25), 1.5f * std::ldexp(1.0f, -25), 0.0f, -0.0f,
+                  std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), 1.0f / 255.0f})
+    values.push_back(f);
+  // Any length: the vector path takes eight at a time, the rest one by one.
+  values.resize(values.size() / 8 * 8 + 5);
+  std::vector<uint16_t> halves(values.size());
+  toHalfBits(values.data(), halves.data(), values.size());
+  size_t wrong = 0;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (std::isnan(values[i])) {
+      wrong += (halves[i] & 0x7c00u) != 0x7c00u || (halves[i] & 0x3ffu) == 0;  // any NaN
+      continue;
+    }
+    if (halves[i] != referenceHalf(values[i]) && wrong++ < 5)
+      ADD_FAILURE() << values[i] << ": 0x" << std::hex << halves[i] << ", expected 0x" << referenceHalf(values[i]);
+  }
+  EXPECT_EQ(wrong, 0u) << "of " << values.size();
+}
+
+// A run writes textures of 8-bit and 16-bit float formats as half floats: an 8-bit texture's
+// values read back as exactly its k/255, a 16-bit float's exactly; a 32-bit float texture stays
+// 32-bit (its values here have 17 significant bits).
+TEST(ImageFiles, LevelFilesKeepEveryValueOfTheirTextureFormat) {
+  std::mt19937 rng(3);
+  const std::string dir = ::testing::TempDir() + "voxlab-volume-files";
+  std::filesystem::create_directories(dir);
+  for (const char* format : {"rgba8", "rgba16f", "r32f"}) {
+    CapturedOutput out;
+    out.desc.kind = OutputKind::Volume3D;
+    out.desc.semantic = Semantic::Color;
+    out.format = format;
+    LevelData level;
+    level.size = {5, 3, 4};
+    level.channels = std::string(format) == "r32f" ? 1 : 4;
+    level.values.resize(size_t(5) * 3 * 4 * level.channels);
+    for (float& v : level.values)
+      v = std::string(format) == "rgba8" ? float(rng() % 256) * (1.0f / 255.0f)  // as llvmpipe reads bytes back
+                                         : std::ldexp(float(rng() % 100000) / 100000.0f, int(rng() % 20) - 10);
+    if (std::string(format) == "rgba16f") {  // round the values to halves: what such a texture holds
+      std::vector<uint16_t> h(level.values.size());
+      toHalfBits(level.values.data(), h.data(), h.size());
+      for (size_t i = 0; i < h.size(); ++i) {
+        const int e = (h[i] >> 10) & 31, m = h[i] & 1023;
+        level.values[i] = e ? std::ldexp(float(1024 + m), e - 25) : std::ldexp(float(m), -24);
+      }
+    }
+    out.levels = {level};
+    nlohmann::json files = nlohmann::json::array();
+    writeLevelFiles(out, dir, std::string("v-") + format, files);
+    LevelData back = readLevelExr(dir + "/v-" + std::string(format) + ".exr");
+    ASSERT_EQ(back.size, level.size) << format;
+    ASSERT_EQ(back.values.size(), level.values.size()) << format;
+    size_t wrong = 0;
+    for (size_t i = 0; i < level.values.size(); ++i) wrong += back.values[i] != level.values[i];
+    EXPECT_EQ(wrong, 0u) << format;
+    EXPECT_EQ(readImageFile(dir + "/v-" + std::string(format) + ".exr").attribute("voxlab:format"), format);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ImageFiles, SrgbByteIsTheEncodedValueRounded) {
+  auto reference = [](float x) { return unitToByte(srgbEncode(x)); };
+  size_t wrong = 0, checked = 0;
+  auto check = [&](float x) {
+    ++checked;
+    if (srgbByte(x) != reference(x) && wrong++ < 5)
+      ADD_FAILURE() << x << ": " << int(srgbByte(x)) << ", expected " << int(reference(x));
+  };
+  for (uint32_t bits = 0; bits <= 0x3F800000u; bits += 251) {  // [0, 1] at 4.2 M points
+    float x;
+    std::memcpy(&x, &bits, 4);
+    check(x);
+  }
+  // Every float within 512 steps of each place the byte changes.
+  for (int b = 1; b <= 255; ++b) {
+    const double e = (b - 0.5) / 255.0;
+    const double linear = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+    float x = float(linear);
+    for (int k = 0; k < 512; ++k) x = std::nextafter(x, 0.0f);
+    for (int k = 0; k < 1024; ++k, x = std::nextafter(x, 2.0f)) check(x);
+  }
+  for (float x : {-1.0f, -0.0f, 1.0f, 1.5f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                  std::numeric_limits<float>::denorm_min()})
+    check(x);
+  EXPECT_EQ(wrong, 0u) << "of " << checked;
 }
 
 }  // namespace
