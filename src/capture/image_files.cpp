@@ -8,6 +8,7 @@
 
 #include <Imath/half.h>
 #if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
 #include <immintrin.h>
 #endif
 #include <ImfChannelList.h>
@@ -112,7 +113,10 @@ __attribute__((target("avx,f16c"))) static void toHalfBitsF16c(const float* in, 
 
 void toHalfBits(const float* in, uint16_t* out, size_t count) {
 #if defined(__x86_64__) || defined(__i386__)
-  static const bool f16c = __builtin_cpu_supports("f16c") && __builtin_cpu_supports("avx");
+  static const bool f16c = [] {  // CPUID leaf 1, ECX bit 29 (Clang's __builtin_cpu_supports lacks "f16c")
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    return __builtin_cpu_supports("avx") && __get_cpuid(1, &a, &b, &c, &d) && (c & (1u << 29)) != 0;
+  }();
   if (f16c) {
     toHalfBitsF16c(in, out, count);
     return;
