@@ -3,12 +3,10 @@
 #include <chrono>
 
 #include <algorithm>
-#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <future>
 #include <memory>
-#include <mutex>
 #include <thread>
 
 #include "app/reference_error.h"
@@ -100,34 +98,6 @@ json HeadlessSession::manifestHeader() const {
   return m;
 }
 
-namespace {
-
-// At most 'count' output writers at a time (one per core); acquire() blocks until one finishes.
-class WorkerSlots {
- public:
-  explicit WorkerSlots(unsigned count) : free_(count) {}
-  void acquire() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    freed_.wait(lock, [&] { return free_ > 0; });
-    --free_;
-  }
-  struct Release {  // gives the slot back when the writer's task ends, thrown or not
-    explicit Release(WorkerSlots& s) : slots(s) {}
-    ~Release() {
-      { std::lock_guard<std::mutex> lock(slots.mutex_); ++slots.free_; }
-      slots.freed_.notify_one();
-    }
-    WorkerSlots& slots;
-  };
-
- private:
-  std::mutex mutex_;
-  std::condition_variable freed_;
-  unsigned free_;
-};
-
-}  // namespace
-
 json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const std::vector<OutputAddress>& only) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -142,10 +112,9 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
   // Outputs are read back here, on the GL thread, in declaration order; encoding and writing their
   // files and comparing them with the references (CPU only) run on worker threads, at most one
   // per core at a time, and their manifest entries are collected in the same order.
-  // (slots before pending: if a capture throws, pending's futures wait for their writers, which
-  // release their slots, before the slots go.)
-  WorkerSlots slots(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::pair<size_t, std::future<json>>> pending;
+  size_t waited = 0;
+  const size_t workers = std::max(1u, std::thread::hardware_concurrency());
   // The references are of the scene's own light and no sky: a run that changes the scene's
   // physics (parameters declared groundTruth()) is not compared with them.
   std::string physicsChanged;
@@ -192,9 +161,8 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
       const bool compare = !request_.lookFrom;
       std::string sceneName = cursor_->scene().name;
       int camera = request_.camera;
-      slots.acquire();  // the next capture waits for whichever write finishes first
-      pending.emplace_back(size_t(i), std::async(std::launch::async, [=, &slots, name = o.name, help = o.help]() {
-        WorkerSlots::Release release(slots);
+      while (pending.size() - waited >= workers) pending[waited++].second.wait();
+      pending.emplace_back(size_t(i), std::async(std::launch::async, [=, name = o.name, help = o.help]() {
         json e = writeOutputFiles(*cap, dir, prefix);
         e["name"] = name;
         e["address"] = address;

@@ -1,7 +1,6 @@
 #include "capture/output_handler.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -66,51 +65,6 @@ uint8_t unitToByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0
 float srgbEncode(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
   return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
-
-namespace {
-
-// srgbByte's tables. The reference is unitToByte(srgbEncode(x)), a non-decreasing step function of
-// x in [0, 1]; firstOf[b] is the least float it maps to b or above (found by bisecting the float
-// bit patterns, which order non-negative floats), and byteAt[k] its value at the least float with
-// the high 16 bits k. A bucket of 2^16 floats spans under 1 % of its value, less than one step of
-// the encoded byte above 2^-12, so srgbByte looks past byteAt by a step or two at most (more
-// only in the steep linear segment near 0, where the loop walks a few steps).
-struct SrgbByteTables {
-  float firstOf[257];
-  uint8_t byteAt[(0x3F800000u >> 16) + 1];
-  SrgbByteTables() {
-    auto reference = [](uint32_t bits) {
-      float x;
-      std::memcpy(&x, &bits, 4);
-      return unitToByte(srgbEncode(x));
-    };
-    const uint32_t one = 0x3F800000u;  // 1.0f
-    firstOf[0] = 0.0f;
-    for (int b = 1; b <= 255; ++b) {
-      uint32_t lo = 0, hi = one;  // reference(lo) < b <= reference(hi)
-      while (hi - lo > 1) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        (reference(mid) >= b ? hi : lo) = mid;
-      }
-      std::memcpy(&firstOf[b], &hi, 4);
-    }
-    firstOf[256] = std::numeric_limits<float>::infinity();
-    for (uint32_t k = 0; k <= (one >> 16); ++k) byteAt[k] = reference(k << 16);
-  }
-};
-
-}  // namespace
-
-uint8_t srgbByte(float x) {
-  static const SrgbByteTables tables;
-  if (!(x > 0.0f)) return unitToByte(srgbEncode(x));  // zero, negative, NaN
-  if (x >= 1.0f) return 255;
-  uint32_t bits;
-  std::memcpy(&bits, &x, 4);
-  unsigned b = tables.byteAt[bits >> 16];
-  while (x >= tables.firstOf[b + 1]) ++b;
-  return uint8_t(b);
 }
 
 void falseColourRamp(float t, uint8_t* rgb) {

@@ -38,9 +38,6 @@ void registerTexelMapping(Semantic semantic, const TexelMapping& mapping);
 void falseColourRamp(float t, uint8_t* rgb);
 uint8_t unitToByte(float v);
 float srgbEncode(float linear);
-// unitToByte(srgbEncode(linear)), the same byte for every float, from tables (display images of
-// whole volumes map millions of values).
-uint8_t srgbByte(float linear);
 
 // --- Golden comparison ----------------------------------------------------------------------------
 

@@ -106,7 +106,7 @@ void Viewer::updateCompare() {
     reference::Image err = reference::errorImage(ia, ib, 0.0f, &compare.errorScale);
     std::vector<uint8_t> rgba(err.pixelCount() * 4, 255);
     for (size_t i = 0; i < err.pixelCount(); ++i)
-      for (int c = 0; c < 3; ++c) rgba[i * 4 + c] = srgbByte(err.rgb[i * 3 + c]);
+      for (int c = 0; c < 3; ++c) rgba[i * 4 + c] = unitToByte(srgbEncode(err.rgb[i * 3 + c]));
     compare.diffTex.upload(err.width, err.height, rgba.data());
   } catch (const Error& e) {
     compare.error = e.what();

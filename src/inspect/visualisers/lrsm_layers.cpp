@@ -93,7 +93,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
         if (a == Attribute::Radiance) {
           for (int k = 0; k < 3; ++k) {
             float v = L->at(px, ty, 0, k) * x;
-            o[k] = srgbByte(v / (1.0f + v));
+            o[k] = unitToByte(srgbEncode(v / (1.0f + v)));
           }
         } else if (a == Attribute::Normal) {
           for (int k = 0; k < 3; ++k) o[k] = unitToByte(L->at(px, ty, 0, k) / alpha * 0.5f + 0.5f);
@@ -168,7 +168,7 @@ void layerIdColour(const float* v, int, float, float, float, uint8_t* o) {
 void layerRadianceColour(const float* v, int n, float x, float, float, uint8_t* o) {
   for (int k = 0; k < 3; ++k) {
     const float y = (k < n ? v[k] : 0.0f) * x;
-    o[k] = srgbByte(y / (1.0f + y));
+    o[k] = unitToByte(srgbEncode(y / (1.0f + y)));
   }
 }
 void layerNormalColour(const float* v, int n, float, float, float, uint8_t* o) {

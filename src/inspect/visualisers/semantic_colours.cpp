@@ -8,13 +8,13 @@ namespace voxlab {
 namespace {
 
 void colour(const float* v, int n, float x, float, float, uint8_t* o) {
-  for (int k = 0; k < 3; ++k) o[k] = srgbByte((k < n ? v[k] : v[0]) * x);
+  for (int k = 0; k < 3; ++k) o[k] = unitToByte(srgbEncode((k < n ? v[k] : v[0]) * x));
 }
 
 void radiance(const float* v, int n, float x, float, float, uint8_t* o) {
   for (int k = 0; k < 3; ++k) {
     float y = (k < n ? v[k] : v[0]) * x;
-    o[k] = srgbByte(y / (1.0f + y));  // Reinhard
+    o[k] = unitToByte(srgbEncode(y / (1.0f + y)));  // Reinhard
   }
 }
 
