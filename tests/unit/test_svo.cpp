@@ -542,6 +542,78 @@ TEST(SvoConeTrace, TileLayoutAmbientOcclusionCloseToNodeLayout) {
   EXPECT_GT(sum / a.values.size(), 0.01);  // the layouts do differ
 }
 
+// The two views the viewer shows the octree through, svo-structure (svo-build) and svo-dense
+// (svo-mipmap), are scattered from each level's nodes into a cleared mip: every texel holds the
+// node of that level at that cell (its flags as 1 / 0.6 / 0.3, its value) and 0 where there is
+// none. Checked after a dilated run (tagged empty nodes: 0.6) and again after a parameter change
+// that removes lit nodes, as in the viewer, where the stages run again into the same textures
+// (conservative voxelization and dilation, then plain and none: a texel that kept a value of the
+// first octree would show a node that is not there).
+void expectViewsHoldTheNodes(StepCursor& c, const std::string& run) {
+  auto grab = [&](const std::string& stage, const std::string& output) {
+    return captureOutput(c.board(), *c.technique().findOutput(stage, output).second);
+  };
+  std::vector<SvoNode> nodes = records<SvoNode>(grab("svo-build", "svo-nodes"));
+  std::vector<SvoLevel> levels = records<SvoLevel>(grab("svo-build", "svo-levels"));
+  std::vector<std::array<float, 4>> values = records<std::array<float, 4>>(grab("svo-mipmap", "svo-values"));
+  CapturedOutput structure = grab("svo-build", "svo-structure"), dense = grab("svo-mipmap", "svo-dense");
+  const int depth = int(levels.size()) - 1;
+  ASSERT_EQ(values.size(), nodes.size());
+  ASSERT_EQ(int(structure.levels.size()), depth + 1);
+  ASSERT_EQ(int(dense.levels.size()), depth + 1);
+  for (int l = 0; l <= depth; ++l) {
+    const LevelData &st = structure.levels[depth - l], &dn = dense.levels[depth - l];
+    ASSERT_EQ(st.size, glm::ivec3(1 << l));
+    // Expected texels: 0 everywhere, then each node of the level at its cell.
+    std::vector<float> code(st.texelCount(), 0.0f), rgba(st.texelCount() * 4, 0.0f);
+    for (uint32_t n = levels[l].start; n < levels[l].start + levels[l].count; ++n) {
+      ASSERT_EQ(nodes[n].level, uint32_t(l));
+      auto [x, y, z] = cellOf(nodes[n].coords);
+      size_t i = (size_t(z) * st.size.y + y) * st.size.x + x;
+      EXPECT_EQ(code[i], 0.0f) << "two nodes at one cell of level " << l;
+      code[i] = (nodes[n].word & SVO_NON_EMPTY) ? 1.0f : (nodes[n].word & SVO_TAG) ? 0.6f : 0.3f;
+      for (int k = 0; k < 4; ++k) rgba[i * 4 + k] = values[n][k];
+    }
+    size_t wrongCode = 0, wrongValue = 0;
+    // The views are 8-bit: a value is stored within half a step (1/510) of the float.
+    for (size_t i = 0; i < code.size(); ++i) {
+      wrongCode += std::abs(st.values[i] - code[i]) > 0.5f / 255.0f + 1e-6f;
+      for (int k = 0; k < 4; ++k) wrongValue += std::abs(dn.values[i * 4 + k] - rgba[i * 4 + k]) > 0.5f / 255.0f + 1e-6f;
+    }
+    EXPECT_EQ(wrongCode, 0u) << run << ": svo-structure, level " << l << " (mip " << depth - l << ")";
+    EXPECT_EQ(wrongValue, 0u) << run << ": svo-dense, level " << l << " (mip " << depth - l << ")";
+  }
+}
+
+TEST(SvoViews, StructureAndDenseViewsHoldExactlyTheNodesOfEveryLevelAfterARerun) {
+  auto& s = session(request("svo", "cornell-box", {"voxel.resolution=32"}, "svo-build", 32));  // GL context, shaders
+  StepCursor c(createTechnique("svo"), s.cursor().shaders());
+  c.setScene(std::make_shared<Scene>(loadScene(resolveScenePath("cornell-box"))));
+  c.setViewSize(32, 32);
+  c.setParamText("voxel.resolution", "64");
+  c.setParamText("svo.dilate", "true");
+  const int mipmap = c.technique().stageIndex("svo-mipmap");
+  c.runThrough(mipmap);
+  expectViewsHoldTheNodes(c, "conservative, dilated");
+  // (level, cell) and value of every node of the first run.
+  std::map<std::pair<uint32_t, Cell>, float> first;
+  {
+    auto nodes = records<SvoNode>(captureOutput(c.board(), *c.technique().findOutput("svo-build", "svo-nodes").second));
+    auto values = records<std::array<float, 4>>(captureOutput(c.board(), *c.technique().findOutput("svo-mipmap", "svo-values").second));
+    for (size_t n = 0; n < nodes.size(); ++n) first[{nodes[n].level, cellOf(nodes[n].coords)}] = values[n][3];
+  }
+  c.setParamText("voxelize.method", "plain");
+  c.setParamText("svo.dilate", "false");
+  c.runThrough(mipmap);
+  expectViewsHoldTheNodes(c, "plain, not dilated");
+  for (const SvoNode& n : records<SvoNode>(captureOutput(c.board(), *c.technique().findOutput("svo-build", "svo-nodes").second)))
+    first.erase({n.level, cellOf(n.coords)});
+  size_t goneAndOpaque = 0;
+  for (const auto& [cell, opacity] : first) goneAndOpaque += opacity > 0.0f;
+  // Nodes with content in the first run and none in the second: texels the views must have cleared.
+  EXPECT_GT(goneAndOpaque, 100u);  // measured: 375 at 64^3 (of 68,784 nodes gone, most of them the dilation's empty ones)
+}
+
 // I9 at texel centres: the octree resampled into a dense view equals vct-grid's mip chain at every
 // level. Both use direct light; vct-grid averages fragments with the RGBA8 compare-and-swap loop
 // and rounds every mip level to 8 bits, the octree sums exactly and rounds once.

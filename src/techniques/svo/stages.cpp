@@ -288,12 +288,12 @@ void BuildStage::execute(StageContext& ctx) {
       for (int m = 0; m < structure.levels(); ++m) glClearTexImage(structure.id(), m, GL_RED, GL_UNSIGNED_BYTE, &zero);
     }
     GLuint view = ctx.shaders.program({"svo/structure.comp.glsl"});
-    setUniform(view, "u_depth", depth);
-    setUniform(view, "u_level", level);
+    setUniform(view, "u_start", unsigned(current.start));
+    setUniform(view, "u_count", unsigned(current.count));
     glUseProgram(view);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, pool->id());
     glBindImageTexture(0, structure.id(), depth - level, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8);
-    dispatchCompute(structure.levelSize(depth - level), {4, 4, 4});
+    dispatchCompute({int(current.count), 1, 1}, {64, 1, 1});
     barrierAll();
   }
   const uint32_t total = nodeCount(levels);
@@ -445,19 +445,20 @@ void MipmapStage::execute(StageContext& ctx) {
   Buffer& nodePool = ctx.board.buffer("svo-nodes");
   GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"});
   auto writeDense = [&](int mip) {
-    setUniform(resample, "u_depth", depth);
-    setUniform(resample, "u_level", depth - mip);
+    const SvoLevel& level = levels[depth - mip];
+    setUniform(resample, "u_start", unsigned(level.start));
+    setUniform(resample, "u_count", unsigned(level.count));
     glUseProgram(resample);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
     glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    dispatchCompute(dense.levelSize(mip), {4, 4, 4});
+    dispatchCompute({int(level.count), 1, 1}, {64, 1, 1});
     barrierAll();
   };
   if (k == 0) {
     glCopyNamedBufferSubData(ctx.board.buffer("svo-leaf-values").id(), values.id(), 0, 0, GLsizeiptr(nodes) * 16);
     const uint8_t zero[4] = {0, 0, 0, 0};
-    for (int m = 1; m < dense.levels(); ++m) glClearTexImage(dense.id(), m, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    for (int m = 0; m < dense.levels(); ++m) glClearTexImage(dense.id(), m, GL_RGBA, GL_UNSIGNED_BYTE, zero);
     barrierAll();
     writeDense(0);
   }
@@ -584,7 +585,9 @@ void BricksStage::execute(StageContext& ctx) {
   }
   setUniform(program, "u_pass", 1);
   glUseProgram(program);
-  dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+  // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
+  // pool) have no children, so only the levels above them are dispatched.
+  dispatchCompute({int(tile ? nodes : levels[depth].start), 1, 1}, {64, 1, 1});
   barrierAll();
   if (gaussian) {
     // Layout T, Gaussian: level by level from D - 2 up, each from the bricks just below it.
