@@ -1,16 +1,19 @@
 #version 450
-// svo-bricks, one invocation per node. u_pass 0: count the tagged nodes of each work group of 64
-// (the CPU makes exclusive prefix sums of them). u_pass 1: every tagged node (non-empty, or
-// dilated) takes the 3x3x3 brick (Layout N: node-centred, borders included) whose number is 1 +
-// its rank among the tagged nodes (brick 0 is the reserved all-zero brick; ranks instead of an
-// atomic counter keep the pool identical on every run), after checking the pool's capacity. Texel t in {0,1,2}^3 lies at
-// node.min + t * size / 2; it gets the mean of the centre values of the 1, 2, 4 or 8 same-level
+// svo-bricks, one invocation per node. u_pass 1: every tagged node (non-empty, or dilated) takes
+// the 3x3x3 brick (Layout N: node-centred, borders included) whose number is 1 + its rank among
+// the tagged nodes in pool order (brick 0 is the reserved all-zero brick), after checking the
+// pool's capacity. The rank needs no count of its own: svo-build gave each tagged node above the
+// voxels the 2x2x2 tile numbered by the same rank, so its brick is 1 + (first child - 1) / 8;
+// the tagged voxels come after all tiles (u_tiles), ranked by the exclusive prefix sums of tagged
+// voxels per group of 64 that svo-build's last level left in svo-groups. The pool is identical on
+// every run. Texel t in {0,1,2}^3
+// lies at node.min + t * size / 2; it gets the mean of the centre values of the 1, 2, 4 or 8 same-level
 // cells that share that point, found by position (a gather: exact where the separable x, y, z
 // transfer of Basgier and Gomes is not, source error P3; absent cells count 0; cells beyond the
 // volume are clamped to the edge, as vct-grid's CLAMP_TO_EDGE sampling is). Trilinear filtering
 // inside the brick then reproduces the dense grid's trilinear sample exactly inside the node.
 // u_layoutTile = 1 (Layout T, Crassin/Gomes): a brick for every subdivided node (tagged, above the
-// voxels) instead; its texel t lies at the corner 2 * cell + t of its children (child-level
+// voxels) instead, numbered 1 + its tile; its texel t lies at the corner 2 * cell + t of its children (child-level
 // coordinates) and gets the mean of the 8 child-level cells sharing that corner (clamped to the
 // volume), so the brick of a level-l node holds level l + 1 and leaves have none.
 #include "common/packing.glsl"
@@ -23,7 +26,7 @@ layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode node
 layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
 layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint counters[]; };
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) buffer BrickIndex { uint brickIndex[]; };
-layout(std430, binding = SVO_BINDING_GROUPS) coherent buffer Groups { uint groups[]; };
+layout(std430, binding = SVO_BINDING_GROUPS) readonly buffer Groups { uint groups[]; };  // svo-build's, of the voxel level
 layout(rgba8, binding = 0) uniform writeonly image3D u_brickPool;
 uniform uint u_nodeCount;
 uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
@@ -33,6 +36,8 @@ uniform int u_pass;
 uniform int u_layoutTile;
 uniform int u_gaussian;   // Layout T only: 1 = Crassin/Gomes' 1/8-1/16-1/32-1/64 kernel above level D - 1
 uniform int u_level;      // pass 2: the level whose bricks are filtered from the level below
+uniform uint u_leafStart; // first node of the voxel level (level D)
+uniform uint u_tiles;     // tiles svo-build allocated: the tagged nodes above the voxels
 layout(binding = 0) uniform sampler3D u_poolRead;  // the same pool, read back in pass 2
 #include "svo/octree.glsl"
 
@@ -64,13 +69,14 @@ vec4 childValue(uint around[27], ivec3 pc, ivec3 m, int childCells) {
   return f == 0u ? vec4(0.0) : values[f + uint(bit.x + 2 * bit.y + 4 * bit.z)];
 }
 
+// The brick of tagged node n above the voxels: 1 + the tile its children were given, whose
+// number is n's rank among the tagged nodes (svo-build allocates tiles in that order).
+uint innerBrick(uint n) { return 1u + ((nodes[n].word & SVO_CHILD_MASK) - 1u) / 8u; }
+
 // Layout T, pass 1: node n's own tile brick.
 void tileBrick(uint n) {
   if (!hasBrick(n)) { brickIndex[n] = 0u; return; }
-  uint rank = groups[n / 64u];
-  for (uint m = (n / 64u) * 64u; m < n; ++m)
-    if (hasBrick(m)) ++rank;
-  uint brick = 1u + rank;
+  uint brick = innerBrick(n);
   if (brick >= u_brickCapacity) {
     atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u);
     brickIndex[n] = 0u;
@@ -154,13 +160,6 @@ void main() {
     return;
   }
   bool tagged = hasBrick(n);
-  if (u_pass == 0) {
-    if (tagged) {
-      atomicAdd(groups[(linearInvocation() / 64u)], 1u);
-      atomicAdd(counters[SVO_COUNTER_BRICKS], 1u);
-    }
-    return;
-  }
   if (u_layoutTile == 1) {
     tileBrick(n);
     return;
@@ -186,14 +185,19 @@ void main() {
   uint around[27];  // first child of each node in the parent's 3x3x3 neighbourhood (0 = none)
   neighbourhoodChildren(n, pc, parentLevel, around);
   int cells = 2 * parentCells;
-  // Rank of the first child among all tagged nodes; the others follow.
-  uint rank = groups[first / 64u];
-  for (uint m = (first / 64u) * 64u; m < first; ++m)
-    if ((nodes[m].word & SVO_TAG) != 0u) ++rank;
+  // Voxel-level children: the rank of the first among the tagged voxels; the others follow.
+  const bool voxels = parentLevel + 1 == u_depth;
+  uint rank = 0u;
+  if (voxels) {
+    uint group = (first - u_leafStart) / 64u;
+    rank = groups[group];
+    for (uint m = u_leafStart + group * 64u; m < first; ++m)
+      if ((nodes[m].word & SVO_TAG) != 0u) ++rank;
+  }
   for (uint k = 0u; k < 8u; ++k) {
     uint child = first + k;
     if ((nodes[child].word & SVO_TAG) == 0u) { brickIndex[child] = 0u; continue; }
-    uint brick = 1u + rank;
+    uint brick = voxels ? 1u + u_tiles + rank : innerBrick(child);
     ++rank;
     if (brick >= u_brickCapacity) {
       atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u);

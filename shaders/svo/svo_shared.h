@@ -52,7 +52,6 @@ SVO_CONST uint SVO_COUNTER_TILES = 0u;      // 2x2x2 tiles allocated so far (nod
 SVO_CONST uint SVO_COUNTER_OVERFLOW = 1u;   // set to 1 by any pass that found its pool full
 SVO_CONST uint SVO_COUNTER_NON_EMPTY = 2u;  // non-empty nodes of the level being built
 SVO_CONST uint SVO_COUNTER_TAGGED = 3u;     // tagged nodes of the level (non-empty + dilated)
-SVO_CONST uint SVO_COUNTER_BRICKS = 4u;     // bricks needed (brick 0, the reserved zero brick, not counted)
 SVO_CONST uint SVO_COUNTER_WORDS = 8u;
 
 // Per-level table ("svo-levels"), one record per level.

@@ -187,7 +187,7 @@ void BuildStage::declare(StageBuilder& b) const {
            "the octree's nodes as a volume: mip m shows level D - m (1 non-empty, 0.6 dilated, 0.3 empty sibling, "
            "0 no node); overlay a level on the camera images to see its node boxes in the scene");
   b.output("svo-counters", OutputKind::Buffer, Semantic::Scalar,
-           "counters: tiles, overflow flag, level non-empty, level tagged, bricks, -, nodes written")
+           "counters: tiles, overflow flag, level non-empty, level tagged, -, -, nodes written")
       .layout = BufferLayout{4, {{"value", FieldType::U32, 0}}, "", 0, 1.0f};
   b.texture("svo-structure", [](const ParamSet& p, const ViewState&) { return structureDesc(p); });
   b.buffer("svo-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
@@ -485,8 +485,6 @@ static glm::ivec3 bricksPerAxis(uint32_t bricks) {
   return {side, side, std::max(z, 1)};
 }
 
-static size_t brickGroupsBytes(uint32_t nodes) { return size_t((nodes + 63) / 64 + 1) * 4; }
-
 // The brick pool's texture for 'bricks' bricks: 3x3x3 RGBA8 texels each, laid out by bricksPerAxis.
 static TextureDesc brickPoolDesc(uint32_t bricks) {
   TextureDesc d;
@@ -507,8 +505,8 @@ void BricksStage::declare(StageBuilder& b) const {
   b.read("svo-levels");
   b.read("svo-counters");
   b.read("svo-values");
+  b.read("svo-groups");  // svo-build's last level: prefix sums of the tagged voxels per group of 64
   b.write("svo-brick-counters");
-  b.write("svo-brick-groups");
   b.output("svo-brick-index", OutputKind::Buffer, Semantic::Scalar,
            "per node: its brick in the pool (0 = the reserved zero brick: untagged nodes)")
       .layout = BufferLayout{4, {{"brick", FieldType::U32, 0}}, "svo-counters", 4 * 6, 1.0f};
@@ -520,7 +518,6 @@ void BricksStage::declare(StageBuilder& b) const {
   b.texture("svo-brick-pool", [](const ParamSet&, const ViewState&) { return brickPoolDesc(2); }, /*pool=*/true);
   b.buffer("svo-brick-index", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
   b.buffer("svo-brick-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
-  b.buffer("svo-brick-groups", [](const ParamSet&, const ViewState&) { return brickGroupsBytes(1); }, /*pool=*/true);
 }
 
 void BricksStage::execute(StageContext& ctx) {
@@ -552,15 +549,14 @@ void BricksStage::execute(StageContext& ctx) {
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
   counters.upload(c.data(), c.size() * 4);
-  Buffer& groups = ctx.board.ensureBuffer("svo-brick-groups", brickGroupsBytes(nodes));
-  std::vector<uint32_t> zeroGroupCounts((nodes + 63) / 64 + 1, 0u);
-  groups.upload(zeroGroupCounts.data(), zeroGroupCounts.size() * 4);
   GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"});
   setUniform(program, "u_nodeCount", unsigned(nodes));
   setUniform(program, "u_brickCapacity", unsigned(capacity));
   setUniform(program, "u_bricksPerAxis", axis);
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_layoutTile", tile ? 1 : 0);
+  setUniform(program, "u_leafStart", unsigned(levels[depth].start));
+  setUniform(program, "u_tiles", unsigned((nodes - 1) / 8));  // the pool is the root + 8 nodes per tile
   const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
   setUniform(program, "u_gaussian", gaussian ? 1 : 0);
   glUseProgram(program);
@@ -568,21 +564,8 @@ void BricksStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, index.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, groups.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, ctx.board.buffer("svo-groups").id());
   glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  setUniform(program, "u_pass", 0);
-  glUseProgram(program);
-  dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
-  barrierAll();
-  // Exclusive prefix sums of the per-group counts (svo-groups is the build's; this stage has its own).
-  {
-    std::vector<uint8_t> g = groups.download(zeroGroupCounts.size() * 4);
-    std::vector<uint32_t> v(zeroGroupCounts.size());
-    std::memcpy(v.data(), g.data(), v.size() * 4);
-    uint32_t sum = 0;
-    for (auto& x : v) { uint32_t k = x; x = sum; sum += k; }
-    groups.upload(v.data(), v.size() * 4);
-  }
   setUniform(program, "u_pass", 1);
   glUseProgram(program);
   // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
@@ -604,9 +587,9 @@ void BricksStage::execute(StageContext& ctx) {
   std::memcpy(c.data(), bytes.data(), c.size() * 4);
   if (c[SVO_COUNTER_OVERFLOW])
     throw Error("svo-bricks: brick pool overflow: it holds " + std::to_string(capacity) + " bricks, the octree needs " +
-                std::to_string(1 + c[SVO_COUNTER_BRICKS]) + " (svo.brick-pool-fraction=" +
+                std::to_string(needed) + " (svo.brick-pool-fraction=" +
                 ctx.params.desc("svo.brick-pool-fraction").format(fraction) + "; 1 sizes the pool exactly)");
-  ctx.stats["bricks"] = c[SVO_COUNTER_BRICKS];
+  ctx.stats["bricks"] = tagged;
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
   ctx.stats["octree_bytes"] = double(pool.byteSize()) + double(nodes) * (sizeof(SvoNode) + 4);

@@ -54,6 +54,11 @@
 //     svo.node-pool-fraction and svo.brick-pool-fraction < 1 undersize a pool on purpose: guard
 //     words after the node pool, and the brick pool's spare slots past its capacity, staying empty
 //     show that nothing was written past its end (tests/unit/test_svo.cpp, SvoPools.*).
+//   - Brick numbers: 1 + a tagged node's rank among the tagged nodes in pool order (brick 0 is
+//     the zero brick), the same on every run. Above the voxels that rank is the number of the
+//     tile svo-build gave the node's children, so the brick is 1 + (first child - 1) / 8; the
+//     tagged voxels follow all tiles in the order of svo-build's last scan (svo-groups), so
+//     svo-bricks needs no counting pass of its own.
 //   - Quadrilinear: levelStar = D - max(log2(d / voxel) + bias, 0); fine = min(D, floor + 1),
 //     weight of fine = levelStar - (fine - 1). This is GL's LINEAR_MIPMAP_LINEAR with lod =
 //     D - levelStar, continuous across integer levels (Gomes' listing 4.25 inverts it: P1).
