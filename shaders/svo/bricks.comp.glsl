@@ -6,16 +6,17 @@
 // voxels the 2x2x2 tile numbered by the same rank, so its brick is 1 + (first child - 1) / 8;
 // the tagged voxels come after all tiles (u_tiles), ranked by the exclusive prefix sums of tagged
 // voxels per group of 64 that svo-build's last level left in svo-groups. The pool is identical on
-// every run. Texel t in {0,1,2}^3
-// lies at node.min + t * size / 2; it gets the mean of the centre values of the 1, 2, 4 or 8 same-level
-// cells that share that point, found by position (a gather: exact where the separable x, y, z
-// transfer of Basgier and Gomes is not, source error P3; absent cells count 0; cells beyond the
-// volume are clamped to the edge, as vct-grid's CLAMP_TO_EDGE sampling is). Trilinear filtering
-// inside the brick then reproduces the dense grid's trilinear sample exactly inside the node.
+// every run. Texel t in {0,1,2}^3 lies at node.min + t * size / 2; it gets the mean of the centre
+// values of the 1, 2, 4 or 8 same-level cells that share that point, found by position (a gather:
+// exact where the separable x, y, z transfer of Basgier and Gomes is not, source error P3; absent
+// cells count 0; cells beyond the volume are clamped to the edge, as vct-grid's CLAMP_TO_EDGE
+// sampling is). Trilinear filtering inside the brick then reproduces the dense grid's trilinear
+// sample exactly inside the node.
 // u_layoutTile = 1 (Layout T, Crassin/Gomes): a brick for every subdivided node (tagged, above the
-// voxels) instead, numbered 1 + its tile; its texel t lies at the corner 2 * cell + t of its children (child-level
-// coordinates) and gets the mean of the 8 child-level cells sharing that corner (clamped to the
-// volume), so the brick of a level-l node holds level l + 1 and leaves have none.
+// voxels) instead, numbered 1 + its tile; its texel t lies at the corner 2 * cell + t of its
+// children (child-level coordinates) and gets the mean of the 8 child-level cells sharing that
+// corner (clamped to the volume), so the brick of a level-l node holds level l + 1 and leaves have
+// none. u_pass 2 (Layout T, Gaussian) is below.
 #include "common/packing.glsl"
 #include "svo/svo_shared.h"
 
