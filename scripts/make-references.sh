@@ -73,7 +73,16 @@ for scene in $scenes; do
       render cornell-box-panel-only 128x128 indirect-1 512 "$f"
       render cornell-box-panel-only 128x128 full 512 "$f"
       ;;
-    *) echo "make-references.sh: no reference settings for scene '$scene' (known: cornell-box sponza cornell-box-panel-only)" >&2; exit 2 ;;
+    skylight-room|two-rooms|corridor|spheres-room|spheres-room-cm|open-courtyard)
+      # The suite's own scenes (scripts/make_suite_scenes.py): 256x256, the size `voxlab fidelity`
+      # runs at. Their lights are punctual (no emissive surfaces), so direct has no noise at all;
+      # the other modes' spp and their measured noise are in docs/fidelity.md.
+      render "$scene" 256x256 direct 4
+      render "$scene" 256x256 indirect-1 "${SUITE_SPP:-256}"
+      render "$scene" 256x256 indirect-2 "${SUITE_SPP:-256}"
+      render "$scene" 256x256 full "${SUITE_SPP:-256}"
+      ;;
+    *) echo "make-references.sh: no reference settings for scene '$scene' (known: cornell-box sponza cornell-box-panel-only skylight-room two-rooms corridor spheres-room spheres-room-cm open-courtyard)" >&2; exit 2 ;;
   esac
   ls -l "$root/tests/golden/reference/$scene"
 done

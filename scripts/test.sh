@@ -18,7 +18,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/build.sh"
 cd "$root/build"
 jobs="${VOXLAB_TEST_JOBS:-2}"
-once='^(cli|viewer|handout|gallery|lights|platform)\.'
+once='^(cli|viewer|handout|gallery|lights|platform|fidelity)\.'
 echo "== ctest with LP_NUM_THREADS=1 (the unit-test binary: snapshots, exact and physics tests)"
 LP_NUM_THREADS=1 ctest --output-on-failure -j"$jobs" --timeout 900 -E "$once"
 echo "== ctest with LP_NUM_THREADS=2 (everything)"
@@ -29,7 +29,7 @@ echo "== sanitized build (ASan + UBSan, Clang)"
 "$root/scripts/build-asan.sh"
 source "$root/scripts/sanitizer-env.sh"
 cd "$root/build-asan"
-# Viewer, handout (Chromium) and platform tests are left out: they exercise GLFW/Xvfb and a
+# Viewer, handout (Chromium), platform and the fidelity suite's tests are left out: they exercise GLFW/Xvfb and a
 # browser more than voxlab's code, and would double the sanitized pass (docs/testing.md#guards).
 # The lights.* checks (every technique through the CLI on extra scenes) run in a second step with
 # LeakSanitizer off and ASan + UBSan on: LeakSanitizer's own tracer dies at exit ("Tracer caught
@@ -45,7 +45,7 @@ cd "$root/build-asan"
 without_lsan='^(lights\.|LpvGpu\.LookupAndBlendEqualCpu$)'
 echo "== sanitized ctest with LP_NUM_THREADS=1 (unit, command line, snapshots)"
 LP_NUM_THREADS=1 ctest --output-on-failure -j"$jobs" --timeout 1200 --repeat until-pass:2 \
-  -E "^(viewer|handout|gallery|platform|lights)\.|^LpvGpu\.LookupAndBlendEqualCpu$"
+  -E "^(viewer|handout|gallery|platform|lights|fidelity)\.|^LpvGpu\.LookupAndBlendEqualCpu$"
 echo "== sanitized ctest without LeakSanitizer: lights.*, LpvGpu.LookupAndBlendEqualCpu"
 ASAN_OPTIONS="${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0}" LP_NUM_THREADS=1 \
   ctest --output-on-failure -j"$jobs" --timeout 1200 --repeat until-pass:2 -R "$without_lsan" \

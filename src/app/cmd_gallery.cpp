@@ -48,35 +48,10 @@ bool indirectOnly(const std::string& mode) {
   }
 }
 
-// The reference EXR shown with the output's own display mapping (same semantic, same tonemap).
-void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png) {
-  ImageFileData f = readImageFile(exr);
-  CapturedOutput c;
-  c.desc = desc;
-  LevelData L;
-  L.size = {f.width, f.height, 1};
-  L.channels = 4;
-  L.values.assign(size_t(f.width) * f.height * 4, 1.0f);
-  for (int y = 0; y < f.height; ++y)  // file rows top first; LevelData rows bottom first (GL order)
-    for (int x = 0; x < f.width; ++x)
-      for (int ch = 0; ch < std::min(f.channels, 3); ++ch)
-        L.values[(size_t(f.height - 1 - y) * f.width + x) * 4 + ch] = f.pixels[(size_t(y) * f.width + x) * f.channels + ch];
-  c.levels.push_back(std::move(L));
-  writePng(displayImage(c, 0), png);
-}
-
 std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
-}
-
-std::string pngOf(const json& entry, const std::string& suffix) {
-  for (const auto& f : entry["files"]) {
-    std::string s = f.get<std::string>();
-    if (s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0) return s;
-  }
-  return "";
 }
 
 // A small copy for the documentation: DIR/<scene>.md (a Markdown table per technique) and its
@@ -167,8 +142,8 @@ int runGallery(const std::vector<std::string>& argv) {
         auto [stage, desc] = t.findOutput(s["id"].get<std::string>(), e["name"].get<std::string>());
         (void)stage;
         json oj = {{"address", e["address"]}, {"final", e["final"]}, {"help", e["help"]}};
-        std::string png = pngOf(e, s["id"].get<std::string>() + "." + desc->name + ".png");
-        if (png.empty()) png = pngOf(e, ".png");  // a buffer's point view, a volume's level 0
+        std::string png = manifestFileEndingWith(e, s["id"].get<std::string>() + "." + desc->name + ".png");
+        if (png.empty()) png = manifestFileEndingWith(e, ".png");  // a buffer's point view, a volume's level 0
         oj["image"] = rel + "/" + png;
         std::string role = e["final"].get<bool>() ? "final image" : "";
         if (!desc->referenceMode.empty()) {
@@ -179,7 +154,7 @@ int runGallery(const std::vector<std::string>& argv) {
             const json& r = e["reference_error"];
             oj["reference_error"] = r;
             if (!r.contains("skipped")) {
-              std::string err = pngOf(e, ".error.png");
+              std::string err = manifestFileEndingWith(e, ".error.png");
               if (!err.empty()) oj["error_image"] = rel + "/" + err;
               std::string refPng = s["id"].get<std::string>() + "." + desc->name + ".reference.png";
               writeReferencePng(*desc, projectPath(r["reference"].get<std::string>()), dir + "/" + refPng);

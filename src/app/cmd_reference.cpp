@@ -10,6 +10,7 @@
 #include "app/command.h"
 #include "core/args.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "reference/image_io.h"
 #include "reference/path_tracer.h"
 #include "scene/scene.h"
@@ -35,30 +36,6 @@ float parseSky(const std::string& text) {
   return v;
 }
 
-// A bar redrawn in place on a terminal; otherwise at most about ten "NN%" lines.
-struct Progress {
-  bool tty = isatty(STDERR_FILENO) != 0;
-  int lastShown = -1;
-  void operator()(double f) {
-    int pct = int(f * 100.0 + 1e-9);
-    if (tty) {
-      if (pct == lastShown) return;
-      lastShown = pct;
-      const int W = 40;
-      int fill = pct * W / 100;
-      std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(size_t(fill), '#').c_str(),
-                   std::string(size_t(W - fill), ' ').c_str(), pct);
-      if (pct >= 100) std::fputc('\n', stderr);
-    } else {
-      int step = pct / 10 * 10;
-      if (step < 10 || step <= lastShown) return;  // 10%, 20%, ..., 100%: ten lines at most
-      lastShown = step;
-      std::fprintf(stderr, "reference: %d%%\n", step);
-    }
-    std::fflush(stderr);
-  }
-};
-
 int runReference(const std::vector<std::string>& argv) {
   Args args("reference", argv,
             {{"--scene", true, false, "scene name in scenes/ or a .gltf/.glb path"},
@@ -67,7 +44,7 @@ int runReference(const std::vector<std::string>& argv) {
              {"--spp", true, false, "samples per pixel, 1..1000000"},
              {"--mode", true, false, "full, direct, one-bounce, two-bounce, indirect, indirect-K (K = 1..8 indirect bounces) or ao (default full)"},
              {"--ao-radius", true, false, "ao mode: maximum occluder distance (default inf)"},
-             {"--sky", true, false, "constant sky radiance seen by rays that leave the scene, W/(m^2 sr) (default 0)"},
+             {"--sky", true, false, "constant sky radiance seen by rays that leave the scene, W/(m^2 sr) (default: the scene's own, 0 unless its glTF scene extras set sky_radiance)"},
              {"--threads", true, false, "worker threads (default: $VOXLAB_THREADS or all cores)"},
              {"--seed", true, false, "random sequence, 0..2^31-1 (default 0)"},
              {"--jitter", false, false, "jitter rays within each pixel instead of the centre"},
@@ -104,14 +81,15 @@ int runReference(const std::vector<std::string>& argv) {
       throw Error("scene '" + scene.name + "' has no camera '" + *cam + "'; its cameras: " + joinNames(names));
     st.cameraIndex = found;
   }
-  Progress progress;
-  if (!args.has("--quiet")) st.progress = [&](double f) { progress(f); };
+  ProgressBar progress("reference", true);
+  if (!args.has("--quiet")) st.progress = [&](double f) { progress.update(f); };
 
-  const float sky = args.has("--sky") ? parseSky(args.get("--sky")) : 0.0f;
+  const float sky = args.has("--sky") ? parseSky(args.get("--sky")) : scene.skyRadiance;
   reference::ReferenceTracer tracer(scene);
   tracer.setSkyRadiance(glm::vec3(sky));
   reference::RenderStats stats;
   reference::Image img = tracer.render(st, &stats);
+  if (!args.has("--quiet")) progress.finish();
 
   std::string camName = scene.cameras[size_t(st.cameraIndex)].name;
   // Mean of the per-pixel standard error over every pixel and channel: the noise level of the

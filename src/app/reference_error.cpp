@@ -1,10 +1,12 @@
 #include "app/reference_error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
 
+#include "capture/image_files.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "reference/image_io.h"
@@ -133,6 +135,31 @@ json compareWithReference(const CapturedOutput& out, const std::string& scene, i
   r["error_scale"] = scale;
   r["files"] = files;
   return r;
+}
+
+void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png) {
+  ImageFileData f = readImageFile(exr);
+  CapturedOutput c;
+  c.desc = desc;
+  LevelData L;
+  L.size = {f.width, f.height, 1};
+  L.channels = 4;
+  L.values.assign(size_t(f.width) * f.height * 4, 1.0f);
+  for (int y = 0; y < f.height; ++y)  // file rows top first; LevelData rows bottom first (GL order)
+    for (int x = 0; x < f.width; ++x)
+      for (int ch = 0; ch < std::min(f.channels, 3); ++ch)
+        L.values[(size_t(f.height - 1 - y) * f.width + x) * 4 + ch] = f.pixels[(size_t(y) * f.width + x) * f.channels + ch];
+  c.levels.push_back(std::move(L));
+  writePng(displayImage(c, 0), png);
+}
+
+std::string manifestFileEndingWith(const json& entry, const std::string& suffix) {
+  if (!entry.contains("files")) return "";
+  for (const auto& f : entry["files"]) {
+    std::string s = f.get<std::string>();
+    if (s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0) return s;
+  }
+  return "";
 }
 
 }  // namespace voxlab

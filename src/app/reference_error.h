@@ -35,4 +35,11 @@ bool hasReferences(const std::string& scene);
 nlohmann::json compareWithReference(const CapturedOutput& out, const std::string& scene, int camera,
                                     const std::string& dir, const std::string& prefix);
 
+// Writes the reference EXR 'exr' as a PNG through the display mapping of 'desc' (its semantic and
+// tone map), so that it can stand beside that output's own PNG.
+void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png);
+
+// The first file of a manifest output entry ("files") whose name ends with 'suffix'; "" if none.
+std::string manifestFileEndingWith(const nlohmann::json& entry, const std::string& suffix);
+
 }  // namespace voxlab

@@ -115,7 +115,7 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
   std::vector<std::pair<size_t, std::future<json>>> pending;
   size_t waited = 0;
   const size_t workers = std::max(1u, std::thread::hardware_concurrency());
-  // The references are of the scene's own light and no sky: a run that changes the scene's
+  // The references are of the scene's own light and sky: a run that changes the scene's
   // physics (parameters declared groundTruth()) is not compared with them.
   std::string physicsChanged;
   for (const auto& [name, desc] : cursor_->params().descs())
@@ -174,7 +174,7 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
         if (compare && !physicsChanged.empty() && !mode.empty() && fileExists(referenceImagePath(sceneName, mode)))
           refErr = {{"mode", mode},
                     {"skipped", "the run sets " + physicsChanged +
-                                    "; the reference is of the scene's own light and no sky"}};
+                                    "; the reference is of the scene's own light and sky"}};
         else if (compare)
           refErr = compareWithReference(*cap, sceneName, camera, dir, prefix);
         // The scene has references, but none of this output's mode: said, never replaced by another mode.
@@ -195,7 +195,7 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
   for (auto& [stage, f] : pending) stages[stage]["outputs"].push_back(f.get());
   m["stages"] = stages;
   if (!request_.lookFrom && !physicsChanged.empty())
-    m["references_skipped"] = "the run sets " + physicsChanged + "; the references are of the scene's own light and no sky";
+    m["references_skipped"] = "the run sets " + physicsChanged + "; the references are of the scene's own light and sky";
   m["total_cpu_ms"] = totalCpu;
   m["total_gpu_ms"] = totalGpu;
   m["resource_bytes"] = cursor_->board().totalBytes();

@@ -449,8 +449,8 @@ struct ReferenceTracer::Impl {
       rng.setReflection(uint32_t(r));
       bool counts = r >= range.rMin && r <= range.rMax;
       if (counts) L += beta * directLight(v, rng, rays);
-      const bool skyLight = maxComponent(sky) > 0.0f;
-      bool needBsdfRay = r < range.rMax || (counts && (areaLights || skyLight));
+      // The sky a bounce ray from here might see counts as r + 1 <= rMax: covered by r < rMax.
+      bool needBsdfRay = r < range.rMax || (counts && areaLights);
       if (!needBsdfRay) break;
       if (r > kRussianRouletteAfter) {
         float q = std::min(0.95f, maxComponent(v.albedo));
@@ -465,7 +465,9 @@ struct ReferenceTracer::Impl {
       if (maxComponent(beta) <= 0.0f) break;
       Hit h;
       if (!intersect(offsetRay(v.p, v.ng), wi, 0.0f, INFINITY, h, rays)) {
-        if (counts) L += beta * sky;  // escaped after r reflections: the sky, reflected r times
+        // Escaped after r reflections: the sky, counted as light reflected r + 1 times (see
+        // setSkyRadiance), so what it lights directly is indirect-1, as the techniques gather it.
+        if (r + 1 >= range.rMin && r + 1 <= range.rMax) L += beta * sky;
         break;
       }
       float cosL = -glm::dot(h.ng, wi);

@@ -23,7 +23,8 @@
 //               the cases K = 1 and 2
 //   full        r >= 0           -> furnace Le / (1 - rho)
 //   ao          cosine-weighted visible fraction V at the first hit, rays up to aoRadius long
-// An optional constant sky (setSkyRadiance) is one more emitter: a ray that escapes carries it.
+// An optional constant sky (setSkyRadiance) is one more emitter: a ray that escapes carries it,
+// counted as light already reflected once (so what it lights is indirect, see setSkyRadiance).
 //
 // Estimator: at each path vertex, next-event estimation towards every punctual light (one shadow
 // ray each, the light model evaluated exactly) and towards one point on the emissive triangles
@@ -154,8 +155,11 @@ class ReferenceTracer {
   const Scene& scene() const { return scene_; }
 
   // Constant sky (environment) radiance, W/(m^2 sr) per channel, 0 by default: every ray that
-  // leaves the scene without a hit carries it. It counts as an emitter seen after the reflections
-  // the path made so far (a camera ray that misses: r = 0; a bounce ray from reflection r: r),
+  // leaves the scene without a hit carries it. Seen by the camera it counts as r = 0. Seen by a
+  // bounce ray from reflection r it counts as r + 1: the sky stands for light that has already
+  // been reflected once (a lit environment), and every voxel technique gathers it with the same
+  // cones or rays as its indirect light, so the light it reflects off a surface is in indirect-1,
+  // not in direct (whose techniques' outputs hold the punctual lights and emission only),
   // reached by the cosine-weighted BSDF rays only (no next-event estimation: a uniform sky has
   // no direction to sample, and cosine sampling carries it at zero variance on an open plane).
   // The sky furnace: an albedo-1 object under it has radiance L everywhere (full mode).

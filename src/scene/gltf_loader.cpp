@@ -1103,6 +1103,14 @@ void Loader::buildScene(Scene& scene) {
   int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : (model_.scenes.empty() ? -1 : 0);
   if (sceneIndex >= 0 && size_t(sceneIndex) < model_.scenes.size()) {
     roots = model_.scenes[size_t(sceneIndex)].nodes;
+    const tinygltf::Value& extras = model_.scenes[size_t(sceneIndex)].extras;
+    if (extras.IsObject() && extras.Has("sky_radiance")) {
+      const tinygltf::Value& sky = extras.Get("sky_radiance");
+      const double value = sky.IsNumber() ? sky.GetNumberAsDouble() : -1.0;
+      if (!(value >= 0.0 && value <= 1000.0))
+        fail("scene extras sky_radiance must be a number in [0, 1000] W/(m^2 sr)");
+      scene.skyRadiance = float(value);
+    }
   } else {
     // No scenes: every node that is nobody's child is a root.
     std::vector<bool> isChild(model_.nodes.size(), false);

@@ -118,6 +118,10 @@ struct Scene {
   std::vector<Light> lights;         // never empty: defaultSun() is added if the file has none
   std::vector<Camera> cameras;       // never empty: a framing camera is added if the file has none
   Bounds bounds;                     // of all triangles
+  // Constant sky radiance (W/(m^2 sr), grey) of an open scene: the default of the sky.radiance
+  // parameter and of `voxlab reference --sky`. From the glTF scene's extras "sky_radiance"
+  // (a number >= 0); 0, no sky, when absent.
+  float skyRadiance = 0.0f;
 
   size_t triangleCount() const { return indices.size() / 3; }
   uint32_t triangleMaterial(size_t triangle) const;  // via draws

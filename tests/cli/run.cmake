@@ -44,7 +44,7 @@ voxlab_cli_case(run_look_from_equals_look_at 2 "--look-from and --look-at are th
 # groundTruth()) is not compared with the reference images, which are of the default; it says so.
 voxlab_cli_case_output(run_physics_changed_skips_references 0 ""
   "run --technique vct-grid --set voxel.resolution=32 --set sky.radiance=0.5 --only vct-grid/cone-trace/indirect-diffuse --out @OUT@"
-  "not compared with the reference images: the run sets sky.radiance=0.5; the references are of the scene's own light and no sky"
+  "not compared with the reference images: the run sets sky.radiance=0.5; the references are of the scene's own light and sky"
   "@OUT@/manifest.json" 0 "" "")
 # A reference mode that follows a parameter (voxel-path-tracing's indirect-{paths.bounces}) whose
 # image the scene does not store (the Cornell box has indirect-1 and indirect-2, not indirect-7):

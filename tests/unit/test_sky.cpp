@@ -81,10 +81,10 @@ TEST(Sky, ReferenceFurnaceAlbedoOneHasRadianceLEverywhere) {
       }
   std::printf("sky furnace: worst |mean - L| / stderr %.2f over %zu noisy values, mean stderr %.4f\n", worstZ, noisy,
               sumErr / double(full.rgb.size()));
-  // The check is not vacuous: many pixels see the box and floor, and once-reflected sky (direct
-  // mode) is darker than L wherever the box hides part of the sky, so the rest of L comes from
-  // paths of several reflections.
-  reference::Image direct = render(tracer, reference::Mode::Direct, 64);
+  // The check is not vacuous: many pixels see the box and floor, and once-reflected sky (counted
+  // as indirect-1: the sky is light already reflected once) is darker than L wherever the box
+  // hides part of the sky, so the rest of L comes from paths of several reflections.
+  reference::Image direct = render(tracer, reference::Mode::IndirectOne, 64);
   size_t darker = 0;
   for (size_t i = 0; i < direct.rgb.size(); i += 3)
     if (direct.rgb[i] < kSky.x - 5.0f * direct.stdErr[i] - 1e-3f) ++darker;
@@ -113,7 +113,8 @@ TEST(Sky, ReferenceWithoutSkyIsUnchanged) {
 
 // vct-grid on the lightless blocks with the light switched off: the only light is the sky, which
 // the diffuse cones see once (indirect-diffuse = albedo x the cone-weighted escaping sky). The
-// reference's direct mode is the same quantity exactly: the sky reflected once.
+// reference's indirect-1 mode is the same quantity exactly: the sky reflected once (the tracer
+// counts the sky as light already reflected once, as the cones gather it).
 TEST(Sky, VctGridConesSeeTheSkyTheReferenceSees) {
   const float L = 0.5f;
   RunRequest r;
@@ -149,7 +150,7 @@ TEST(Sky, VctGridConesSeeTheSkyTheReferenceSees) {
       if (glm::dot(n, cam.position - p) <= 0.0f) continue;
       // The tracer's once-reflected sky at the surface point the pixel sees (its ray from the
       // camera through p), red channel.
-      reference::Estimate e = tracer.estimateRadiance(cam.position, p - cam.position, reference::Mode::Direct, 256,
+      reference::Estimate e = tracer.estimateRadiance(cam.position, p - cam.position, reference::Mode::IndirectOne, 256,
                                                       uint64_t(y * 64 + x));
       const double g = I.at(x, y, 0, 0), t = e.mean.x;
       gpu += g;
@@ -180,11 +181,10 @@ TEST(Sky, VctGridConesSeeTheSkyTheReferenceSees) {
 // light is the sky. Its indirect term (the last output, in stage order, that approximates an
 // "indirect" reference mode) against the tracer at the surface points the G-buffer sees; the
 // background of its combined and final images against L; and without the sky, nothing at all.
-// With the sky as the only emitter a technique's gathers shift by one reflection: "indirect-1"
-// (one gather of the lit voxels: a light reflected twice) holds the sky reflected once, the
-// tracer's direct mode; "indirect-K" for K >= 2 (voxel-path-tracing's paths of K bounces) holds
-// the sky reflected 1..K times, compared with the tracer's full mode (every reflection; the scene
-// has no emission), which counts the later reflections too (voxel-path-tracing reads 0.966 of it).
+// The tracer counts the sky as light already reflected once, as the techniques gather it, so each
+// term is compared with the tracer in the term's own mode: "indirect-1" (one gather) holds the
+// sky reflected once, "indirect-K" (voxel-path-tracing's paths of K bounces) the sky reflected
+// 1..K times.
 struct SkyTerm {
   int stage = -1;
   const OutputDesc* output = nullptr;
@@ -215,7 +215,7 @@ TEST(Sky, EveryTechniqueWithTheSkySeesTheSkyTheReferenceSees) {
   for (Light& l : scene.lights) l.intensity = 0.0f;
   reference::ReferenceTracer tracer(scene);
   tracer.setSkyRadiance(glm::vec3(L));
-  std::map<std::pair<int, int>, double> referenceAt;  // (pixel index, mode kind: direct or full) -> red channel
+  std::map<std::pair<int, std::string>, double> referenceAt;  // (pixel index, mode name) -> red channel
   std::vector<std::string> withSky;
   for (const std::string& id : techniqueIds()) {
     auto technique = createTechnique(id);
@@ -230,8 +230,7 @@ TEST(Sky, EveryTechniqueWithTheSkySeesTheSkyTheReferenceSees) {
     const std::string finalStage = technique->finalStage();
     const ParamSet defaults = technique->defaultParams();
     // The term's mode at the defaults the run uses (voxel-path-tracing: indirect-{paths.bounces}).
-    const reference::Mode mode =
-        referenceModeUnder(*term.output, defaults) == "indirect-1" ? reference::Mode::Direct : reference::Mode::Full;
+    const reference::Mode mode = reference::parseMode(referenceModeUnder(*term.output, defaults));
     const float exposure = defaults.has("composite.exposure") ? defaults.getFloat("composite.exposure") : 1.0f;
 
     RunRequest r;
@@ -283,11 +282,11 @@ TEST(Sky, EveryTechniqueWithTheSkySeesTheSkyTheReferenceSees) {
         const glm::vec3 n(N.at(x, y, 0, 0), N.at(x, y, 0, 1), N.at(x, y, 0, 2));
         if (glm::dot(n, cam.position - p) <= 0.0f) continue;
         const int pixel = y * P.size.x + x;
-        auto cached = referenceAt.find({pixel, int(mode.kind)});
+        auto cached = referenceAt.find({pixel, reference::modeName(mode)});
         if (cached == referenceAt.end()) {
           reference::Estimate e =
               tracer.estimateRadiance(cam.position, p - cam.position, mode, 256, uint64_t(pixel));
-          cached = referenceAt.emplace(std::make_pair(pixel, int(mode.kind)), double(e.mean.x)).first;
+          cached = referenceAt.emplace(std::make_pair(pixel, reference::modeName(mode)), double(e.mean.x)).first;
         }
         gpu += I.at(x / scale, y / scale, 0, 0);
         ref += cached->second;
@@ -300,9 +299,9 @@ TEST(Sky, EveryTechniqueWithTheSkySeesTheSkyTheReferenceSees) {
                 term.output->name.c_str(), reference::modeName(mode).c_str(), points, ratio);
     // Each technique approximates the visible sky its own way. Measured (64x64 at the defaults,
     // 126 points, mean ratio): clipmap 0.991, lrsm 0.906, near-field 0.765 (rays that end at the
-    // radius inside the scene's bounds see no sky: the far field), svo 1.095 (isotropic mips),
-    // vct-grid 0.812 (anisotropic mips, see the test above), voxel-path-tracing 0.966 (against
-    // the full mode: the sky reflected once or more). One band for all: it fails a missing sky
+    // radius inside the scene's bounds see no sky: the far field), svo 1.102 (isotropic mips),
+    // vct-grid 0.812 (anisotropic mips, see the test above), voxel-path-tracing 0.981 (against
+    // indirect-2: the sky reflected once or twice). One band for all: it fails a missing sky
     // (0), a doubled one (1.5 or more) and, for the cone tracers, a cone that sees the sky only
     // once its whole sample has left the volume (vct-grid 0.171; clipmap 0.560 when a cone that
     // ends at its full length outside the scene's bounds sees none).

@@ -1,5 +1,6 @@
-// The constant sky: an optional environment radiance L (W/(m^2 sr), grey, 0 by default, which
-// the closed Cornell box wants) for open scenes. Every ray or cone that escapes (shaders/common/
+// The constant sky: an optional environment radiance L (W/(m^2 sr), grey) for open scenes; by
+// default the scene's own (glTF scene extras sky_radiance, 0 when absent, as the closed Cornell
+// box has). Every ray or cone that escapes (shaders/common/
 // sky.glsl says when) sees L through the transmittance it has left; the reference path tracer's escaping rays see the
 // same L (reference::ReferenceTracer::setSkyRadiance, `voxlab reference --sky L`), so an albedo-1
 // object under it has radiance L everywhere (the sky furnace, tests/unit/test_sky.cpp).
@@ -20,6 +21,8 @@ namespace voxlab {
 inline constexpr const char* kSkyRadiance = "sky.radiance";
 ParamDesc skyRadianceParam();
 void declareSky(StageBuilder& b);                           // b.param(skyRadianceParam())
+// The sky radiance a run uses: the parameter, or the scene's own (Scene::skyRadiance) at "scene".
+float skyRadianceOf(const ParamSet& params, const Scene& scene);
 // u_skyRadiance = (L, L, L) and the scene bounds beyond which a ray escapes (shaders/common/sky.glsl).
 void setSkyUniforms(GLuint program, const ParamSet& params, const Scene& scene);
 
