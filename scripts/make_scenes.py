@@ -341,7 +341,7 @@ def boundary_quad(path):
     """A 1 x 1 m quad at z = 0 facing +z, and two small triangles at z = -0.5 and z = 0.5 that
     put it in the middle of the volume: at 64^3 its plane lies on the boundary between voxel
     layers 31 and 32 (up to the float rounding of the volume's placement). Half-open cells give
-    one layer: 64 x 64 = 4096 voxels of the quad (issue 10)."""
+    one layer: 64 x 64 = 4096 voxels of the quad."""
     b = GltfBuilder("voxlab scripts/make_scenes.py (quad on a voxel boundary)")
     grey = b.add_material("grey", (0.7, 0.7, 0.7))
     b.add_mesh_node("quad", grey, [oriented([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0],

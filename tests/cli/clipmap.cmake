@@ -20,7 +20,7 @@ voxlab_cli_case_output(clipmap_accumulator_no_overflow_at_default 0 "^$"
 voxlab_cli_case(clipmap_fixed_point_bits_out_of_range 2 "clipmap.fixed-point-bits='31' is not valid; valid: 8..30"
   "run --technique clipmap --set clipmap.fixed-point-bits=31 --final-only --out @OUT@")
 # clipmap.path-step is a vector parameter (ParamSet::parseText): X,Y,Z sets its three components,
-# as the issue's `voxlab run --look-from P --set clipmap.path-step=D --set clipmap.path-moves=K`;
+# as in `voxlab run --look-from P --set clipmap.path-step=D --set clipmap.path-moves=K`;
 # a wrong count or a bad component is one line naming the form, exit 2.
 voxlab_cli_case_output(clipmap_path_step_as_one_parameter 0 "^$"
   "run --technique clipmap --look-from 0.1,1,3 --look-at 0.1,1,0 --set clipmap.path-step=0.25,0,-0.5 --set clipmap.path-moves=2 --set clipmap.resolution=8 --set clipmap.levels=2 --until anchor --out @OUT@"

@@ -1,4 +1,4 @@
-# Issue 20: scenes without lights get a default sun (the lightless blocks and assimp's 2CylinderEngine
+# Lights: scenes without lights get a default sun (the lightless blocks and assimp's 2CylinderEngine
 # GLB, tests/data/scenes/2CylinderEngine.LICENSE.txt); the light is parameters (light.0.*); a scene
 # in other units renders the same picture. tests/cli/lights/check_lights.py loops over every
 # technique `voxlab list` names.

@@ -1,4 +1,4 @@
-// alphaMode MASK and textures in any format stb reads (issue 10), on a small generated scene:
+// alphaMode MASK and textures in any format stb reads, on a small generated scene:
 // a 1 x 1 m quad whose base-colour texture (a TGA written here) is transparent on its left half
 // (u < 0.5) and opaque on its right half, plus a small opaque triangle that moves the scene's
 // bounds so the quad does not lie on a voxel boundary.

@@ -540,7 +540,7 @@ std::vector<uint32_t> u32Records(const CapturedOutput& c) {
   return v;
 }
 
-// The camera path of the issue: --look-from P with K moves of D ends with clip levels equal, bit
+// A camera path: --look-from P with K moves of D ends with clip levels equal, bit
 // for bit, to those of --look-from P + K D built from scratch (guards included).
 // Returns the moved run's clip-plan records (9 words per move and level).
 std::vector<uint32_t> expectPathEqualsScratch(glm::vec3 start, glm::vec3 step, int moves, const std::string& what,

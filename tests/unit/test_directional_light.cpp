@@ -1,4 +1,4 @@
-// A directional light through the whole pipeline (issue 10), against the light model's own
+// A directional light through the whole pipeline, against the light model's own
 // answer: a 2 x 2 m floor of albedo 0.5 under a sun of irradiance E = 2 W/m^2 travelling along
 // (-0.3, -1, 0.2), with a small wall (0.5 m high) casting a shadow towards the camera's side.
 // A lit floor point reflects L = albedo / pi * E * cos(theta) = 0.5 / pi * 2 / |(-0.3, -1, 0.2)|

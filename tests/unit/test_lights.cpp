@@ -1,4 +1,4 @@
-// Issue 20: the default sun, the light.0.* parameters ("scene" defaults) and what a change of
+// Lights as parameters: the default sun, the light.0.* parameters ("scene" defaults) and what a change of
 // them re-runs, for every technique in the registry that declares them.
 #include <algorithm>
 #include <cmath>

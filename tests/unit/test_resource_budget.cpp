@@ -168,7 +168,7 @@ const ResourceLimits& contextLimits() {
   return limits;
 }
 
-// The check: voxel.resolution=512 with every technique either runs (within the budget,
+// The 512^3 check: voxel.resolution=512 with every technique either runs (within the budget,
 // and then it must) or is refused with the one-line message before any GL allocation (nothing on
 // the blackboard), for the reason the estimate gives.
 void runOrRefuse(const std::string& technique, std::vector<std::string> sets, Expect expected,

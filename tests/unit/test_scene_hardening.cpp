@@ -1,4 +1,4 @@
-// Hostile scene files (issue 19): the loader rejects with one line, in bounded time and memory,
+// Hostile scene files: the loader rejects with one line, in bounded time and memory,
 // the defect classes fuzzing aims at - an accessor claiming 3e9 (or 2e9) elements, a buffer
 // shorter than its views, deep node trees and deep JSON, an image claiming a huge size - and
 // every regression file the fuzzer ever found (tests/data/fuzz/) loads or is rejected cleanly.

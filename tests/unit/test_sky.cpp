@@ -1,4 +1,4 @@
-// The constant sky (issue 20): an environment radiance L that every ray or cone leaving the
+// The constant sky: an environment radiance L that every ray or cone leaving the
 // scene sees. The reference path tracer is validated with the sky furnace (an albedo-1 object
 // under a uniform sky L has radiance L everywhere: whatever a path hits reflects all of it, and
 // every path ends in the sky); vct-grid's cones, whose escaping transmittance sees L

@@ -1,6 +1,6 @@
 // Crytek Sponza (scenes/sponza, written by scripts/make_sponza.py): what the scene file promises
 // (metres, 262,267 triangles, the three MASK materials, the sun, the cameras, textures at most
-// 1024 px), and the voxelization exactness check of issue 10: every conservative method agrees
+// 1024 px), and the voxelization exactness check: every conservative method agrees
 // with the CPU reference at 128^3, leaves and chains included.
 #include <gtest/gtest.h>
 
@@ -81,7 +81,7 @@ TEST(Sponza, ListedAndResolvedByName) {
   EXPECT_NE(resolveScenePath("sponza").find("scenes/sponza/sponza.gltf"), std::string::npos);
 }
 
-// Issue 10: the voxelization CPU reference agrees exactly with the conservative methods on
+// The voxelization CPU reference agrees exactly with the conservative methods on
 // Sponza at 128^3, leaves and chains included (their alpha coverage follows one rule on both
 // sides, scene/alpha_coverage.h). About 6 s here (the CPU reference visits every triangle's
 // voxel box in double); the whole check runs in this one test.

@@ -113,7 +113,7 @@ TEST(VctGridBounces, CornellBouncesConvergeAndStayBelowWhite) {
 // 0.0458 (the one-bounce term alone reads 1.04 of its reference: the same excess). The reference's
 // noise (RMS standard error 0.007 per pixel, 1024 spp) moves its mean by under 0.1 % and its
 // RMSE contribution is the same for both runs. Asserted: closer in both, and bounces=2 within the
-// issue's band 0.9..1.1.
+// fidelity band 0.9..1.1.
 TEST(VctGridBounces, TwoBouncesAreCloserToTheTwoBounceReference) {
   auto compare = [](int bounces) {
     auto& s = session(request("cornell-box", {"bounces=" + std::to_string(bounces)}));

@@ -614,14 +614,14 @@ TEST(VctGridPhysics, AmbientOcclusionWithA60DegreeRingIsDarkenedByTheFloor) {
   }
 }
 
-// The default configuration's one-bounce energy against the path tracer (issue 11): the mean of
+// The default configuration's one-bounce energy against the path tracer: the mean of
 // cone-trace/indirect-diffuse over the image, over the mean of the reference's indirect-1 (camera
 // 0, 512x512; the traced image is half that size, and a mean does not change under the 2x2 box
 // filter the fidelity table applies). Measured 1.0399 on the Cornell box and 1.1000 on Sponza
 // (1.10003 since 2026-12-02, when a new machine with Mesa 22.3.6-1+deb12u2 saw Sponza's textured
 // albedo up to 2/255 off the goldens, cause not found; just under 1.1 before), identical with LP_NUM_THREADS 1 and 2 (exact-sum averaging
 // makes the voxels order-independent, and each pixel's cones are deterministic); the former
-// defaults read 0.212 and 0.346. Asserted: the issue's band, 0.9 to 1.1, widened by the
+// defaults read 0.212 and 0.346. Asserted: the fidelity band, 0.9 to 1.1, widened by the
 // reference's own noise: its mean over the image has a standard error of 0.05 % on Sponza (RMS
 // per-pixel standard error 0.0023 over 786 432 values of mean 0.00495; 0.02 % on the Cornell box),
 // so a ratio within 0.1 % (two standard errors) of a bound cannot be told from it.

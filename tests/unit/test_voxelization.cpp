@@ -397,7 +397,7 @@ TEST(Voxelization, BoundaryPlanesOnEveryAxisFillTheLayerAbove) {
   }
 }
 
-// Issue 10's case: a 1 x 1 m quad whose plane lies on the boundary between two voxel layers (up to
+// A quad on a voxel boundary: a 1 x 1 m quad whose plane lies on the boundary between two voxel layers (up to
 // the float rounding of the volume's placement) gives one layer of 64 x 64 voxels, whichever side
 // the rounding puts it on, in the reference and in every method. The two marker triangles add one
 // voxel each. Before the convention: 4096 voxels for fragment-parallel, 8192 in the reference.

@@ -17,7 +17,7 @@ namespace voxlab {
 
 // What differs between techniques: defaults, the largest distances and the wording (clipmap
 // measures distances in its coarsest level's edge, the others in the volume's edge).
-// The defaults are those of cones in one voxel volume (vct-grid, svo: issue 11's 45-degree cones that
+// The defaults are those of cones in one voxel volume (vct-grid, svo: 45-degree cones that
 // may run past the volume's diagonal); a technique with other units (clipmap) overrides them.
 struct ConeDefaults {
   double aperture = 45.0;  // degrees, full angle

@@ -30,7 +30,7 @@
 //     (The 0.707-style weights in seed 000 and the blog's unweighted sum do not sum to 1.)
 //   - Steps are half the sample diameter with opacity correction a' = 1 - (1 - a)^(step/diameter).
 //   - Cones start cone.start-offset voxels off the surface (default 1.75, about a voxel diagonal).
-//   - Defaults (issue 11, docs/fidelity.md): 6 cones of 45 degrees (at 60 the ring's outer cones
+//   - Defaults (chosen for fidelity, docs/fidelity.md): 6 cones of 45 degrees (at 60 the ring's outer cones
 //     graze the surface and gather it), up to 1.75 volume edges, anisotropic mips, the voxels'
 //     shadow test half a voxel along the fragment normal: 1.04 / 1.07 of the path tracer's
 //     one-bounce energy on the Cornell box / Sponza.

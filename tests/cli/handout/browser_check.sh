@@ -43,7 +43,7 @@ count=$(echo "$lessons" | wc -l)
 instrument "$out/handouts/index.html"
 expect index "$(browse "$out/handouts/index.check.html")" "images=$count loaded=$count sections=0 rows=$count"
 
-# Every handout (the issue asks for one; each costs about a second of Chromium).
+# Every handout is checked (each costs about a second of Chromium).
 for lesson in $lessons; do
   stem=$(basename "$lesson" .md)
   # The step count from the file itself (its ```voxlab-step fences), not from voxlab's parser.

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Checks of issue 20 that loop over every technique `voxlab list` names (no technique ids here).
+"""Checks of the default sun, the light parameters and scaled scenes, looping over every technique
+`voxlab list` names (no technique ids here).
 
   check_lights.py VOXLAB default-light OUT_DIR [--shading X,Y,Z X,Y,Z] SCENE...
       Each SCENE has no light: every technique must say so on stderr and in the manifest
