@@ -15,8 +15,11 @@
 // RMSE, SSIM, ...), DIR/fidelity.md (tables: rows techniques, columns scenes) and
 // DIR/fidelity.html (per cell the final image, the error image, the numbers; the references in the
 // first row), with the run folders under DIR/<scene>/<technique>/. --check BANDS.json compares
-// the numbers with bands (tests/fidelity/bands.json says the form) and exits 1 naming every number
-// outside its band.
+// the numbers with bands and exits 1 naming every number outside its band. A band is
+// {"technique": id or "*", "technique_except": [ids], "scene": name, "*" or "interior",
+//  "output": "direct" | "indirect" | "full", "metric": "mean_ratio" | "ssim" | "rmse",
+//  "min": x, "max": y, "why": "what was measured"} (tests/fidelity/bands.json, written by
+// scripts/pin-fidelity-bands.py).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,7 +52,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct SuiteScene {
-  std::string name;
+  std::string name;      // the scene's name (its file's stem): folders, tables, reference images
+  std::string argument;  // what the run loads: a name in scenes/ or a path
   bool interior = false;
   bool inSuite = false;  // false: named by --scene, not listed in scenes/suite.json
   std::string tests;
@@ -67,7 +71,8 @@ std::vector<SuiteScene> readSuite() {
   }
   std::vector<SuiteScene> suite;
   for (const auto& s : doc.at("scenes"))
-    suite.push_back({s.at("name").get<std::string>(), s.at("interior").get<bool>(), true, s.value("tests", "")});
+    suite.push_back({s.at("name").get<std::string>(), s.at("name").get<std::string>(), s.at("interior").get<bool>(), true,
+                     s.value("tests", "")});
   return suite;
 }
 
@@ -95,6 +100,7 @@ std::string fmt(const char* format, double v) {
 
 struct Band {
   std::string technique = "*";  // id or "*"
+  std::set<std::string> except;  // with "*": techniques the band does not hold for
   std::string scene = "*";      // name, "*" or "interior"
   std::string role;             // direct, indirect, full
   std::string metric;           // mean_ratio, ssim, rmse
@@ -112,8 +118,8 @@ std::vector<Band> readBands(const std::string& path) {
     throw Error("--check: '" + path + "' is not valid JSON: " + e.what());
   }
   if (!doc.contains("bands") || !doc["bands"].is_array())
-    throw Error("--check: '" + path + "' has no \"bands\" array; valid: {\"bands\": [{\"technique\", \"scene\", \"output\", "
-                "\"metric\", \"min\", \"max\", \"why\"}, ...]}");
+    throw Error("--check: '" + path + "' has no \"bands\" array; valid: {\"bands\": [{\"technique\", \"technique_except\", "
+                "\"scene\", \"output\", \"metric\", \"min\", \"max\", \"why\"}, ...]}");
   const std::set<std::string> roles = {"direct", "indirect", "full"}, metrics = {"mean_ratio", "ssim", "rmse"};
   std::vector<Band> bands;
   int k = 0;
@@ -123,6 +129,7 @@ std::vector<Band> readBands(const std::string& path) {
     auto where = "--check: " + path + " band " + std::to_string(k) + ": ";
     try {
       band.technique = b.value("technique", "*");
+      if (b.contains("technique_except")) band.except = b["technique_except"].get<std::set<std::string>>();
       band.scene = b.value("scene", "*");
       band.role = b.at("output").get<std::string>();
       band.metric = b.value("metric", "mean_ratio");
@@ -137,6 +144,7 @@ std::vector<Band> readBands(const std::string& path) {
       throw Error(where + "metric '" + band.metric + "' is not valid; valid: mean_ratio, ssim, rmse");
     if (!(band.lo <= band.hi)) throw Error(where + "needs min <= max");
     if (band.technique != "*") createTechnique(band.technique);  // an unknown id: one line listing the valid ones
+    for (const std::string& id : band.except) createTechnique(id);
     bands.push_back(band);
   }
   return bands;
@@ -217,7 +225,9 @@ std::string markdownTables(const json& report) {
   auto header = [&](const std::string& first) {
     std::string h = "| " + first + " |", rule = "|---|";
     for (const auto& s : scenes) {
-      h += " " + s["name"].get<std::string>() + (s["interior"].get<bool>() ? "" : " (exterior)") + " |";
+      h += " " + s["name"].get<std::string>() + (!s["in_suite"].get<bool>() ? " (not in the suite)"
+                                                 : s["interior"].get<bool>()  ? ""
+                                                                              : " (exterior)") + " |";
       rule += "---:|";
     }
     return h + "\n" + rule + "\n";
@@ -295,7 +305,8 @@ std::string htmlPage(const json& report) {
           "(mean of the output over the mean of the reference) and SSIM. docs/fidelity.md explains the numbers.</p>\n";
   html += "<table class=\"grid\">\n<tr><th>technique</th>";
   for (const auto& s : scenes)
-    html += "<th>" + htmlEscape(s["name"].get<std::string>()) + (s["interior"].get<bool>() ? "" : "<br>(exterior)") + "</th>";
+    html += "<th>" + htmlEscape(s["name"].get<std::string>()) +
+            (!s["in_suite"].get<bool>() ? "<br>(not in the suite)" : s["interior"].get<bool>() ? "" : "<br>(exterior)") + "</th>";
   html += "</tr>\n<tr><th>reference<br>(full)</th>";
   for (const auto& s : scenes) {
     std::string img;
@@ -368,9 +379,9 @@ int runFidelity(const std::vector<std::string>& argv) {
   if (args.has("--scene")) {
     for (const std::string& name : args.all("--scene")) {
       const Scene loaded = loadScene(resolveScenePath(name));  // bad scene: one line listing the valid ones
-      SuiteScene s{name, false, false, ""};
+      SuiteScene s{loaded.name, name, false, false, ""};
       for (const auto& known : suite)
-        if (known.name == loaded.name) s = known;
+        if (known.name == loaded.name && resolveScenePath(known.argument) == resolveScenePath(name)) s = known;
       scenes.push_back(s);
     }
   } else {
@@ -414,11 +425,12 @@ int runFidelity(const std::vector<std::string>& argv) {
       progress.update(double(done) / double(total), id + " on " + scene.name);
       RunRequest request = base;
       request.technique = id;
-      request.scene = scene.name;
+      request.scene = scene.argument;
       request.sets = setsOf[id];
       json cell;
       try {
         cell = runCell(request, out, scene.name + "/" + id);
+        cell["scene"] = scene.name;
       } catch (const std::exception& e) {
         cell = {{"technique", id}, {"scene", scene.name}, {"error", e.what()}};
         ++failed;
@@ -441,7 +453,7 @@ int runFidelity(const std::vector<std::string>& argv) {
     for (const auto& s : scenes)
       if (s.name == sname) interior = s.interior;
     for (const Band& band : bands) {
-      if (band.technique != "*" && band.technique != tid) continue;
+      if ((band.technique != "*" && band.technique != tid) || band.except.count(tid)) continue;
       if (band.scene == "interior" ? !interior : (band.scene != "*" && band.scene != sname)) continue;
       const json* o = outputOfRole(cell, band.role);
       if (!o) continue;  // the technique has no output of this kind

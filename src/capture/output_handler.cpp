@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +98,51 @@ bool exists(const std::string& p) {
 
 GoldenResult fail(std::string message) { return GoldenResult{false, std::move(message)}; }
 
+// Whether two sorted record lists hold the same records up to 'steps' RGBA8 steps per channel in
+// their colour fields (every other byte equal). Both are re-sorted by their other fields first and
+// their colour second, so that a colour change cannot move a record past others of its kind.
+bool recordsEqualUpToColour(const BufferLayout& layout, const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
+                            int steps, double fraction, std::string& why) {
+  const size_t stride = layout.stride;
+  std::vector<bool> colour(stride, false);
+  for (const BufferField& f : layout.fields)
+    if (f.type == FieldType::UnormRGBA8)
+      for (uint32_t i = 0; i < 4 && f.offset + i < stride; ++i) colour[f.offset + i] = true;
+  auto canonical = [&](const std::vector<uint8_t>& bytes) {
+    std::vector<std::vector<uint8_t>> recs(bytes.size() / stride);
+    for (size_t r = 0; r < recs.size(); ++r) {
+      std::vector<uint8_t>& key = recs[r];
+      for (size_t i = 0; i < stride; ++i)
+        if (!colour[i]) key.push_back(bytes[r * stride + i]);
+      for (size_t i = 0; i < stride; ++i)
+        if (colour[i]) key.push_back(bytes[r * stride + i]);
+    }
+    std::sort(recs.begin(), recs.end());
+    return recs;
+  };
+  const auto ra = canonical(a), rb = canonical(b);
+  size_t colourBytes = 0;
+  for (bool c : colour) colourBytes += c;
+  const size_t fixedBytes = stride - colourBytes;
+  size_t structural = 0, colours = 0;
+  int worst = 0;
+  for (size_t r = 0; r < ra.size(); ++r) {
+    if (!std::equal(ra[r].begin(), ra[r].begin() + long(fixedBytes), rb[r].begin())) {
+      ++structural;
+      continue;
+    }
+    int d = 0;
+    for (size_t i = fixedBytes; i < stride; ++i) d = std::max(d, std::abs(int(ra[r][i]) - int(rb[r][i])));
+    worst = std::max(worst, d);
+    if (d > steps) ++colours;
+  }
+  if (structural == 0 && double(colours) <= fraction * double(ra.size())) return true;
+  why = std::to_string(structural) + " of " + std::to_string(ra.size()) + " records differ outside their colour fields, " +
+        std::to_string(colours) + " by more than " + std::to_string(steps) + " colour steps (worst " + std::to_string(worst) +
+        ", allowed fraction " + std::to_string(fraction) + ")";
+  return false;
+}
+
 // Records sorted as byte strings: the canonical form of an append-order-free list.
 std::vector<uint8_t> sortedRecords(const CapturedOutput& c) {
   size_t stride = c.desc.layout.stride;
@@ -127,6 +173,14 @@ GoldenResult compareRecordsWithGolden(const CapturedOutput& c, const GoldenReque
     writeBytes(actualPath, actual);
     return fail(q.failurePrefix + ": " + std::to_string(actual.size() / stride) + " records, golden has " +
                 std::to_string(expected.size() / stride) + " (actual written to " + actualPath + ")");
+  }
+  if (q.tier == CaptureTier::Exact && q.tolerance.recordColourSteps > 0) {
+    if (expected == actual) return {};
+    std::string why;
+    if (recordsEqualUpToColour(c.desc.layout, actual, expected, q.tolerance.recordColourSteps,
+                               q.tolerance.recordColourFraction, why)) return {};
+    writeBytes(actualPath, actual);
+    return fail(q.failurePrefix + ": " + why + " (actual written to " + actualPath + ")");
   }
   if (q.tier == CaptureTier::Exact) {
     if (expected == actual) return {};

@@ -44,6 +44,13 @@ float srgbEncode(float linear);
 struct GoldenTolerance {
   double maxAbs = 0.0;       // per value
   double maxFraction = 0.0;  // of values allowed above maxAbs
+  // Exact-tier record lists: the RGBA8 colour fields (FieldType::UnormRGBA8) may differ by up to
+  // this many steps per channel while every other field, and the record count, stay exact; 0
+  // compares whole records exactly. For colours sampled from textures, which llvmpipe filters with
+  // the CPU's approximate reciprocal instructions (they differ between processor makers).
+  int recordColourSteps = 0;
+  double recordColourFraction = 0.0;  // of records allowed beyond recordColourSteps (a record whose
+                                      // colour moved past a neighbour's pairs with that neighbour)
 };
 
 // What the snapshot suite asks a handler to do with one output.

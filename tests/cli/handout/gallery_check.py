@@ -1,22 +1,22 @@
 #!/usr/bin/env python3
 """gallery.cornell_box, gallery.sponza: `voxlab gallery --scene SCENE` shows every technique of
-`voxlab list`, and its numbers are docs/fidelity.md's table for that scene (the rows at default
-parameters; the Cornell box's table between <!-- fidelity-table:begin/end -->, another scene's
-between <!-- fidelity-table:SCENE:begin/end -->), its pictures exist and the page links them.
+`voxlab list`, and its numbers are those `voxlab fidelity --scene SCENE` reports at the same size
+(every compared output of every technique, at default parameters), its pictures exist and the
+page links them.
 
     gallery_check.py VOXLAB ROOT OUT [SCENE]      (SCENE: cornell-box by default)
 
-Tolerance: fidelity.md prints RMSE/MAE to 4 decimals, PSNR to 2, MRE/SSIM/mean ratio to 3. Two runs
+Tolerance: one unit of the digits the gallery prints (RMSE/MAE 4 decimals, PSNR 2, MRE/SSIM/mean
+ratio 3). Two runs
 of vct-grid differ by one RGBA8 step in a few voxels (inject's atomic averaging order; the EGL
-test measured RMSE 1.5e-5 between two runs), which can move a rounded value by one unit of its
-last digit, so each number may differ from the table by at most one such unit.
+test measured RMSE 1.5e-5 between two runs), which can move a value by one unit of its last
+printed digit, so each number may differ by at most one such unit.
 
 On Sponza the cone tracers vary more between runs: vct-grid's indirect-diffuse over four runs
 (LP_NUM_THREADS 2, 2, 2, 1) measured mean ratio 0.345..0.360, SSIM 0.8869..0.8897, MRE
 0.1880..0.1894, PSNR 31.927..31.935, and its combined image mean ratio 0.8618..0.8640, SSIM
 0.8064..0.8106, MRE 0.3153..0.3169 (RMSE and MAE within 1e-5): inject's atomic averaging order
-over 26 x 41 m of geometry. The other techniques matched to one unit between the gallery's run and
-scripts/fidelity.sh's. So on Sponza each number may also differ by about twice that spread."""
+over 26 x 41 m of geometry. The other techniques matched to one unit between two runs. So on Sponza each number may also differ by about twice that spread."""
 import json, os, re, subprocess, sys
 
 exe, root, out = sys.argv[1:4]
@@ -34,24 +34,18 @@ def fail(msg):
 if [t["id"] for t in page["techniques"]] != listed:
     fail(f"gallery techniques {[t['id'] for t in page['techniques']]} != voxlab list {listed}")
 
-# docs/fidelity.md rows at defaults: technique, output (stage/output), mode, numbers.
+# `voxlab fidelity` on the same scene at the same size: its numbers come from the same run code
+# (HeadlessSession::writeOutputs and the reference comparison), so the two must agree.
+fid = os.path.join(out, "fidelity")
+subprocess.run([exe, "fidelity", "--scene", scene, "--size", "512x512", "--out", fid], check=True)
 table = {}
-doc = open(os.path.join(root, "docs", "fidelity.md")).read()
-# Only this scene's table: the other scenes' tables have rows of the same techniques and outputs.
-marker = "fidelity-table" if scene == "cornell-box" else "fidelity-table:" + scene
-begin, end = f"<!-- {marker}:begin -->", f"<!-- {marker}:end -->"
-if begin not in doc or end not in doc:
-    fail(f"docs/fidelity.md has no {begin} ... {end} table")
-doc = doc.split(begin, 1)[-1].split(end, 1)[0]
-for line in doc.splitlines():
-    cells = [c.strip() for c in line.strip().strip("|").split("|")]
-    if len(cells) != 10 or cells[1] != "defaults":
-        continue
-    output = re.sub(r" \(.*\)$", "", cells[2])
-    table[(cells[0], output)] = {"mode": cells[3], "rmse": (cells[4], 4), "psnr": (cells[5], 2), "mae": (cells[6], 4),
-                                 "mre": (cells[7], 3), "ssim": (cells[8], 3), "mean_ratio": (cells[9], 3)}
+for cell in json.load(open(os.path.join(fid, "fidelity.json")))["cells"]:
+    for o in cell.get("outputs", []):
+        r = o.get("reference_error")
+        if r and "skipped" not in r:
+            table[(cell["technique"], o["address"].split("/", 1)[1])] = r
 if not table:
-    fail("no rows at defaults in docs/fidelity.md")
+    fail("voxlab fidelity compared no output")
 
 # Allowed run-to-run variation beyond the printed rounding (measured: see the docstring).
 run_to_run = {} if scene == "cornell-box" else {"rmse": 1e-4, "psnr": 0.02, "mae": 1e-4, "mre": 0.003, "ssim": 0.006,
@@ -75,32 +69,31 @@ for t in page["techniques"]:
             continue
         key = (t["id"], o["address"].split("/", 1)[1])
         if key not in table:
-            fail(f"{o['address']} (mode {r['mode']}) has no row at defaults in docs/fidelity.md")
+            fail(f"{o['address']} (mode {r['mode']}) is not in voxlab fidelity's report")
             continue
         seen.add(key)
         row = table[key]
         if row["mode"] != r["mode"]:
-            fail(f"{o['address']}: mode {r['mode']}, fidelity.md says {row['mode']}")
-        for name in ("rmse", "psnr", "mae", "mre", "ssim", "mean_ratio"):
-            text, digits = row[name]
-            got = r[name]
-            if got is None or text == "inf":
-                if not (got is None and text == "inf"):
-                    fail(f"{o['address']} {name}: {got} vs {text}")
+            fail(f"{o['address']}: mode {r['mode']}, voxlab fidelity says {row['mode']}")
+        for name, digits in (("rmse", 4), ("psnr", 2), ("mae", 4), ("mre", 3), ("ssim", 3), ("mean_ratio", 3)):
+            got, want = r[name], row[name]
+            if got is None or want is None:
+                if not (got is None and want is None):
+                    fail(f"{o['address']} {name}: {got} vs {want}")
                 continue
-            if abs(got - float(text)) > 1.0 * 10 ** -digits + run_to_run.get(name, 0.0) + 1e-12:
-                fail(f"{o['address']} {name}: gallery {got:.{digits}f}, docs/fidelity.md {text}")
+            if abs(got - want) > 1.0 * 10 ** -digits + run_to_run.get(name, 0.0) + 1e-12:
+                fail(f"{o['address']} {name}: gallery {got:.{digits}f}, voxlab fidelity {want:.{digits}f}")
         print(f"ok {o['address']} vs {r['mode']}: rmse {r['rmse']:.4f} ssim {r['ssim']:.3f}")
     if any("indirect term" in o["role"] for o in t["outputs"]):
         print(f"ok {t['id']}: indirect term {[o['address'] for o in t['outputs'] if 'indirect term' in o['role']]}")
 for key in table:
     if key not in seen:
-        fail(f"docs/fidelity.md row {key} is not in the gallery")
+        fail(f"voxlab fidelity's {key} is not in the gallery")
 
 if scene != "cornell-box":
     if failures:
         sys.exit(1)
-    print(f"gallery on {scene} matches docs/fidelity.md ({len(seen)} rows)")
+    print(f"gallery on {scene} matches voxlab fidelity ({len(seen)} outputs)")
     sys.exit(0)
 
 # A scene without checked-in references (any scene file works): every technique still gets its row, and each
@@ -119,4 +112,4 @@ if html2.count("no reference image for mode") != len(tagged):
     fail(f"furnace-box page: {html2.count('no reference image for mode')} 'no reference' notes for {len(tagged)} tagged outputs")
 if failures:
     sys.exit(1)
-print(f"gallery matches docs/fidelity.md ({len(seen)} rows)")
+print(f"gallery matches voxlab fidelity ({len(seen)} outputs)")
