@@ -8,7 +8,7 @@
 #include "scene/scene.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/cone_setup.h"
-#include "techniques/vct_grid/cone_layout.h"
+#include "techniques/common/cone_layout.h"
 
 namespace voxlab::clipmap {
 

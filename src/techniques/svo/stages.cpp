@@ -14,7 +14,7 @@
 #include "techniques/common/fragment_light.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
-#include "techniques/vct_grid/cone_layout.h"
+#include "techniques/common/cone_layout.h"
 
 namespace voxlab::svo {
 
@@ -744,7 +744,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   descentCount.upload(&zero, 4);
   glm::ivec3 traced = indirect.desc().size;
 
-  auto pack = [](const std::vector<vct::Cone>& cones) {
+  auto pack = [](const std::vector<Cone>& cones) {
     std::vector<glm::vec4> packed;
     for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
     return packed;
@@ -760,7 +760,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
     aoCount = aoCones == "basgier-3" ? 3 : aoCones == "basgier-5" ? 5 : 8;
     aoAperture = (aoCount == 3 ? 100.0f : aoCount == 5 ? 90.0f : 60.0f) * kDegrees;
   }
-  std::vector<glm::vec4> ao4 = aoCount ? pack(vct::diffuseCones(aoCount, aoAperture, "ring", "equal"))
+  std::vector<glm::vec4> ao4 = aoCount ? pack(diffuseCones(aoCount, aoAperture, "ring", "equal"))
                                        : std::vector<glm::vec4>(1, glm::vec4(0.0f));
 
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;

@@ -11,7 +11,7 @@
 #include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
-#include "techniques/vct_grid/cone_layout.h"
+#include "techniques/common/cone_layout.h"
 #include "techniques/vct_grid/stages.h"
 
 namespace voxlab::vct {
