@@ -6,9 +6,11 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/scene.h"
-#include "techniques/common/sky.h"
-#include "techniques/common/cone_setup.h"
+#include "techniques/common/composite_stage.h"
 #include "techniques/common/cone_layout.h"
+#include "techniques/common/cone_setup.h"
+#include "techniques/common/sky.h"
+#include "techniques/common/traced_image.h"
 
 namespace voxlab::clipmap {
 
@@ -32,29 +34,6 @@ static ConeDefaults coneDefaults() {
   return d;
 }
 
-static TextureDesc screenDesc(const ViewState& view, GLenum format) {
-  TextureDesc d;
-  d.format = format;
-  d.size = {view.width, view.height, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  return d;
-}
-
-static ParamDesc traceResolutionParam() {
-  return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
-                           "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
-                           "upsamples along surfaces)");
-}
-
-static int traceScale(const ParamSet& params) { return params.getChoice("cone.resolution") == "half" ? 2 : 1; }
-
-static TextureDesc tracedDesc(const ViewState& view, const ParamSet& params, GLenum format) {
-  const int s = traceScale(params);
-  TextureDesc d = screenDesc(view, format);
-  d.size = {(view.width + s - 1) / s, (view.height + s - 1) / s, 1};
-  return d;
-}
-
 // The transition band: within this many cells of the border of the finest level that holds a
 // sample, the level read ramps up to the next level, so a sample crossing the border changes
 // level continuously instead of jumping (0: off, the finest level's whole region is used).
@@ -69,7 +48,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
   b.param(levelBandParam());
-  b.param(traceResolutionParam());
+  b.param(kTracedCones.resolutionParam());
   declareConeParams(b, coneDefaults());
   declareSky(b);
   b.readView();
@@ -92,17 +71,17 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
                                                    {"ambient-occlusion", GL_R16F}, {"level-used", GL_R16F}};
   for (const auto& [name, format] : traced)
-    b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
+    kTracedCones.declareImage(b, name, format);
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {
   const Layout layout = layoutOf(ctx.params, ctx.scene);
   const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
   const auto& origins = path.back().origins;
-  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
-  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
-  Texture& level = ctx.board.ensureTexture("level-used", tracedDesc(ctx.view, ctx.params, GL_R16F));
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  Texture& level = ctx.board.ensureTexture("level-used", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   const uint32_t zero = 0;
@@ -126,7 +105,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   // The start offset is in voxels of the finest level holding the surface (the shader scales it).
   // The camera at the end of the path (the G-buffer's), for the specular cone's view direction.
   const glm::ivec2 probe = setConeUniforms(program, ctx.params, pathEndView(ctx.params, ctx.view), 1.0f, coarsestEdge,
-                                           glm::ivec2(traced), traceScale(ctx.params));
+                                           glm::ivec2(traced), kTracedCones.scale(ctx.params));
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
@@ -151,52 +130,22 @@ void ConeTraceStage::execute(StageContext& ctx) {
 
 // --- Composite ------------------------------------------------------------------------------------
 
-void CompositeStage::declare(StageBuilder& b) const {
-  for (const auto& p : layoutParams()) b.param(p);
-  b.param(traceResolutionParam());
-  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
-  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
-  b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
-                          "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
-  declareSky(b);  // the background
-  for (const char* r : {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular",
-                        "ambient-occlusion", "shadow-map", "light"})
-    b.read(r);
-  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
-  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
-      .referenceMode = "full";
-  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
-  const std::pair<const char*, GLenum> images[] = {{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
-  for (const auto& [name, format] : images)
-    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
-}
-
-void CompositeStage::execute(StageContext& ctx) {
-  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
-  // vct-grid's composite shader: the same terms, and its edge-aware upsampling of half-resolution
-  // cone results (samples more than two level-0 voxels off the pixel's plane get no weight).
-  GLuint program = ctx.shaders.program({"vct_grid/composite.comp.glsl"});
-  setUniform(program, "u_shadowSource", 0);
-  setUniform(program, "u_traceScale", traceScale(ctx.params));
-  setUniform(program, "u_edgeDistance", float(2.0 * layoutOf(ctx.params, ctx.scene).voxelSize0));
-  setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
-  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
-  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  glUseProgram(program);
-  const std::pair<int, const char*> inputs[] = {{1, "position"}, {2, "normal"}, {3, "albedo"}, {4, "emission"},
-                                                {5, "indirect-diffuse"}, {6, "indirect-specular"},
-                                                {7, "ambient-occlusion"},  // the soft-shadow slot: unused (u_shadowSource 0)
-                                                {8, "shadow-map"}};
-  for (const auto& [unit, name] : inputs) glBindTextureUnit(GLuint(unit), ctx.board.texture(name).id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
-  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+CompositeTerms compositeTerms() {
+  CompositeTerms t;
+  t.summary = "Add direct light, indirect diffuse and indirect specular, then tonemap.";
+  t.combinedHelp = "direct + indirect diffuse + specular, linear radiance";
+  t.params = layoutParams();
+  for (const ParamDesc& p :
+       {kTracedCones.resolutionParam(), compositeExposureParam(),
+        ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"),
+        ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
+                        "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)")})
+    t.params.push_back(p);
+  t.indirect = {{"indirect-diffuse", "composite.indirect"}, {"indirect-specular", "composite.specular"}};
+  t.traced = kTracedCones;
+  // Samples more than two level-0 voxels off the pixel's plane belong to another surface.
+  t.planeDistance = [](const ParamSet& p, const Scene& scene) { return float(2.0 * layoutOf(p, scene).voxelSize0); };
+  return t;
 }
 
 }  // namespace voxlab::clipmap

@@ -11,6 +11,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/scene.h"
+#include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/lpv/sh.h"
@@ -20,13 +21,6 @@ namespace voxlab::lpv {
 static ParamDesc lookupOffsetParam() {
   return ParamDesc::real("gi.lookup-offset", 0.5, 0.0, 1.0,
                          "surfaces read the grid this far along their normal (against self-illumination)", "cells");
-}
-static TextureDesc screenDesc(const ViewState& view, GLenum format) {
-  TextureDesc d;
-  d.format = format;
-  d.size = {view.width, view.height, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  return d;
 }
 
 // --- reflection ----------------------------------------------------------------------------------
@@ -190,7 +184,7 @@ void GiStage::declare(StageBuilder& b) const {
            "(outer box, half a fine cell inside the fine grid's edge)")
       .layout = boxes;
   for (const auto& [name, format] : kGiImages)
-    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
+    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return viewImageDesc(v, format); });
   b.buffer("cascade-boxes", [](const ParamSet&, const ViewState&) { return 4 * sizeof(gpu::LpvBox); });
 }
 
@@ -213,7 +207,7 @@ static std::array<gpu::LpvBox, 4> cascadeBoxes(const std::array<gpu::LpvGrid, kC
 void GiStage::execute(StageContext& ctx) {
   auto grids = readGrids(ctx.board);
   Texture* images[5];
-  for (int i = 0; i < 5; ++i) images[i] = &ctx.board.ensureTexture(kGiImages[i].first, screenDesc(ctx.view, kGiImages[i].second));
+  for (int i = 0; i < 5; ++i) images[i] = &ctx.board.ensureTexture(kGiImages[i].first, viewImageDesc(ctx.view, kGiImages[i].second));
   Texture &fine = *images[0], &coarse = *images[1], &blend = *images[2], &indirect = *images[3], &glossy = *images[4];
   GLuint program = ctx.shaders.program({"lpv/gi.comp.glsl"});
   const float fineEdge = grids[0].originCell.w * grids[0].centreRes.w;
@@ -249,49 +243,18 @@ void GiStage::execute(StageContext& ctx) {
 
 // --- composite -----------------------------------------------------------------------------------
 
-static const std::pair<const char*, GLenum> kCompositeImages[] = {
-    {"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
-
-void CompositeStage::declare(StageBuilder& b) const {
-  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
-  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
-  b.param(ParamDesc::real("composite.glossy", 0.0, 0.0, 1.0,
-                          "weight of the glossy term (0: the scenes are Lambertian, as the reference path tracer)"));
-  b.read("position");
-  b.read("normal");
-  b.read("albedo");
-  b.read("emission");
-  b.read("indirect-diffuse");
-  b.read("glossy");
-  b.read("shadow-map");
-  b.read("light");
-  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
-  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR,
-           "direct + indirect diffuse (one bounce), linear radiance")
-      .referenceMode = "full";
-  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
-  for (const auto& [name, format] : kCompositeImages)
-    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
-}
-
-void CompositeStage::execute(StageContext& ctx) {
-  Texture* images[3];
-  for (int i = 0; i < 3; ++i)
-    images[i] = &ctx.board.ensureTexture(kCompositeImages[i].first, screenDesc(ctx.view, kCompositeImages[i].second));
-  Texture &direct = *images[0], &combined = *images[1], &final = *images[2];
-  GLuint program = ctx.shaders.program({"lpv/composite.comp.glsl"});
-  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
-  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
-  setUniform(program, "u_glossyWeight", ctx.params.getFloat("composite.glossy"));
-  glUseProgram(program);
-  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map", "glossy"};
-  for (int i = 0; i < 7; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
-  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+CompositeTerms compositeTerms() {
+  CompositeTerms t;
+  t.summary = "Add direct light and the LPV's indirect diffuse light, then tonemap.";
+  t.combinedHelp = "direct + indirect diffuse (one bounce), linear radiance";
+  t.params = {compositeExposureParam(),
+              ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"),
+              ParamDesc::real("composite.glossy", 0.0, 0.0, 1.0,
+                              "weight of the glossy term (0: the scenes are Lambertian, as the reference path tracer)")};
+  // Both looked up per pixel at full resolution.
+  t.indirect = {{"indirect-diffuse", "composite.indirect", false}, {"glossy", "composite.glossy", false}};
+  t.sky = false;
+  return t;
 }
 
 }  // namespace voxlab::lpv

@@ -63,7 +63,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
   t->add<vct::BounceStage>();
   t->add<GBufferStage>();
   t->add<vct::ConeTraceStage>();
-  t->add<vct::CompositeStage>();
+  t->add<CompositeStage>(vct::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }
