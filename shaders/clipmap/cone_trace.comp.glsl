@@ -11,13 +11,13 @@
 #include "clipmap/clipmap.glsl"
 #include "common/lights.glsl"
 #include "common/sky.glsl"
+// The cone table, apertures, distances and G-buffer samplers; u_startOffset is in voxels of the
+// level at the surface here (the tracer scales it).
+#include "common/cone_setup.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform sampler3D u_atlas;
 layout(binding = 4) uniform sampler3D u_mips;
-layout(binding = 1) uniform sampler2D u_position;
-layout(binding = 2) uniform sampler2D u_normal;
-layout(binding = 3) uniform sampler2D u_albedo;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
@@ -30,19 +30,9 @@ uniform vec3 u_levelToroidal[CLIPMAP_MAX_LEVELS]; // T_k = o_k mod N
 uniform float u_voxelSize0;                        // s_0
 uniform int u_faces;                               // 1 (isotropic) or 7 (isotropic + six directions)
 uniform int u_mipLevels;                           // mips of the coarsest level beyond it
-uniform int u_coneCount;
-uniform vec4 u_cones[VOXLAB_MAX_CONES];
-uniform float u_diffuseAperture;
-uniform float u_specularAperture;
-uniform float u_startOffset;  // in voxels of the level at the surface
 uniform float u_stepScale;
 uniform float u_lodBias;
-uniform float u_maxDistance;  // metres
-uniform float u_aoRange;      // metres
 uniform int u_maxSteps;
-uniform vec3 u_cameraPos;
-uniform ivec2 u_probePixel;
-uniform int u_scale;  // G-buffer pixels per traced pixel along each axis (1 or 2)
 
 float levelVoxel(int k) { return u_voxelSize0 * exp2(float(k)); }
 

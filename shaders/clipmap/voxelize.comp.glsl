@@ -12,7 +12,7 @@
 // fixed-point accumulators with integer atomics: the sums do not depend on the order.
 #include "common/shared.h"
 #include "clipmap/clipmap.glsl"
-#include "voxelization/scene_triangles.glsl"
+#include "common/scene_triangles.glsl"
 #include "common/alpha_coverage.glsl"
 
 layout(local_size_x = 64) in;

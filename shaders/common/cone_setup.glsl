@@ -1,5 +1,5 @@
-// The set-up a cone-tracing stage shares with the others (svo's cone-trace includes it; vct-grid's
-// and clipmap's cone_trace.comp.glsl declare the same uniforms themselves): the cone table,
+// The set-up every cone-tracing stage shares (included by the cone_trace.comp.glsl of vct-grid, svo
+// and clipmap): the cone table,
 // apertures and distances as uniforms, set by setConeUniforms() in
 // src/techniques/common/cone_setup.cpp (for all three) from the cone.* / ao.range /
 // specular.roughness / shadow.cone-aperture / probe.* parameters, whose defaults each technique

@@ -5,8 +5,8 @@
 //   similarity = max(0, 1 - |n . (q - p)| / planeDistance) * max(0, n . n_q)^8
 // (q, n_q: the traced pixel's G-buffer position and normal), so light does not bleed from one
 // surface onto another. Where no neighbour is similar at all, the most similar one is taken.
-// Used by the composites of vct-grid, near-field and lrsm (the last two through traced_composite.glsl); 'traced', 'position' and 'normal' are
-// the caller's samplers (the traced image, the G-buffer position with w = 0 on the background,
+// Used by the composite (common/composite.comp.glsl); 'traced', 'position' and 'normal' are the
+// caller's samplers (the traced image, the G-buffer position with w = 0 on the background,
 // and normal).
 vec4 upsampleAlongSurface(sampler2D traced, sampler2D position, sampler2D normal, ivec2 px, vec3 p, vec3 n,
                           int scale, float planeDistance) {

@@ -1,35 +1,22 @@
 #version 450
 // Cone tracing, one invocation per pixel of the G-buffer:
 //  - N diffuse cones around the normal (directions and normalised weights from the CPU, see
-//    src/techniques/vct_grid/cone_layout.cpp): indirect diffuse = albedo * sum_i w_i L_i, and
+//    src/techniques/common/cone_layout.cpp): indirect diffuse = albedo * sum_i w_i L_i, and
 //    ambient occlusion = 1 - sum_i w_i A_i(range), the cosine-weighted visible fraction;
 //  - one specular cone along the mirror direction, aperture from the roughness;
 //  - one soft-shadow cone toward the light: visibility = 1 - accumulated opacity.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
+#include "common/cone_setup.glsl"
 #include "common/cone_trace.glsl"
 #include "common/lights.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 1) uniform sampler2D u_position;
-layout(binding = 2) uniform sampler2D u_normal;
-layout(binding = 3) uniform sampler2D u_albedo;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
 layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
 
-uniform int u_coneCount;
-uniform vec4 u_cones[VOXLAB_MAX_CONES];  // xyz: direction in tangent space (z = normal), w: weight
-uniform float u_diffuseAperture;         // radians
-uniform float u_specularAperture;        // radians
-uniform float u_shadowAperture;          // radians
-uniform float u_startOffset;             // metres, along the normal
-uniform float u_maxDistance;             // metres
-uniform float u_aoRange;                 // metres
-uniform vec3 u_cameraPos;
-uniform ivec2 u_probePixel;              // pixel (of the traced image) whose samples are recorded
-uniform int u_scale;                     // 1: one cone set per G-buffer pixel; 2: per 2x2 block
 // Totals over the pass: samples of the diffuse, specular and shadow cones, volume fetches, pixels
 // shaded (the background traces nothing).
 layout(std430, binding = VOXLAB_BINDING_CONE_TRACE_COUNTS) buffer ConeTraceCounts { uint coneTraceCounts[5]; };

@@ -84,7 +84,7 @@ static std::unique_ptr<Technique> makeClipmap() {
   t->add<clipmap::CoveredCompareStage>();
   t->add<clipmap::PathGBufferStage>();
   t->add<clipmap::ConeTraceStage>();
-  t->add<clipmap::CompositeStage>();
+  t->add<CompositeStage>(clipmap::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }

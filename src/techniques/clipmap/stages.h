@@ -5,6 +5,7 @@
 
 #include "graph/stage.h"
 #include "techniques/clipmap/clipmap_math.h"
+#include "techniques/common/composite_stage.h"
 #include "techniques/common/gbuffer_stage.h"
 
 namespace voxlab::clipmap {
@@ -224,13 +225,7 @@ class ConeTraceStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
-class CompositeStage : public Stage {
- public:
-  const char* id() const override { return "composite"; }
-  const char* title() const override { return "Composite the final image"; }
-  const char* summary() const override { return "Add direct light, indirect diffuse and indirect specular, then tonemap."; }
-  void declare(StageBuilder& b) const override;
-  void execute(StageContext& ctx) override;
-};
+// The terms of this technique's composite (techniques/common/composite_stage.h).
+CompositeTerms compositeTerms();
 
 }  // namespace voxlab::clipmap

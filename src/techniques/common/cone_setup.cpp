@@ -5,7 +5,7 @@
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
-#include "techniques/vct_grid/cone_layout.h"
+#include "techniques/common/cone_layout.h"
 
 namespace voxlab {
 
@@ -34,7 +34,7 @@ void declareConeParams(StageBuilder& b, const ConeDefaults& d) {
 
 std::vector<glm::vec4> diffuseConeTable(const ParamSet& p) {
   std::vector<glm::vec4> table;
-  for (const auto& c : vct::diffuseCones(p.getInt("cone.count"), p.getFloat("cone.aperture") * kRadiansPerDegree,
+  for (const auto& c : diffuseCones(p.getInt("cone.count"), p.getFloat("cone.aperture") * kRadiansPerDegree,
                                          p.getChoice("cone.layout"), p.getChoice("cone.weighting")))
     table.push_back(glm::vec4(c.direction, c.weight));
   return table;

@@ -45,7 +45,7 @@ void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMetho
   const uint32_t zero[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   counts.upload(zero, 32);
 
-  GLuint program = ctx.shaders.program({"voxelization/classify.comp.glsl"});
+  GLuint program = ctx.shaders.program({"common/classify.comp.glsl"});
   space.setUniforms(program);
   setUniform(program, "u_triangleCount", unsigned(triangles));
   setUniform(program, "u_mode",
@@ -91,7 +91,7 @@ bool methodComputes(VoxelizeMethod method, const TriangleClasses& classes) {
 
 void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity) {
   GLuint program = ctx.shaders.program(
-      {"common/world.vert.glsl", "vct_grid/voxelize.geom.glsl", "vct_grid/voxelize.frag.glsl"},
+      {"common/world.vert.glsl", "common/voxelize.geom.glsl", "common/voxelize.frag.glsl"},
       method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "");
   space.setUniforms(program);
   setUniform(program, "u_conservative", method == VoxelizeMethod::Plain ? 0 : 1);
@@ -103,7 +103,7 @@ void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, Voxeliz
 
 void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const TriangleClasses& classes,
                               uint32_t capacity) {
-  GLuint program = ctx.shaders.program({"voxelization/triangle_parallel.comp.glsl"});
+  GLuint program = ctx.shaders.program({"common/triangle_parallel.comp.glsl"});
   space.setUniforms(program);
   setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
   setUniform(program, "u_capacity", capacity);

@@ -23,7 +23,7 @@ VoxelizeMethod voxelizeMethodOf(const ParamSet& params);
 // loops after 65535 iterations in all; a chunk costs at most 5 per column).
 inline constexpr uint32_t kChunkColumns = 8192;
 
-// The classification's counters (shaders/voxelization/classify.comp.glsl).
+// The classification's counters (shaders/common/classify.comp.glsl).
 struct TriangleClasses {
   uint32_t axis[3] = {0, 0, 0};
   uint32_t degenerate = 0;

@@ -142,7 +142,7 @@ void renderTriangleAxes(StageContext& ctx, const std::string& resource) {
   fb.setDrawBuffers(1);
   fb.checkComplete();
   GLuint axisProgram = ctx.shaders.program(
-      {"common/camera.vert.glsl", "vct_grid/dominant_axis.geom.glsl", "vct_grid/dominant_axis.frag.glsl"});
+      {"common/camera.vert.glsl", "common/dominant_axis.geom.glsl", "common/dominant_axis.frag.glsl"});
   setUniform(axisProgram, "u_viewProj", ctx.view.viewProjection());
   setUniform(axisProgram, "u_viewDir", glm::normalize(-glm::vec3(glm::transpose(ctx.view.view)[2])));
   glBindFramebuffer(GL_FRAMEBUFFER, fb.id());

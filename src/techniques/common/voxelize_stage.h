@@ -37,7 +37,7 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
                           size_t& capacity);
 
 // The fragment-parallel pass: draws the scene with 'program' (common/world.vert +
-// vct_grid/voxelize.geom/.frag) over a resolution^2 framebuffer without attachments, then makes
+// common/voxelize.geom/.frag) over a resolution^2 framebuffer without attachments, then makes
 // its appends visible. Call inside fillFragmentList's passes.
 void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution);
 

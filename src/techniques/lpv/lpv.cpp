@@ -163,7 +163,7 @@ static std::unique_ptr<Technique> makeLpv() {
   t->add<lpv::ReflectionStage>();
   t->add<GBufferStage>();
   t->add<lpv::GiStage>();
-  t->add<lpv::CompositeStage>();
+  t->add<CompositeStage>(lpv::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "graph/stage.h"
+#include "techniques/common/composite_stage.h"
 #include "lpv/lpv_shared.h"
 
 struct Scene;
@@ -106,13 +107,7 @@ class GiStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
-class CompositeStage : public Stage {
- public:
-  const char* id() const override { return "composite"; }
-  const char* title() const override { return "Composite the final image"; }
-  const char* summary() const override { return "Add direct light and the LPV's indirect diffuse light, then tonemap."; }
-  void declare(StageBuilder& b) const override;
-  void execute(StageContext& ctx) override;
-};
+// The terms of this technique's composite (techniques/common/composite_stage.h).
+CompositeTerms compositeTerms();
 
 }  // namespace voxlab::lpv

@@ -77,7 +77,7 @@ static std::unique_ptr<Technique> makeLrsm() {
   t->add<lrsm::LrsmMipsStage>();
   t->add<GBufferStage>();
   t->add<lrsm::ConeGatherStage>();
-  t->add<lrsm::CompositeStage>();
+  t->add<CompositeStage>(lrsm::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }

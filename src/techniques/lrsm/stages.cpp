@@ -10,8 +10,9 @@
 #include "lrsm/lrsm_shared.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
-#include "techniques/common/sky.h"
+#include "techniques/common/composite_stage.h"
 #include "techniques/common/cone_setup.h"
+#include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 
@@ -50,12 +51,6 @@ static ParamDesc overlapParam() {
   return ParamDesc::real("lrsm.overlap", 0.25, 0.0, 1.0,
                          "overlap width delta as a fraction of one depth interval (sampling only)");
 }
-static ParamDesc traceResolutionParam() {
-  return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
-                           "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
-                           "upsamples along surfaces)");
-}
-static int traceScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
 
 static TextureDesc texDesc(glm::ivec3 size, GLenum format, int levels = 1, GLenum filter = GL_NEAREST,
                            GLenum target = GL_TEXTURE_2D) {
@@ -82,10 +77,7 @@ static TextureDesc lrsmMipDesc(glm::ivec3 base, GLenum format) {
   return texDesc(base, format, lrsmLevels(base.y), GL_LINEAR_MIPMAP_NEAREST);
 }
 static TextureDesc coverageSumDesc(int w) { return texDesc({w, w, 1}, GL_R16F, lrsmLevels(w)); }
-static glm::ivec3 traceSize(const ParamSet& p, const ViewState& v) {
-  const int s = traceScale(p);
-  return {(v.width + s - 1) / s, (v.height + s - 1) / s, 1};
-}
+static glm::ivec3 traceSize(const ParamSet& p, const ViewState& v) { return glm::ivec3(kTracedCones.size(p, v), 1); }
 static constexpr size_t kGatherRecordsBytes = sizeof(gpu::LrsmGatherRecord) * LRSM_MAX_GATHER_RECORDS;
 static constexpr size_t kConeResultsBytes = sizeof(gpu::LrsmConeResult) * (LRSM_MAX_CONES + 1);
 
@@ -338,7 +330,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.param(depthSplitsParam());
   b.param(normalSplitsParam());
   b.param(overlapParam());
-  b.param(traceResolutionParam());
+  b.param(kTracedCones.resolutionParam());
   b.param(ParamDesc::choice("lrsm.falloff", {"smoothstep", "linear"}, 0,
                             "k of Eq. 15 across an overlap (both satisfy k(t) + k(1 - t) = 1)"));
   b.param(ParamDesc::real("lrsm.min-variance", kDefaultMinVariance, 1e-7, 0.01,
@@ -421,7 +413,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
   const LayerLayout L = layoutFor(ctx.scene, ctx.board, ctx.params);
-  const int s = traceScale(ctx.params);
+  const int s = kTracedCones.scale(ctx.params);
   const glm::ivec3 traced = traceSize(ctx.params, ctx.view);
   const int tw = traced.x, th = traced.y;
   Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc(traced, GL_RGBA16F));
@@ -517,57 +509,23 @@ void ConeGatherStage::execute(StageContext& ctx) {
 
 // --- Composite ----------------------------------------------------------------------------------------
 
-void CompositeStage::declare(StageBuilder& b) const {
-  b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
-  b.param(ParamDesc::choice("composite.shadow", {"cone", "shadow-map"}, 0,
-                            "direct shadows from the shadow cone through the occlusion voxels (soft) or the shadow map"));
-  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
-  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)"));
-  declareSky(b);  // the background
-  b.read("position");
-  b.read("normal");
-  b.read("albedo");
-  b.read("emission");
-  b.read("indirect-diffuse");
-  b.read("soft-shadow");
-  b.read("shadow-map");
-  b.read("light");
-  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
-  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + one-bounce indirect diffuse, linear")
-      .referenceMode = "full";
-  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
-  auto screenTex = [](GLenum format) {
-    return [format](const ParamSet&, const ViewState& v) { return texDesc({v.width, v.height, 1}, format); };
+CompositeTerms compositeTerms() {
+  CompositeTerms t;
+  t.summary = "Direct light (shadowed by the shadow cone or the shadow map) + emission + the gathered indirect "
+              "light, then tonemap.";
+  t.combinedHelp = "direct + one-bounce indirect diffuse, linear";
+  t.params = {voxelResolutionParam(), kTracedCones.resolutionParam(),
+              ParamDesc::choice("composite.shadow", {"cone", "shadow-map"}, 0,
+                                "direct shadows from the shadow cone through the occlusion voxels (soft) or the shadow map"),
+              compositeExposureParam(),
+              ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)")};
+  t.indirect = {{"indirect-diffuse", "composite.indirect"}};
+  t.visibility = CompositeVisibility{"composite.shadow", "cone", "soft-shadow"};
+  t.traced = kTracedCones;
+  t.planeDistance = [](const ParamSet& p, const Scene& scene) {
+    return 2.0f * VoxelSpace::fromScene(scene, p.getInt("voxel.resolution")).voxelSize;
   };
-  b.texture("direct", screenTex(GL_RGBA16F));
-  b.texture("combined", screenTex(GL_RGBA16F));
-  b.texture("final", screenTex(GL_RGBA8));
-}
-
-void CompositeStage::execute(StageContext& ctx) {
-  const int w = ctx.view.width, h = ctx.view.height;
-  const glm::ivec3 screen{w, h, 1};
-  Texture& direct = ctx.board.ensureTexture("direct", texDesc(screen, GL_RGBA16F));
-  Texture& combined = ctx.board.ensureTexture("combined", texDesc(screen, GL_RGBA16F));
-  Texture& final = ctx.board.ensureTexture("final", texDesc(screen, GL_RGBA8));
-  GLuint program = ctx.shaders.program({"lrsm/composite.comp.glsl"});
-  const VoxelSpace space = VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution"));
-  setUniform(program, "u_traceScale", traceScale(ctx.params));
-  setUniform(program, "u_planeDistance", 2.0f * space.voxelSize);
-  setUniform(program, "u_coneShadow", ctx.params.getChoice("composite.shadow") == "cone" ? 1 : 0);
-  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
-  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  glUseProgram(program);
-  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "shadow-map", "soft-shadow"};
-  for (int i = 0; i < 7; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
-  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  dispatchCompute({w, h, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  return t;
 }
 
 }  // namespace voxlab::lrsm

@@ -2,6 +2,7 @@
 #pragma once
 #include "graph/output.h"
 #include "graph/stage.h"
+#include "techniques/common/composite_stage.h"
 #include "techniques/lrsm/lrsm.h"
 
 namespace voxlab {
@@ -87,16 +88,7 @@ class ConeGatherStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
-class CompositeStage : public Stage {
- public:
-  const char* id() const override { return "composite"; }
-  const char* title() const override { return "Composite the final image"; }
-  const char* summary() const override {
-    return "Direct light (shadowed by the shadow cone or the shadow map) + emission + the gathered indirect "
-           "light, then tonemap.";
-  }
-  void declare(StageBuilder& b) const override;
-  void execute(StageContext& ctx) override;
-};
+// The terms of this technique's composite (techniques/common/composite_stage.h).
+CompositeTerms compositeTerms();
 
 }  // namespace voxlab::lrsm

@@ -104,7 +104,7 @@ static std::unique_ptr<Technique> makeNearField() {
   t->add<GBufferStage>();
   t->add<nearfield::RaysStage>();
   t->add<nearfield::FilterStage>();
-  t->add<nearfield::CompositeStage>();
+  t->add<CompositeStage>(nearfield::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }

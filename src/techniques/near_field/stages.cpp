@@ -12,6 +12,7 @@
 #include "near_field/near_field_shared.h"
 #include "techniques/common/binary_voxels_stage.h"
 #include "techniques/common/sky.h"
+#include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/near_field/bitmask.h"
@@ -38,19 +39,6 @@ BinaryGridGeometry BinaryGridGeometry::of(const Scene& scene, int res) {
   return g;
 }
 
-static TextureDesc screenDesc(int w, int h, GLenum format) {
-  TextureDesc d;
-  d.format = format;
-  d.size = {w, h, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  return d;
-}
-
-static ParamDesc traceResolutionParam() {
-  return ParamDesc::choice("rays.resolution", {"half", "full"}, 0,
-                           "trace rays for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
-                           "upsamples along surfaces)");
-}
 // Parameters of a walk from a surface and its RSM lookup, shared by rays and paths.
 static void declareWalkParams(StageBuilder& b) {
   b.param(ParamDesc::integer("rays.steps", 64, 1, 1024,
@@ -93,31 +81,15 @@ static void checkTracedBytes(const char* stage, int tw, int th, int bytesPerTexe
                 std::to_string(int(mib)) + " MiB of images, more than 1024 MiB; use rays.resolution=half or a smaller --size");
 }
 
-static int traceScale(const ParamSet& p) { return p.getChoice("rays.resolution") == "half" ? 2 : 1; }
-
-// The size of the traced images (rays.resolution of the view), for declare() and execute().
-static glm::ivec2 tracedSize(const ParamSet& p, const ViewState& v) {
-  const int s = traceScale(p);
-  return {(v.width + s - 1) / s, (v.height + s - 1) / s};
-}
-
-// A traced-size image of 'format', declared for the resource budget.
-static void declareTraced(StageBuilder& b, const char* name, GLenum format) {
-  b.texture(name, [format](const ParamSet& p, const ViewState& v) {
-    const glm::ivec2 t = tracedSize(p, v);
-    return screenDesc(t.x, t.y, format);
-  });
-}
-
 // The bitmask tables: OR (128 x 1), XOR (129 x 1), the ray masks (128 x 128) and their popcount.
-static TextureDesc orTableDesc() { return screenDesc(kBinarySlices, 1, GL_RGBA32UI); }
-static TextureDesc xorTableDesc() { return screenDesc(kBinarySlices + 1, 1, GL_RGBA32UI); }
-static TextureDesc rayMasksDesc() { return screenDesc(kBinarySlices, kBinarySlices, GL_RGBA32UI); }
-static TextureDesc rayMaskPopcountDesc() { return screenDesc(kBinarySlices, kBinarySlices, GL_R32UI); }
+static TextureDesc orTableDesc() { return imageDesc(kBinarySlices, 1, GL_RGBA32UI); }
+static TextureDesc xorTableDesc() { return imageDesc(kBinarySlices + 1, 1, GL_RGBA32UI); }
+static TextureDesc rayMasksDesc() { return imageDesc(kBinarySlices, kBinarySlices, GL_RGBA32UI); }
+static TextureDesc rayMaskPopcountDesc() { return imageDesc(kBinarySlices, kBinarySlices, GL_R32UI); }
 
 // The 2D OR hierarchy (RGBA32UI) and its popcount (R32UI): res x res with all mip levels.
 static TextureDesc hierarchyDesc(int res, GLenum format) {
-  TextureDesc d = screenDesc(res, res, format);
+  TextureDesc d = imageDesc(res, res, format);
   d.levels = maxLevelOf(res) + 1;
   d.minFilter = GL_NEAREST_MIPMAP_NEAREST;  // integer textures need NEAREST filters to be complete
   return d;
@@ -239,7 +211,7 @@ void HierarchyStage::execute(StageContext& ctx) {
 
 void RaysStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
+  b.param(kTracedRays.resolutionParam());
   b.param(ParamDesc::integer("rays.count", 8, 1, 256, "rays per pixel, one per iteration", "rays"));
   b.param(ParamDesc::real("rays.radius", 0.5, 0.01, 2.0,
                           "longest ray (near-field radius), as a fraction of the voxel volume's edge"));
@@ -335,10 +307,10 @@ void RaysStage::declare(StageBuilder& b) const {
            "the RSM texel's position (w footprint) and normal (w: 1 normal test on, + 2 plane validity)");
   pr.layout = pl;
   pr.probeRecord = true;
-  declareTraced(b, "indirect", GL_RGBA32F);
-  declareTraced(b, "ray-category", GL_R32UI);
-  declareTraced(b, "ray-steps", GL_R32UI);
-  declareTraced(b, "hit-position", GL_RGBA32F);
+  kTracedRays.declareImage(b, "indirect", GL_RGBA32F);
+  kTracedRays.declareImage(b, "ray-category", GL_R32UI);
+  kTracedRays.declareImage(b, "ray-steps", GL_R32UI);
+  kTracedRays.declareImage(b, "hit-position", GL_RGBA32F);
   b.buffer("traversal-steps", [](const ParamSet&, const ViewState&) {
     return sizeof(gpu::TraversalStep) * NF_MAX_TRAVERSAL_STEPS;
   });
@@ -352,14 +324,14 @@ void RaysStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const int rayCount = ctx.params.getInt("rays.count");
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
-  const int s = traceScale(ctx.params);
-  const glm::ivec2 traced = tracedSize(ctx.params, ctx.view);
+  const int s = kTracedRays.scale(ctx.params);
+  const glm::ivec2 traced = kTracedRays.size(ctx.params, ctx.view);
   const int tw = traced.x, th = traced.y;
   checkTracedBytes("rays", tw, th, 16 + 4 + 4 + 16);
-  Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
-  Texture& category = ctx.board.ensureTexture("ray-category", screenDesc(tw, th, GL_R32UI));
-  Texture& steps = ctx.board.ensureTexture("ray-steps", screenDesc(tw, th, GL_R32UI));
-  Texture& hits = ctx.board.ensureTexture("hit-position", screenDesc(tw, th, GL_RGBA32F));
+  Texture& indirect = ctx.board.ensureTexture("indirect", imageDesc(tw, th, GL_RGBA32F));
+  Texture& category = ctx.board.ensureTexture("ray-category", imageDesc(tw, th, GL_R32UI));
+  Texture& steps = ctx.board.ensureTexture("ray-steps", imageDesc(tw, th, GL_R32UI));
+  Texture& hits = ctx.board.ensureTexture("hit-position", imageDesc(tw, th, GL_RGBA32F));
   Buffer& records = ctx.board.ensureBuffer("traversal-steps", sizeof(gpu::TraversalStep) * NF_MAX_TRAVERSAL_STEPS);
   Buffer& probe = ctx.board.ensureBuffer("probe-ray", sizeof(gpu::ProbeRay));
   constexpr int kCounters = kRayCounters;
@@ -557,7 +529,7 @@ void VoxelAttributesStage::execute(StageContext& ctx) {
 
 void PathsStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
+  b.param(kTracedRays.resolutionParam());
   b.param(ParamDesc::integer("paths.count", 4, 1, 64, "paths per traced pixel", "paths"));
   b.param(ParamDesc::integer("paths.bounces", 2, 1, 8,
                              "diffuse bounces per path (1 = one indirect bounce, as near-field without a radius)"));
@@ -583,7 +555,7 @@ void PathsStage::declare(StageBuilder& b) const {
   b.output("path-vertex", OutputKind::Image2D, Semantic::Scalar,
            "the current path vertex per pixel (world xyz), w = 1 while the path is alive");
   for (const char* name : {"indirect", "path-vertex", "paths.normal", "paths.weight"})
-    declareTraced(b, name, GL_RGBA32F);
+    kTracedRays.declareImage(b, name, GL_RGBA32F);
 }
 
 int PathsStage::iterations(const ParamSet& params) const {
@@ -594,14 +566,14 @@ void PathsStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const int paths = ctx.params.getInt("paths.count"), bounces = ctx.params.getInt("paths.bounces");
   const BinaryGridGeometry geo = BinaryGridGeometry::of(ctx.scene, res);
-  const int s = traceScale(ctx.params);
-  const glm::ivec2 traced = tracedSize(ctx.params, ctx.view);
+  const int s = kTracedRays.scale(ctx.params);
+  const glm::ivec2 traced = kTracedRays.size(ctx.params, ctx.view);
   const int tw = traced.x, th = traced.y;
   checkTracedBytes("paths", tw, th, 4 * 16);
-  Texture& indirect = ctx.board.ensureTexture("indirect", screenDesc(tw, th, GL_RGBA32F));
-  Texture& vertex = ctx.board.ensureTexture("path-vertex", screenDesc(tw, th, GL_RGBA32F));
-  Texture& normal = ctx.board.ensureTexture("paths.normal", screenDesc(tw, th, GL_RGBA32F));
-  Texture& weight = ctx.board.ensureTexture("paths.weight", screenDesc(tw, th, GL_RGBA32F));
+  Texture& indirect = ctx.board.ensureTexture("indirect", imageDesc(tw, th, GL_RGBA32F));
+  Texture& vertex = ctx.board.ensureTexture("path-vertex", imageDesc(tw, th, GL_RGBA32F));
+  Texture& normal = ctx.board.ensureTexture("paths.normal", imageDesc(tw, th, GL_RGBA32F));
+  Texture& weight = ctx.board.ensureTexture("paths.weight", imageDesc(tw, th, GL_RGBA32F));
   if (ctx.iteration == 0) {
     const float none[4] = {0, 0, 0, 0};
     glClearTexImage(indirect.id(), 0, GL_RGBA, GL_FLOAT, none);
@@ -641,7 +613,7 @@ void PathsStage::execute(StageContext& ctx) {
 
 void FilterStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
+  b.param(kTracedRays.resolutionParam());
   b.param(ParamDesc::integer("filter.passes", 2, 0, 5,
                              "a-trous passes (holes 1, 2, 4, ... traced pixels; 5x5 taps each); 0 = no filter"));
   b.read("indirect");
@@ -652,8 +624,8 @@ void FilterStage::declare(StageBuilder& b) const {
            "the indirect light after the passes so far (at rays.resolution)")
       .referenceMode = referenceMode_;
   // At the size of 'indirect', which the rays / paths stage allocates at the traced size.
-  declareTraced(b, "indirect-filtered", GL_RGBA32F);
-  declareTraced(b, "filter.scratch", GL_RGBA32F);
+  kTracedRays.declareImage(b, "indirect-filtered", GL_RGBA32F);
+  kTracedRays.declareImage(b, "filter.scratch", GL_RGBA32F);
 }
 
 int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }
@@ -661,8 +633,8 @@ int FilterStage::iterations(const ParamSet& params) const { return std::max(para
 void FilterStage::execute(StageContext& ctx) {
   Texture& source = ctx.board.texture("indirect");
   const glm::ivec3 size = source.desc().size;
-  Texture& filtered = ctx.board.ensureTexture("indirect-filtered", screenDesc(size.x, size.y, GL_RGBA32F));
-  Texture& scratch = ctx.board.ensureTexture("filter.scratch", screenDesc(size.x, size.y, GL_RGBA32F));
+  Texture& filtered = ctx.board.ensureTexture("indirect-filtered", imageDesc(size.x, size.y, GL_RGBA32F));
+  Texture& scratch = ctx.board.ensureTexture("filter.scratch", imageDesc(size.x, size.y, GL_RGBA32F));
   // Each pass reads the previous result (the ray sum for the first) and writes indirect-filtered.
   Texture& input = ctx.iteration == 0 ? source : scratch;
   if (ctx.iteration > 0)
@@ -675,7 +647,7 @@ void FilterStage::execute(StageContext& ctx) {
   }
   GLuint program = ctx.shaders.program({"near_field/filter.comp.glsl"});
   setUniform(program, "u_step", 1 << ctx.iteration);
-  setUniform(program, "u_traceScale", traceScale(ctx.params));
+  setUniform(program, "u_traceScale", kTracedRays.scale(ctx.params));
   // Neighbours more than two columns off the centre's plane belong to another surface.
   setUniform(program, "u_planeDistance",
              2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
@@ -690,51 +662,18 @@ void FilterStage::execute(StageContext& ctx) {
 
 // --- Composite -----------------------------------------------------------------------------------
 
-void CompositeStage::declare(StageBuilder& b) const {
-  b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
-  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
-  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)"));
-  declareSky(b);  // the background
-  b.read("position");
-  b.read("normal");
-  b.read("albedo");
-  b.read("emission");
-  b.read("indirect-filtered");
-  b.read("shadow-map");
-  b.read("light");
-  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
-  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + near-field indirect, linear radiance")
-      .referenceMode = "full";
-  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
-  for (auto [name, format] : {std::pair<const char*, GLenum>{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F},
-                              {"final", GL_RGBA8}})
-    b.texture(name, [format = format](const ParamSet&, const ViewState& v) {
-      return screenDesc(v.width, v.height, format);
-    });
-}
-
-void CompositeStage::execute(StageContext& ctx) {
-  const int w = ctx.view.width, h = ctx.view.height;
-  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(w, h, GL_RGBA16F));
-  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(w, h, GL_RGBA16F));
-  Texture& final = ctx.board.ensureTexture("final", screenDesc(w, h, GL_RGBA8));
-  GLuint program = ctx.shaders.program({"near_field/composite.comp.glsl"});
-  setUniform(program, "u_traceScale", traceScale(ctx.params));
-  setUniform(program, "u_planeDistance",
-             2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
-  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
-  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  glUseProgram(program);
-  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-filtered", "shadow-map"};
-  for (int i = 0; i < 6; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
-  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  dispatchCompute({w, h, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+CompositeTerms compositeTerms() {
+  CompositeTerms t;
+  t.summary = "Add the direct light and the near-field indirect light, then tonemap.";
+  t.combinedHelp = "direct + near-field indirect, linear radiance";
+  t.params = {voxelResolutionParam(), kTracedRays.resolutionParam(), compositeExposureParam(),
+              ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)")};
+  t.indirect = {{"indirect-filtered", "composite.indirect"}};
+  t.traced = kTracedRays;
+  t.planeDistance = [](const ParamSet& p, const Scene& scene) {
+    return 2.0f * BinaryGridGeometry::of(scene, p.getInt("voxel.resolution")).columnSize;
+  };
+  return t;
 }
 
 }  // namespace voxlab::nearfield

@@ -1,6 +1,7 @@
 // The stages of near-field after the shared ones (see near_field.cpp for the overview).
 #pragma once
 #include "graph/stage.h"
+#include "techniques/common/composite_stage.h"
 #include "techniques/near_field/near_field.h"
 
 namespace voxlab::nearfield {
@@ -94,13 +95,7 @@ class FilterStage : public Stage {
   const char* referenceMode_;
 };
 
-class CompositeStage : public Stage {
- public:
-  const char* id() const override { return "composite"; }
-  const char* title() const override { return "Composite the final image"; }
-  const char* summary() const override { return "Add the direct light and the near-field indirect light, then tonemap."; }
-  void declare(StageBuilder& b) const override;
-  void execute(StageContext& ctx) override;
-};
+// The terms of this technique's composite (techniques/common/composite_stage.h).
+CompositeTerms compositeTerms();
 
 }  // namespace voxlab::nearfield

@@ -63,7 +63,7 @@ static std::unique_ptr<Technique> makeVoxelPathTracing() {
   t->add<GBufferStage>();
   t->add<nearfield::PathsStage>();
   t->add<nearfield::FilterStage>("indirect-{paths.bounces}");
-  t->add<nearfield::CompositeStage>();
+  t->add<CompositeStage>(nearfield::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }

@@ -9,12 +9,13 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "techniques/common/cone_layout.h"
 #include "techniques/common/cone_setup.h"
-#include "techniques/common/sky.h"
 #include "techniques/common/fragment_light.h"
+#include "techniques/common/sky.h"
+#include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
-#include "techniques/vct_grid/cone_layout.h"
 
 namespace voxlab::svo {
 
@@ -658,14 +659,6 @@ void PickStage::execute(StageContext& ctx) {
 // The parameters shared with vct-grid's cone-trace keep its names, defaults and ranges, so the two
 // techniques trace the same cones for the same settings (the AO cross-check relies on it).
 
-static TextureDesc tracedDesc(const ViewState& view, int scale, GLenum format) {
-  TextureDesc d;
-  d.format = format;
-  d.size = {(view.width + scale - 1) / scale, (view.height + scale - 1) / scale, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  return d;
-}
-static int tracedScale(const ParamSet& p) { return p.getChoice("cone.resolution") == "half" ? 2 : 1; }
 static constexpr size_t kDescentBytes = sizeof(SvoDescentStep) * SVO_MAX_DESCENT_STEPS;
 
 void ConeTraceStage::declare(StageBuilder& b) const {
@@ -718,10 +711,10 @@ void ConeTraceStage::declare(StageBuilder& b) const {
                                  "to the sample's fine level (0xffffffff = absent), its cell, its brick's value there");
   descent.layout = steps;
   descent.probeRecord = true;
-  b.texture("indirect-diffuse", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_RGBA16F); });
-  b.texture("indirect-specular", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_RGBA16F); });
-  b.texture("ambient-occlusion", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
-  b.texture("soft-shadow", [](const ParamSet& p, const ViewState& v) { return tracedDesc(v, tracedScale(p), GL_R16F); });
+  b.texture("indirect-diffuse", [](const ParamSet& p, const ViewState& v) { return kTracedCones.desc(p, v, GL_RGBA16F); });
+  b.texture("indirect-specular", [](const ParamSet& p, const ViewState& v) { return kTracedCones.desc(p, v, GL_RGBA16F); });
+  b.texture("ambient-occlusion", [](const ParamSet& p, const ViewState& v) { return kTracedCones.desc(p, v, GL_R16F); });
+  b.texture("soft-shadow", [](const ParamSet& p, const ViewState& v) { return kTracedCones.desc(p, v, GL_R16F); });
   b.buffer("svo-descent", [](const ParamSet&, const ViewState&) { return kDescentBytes; });
   b.buffer("svo-descent.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
 }
@@ -730,11 +723,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   const int depth = octreeDepth(ctx.params);
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
-  const int scale = tracedScale(ctx.params);
-  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, scale, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, scale, GL_RGBA16F));
-  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, scale, GL_R16F));
-  Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, scale, GL_R16F));
+  const int scale = kTracedCones.scale(ctx.params);
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  Texture& shadow = ctx.board.ensureTexture("soft-shadow", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& descent = ctx.board.ensureBuffer("svo-descent", kDescentBytes);
@@ -744,7 +737,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   descentCount.upload(&zero, 4);
   glm::ivec3 traced = indirect.desc().size;
 
-  auto pack = [](const std::vector<vct::Cone>& cones) {
+  auto pack = [](const std::vector<Cone>& cones) {
     std::vector<glm::vec4> packed;
     for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
     return packed;
@@ -760,7 +753,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
     aoCount = aoCones == "basgier-3" ? 3 : aoCones == "basgier-5" ? 5 : 8;
     aoAperture = (aoCount == 3 ? 100.0f : aoCount == 5 ? 90.0f : 60.0f) * kDegrees;
   }
-  std::vector<glm::vec4> ao4 = aoCount ? pack(vct::diffuseCones(aoCount, aoAperture, "ring", "equal"))
+  std::vector<glm::vec4> ao4 = aoCount ? pack(diffuseCones(aoCount, aoAperture, "ring", "equal"))
                                        : std::vector<glm::vec4>(1, glm::vec4(0.0f));
 
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;

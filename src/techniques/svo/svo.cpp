@@ -110,21 +110,18 @@
 namespace voxlab {
 namespace svo {
 
-// vct-grid's composite, plus svo.shading=ao: the final image is the ambient occlusion.
-class CompositeStage : public vct::CompositeStage {
+// The composite with vct-grid's terms, plus svo.shading=ao: the final image is the ambient occlusion.
+class GiOrAoCompositeStage : public CompositeStage {
  public:
-  const char* summary() const override {
-    return "Add direct light, indirect diffuse and specular and tonemap (svo.shading=gi), or show the ambient "
-           "occlusion (svo.shading=ao).";
-  }
+  GiOrAoCompositeStage() : CompositeStage(terms()) {}
   void declare(StageBuilder& b) const override {
-    vct::CompositeStage::declare(b);
+    CompositeStage::declare(b);
     b.param(ParamDesc::choice("svo.shading", {"gi", "ao"}, 0,
                               "gi: direct + indirect light; ao: the final image is the ambient occlusion (grey)"));
     b.read("ambient-occlusion");
   }
   void execute(StageContext& ctx) override {
-    vct::CompositeStage::execute(ctx);
+    CompositeStage::execute(ctx);
     if (ctx.params.getChoice("svo.shading") != "ao") return;
     GLuint program = ctx.shaders.program({"svo/ao_final.comp.glsl"});
     glUseProgram(program);
@@ -133,6 +130,14 @@ class CompositeStage : public vct::CompositeStage {
     glBindImageTexture(0, ctx.board.texture("final").id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  }
+
+ private:
+  static CompositeTerms terms() {
+    CompositeTerms t = vct::compositeTerms();
+    t.summary = "Add direct light, indirect diffuse and specular and tonemap (svo.shading=gi), or show the ambient "
+                "occlusion (svo.shading=ao).";
+    return t;
   }
 };
 
@@ -154,7 +159,7 @@ static std::unique_ptr<Technique> makeSvo() {
   t->add<svo::PickStage>();
   t->add<GBufferStage>();
   t->add<svo::ConeTraceStage>();
-  t->add<svo::CompositeStage>();
+  t->add<svo::GiOrAoCompositeStage>();
   t->setFinalOutput("composite", "final");
   return t;
 }

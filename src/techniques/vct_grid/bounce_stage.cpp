@@ -25,10 +25,10 @@
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
+#include "techniques/common/cone_layout.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
-#include "techniques/vct_grid/cone_layout.h"
 #include "techniques/vct_grid/stages.h"
 
 namespace voxlab::vct {

@@ -7,47 +7,22 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/composite_stage.h"
+#include "techniques/common/cone_layout.h"
 #include "techniques/common/cone_setup.h"
 #include "techniques/common/sky.h"
+#include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
-#include "techniques/vct_grid/cone_layout.h"
 #include "techniques/vct_grid/stages.h"
 
 namespace voxlab::vct {
-
-
-static ParamDesc traceResolutionParam() {
-  return ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
-                           "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
-                           "upsamples along surfaces)");
-}
-
-static int traceScale(const ParamSet& params) { return params.getChoice("cone.resolution") == "half" ? 2 : 1; }
-
-// Size of the traced images: the view, divided by the trace scale (rounded up).
-static TextureDesc tracedDesc(const ViewState& view, const ParamSet& params, GLenum format) {
-  int s = traceScale(params);
-  TextureDesc d;
-  d.format = format;
-  d.size = {(view.width + s - 1) / s, (view.height + s - 1) / s, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  return d;
-}
-
-static TextureDesc screenDesc(const ViewState& view, GLenum format) {
-  TextureDesc d;
-  d.format = format;
-  d.size = {view.width, view.height, 1};
-  d.minFilter = d.magFilter = GL_NEAREST;
-  return d;
-}
 
 // --- Cone tracing --------------------------------------------------------------------------------
 
 void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
+  b.param(kTracedCones.resolutionParam());
   declareConeParams(b, ConeDefaults{});  // one voxel volume's cones (cone_setup.h)
   b.param(mipmapModeParam());
   declareSky(b);
@@ -73,16 +48,16 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
                                                    {"ambient-occlusion", GL_R16F}, {"soft-shadow", GL_R16F}};
   for (const auto& [name, format] : traced)
-    b.texture(name, [format = format](const ParamSet& p, const ViewState& v) { return tracedDesc(v, p, format); });
+    kTracedCones.declareImage(b, name, format);
 }
 
 void ConeTraceStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
-  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", tracedDesc(ctx.view, ctx.params, GL_RGBA16F));
-  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", tracedDesc(ctx.view, ctx.params, GL_R16F));
-  Texture& shadow = ctx.board.ensureTexture("soft-shadow", tracedDesc(ctx.view, ctx.params, GL_R16F));
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  Texture& shadow = ctx.board.ensureTexture("soft-shadow", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& counts = ctx.board.ensureBuffer("cone-trace.counts", 20);
@@ -103,7 +78,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
 
   GLuint program = ctx.shaders.program({"vct_grid/cone_trace.comp.glsl"});
   space.setUniforms(program);
-  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), traceScale(ctx.params));
+  const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), kTracedCones.scale(ctx.params));
   const int probeX = probe.x, probeY = probe.y;
   const size_t coneCount = size_t(ctx.params.getInt("cone.count"));
 
@@ -148,58 +123,25 @@ void ConeTraceStage::execute(StageContext& ctx) {
 
 // --- Composite -----------------------------------------------------------------------------------
 
-void CompositeStage::declare(StageBuilder& b) const {
-  b.param(voxelResolutionParam());
-  b.param(traceResolutionParam());
-  b.param(ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping"));
-  b.param(ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"));
-  b.param(ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
-                          "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)"));
-  b.param(ParamDesc::choice("composite.shadow", {"shadow-map", "soft-shadow-cone"}, 0,
-                            "visibility of direct light: the shadow map, or the soft-shadow cone"));
-  declareSky(b);  // the background: pixels that see no surface show the sky
-  b.read("position");
-  b.read("normal");
-  b.read("albedo");
-  b.read("emission");
-  b.read("indirect-diffuse");
-  b.read("indirect-specular");
-  b.read("soft-shadow");
-  b.read("shadow-map");
-  b.read("light");
-  b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode =
-      "direct";
-  b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, "direct + indirect diffuse + specular, linear radiance")
-      .referenceMode = "full";
-  b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
-  const std::pair<const char*, GLenum> images[] = {{"direct", GL_RGBA16F}, {"combined", GL_RGBA16F}, {"final", GL_RGBA8}};
-  for (const auto& [name, format] : images)
-    b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return screenDesc(v, format); });
-}
-
-void CompositeStage::execute(StageContext& ctx) {
-  Texture& direct = ctx.board.ensureTexture("direct", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& combined = ctx.board.ensureTexture("combined", screenDesc(ctx.view, GL_RGBA16F));
-  Texture& final = ctx.board.ensureTexture("final", screenDesc(ctx.view, GL_RGBA8));
-  GLuint program = ctx.shaders.program({"vct_grid/composite.comp.glsl"});
-  setUniform(program, "u_shadowSource", ctx.params.getInt("composite.shadow"));
-  setUniform(program, "u_specularWeight", ctx.params.getFloat("composite.specular"));
-  setUniform(program, "u_indirectWeight", ctx.params.getFloat("composite.indirect"));
-  setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  setUniform(program, "u_traceScale", traceScale(ctx.params));
+CompositeTerms compositeTerms() {
+  CompositeTerms t;
+  t.summary = "Add direct light, indirect diffuse and indirect specular, then tonemap.";
+  t.combinedHelp = "direct + indirect diffuse + specular, linear radiance";
+  t.params = {voxelResolutionParam(), kTracedCones.resolutionParam(), compositeExposureParam(),
+              ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"),
+              ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
+                              "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal "
+                              "incidence)"),
+              ParamDesc::choice("composite.shadow", {"shadow-map", "soft-shadow-cone"}, 0,
+                                "visibility of direct light: the shadow map, or the soft-shadow cone")};
+  t.indirect = {{"indirect-diffuse", "composite.indirect"}, {"indirect-specular", "composite.specular"}};
+  t.visibility = CompositeVisibility{"composite.shadow", "soft-shadow-cone", "soft-shadow"};
+  t.traced = kTracedCones;
   // Samples more than two voxels off the pixel's plane belong to another surface.
-  setUniform(program, "u_edgeDistance", 2.0f * VoxelSpace::fromScene(ctx.scene, ctx.params.getInt("voxel.resolution")).voxelSize);
-  glUseProgram(program);
-  const char* inputs[] = {"position", "normal", "albedo", "emission", "indirect-diffuse", "indirect-specular",
-                          "soft-shadow", "shadow-map"};
-  for (int i = 0; i < 8; ++i) glBindTextureUnit(1 + i, ctx.board.texture(inputs[i]).id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
-  glBindImageTexture(0, direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(1, combined.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(2, final.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  t.planeDistance = [](const ParamSet& p, const Scene& scene) {
+    return 2.0f * VoxelSpace::fromScene(scene, p.getInt("voxel.resolution")).voxelSize;
+  };
+  return t;
 }
 
 }  // namespace voxlab::vct

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "graph/stage.h"
+#include "techniques/common/composite_stage.h"
 
 namespace voxlab::vct {
 
@@ -116,15 +117,7 @@ class ConeTraceStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
-class CompositeStage : public Stage {
- public:
-  const char* id() const override { return "composite"; }
-  const char* title() const override { return "Composite the final image"; }
-  const char* summary() const override {
-    return "Add direct light, indirect diffuse and indirect specular, then tonemap.";
-  }
-  void declare(StageBuilder& b) const override;
-  void execute(StageContext& ctx) override;
-};
+// The terms of this technique's composite (techniques/common/composite_stage.h).
+CompositeTerms compositeTerms();
 
 }  // namespace voxlab::vct

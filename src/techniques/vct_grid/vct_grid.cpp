@@ -25,7 +25,7 @@
 //   - Units: metres and the radiometric units of src/scene/light_model.h. The grids store outgoing
 //     radiance as RGBA8 clamped to [0,1] by default; voxel.format=rgba16f keeps up to 64 (the
 //     Cornell blocks' tops under the spot reach 4.6: what the clamp costs is in docs/fidelity.md).
-//   - Diffuse cone weights sum to 1 (cone_layout.h), so under uniform incoming radiance L the
+//   - Diffuse cone weights sum to 1 (common/cone_layout.h), so under uniform incoming radiance L the
 //     indirect diffuse term is exactly albedo * L: the white-furnace test in tests/ checks it.
 //     (The 0.707-style weights in seed 000 and the blog's unweighted sum do not sum to 1.)
 //   - Steps are half the sample diameter with opacity correction a' = 1 - (1 - a)^(step/diameter).
@@ -63,7 +63,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
   t->add<vct::BounceStage>();
   t->add<GBufferStage>();
   t->add<vct::ConeTraceStage>();
-  t->add<vct::CompositeStage>();
+  t->add<CompositeStage>(vct::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
 }

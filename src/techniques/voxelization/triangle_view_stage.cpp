@@ -1,7 +1,7 @@
 // The triangle-view stage of the voxelization technique: one chosen triangle seen along its
 // dominant axis, at the voxel resolution, showing what conservative rasterization adds.
 //
-// Drawn on the CPU from the same rules the raster pass uses (shaders/vct_grid/voxelize.geom.glsl):
+// Drawn on the CPU from the same rules the raster pass uses (shaders/common/voxelize.geom.glsl):
 // the projection plane of the dominant axis, the triangle grown by moving each edge out by half the
 // pixel's extent along its normal (Hasselgren et al. 2005), and the bounding box grown by half a
 // pixel that the fragment shader discards against. Pixels (voxel columns) are coloured:

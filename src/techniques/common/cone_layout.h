@@ -18,7 +18,7 @@
 
 #include <glm/glm.hpp>
 
-namespace voxlab::vct {
+namespace voxlab {
 
 struct Cone {
   glm::vec3 direction;  // unit, tangent space
@@ -28,4 +28,4 @@ struct Cone {
 std::vector<Cone> diffuseCones(int count, float apertureRadians, const std::string& layout,
                                const std::string& weighting);
 
-}  // namespace voxlab::vct
+}  // namespace voxlab

@@ -24,7 +24,7 @@
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
-#include "voxelization/scene_triangles.glsl"
+#include "common/scene_triangles.glsl"
 #include "common/alpha_coverage.glsl"
 
 layout(local_size_x = 64) in;

@@ -1,9 +1,9 @@
-#include "techniques/vct_grid/cone_layout.h"
+#include "techniques/common/cone_layout.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace voxlab::vct {
+namespace voxlab {
 
 std::vector<Cone> diffuseCones(int count, float aperture, const std::string& layout, const std::string& weighting) {
   const float pi = 3.14159265358979f;
@@ -32,4 +32,4 @@ std::vector<Cone> diffuseCones(int count, float aperture, const std::string& lay
   return cones;
 }
 
-}  // namespace voxlab::vct
+}  // namespace voxlab

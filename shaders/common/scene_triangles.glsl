@@ -9,7 +9,7 @@ vec3 scenePosition(uint v) { return vec3(sceneVertices[8u * v], sceneVertices[8u
 vec2 sceneUv(uint v) { return vec2(sceneVertices[8u * v + 6u], sceneVertices[8u * v + 7u]); }
 vec3 sceneNormal(uint v) { return vec3(sceneVertices[8u * v + 3u], sceneVertices[8u * v + 4u], sceneVertices[8u * v + 5u]); }
 
-// Dominant axis of a plane normal: 0 = x, 1 = y, 2 = z (ties as in vct_grid/voxelize.geom.glsl).
+// Dominant axis of a plane normal: 0 = x, 1 = y, 2 = z (ties as in common/voxelize.geom.glsl).
 int dominantAxis(vec3 n) {
   vec3 an = abs(n);
   return (an.x >= an.y && an.x >= an.z) ? 0 : (an.y >= an.z ? 1 : 2);

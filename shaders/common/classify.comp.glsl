@@ -6,7 +6,7 @@
 // (Rauwendaal & Bailey 2013; seed 002 chapter 3).
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
-#include "voxelization/scene_triangles.glsl"
+#include "common/scene_triangles.glsl"
 
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) buffer TriangleInfo { uint triangleInfo[]; };

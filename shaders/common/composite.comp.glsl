@@ -1,0 +1,62 @@
+#version 450
+// The composite every technique ends with (src/techniques/common/composite_stage.h): direct light
+// (Lambert, shadowed by the shadow map or by a traced visibility image) + emission, plus each
+// indirect term times its weight, in linear radiance ("combined"), then exposure and the Reinhard
+// operator x / (1 + x) per channel ("final", linear; PNGs are sRGB-encoded on export). Traced
+// images are upsampled along surfaces (common/upsample.glsl); a term of scale 1 is read one texel
+// per pixel. A pixel that sees no surface shows the sky (common/sky.glsl; 0 without one).
+#include "common/shared.h"
+#include "common/lights.glsl"
+#include "common/upsample.glsl"
+#include "common/sky.glsl"
+
+#define COMPOSITE_MAX_TERMS 4  // kMaxCompositeTerms in src/techniques/common/composite_stage.h
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 1) uniform sampler2D u_position;
+layout(binding = 2) uniform sampler2D u_normal;
+layout(binding = 3) uniform sampler2D u_albedo;
+layout(binding = 4) uniform sampler2D u_emission;
+layout(binding = 5) uniform sampler2D u_shadowMap;
+layout(binding = 6) uniform sampler2D u_visibility;  // traced, read when u_tracedVisibility = 1
+layout(binding = 7) uniform sampler2D u_terms[COMPOSITE_MAX_TERMS];
+layout(rgba16f, binding = 0) uniform writeonly image2D u_direct;
+layout(rgba16f, binding = 1) uniform writeonly image2D u_combined;
+layout(rgba8, binding = 2) uniform writeonly image2D u_final;
+uniform int u_traceScale;       // G-buffer pixels per traced pixel along each axis (1 or 2)
+uniform float u_planeDistance;  // metres: traced pixels farther than this from the pixel's plane get no weight
+uniform int u_tracedVisibility; // 0: the shadow map, 1: u_visibility's red channel
+uniform int u_termCount;
+uniform float u_termWeight[COMPOSITE_MAX_TERMS];
+uniform int u_termScale[COMPOSITE_MAX_TERMS];  // G-buffer pixels per texel of each term: u_traceScale or 1
+uniform float u_exposure;
+const float PI = 3.14159265358979;
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = textureSize(u_position, 0);
+  if (any(greaterThanEqual(px, size))) return;
+  vec4 pos = texelFetch(u_position, px, 0);
+  vec3 direct = skyBackground(), combined = direct;
+  if (pos.w != 0.0) {
+    vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
+    vec3 albedo = texelFetch(u_albedo, px, 0).rgb;
+    vec3 toLight; float dist;
+    lightDirection(pos.xyz, toLight, dist);
+    float visibility = u_tracedVisibility == 1
+                           ? upsampleAlongSurface(u_visibility, u_position, u_normal, px, pos.xyz, n, u_traceScale,
+                                                  u_planeDistance).r
+                           : shadowVisibility(u_shadowMap, pos.xyz, n);
+    direct = albedo / PI * lightIrradiance(pos.xyz) * max(dot(n, toLight), 0.0) * visibility
+           + texelFetch(u_emission, px, 0).rgb;
+    combined = direct;
+    for (int i = 0; i < COMPOSITE_MAX_TERMS; ++i)
+      if (i < u_termCount)
+        combined += u_termWeight[i] * upsampleAlongSurface(u_terms[i], u_position, u_normal, px, pos.xyz, n,
+                                                           u_termScale[i], u_planeDistance).rgb;
+  }
+  vec3 mapped = u_exposure * combined;
+  imageStore(u_direct, px, vec4(direct, 1.0));
+  imageStore(u_combined, px, vec4(combined, 1.0));
+  imageStore(u_final, px, vec4(mapped / (1.0 + mapped), 1.0));
+}

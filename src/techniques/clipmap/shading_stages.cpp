@@ -1,0 +1,151 @@
+// The screen-space stages of the clipmap: cone tracing and compositing (see clipmap.cpp for the
+// overview).
+#include "techniques/clipmap/stages.h"
+#include "techniques/clipmap/stage_helpers.h"
+
+#include "common/shared.h"
+#include "gpu/shader_library.h"
+#include "scene/scene.h"
+#include "techniques/common/composite_stage.h"
+#include "techniques/common/cone_layout.h"
+#include "techniques/common/cone_setup.h"
+#include "techniques/common/sky.h"
+#include "techniques/common/traced_image.h"
+
+namespace voxlab::clipmap {
+
+// --- Cone tracing ---------------------------------------------------------------------------------
+
+// Distances in the coarsest level's edge, the start offset in voxels of the finest level there;
+// no soft-shadow cone.
+static ConeDefaults coneDefaults() {
+  ConeDefaults d;
+  d.aperture = 60.0;
+  d.apertureHelp = "full opening angle of each diffuse cone";
+  d.startOffsetHelp = "cones start this far from the surface along its normal, in voxels of the finest level there";
+  d.lodBiasHelp = "level = log2(diameter / s_0) + bias, at least the finest level holding the sample";
+  d.maxDistance = 0.5;
+  d.maxDistanceLimit = 1.0;
+  d.maxDistanceHelp = "longest cone, as a fraction of the coarsest level's edge";
+  d.aoRange = 0.125;
+  d.aoRangeLimit = 1.0;
+  d.aoRangeHelp = "ambient occlusion counts occluders up to this distance, as a fraction of the coarsest level's edge";
+  d.softShadowCone = false;
+  return d;
+}
+
+// The transition band: within this many cells of the border of the finest level that holds a
+// sample, the level read ramps up to the next level, so a sample crossing the border changes
+// level continuously instead of jumping (0: off, the finest level's whole region is used).
+static ParamDesc levelBandParam() {
+  return ParamDesc::real("clipmap.transition-band", 0.0, 0.0, 8.0,
+                         "within this many cells of the border of the finest level holding a sample, the level read "
+                         "ramps linearly to the next level (0 = off)",
+                         "cells");
+}
+
+void ConeTraceStage::declare(StageBuilder& b) const {
+  for (const auto& p : layoutParams()) b.param(p);
+  for (const auto& p : pathParams()) b.param(p);
+  b.param(levelBandParam());
+  b.param(kTracedCones.resolutionParam());
+  declareConeParams(b, coneDefaults());
+  declareSky(b);
+  b.readView();
+  b.read("clip-atlas");
+  b.read("clip-mips");
+  b.read("position");
+  b.read("normal");
+  b.read("albedo");
+  b.read("light");
+  b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
+           "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones")
+      .referenceMode = "indirect-1";
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
+           "cosine-weighted visible fraction within ao.range (1 = open)");
+  b.output("level-used", OutputKind::Image2D, Semantic::Scalar,
+           "per pixel, the finest clip level whose region holds the surface point (-1: outside every level, or sky)");
+  coneSamplesOutput(b, "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
+                       "cone/distance/level read (floor: the finer level, fraction: the next level's weight)/alpha");
+  const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
+                                                   {"ambient-occlusion", GL_R16F}, {"level-used", GL_R16F}};
+  for (const auto& [name, format] : traced)
+    kTracedCones.declareImage(b, name, format);
+}
+
+void ConeTraceStage::execute(StageContext& ctx) {
+  const Layout layout = layoutOf(ctx.params, ctx.scene);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto& origins = path.back().origins;
+  Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  Texture& level = ctx.board.ensureTexture("level-used", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
+  Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
+  const uint32_t zero = 0;
+  sampleCount.upload(&zero, 4);
+
+  GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"});
+  setClipUniforms(program, layout, origins);
+  std::vector<glm::vec3> mins(kMaxLevels, glm::vec3(0.0f)), offsets(kMaxLevels, glm::vec3(0.0f));
+  for (int k = 0; k < layout.levels; ++k) {
+    mins[size_t(k)] = glm::vec3(glm::dvec3(origins[size_t(k)]) * layout.voxelSize(k));
+    offsets[size_t(k)] = glm::vec3(toroidal(origins[size_t(k)], layout.n));
+  }
+  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelMin"), kMaxLevels, &mins[0].x);
+  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelToroidal"), kMaxLevels, &offsets[0].x);
+  const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
+  setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
+  setUniform(program, "u_faces", facesOf(ctx.params));
+  setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
+  setUniform(program, "u_mipLevels", mipCount(layout.n));
+  const glm::ivec3 traced = indirect.desc().size;
+  // The start offset is in voxels of the finest level holding the surface (the shader scales it).
+  // The camera at the end of the path (the G-buffer's), for the specular cone's view direction.
+  const glm::ivec2 probe = setConeUniforms(program, ctx.params, pathEndView(ctx.params, ctx.view), 1.0f, coarsestEdge,
+                                           glm::ivec2(traced), kTracedCones.scale(ctx.params));
+  setSkyUniforms(program, ctx.params, ctx.scene);
+  glUseProgram(program);
+  glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
+  glBindTextureUnit(4, ctx.board.texture("clip-mips").id());
+  glBindTextureUnit(1, ctx.board.texture("position").id());
+  glBindTextureUnit(2, ctx.board.texture("normal").id());
+  glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
+  glBindImageTexture(0, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(3, level.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  ctx.stats["diffuse_cones"] = double(ctx.params.getInt("cone.count"));
+  ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
+  ctx.stats["probe_x"] = probe.x;
+  ctx.stats["probe_y_from_top"] = traced.y - 1 - probe.y;
+}
+
+// --- Composite ------------------------------------------------------------------------------------
+
+CompositeTerms compositeTerms() {
+  CompositeTerms t;
+  t.summary = "Add direct light, indirect diffuse and indirect specular, then tonemap.";
+  t.combinedHelp = "direct + indirect diffuse + specular, linear radiance";
+  t.params = layoutParams();
+  for (const ParamDesc& p :
+       {kTracedCones.resolutionParam(), compositeExposureParam(),
+        ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"),
+        ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
+                        "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)")})
+    t.params.push_back(p);
+  t.indirect = {{"indirect-diffuse", "composite.indirect"}, {"indirect-specular", "composite.specular"}};
+  t.traced = kTracedCones;
+  // Samples more than two level-0 voxels off the pixel's plane belong to another surface.
+  t.planeDistance = [](const ParamSet& p, const Scene& scene) { return float(2.0 * layoutOf(p, scene).voxelSize0); };
+  return t;
+}
+
+}  // namespace voxlab::clipmap
