@@ -16,7 +16,7 @@
 
 #include "app/bench_runs.h"
 #include "app/command.h"
-#include "app/session.h"
+#include "run/session.h"
 #include "core/args.h"
 #include "core/error.h"
 

@@ -20,8 +20,8 @@
 
 #include "app/bench_runs.h"
 #include "app/command.h"
-#include "app/reference_error.h"
-#include "app/session.h"
+#include "run/reference_error.h"
+#include "run/session.h"
 #include "capture/capture.h"
 #include "capture/image_files.h"
 #include "core/args.h"
@@ -29,8 +29,8 @@
 #include "core/paths.h"
 #include "graph/reference_mode.h"
 #include "graph/technique.h"
-#include "lesson/handout.h"
-#include "lesson/step_picture.h"
+#include "handout/handout.h"
+#include "handout/step_picture.h"
 #include "reference/path_tracer.h"
 #include "scene/scene.h"
 

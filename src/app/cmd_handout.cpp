@@ -1,4 +1,4 @@
-// voxlab handout: lessons as HTML handouts with the picture of every step (lesson/handout.h).
+// voxlab handout: lessons as HTML handouts with the picture of every step (handout/handout.h).
 #include <unistd.h>
 
 #include <chrono>
@@ -9,8 +9,8 @@
 #include "core/args.h"
 #include "core/error.h"
 #include "core/paths.h"
-#include "lesson/handout.h"
-#include "lesson/step_picture.h"
+#include "handout/handout.h"
+#include "handout/step_picture.h"
 
 namespace voxlab {
 namespace {

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "app/command.h"
-#include "app/session.h"
+#include "run/session.h"
 #include "core/args.h"
 #include "core/error.h"
 #include "graph/output.h"

@@ -72,50 +72,18 @@ void Viewer::updateOverlay() {
     return std::to_string(generation) + "|" + volume + "|" + std::to_string(overlayLevel) + "|" + std::to_string(o.voxels);
   };
   if (contentKey() != overlayContentKey) {
-    overlayMsg.clear();
-    std::vector<ViewInstance> cubes;
-    std::optional<WorldBox> box = cursor->board().voxelSpace();
-    if (!volume.empty()) {
-      try {
-        size_t slash = volume.find('/');
-        auto [stage, desc] = t.findOutput(volume.substr(0, slash), volume.substr(slash + 1));
-        (void)stage;
-        if (auto placed = cursor->board().placementOf(desc->resourceName())) box = placed;
-        CapturedOutput c;
-        if (o.voxels) c = captureOutput(cursor->board(), *desc);
-        if (o.voxels && !c.levels.empty()) {
-          int level = overlayLevel;
-          if (level < 0) {  // the finest level with at most 32 texels per axis: blocks large enough to see
-            level = 0;
-            while (level + 1 < int(c.levels.size()) && c.levels[level].size.x > 32) ++level;
-          }
-          level = std::clamp(level, 0, int(c.levels.size()) - 1);
-          overlayLevel = level;
-          overlayLevelCount = int(c.levels.size());
-          const LevelData& L = c.levels[level];
-          if (!c.world) {
-            overlayMsg = volume + " has no world placement (Blackboard::place); showing nothing";
-          } else {
-            VolumeRGBA v = mapVolume(L, desc->semantic, DisplaySettings{});
-            size_t candidates = 0;
-            cubes = volumeCubes(v, c.world->lo, (c.world->hi - c.world->lo) / glm::vec3(L.size), View3D::kCubeLimit,
-                                candidates);
-            char buf[200];
-            if (cubes.empty() && candidates > 0)
-              std::snprintf(buf, sizeof buf, "%zu voxels at level %d, over the limit of %zu: pick a coarser level",
-                            candidates, level, View3D::kCubeLimit);
-            else
-              std::snprintf(buf, sizeof buf, "%s level %d (%dx%dx%d): %zu voxels", volume.c_str(), level, L.size.x,
-                            L.size.y, L.size.z, candidates);
-            overlayMsg = buf;
-          }
-        }
-      } catch (const Error& e) {
-        overlayMsg = e.what();
-      }
+    OverlayContent content;
+    try {
+      content = overlayContent(*cursor, volume, overlayLevel, o.voxels);
+      if (content.levelCount > 0) overlayLevel = content.level, overlayLevelCount = content.levelCount;
+    } catch (const Error& e) {
+      content = OverlayContent{};
+      content.box = cursor->board().voxelSpace();
+      content.message = e.what();
     }
-    overlay->setCubes(cubes);
-    overlay->setBox(box);
+    overlayMsg = content.message;
+    overlay->setCubes(content.cubes);
+    overlay->setBox(content.box);
     overlayContentKey = contentKey();  // with the resolved level, so the next frame matches
     overlayKey.clear();
   }

@@ -225,19 +225,11 @@ DisplayImage Viewer::viewportImage() const {
   }
   img.width = viewImage.width;
   img.height = viewImage.height;
-  std::vector<uint8_t> over;
-  if (overlay && !overlayKey.empty() && isCameraImage(selected, cap)) over = overlay->readPixels();
-  const bool blend = over.size() == size_t(img.width) * img.height * 4;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const uint8_t* p = &viewImage.rgba[(size_t(y) * img.width + x) * 4];
-      const uint8_t* o = blend ? &over[(size_t(img.height - 1 - y) * img.width + x) * 4] : nullptr;
-      for (int c = 0; c < 3; ++c) {
-        float v = p[c];
-        if (o) v = v + (o[c] - v) * (o[3] / 255.0f);  // as ImGui draws it: source alpha over the image
-        img.rgb.push_back(uint8_t(std::lround(v)));
-      }
-    }
+  img.rgb.reserve(size_t(img.width) * img.height * 3);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i)
+    img.rgb.insert(img.rgb.end(), &viewImage.rgba[i * 4], &viewImage.rgba[i * 4] + 3);
+  // The overlay as ImGui draws it over the image (the handout's step pictures blend the same way).
+  if (overlay && !overlayKey.empty() && isCameraImage(selected, cap)) blendOverlay(img, overlay->readPixels());
   return img;
 }
 

@@ -1,8 +1,12 @@
 #include "inspect/scene_overlay.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 
 #include "gpu/shader_library.h"
+#include "graph/step_cursor.h"
 #include "scene/gpu_scene.h"
 
 namespace voxlab {
@@ -105,6 +109,62 @@ size_t SceneOverlay::coveredPixels() const {
   size_t n = 0;
   for (size_t i = 3; i < px.size(); i += 4) n += px[i] != 0;
   return n;
+}
+
+bool isCameraImage(const StepCursor& cursor, int stage, const CapturedOutput& c) {
+  if (c.desc.kind != OutputKind::Image2D || c.levels.empty()) return false;
+  if (!cursor.technique().dependsOnView(stage)) return false;
+  return c.levels[0].size.x == cursor.view().width && c.levels[0].size.y == cursor.view().height;
+}
+
+OverlayContent overlayContent(StepCursor& cursor, const std::string& volume, int level, bool voxels) {
+  OverlayContent r;
+  r.box = cursor.board().voxelSpace();
+  if (volume.empty()) return r;
+  const Technique& t = cursor.technique();
+  size_t slash = volume.find('/');
+  auto [stage, desc] = t.findOutput(volume.substr(0, slash), volume.substr(slash + 1));
+  (void)stage;
+  if (auto placed = cursor.board().placementOf(desc->resourceName())) r.box = placed;
+  if (!voxels) return r;
+  CapturedOutput c = captureOutput(cursor.board(), *desc);
+  if (c.levels.empty()) return r;
+  if (level < 0) {  // the finest level with at most 32 texels per axis: blocks large enough to see
+    level = 0;
+    while (level + 1 < int(c.levels.size()) && c.levels[level].size.x > 32) ++level;
+  }
+  r.level = std::clamp(level, 0, int(c.levels.size()) - 1);
+  r.levelCount = int(c.levels.size());
+  const LevelData& L = c.levels[r.level];
+  if (!c.world) {
+    r.message = volume + " has no world placement (Blackboard::place); showing nothing";
+    return r;
+  }
+  VolumeRGBA v = mapVolume(L, desc->semantic, DisplaySettings{});
+  size_t candidates = 0;
+  r.cubes = volumeCubes(v, c.world->lo, (c.world->hi - c.world->lo) / glm::vec3(L.size), View3D::kCubeLimit, candidates);
+  char buf[200];
+  if (r.cubes.empty() && candidates > 0)
+    std::snprintf(buf, sizeof buf, "%zu voxels at level %d, over the limit of %zu: pick a coarser level", candidates,
+                  r.level, View3D::kCubeLimit);
+  else
+    std::snprintf(buf, sizeof buf, "%s level %d (%dx%dx%d): %zu voxels", volume.c_str(), r.level, L.size.x, L.size.y,
+                  L.size.z, candidates);
+  r.message = buf;
+  return r;
+}
+
+void blendOverlay(DisplayImage& image, const std::vector<uint8_t>& over) {
+  if (over.size() != size_t(image.width) * image.height * 4) return;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* o = &over[(size_t(image.height - 1 - y) * image.width + x) * 4];
+      uint8_t* p = &image.rgb[(size_t(y) * image.width + x) * 3];
+      for (int c = 0; c < 3; ++c) {
+        float v = p[c];
+        p[c] = uint8_t(std::lround(v + (o[c] - v) * (o[3] / 255.0f)));
+      }
+    }
 }
 
 }  // namespace voxlab

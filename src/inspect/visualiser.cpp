@@ -35,6 +35,34 @@ bool registerVisualiser(OutputKind kind, const char* semantic, std::unique_ptr<V
   return true;
 }
 
+std::vector<SemanticUse> registeredVisualiserSemantics() {
+  std::vector<SemanticUse> uses;
+  for (const auto& [key, v] : visualisers())
+    if (!key.second.empty()) uses.push_back({OutputKind(key.first), key.second, v->name()});
+  return uses;
+}
+
+std::vector<std::string> semanticMismatches(const std::vector<SemanticUse>& declared,
+                                            const std::vector<SemanticUse>& registered) {
+  std::vector<std::string> problems;
+  auto same = [](const SemanticUse& a, const SemanticUse& b) { return a.kind == b.kind && a.semantic == b.semantic; };
+  for (const SemanticUse& r : registered)
+    if (std::none_of(declared.begin(), declared.end(), [&](const SemanticUse& d) { return same(d, r); }))
+      problems.push_back(std::string("visualiser ") + r.where + " is registered for " + kindName(r.kind) +
+                         " outputs of semantic \"" + r.semantic + "\", which no output declares");
+  for (const SemanticUse& d : declared) {
+    if (std::any_of(registered.begin(), registered.end(), [&](const SemanticUse& r) { return same(d, r); })) continue;
+    for (const SemanticUse& r : registered)
+      if (r.semantic == d.semantic) {
+        problems.push_back("output " + d.where + " (" + kindName(d.kind) + ", semantic \"" + d.semantic +
+                           "\") gets the generic view: its visualiser " + r.where + " shows " + kindName(r.kind) +
+                           " outputs");
+        break;
+      }
+  }
+  return problems;
+}
+
 void Visualiser::drawRecordView(const VisualiserContext& ctx) const {
   ImGui::Text("%u records", ctx.out.recordCount);
   drawRecordsTable("probe-records", ctx.records, 240.0f);

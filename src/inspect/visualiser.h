@@ -1,6 +1,9 @@
-// Visualiser: how one kind of data is shown and saved. One file per visualiser under
-// src/inspect/visualisers/, registered with VOXLAB_REGISTER_VISUALISER by output kind and semantic
-// (or by kind alone, the fallback for every semantic without its own). A visualiser is an
+// Visualiser: how one kind of data is shown and saved. One file per visualiser: the generic ones
+// (images, volumes, buffers, points, cone samples) under src/inspect/visualisers/, those of one
+// technique's semantics beside it under src/techniques/<technique>/views/ (which its stages never
+// include). Each is registered with VOXLAB_REGISTER_VISUALISER by output kind and semantic, the
+// semantic being the constant the technique's output declaration names (or by kind alone, the
+// fallback for every semantic without its own). A visualiser is an
 // OutputHandler (capture/output_handler.h: the files `voxlab run` writes, statistics, the golden
 // tier and comparison, used headless) plus the viewer's views of it:
 //   2D view      the image the view panel shows, the element under the cursor and its value
@@ -13,6 +16,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
@@ -103,6 +107,21 @@ inline const Visualiser& visualiserFor(const OutputDesc& d) { return visualiserF
 bool registerVisualiser(OutputKind kind, const char* semantic, std::unique_ptr<Visualiser> visualiser);
 
 inline constexpr const char* kAnySemantic = nullptr;
+
+// A semantic a visualiser is registered for, or one an output declares, with its output kind.
+struct SemanticUse {
+  OutputKind kind = OutputKind::Image2D;
+  std::string semantic;
+  std::string where;  // who: "technique/stage/output" for a declaration, the visualiser's name()
+};
+// The (kind, semantic) of every visualiser registered for a semantic (the kinds' fallbacks left out).
+std::vector<SemanticUse> registeredVisualiserSemantics();
+// One line for each registered visualiser that no declared output of its kind and semantic reaches
+// (a misspelt semantic, a view left behind by a renamed output, a view for the wrong kind), and for
+// each declared output whose semantic has a visualiser for another kind only (it gets the generic
+// view of its own kind). Empty when every registered view is reached.
+std::vector<std::string> semanticMismatches(const std::vector<SemanticUse>& declared,
+                                            const std::vector<SemanticUse>& registered);
 
 #define VOXLAB_VISUALISER_CAT2(a, b) a##b
 #define VOXLAB_VISUALISER_CAT(a, b) VOXLAB_VISUALISER_CAT2(a, b)

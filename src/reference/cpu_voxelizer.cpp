@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "scene/alpha_coverage.h"
-#include "techniques/common/voxel_space.h"
+#include "scene/voxel_space.h"
 
 namespace voxlab {
 

@@ -1,4 +1,4 @@
-# Handouts and the gallery (src/lesson/handout.h, src/app/cmd_handout.cpp, src/app/cmd_gallery.cpp).
+# Handouts and the gallery (src/handout/handout.h, src/app/cmd_handout.cpp, src/app/cmd_gallery.cpp).
 #
 # handout.browser: every lesson to HTML at reduced picture size, then headless Chromium checks the
 # index and the first handout (tests/cli/handout/browser_check.sh; skipped only without chromium).

@@ -11,7 +11,7 @@ voxlab_cli_case(volumetric_lesson_check_ok 0 "^$"
   "lesson --check @ROOT@/lessons/03-volumetric-light.md")
 
 # The ray record as the generic probe shows it: a click sets probe.x/probe.y, the march re-runs
-# and the record is checked by its visualiser (src/inspect/visualisers/volumetric_ray.cpp).
+# and the record is checked by its visualiser (src/techniques/volumetric/views/volumetric_ray.cpp).
 add_test(NAME viewer.probe_volumetric
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/probe_volumetric.txt ${CMAKE_BINARY_DIR}/viewer-out/probe_volumetric)

@@ -31,7 +31,7 @@
 #include <set>
 
 #include "app/bench_runs.h"
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "reference/cpu_voxelizer.h"
 #include "scene/scene.h"
 #include "capture/capture.h"

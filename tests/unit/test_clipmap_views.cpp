@@ -1,4 +1,4 @@
-// The clip-atlas view (src/inspect/visualisers/clip_atlas.cpp): its unrolled slices equal the
+// The clip-atlas view (src/techniques/clipmap/views/clip_atlas.cpp): its unrolled slices equal the
 // GPU's unrolled levels (clip-logical, written through the GLSL toroidal address) and its
 // physical slices the atlas as stored; between two runs a move apart, a physical slice changes
 // only at texels whose world cells (by the C++ inverse address) the move planned; the view finds
@@ -14,7 +14,7 @@
 
 #include "common/shared.h"
 #include "inspect/visualiser.h"
-#include "inspect/visualisers/clip_atlas.h"
+#include "techniques/clipmap/views/clip_atlas.h"
 #include "techniques/clipmap/clipmap_math.h"
 #include "techniques/clipmap/stages.h"
 #include "test_support.h"

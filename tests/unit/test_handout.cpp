@@ -4,8 +4,8 @@
 
 #include "capture/capture.h"
 #include "core/paths.h"
-#include "lesson/handout.h"
-#include "lesson/step_picture.h"
+#include "handout/handout.h"
+#include "handout/step_picture.h"
 
 namespace voxlab {
 namespace {

@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "graph/technique.h"
-#include "app/session.h"
+#include "run/session.h"
 #include "inspect/inspect_logic.h"
 #include "inspect/visualisers/cone_samples.h"
 #include "lesson/lesson.h"

@@ -1114,7 +1114,7 @@ TEST(LpvInjection, PerFragmentLightsOnlyTheLitFragmentsOfACell) {
   EXPECT_GT(std::abs(perCell - perFragment), 0.01 * perFragment);
 }
 
-// --- Visualisers (src/inspect/visualisers/sh_volume.cpp, lpv_energy.cpp, lpv_cascades.cpp) -------
+// --- Visualisers (src/techniques/lpv/views/sh_volume.cpp, lpv_energy.cpp, lpv_cascades.cpp) -------
 
 TEST(LpvVisualisers, ShVolumeStatisticsAndLogScale) {
   auto& s = session(request({"voxel.resolution=64", "lpv.resolution=16", "lpv.steps=2", "inject.source=point-vpl",
@@ -1178,7 +1178,7 @@ TEST(LpvVisualisers, EnergyPlotShowsTheClampedFirstStep) {
   if (png) std::fclose(png);
 }
 
-// The occlusion view (propagate/occlusion-fine, src/inspect/visualisers/lpv_occlusion.cpp): a
+// The occlusion view (propagate/occlusion-fine, src/techniques/lpv/views/lpv_occlusion.cpp): a
 // floor cell of the Cornell box (one stored normal, +y) blocks light travelling through it head on
 // by 1 - A (0.25 + 0.5) = 0.25 passing at A = 1, light along the floor by 1 - 0.25 = 0.75; the
 // thesis' one-sided rule blocks only light travelling along the normal; none blocks nothing.
@@ -1232,7 +1232,7 @@ TEST(LpvVisualisers, OcclusionViewShowsWhatBlocksEachDirection) {
   }
 }
 
-// The picked cell's record (propagate/probe-cell, src/inspect/visualisers/lpv_probe.cpp): with a
+// The picked cell's record (propagate/probe-cell, src/techniques/lpv/views/lpv_probe.cpp): with a
 // +z point VPL in the picked cell, after the first step the cell still holds its lobe (nothing
 // returns in one step): c00 0.886, c10 1.023, |b|/c00 2/sqrt 3; the glyph of the xz plane is a
 // cosine lobe: orange along +z, blue (the L1 back lobe, -0.25 of the +0.75 peak) along -z.

@@ -20,7 +20,7 @@
 #include <map>
 #include <set>
 
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "graph/resource_budget.h"
 #include "graph/technique.h"
 #include "reference/path_tracer.h"

@@ -31,7 +31,7 @@
 #include "graph/reference_mode.h"
 #include "inspect/visualiser.h"
 #include "common/shared.h"
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "core/paths.h"
 #include "gpu/shader_library.h"
 #include "near_field/near_field_shared.h"

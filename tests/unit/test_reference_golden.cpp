@@ -11,7 +11,7 @@
 #include <map>
 #include <string>
 
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "core/paths.h"
 #include "reference/image_io.h"
 #include "reference/path_tracer.h"
@@ -234,7 +234,7 @@ TEST(ReferenceGoldenConsistency, ARenderedSmallReferenceMatchesTheStoredOne) {
 }  // namespace
 }  // namespace voxlab
 
-// `voxlab run`'s comparison (app/reference_error.h) on a capture made from the reference itself:
+// `voxlab run`'s comparison (run/reference_error.h) on a capture made from the reference itself:
 // the error is zero, a half-resolution capture is compared with the box-filtered reference, and a
 // size that does not divide the reference's, another camera or an untagged output are not compared.
 namespace voxlab {

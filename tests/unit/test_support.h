@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "app/session.h"
+#include "run/session.h"
 #include "capture/capture.h"
 
 namespace voxlab::testing_support {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "graph/technique.h"

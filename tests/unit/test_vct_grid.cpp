@@ -208,7 +208,7 @@ TEST(VctGridMipmap, MaxOpacityTexelsTakeTheMostOpaqueAxis) {
   }
 }
 
-// Anisotropic mips against a CPU reference of the rule (Crassin et al.; docs/architecture.md): the
+// Anisotropic mips against a CPU reference of the rule (Crassin et al.; docs/techniques.md): the
 // volume for travel direction +x at level l+1 composites each pair of children along x front to
 // back (the smaller x in front: c = c0 + (1 - a0) c1, the same for alpha), then averages the four
 // pairs; -x puts the larger x in front; level 0 of every direction is built from the isotropic

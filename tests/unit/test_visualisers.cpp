@@ -1,6 +1,10 @@
 // The visualiser registry and the probe declarations, without a window: lookup by (kind, semantic)
 // with the fallback by kind, the tier the snapshot suite uses, texel mappings, and the checks
 // Technique::validate makes on probes.
+#include <set>
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "capture/output_handler.h"
@@ -30,6 +34,53 @@ TEST(Visualisers, LookedUpBySemanticThenByKind) {
   // The headless registry holds the same objects.
   EXPECT_EQ(static_cast<const OutputHandler*>(&visualiserFor(OutputKind::Buffer, Semantic::ConeSamples)),
             &outputHandler(OutputKind::Buffer, Semantic::ConeSamples));
+}
+
+// Every output every registered technique declares, as (kind, semantic, "technique/stage/output").
+std::vector<SemanticUse> declaredOutputSemantics() {
+  std::vector<SemanticUse> uses;
+  for (const auto& entry : techniqueRegistry()) {
+    auto t = entry.create();
+    for (int i = 0; i < t->stageCount(); ++i)
+      for (const auto& o : t->decl(i).outputs)
+        uses.push_back({o.kind, o.semantic.name(), entry.id + "/" + t->stage(i).id() + "/" + o.name});
+  }
+  return uses;
+}
+
+// A semantic is declared once (a constant the output declaration and the view's registration both
+// name), so a view is reached by every output of its semantic; a misspelt or stale registration
+// would leave the outputs with the generic view and is reported instead.
+TEST(Visualisers, EveryDeclaredSemanticWithAViewResolvesToIt) {
+  const std::vector<SemanticUse> registered = registeredVisualiserSemantics();
+  const std::vector<SemanticUse> declared = declaredOutputSemantics();
+  std::set<std::string> reached;
+  for (const SemanticUse& d : declared)
+    for (const SemanticUse& r : registered)
+      if (d.kind == r.kind && d.semantic == r.semantic) {
+        EXPECT_STREQ(visualiserFor(d.kind, Semantic(d.semantic.c_str())).name(), r.where.c_str()) << d.where;
+        reached.insert(r.where + "|" + r.semantic);
+      }
+  EXPECT_EQ(reached.size(), registered.size());
+  // The technique views (lpv, clipmap, near-field, svo, lrsm, volumetric) and the shared ones.
+  EXPECT_GE(registered.size(), 20u);
+  EXPECT_EQ(semanticMismatches(declared, registered), std::vector<std::string>{});
+}
+
+TEST(Visualisers, AViewNoOutputReachesIsReported) {
+  const std::vector<SemanticUse> declared = {{OutputKind::Buffer, "lpv-energy", "lpv/propagate/energy"},
+                                             {OutputKind::Image2D, "sh-l1", "lpv/inject/flat"}};
+  const std::vector<SemanticUse> registered = {{OutputKind::Buffer, "lpv-energy", "lpv-energy"},
+                                               {OutputKind::Buffer, "lpv-enregy", "lpv-energy-typo"},
+                                               {OutputKind::Volume3D, "sh-l1", "sh-volume"}};
+  const std::vector<std::string> problems = semanticMismatches(declared, registered);
+  ASSERT_EQ(problems.size(), 3u);
+  EXPECT_NE(problems[0].find("lpv-energy-typo"), std::string::npos) << problems[0];
+  EXPECT_NE(problems[0].find("no output declares"), std::string::npos) << problems[0];
+  EXPECT_NE(problems[1].find("sh-volume"), std::string::npos) << problems[1];
+  EXPECT_NE(problems[2].find("lpv/inject/flat"), std::string::npos) << problems[2];
+  EXPECT_NE(problems[2].find("generic view"), std::string::npos) << problems[2];
+  EXPECT_TRUE(semanticMismatches(declared, {registered[0]}).empty());
 }
 
 TEST(Visualisers, SemanticsAreNamesComparedByText) {

@@ -44,7 +44,6 @@ struct Registration {
   Registration() {
     //                   mapping      normalise alphaIsOpacity exact
     registerTexelMapping(Semantic::Color, {&colour, false, true, false});
-    registerTexelMapping(Semantic{"clip-atlas"}, {&colour, false, true, false});  // clipmap's atlas (its own view)
     registerTexelMapping(Semantic::RadianceHDR, {&radiance, false, true, false});
     registerTexelMapping(Semantic::Normal, {&normal, false, false, false});
     registerTexelMapping(Semantic::Occupancy, {&occupancy, false, false, true});

@@ -11,10 +11,10 @@
 namespace voxlab::clipmap {
 
 // The records of "clip-levels" (one per level, after the last move), for its visualiser
-// (src/inspect/visualisers/clip_levels.cpp).
+// (src/techniques/clipmap/views/clip_levels.cpp).
 inline constexpr Semantic kClipLevels{"clip-levels"};
 // The atlas of every level's physical texture, shown by its own view
-// (src/inspect/visualisers/clip_atlas.cpp: a level's physical texture with the logical origin and
+// (src/techniques/clipmap/views/clip_atlas.cpp: a level's physical texture with the logical origin and
 // the physical seam, a hover readout texel -> world cell, unrolled into logical order on request);
 // its texels look like the Color semantic's.
 inline constexpr Semantic kClipAtlas{"clip-atlas"};
@@ -46,7 +46,7 @@ struct PlanRecord {
 static_assert(sizeof(PlanRecord) == 36, "PlanRecord layout");
 
 // The last move's counters (clip-counters, one record per level), for its view
-// (src/inspect/visualisers/clip_move.cpp): what the shaders wrote, counted by atomics.
+// (src/techniques/clipmap/views/clip_move.cpp): what the shaders wrote, counted by atomics.
 inline constexpr Semantic kClipCounters{"clip-counters"};
 struct CounterRecord {
   uint32_t cleared, pairs, resolved, refiltered, guards;

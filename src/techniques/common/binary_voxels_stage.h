@@ -33,7 +33,7 @@ namespace voxlab {
 using BitColumn = std::array<uint32_t, 4>;  // R, G, B, A words of one 128-slice column
 
 // Images of 128-bit columns in this bit order (the grid, near-field's hierarchy and tables):
-// src/inspect/visualisers/bitmask_columns.cpp shows a picked column as a stack of slices.
+// src/techniques/near_field/views/bitmask_columns.cpp shows a picked column as a stack of slices.
 inline constexpr Semantic kBitmaskColumns{"bitmask-columns"};
 
 constexpr int kBinarySlices = 128;

@@ -1,33 +1,16 @@
-// The voxel volume every voxel technique uses: a cube around the scene's bounds, resolution^3
-// voxels. The scene's largest extent spans resolution - 1 voxels and is centred, so the outermost
-// surfaces lie half a voxel inside the volume (never exactly on a voxel boundary or outside).
+// The voxel fragment list every voxelizing technique fills within the voxel volume (VoxelSpace,
+// scene/voxel_space.h): its record count, the capacity to allocate before a pass, its layout.
 #pragma once
 #include <cstdint>
 
 #include <glm/glm.hpp>
 
-#include "gpu/gl.h"
 #include "graph/blackboard.h"
 #include "graph/output.h"
 #include "scene/scene.h"
+#include "scene/voxel_space.h"
 
 namespace voxlab {
-
-struct VoxelSpace {
-  glm::vec3 origin{0.0f};  // world position of the volume's minimum corner
-  float voxelSize = 1.0f;  // edge of one voxel, metres
-  int resolution = 1;      // voxels per axis
-
-  static VoxelSpace fromScene(const Scene& scene, int resolution);
-  float edge() const { return voxelSize * float(resolution); }
-  // Voxels per metre, the factor every voxelizer (GPU and CPU) multiplies by: a subtraction and a
-  // multiplication are correctly rounded on every GPU (a GLSL division need not be), so a vertex
-  // gets the same float voxel coordinates on both sides and a tie on a voxel face is the same tie.
-  float voxelsPerMetre() const { return 1.0f / voxelSize; }
-  glm::vec3 toVoxel(const glm::vec3& world) const { return (world - origin) * voxelsPerMetre(); }
-  void setUniforms(GLuint program) const;  // u_volumeOrigin, u_voxelSize, u_voxelsPerMetre, u_resolution
-  WorldBox box() const { return {origin, origin + glm::vec3(edge())}; }
-};
 
 class Blackboard;
 

@@ -13,7 +13,7 @@ namespace voxlab::lpv {
 
 constexpr int kCascades = 2;
 
-// Semantics with visualisers of their own (src/inspect/visualisers/sh_volume.cpp, lpv_energy.cpp,
+// Semantics with visualisers of their own (src/techniques/lpv/views/sh_volume.cpp, lpv_energy.cpp,
 // lpv_cascades.cpp).
 inline constexpr Semantic kShL1{"sh-l1"};              // RGBA32F volume: L1 SH (c00, c1-1, c10, c11) per cell
 inline constexpr Semantic kLpvEnergy{"lpv-energy"};    // LpvEnergy records, step * 2 + cascade

@@ -35,7 +35,7 @@
 //   - Equation 12 uses z_c and r_c warped into the layer's range, the units mu and sigma^2 are in.
 //   - The atlas: a layer of an attribute is a tile of one 2D texture (layers side by side), so
 //     the mips of all layers are one dispatch per level and capture reads them like any image;
-//     the lrsm-layer-* visualisers (src/inspect/visualisers/lrsm_layers.cpp) show tiles, mu, sigma.
+//     the lrsm-layer-* visualisers (src/techniques/lrsm/views/lrsm_layers.cpp) show tiles, mu, sigma.
 //   - Probe: for the probed pixel, every sphere sample (cone-samples) and, per sample and layer,
 //     the whole of Algorithm 1 (gather-records: in range, f, N, mu, sigma^2, V, A*R, contribution),
 //     and per cone its I and weight (cone-results).

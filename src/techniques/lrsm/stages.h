@@ -12,7 +12,7 @@ class Blackboard;
 
 namespace voxlab::lrsm {
 
-// Semantics of the layered data (visualisers in src/inspect/visualisers/lrsm_*.cpp).
+// Semantics of the layered data (visualisers in src/techniques/lrsm/views/lrsm_*.cpp).
 inline constexpr Semantic kLayerRadiance{"lrsm-layer-radiance"};  // atlas of n layers: rgb = A*R, a = alpha
 inline constexpr Semantic kLayerNormal{"lrsm-layer-normal"};      // atlas: xyz = alpha * n, w = alpha
 inline constexpr Semantic kLayerDepth{"lrsm-layer-depth"};        // atlas: alpha * z', alpha * z'^2, alpha, 0

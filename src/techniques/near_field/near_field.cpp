@@ -51,7 +51,7 @@
 //     set bit along the ray (findMSB toward +z, findLSB toward -z), and the hit point is the ray's
 //     entry into that slice within the column (the thesis uses the column entry point).
 //   - What the inspector shows: the grid, the hierarchy and the tables have the semantic
-//     bitmask-columns (src/inspect/visualisers/bitmask_columns.cpp): hovering or clicking a texel
+//     bitmask-columns (src/techniques/near_field/views/bitmask_columns.cpp): hovering or clicking a texel
 //     names its set slices, and the inspector draws that column as a 128-slice stack with each
 //     slice's depth interval and, above level 0, its four children one level down and their OR
 //     (red where it differs from the column). probe.x / probe.y are a screen probe: a click on a

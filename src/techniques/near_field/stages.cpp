@@ -239,8 +239,8 @@ void RaysStage::declare(StageBuilder& b) const {
            "near-field indirect radiance so far: (albedo / N) * sum of valid hits' reflected radiance (at rays.resolution)")
       .referenceMode = "indirect-1";
   // Its own semantic: a colour per category, a legend and the category's name under the cursor
-  // (src/inspect/visualisers/ray_category.cpp).
-  auto& cat = b.output("ray-category", OutputKind::Image2D, Semantic("rsm-lookup-category"),
+  // (src/techniques/near_field/views/ray_category.cpp).
+  auto& cat = b.output("ray-category", OutputKind::Image2D, kRayCategory,
                        "the last ray's outcome: 0 valid, 1 no hit, 2 not in the RSM, 3 too far from the RSM's surface, "
                        "4 wrong facing, 5 step budget spent, 6 dropped (offset > radius), 7 no receiver");
   cat.tier = CaptureTier::Exact;
@@ -258,12 +258,12 @@ void RaysStage::declare(StageBuilder& b) const {
   sl.fields.push_back({"t-end", FieldType::F32, 72, FieldRole::Other});
   sl.countResource = "rays.counters";
   sl.countOffset = 0;
-  auto& st = b.output("traversal-steps", OutputKind::Buffer, Semantic("near-field-traversal"),
+  auto& st = b.output("traversal-steps", OutputKind::Buffer, kTraversalSteps,
                       "every step of the probed pixel's probe.ray walk: level, texel, slice range, ray mask, AND, "
                       "action (8 descend, 9 advance, 0 hit)");
   st.layout = sl;
   st.tier = CaptureTier::Exact;
-  st.probeRecord = true;  // checked and drawn by src/inspect/visualisers/bitmask_columns.cpp
+  st.probeRecord = true;  // checked and drawn by src/techniques/near_field/views/bitmask_columns.cpp
   BufferLayout pl;
   pl.stride = sizeof(gpu::ProbeRay);
   pl.fields = {{"receiver", FieldType::Vec4, 0, FieldRole::Position},
@@ -288,7 +288,7 @@ void RaysStage::declare(StageBuilder& b) const {
                {"set", FieldType::U32, 16, FieldRole::Other},
                {"walk-hit", FieldType::U32, 20, FieldRole::Other}};
   dl.countResource = "probe-dda.count";
-  auto& dda = b.output("probe-dda", OutputKind::Buffer, Semantic("near-field-dda"),
+  auto& dda = b.output("probe-dda", OutputKind::Buffer, kProbeDda,
                        "the probed ray's segment walked cell by cell by a brute-force 3D DDA on the CPU over the same "
                        "binary grid (x, y, slice; t entering it; 1 where set: the last is the DDA's hit; walk-hit 1 where "
                        "the hierarchical walk hit that cell), beside the hierarchical walk");
@@ -299,7 +299,7 @@ void RaysStage::declare(StageBuilder& b) const {
   b.buffer("probe-dda", [](const ParamSet&, const ViewState&) { return size_t(32) * kMaxDdaCells; });
   b.buffer("probe-dda.count", [](const ParamSet&, const ViewState&) { return size_t(4); });
   b.read("binary-voxels");
-  auto& pr = b.output("probe-ray", OutputKind::Buffer, Semantic("near-field-probe-ray"),
+  auto& pr = b.output("probe-ray", OutputKind::Buffer, kProbeRay,
            "the probed ray: receiver, direction (w cos), origin (w radius left), hit point (w distance), hit voxel, "
            "termination (0 hit, 1 left, 2 budget, 3 outside, 4 dropped), RSM texel/distance/epsilon, L~ (w category), "
            "steps, the true surface point on the same ray (w t; exact ray/triangle query on the CPU) and its distance "

@@ -6,6 +6,12 @@
 
 namespace voxlab::nearfield {
 
+// The semantics of near-field's outputs; each picks its view in views/.
+inline constexpr Semantic kRayCategory{"rsm-lookup-category"};  // R32UI per pixel: what the RSM lookup found
+inline constexpr Semantic kTraversalSteps{"near-field-traversal"};  // hierarchy steps per ray
+inline constexpr Semantic kProbeDda{"near-field-dda"};              // the probed ray's DDA steps
+inline constexpr Semantic kProbeRay{"near-field-probe-ray"};        // the probed ray's walk and hit
+
 class BitmaskTablesStage : public Stage {
  public:
   const char* id() const override { return "bitmask-tables"; }

@@ -8,7 +8,7 @@
 namespace voxlab::svo {
 
 // Semantics of the octree's buffers (octree-nodes, -descent and -picked-node have visualisers in
-// src/inspect/visualisers/octree.cpp; octree-levels, a small table, uses the generic buffer view).
+// src/techniques/svo/views/octree.cpp; octree-levels, a small table, uses the generic buffer view).
 inline constexpr Semantic kOctreeNodes{"octree-nodes"};
 inline constexpr Semantic kOctreeLevels{"octree-levels"};
 inline constexpr Semantic kOctreeDescent{"octree-descent"};

@@ -313,7 +313,7 @@ void MarchStage::declare(StageBuilder& b) const {
       "position and start offset, lit/sigma_s/sigma_t/particle count, mu/p(mu)/E/T, contribution and running sum");
   samples.layout = rec;
   samples.tier = CaptureTier::Tolerance;  // float fields, compared with the tolerances
-  samples.probeRecord = true;              // the Probe tab shows it (src/inspect/visualisers/volumetric_ray.cpp)
+  samples.probeRecord = true;              // the Probe tab shows it (src/techniques/volumetric/views/volumetric_ray.cpp)
   b.output("ray-plot", OutputKind::Image2D, Semantic::Color,
            "the probed ray, one column band per sample: contribution over the largest (yellow bars; red tick: "
            "shadowed), transmittance T (blue) and running sum over its final value (green), 0..1");

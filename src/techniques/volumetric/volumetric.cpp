@@ -59,7 +59,7 @@
 //     the thesis' march); no effect under a sun.
 //   - The probe: probe.x / probe.y are a screen probe (a click on a camera image picks the pixel),
 //     and the ray record is its probe record, drawn and checked by
-//     src/inspect/visualisers/volumetric_ray.cpp (T never rising, each contribution equal to
+//     src/techniques/volumetric/views/volumetric_ray.cpp (T never rising, each contribution equal to
 //     T sigma_s p E V dt of its own terms, the running sum).
 //   - Bilateral weights: a Gaussian in the relative surface-distance difference (sigma 2 %);
 //     "no surface" pixels only mix with each other. The sources give no kernels (unclear there).

@@ -23,6 +23,7 @@
 
 #include "inspect/visualisers/buffer.h"
 #include "lpv/lpv_shared.h"
+#include "techniques/lpv/stages.h"
 
 namespace voxlab {
 namespace {
@@ -323,6 +324,6 @@ class LpvProbeVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(LpvProbeVisualiser, OutputKind::Buffer, "lpv-probe");
+VOXLAB_REGISTER_VISUALISER(LpvProbeVisualiser, OutputKind::Buffer, lpv::kLpvProbe.name());
 
 }  // namespace voxlab

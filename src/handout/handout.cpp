@@ -1,4 +1,4 @@
-#include "lesson/handout.h"
+#include "handout/handout.h"
 
 #include <cmark.h>
 
@@ -9,7 +9,7 @@
 
 #include "capture/capture.h"
 #include "core/error.h"
-#include "lesson/step_picture.h"
+#include "handout/step_picture.h"
 
 namespace voxlab {
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-#include "app/session.h"
+#include "run/session.h"
 
 #include <chrono>
 
@@ -9,7 +9,7 @@
 #include <memory>
 #include <thread>
 
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "capture/capture.h"
 #include "core/error.h"
 #include "core/paths.h"

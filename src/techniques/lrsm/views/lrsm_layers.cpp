@@ -12,20 +12,21 @@
 #include <imgui.h>
 
 #include "inspect/visualisers/levels.h"
+#include "techniques/lrsm/stages.h"
 
 namespace voxlab {
 namespace {
 
-constexpr const char* kRadiance = "lrsm-layer-radiance";
-constexpr const char* kNormal = "lrsm-layer-normal";
-constexpr const char* kDepth = "lrsm-layer-depth";
-constexpr const char* kLayerIdName = "lrsm-layer-id";
+using lrsm::kLayerDepth;
+using lrsm::kLayerId;
+using lrsm::kLayerNormal;
+using lrsm::kLayerRadiance;
 
 enum class Attribute { Radiance, Normal, Depth };
 
 Attribute attributeOf(const OutputDesc& d) {
-  const std::string s = d.semantic.name();
-  return s == kRadiance ? Attribute::Radiance : s == kNormal ? Attribute::Normal : Attribute::Depth;
+  if (d.semantic == kLayerRadiance) return Attribute::Radiance;
+  return d.semantic == kLayerNormal ? Attribute::Normal : Attribute::Depth;
 }
 
 // The alpha channel of each attribute's texel (radiance .a, normal .w, moments .z).
@@ -182,17 +183,17 @@ void layerDepthColour(const float* v, int n, float, float, float, uint8_t* o) {
 
 struct Registration {
   Registration() {
-    registerTexelMapping(Semantic(kLayerIdName), {&layerIdColour, false, false, true});
-    registerTexelMapping(Semantic(kRadiance), {&layerRadianceColour, false, false, false});
-    registerTexelMapping(Semantic(kNormal), {&layerNormalColour, false, false, false});
-    registerTexelMapping(Semantic(kDepth), {&layerDepthColour, false, false, false});
+    registerTexelMapping(kLayerId, {&layerIdColour, false, false, true});
+    registerTexelMapping(kLayerRadiance, {&layerRadianceColour, false, false, false});
+    registerTexelMapping(kLayerNormal, {&layerNormalColour, false, false, false});
+    registerTexelMapping(kLayerDepth, {&layerDepthColour, false, false, false});
   }
 } registration;
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kRadiance);
-VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kNormal);
-VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kDepth);
+VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kLayerRadiance.name());
+VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kLayerNormal.name());
+VOXLAB_REGISTER_VISUALISER(LayerAtlasVisualiser, OutputKind::Image2D, kLayerDepth.name());
 
 }  // namespace voxlab

@@ -14,8 +14,9 @@
 #include <imgui.h>
 
 #include "inspect/visualisers/levels.h"
-#include "inspect/visualisers/ray_category.h"
 #include "near_field/near_field_shared.h"
+#include "techniques/near_field/stages.h"
+#include "techniques/near_field/views/ray_category.h"
 
 namespace voxlab {
 namespace {
@@ -52,7 +53,7 @@ void categoryColour(const float* v, int, float, float, float, uint8_t* o) {
 
 struct Registration {
   //                                                              mapping     normalise alphaIsOpacity exact
-  Registration() { registerTexelMapping(Semantic("rsm-lookup-category"), {&categoryColour, false, false, true}); }
+  Registration() { registerTexelMapping(nearfield::kRayCategory, {&categoryColour, false, false, true}); }
 } registration;
 
 // Pixels per category of level 0 (index NF_CATEGORIES: values outside the categories).
@@ -141,6 +142,6 @@ class RayCategoryVisualiser : public ImageVisualiser {
 const char* rsmLookupCategoryName(int k) { return k >= 0 && k < NF_CATEGORIES ? kCategories[k].name : "not a category"; }
 const char* rsmLookupCategoryMeaning(int k) { return k >= 0 && k < NF_CATEGORIES ? kCategories[k].means : "a bug in the stage"; }
 
-VOXLAB_REGISTER_VISUALISER(RayCategoryVisualiser, OutputKind::Image2D, "rsm-lookup-category");
+VOXLAB_REGISTER_VISUALISER(RayCategoryVisualiser, OutputKind::Image2D, nearfield::kRayCategory.name());
 
 }  // namespace voxlab

@@ -21,6 +21,7 @@
 
 #include "inspect/visualisers/buffer.h"
 #include "lpv/lpv_shared.h"
+#include "techniques/lpv/stages.h"
 
 namespace voxlab {
 namespace {
@@ -173,6 +174,6 @@ class LpvOcclusionVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(LpvOcclusionVisualiser, OutputKind::Buffer, "lpv-occlusion");
+VOXLAB_REGISTER_VISUALISER(LpvOcclusionVisualiser, OutputKind::Buffer, lpv::kLpvOcclusion.name());
 
 }  // namespace voxlab

@@ -16,6 +16,7 @@
 #include "inspect/view3d.h"
 #include "inspect/visualisers/buffer.h"
 #include "lpv/lpv_shared.h"
+#include "techniques/lpv/stages.h"
 
 namespace voxlab {
 namespace {
@@ -157,6 +158,6 @@ class LpvCascadesVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(LpvCascadesVisualiser, OutputKind::Buffer, "lpv-cascades");
+VOXLAB_REGISTER_VISUALISER(LpvCascadesVisualiser, OutputKind::Buffer, lpv::kLpvCascades.name());
 
 }  // namespace voxlab

@@ -24,6 +24,7 @@
 #include "inspect/view3d.h"
 #include "inspect/visualisers/buffer.h"
 #include "svo/svo_shared.h"
+#include "techniques/svo/stages.h"
 
 namespace voxlab {
 namespace {
@@ -370,8 +371,8 @@ class OctreePickedNodeVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(OctreePickedNodeVisualiser, OutputKind::Buffer, "octree-picked-node");
-VOXLAB_REGISTER_VISUALISER(OctreeNodesVisualiser, OutputKind::Buffer, "octree-nodes");
-VOXLAB_REGISTER_VISUALISER(OctreeDescentVisualiser, OutputKind::Buffer, "octree-descent");
+VOXLAB_REGISTER_VISUALISER(OctreePickedNodeVisualiser, OutputKind::Buffer, svo::kOctreePickedNode.name());
+VOXLAB_REGISTER_VISUALISER(OctreeNodesVisualiser, OutputKind::Buffer, svo::kOctreeNodes.name());
+VOXLAB_REGISTER_VISUALISER(OctreeDescentVisualiser, OutputKind::Buffer, svo::kOctreeDescent.name());
 
 }  // namespace voxlab

@@ -1,4 +1,4 @@
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 
 #include <algorithm>
 #include <cmath>

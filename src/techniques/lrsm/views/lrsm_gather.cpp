@@ -15,6 +15,7 @@
 #include <imgui.h>
 
 #include "inspect/visualisers/buffer.h"
+#include "techniques/lrsm/stages.h"
 
 namespace voxlab {
 namespace {
@@ -130,6 +131,6 @@ class GatherVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(GatherVisualiser, OutputKind::Buffer, "lrsm-gather");
+VOXLAB_REGISTER_VISUALISER(GatherVisualiser, OutputKind::Buffer, lrsm::kGatherRecords.name());
 
 }  // namespace voxlab

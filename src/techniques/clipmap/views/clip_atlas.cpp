@@ -13,7 +13,7 @@
 //          the cells the last move voxelized (the update stage's clip-move-boxes, when the viewer
 //          has them) are outlined in yellow: a slab's physical boxes after wrapping.
 // Inspector: level, face, slice, the unroll toggle, then the volume's controls and statistics.
-#include "inspect/visualisers/clip_atlas.h"
+#include "techniques/clipmap/views/clip_atlas.h"
 
 #include <algorithm>
 #include <cmath>
@@ -62,6 +62,17 @@ namespace {
 
 using clipmap::AtlasSlice;
 using clipmap::LevelRecord;
+
+// The atlas holds radiance with opacity, mapped as the shared colour semantic maps it (sRGB-encoded,
+// alpha as opacity), for the slices, the 3D view and the PNGs `voxlab run` writes.
+void atlasColour(const float* v, int n, float x, float, float, uint8_t* o) {
+  for (int k = 0; k < 3; ++k) o[k] = unitToByte(srgbEncode((k < n ? v[k] : v[0]) * x));
+}
+
+struct AtlasMappingRegistration {
+  //                                                  normalise alphaIsOpacity exact
+  AtlasMappingRegistration() { registerTexelMapping(clipmap::kClipAtlas, {&atlasColour, false, true, false}); }
+} atlasMappingRegistration;
 
 constexpr int kImageSize = 512;
 

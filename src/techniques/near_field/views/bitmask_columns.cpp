@@ -34,8 +34,10 @@
 
 #include "inspect/visualisers/buffer.h"
 #include "inspect/visualisers/levels.h"
-#include "inspect/visualisers/ray_category.h"
 #include "near_field/near_field_shared.h"
+#include "techniques/common/binary_voxels_stage.h"
+#include "techniques/near_field/stages.h"
+#include "techniques/near_field/views/ray_category.h"
 
 namespace voxlab {
 namespace {
@@ -198,7 +200,7 @@ void anySliceColour(const float* v, int n, float, float, float, uint8_t* o) {
 }
 
 struct Registration {
-  Registration() { registerTexelMapping(Semantic("bitmask-columns"), {&anySliceColour, false, false, true}); }
+  Registration() { registerTexelMapping(kBitmaskColumns, {&anySliceColour, false, false, true}); }
 } registration;
 
 // --- traversal records ---------------------------------------------------------------------------
@@ -594,9 +596,9 @@ class ProbeRayVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(ProbeRayVisualiser, OutputKind::Buffer, "near-field-probe-ray");
-VOXLAB_REGISTER_VISUALISER(BitmaskColumnsVisualiser, OutputKind::Image2D, "bitmask-columns");
-VOXLAB_REGISTER_VISUALISER(DdaVisualiser, OutputKind::Buffer, "near-field-dda");
-VOXLAB_REGISTER_VISUALISER(TraversalVisualiser, OutputKind::Buffer, "near-field-traversal");
+VOXLAB_REGISTER_VISUALISER(ProbeRayVisualiser, OutputKind::Buffer, nearfield::kProbeRay.name());
+VOXLAB_REGISTER_VISUALISER(BitmaskColumnsVisualiser, OutputKind::Image2D, kBitmaskColumns.name());
+VOXLAB_REGISTER_VISUALISER(DdaVisualiser, OutputKind::Buffer, nearfield::kProbeDda.name());
+VOXLAB_REGISTER_VISUALISER(TraversalVisualiser, OutputKind::Buffer, nearfield::kTraversalSteps.name());
 
 }  // namespace voxlab

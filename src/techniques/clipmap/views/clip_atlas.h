@@ -1,4 +1,4 @@
-// The clip-atlas view's mapping (visualisers/clip_atlas.cpp), apart so that tests can check it
+// The clip-atlas view's mapping (views/clip_atlas.cpp), apart so that tests can check it
 // against the C++ toroidal address and the GPU's unrolled levels (tests/unit/test_clipmap_views.cpp).
 #pragma once
 #include <vector>

@@ -2,7 +2,8 @@
 // (its slice view of the step's output and level, a buffer's point view, and over camera images the
 // step's voxel overlay and volume bounds), with what a caption needs to name it and reproduce it.
 // `voxlab handout` renders every step through this; it drives the same HeadlessSession and
-// StepCursor as `voxlab run`, and the same display mapping and SceneOverlay as the viewer.
+// StepCursor as `voxlab run`, and the same display mapping and overlay (overlayContent,
+// SceneOverlay, blendOverlay: inspect/scene_overlay.h) as the viewer.
 #pragma once
 #include <memory>
 #include <optional>
@@ -11,37 +12,16 @@
 
 #include "capture/capture.h"
 #include "graph/blackboard.h"
+#include "inspect/scene_overlay.h"
 #include "lesson/lesson.h"
 
 namespace voxlab {
 
 class HeadlessSession;
-class SceneOverlay;
-class StepCursor;
-struct ViewInstance;
-
-// Whether an output of 'stage' is a camera image: a 2D image of the view's size written by a stage
-// that depends on the view (the images the viewer lays overlays over).
-bool isCameraImage(const StepCursor& cursor, int stage, const CapturedOutput& capture);
-
-// What a volume overlay shows: cubes for the non-empty texels of one level of a volume output, in
-// world units, and the box to outline. 'volume' is "stage/output"; level < 0 picks the finest level
-// with at most 32 texels per axis. 'message' says what was built (or why nothing was).
-struct OverlayContent {
-  std::vector<ViewInstance> cubes;
-  std::optional<WorldBox> box;
-  int level = 0;
-  int levelCount = 0;
-  std::string message;
-};
-OverlayContent overlayContent(StepCursor& cursor, const std::string& volume, int level, bool voxels);
-
-// 'over' (RGBA8, bottom row first, same size) blended over 'image' (RGB, top row first) as the
-// viewer draws it: source alpha over the image.
-void blendOverlay(DisplayImage& image, const std::vector<uint8_t>& over);
 
 // Area-averaged copy 'width' pixels wide, aspect kept (unchanged when not wider).
 DisplayImage shrink(const DisplayImage& image, int width);
+
 struct StepPicture {
   DisplayImage image;                 // RGB, top row first, at the size the viewer maps it (a slice's texels)
   int displayScale = 1;               // whole factor to show it at, nearest filtering (up to the step size)

@@ -22,6 +22,7 @@
 
 #include "inspect/view3d.h"
 #include "inspect/visualisers/levels.h"
+#include "techniques/lpv/stages.h"
 
 namespace voxlab {
 namespace {
@@ -36,7 +37,7 @@ constexpr int kGlyph = 15;  // pixels per cell in the lobe view
 // most 3e-7 relative (measured in tests/unit/test_lpv.cpp, ConeConditionEverywhere).
 constexpr float kConeSlack = 1e-5f;
 
-inline constexpr Semantic kShL1{"sh-l1"};
+using lpv::kShL1;
 
 glm::vec3 band1(const float* v) { return {-v[3], -v[1], v[2]}; }
 

@@ -19,7 +19,7 @@
 
 #include "inspect/view3d.h"
 #include "inspect/visualisers/buffer.h"
-#include "inspect/visualisers/clip_atlas.h"
+#include "techniques/clipmap/views/clip_atlas.h"
 
 namespace voxlab {
 namespace {

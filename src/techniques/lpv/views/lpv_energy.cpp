@@ -19,6 +19,7 @@
 
 #include "inspect/visualisers/buffer.h"
 #include "lpv/lpv_shared.h"
+#include "techniques/lpv/stages.h"
 
 namespace voxlab {
 namespace {
@@ -169,6 +170,6 @@ class LpvEnergyVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(LpvEnergyVisualiser, OutputKind::Buffer, "lpv-energy");
+VOXLAB_REGISTER_VISUALISER(LpvEnergyVisualiser, OutputKind::Buffer, lpv::kLpvEnergy.name());
 
 }  // namespace voxlab

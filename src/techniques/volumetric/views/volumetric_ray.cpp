@@ -17,6 +17,7 @@
 #include <imgui.h>
 
 #include "inspect/visualisers/buffer.h"
+#include "techniques/volumetric/stages.h"
 
 namespace voxlab {
 namespace {
@@ -122,6 +123,6 @@ class VolumetricRayVisualiser : public BufferVisualiser {
 
 }  // namespace
 
-VOXLAB_REGISTER_VISUALISER(VolumetricRayVisualiser, OutputKind::Buffer, "volumetric-ray");
+VOXLAB_REGISTER_VISUALISER(VolumetricRayVisualiser, OutputKind::Buffer, volumetric::kRaySamples.name());
 
 }  // namespace voxlab
