@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -147,5 +148,66 @@ void Viewer::updateOverlay() {
   }
   frameHeavy = true;
 }
+
+// --- Script verbs: scene overlays -------------------------------------------------------------------
+
+namespace {
+
+void setOverlay(Viewer& viewer, const ScriptCall& call) {
+  const bool on = call.onOff(1);
+  if (call.arg(0) == "bounds") viewer.overlayOpt.bounds = on;
+  else if (call.arg(0) == "voxels") viewer.overlayOpt.voxels = on;
+  else if (call.arg(0) == "xray") viewer.overlayOpt.xray = on;
+  else call.badArgument("unknown overlay '" + call.arg(0) + "'; valid: bounds, voxels, xray");
+}
+
+// The shown camera image with its overlay drawn now; fails when either is missing.
+const CapturedOutput& overlaidImage(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  if (!viewer.isCameraImage(viewer.selected, cap))
+    call.fail("output " + cap.desc.name + " is not a camera image; overlays apply to those");
+  viewer.updateOverlay();
+  if (viewer.overlayKey.empty()) call.fail("no overlay is on (overlay bounds|voxels on)");
+  return cap;
+}
+
+void expectOverlayPixels(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = overlaidImage(viewer, call);
+  const size_t n = viewer.overlay->coveredPixels(), want = size_t(std::max(call.intArg(0), 0));
+  std::printf("overlay on %s: %zu pixels covered (need > %zu), %zu voxel cubes, %.1f ms; %s\n", cap.desc.name.c_str(),
+              n, want, viewer.overlay->cubeCount(), viewer.overlayMs, viewer.overlayMsg.c_str());
+  if (n <= want) call.fail(std::to_string(n) + " pixels covered, expected more than " + call.arg(0));
+}
+
+void expectOverlayCamera(Viewer& viewer, const ScriptCall& call) {
+  overlaidImage(viewer, call);
+  const glm::vec3 want(call.floatArg(0), call.floatArg(1), call.floatArg(2));
+  const glm::vec3 got = viewer.overlayEye - viewer.liveCamera().position;
+  std::printf("overlay camera: the viewer's camera + (%g, %g, %g)\n", got.x, got.y, got.z);
+  // Float rounding of P + K D against (P + K D) - P; measured 0 for lesson 08's path (K D = 1 m).
+  if (glm::any(glm::greaterThan(glm::abs(got - want), glm::vec3(1e-4f))))
+    call.fail("the overlay is drawn from the viewer's camera + (" + std::to_string(got.x) + ", " + std::to_string(got.y) +
+              ", " + std::to_string(got.z) + "), expected + (" + call.arg(0) + ", " + call.arg(1) + ", " + call.arg(2) +
+              ")");
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(overlay, 50,
+  {"overlay", 2, 2, "overlay bounds|voxels|xray on|off (overlays on camera images)", setOverlay},
+  {"overlay-volume", 2, 2, "overlay-volume STAGE/OUTPUT LEVEL (the volume whose voxels the overlay shows)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const auto volumes = viewer.overlayVolumes();
+     if (std::find(volumes.begin(), volumes.end(), call.arg(0)) == volumes.end())
+       call.fail("no volume '" + call.arg(0) + "' has run; valid: " + joinNames(volumes));
+     viewer.overlayVolume = call.arg(0);
+     viewer.overlayLevel = call.intArg(1);
+   }},
+  {"expect-overlay-pixels", 1, 1, "expect-overlay-pixels MIN (the overlay covers more than MIN pixels)",
+   expectOverlayPixels},
+  {"expect-overlay-camera", 3, 3,
+   "expect-overlay-camera DX DY DZ (the overlay is drawn from the camera the images were rendered from: the viewer's "
+   "camera moved by DX,DY,DZ metres, within 1e-4)",
+   expectOverlayCamera});
 
 }  // namespace voxlab

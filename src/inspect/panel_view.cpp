@@ -5,13 +5,114 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
+#include "techniques/common/light_stage.h"
 
 namespace voxlab {
+
+namespace {
+
+// On camera images a left drag orbits the camera (with Shift it turns the light) and a right drag
+// flies it (mouse looks, W/A/S/D/Q/E move); a left click probes or picks.
+void handleViewMouse(Viewer& v, bool imageHovered, bool cameraImage, const std::vector<ProbeSpace>& probeSpaces) {
+  ImGuiIO& io = ImGui::GetIO();
+  const ImVec2 m = io.MousePos;
+  if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    v.dragging = true;
+    v.orbiting = false;
+    v.dragStart = m;
+  }
+  if (v.dragging) {
+    if (cameraImage && !v.orbiting && std::abs(m.x - v.dragStart.x) + std::abs(m.y - v.dragStart.y) > 4.0f) {
+      v.orbiting = true;
+      v.turningLight = io.KeyShift;  // Shift + drag turns the light instead of the camera
+    }
+    if (v.orbiting && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) {
+      if (v.turningLight) v.turnLight(io.MouseDelta.x * 0.3f, -io.MouseDelta.y * 0.3f);
+      else v.orbit(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
+    }
+    if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
+      v.dragging = false;
+      if (!v.orbiting && v.hover) {
+        v.pickTexel = v.hoverTexel;
+        if (!probeSpaces.empty()) v.probeShownAt(v.hoverTexel, v.view.level);
+      }
+      v.orbiting = false;
+    }
+  }
+  if (cameraImage && imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
+    v.flying = true;
+    v.lastFlyTime = glfwGetTime();
+  }
+  if (v.flying) {
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Right)) v.flying = false;
+    else v.handleFly();
+  }
+}
+
+// Where the probes of the shown image's spaces point, in fractions of the image. Presenter mode
+// marks a probe only once it was set (a click, a lesson step): a laser pointer on the default
+// pixel of every camera image would point at nothing in particular.
+std::vector<ImVec2> probeMarks(const Viewer& v, const std::vector<ProbeSpace>& probeSpaces, bool bare) {
+  const Technique& t = v.cursor->technique();
+  const CapturedOutput& cap = v.cap;
+  std::vector<ImVec2> marks;
+  const ParamSet& ps = v.cursor->params();
+  const ParamSet defaults = bare ? t.defaultParams() : ParamSet();
+  for (ProbeSpace space : probeSpaces)
+    for (auto [stage, p] : v.probesFor(space, cap.desc.resourceName())) {
+      if (bare) {
+        bool set = false;
+        for (const std::string& n : p->paramNames()) set = set || ps.value(n) != defaults.value(n);
+        if (!set) continue;
+      }
+      if (space != ProbeSpace::Volume) {
+        marks.emplace_back(float(ps.value(p->x)), float(ps.value(p->y)));
+        continue;
+      }
+      // A probed cell shows when it lies in the shown slice of the shown level (the inverse of sliceTexel).
+      if (!p->level.empty() && ps.getInt(p->level) != v.view.level) continue;
+      const LevelData& L = cap.levels.at(std::clamp(v.view.level, 0, int(cap.levels.size()) - 1));
+      const SliceSpec sl = sliceToShow(L, v.view.slice);
+      const glm::ivec3 c(ps.getInt(p->x), ps.getInt(p->y), ps.getInt(p->z));
+      const glm::ivec2 e = sliceExtent(L, sl);
+      glm::ivec2 at = sl.axis == 0 ? glm::ivec2(c.z, L.size.y - 1 - c.y) : sl.axis == 1 ? glm::ivec2(c.x, L.size.z - 1 - c.z)
+                                                                               : glm::ivec2(c.x, L.size.y - 1 - c.y);
+      if (c[sl.axis] == sl.index) marks.emplace_back((at.x + 0.5f) / e.x, (at.y + 0.5f) / e.y);
+    }
+  return marks;
+}
+
+// Under the image: the value under the cursor, the picked element, the camera and the status.
+void drawViewCaption(const Viewer& v, const Visualiser& vis, const VisualiserContext& ctx, bool cameraImage,
+                     const std::vector<ProbeSpace>& probeSpaces) {
+  if (v.hover) {
+    ImGui::TextWrapped("%s", vis.describeElement(ctx, v.hoverTexel).c_str());
+  } else {
+    std::string caption = vis.caption(ctx);
+    const char* click = probeSpaces.empty() ? "pick" : "probe";
+    if (!caption.empty())
+      ImGui::TextUnformatted(caption.c_str());
+    else if (cameraImage)
+      ImGui::TextDisabled("hover for values; click to %s; left drag orbits, right drag + W/A/S/D/Q/E flies", click);
+    else
+      ImGui::TextDisabled("hover for values; click to %s", click);
+  }
+  if (v.pickTexel.x >= 0) {
+    std::string picked = vis.describeElement(ctx, v.pickTexel);
+    if (!picked.empty()) ImGui::TextWrapped("picked %s", picked.c_str());
+  }
+  if (v.pendingCamera) ImGui::TextColored(kWarningColour, "camera moving: the image follows when the stages have re-run");
+  if (!v.status.empty()) ImGui::TextDisabled("%s", v.status.c_str());
+}
+
+}  // namespace
 
 void Viewer::drawView() {
   const Technique& t = cursor->technique();
@@ -118,68 +219,8 @@ void Viewer::drawView() {
       dl->AddImage(reinterpret_cast<ImTextureID>(intptr_t(overlay->texture())), origin,
                    ImVec2(origin.x + size.x, origin.y + size.y), ImVec2(0, 1), ImVec2(1, 0));
   }
-  // On camera images a left drag orbits the camera (with Shift it turns the light) and a right drag flies it (mouse looks,
-  // W/A/S/D/Q/E move); a left click probes or picks.
-  ImGuiIO& io = ImGui::GetIO();
-  if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-    dragging = true;
-    orbiting = false;
-    dragStart = m;
-  }
-  if (dragging) {
-    if (cameraImage && !orbiting && std::abs(m.x - dragStart.x) + std::abs(m.y - dragStart.y) > 4.0f) {
-      orbiting = true;
-      turningLight = io.KeyShift;  // Shift + drag turns the light instead of the camera
-    }
-    if (orbiting && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) {
-      if (turningLight) turnLight(io.MouseDelta.x * 0.3f, -io.MouseDelta.y * 0.3f);
-      else orbit(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
-    }
-    if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
-      dragging = false;
-      if (!orbiting && hover) {
-        pickTexel = hoverTexel;
-        if (!probeSpaces.empty()) probeShownAt(hoverTexel, view.level);
-      }
-      orbiting = false;
-    }
-  }
-  if (cameraImage && imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
-    flying = true;
-    lastFlyTime = glfwGetTime();
-  }
-  if (flying) {
-    if (!ImGui::IsMouseDown(ImGuiMouseButton_Right)) flying = false;
-    else handleFly();
-  }
-  // Mark where the probes of the shown image's spaces point (in fractions of the image).
-  std::vector<ImVec2> marks;
-  const ParamSet& ps = cursor->params();
-  const ParamSet defaults = bare ? t.defaultParams() : ParamSet();
-  for (ProbeSpace space : probeSpaces)
-    for (auto [stage, p] : probesFor(space, d.resourceName())) {
-      // Presenter mode marks a probe only once it was set (a click, a lesson step): a laser pointer
-      // on the default pixel of every camera image would point at nothing in particular.
-      if (bare) {
-        bool set = false;
-        for (const std::string& n : p->paramNames()) set = set || ps.value(n) != defaults.value(n);
-        if (!set) continue;
-      }
-      if (space != ProbeSpace::Volume) {
-        marks.emplace_back(float(ps.value(p->x)), float(ps.value(p->y)));
-        continue;
-      }
-      // A probed cell shows when it lies in the shown slice of the shown level (the inverse of sliceTexel).
-      if (!p->level.empty() && ps.getInt(p->level) != view.level) continue;
-      const LevelData& L = cap.levels.at(std::clamp(view.level, 0, int(cap.levels.size()) - 1));
-      const SliceSpec sl = sliceToShow(L, view.slice);
-      const glm::ivec3 c(ps.getInt(p->x), ps.getInt(p->y), ps.getInt(p->z));
-      const glm::ivec2 e = sliceExtent(L, sl);
-      glm::ivec2 at = sl.axis == 0 ? glm::ivec2(c.z, L.size.y - 1 - c.y) : sl.axis == 1 ? glm::ivec2(c.x, L.size.z - 1 - c.z)
-                                                                               : glm::ivec2(c.x, L.size.y - 1 - c.y);
-      if (c[sl.axis] == sl.index) marks.emplace_back((at.x + 0.5f) / e.x, (at.y + 0.5f) / e.y);
-    }
-  for (const ImVec2& f : marks) {
+  handleViewMouse(*this, imageHovered, cameraImage, probeSpaces);
+  for (const ImVec2& f : probeMarks(*this, probeSpaces, bare)) {
     float qx = origin.x + f.x * size.x, qy = origin.y + f.y * size.y;
     if (bare) {
       drawLaserPointer(dl, ImVec2(qx, qy), size);
@@ -191,25 +232,7 @@ void Viewer::drawView() {
   }
 
   if (bare) return;
-  // Value under the cursor and the picked element.
-  if (hover) {
-    ImGui::TextWrapped("%s", vis.describeElement(ctx, hoverTexel).c_str());
-  } else {
-    std::string caption = vis.caption(ctx);
-    const char* click = probeSpaces.empty() ? "pick" : "probe";
-    if (!caption.empty())
-      ImGui::TextUnformatted(caption.c_str());
-    else if (cameraImage)
-      ImGui::TextDisabled("hover for values; click to %s; left drag orbits, right drag + W/A/S/D/Q/E flies", click);
-    else
-      ImGui::TextDisabled("hover for values; click to %s", click);
-  }
-  if (pickTexel.x >= 0) {
-    std::string picked = vis.describeElement(ctx, pickTexel);
-    if (!picked.empty()) ImGui::TextWrapped("picked %s", picked.c_str());
-  }
-  if (pendingCamera) ImGui::TextColored(kWarningColour, "camera moving: the image follows when the stages have re-run");
-  if (!status.empty()) ImGui::TextDisabled("%s", status.c_str());
+  drawViewCaption(*this, vis, ctx, cameraImage, probeSpaces);
 }
 
 DisplayImage Viewer::viewportImage() const {
@@ -240,5 +263,94 @@ DisplayImage Viewer::viewportImage() const {
     }
   return img;
 }
+
+// --- Script verbs: what the view shows, the camera, clicks ------------------------------------------
+
+namespace {
+
+void setSlice(Viewer& viewer, const ScriptCall& call) {
+  const std::string& axis = call.arg(0);
+  if (axis != "x" && axis != "y" && axis != "z") call.badArgument("axis must be x, y or z");
+  viewer.view.slice.axis = axis[0] - 'x';
+  viewer.view.slice.index = call.intArg(1);
+}
+
+// A left click on pixel (X, Y) of the shown 2D view (from its top left), as the mouse does.
+void clickView(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  VisualiserContext ctx = viewer.visualiserContext();
+  const Visualiser& vis = *viewer.shownVisualiser();
+  glm::ivec3 element;
+  const int x = call.intArg(0), y = call.intArg(1);
+  SliceImage img = vis.image2D(ctx);
+  bool found = false;
+  if (!img.pick.empty()) {  // a pick map (point views): the element drawn at that pixel
+    int id = x >= 0 && y >= 0 && x < img.width && y < img.height ? img.pick[size_t(y) * img.width + x] : -1;
+    found = id >= 0;
+    element = glm::ivec3(id, 0, 0);
+  } else {
+    found = vis.elementAt(ctx, x, y, element);
+  }
+  if (!found) call.fail("nothing of " + cap.desc.name + " is shown at (" + call.arg(0) + ", " + call.arg(1) + ")");
+  viewer.pickTexel = element;
+  const int probed = viewer.probeSpacesOfShown().empty() ? 0 : viewer.probeShownAt(element, viewer.view.level);
+  std::printf("click %s: %s; %d probe(s) set\n", cap.desc.name.c_str(), vis.describeElement(ctx, element).c_str(), probed);
+}
+
+void saveView(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  if (viewer.viewMode != ViewMode::Slice) viewer.update3D();
+  else if (viewer.isCameraImage(viewer.selected, cap)) viewer.updateOverlay();
+  const std::filesystem::path p(call.arg(0));
+  std::error_code ec;
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
+  writePng(viewer.viewportImage(), call.arg(0));
+  std::printf("saved view %s\n", call.arg(0).c_str());
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(view, 30,
+  {"level", 1, 1, "level N", [](Viewer& viewer, const ScriptCall& call) { viewer.view.level = call.intArg(0); }},
+  {"slice", 2, 2, "slice x|y|z INDEX", setSlice},
+  {"channel", 1, 1, "channel N (-1 = all)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.view.display.channel = std::clamp(call.intArg(0), -1, 3); }},
+  {"exposure", 1, 1, "exposure F",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.view.display.exposure = call.floatArg(0); }},
+  {"camera", 1, 1, "camera N (scene camera bookmark)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.setCameraIndex(call.intArg(0)); }},
+  {"orbit", 2, 2, "orbit YAW_DEG PITCH_DEG",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.orbit(call.floatArg(0), call.floatArg(1)); }},
+  {"frame-scene", 0, 0, "frame-scene", [](Viewer& viewer, const ScriptCall&) { viewer.frameScene(); }},
+  {"fly", 3, 3, "fly RIGHT UP FORWARD (move the camera along its axes, metres)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     viewer.moveCamera(flyCamera(viewer.liveCamera(), call.floatArg(0), call.floatArg(1), call.floatArg(2)));
+   }},
+  {"look", 2, 2, "look YAW_DEG PITCH_DEG (turn the camera about its eye)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     viewer.moveCamera(lookCamera(viewer.liveCamera(), call.floatArg(0), call.floatArg(1)));
+   }},
+  {"turn-light", 2, 2, "turn-light AZIMUTH_DEG ELEVATION_DEG (turn the light from where it points, as Shift + drag)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (!viewer.turnLight(call.floatArg(0), call.floatArg(1))) call.fail(viewer.status);
+     const auto formatted = viewer.cursor->params().formatted();
+     std::printf("light: azimuth %s, elevation %s\n", formatted.at(kLightAzimuth).c_str(),
+                 formatted.at(kLightElevation).c_str());
+   }},
+  {"click", 2, 2,
+   "click X Y (left click on pixel X, Y of the shown 2D view, from its top left: picks, and probes every stage with "
+   "a probe in that image's space)",
+   clickView},
+  {"expect-visualiser", 1, 1, "expect-visualiser NAME (the shown output's visualiser)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const CapturedOutput& cap = requireShownCapture(viewer, call);
+     const std::string got = viewer.shownVisualiser()->name();
+     if (got != call.arg(0))
+       call.fail("output " + cap.desc.name + " is shown by visualiser '" + got + "', expected '" + call.arg(0) + "'");
+     std::printf("output %s (%s, %s): visualiser %s\n", cap.desc.name.c_str(), kindName(cap.desc.kind),
+                 semanticName(cap.desc.semantic), got.c_str());
+   }},
+  {"save-view", 1, 1,
+   "save-view PATH.png (what the view shows: the image with its overlay, or the 3D view; as Save view PNG)", saveView});
 
 }  // namespace voxlab

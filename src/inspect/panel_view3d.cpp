@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "gpu/shader_library.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -90,5 +91,52 @@ void Viewer::draw3DView() {
                       view3d->lastSize(), view3d->lastSize(), render3dMs.empty() ? 0.0 : render3dMs.back());
   if (!status.empty()) ImGui::TextDisabled("%s", status.c_str());
 }
+
+// --- Script verbs: the 3D view ----------------------------------------------------------------------
+
+namespace {
+
+void setViewMode(Viewer& viewer, const ScriptCall& call) {
+  if (call.arg(0) == "slice") viewer.viewMode = ViewMode::Slice;
+  else if (call.arg(0) == "3d") viewer.viewMode = ViewMode::Volume;
+  else if (call.arg(0) == "cubes") viewer.viewMode = ViewMode::Cubes;
+  else call.badArgument("unknown mode '" + call.arg(0) + "'; valid: slice, 3d, cubes");
+  if (viewer.viewMode == ViewMode::Slice) return;
+  viewer.refreshCapture();
+  if (viewer.capError.empty() && !viewer.has3DView())
+    call.fail("output " + viewer.cap.desc.name + " (" + kindName(viewer.cap.desc.kind) + ") has no 3D view");
+}
+
+void expectViewNonempty(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  if (!viewer.update3D()) call.fail("no 3D view is shown (view-mode 3d|cubes on a volume or a buffer with positions)");
+  if (!viewer.msg3d.empty() && viewer.msg3d.find("over the limit") != std::string::npos) call.fail(viewer.msg3d);
+  const ViewContent c = viewer.view3d->content();
+  const double minFraction = call.floatArg(0), minSpread = call.floatArg(1);
+  if (!(minFraction >= 0.0 && minFraction < 1.0)) call.badArgument("MIN_FRACTION must be in 0..1, not " + call.arg(0));
+  std::printf("view %s of %s: %zu of %zu pixels show content (%.4f, need > %s), luma spread %.1f (need > %s); %s; "
+              "render %.1f ms\n",
+              viewModeName(viewer.viewMode), cap.desc.name.c_str(), c.content, c.pixels, c.fraction(), call.arg(0).c_str(),
+              c.lumaStdDev, call.arg(1).c_str(), viewer.info3d.c_str(),
+              viewer.render3dMs.empty() ? 0.0 : viewer.render3dMs.back());
+  if (!(c.fraction() > minFraction))
+    call.fail(std::to_string(c.fraction()) + " of the view shows content, expected more than " + call.arg(0));
+  if (!(c.lumaStdDev > minSpread))
+    call.fail("the content is flat: luma standard deviation " + std::to_string(c.lumaStdDev) +
+              " of 255, expected more than " + call.arg(1));
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(view3d, 40,
+  {"view-mode", 1, 1, "view-mode slice|3d|cubes (3D views of volumes and of buffers with positions)", setViewMode},
+  {"view-dragging", 1, 1, "view-dragging on|off (render the 3D view as while the mouse drags it: half size)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.scriptDragging = call.onOff(0); }},
+  {"view-orbit", 2, 2, "view-orbit YAW_DEG PITCH_DEG (rotate the 3D view's own camera)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.orbit3d.rotate(call.floatArg(0), call.floatArg(1)); }},
+  {"expect-view-nonempty", 2, 2,
+   "expect-view-nonempty MIN_FRACTION MIN_SPREAD (more than MIN_FRACTION of the 3D view's pixels are content, not "
+   "background or bounds, and their luma standard deviation, 0..255, is more than MIN_SPREAD)",
+   expectViewNonempty});
 
 }  // namespace voxlab

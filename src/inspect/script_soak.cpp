@@ -31,6 +31,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "gpu/gl_debug.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -284,5 +285,24 @@ void Viewer::executeSoak(const ScriptAction& a) {
                         std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxObjectGrowth));
   }
 }
+
+namespace {
+
+void runSoakStep(Viewer& viewer, const ScriptCall& call) { viewer.executeSoak(call.action()); }
+
+}  // namespace
+
+// soak, and the steps it inserts into the script (no usage: not for scripts to call).
+VOXLAB_REGISTER_SCRIPT_VERBS(soak, 160,
+  {"soak", 4, 5,
+   "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] (a warm-up tour of every technique, then random "
+   "valid actions from SEED for SECONDS, or exactly ACTIONS of them when given (a replay), GL and frame checks after "
+   "each; settled at the default state before and after, the resident memory and live GL objects may grow by at most "
+   "the bounds)",
+   runSoakStep},
+  {"soak-baseline", 0, 0, nullptr, runSoakStep},
+  {"soak-step", 0, 0, nullptr, runSoakStep},
+  {"soak-check", 0, 0, nullptr, runSoakStep},
+  {"soak-finish", 0, 0, nullptr, runSoakStep});
 
 }  // namespace voxlab

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/paths.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -91,5 +92,14 @@ void Viewer::printFrameStats() const {
   }
   std::fflush(stdout);
 }
+
+VOXLAB_REGISTER_SCRIPT_VERBS(walk, 150,
+  {"walk-stages", 3, 3,
+   "walk-stages OUT_DIR RUN_DIR TOLERANCES.json (every stage: step its iterations, run, screenshot; every output: "
+   "save and compare with voxlab run's files in RUN_DIR)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const auto more = viewer.walkStagesActions(call.action());
+     viewer.script.insert(viewer.script.begin() + long(viewer.pc), more.begin(), more.end());
+   }});
 
 }  // namespace voxlab

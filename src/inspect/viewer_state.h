@@ -12,9 +12,12 @@
 //   panel_presenter.cpp   presenter mode: the view fills the window beside the lesson's narrative
 //                         in large type; side panels appear at the window's edges
 //   panel_gl_log.cpp      the GL log tab: every GL debug message of the session
-//   script_runner.cpp     the script verbs (tests drive the same actions as the mouse)
+//   script_runner.cpp     runs a script (tests drive the same actions as the mouse): each verb is
+//                         registered beside its feature with VOXLAB_REGISTER_SCRIPT_VERBS
+//                         (script_verbs.h); the image-file checks are script_checks.cpp
 //   script_soak.cpp       the soak verb: random valid actions across every technique, leak checks
-// A new Details tab (a presenter panel, say) is one more file with one registration.
+// A new Details tab (a presenter panel, say) is one more file with one registration; a new script
+// verb is one more entry in its feature's registration.
 #pragma once
 #include <chrono>
 #include <deque>
