@@ -180,11 +180,11 @@ bool Viewer::drawCompareImage(ImVec2 origin, ImVec2 size) {
       ImGui::Image(compare.diffTex.imgui(), size);
       return true;
     case CompareState::Mode::SideBySide:
-      ImGui::Image(viewTex.imgui(), size);
+      ImGui::Image(image2d.texture.imgui(), size);
       dl->AddImage(compare.otherTex.imgui(), ImVec2(end.x + 8, origin.y), ImVec2(end.x + 8 + size.x, end.y));
       return true;
     case CompareState::Mode::Split: {
-      ImGui::Image(viewTex.imgui(), size);
+      ImGui::Image(image2d.texture.imgui(), size);
       float x = origin.x + compare.split * size.x;
       dl->AddImage(compare.otherTex.imgui(), ImVec2(x, origin.y), end, ImVec2(compare.split, 0), ImVec2(1, 1));
       dl->AddLine(ImVec2(x, origin.y), ImVec2(x, end.y), IM_COL32(255, 255, 255, 220), 2.0f);

@@ -68,11 +68,11 @@ VOXLAB_REGISTER_SCRIPT_VERBS(gl_log, 110,
   {"expect-no-gl-failures", 0, 0,
    "expect-no-gl-failures (no GL message of severity high or medium since the script started)",
    [](Viewer& viewer, const ScriptCall& call) {
-     if (glFailureCount() == viewer.scriptGLFailures) return;
+     if (glFailureCount() == viewer.script.glFailuresAtStart) return;
      std::string last;
      for (const auto& e : glDebugLog())
        if (isGLFailure(e.message)) last = e.message.describe();
-     call.fail(std::to_string(glFailureCount() - viewer.scriptGLFailures) +
+     call.fail(std::to_string(glFailureCount() - viewer.script.glFailuresAtStart) +
                " GL failure(s) since the script started; last: " + last);
    }});
 

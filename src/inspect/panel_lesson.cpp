@@ -29,12 +29,12 @@ void Viewer::applyLessonStep(int i) {
   view.level = s.level;
   if (lessonStep < 0) wantTab = "lesson";
   lessonStep = i;
-  overlayOpt.bounds = s.bounds;
-  overlayOpt.voxels = !s.overlay.empty();
+  overlay.options.bounds = s.bounds;
+  overlay.options.voxels = !s.overlay.empty();
   if (!s.overlay.empty()) {
     size_t at = s.overlay.find('@');
-    overlayVolume = s.overlay.substr(0, at);
-    overlayLevel = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
+    overlay.volume = s.overlay.substr(0, at);
+    overlay.level = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
   }
   if (s.iterations > 0) {
     // Stop the stage after that many iterations: run what comes before, then step it.
@@ -42,7 +42,7 @@ void Viewer::applyLessonStep(int i) {
     stepIteration(s.iterations);
     return;
   }
-  lastRunRequest = selected;
+  runs.lastRequest = selected;
   requestRun(selected);
 }
 
@@ -113,7 +113,7 @@ void playLessonToEnd(Viewer& viewer, const ScriptCall& call) {
   if (viewer.lessonStep + 1 >= int(viewer.lesson.steps.size())) return;
   viewer.applyLessonStep(viewer.lessonStep + 1);
   printLessonStep(viewer);
-  --viewer.pc;  // repeat this action after the step has run
+  --viewer.script.next;  // repeat this action after the step has run
 }
 
 }  // namespace

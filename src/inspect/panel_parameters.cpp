@@ -12,7 +12,7 @@ void Viewer::drawParameters() {
   Technique& t = cursor->technique();
   // Parameters, generated from the declarations of every stage.
   ImGui::Separator();
-  ImGui::Checkbox("auto re-run", &autoRerun);
+  ImGui::Checkbox("auto re-run", &runs.autoRerun);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("after a change, re-run the stale stages up to the last run one");
   ImGui::SameLine();
   if (ImGui::Button("Defaults")) applyParams(t.defaultParams());

@@ -219,8 +219,8 @@ void Viewer::drawNarrative(ImVec2 size) {
   ImGui::SetCursorPosY(size.y - pad - footer * 0.8f);
   ImGui::PushFont(body);
   ImGui::SetWindowFontScale(0.5f);
-  if (runTarget >= 0 || iterateStage >= 0)
-    ImGui::TextColored(kHeadingText, "running %s ...", cursor->technique().stage(std::max(runTarget, iterateStage)).id());
+  if (runs.target >= 0 || runs.iterateStage >= 0)
+    ImGui::TextColored(kHeadingText, "running %s ...", cursor->technique().stage(std::max(runs.target, runs.iterateStage)).id());
   else if (!lesson.steps.empty())
     ImGui::TextColored(kQuietText, "PgDn / \xE2\x86\x92 next   PgUp / \xE2\x86\x90 back   1\xE2\x80\x93" "9 step   P leave");
   else
@@ -322,7 +322,7 @@ void pressKey(Viewer& viewer, const ScriptCall& call) {
     std::printf("key %s: presenter mode %s, lesson step %d\n", name.c_str(), viewer.presenter.on ? "on" : "off",
                 viewer.lessonStep + 1);
   }
-  viewer.waitFrames = 2;
+  viewer.script.waitFrames = 2;
 }
 
 void expectPresenterView(Viewer& viewer, const ScriptCall& call) {
@@ -344,7 +344,7 @@ VOXLAB_REGISTER_SCRIPT_VERBS(presenter, 90,
   {"present", 1, 1, "present on|off (presenter mode, as --present and the P / F11 keys)",
    [](Viewer& viewer, const ScriptCall& call) {
      viewer.setPresenting(call.onOff(0));
-     viewer.waitFrames = 2;  // the UI scale follows the window from the next frame
+     viewer.script.waitFrames = 2;  // the UI scale follows the window from the next frame
    }},
   {"key", 1, 1,
    "key NAME (a presenter-mode key, as pressed: right, left, pagedown, pageup, space, backspace, home, end, 0..9, p, "
@@ -353,7 +353,7 @@ VOXLAB_REGISTER_SCRIPT_VERBS(presenter, 90,
   {"mouse", 2, 2, "mouse X Y (the pointer at window pixel X, Y from the top left, for presenter mode's edge panels)",
    [](Viewer& viewer, const ScriptCall& call) {
      viewer.presenter.scriptMouse = ImVec2(call.floatArg(0), call.floatArg(1));
-     viewer.waitFrames = 2;  // a revealed panel is drawn from the next frame
+     viewer.script.waitFrames = 2;  // a revealed panel is drawn from the next frame
    }},
   {"expect-presenter-view", 1, 1,
    "expect-presenter-view MIN_FRACTION (presenter mode is on and the view's image covers more than MIN_FRACTION of "

@@ -80,7 +80,7 @@ int Viewer::probeShownAt(const glm::ivec3& texel, int level) {
       last = std::max(last, stage);
     }
   if (probed == 0) return 0;
-  requestRun(std::max(last, std::max(selected, lastRunRequest)));
+  requestRun(std::max(last, std::max(selected, runs.lastRequest)));
   char buf[160];
   if (size.z > 1)
     std::snprintf(buf, sizeof buf, "probed cell (%d, %d, %d) at level %d: %d probe(s)", texel.x, texel.y, texel.z, level, probed);
@@ -103,15 +103,15 @@ void Viewer::probePixel(int x, int y) {
     setParam(p->y, (y + 0.5) / v.height);
     last = std::max(last, stage);
   }
-  requestRun(std::max(last, std::max(selected, lastRunRequest)));
+  requestRun(std::max(last, std::max(selected, runs.lastRequest)));
   status = "probed pixel " + std::to_string(x) + "," + std::to_string(y);
   wantTab = "probe";
 }
 
-const std::vector<Viewer::ProbeRecords>& Viewer::probeRecords() {
-  if (probeCacheKey == generation) return probeCache;
-  probeCacheKey = generation;
-  probeCache.clear();
+const std::vector<ProbeRecords>& Viewer::probeRecords() {
+  if (probes.cacheKey == generation) return probes.cache;
+  probes.cacheKey = generation;
+  probes.cache.clear();
   const Technique& t = cursor->technique();
   for (int i = 0; i < t.stageCount(); ++i) {
     if (t.decl(i).probes.empty()) continue;
@@ -131,10 +131,10 @@ const std::vector<Viewer::ProbeRecords>& Viewer::probeRecords() {
           r.error = e.what();
         }
       }
-      probeCache.push_back(std::move(r));
+      probes.cache.push_back(std::move(r));
     }
   }
-  return probeCache;
+  return probes.cache;
 }
 
 void Viewer::drawProbe() {
@@ -170,7 +170,7 @@ void Viewer::drawProbe() {
     nlohmann::json stats;  // the record view needs none
     ImGui::PushID(r.desc);
     VisualiserContext ctx{r.out, stats, r.records, view, nullptr};
-    ctx.recordStep = &recordStep[std::string(t.stage(r.stage).id()) + "/" + r.desc->name];
+    ctx.recordStep = &probes.recordStep[std::string(t.stage(r.stage).id()) + "/" + r.desc->name];
     vis.drawRecordView(ctx);
     ImGui::PopID();
   }
@@ -184,7 +184,7 @@ VOXLAB_REGISTER_DETAILS_TAB(probe, "probe", "Probe", 20, [](const Viewer& v) { r
 
 namespace {
 
-std::string recordName(const Viewer& viewer, const Viewer::ProbeRecords& r) {
+std::string recordName(const Viewer& viewer, const ProbeRecords& r) {
   return std::string(viewer.cursor->technique().stage(r.stage).id()) + "/" + r.desc->name;
 }
 
@@ -212,7 +212,7 @@ void expectProbeRecords(Viewer& viewer, const ScriptCall& call) {
 // slider moves, kept per record output. record-step moves it; both print what the step shows.
 void showRecordStep(Viewer& viewer, const ScriptCall& call) {
   const std::string& wanted = call.arg(0);
-  const Viewer::ProbeRecords* rec = nullptr;
+  const ProbeRecords* rec = nullptr;
   std::vector<std::string> names;
   for (const auto& r : viewer.probeRecords()) {
     const std::string name = recordName(viewer, r);
@@ -224,7 +224,7 @@ void showRecordStep(Viewer& viewer, const ScriptCall& call) {
   const Visualiser& vis = visualiserFor(rec->out.desc);
   const int n = int(vis.recordSteps(rec->out));
   if (n == 0) call.fail(wanted + " (" + vis.name() + ") has no steps to show; with steps now: " + joinNames(names));
-  int& k = viewer.recordStep[wanted];
+  int& k = viewer.probes.recordStep[wanted];
   const bool moves = call.verb() == "record-step";
   if (moves) {
     const std::string& to = call.arg(1);

@@ -47,7 +47,7 @@ void Viewer::drawLeftPanel() {
     ImVec4 col = r.state == StageState::Done    ? ImVec4(0.4f, 0.9f, 0.4f, 1)
                  : r.state == StageState::Stale ? kWarningColour
                                                 : ImVec4(0.6f, 0.6f, 0.6f, 1);
-    bool running = (runTarget >= i && r.state != StageState::Done) || iterateStage == i;
+    bool running = (runs.target >= i && r.state != StageState::Done) || runs.iterateStage == i;
     char state[48];
     if (r.state == StageState::Partial)
       std::snprintf(state, sizeof state, "partial %d/%d", r.iterationsRun, r.iterationsTotal);
@@ -83,7 +83,7 @@ void Viewer::drawLeftPanel() {
       ImGui::TextDisabled("%d iterations", iterations);
   }
   ImGui::TextDisabled("keys: Left/Right stage, R run, A all, I iteration, F5 reload");
-  if (runTarget >= 0) ImGui::TextColored(kWarningColour, "running through stage %d ...", runTarget + 1);
+  if (runs.target >= 0) ImGui::TextColored(kWarningColour, "running through stage %d ...", runs.target + 1);
 
   drawParameters();
 }
@@ -180,6 +180,6 @@ VOXLAB_REGISTER_SCRIPT_VERBS(timeline, 10,
    }},
   {"expect-stat", 4, 4, "expect-stat STAGE NAME =|<|>|<=|>= VALUE (a statistic of the stage's last run)", expectStat},
   {"auto-rerun", 1, 1, "auto-rerun on|off (re-run stale stages after a change, as the checkbox)",
-   [](Viewer& viewer, const ScriptCall& call) { viewer.autoRerun = call.onOff(0); }});
+   [](Viewer& viewer, const ScriptCall& call) { viewer.runs.autoRerun = call.onOff(0); }});
 
 }  // namespace voxlab

@@ -24,34 +24,34 @@ void handleViewMouse(Viewer& v, bool imageHovered, bool cameraImage, const std::
   ImGuiIO& io = ImGui::GetIO();
   const ImVec2 m = io.MousePos;
   if (imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-    v.dragging = true;
-    v.orbiting = false;
-    v.dragStart = m;
+    v.pointer.dragging = true;
+    v.pointer.orbiting = false;
+    v.pointer.dragStart = m;
   }
-  if (v.dragging) {
-    if (cameraImage && !v.orbiting && std::abs(m.x - v.dragStart.x) + std::abs(m.y - v.dragStart.y) > 4.0f) {
-      v.orbiting = true;
-      v.turningLight = io.KeyShift;  // Shift + drag turns the light instead of the camera
+  if (v.pointer.dragging) {
+    if (cameraImage && !v.pointer.orbiting && std::abs(m.x - v.pointer.dragStart.x) + std::abs(m.y - v.pointer.dragStart.y) > 4.0f) {
+      v.pointer.orbiting = true;
+      v.pointer.turningLight = io.KeyShift;  // Shift + drag turns the light instead of the camera
     }
-    if (v.orbiting && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) {
-      if (v.turningLight) v.turnLight(io.MouseDelta.x * 0.3f, -io.MouseDelta.y * 0.3f);
+    if (v.pointer.orbiting && (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f)) {
+      if (v.pointer.turningLight) v.turnLight(io.MouseDelta.x * 0.3f, -io.MouseDelta.y * 0.3f);
       else v.orbit(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
     }
     if (ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
-      v.dragging = false;
-      if (!v.orbiting && v.hover) {
-        v.pickTexel = v.hoverTexel;
-        if (!probeSpaces.empty()) v.probeShownAt(v.hoverTexel, v.view.level);
+      v.pointer.dragging = false;
+      if (!v.pointer.orbiting && v.pointer.hover) {
+        v.pointer.pickTexel = v.pointer.hoverTexel;
+        if (!probeSpaces.empty()) v.probeShownAt(v.pointer.hoverTexel, v.view.level);
       }
-      v.orbiting = false;
+      v.pointer.orbiting = false;
     }
   }
   if (cameraImage && imageHovered && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
-    v.flying = true;
-    v.lastFlyTime = glfwGetTime();
+    v.pointer.flying = true;
+    v.pointer.lastFlyTime = glfwGetTime();
   }
-  if (v.flying) {
-    if (!ImGui::IsMouseDown(ImGuiMouseButton_Right)) v.flying = false;
+  if (v.pointer.flying) {
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Right)) v.pointer.flying = false;
     else v.handleFly();
   }
 }
@@ -92,8 +92,8 @@ std::vector<ImVec2> probeMarks(const Viewer& v, const std::vector<ProbeSpace>& p
 // Under the image: the value under the cursor, the picked element, the camera and the status.
 void drawViewCaption(const Viewer& v, const Visualiser& vis, const VisualiserContext& ctx, bool cameraImage,
                      const std::vector<ProbeSpace>& probeSpaces) {
-  if (v.hover) {
-    ImGui::TextWrapped("%s", vis.describeElement(ctx, v.hoverTexel).c_str());
+  if (v.pointer.hover) {
+    ImGui::TextWrapped("%s", vis.describeElement(ctx, v.pointer.hoverTexel).c_str());
   } else {
     std::string caption = vis.caption(ctx);
     const char* click = probeSpaces.empty() ? "pick" : "probe";
@@ -104,8 +104,8 @@ void drawViewCaption(const Viewer& v, const Visualiser& vis, const VisualiserCon
     else
       ImGui::TextDisabled("hover for values; click to %s", click);
   }
-  if (v.pickTexel.x >= 0) {
-    std::string picked = vis.describeElement(ctx, v.pickTexel);
+  if (v.pointer.pickTexel.x >= 0) {
+    std::string picked = vis.describeElement(ctx, v.pointer.pickTexel);
     if (!picked.empty()) ImGui::TextWrapped("picked %s", picked.c_str());
   }
   if (v.pendingCamera) ImGui::TextColored(kWarningColour, "camera moving: the image follows when the stages have re-run");
@@ -129,7 +129,7 @@ void Viewer::drawView() {
         if (ImGui::Selectable(outs[k].name.c_str(), int(k) == outputIndex)) {
           outputIndex = int(k);
           view.level = 0;
-          pickTexel = glm::ivec3(-1);
+          pointer.pickTexel = glm::ivec3(-1);
         }
       ImGui::EndCombo();
     }
@@ -144,12 +144,12 @@ void Viewer::drawView() {
   VisualiserContext ctx = visualiserContext();
   if (!bare)
     ImGui::TextDisabled("%s, %s, %s: %s", kindName(d.kind), semanticName(d.semantic), cap.format.c_str(), d.help.c_str());
-  if (has3DView() && bare && viewMode != ViewMode::Slice) {
+  if (has3DView() && bare && view3d.mode != ViewMode::Slice) {
     draw3DView();
     return;
   }
   if (has3DView() && !bare) {
-    int mode = int(viewMode);
+    int mode = int(view3d.mode);
     ImGui::TextUnformatted("view");
     ImGui::SameLine();
     ImGui::RadioButton(d.kind == OutputKind::Buffer ? "points 2D" : "slice", &mode,
@@ -158,8 +158,8 @@ void Viewer::drawView() {
     ImGui::RadioButton("3D", &mode, int(ViewMode::Volume));
     ImGui::SameLine();
     ImGui::RadioButton("cubes", &mode, int(ViewMode::Cubes));
-    viewMode = ViewMode(mode);
-    if (viewMode != ViewMode::Slice) {
+    view3d.mode = ViewMode(mode);
+    if (view3d.mode != ViewMode::Slice) {
       draw3DView();
       return;
     }
@@ -168,13 +168,13 @@ void Viewer::drawView() {
   // Build the displayed image when the data or the view settings changed.
   long key[8] = {capKey[0], capKey[1], capKey[2], view.level, view.slice.axis, view.slice.index, view.display.channel,
                  long(view.display.exposure * 1000)};
-  if (!std::equal(key, key + 8, texKey)) {
-    std::copy(key, key + 8, texKey);
+  if (!std::equal(key, key + 8, image2d.key)) {
+    std::copy(key, key + 8, image2d.key);
     frameHeavy = true;
-    viewImage = vis.image2D(ctx);
-    if (viewImage.width > 0) viewTex.upload(viewImage.width, viewImage.height, viewImage.rgba.data());
+    image2d.image = vis.image2D(ctx);
+    if (image2d.image.width > 0) image2d.texture.upload(image2d.image.width, image2d.image.height, image2d.image.rgba.data());
   }
-  if (viewImage.width == 0) {
+  if (image2d.image.width == 0) {
     ImGui::TextUnformatted(vis.caption(ctx).c_str());
     return;
   }
@@ -187,8 +187,8 @@ void Viewer::drawView() {
   ImVec2 avail = ImGui::GetContentRegionAvail();
   if (!bare) avail.y -= 60;
   if (compare.on && compare.mode == CompareState::Mode::SideBySide) avail.x *= 0.5f;
-  float scale = std::min(avail.x / viewImage.width, avail.y / viewImage.height);
-  ImVec2 size(viewImage.width * scale, viewImage.height * scale);
+  float scale = std::min(avail.x / image2d.image.width, avail.y / image2d.image.height);
+  ImVec2 size(image2d.image.width * scale, image2d.image.height * scale);
   if (bare) {
     ImVec2 at = ImGui::GetCursorScreenPos();
     ImGui::SetCursorScreenPos(ImVec2(std::floor(at.x + (avail.x - size.x) * 0.5f), std::floor(at.y + (avail.y - size.y) * 0.5f)));
@@ -196,27 +196,27 @@ void Viewer::drawView() {
   ImVec2 origin = ImGui::GetCursorScreenPos();
   presenter.imageMin = origin;
   presenter.imageMax = ImVec2(origin.x + size.x, origin.y + size.y);
-  if (!drawCompareImage(origin, size)) ImGui::Image(viewTex.imgui(), size);
-  hover = false;
+  if (!drawCompareImage(origin, size)) ImGui::Image(image2d.texture.imgui(), size);
+  pointer.hover = false;
   bool imageHovered = ImGui::IsItemHovered();
   ImVec2 m = ImGui::GetIO().MousePos;
   int px = int(std::floor((m.x - origin.x) / scale)), py = int(std::floor((m.y - origin.y) / scale));
   glm::ivec3 element;
-  const bool inside = px >= 0 && py >= 0 && px < viewImage.width && py < viewImage.height;
-  if (imageHovered && !viewImage.pick.empty()) {
+  const bool inside = px >= 0 && py >= 0 && px < image2d.image.width && py < image2d.image.height;
+  if (imageHovered && !image2d.image.pick.empty()) {
     // The visualiser drew a pick map: the element under the cursor is the one drawn there.
-    int id = inside ? viewImage.pick[size_t(py) * viewImage.width + px] : -1;
-    if (id >= 0) hover = true, hoverTexel = glm::ivec3(id, 0, 0);
+    int id = inside ? image2d.image.pick[size_t(py) * image2d.image.width + px] : -1;
+    if (id >= 0) pointer.hover = true, pointer.hoverTexel = glm::ivec3(id, 0, 0);
   } else if (imageHovered && vis.elementAt(ctx, px, py, element)) {
-    hover = true;
-    hoverTexel = element;
+    pointer.hover = true;
+    pointer.hoverTexel = element;
   }
   // Camera images: the overlay (voxels, bounds) drawn with the live camera over the image.
   auto* dl = ImGui::GetWindowDrawList();
   if (cameraImage) {
     updateOverlay();
-    if (!overlayKey.empty())
-      dl->AddImage(reinterpret_cast<ImTextureID>(intptr_t(overlay->texture())), origin,
+    if (!overlay.key.empty())
+      dl->AddImage(reinterpret_cast<ImTextureID>(intptr_t(overlay.renderer->texture())), origin,
                    ImVec2(origin.x + size.x, origin.y + size.y), ImVec2(0, 1), ImVec2(1, 0));
   }
   handleViewMouse(*this, imageHovered, cameraImage, probeSpaces);
@@ -237,23 +237,23 @@ void Viewer::drawView() {
 
 DisplayImage Viewer::viewportImage() const {
   DisplayImage img;
-  if (viewMode != ViewMode::Slice && view3d && has3DView()) {
-    std::vector<uint8_t> px = view3d->readPixels();  // kSize^2, bottom row first; the render fills a corner
-    int n = view3d->lastSize();
+  if (view3d.mode != ViewMode::Slice && view3d.renderer && has3DView()) {
+    std::vector<uint8_t> px = view3d.renderer->readPixels();  // kSize^2, bottom row first; the render fills a corner
+    int n = view3d.renderer->lastSize();
     img.width = img.height = n;
     for (int y = n - 1; y >= 0; --y)
       for (int x = 0; x < n; ++x)
         img.rgb.insert(img.rgb.end(), &px[(size_t(y) * View3D::kSize + x) * 4], &px[(size_t(y) * View3D::kSize + x) * 4] + 3);
     return img;
   }
-  img.width = viewImage.width;
-  img.height = viewImage.height;
+  img.width = image2d.image.width;
+  img.height = image2d.image.height;
   std::vector<uint8_t> over;
-  if (overlay && !overlayKey.empty() && isCameraImage(selected, cap)) over = overlay->readPixels();
+  if (overlay.renderer && !overlay.key.empty() && isCameraImage(selected, cap)) over = overlay.renderer->readPixels();
   const bool blend = over.size() == size_t(img.width) * img.height * 4;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
-      const uint8_t* p = &viewImage.rgba[(size_t(y) * img.width + x) * 4];
+      const uint8_t* p = &image2d.image.rgba[(size_t(y) * img.width + x) * 4];
       const uint8_t* o = blend ? &over[(size_t(img.height - 1 - y) * img.width + x) * 4] : nullptr;
       for (int c = 0; c < 3; ++c) {
         float v = p[c];
@@ -292,14 +292,14 @@ void clickView(Viewer& viewer, const ScriptCall& call) {
     found = vis.elementAt(ctx, x, y, element);
   }
   if (!found) call.fail("nothing of " + cap.desc.name + " is shown at (" + call.arg(0) + ", " + call.arg(1) + ")");
-  viewer.pickTexel = element;
+  viewer.pointer.pickTexel = element;
   const int probed = viewer.probeSpacesOfShown().empty() ? 0 : viewer.probeShownAt(element, viewer.view.level);
   std::printf("click %s: %s; %d probe(s) set\n", cap.desc.name.c_str(), vis.describeElement(ctx, element).c_str(), probed);
 }
 
 void saveView(Viewer& viewer, const ScriptCall& call) {
   const CapturedOutput& cap = requireShownCapture(viewer, call);
-  if (viewer.viewMode != ViewMode::Slice) viewer.update3D();
+  if (viewer.view3d.mode != ViewMode::Slice) viewer.update3D();
   else if (viewer.isCameraImage(viewer.selected, cap)) viewer.updateOverlay();
   const std::filesystem::path p(call.arg(0));
   std::error_code ec;

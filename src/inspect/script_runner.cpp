@@ -16,11 +16,11 @@ void Viewer::scriptFail(const ScriptAction& a, const std::string& msg) const {
 
 void Viewer::stepScript() {
   if (scriptBusy()) return;
-  if (pc >= script.size()) {
+  if (script.next >= script.actions.size()) {
     quit = true;
     return;
   }
-  const ScriptAction a = script[pc++];  // a copy: walk-stages inserts actions into script
+  const ScriptAction a = script.actions[script.next++];  // a copy: walk-stages inserts actions into script
   frameHeavy = true;  // script I/O (saving, comparing) is not UI time
   try {
     execute(a);
@@ -56,7 +56,7 @@ VOXLAB_REGISTER_SCRIPT_VERBS(script, 140,
      viewer.reloadShaders();
      if (!viewer.shaderError.empty()) std::printf("shader reload failed: %s\n", viewer.shaderError.c_str());
    }},
-  {"wait", 1, 1, "wait FRAMES", [](Viewer& viewer, const ScriptCall& call) { viewer.waitFrames = call.intArg(0); }},
+  {"wait", 1, 1, "wait FRAMES", [](Viewer& viewer, const ScriptCall& call) { viewer.script.waitFrames = call.intArg(0); }},
   {"tab", 1, 1, "tab inspect|probe|timing|lesson|export (bring a details tab to front)",
    [](Viewer& viewer, const ScriptCall& call) {
      std::vector<std::string> ids;
@@ -70,7 +70,7 @@ VOXLAB_REGISTER_SCRIPT_VERBS(script, 140,
      const float s = call.floatArg(0);
      if (!(s >= 0.75f && s <= 3.0f)) call.badArgument("scale must be in 0.75..3, not " + call.arg(0));
      viewer.wantUiScale = s;
-     viewer.waitFrames = 2;
+     viewer.script.waitFrames = 2;
    }},
   {"quit", 0, 0, "quit", [](Viewer& viewer, const ScriptCall&) { viewer.quit = true; }});
 
