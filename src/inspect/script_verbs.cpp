@@ -2,6 +2,8 @@
 #include "inspect/script_verbs.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 
@@ -33,7 +35,16 @@ const ScriptVerb* findScriptVerb(const std::string& name) {
 
 bool registerScriptVerbs(int order, std::initializer_list<ScriptVerb> verbs) {
   VerbRegistry& r = registry();
-  for (const ScriptVerb& v : verbs) r.ordered.emplace_back(order, v);
+  for (const ScriptVerb& v : verbs) {
+    // Two features claiming one verb is a programming error that no script could work around.
+    const bool taken = std::any_of(r.ordered.begin(), r.ordered.end(),
+                                   [&](const auto& entry) { return std::string(entry.second.name) == v.name; });
+    if (taken) {
+      std::fprintf(stderr, "script verb '%s' is registered twice\n", v.name);
+      std::abort();
+    }
+    r.ordered.emplace_back(order, v);
+  }
   std::stable_sort(r.ordered.begin(), r.ordered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   r.verbs.clear();
   for (const auto& [groupOrder, v] : r.ordered) r.verbs.push_back(v);
