@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "capture/output_handler.h"
+#include "inspect/script_verbs.h"
 
 namespace voxlab {
 
@@ -360,114 +361,6 @@ std::vector<NarrativeBlock> narrativeBlocks(const std::string& text) {
 
 namespace {
 
-struct VerbSpec {
-  const char* verb;
-  int minArgs, maxArgs;
-  const char* usage;
-};
-
-const VerbSpec kVerbs[] = {
-    {"technique", 1, 1, "technique ID"},
-    {"scene", 1, 1, "scene NAME|PATH (a failed load keeps the current scene and records the error)"},
-    {"drop", 1, 1, "drop PATH (as dropping a glTF/GLB file on the window: a failed load keeps the current scene)"},
-    {"turn-light", 2, 2, "turn-light AZIMUTH_DEG ELEVATION_DEG (turn the light from where it points, as Shift + drag)"},
-    {"expect-scene", 1, 1, "expect-scene NAME (the current scene is NAME, its file's stem)"},
-    {"expect-scene-error", 1, 32, "expect-scene-error TEXT... (the last scene error contains TEXT)"},
-    {"stage", 1, 1, "stage ID (select it)"},
-    {"output", 1, 1, "output NAME (of the selected stage)"},
-    {"level", 1, 1, "level N"},
-    {"slice", 2, 2, "slice x|y|z INDEX"},
-    {"channel", 1, 1, "channel N (-1 = all)"},
-    {"exposure", 1, 1, "exposure F"},
-    {"set", 1, 1, "set NAME=VALUE"},
-    {"reset-params", 0, 0, "reset-params"},
-    {"expect-refusal", 1, 32, "expect-refusal TEXT... (the last parameter change was refused for the resource budget "
-                              "and its line contains TEXT; the parameters stayed as they were)"},
-    {"camera", 1, 1, "camera N (scene camera bookmark)"},
-    {"orbit", 2, 2, "orbit YAW_DEG PITCH_DEG"},
-    {"frame-scene", 0, 0, "frame-scene"},
-    {"size", 1, 1, "size WxH (render size)"},
-    {"run", 0, 0, "run (to the selected stage)"},
-    {"runall", 0, 0, "runall"},
-    {"next", 0, 0, "next (run and select the next stage)"},
-    {"prev", 0, 0, "prev (select the previous stage)"},
-    {"probe", 2, 2, "probe X Y (pixel of the camera images, from the top left: sets every screen-space probe)"},
-    {"lesson", 1, 1, "lesson FILE (load it and apply step 1)"},
-    {"lesson-next", 0, 0, "lesson-next"},
-    {"lesson-prev", 0, 0, "lesson-prev"},
-    {"lesson-end", 0, 0, "lesson-end (play every remaining step, running each)"},
-    {"save-view", 1, 1, "save-view PATH.png (what the view shows: the image with its overlay, or the 3D view; as Save view PNG)"},
-    {"screenshot", 1, 1, "screenshot PATH.png (the window's back buffer)"},
-    {"save-output", 1, 1, "save-output DIR (selected output, files named as voxlab run names them)"},
-    {"compare-output", 2, 3, "compare-output VIEW_DIR RUN_DIR [TOLERANCE] (EXR/bin of the selected output saved by save-output vs voxlab run)"},
-    {"expect-images-differ", 3, 3, "expect-images-differ A.png B.png MIN_FRACTION (more than MIN_FRACTION of the pixels "
-                                   "differ; images of different sizes differ everywhere)"},
-    {"expect-images-equal", 2, 2, "expect-images-equal A.png B.png"},
-    {"expect-state", 2, 2, "expect-state STAGE done|stale|not-run"},
-    {"expect-param", 2, 2, "expect-param NAME VALUE"},
-    {"expect-stat", 4, 4, "expect-stat STAGE NAME =|<|>|<=|>= VALUE (a statistic of the stage's last run)"},
-    {"copy-command", 0, 0, "copy-command (prints the voxlab run line and copies it)"},
-    {"reload", 0, 0, "reload (shader hot reload, as F5)"},
-    {"wait", 1, 1, "wait FRAMES"},
-    {"tab", 1, 1, "tab inspect|probe|timing|lesson|export (bring a details tab to front)"},
-    {"view-mode", 1, 1, "view-mode slice|3d|cubes (3D views of volumes and of buffers with positions)"},
-    {"auto-rerun", 1, 1, "auto-rerun on|off (re-run stale stages after a change, as the checkbox)"},
-    {"ui-scale", 1, 1, "ui-scale S (text and widget size, 0.75..3, as --ui-scale)"},
-    {"view-dragging", 1, 1, "view-dragging on|off (render the 3D view as while the mouse drags it: half size)"},
-    {"view-orbit", 2, 2, "view-orbit YAW_DEG PITCH_DEG (rotate the 3D view's own camera)"},
-    {"expect-view-nonempty", 2, 2, "expect-view-nonempty MIN_FRACTION MIN_SPREAD (more than MIN_FRACTION of the 3D "
-                                   "view's pixels are content, not background or bounds, and their luma standard "
-                                   "deviation, 0..255, is more than MIN_SPREAD)"},
-    {"iterate", 0, 0, "iterate (one more iteration of the selected stage, as Step iteration)"},
-    {"expect-iterations", 2, 2, "expect-iterations STAGE N (N of STAGE's iterations have run)"},
-    {"walk-stages", 3, 3, "walk-stages OUT_DIR RUN_DIR TOLERANCES.json (every stage: step its iterations, run, "
-                          "screenshot; every output: save and compare with voxlab run's files in RUN_DIR)"},
-    {"fly", 3, 3, "fly RIGHT UP FORWARD (move the camera along its axes, metres)"},
-    {"look", 2, 2, "look YAW_DEG PITCH_DEG (turn the camera about its eye)"},
-    {"overlay", 2, 2, "overlay bounds|voxels|xray on|off (overlays on camera images)"},
-    {"overlay-volume", 2, 2, "overlay-volume STAGE/OUTPUT LEVEL (the volume whose voxels the overlay shows)"},
-    {"expect-overlay-pixels", 1, 1, "expect-overlay-pixels MIN (the overlay covers more than MIN pixels)"},
-    {"expect-overlay-camera", 3, 3,
-     "expect-overlay-camera DX DY DZ (the overlay is drawn from the camera the images were rendered from: the "
-     "viewer's camera moved by DX,DY,DZ metres, within 1e-4)"},
-    {"click", 2, 2, "click X Y (left click on pixel X, Y of the shown 2D view, from its top left: picks, and probes "
-                    "every stage with a probe in that image's space)"},
-    {"expect-probe-records", 1, 1, "expect-probe-records MIN (every probe record has more than MIN elements and "
-                                   "passes its visualiser's check)"},
-    {"record-step", 2, 2, "record-step STAGE/OUTPUT N|first|last|next|prev (move a probe record's step slider in the "
-                          "Probe tab, as dragging it: a walk's step; prints what the step shows)"},
-    {"expect-record-step", 2, 32, "expect-record-step STAGE/OUTPUT TEXT... (the step the probe record's slider shows is "
-                                  "described with TEXT)"},
-    {"expect-visualiser", 1, 1, "expect-visualiser NAME (the shown output's visualiser)"},
-    {"keep-snapshot", 0, 0, "keep-snapshot (keep the shown output to compare with later, as Keep snapshot)"},
-    {"compare-with", 1, 2, "compare-with output STAGE/OUTPUT | snapshot | file PATH | off (the compare view)"},
-    {"compare-mode", 1, 2, "compare-mode side|split|difference [SPLIT] (how the compare view shows both)"},
-    {"print-compare", 0, 1, "print-compare [MIN_RMSE] (prints the compare view's metrics: rmse, psnr, mae, max_abs, "
-                            "ssim; with MIN_RMSE fails unless rmse is above it)"},
-    {"present", 1, 1, "present on|off (presenter mode, as --present and the P / F11 keys)"},
-    {"key", 1, 1, "key NAME (a presenter-mode key, as pressed: right, left, pagedown, pageup, space, backspace, home, "
-                  "end, 0..9, p, f11, escape)"},
-    {"mouse", 2, 2, "mouse X Y (the pointer at window pixel X, Y from the top left, for presenter mode's edge panels)"},
-    {"expect-presenter-view", 1, 1, "expect-presenter-view MIN_FRACTION (presenter mode is on and the view's image "
-                                    "covers more than MIN_FRACTION of the window)"},
-    {"expect-region-ink", 6, 6, "expect-region-ink A.png X0 Y0 X1 Y1 MIN_FRACTION (in the region, in fractions of the "
-                                "image, more than MIN_FRACTION of the pixels differ from its most common colour)"},
-    {"expect-regions-differ", 6, 6, "expect-regions-differ A.png B.png X0 Y0 X1 Y1 (the region, in fractions of the "
-                                    "images, differs between them)"},
-    {"expect-regions-equal", 6, 6, "expect-regions-equal A.png B.png X0 Y0 X1 Y1 (the region is the same in both)"},
-    {"gl-debug-message", 1, 32, "gl-debug-message TEXT... (insert an application message, severity low, into the GL "
-                                "debug output: the GL log tab shows it)"},
-    {"expect-gl-log", 1, 32, "expect-gl-log TEXT... (a message in the GL debug log contains TEXT)"},
-    {"expect-no-gl-failures", 0, 0, "expect-no-gl-failures (no GL message of severity high or medium since the script "
-                                    "started)"},
-    {"soak", 4, 5, "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] (a warm-up tour of every "
-                   "technique, then random valid actions from SEED for SECONDS, or exactly ACTIONS of them when given "
-                   "(a replay), GL and frame checks after each; settled at the default state before and after, the "
-                   "resident memory and live GL objects may grow by at most the bounds)"},
-    {"frame-stats", 0, 0, "frame-stats (prints UI frame times)"},
-    {"quit", 0, 0, "quit"},
-};
-
 std::string substituteEnv(const std::string& s, const std::string& where) {
   std::string r;
   for (size_t i = 0; i < s.size(); ++i) {
@@ -490,7 +383,8 @@ std::string substituteEnv(const std::string& s, const std::string& where) {
 
 std::string scriptVerbsHelp() {
   std::string s;
-  for (const auto& v : kVerbs) s += std::string("  ") + v.usage + "\n";
+  for (const ScriptVerb& v : scriptVerbs())
+    if (v.usage) s += std::string("  ") + v.usage + "\n";
   return s;
 }
 
@@ -509,12 +403,11 @@ std::vector<ScriptAction> parseScript(const std::string& text, const std::string
     a.line = n;
     if (!(words >> a.verb)) continue;
     for (std::string w; words >> w;) a.args.push_back(w);
-    const VerbSpec* spec = nullptr;
-    for (const auto& v : kVerbs)
-      if (a.verb == v.verb) spec = &v;
-    if (!spec) {
+    const ScriptVerb* spec = findScriptVerb(a.verb);
+    if (!spec || !spec->usage) {
       std::vector<std::string> names;
-      for (const auto& v : kVerbs) names.push_back(v.verb);
+      for (const ScriptVerb& v : scriptVerbs())
+        if (v.usage) names.push_back(v.name);
       throw Error(where + ": unknown action '" + a.verb + "'; valid: " + joinNames(names));
     }
     if (int(a.args.size()) < spec->minArgs || int(a.args.size()) > spec->maxArgs)

@@ -4,10 +4,13 @@
 // metrics `voxlab compare` reports (reference/image_metrics.h: the shown image is A, the other B,
 // both as linear RGB from the first three channels, top row first).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
+#include "core/paths.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 #include "reference/image_io.h"
 
@@ -177,11 +180,11 @@ bool Viewer::drawCompareImage(ImVec2 origin, ImVec2 size) {
       ImGui::Image(compare.diffTex.imgui(), size);
       return true;
     case CompareState::Mode::SideBySide:
-      ImGui::Image(viewTex.imgui(), size);
+      ImGui::Image(image2d.texture.imgui(), size);
       dl->AddImage(compare.otherTex.imgui(), ImVec2(end.x + 8, origin.y), ImVec2(end.x + 8 + size.x, end.y));
       return true;
     case CompareState::Mode::Split: {
-      ImGui::Image(viewTex.imgui(), size);
+      ImGui::Image(image2d.texture.imgui(), size);
       float x = origin.x + compare.split * size.x;
       dl->AddImage(compare.otherTex.imgui(), ImVec2(x, origin.y), end, ImVec2(compare.split, 0), ImVec2(1, 1));
       dl->AddLine(ImVec2(x, origin.y), ImVec2(x, end.y), IM_COL32(255, 255, 255, 220), 2.0f);
@@ -190,5 +193,81 @@ bool Viewer::drawCompareImage(ImVec2 origin, ImVec2 size) {
   }
   return false;
 }
+
+// --- Script verbs: the compare view -----------------------------------------------------------------
+
+namespace {
+
+void keepSnapshot(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  const Technique& t = viewer.cursor->technique();
+  viewer.compare.snapshot = cap;
+  viewer.compare.snapshotLabel = std::string(t.stage(viewer.selected).id()) + "/" + cap.desc.name;
+  for (const auto& [name, value] : viewer.cursor->params().formatted())
+    if (t.defaultParams().formatted().at(name) != value) viewer.compare.snapshotLabel += " " + name + "=" + value;
+}
+
+void compareWith(Viewer& viewer, const ScriptCall& call) {
+  CompareState& compare = viewer.compare;
+  const std::string& what = call.arg(0);
+  compare.on = what != "off";
+  if (what == "output") {
+    if (call.count() < 2) call.badArgument("compare-with output needs STAGE/OUTPUT");
+    const auto outputs = viewer.imageOutputs();
+    if (std::find(outputs.begin(), outputs.end(), call.arg(1)) == outputs.end())
+      call.fail("no image output '" + call.arg(1) + "' has run; valid: " + joinNames(outputs));
+    compare.source = CompareState::Source::Output;
+    compare.other = call.arg(1);
+  } else if (what == "snapshot") {
+    if (!compare.snapshot) call.fail("no snapshot kept (keep-snapshot)");
+    compare.source = CompareState::Source::Snapshot;
+  } else if (what == "file") {
+    if (call.count() < 2) call.badArgument("compare-with file needs PATH");
+    if (!fileExists(call.arg(1))) call.fail("file '" + call.arg(1) + "' does not exist");
+    compare.source = CompareState::Source::File;
+    std::snprintf(compare.file, sizeof compare.file, "%s", call.arg(1).c_str());
+  } else if (what != "off") {
+    call.badArgument("unknown source '" + what + "'; valid: output, snapshot, file, off");
+  }
+  compare.key.clear();
+}
+
+void setCompareMode(Viewer& viewer, const ScriptCall& call) {
+  CompareState& compare = viewer.compare;
+  if (call.arg(0) == "side") compare.mode = CompareState::Mode::SideBySide;
+  else if (call.arg(0) == "split") compare.mode = CompareState::Mode::Split;
+  else if (call.arg(0) == "difference") compare.mode = CompareState::Mode::Difference;
+  else call.badArgument("unknown mode '" + call.arg(0) + "'; valid: side, split, difference");
+  if (call.count() > 1) compare.split = std::clamp(call.floatArg(1), 0.0f, 1.0f);
+}
+
+void printCompare(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  CompareState& compare = viewer.compare;
+  if (!compare.on) call.fail("compare is off (compare-with ...)");
+  if (cap.desc.kind != OutputKind::Image2D) call.fail("output " + cap.desc.name + " is not an image");
+  compare.key.clear();
+  const auto t0 = std::chrono::steady_clock::now();
+  viewer.updateCompare();
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (!compare.error.empty()) call.fail(compare.error);
+  const auto& m = *compare.metrics;
+  // %.9g: enough digits for the test to compare with `voxlab compare --json`.
+  std::printf("compare %s vs %s: rmse %.9g psnr %.9g mae %.9g max_abs %.9g ssim %.9g (%.1f ms)\n", cap.desc.name.c_str(),
+              compare.otherLabel.c_str(), m.rmse, m.psnr, m.mae, m.maxAbs, m.ssim, ms);
+  if (call.count() > 0 && !(m.rmse > call.floatArg(0)))
+    call.fail("rmse " + std::to_string(m.rmse) + " is not above " + call.arg(0));
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(compare, 70,
+  {"keep-snapshot", 0, 0, "keep-snapshot (keep the shown output to compare with later, as Keep snapshot)", keepSnapshot},
+  {"compare-with", 1, 2, "compare-with output STAGE/OUTPUT | snapshot | file PATH | off (the compare view)", compareWith},
+  {"compare-mode", 1, 2, "compare-mode side|split|difference [SPLIT] (how the compare view shows both)", setCompareMode},
+  {"print-compare", 0, 1,
+   "print-compare [MIN_RMSE] (prints the compare view's metrics: rmse, psnr, mae, max_abs, ssim; with MIN_RMSE fails "
+   "unless rmse is above it)",
+   printCompare});
 
 }  // namespace voxlab

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "gpu/gl_debug.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -42,5 +43,37 @@ void drawGLLog(Viewer&) {
 }  // namespace
 
 VOXLAB_REGISTER_DETAILS_TAB(gl_log, "gl-log", "GL log", 60, nullptr, [](Viewer& v) { drawGLLog(v); });
+
+// --- Script verbs: the GL debug output ----------------------------------------------------------------
+
+VOXLAB_REGISTER_SCRIPT_VERBS(gl_log, 110,
+  {"gl-debug-message", 1, 32,
+   "gl-debug-message TEXT... (insert an application message, severity low, into the GL debug output: the GL log tab "
+   "shows it)",
+   // Severity low: logged, not a failure, as a GL tool or a driver would send one.
+   [](Viewer&, const ScriptCall& call) {
+     glDebugMessageInsert(GL_DEBUG_SOURCE_APPLICATION, GL_DEBUG_TYPE_OTHER, 1, GL_DEBUG_SEVERITY_LOW, -1,
+                          call.text().c_str());
+   }},
+  {"expect-gl-log", 1, 32, "expect-gl-log TEXT... (a message in the GL debug log contains TEXT)",
+   [](Viewer&, const ScriptCall& call) {
+     const std::string text = call.text();
+     const auto log = glDebugLog();
+     const GLDebugLogEntry* found = nullptr;
+     for (const auto& e : log)
+       if (e.message.describe().find(text) != std::string::npos) found = &e;
+     if (!found) call.fail("no GL debug message contains '" + text + "' (" + std::to_string(log.size()) + " in the log)");
+     std::printf("gl log: x%d %s\n", found->count, found->message.describe().c_str());
+   }},
+  {"expect-no-gl-failures", 0, 0,
+   "expect-no-gl-failures (no GL message of severity high or medium since the script started)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (glFailureCount() == viewer.script.glFailuresAtStart) return;
+     std::string last;
+     for (const auto& e : glDebugLog())
+       if (isGLFailure(e.message)) last = e.message.describe();
+     call.fail(std::to_string(glFailureCount() - viewer.script.glFailuresAtStart) +
+               " GL failure(s) since the script started; last: " + last);
+   }});
 
 }  // namespace voxlab

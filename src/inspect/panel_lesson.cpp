@@ -1,8 +1,10 @@
 // Lesson tab: the step's narrative (Markdown headings and paragraphs), previous / next; and what a
 // lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations).
+#include <cstdio>
 #include <sstream>
 
 #include "core/error.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -27,12 +29,12 @@ void Viewer::applyLessonStep(int i) {
   view.level = s.level;
   if (lessonStep < 0) wantTab = "lesson";
   lessonStep = i;
-  overlayOpt.bounds = s.bounds;
-  overlayOpt.voxels = !s.overlay.empty();
+  overlay.options.bounds = s.bounds;
+  overlay.options.voxels = !s.overlay.empty();
   if (!s.overlay.empty()) {
     size_t at = s.overlay.find('@');
-    overlayVolume = s.overlay.substr(0, at);
-    overlayLevel = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
+    overlay.volume = s.overlay.substr(0, at);
+    overlay.level = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
   }
   if (s.iterations > 0) {
     // Stop the stage after that many iterations: run what comes before, then step it.
@@ -40,7 +42,7 @@ void Viewer::applyLessonStep(int i) {
     stepIteration(s.iterations);
     return;
   }
-  lastRunRequest = selected;
+  runs.lastRequest = selected;
   requestRun(selected);
 }
 
@@ -86,5 +88,44 @@ void Viewer::drawLesson() {
 
 VOXLAB_REGISTER_DETAILS_TAB(lesson, "lesson", "Lesson", 40, [](const Viewer& v) { return !v.lesson.steps.empty(); },
                             [](Viewer& v) { v.drawLesson(); });
+
+// --- Script verbs: lessons --------------------------------------------------------------------------
+
+namespace {
+
+void printLessonStep(const Viewer& viewer) {
+  const LessonStep& step = viewer.lesson.steps[size_t(viewer.lessonStep)];
+  std::printf("lesson step %d/%zu: %s/%s\n", viewer.lessonStep + 1, viewer.lesson.steps.size(),
+              step.stage.c_str(), step.output.c_str());
+}
+
+void moveLessonStep(Viewer& viewer, const ScriptCall& call) {
+  if (viewer.lesson.steps.empty()) call.fail("no lesson is open");
+  const int next = viewer.lessonStep + (call.verb() == "lesson-next" ? 1 : -1);
+  if (next < 0 || next >= int(viewer.lesson.steps.size()))
+    call.fail("no step " + std::to_string(next + 1) + "; the lesson has " + std::to_string(viewer.lesson.steps.size()));
+  viewer.applyLessonStep(next);
+  printLessonStep(viewer);
+}
+
+void playLessonToEnd(Viewer& viewer, const ScriptCall& call) {
+  if (viewer.lesson.steps.empty()) call.fail("no lesson is open");
+  if (viewer.lessonStep + 1 >= int(viewer.lesson.steps.size())) return;
+  viewer.applyLessonStep(viewer.lessonStep + 1);
+  printLessonStep(viewer);
+  --viewer.script.next;  // repeat this action after the step has run
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(lesson, 80,
+  {"lesson", 1, 1, "lesson FILE (load it and apply step 1)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     viewer.lesson = loadLesson(call.arg(0));
+     viewer.applyLessonStep(0);
+   }},
+  {"lesson-next", 0, 0, "lesson-next", moveLessonStep},
+  {"lesson-prev", 0, 0, "lesson-prev", moveLessonStep},
+  {"lesson-end", 0, 0, "lesson-end (play every remaining step, running each)", playLessonToEnd});
 
 }  // namespace voxlab

@@ -1,6 +1,9 @@
 // Parameter widgets, generated from the ParamDescs of every stage (grouped by stage, the selected
 // one open); a change marks what it invalidates stale and, with auto re-run, runs it again.
+#include <cstdio>
+
 #include "core/error.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -9,7 +12,7 @@ void Viewer::drawParameters() {
   Technique& t = cursor->technique();
   // Parameters, generated from the declarations of every stage.
   ImGui::Separator();
-  ImGui::Checkbox("auto re-run", &autoRerun);
+  ImGui::Checkbox("auto re-run", &runs.autoRerun);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("after a change, re-run the stale stages up to the last run one");
   ImGui::SameLine();
   if (ImGui::Button("Defaults")) applyParams(t.defaultParams());
@@ -107,5 +110,35 @@ void Viewer::drawParameters() {
   }
   ImGui::EndChild();
 }
+
+// --- Script verbs: parameters ----------------------------------------------------------------------
+
+VOXLAB_REGISTER_SCRIPT_VERBS(parameters, 20,
+  {"set", 1, 1, "set NAME=VALUE",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const std::string& s = call.arg(0);
+     const size_t eq = s.find('=');
+     if (eq == std::string::npos) call.badArgument("expected NAME=VALUE");
+     ParamSet candidate = viewer.cursor->params();
+     candidate.setText(s.substr(0, eq), s.substr(eq + 1));
+     if (!viewer.applyParams(candidate)) std::printf("%s\n", viewer.status.c_str());
+   }},
+  {"reset-params", 0, 0, "reset-params",
+   [](Viewer& viewer, const ScriptCall&) { viewer.applyParams(viewer.cursor->technique().defaultParams()); }},
+  {"expect-refusal", 1, 32,
+   "expect-refusal TEXT... (the last parameter change was refused for the resource budget and its line contains "
+   "TEXT; the parameters stayed as they were)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const std::string text = call.text();
+     if (viewer.budgetRefusal.empty() || viewer.budgetRefusal.find(text) == std::string::npos)
+       call.fail("last parameter change refusal is '" + viewer.budgetRefusal + "', expected it to contain '" + text + "'");
+     std::printf("refused: %s\n", viewer.budgetRefusal.c_str());
+   }},
+  {"expect-param", 2, 2, "expect-param NAME VALUE",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const ParamSet& params = viewer.cursor->params();
+     const std::string got = params.desc(call.arg(0)).format(params.value(call.arg(0)));
+     if (got != call.arg(1)) call.fail(call.arg(0) + " is " + got + ", expected " + call.arg(1));
+   }});
 
 }  // namespace voxlab

@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include "core/paths.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -217,8 +219,8 @@ void Viewer::drawNarrative(ImVec2 size) {
   ImGui::SetCursorPosY(size.y - pad - footer * 0.8f);
   ImGui::PushFont(body);
   ImGui::SetWindowFontScale(0.5f);
-  if (runTarget >= 0 || iterateStage >= 0)
-    ImGui::TextColored(kHeadingText, "running %s ...", cursor->technique().stage(std::max(runTarget, iterateStage)).id());
+  if (runs.target >= 0 || runs.iterateStage >= 0)
+    ImGui::TextColored(kHeadingText, "running %s ...", cursor->technique().stage(std::max(runs.target, runs.iterateStage)).id());
   else if (!lesson.steps.empty())
     ImGui::TextColored(kQuietText, "PgDn / \xE2\x86\x92 next   PgUp / \xE2\x86\x90 back   1\xE2\x80\x93" "9 step   P leave");
   else
@@ -289,5 +291,73 @@ void Viewer::drawPresenter() {
     ImGui::End();
   }
 }
+
+// --- Script verbs: presenter mode ---------------------------------------------------------------------
+
+namespace {
+
+void pressKey(Viewer& viewer, const ScriptCall& call) {
+  static const std::pair<const char*, int> kKeys[] = {
+      {"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT},           {"pagedown", GLFW_KEY_PAGE_DOWN},
+      {"pageup", GLFW_KEY_PAGE_UP}, {"space", GLFW_KEY_SPACE},      {"backspace", GLFW_KEY_BACKSPACE},
+      {"home", GLFW_KEY_HOME},   {"end", GLFW_KEY_END},             {"p", GLFW_KEY_P},
+      {"f11", GLFW_KEY_F11},     {"escape", GLFW_KEY_ESCAPE}};
+  const std::string& name = call.arg(0);
+  int key = -1;
+  for (const auto& [keyName, code] : kKeys)
+    if (name == keyName) key = code;
+  if (name.size() == 1 && name[0] >= '0' && name[0] <= '9') key = GLFW_KEY_0 + (name[0] - '0');
+  if (key < 0)
+    call.badArgument("unknown key '" + name +
+                     "'; valid: right, left, pagedown, pageup, space, backspace, home, end, 0..9, p, f11, escape");
+  const int before = viewer.lessonStep;
+  if (!viewer.presenterKey(key))
+    call.fail("key " + name + " does nothing here (presenter mode is " + (viewer.presenter.on ? "on" : "off") +
+              (viewer.lesson.steps.empty() ? ", no lesson is open)" : ")"));
+  if (viewer.lessonStep != before) {
+    const LessonStep& step = viewer.lesson.steps[size_t(viewer.lessonStep)];
+    std::printf("key %s: lesson step %d/%zu: %s/%s\n", name.c_str(), viewer.lessonStep + 1, viewer.lesson.steps.size(),
+                step.stage.c_str(), step.output.c_str());
+  } else {
+    std::printf("key %s: presenter mode %s, lesson step %d\n", name.c_str(), viewer.presenter.on ? "on" : "off",
+                viewer.lessonStep + 1);
+  }
+  viewer.script.waitFrames = 2;
+}
+
+void expectPresenterView(Viewer& viewer, const ScriptCall& call) {
+  const PresenterState& presenter = viewer.presenter;
+  if (!presenter.on) call.fail("presenter mode is off (present on)");
+  int w, h;
+  viewer.window->framebufferSize(w, h);
+  const ImVec2 size(presenter.imageMax.x - presenter.imageMin.x, presenter.imageMax.y - presenter.imageMin.y);
+  const float fraction = size.x * size.y / float(std::max(w * h, 1));
+  std::printf("presenter view: image %.0fx%.0f at (%.0f, %.0f) in a %dx%d window: %.3f of it; narrative at %.1f px\n",
+              size.x, size.y, presenter.imageMin.x, presenter.imageMin.y, w, h, fraction, presenter.narrativePx);
+  if (!(fraction > call.floatArg(0)))
+    call.fail("the view's image covers " + std::to_string(fraction) + " of the window, expected more than " + call.arg(0));
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(presenter, 90,
+  {"present", 1, 1, "present on|off (presenter mode, as --present and the P / F11 keys)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     viewer.setPresenting(call.onOff(0));
+     viewer.script.waitFrames = 2;  // the UI scale follows the window from the next frame
+   }},
+  {"key", 1, 1,
+   "key NAME (a presenter-mode key, as pressed: right, left, pagedown, pageup, space, backspace, home, end, 0..9, p, "
+   "f11, escape)",
+   pressKey},
+  {"mouse", 2, 2, "mouse X Y (the pointer at window pixel X, Y from the top left, for presenter mode's edge panels)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     viewer.presenter.scriptMouse = ImVec2(call.floatArg(0), call.floatArg(1));
+     viewer.script.waitFrames = 2;  // a revealed panel is drawn from the next frame
+   }},
+  {"expect-presenter-view", 1, 1,
+   "expect-presenter-view MIN_FRACTION (presenter mode is on and the view's image covers more than MIN_FRACTION of "
+   "the window)",
+   expectPresenterView});
 
 }  // namespace voxlab

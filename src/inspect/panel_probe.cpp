@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -79,7 +80,7 @@ int Viewer::probeShownAt(const glm::ivec3& texel, int level) {
       last = std::max(last, stage);
     }
   if (probed == 0) return 0;
-  requestRun(std::max(last, std::max(selected, lastRunRequest)));
+  requestRun(std::max(last, std::max(selected, runs.lastRequest)));
   char buf[160];
   if (size.z > 1)
     std::snprintf(buf, sizeof buf, "probed cell (%d, %d, %d) at level %d: %d probe(s)", texel.x, texel.y, texel.z, level, probed);
@@ -102,15 +103,15 @@ void Viewer::probePixel(int x, int y) {
     setParam(p->y, (y + 0.5) / v.height);
     last = std::max(last, stage);
   }
-  requestRun(std::max(last, std::max(selected, lastRunRequest)));
+  requestRun(std::max(last, std::max(selected, runs.lastRequest)));
   status = "probed pixel " + std::to_string(x) + "," + std::to_string(y);
   wantTab = "probe";
 }
 
-const std::vector<Viewer::ProbeRecords>& Viewer::probeRecords() {
-  if (probeCacheKey == generation) return probeCache;
-  probeCacheKey = generation;
-  probeCache.clear();
+const std::vector<ProbeRecords>& Viewer::probeRecords() {
+  if (probes.cacheKey == generation) return probes.cache;
+  probes.cacheKey = generation;
+  probes.cache.clear();
   const Technique& t = cursor->technique();
   for (int i = 0; i < t.stageCount(); ++i) {
     if (t.decl(i).probes.empty()) continue;
@@ -130,10 +131,10 @@ const std::vector<Viewer::ProbeRecords>& Viewer::probeRecords() {
           r.error = e.what();
         }
       }
-      probeCache.push_back(std::move(r));
+      probes.cache.push_back(std::move(r));
     }
   }
-  return probeCache;
+  return probes.cache;
 }
 
 void Viewer::drawProbe() {
@@ -169,7 +170,7 @@ void Viewer::drawProbe() {
     nlohmann::json stats;  // the record view needs none
     ImGui::PushID(r.desc);
     VisualiserContext ctx{r.out, stats, r.records, view, nullptr};
-    ctx.recordStep = &recordStep[std::string(t.stage(r.stage).id()) + "/" + r.desc->name];
+    ctx.recordStep = &probes.recordStep[std::string(t.stage(r.stage).id()) + "/" + r.desc->name];
     vis.drawRecordView(ctx);
     ImGui::PopID();
   }
@@ -178,5 +179,85 @@ void Viewer::drawProbe() {
 
 VOXLAB_REGISTER_DETAILS_TAB(probe, "probe", "Probe", 20, [](const Viewer& v) { return v.hasProbes(); },
                             [](Viewer& v) { v.drawProbe(); });
+
+// --- Script verbs: probes and their records ---------------------------------------------------------
+
+namespace {
+
+std::string recordName(const Viewer& viewer, const ProbeRecords& r) {
+  return std::string(viewer.cursor->technique().stage(r.stage).id()) + "/" + r.desc->name;
+}
+
+// Every probe record of every probing stage, checked by its visualiser (cone samples: the
+// accumulated opacity of every sample is the front-to-back composite of the one before and the
+// sample's own alpha).
+void expectProbeRecords(Viewer& viewer, const ScriptCall& call) {
+  const size_t atLeast = size_t(std::max(call.intArg(0), 0));
+  const auto& records = viewer.probeRecords();
+  if (records.empty())
+    call.fail("technique " + viewer.cursor->technique().id() + " declares no probe-record output on a probing stage");
+  for (const auto& r : records) {
+    const std::string name = recordName(viewer, r);
+    if (!r.error.empty()) call.fail(name + ": " + r.error);
+    const Visualiser& vis = visualiserFor(r.out.desc);
+    RecordCheck c = vis.checkRecords(r.out);
+    if (c.elements <= atLeast)
+      call.fail(name + ": " + c.summary + ", expected more than " + std::to_string(atLeast) + " (" + vis.name() + ")");
+    if (!c.error.empty()) call.fail(name + ": " + c.error);
+    std::printf("probe: %s (%s): %s\n", name.c_str(), vis.name(), c.summary.c_str());
+  }
+}
+
+// The step slider of a probe record's view (Visualiser::recordSteps): the same int the Probe tab's
+// slider moves, kept per record output. record-step moves it; both print what the step shows.
+void showRecordStep(Viewer& viewer, const ScriptCall& call) {
+  const std::string& wanted = call.arg(0);
+  const ProbeRecords* rec = nullptr;
+  std::vector<std::string> names;
+  for (const auto& r : viewer.probeRecords()) {
+    const std::string name = recordName(viewer, r);
+    if (r.error.empty() && visualiserFor(r.out.desc).recordSteps(r.out) > 0) names.push_back(name);
+    if (name == wanted) rec = &r;
+  }
+  if (!rec) call.fail("no probe record '" + wanted + "'; with steps now: " + joinNames(names));
+  if (!rec->error.empty()) call.fail(wanted + ": " + rec->error);
+  const Visualiser& vis = visualiserFor(rec->out.desc);
+  const int n = int(vis.recordSteps(rec->out));
+  if (n == 0) call.fail(wanted + " (" + vis.name() + ") has no steps to show; with steps now: " + joinNames(names));
+  int& k = viewer.probes.recordStep[wanted];
+  const bool moves = call.verb() == "record-step";
+  if (moves) {
+    const std::string& to = call.arg(1);
+    if (to == "first") k = 0;
+    else if (to == "last") k = n - 1;
+    else if (to == "next") k = k + 1;
+    else if (to == "prev") k = k - 1;
+    else k = call.intArg(1);
+    if (k < 0 || k >= n) call.fail("step " + std::to_string(k) + " is outside 0.." + std::to_string(n - 1));
+  }
+  k = std::clamp(k, 0, n - 1);
+  const std::string said = vis.describeRecordStep(rec->out, size_t(k));
+  std::printf("%s step %d of %d: %s\n", wanted.c_str(), k, n, said.c_str());
+  if (moves) return;
+  const std::string text = call.text(1);
+  if (said.find(text) == std::string::npos)
+    call.fail(wanted + " step " + std::to_string(k) + " shows '" + said + "', expected it to contain '" + text + "'");
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(probe, 60,
+  {"probe", 2, 2, "probe X Y (pixel of the camera images, from the top left: sets every screen-space probe)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.probePixel(call.intArg(0), call.intArg(1)); }},
+  {"expect-probe-records", 1, 1,
+   "expect-probe-records MIN (every probe record has more than MIN elements and passes its visualiser's check)",
+   expectProbeRecords},
+  {"record-step", 2, 2,
+   "record-step STAGE/OUTPUT N|first|last|next|prev (move a probe record's step slider in the Probe tab, as dragging "
+   "it: a walk's step; prints what the step shows)",
+   showRecordStep},
+  {"expect-record-step", 2, 32,
+   "expect-record-step STAGE/OUTPUT TEXT... (the step the probe record's slider shows is described with TEXT)",
+   showRecordStep});
 
 }  // namespace voxlab

@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/args.h"
 #include "core/paths.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -45,7 +47,7 @@ void Viewer::drawLeftPanel() {
     ImVec4 col = r.state == StageState::Done    ? ImVec4(0.4f, 0.9f, 0.4f, 1)
                  : r.state == StageState::Stale ? kWarningColour
                                                 : ImVec4(0.6f, 0.6f, 0.6f, 1);
-    bool running = (runTarget >= i && r.state != StageState::Done) || iterateStage == i;
+    bool running = (runs.target >= i && r.state != StageState::Done) || runs.iterateStage == i;
     char state[48];
     if (r.state == StageState::Partial)
       std::snprintf(state, sizeof state, "partial %d/%d", r.iterationsRun, r.iterationsTotal);
@@ -81,9 +83,103 @@ void Viewer::drawLeftPanel() {
       ImGui::TextDisabled("%d iterations", iterations);
   }
   ImGui::TextDisabled("keys: Left/Right stage, R run, A all, I iteration, F5 reload");
-  if (runTarget >= 0) ImGui::TextColored(kWarningColour, "running through stage %d ...", runTarget + 1);
+  if (runs.target >= 0) ImGui::TextColored(kWarningColour, "running through stage %d ...", runs.target + 1);
 
   drawParameters();
 }
+
+// --- Script verbs: technique, scene, stage selection and runs ------------------------------------
+
+namespace {
+
+void expectStat(Viewer& viewer, const ScriptCall& call) {
+  const auto& stats = viewer.cursor->record(viewer.cursor->technique().stageIndex(call.arg(0))).stats;
+  auto it = stats.find(call.arg(1));
+  if (it == stats.end()) call.fail("stage " + call.arg(0) + " has no statistic '" + call.arg(1) + "' (it may not have run)");
+  const double got = it->second, want = call.floatArg(3);
+  const std::string& op = call.arg(2);
+  bool ok = false;
+  if (op == "=") ok = got == want;
+  else if (op == "<") ok = got < want;
+  else if (op == ">") ok = got > want;
+  else if (op == "<=") ok = got <= want;
+  else if (op == ">=") ok = got >= want;
+  else call.badArgument("unknown comparison '" + op + "'; valid: = < > <= >=");
+  if (!ok) call.fail(call.arg(0) + " " + call.arg(1) + " is " + std::to_string(got) + ", expected " + op + " " + call.arg(3));
+}
+
+void expectIterations(Viewer& viewer, const ScriptCall& call) {
+  const StageRecord& r = viewer.cursor->record(viewer.cursor->technique().stageIndex(call.arg(0)));
+  const int want = call.intArg(1);
+  if (r.iterationsRun != want || (r.state != StageState::Partial && r.state != StageState::Done))
+    call.fail(call.arg(0) + " is " + stageStateName(r.state) + " after " + std::to_string(r.iterationsRun) + " of " +
+              std::to_string(r.iterationsTotal) + " iterations, expected " + call.arg(1));
+  std::printf("%s: %d of %d iterations (%s)\n", call.arg(0).c_str(), r.iterationsRun, r.iterationsTotal,
+              stageStateName(r.state));
+}
+
+}  // namespace
+
+VOXLAB_REGISTER_SCRIPT_VERBS(timeline, 10,
+  {"technique", 1, 1, "technique ID",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (call.arg(0) != viewer.cursor->technique().id()) viewer.switchTechnique(call.arg(0));
+   }},
+  {"scene", 1, 1, "scene NAME|PATH (a failed load keeps the current scene and records the error)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (!viewer.loadSceneNamed(call.arg(0))) std::printf("scene error: %s\n", viewer.sceneError.c_str());
+   }},
+  {"drop", 1, 1, "drop PATH (as dropping a glTF/GLB file on the window: a failed load keeps the current scene)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (!viewer.dropFile(call.arg(0))) std::printf("scene error: %s\n", viewer.sceneError.c_str());
+   }},
+  {"expect-scene", 1, 1, "expect-scene NAME (the current scene is NAME, its file's stem)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (viewer.scene->name != call.arg(0)) call.fail("scene is " + viewer.scene->name + ", expected " + call.arg(0));
+   }},
+  {"expect-scene-error", 1, 32, "expect-scene-error TEXT... (the last scene error contains TEXT)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const std::string text = call.text();
+     if (viewer.sceneError.empty() || viewer.sceneError.find(text) == std::string::npos)
+       call.fail("last scene error is '" + viewer.sceneError + "', expected it to contain '" + text + "'");
+   }},
+  {"stage", 1, 1, "stage ID (select it)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     viewer.selectStage(viewer.cursor->technique().stageIndex(call.arg(0)));
+   }},
+  {"output", 1, 1, "output NAME (of the selected stage)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.selectOutput(call.arg(0)); }},
+  {"size", 1, 1, "size WxH (render size)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     Args::parseSize(call.arg(0), viewer.opt.width, viewer.opt.height);
+     viewer.cursor->setViewSize(viewer.opt.width, viewer.opt.height);
+     viewer.paramsChanged();
+   }},
+  {"run", 0, 0, "run (to the selected stage)", [](Viewer& viewer, const ScriptCall&) { viewer.runSelected(); }},
+  {"runall", 0, 0, "runall", [](Viewer& viewer, const ScriptCall&) { viewer.runAll(); }},
+  {"next", 0, 0, "next (run and select the next stage)",
+   [](Viewer& viewer, const ScriptCall&) {
+     viewer.selectStage(viewer.selected + 1);
+     viewer.runSelected();
+   }},
+  {"prev", 0, 0, "prev (select the previous stage)",
+   [](Viewer& viewer, const ScriptCall&) { viewer.selectStage(viewer.selected - 1); }},
+  {"iterate", 0, 0, "iterate (one more iteration of the selected stage, as Step iteration)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (viewer.cursor->iterations(viewer.selected) <= 1)
+       call.fail(std::string("stage ") + viewer.cursor->technique().stage(viewer.selected).id() + " is not iterative");
+     viewer.stepIteration();
+   }},
+  {"expect-iterations", 2, 2, "expect-iterations STAGE N (N of STAGE's iterations have run)", expectIterations},
+  {"expect-state", 2, 2, "expect-state STAGE done|stale|not-run",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const int i = viewer.cursor->technique().stageIndex(call.arg(0));
+     const std::string want = call.arg(1) == "not-run" ? "not run" : call.arg(1);
+     const std::string got = stageStateName(viewer.cursor->record(i).state);
+     if (got != want) call.fail("stage " + call.arg(0) + " is " + got + ", expected " + want);
+   }},
+  {"expect-stat", 4, 4, "expect-stat STAGE NAME =|<|>|<=|>= VALUE (a statistic of the stage's last run)", expectStat},
+  {"auto-rerun", 1, 1, "auto-rerun on|off (re-run stale stages after a change, as the checkbox)",
+   [](Viewer& viewer, const ScriptCall& call) { viewer.runs.autoRerun = call.onOff(0); }});
 
 }  // namespace voxlab

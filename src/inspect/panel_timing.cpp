@@ -4,6 +4,7 @@
 #include <cfloat>
 #include <cstdio>
 
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -85,5 +86,9 @@ void Viewer::drawTiming() {
 }
 
 VOXLAB_REGISTER_DETAILS_TAB(timing, "timing", "Timing", 30, nullptr, [](Viewer& v) { v.drawTiming(); });
+
+VOXLAB_REGISTER_SCRIPT_VERBS(timing, 120,
+  {"frame-stats", 0, 0, "frame-stats (prints UI frame times)",
+   [](Viewer& viewer, const ScriptCall&) { viewer.printFrameStats(); }});
 
 }  // namespace voxlab

@@ -20,6 +20,7 @@
 // fast the machine was. The sequence depends only on the seed, and the end prints the `soak`
 // line (with ACTIONS) that replays it exactly.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -31,6 +32,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "gpu/gl_debug.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -133,7 +135,7 @@ std::vector<ScriptAction> Viewer::soakRandomActions(int line) {
       break;
     }
     case View3D:
-      if (viewMode != ViewMode::Slice) {
+      if (view3d.mode != ViewMode::Slice) {
         add("view-mode", {"slice"});
       } else {
         refreshCapture();
@@ -166,123 +168,161 @@ std::vector<ScriptAction> Viewer::soakRandomActions(int line) {
   return acts;
 }
 
-void Viewer::executeSoak(const ScriptAction& a) {
-  auto insert = [&](const std::vector<ScriptAction>& more) { script.insert(script.begin() + long(pc), more.begin(), more.end()); };
-  // The settled state both measurements are taken in: the default scene, the first technique at
-  // its default parameters, run to its last stage, the slice view without overlays. Whatever the
-  // random actions made on the way (scenes, techniques, parameter variants, 3D views) is either
-  // released by then or is a cache that the bounds allow for.
-  auto settled = [&](const std::string& then) {
-    return std::vector<ScriptAction>{
-        action("scene", {"cornell-box"}, a.line),        action("technique", {techniqueRegistry().front().id}, a.line),
-        action("reset-params", {}, a.line),              action("view-mode", {"slice"}, a.line),
-        action("overlay", {"bounds", "off"}, a.line),    action("overlay", {"voxels", "off"}, a.line),
-        action("runall", {}, a.line),                    action(then, {}, a.line)};
-  };
-  auto elapsedSince = [](std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  };
-  const std::string& v = a.verb;
-  if (v == "soak") {
-    if (soak.active) scriptFail(a, "a soak is already running");
-    soak = SoakState();
-    soak.active = true;
-    try {
-      soak.seconds = std::stod(a.args.at(0));
-      soak.seed = std::stoull(a.args.at(1));
-      soak.maxRssGrowthMiB = std::stod(a.args.at(2));
-      soak.maxObjectGrowth = std::stoi(a.args.at(3));
-      if (a.args.size() > 4) soak.actionLimit = std::stoi(a.args.at(4));
-    } catch (const std::exception&) {
-      scriptFail(a, "expected SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] as numbers");
-    }
-    soak.rng.seed(soak.seed);
-    soak.line = a.line;
-    if (soak.actionLimit > 0)
-      std::printf("soak: seed %llu, %d random actions over %zu techniques\n", (unsigned long long)soak.seed,
-                  soak.actionLimit, techniqueRegistry().size());
-    else
-      std::printf("soak: seed %llu, %.0f s of random actions over %zu techniques\n", (unsigned long long)soak.seed,
-                  soak.seconds, techniqueRegistry().size());
+namespace {
+
+// The actions run next, before the rest of the script.
+void insertActions(Viewer& viewer, const std::vector<ScriptAction>& more) {
+  viewer.script.actions.insert(viewer.script.actions.begin() + long(viewer.script.next), more.begin(), more.end());
+}
+
+// The settled state both measurements are taken in: the default scene, the first technique at its
+// default parameters, run to its last stage, the slice view without overlays; then the step 'then'.
+// Whatever the random actions made on the way (scenes, techniques, parameter variants, 3D views) is
+// either released by then or is a cache that the bounds allow for.
+std::vector<ScriptAction> settledActions(const ScriptCall& call, const std::string& then) {
+  const int line = call.action().line;
+  return {action("scene", {"cornell-box"}, line),     action("technique", {techniqueRegistry().front().id}, line),
+          action("reset-params", {}, line),           action("view-mode", {"slice"}, line),
+          action("overlay", {"bounds", "off"}, line), action("overlay", {"voxels", "off"}, line),
+          action("runall", {}, line),                 action(then, {}, line)};
+}
+
+double elapsedSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// soak: the warm-up tour of every technique, then the settled state and the baseline.
+void soakStart(Viewer& viewer, const ScriptCall& call) {
+  SoakState& soak = viewer.soak;
+  if (soak.active) call.fail("a soak is already running");
+  soak = SoakState();
+  soak.active = true;
+  try {
+    soak.seconds = std::stod(call.arg(0));
+    soak.seed = std::stoull(call.arg(1));
+    soak.maxRssGrowthMiB = std::stod(call.arg(2));
+    soak.maxObjectGrowth = std::stoi(call.arg(3));
+    if (call.count() > 4) soak.actionLimit = std::stoi(call.arg(4));
+  } catch (const std::exception&) {
+    call.badArgument("SECONDS, SEED, MAX_RSS_GROWTH_MIB, MAX_OBJECT_GROWTH and ACTIONS must be numbers");
+  }
+  soak.rng.seed(soak.seed);
+  soak.line = call.action().line;
+  if (soak.actionLimit > 0)
+    std::printf("soak: seed %llu, %d random actions over %zu techniques\n", (unsigned long long)soak.seed,
+                soak.actionLimit, techniqueRegistry().size());
+  else
+    std::printf("soak: seed %llu, %.0f s of random actions over %zu techniques\n", (unsigned long long)soak.seed,
+                soak.seconds, techniqueRegistry().size());
+  std::fflush(stdout);
+  // The warm-up: every technique once at its defaults (programs compiled, CPU buffers at their
+  // sizes, the driver's caches filled), then the settled state and the baseline.
+  std::vector<ScriptAction> tour;
+  for (const auto& tech : techniqueRegistry()) {
+    tour.push_back(action("technique", {tech.id}, call.action().line));
+    tour.push_back(action("runall", {}, call.action().line));
+    tour.push_back(action("soak-check", {}, call.action().line));
+  }
+  for (const auto& x : settledActions(call, "soak-baseline")) tour.push_back(x);
+  insertActions(viewer, tour);
+}
+
+// soak-baseline: the resident memory and the live GL objects in the settled state.
+void soakBaseline(Viewer& viewer, const ScriptCall& call) {
+  SoakState& soak = viewer.soak;
+  soak.rssBaseline = settledResidentBytes();
+  soak.objectsBaseline = liveGLObjects();
+  soak.baselineTaken = true;
+  std::printf("soak: warm-up done; settled: RSS %.1f MiB, GL objects %d (%s)\n", double(soak.rssBaseline) / 1048576.0,
+              soak.objectsBaseline.total(), soak.objectsBaseline.describe().c_str());
+  std::fflush(stdout);
+  soak.start = std::chrono::steady_clock::now();
+  insertActions(viewer, {action("soak-step", {}, call.action().line)});
+}
+
+// soak-step: one random action and its check, until the time or the action count is up.
+void soakStep(Viewer& viewer, const ScriptCall& call) {
+  SoakState& soak = viewer.soak;
+  const double elapsed = elapsedSince(soak.start);
+  const bool done = soak.actionLimit > 0 ? soak.actions >= soak.actionLimit : elapsed >= soak.seconds;
+  if (done) {
+    std::printf("soak: %d random actions in %.1f s (replay: soak 0 %llu %g %d %d)\n", soak.actions, elapsed,
+                (unsigned long long)soak.seed, soak.maxRssGrowthMiB, soak.maxObjectGrowth, soak.actions);
     std::fflush(stdout);
-    // The warm-up: every technique once at its defaults (programs compiled, CPU buffers at their
-    // sizes, the driver's caches filled), then the settled state and the baseline.
-    std::vector<ScriptAction> tour;
-    for (const auto& tech : techniqueRegistry()) {
-      tour.push_back(action("technique", {tech.id}, a.line));
-      tour.push_back(action("runall", {}, a.line));
-      tour.push_back(action("soak-check", {}, a.line));
-    }
-    for (const auto& x : settled("soak-baseline")) tour.push_back(x);
-    insert(tour);
-  } else if (v == "soak-baseline") {
-    soak.rssBaseline = settledResidentBytes();
-    soak.objectsBaseline = liveGLObjects();
-    soak.baselineTaken = true;
-    std::printf("soak: warm-up done; settled: RSS %.1f MiB, GL objects %d (%s)\n", double(soak.rssBaseline) / 1048576.0,
-                soak.objectsBaseline.total(), soak.objectsBaseline.describe().c_str());
-    std::fflush(stdout);
-    soak.start = std::chrono::steady_clock::now();
-    insert({action("soak-step", {}, a.line)});
-  } else if (v == "soak-step") {
-    const double elapsed = elapsedSince(soak.start);
-    const bool done = soak.actionLimit > 0 ? soak.actions >= soak.actionLimit : elapsed >= soak.seconds;
-    if (done) {
-      std::printf("soak: %d random actions in %.1f s (replay: soak 0 %llu %g %d %d)\n", soak.actions, elapsed,
-                  (unsigned long long)soak.seed, soak.maxRssGrowthMiB, soak.maxObjectGrowth, soak.actions);
-      std::fflush(stdout);
-      insert(settled("soak-finish"));
-      return;
-    }
-    std::vector<ScriptAction> acts;
-    while (acts.empty()) acts = soakRandomActions(a.line);
-    ++soak.actions;
-    std::string text;
-    for (const auto& x : acts) {
-      text += (text.empty() ? "" : "; ") + x.verb;
-      for (const auto& w : x.args) text += " " + w;
-    }
-    std::printf("soak action %d (seed %llu): %s\n", soak.actions, (unsigned long long)soak.seed, text.c_str());
-    std::fflush(stdout);
-    soak.lastAction = text;
-    acts.push_back(action("soak-check", {}, a.line));
-    acts.push_back(action("soak-step", {}, a.line));
-    insert(acts);
-    soak.frameAtAction = ImGui::GetFrameCount();
-  } else if (v == "soak-check") {
-    const std::string where = soak.baselineTaken ? "after soak action " + std::to_string(soak.actions) + " (seed " +
-                                                       std::to_string(soak.seed) + ": " + soak.lastAction + ")"
-                                                 : "in the soak's warm-up (technique " + cursor->technique().id() + ")";
-    if (glFailureCount() != scriptGLFailures) {
-      std::string last;
-      for (const auto& e : glDebugLog())
-        if (isGLFailure(e.message)) last = e.message.describe();
-      scriptFail(a, where + ": GL failure: " + last);
-    }
-    if (soak.baselineTaken && !(ImGui::GetFrameCount() > soak.frameAtAction))
-      scriptFail(a, where + ": the UI drew no frame");
-    if (soak.baselineTaken && soak.actions % 10 == 0) {
-      const GLObjectCounts objects = liveGLObjects();
-      std::printf("soak at %.0f s: RSS %.1f MiB, GL objects %d (%s)\n", elapsedSince(soak.start),
-                  double(residentBytes()) / 1048576.0, objects.total(), objects.describe().c_str());
-    }
-  } else if (v == "soak-finish") {
-    soak.rssEnd = settledResidentBytes();
-    soak.objectsEnd = liveGLObjects();
-    const double growthMiB = (double(soak.rssEnd) - double(soak.rssBaseline)) / 1048576.0;
-    const int objectGrowth = soak.objectsEnd.total() - soak.objectsBaseline.total();
-    std::printf("soak: settled after %d actions: RSS %.1f MiB (growth %.1f MiB, bound %.1f), GL objects %d (%s; growth "
-                "%d, bound %d)\n",
-                soak.actions, double(soak.rssEnd) / 1048576.0, growthMiB, soak.maxRssGrowthMiB, soak.objectsEnd.total(),
-                soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth);
-    soak.active = false;
-    if (growthMiB > soak.maxRssGrowthMiB)
-      scriptFail(a, "resident memory grew by " + std::to_string(growthMiB) + " MiB over the soak (seed " +
-                        std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxRssGrowthMiB));
-    if (objectGrowth > soak.maxObjectGrowth)
-      scriptFail(a, "live GL objects grew by " + std::to_string(objectGrowth) + " over the soak (seed " +
-                        std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxObjectGrowth));
+    insertActions(viewer, settledActions(call, "soak-finish"));
+    return;
+  }
+  std::vector<ScriptAction> acts;
+  while (acts.empty()) acts = viewer.soakRandomActions(call.action().line);
+  ++soak.actions;
+  std::string text;
+  for (const auto& x : acts) {
+    text += (text.empty() ? "" : "; ") + x.verb;
+    for (const auto& w : x.args) text += " " + w;
+  }
+  std::printf("soak action %d (seed %llu): %s\n", soak.actions, (unsigned long long)soak.seed, text.c_str());
+  std::fflush(stdout);
+  soak.lastAction = text;
+  acts.push_back(action("soak-check", {}, call.action().line));
+  acts.push_back(action("soak-step", {}, call.action().line));
+  insertActions(viewer, acts);
+  soak.frameAtAction = ImGui::GetFrameCount();
+}
+
+// soak-check: no GL failure and a frame drawn since the action.
+void soakCheck(Viewer& viewer, const ScriptCall& call) {
+  SoakState& soak = viewer.soak;
+  const std::string where = soak.baselineTaken ? "after soak action " + std::to_string(soak.actions) + " (seed " +
+                                                     std::to_string(soak.seed) + ": " + soak.lastAction + ")"
+                                               : "in the soak's warm-up (technique " + viewer.cursor->technique().id() + ")";
+  if (glFailureCount() != viewer.script.glFailuresAtStart) {
+    std::string last;
+    for (const auto& e : glDebugLog())
+      if (isGLFailure(e.message)) last = e.message.describe();
+    call.fail(where + ": GL failure: " + last);
+  }
+  if (soak.baselineTaken && !(ImGui::GetFrameCount() > soak.frameAtAction))
+    call.fail(where + ": the UI drew no frame");
+  if (soak.baselineTaken && soak.actions % 10 == 0) {
+    const GLObjectCounts objects = liveGLObjects();
+    std::printf("soak at %.0f s: RSS %.1f MiB, GL objects %d (%s)\n", elapsedSince(soak.start),
+                double(residentBytes()) / 1048576.0, objects.total(), objects.describe().c_str());
   }
 }
+
+// soak-finish: measured again in the settled state; the growth within the bounds.
+void soakFinish(Viewer& viewer, const ScriptCall& call) {
+  SoakState& soak = viewer.soak;
+  soak.rssEnd = settledResidentBytes();
+  soak.objectsEnd = liveGLObjects();
+  const double growthMiB = (double(soak.rssEnd) - double(soak.rssBaseline)) / 1048576.0;
+  const int objectGrowth = soak.objectsEnd.total() - soak.objectsBaseline.total();
+  std::printf("soak: settled after %d actions: RSS %.1f MiB (growth %.1f MiB, bound %.1f), GL objects %d (%s; growth "
+              "%d, bound %d)\n",
+              soak.actions, double(soak.rssEnd) / 1048576.0, growthMiB, soak.maxRssGrowthMiB, soak.objectsEnd.total(),
+              soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth);
+  soak.active = false;
+  if (growthMiB > soak.maxRssGrowthMiB)
+    call.fail("resident memory grew by " + std::to_string(growthMiB) + " MiB over the soak (seed " +
+                      std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxRssGrowthMiB));
+  if (objectGrowth > soak.maxObjectGrowth)
+    call.fail("live GL objects grew by " + std::to_string(objectGrowth) + " over the soak (seed " +
+                      std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxObjectGrowth));
+}
+
+}  // namespace
+
+// soak, and the steps it inserts into the script (no usage: not for scripts to call).
+VOXLAB_REGISTER_SCRIPT_VERBS(soak, 160,
+  {"soak", 4, 5,
+   "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] (a warm-up tour of every technique, then random "
+   "valid actions from SEED for SECONDS, or exactly ACTIONS of them when given (a replay), GL and frame checks after "
+   "each; settled at the default state before and after, the resident memory and live GL objects may grow by at most "
+   "the bounds)",
+   soakStart},
+  {"soak-baseline", 0, 0, nullptr, soakBaseline},
+  {"soak-step", 0, 0, nullptr, soakStep},
+  {"soak-check", 0, 0, nullptr, soakCheck},
+  {"soak-finish", 0, 0, nullptr, soakFinish});
 
 }  // namespace voxlab

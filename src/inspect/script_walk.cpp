@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/paths.h"
+#include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
@@ -81,8 +82,8 @@ void Viewer::printFrameStats() const {
   std::printf("frame-stats: %zu idle UI frames at %dx%d: mean %.1f ms, median %.1f ms, p95 %.1f ms, max %.1f ms\n",
               s.size(), w, h, sum / s.size(), s[s.size() / 2], s[std::min(s.size() - 1, size_t(s.size() * 0.95))],
               s.back());
-  if (!render3dMs.empty()) {
-    std::vector<double> r = render3dMs;
+  if (!view3d.renderMs.empty()) {
+    std::vector<double> r = view3d.renderMs;
     std::sort(r.begin(), r.end());
     double total = 0;
     for (double x : r) total += x;
@@ -91,5 +92,14 @@ void Viewer::printFrameStats() const {
   }
   std::fflush(stdout);
 }
+
+VOXLAB_REGISTER_SCRIPT_VERBS(walk, 150,
+  {"walk-stages", 3, 3,
+   "walk-stages OUT_DIR RUN_DIR TOLERANCES.json (every stage: step its iterations, run, screenshot; every output: "
+   "save and compare with voxlab run's files in RUN_DIR)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const auto more = viewer.walkStagesActions(call.action());
+     viewer.script.actions.insert(viewer.script.actions.begin() + long(viewer.script.next), more.begin(), more.end());
+   }});
 
 }  // namespace voxlab

@@ -1,5 +1,5 @@
-// The viewer's window, frame loop and state changes; the panels are in panel_*.cpp and the script
-// verbs in script_runner.cpp (viewer_state.h lists them).
+// The viewer's window, frame loop and state changes; the panels are in panel_*.cpp, each registering
+// its script verbs (script_verbs.h); viewer_state.h lists them.
 #include "inspect/viewer.h"
 
 #include <algorithm>
@@ -78,8 +78,8 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
   if (!o.lesson.empty()) lesson = loadLesson(o.lesson);
   if (!o.script.empty()) {
     if (!fileExists(o.script)) throw Error("script file '" + o.script + "' does not exist");
-    script = parseScript(readTextFile(o.script), o.script);
-    scripted = true;
+    script.actions = parseScript(readTextFile(o.script), o.script);
+    script.active = true;
   }
   auto loaded = std::make_shared<Scene>(loadScene(resolveScenePath(o.scene)));
 
@@ -97,7 +97,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
     for (int i = 0; i < count; ++i) self->droppedFiles.emplace_back(paths[i]);
   });
   ImGui_ImplOpenGL3_Init("#version 450 core");
-  scriptGLFailures = glFailureCount();
+  script.glFailuresAtStart = glFailureCount();
   applyUiScale(o.uiScale);
   if (o.present) setPresenting(true);
 
@@ -107,19 +107,19 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
   switchTechnique(o.technique);
   if (!lesson.steps.empty()) {
     applyLessonStep(0);
-  } else if (!scripted) {
+  } else if (!script.active) {
     // A person opening the viewer sees the technique run, stage by stage, to its final image;
     // scripts start from nothing run and drive every step themselves.
     const int last = cursor->stageCount() - 1;
     selectStage(last);
-    lastRunRequest = last;
+    runs.lastRequest = last;
     requestRun(last);
   }
 }
 
 Viewer::~Viewer() {
-  view3d.reset();
-  overlay.reset();
+  view3d.renderer.reset();
+  overlay.renderer.reset();
   cursor.reset();
   shaders.reset();
   ImGui_ImplOpenGL3_Shutdown();
@@ -138,11 +138,11 @@ void Viewer::switchTechnique(const std::string& id) {
   selected = 0;
   outputIndex = 0;
   view.level = 0;
-  runTarget = lastRunRequest = iterateStage = -1;
+  runs.target = runs.lastRequest = runs.iterateStage = -1;
   pendingCamera.reset();
   timeHistory.assign(cursor->stageCount(), {});
-  overlayVolume.clear();
-  overlayLevel = -1;
+  overlay.volume.clear();
+  overlay.level = -1;
   ++generation;
 }
 
@@ -157,11 +157,11 @@ bool Viewer::loadSceneNamed(const std::string& name) {
       if (desc.sceneDefault) cursor->setParam(pname, desc.defaultValue);
     cursor->setViewSize(opt.width, opt.height);
     cameraIndex = 0;
-    runTarget = iterateStage = -1;
+    runs.target = runs.iterateStage = -1;
     pendingCamera.reset();
     sceneError.clear();
     ++generation;
-    if (autoRerun && lastRunRequest >= 0) requestRun(lastRunRequest);
+    if (runs.autoRerun && runs.lastRequest >= 0) requestRun(runs.lastRequest);
     return true;
   } catch (const Error& e) {
     sceneError = e.what();  // keep the current scene
@@ -181,7 +181,7 @@ void Viewer::selectStage(int i) {
         if (outs[k].name == t.finalOutput()) outputIndex = int(k);
     }
     view.level = 0;
-    pickTexel = glm::ivec3(-1);
+    pointer.pickTexel = glm::ivec3(-1);
   }
   selected = i;
 }
@@ -234,7 +234,7 @@ void Viewer::moveCamera(const Camera& c) {
 }
 
 void Viewer::applyPendingCamera() {
-  if (!pendingCamera || runTarget >= 0 || iterateStage >= 0) return;
+  if (!pendingCamera || runs.target >= 0 || runs.iterateStage >= 0) return;
   cursor->setCamera(*pendingCamera);
   pendingCamera.reset();
   paramsChanged();
@@ -270,8 +270,8 @@ bool Viewer::dropFile(const std::string& path) {
 void Viewer::handleFly() {
   ImGuiIO& io = ImGui::GetIO();
   double now = glfwGetTime();
-  float dt = float(std::clamp(now - lastFlyTime, 0.0, 0.1));  // a slow frame moves no further than a fast one
-  lastFlyTime = now;
+  float dt = float(std::clamp(now - pointer.lastFlyTime, 0.0, 0.1));  // a slow frame moves no further than a fast one
+  pointer.lastFlyTime = now;
   Camera c = liveCamera();
   bool moved = false;
   if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f) {
@@ -295,8 +295,8 @@ void Viewer::frameScene() {
 
 void Viewer::stepIteration(int count) {
   const StageRecord& r = cursor->record(selected);
-  iterateStage = selected;
-  iterateTo = count > 0 ? count : (r.state == StageState::Partial ? r.iterationsRun : 0) + 1;
+  runs.iterateStage = selected;
+  runs.iterateTo = count > 0 ? count : (r.state == StageState::Partial ? r.iterationsRun : 0) + 1;
 }
 
 bool Viewer::isCameraImage(int stage, const CapturedOutput& c) const {
@@ -312,7 +312,7 @@ void Viewer::reloadShaders(bool fromWatch) {
     shaderError.clear();
     cursor->invalidateAll();
     status = "shaders reloaded; every stage is stale";
-    if (autoRerun && lastRunRequest >= 0) requestRun(lastRunRequest);
+    if (runs.autoRerun && runs.lastRequest >= 0) requestRun(runs.lastRequest);
   } else {
     shaderError = joinNames(errors, "\n");  // the last good programs stay in use
     status = "shader reload failed";
@@ -333,15 +333,15 @@ std::string Viewer::commandLine() const {
 
 bool Viewer::runPendingStage() {
   // One stage (or one iteration) per frame, so the window stays live while a technique runs.
-  const int target = iterateStage >= 0 ? iterateStage : runTarget;
+  const int target = runs.iterateStage >= 0 ? runs.iterateStage : runs.target;
   if (target < 0) return false;
   // The first stage that is not Done: before the iterated stage, or up to the run target.
   int next = -1;
-  for (int i = 0; i < target + (iterateStage >= 0 ? 0 : 1) && next < 0; ++i)
+  for (int i = 0; i < target + (runs.iterateStage >= 0 ? 0 : 1) && next < 0; ++i)
     if (cursor->record(i).state != StageState::Done) next = i;
-  if (next < 0 && iterateStage < 0) {
-    lastRunRequest = std::max(lastRunRequest, runTarget);
-    runTarget = -1;
+  if (next < 0 && runs.iterateStage < 0) {
+    runs.lastRequest = std::max(runs.lastRequest, runs.target);
+    runs.target = -1;
     return false;
   }
   const int ran = next >= 0 ? next : target;
@@ -352,22 +352,22 @@ bool Viewer::runPendingStage() {
       cursor->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
     } else {
       int k = cursor->runIteration(target);
-      if (k + 1 >= iterateTo || cursor->record(target).state == StageState::Done) iterateStage = -1;
+      if (k + 1 >= runs.iterateTo || cursor->record(target).state == StageState::Done) runs.iterateStage = -1;
       status = std::string(cursor->technique().stage(target).id()) + ": iteration " + std::to_string(k + 1) + " of " +
                 std::to_string(cursor->record(target).iterationsTotal);
     }
   } catch (const ShaderError& e) {
     shaderError = e.what();
-    runTarget = iterateStage = -1;
-    if (scripted) throw;
+    runs.target = runs.iterateStage = -1;
+    if (script.active) throw;
   } catch (const Error& e) {
     // A run refused before it allocated (the resource budget, e.g. a lesson's parameters) or a
     // stage's own error: the viewer keeps what it has and says so; a script fails on it, except
     // during a soak, whose random parameters may be refused as a user's are (the soak goes on and
     // checks that the viewer still draws).
     status = e.what();
-    runTarget = iterateStage = -1;
-    if (scripted && !soak.active) throw;
+    runs.target = runs.iterateStage = -1;
+    if (script.active && !soak.active) throw;
     if (soak.active) std::printf("soak: the run stopped with: %s (the viewer keeps its state)\n", status.c_str());
     ++generation;
     return true;
@@ -462,23 +462,23 @@ VisualiserContext Viewer::visualiserContext() {
 
 void Viewer::handleKeys() {
   ImGuiIO& io = ImGui::GetIO();
-  if (io.WantCaptureKeyboard || flying) return;  // while flying, W/A/S/D/Q/E move the camera
+  if (io.WantCaptureKeyboard || pointer.flying) return;  // while flying, W/A/S/D/Q/E move the camera
   // In presenter mode with a lesson the arrow and page keys step the lesson (panel_presenter.cpp).
   const bool lessonKeys = handlePresenterKeys();
   if (ImGui::IsKeyPressed(GLFW_KEY_I) && cursor->iterations(selected) > 1) stepIteration();
   if (!lessonKeys && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_RightArrow))) {
     selectStage(selected + 1);
-    lastRunRequest = std::max(lastRunRequest, selected);
+    runs.lastRequest = std::max(runs.lastRequest, selected);
     requestRun(selected);
   }
   if (!lessonKeys && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_LeftArrow))) selectStage(selected - 1);
   if (ImGui::IsKeyPressed(GLFW_KEY_R)) {
-    lastRunRequest = std::max(lastRunRequest, selected);
+    runs.lastRequest = std::max(runs.lastRequest, selected);
     requestRun(selected);
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_A)) {
-    lastRunRequest = cursor->stageCount() - 1;
-    requestRun(lastRunRequest);
+    runs.lastRequest = cursor->stageCount() - 1;
+    requestRun(runs.lastRequest);
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_F5)) reloadShaders();
   if (io.KeyCtrl && (ImGui::IsKeyPressed(GLFW_KEY_EQUAL) || ImGui::IsKeyPressed(GLFW_KEY_KP_ADD))) wantUiScale = uiScale + 0.25f;
@@ -537,7 +537,7 @@ int Viewer::loop() {
     frameHeavy = false;
     window->pollEvents();
     for (std::string path : std::exchange(droppedFiles, {})) dropFile(path);
-    if (scripted) stepScript();
+    if (script.active) stepScript();
     if (quit) break;
     if (runPendingStage()) frameHeavy = true;
     applyPendingCamera();
@@ -570,9 +570,9 @@ int Viewer::loop() {
     glFinish();  // count the frame's GPU work (llvmpipe) in its time
     double ms = msSince(t0);
     if (!frameHeavy) idleFrameMs.push_back(ms);
-    if (waitFrames > 0) --waitFrames;
+    if (script.waitFrames > 0) --script.waitFrames;
   }
-  if (scripted) printFrameStats();
+  if (script.active) printFrameStats();
   return 0;
 }
 

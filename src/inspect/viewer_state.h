@@ -12,9 +12,12 @@
 //   panel_presenter.cpp   presenter mode: the view fills the window beside the lesson's narrative
 //                         in large type; side panels appear at the window's edges
 //   panel_gl_log.cpp      the GL log tab: every GL debug message of the session
-//   script_runner.cpp     the script verbs (tests drive the same actions as the mouse)
+//   script_runner.cpp     runs a script (tests drive the same actions as the mouse): each verb is
+//                         registered beside its feature with VOXLAB_REGISTER_SCRIPT_VERBS
+//                         (script_verbs.h); the image-file checks are script_checks.cpp
 //   script_soak.cpp       the soak verb: random valid actions across every technique, leak checks
-// A new Details tab (a presenter panel, say) is one more file with one registration.
+// A new Details tab (a presenter panel, say) is one more file with one registration; a new script
+// verb is one more entry in its feature's registration.
 #pragma once
 #include <chrono>
 #include <deque>
@@ -78,6 +81,85 @@ struct CompareState {
   DisplayTexture otherTex, diffTex;
 };
 
+// What the stage timeline has queued (panel_timeline.cpp); one stage runs per frame.
+struct RunQueue {
+  int target = -1;        // stage to run through (-1 = idle)
+  int iterateStage = -1;  // stage to run iterations of, after the stages before it (-1 = none)
+  int iterateTo = 0;      // ... until this many of its iterations have run
+  int lastRequest = -1;   // the furthest stage a run was asked for (auto re-run re-runs up to it)
+  bool autoRerun = true;  // re-run stale stages after a change
+};
+
+// The shown output's 2D image as the view panel draws it (panel_view.cpp), rebuilt when the data or
+// the view settings change.
+struct View2DState {
+  long key[8] = {0};
+  DisplayTexture texture;
+  SliceImage image;
+};
+
+// The mouse over the view's 2D image (panel_view.cpp): hovering, picking, and the drags that orbit
+// the camera, turn the light or fly.
+struct PointerState {
+  bool hover = false;
+  glm::ivec3 hoverTexel{0}, pickTexel{-1};
+  bool dragging = false, orbiting = false, turningLight = false;
+  ImVec2 dragStart{0, 0};
+  bool flying = false;  // right drag on a camera image
+  double lastFlyTime = 0.0;
+};
+
+// A probe record output of a probing stage that has run, captured (panel_probe.cpp).
+struct ProbeRecords {
+  int stage = -1;
+  const OutputDesc* desc = nullptr;
+  CapturedOutput out;
+  nlohmann::json records;
+  std::string error;
+};
+
+// The Probe tab's records, refreshed per generation, and its step sliders (panel_probe.cpp).
+struct ProbePanelState {
+  std::vector<ProbeRecords> cache;
+  long cacheKey = -1;
+  std::map<std::string, int> recordStep;  // per probe record "stage/output": the step its record view shows
+};
+
+// Scene overlays over camera images (panel_overlay.cpp).
+struct OverlayState {
+  std::unique_ptr<SceneOverlay> renderer;
+  SceneOverlay::Options options{false, false, false, 0.6f};
+  std::string volume;  // "stage/output"; "" = the latest volume before the selected stage
+  int level = -1;      // -1 = the finest level with at most 32 texels per axis
+  int levelCount = 1;  // levels of the overlaid volume (for the slider)
+  std::string key, contentKey, message;
+  double ms = 0.0;
+  glm::vec3 eye{0.0f};  // the camera position the overlay was last drawn from
+};
+
+// The 3D view of the shown output (panel_view3d.cpp).
+struct View3DState {
+  ViewMode mode = ViewMode::Slice;
+  std::unique_ptr<View3D> renderer;
+  OrbitCamera orbit;
+  const Scene* orbitScene = nullptr;  // the orbit starts along the scene camera once per scene
+  long contentKey[7] = {-1, -1, -1, -1, -1, -1, -1};
+  double renderKey[6] = {-1, 0, 0, 0, 0, 0};
+  std::string info, message;
+  std::vector<double> renderMs;
+  bool dragging = false;
+  bool scriptDragging = false;  // view-dragging on: render as while the mouse drags
+};
+
+// The script being replayed (script_runner.cpp, --script).
+struct ScriptState {
+  bool active = false;  // the viewer runs a script (and quits at its end)
+  std::vector<ScriptAction> actions;
+  size_t next = 0;              // the action to run next
+  int waitFrames = 0;           // frames to draw before the next action
+  size_t glFailuresAtStart = 0;  // glFailureCount() when the script started
+};
+
 // The script's soak run (script_soak.cpp).
 struct SoakState {
   bool active = false;
@@ -116,17 +198,17 @@ class Viewer {
   bool loadSceneNamed(const std::string& name);  // false + sceneError on failure
   void selectStage(int i);
   void selectOutput(const std::string& name);
-  void requestRun(int stage) { runTarget = std::max(runTarget, std::min(stage, cursor->stageCount() - 1)); }
+  void requestRun(int stage) { runs.target = std::max(runs.target, std::min(stage, cursor->stageCount() - 1)); }
   void runSelected() {
-    lastRunRequest = std::max(lastRunRequest, selected);
+    runs.lastRequest = std::max(runs.lastRequest, selected);
     requestRun(selected);
   }
   void runAll() {
-    lastRunRequest = cursor->stageCount() - 1;
-    requestRun(lastRunRequest);
+    runs.lastRequest = cursor->stageCount() - 1;
+    requestRun(runs.lastRequest);
   }
   void paramsChanged() {
-    if (autoRerun) requestRun(std::max(selected, lastRunRequest));
+    if (runs.autoRerun) requestRun(std::max(selected, runs.lastRequest));
   }
   void setParam(const std::string& name, double value);  // status line on a bad value
   // Every parameter change goes through here (the widgets, Defaults, scripts): a change whose
@@ -177,13 +259,6 @@ class Viewer {
   int probeShownAt(const glm::ivec3& texel, int level);
   void probePixel(int x, int y);  // screen space: pixel of the camera images (from the top left)
   // Every probe record output of a probing stage that has run, captured (refreshed per generation).
-  struct ProbeRecords {
-    int stage = -1;
-    const OutputDesc* desc = nullptr;
-    CapturedOutput out;
-    nlohmann::json records;
-    std::string error;
-  };
   const std::vector<ProbeRecords>& probeRecords();
 
   // --- per frame ---
@@ -237,7 +312,7 @@ class Viewer {
 
   // --- script (script_runner.cpp) ---
   bool scriptBusy() const {
-    return runTarget >= 0 || iterateStage >= 0 || pendingCamera || !pendingScreenshot.empty() || waitFrames > 0;
+    return runs.target >= 0 || runs.iterateStage >= 0 || pendingCamera || !pendingScreenshot.empty() || script.waitFrames > 0;
   }
   void stepScript();
   void execute(const ScriptAction& a);
@@ -245,8 +320,7 @@ class Viewer {
   // Expands walk-stages into the actions that walk every stage and output of the technique.
   std::vector<ScriptAction> walkStagesActions(const ScriptAction& a) const;
   void printFrameStats() const;
-  // The soak (script_soak.cpp): its verbs and one random action.
-  void executeSoak(const ScriptAction& a);
+  // One random action of the soak (script_soak.cpp).
   std::vector<ScriptAction> soakRandomActions(int line);
   SoakState soak;
 
@@ -266,14 +340,8 @@ class Viewer {
   ViewSettings view;         // level, slice, channel, exposure of the shown output
   int cameraIndex = 0;       // scene camera in use (-1 after an orbit or fly)
   std::optional<Camera> pendingCamera;
-  bool flying = false;
-  double lastFlyTime = 0.0;
-  int runTarget = -1;        // stage to run through, one stage per frame (-1 = idle)
-  int iterateStage = -1;     // stage to run iterations of, after the stages before it (-1 = none)
-  int iterateTo = 0;         // ... until this many of its iterations have run
+  RunQueue runs;
   std::vector<std::deque<std::pair<float, float>>> timeHistory;  // per stage: (cpu, gpu) ms of recent runs
-  int lastRunRequest = -1;
-  bool autoRerun = true;
   bool watchShaders = true;  // rebuild programs when their files change on disk
   double lastShaderCheck = 0.0;
   long generation = 0;       // bumps whenever a stage runs or the technique/scene changes
@@ -283,43 +351,21 @@ class Viewer {
   nlohmann::json capStats, capRecords;  // of cap, computed once per capture (not per frame)
   std::string capError;
   long capKey[4] = {-1, -1, -1, -1};
-  long texKey[8] = {0};
-  DisplayTexture viewTex;
-  SliceImage viewImage;
-  bool hover = false;
-  glm::ivec3 hoverTexel{0}, pickTexel{-1};
-  bool dragging = false, orbiting = false, turningLight = false;
-  ImVec2 dragStart{0, 0};
+  View2DState image2d;
+  PointerState pointer;
 
-  // Probe records (probeRecords()).
-  std::vector<ProbeRecords> probeCache;
-  long probeCacheKey = -1;
-  std::map<std::string, int> recordStep;  // per probe record "stage/output": the step its record view shows
-
-  // Scene overlay.
-  std::unique_ptr<SceneOverlay> overlay;
-  SceneOverlay::Options overlayOpt{false, false, false, 0.6f};
-  std::string overlayVolume;  // "stage/output"; "" = the latest volume before the selected stage
-  int overlayLevel = -1;      // -1 = the finest level with at most 32 texels per axis
-  int overlayLevelCount = 1;  // levels of the overlaid volume (for the slider)
-  std::string overlayKey, overlayContentKey, overlayMsg;
-  double overlayMs = 0.0;
-  glm::vec3 overlayEye{0.0f};  // the camera position the overlay was last drawn from
-
+  ProbePanelState probes;
+  OverlayState overlay;
   CompareState compare;
   PresenterState presenter;
 
   Lesson lesson;
   int lessonStep = -1;
 
-  std::vector<ScriptAction> script;
-  size_t scriptGLFailures = 0;  // glFailureCount() when the script started
-  size_t pc = 0;
-  int waitFrames = 0;
+  ScriptState script;
   std::string pendingScreenshot;
   int screenshotDelay = 0;
   bool quit = false;
-  bool scripted = false;
 
   std::vector<double> idleFrameMs;  // frames where no stage ran and no capture was refreshed
   bool frameHeavy = false;
@@ -327,17 +373,7 @@ class Viewer {
   std::string wantTab;  // tab to bring to front on the next frame ("" = leave as is)
   char exportDir[256] = "viewer-out";
 
-  // 3D views.
-  ViewMode viewMode = ViewMode::Slice;
-  std::unique_ptr<View3D> view3d;
-  OrbitCamera orbit3d;
-  const Scene* orbitScene = nullptr;  // the orbit starts along the scene camera once per scene
-  long content3dKey[7] = {-1, -1, -1, -1, -1, -1, -1};
-  double render3dKey[6] = {-1, 0, 0, 0, 0, 0};
-  std::string info3d, msg3d;
-  std::vector<double> render3dMs;
-  bool dragging3d = false;
-  bool scriptDragging = false;  // view-dragging on: render as while the mouse drags
+  View3DState view3d;
 };
 
 // --- Details tabs ------------------------------------------------------------------------------------

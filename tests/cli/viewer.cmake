@@ -60,7 +60,8 @@ set_tests_properties(viewer.lesson_clipmap PROPERTIES
   ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
 
 # Scripts whose checks must fail on a deliberately wrong input (tests/viewer/failing/*.txt, each
-# with its expected message): an image pair one pixel apart, a flat 3D view (exposure 0).
+# with its expected message): an image pair one pixel apart, a flat 3D view (exposure 0), a word
+# that does not parse as its verb's argument (the line names the usage).
 add_test(NAME viewer.failing_checks
   COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
           ${CMAKE_SOURCE_DIR}/tests/viewer/failing ${CMAKE_BINARY_DIR}/viewer-out/failing)
