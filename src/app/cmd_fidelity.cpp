@@ -33,15 +33,15 @@
 #include <nlohmann/json.hpp>
 
 #include "app/command.h"
-#include "app/reference_error.h"
-#include "app/session.h"
+#include "run/reference_error.h"
+#include "run/session.h"
 #include "core/args.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "core/progress.h"
 #include "graph/reference_mode.h"
 #include "graph/technique.h"
-#include "lesson/handout.h"
+#include "handout/handout.h"
 #include "reference/path_tracer.h"
 #include "scene/scene.h"
 

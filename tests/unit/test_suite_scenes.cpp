@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/reference_error.h"
+#include "run/reference_error.h"
 #include "core/error.h"
 #include "core/paths.h"
 #include "reference/image_io.h"
