@@ -28,6 +28,25 @@ std::string voxelBuffer(int cascade) { return std::string("voxels-") + kCascadeN
 ParamDesc resolutionParam() {
   return ParamDesc::integer("lpv.resolution", 32, 8, 64, "cells along each axis of each cascade", "cells").pow2();
 }
+ParamDesc fineExtentParam() {
+  return ParamDesc::real("lpv.fine-extent", 1.5, 0.25, 4.0,
+                         "edge of the fine grid as a multiple of the scene's largest extent (1.5: the whole scene "
+                         "inside the cascade blend shell)");
+}
+ParamDesc stepsParam() {
+  return ParamDesc::integer("lpv.steps", 0, 0, 64,
+                            "propagation steps (iterations); light travels one cell per step. 0 (scene): "
+                            "ceil(lpv.resolution / lpv.fine-extent), the steps light needs to cross the scene's "
+                            "largest extent in the fine cascade (22 at the defaults); the coarse cascade's cells are "
+                            "lpv.cascade-ratio larger, so it carries the light that much farther",
+                            "steps");
+}
+int propagationSteps(const ParamSet& p) {
+  const int steps = p.getInt("lpv.steps");
+  if (steps > 0) return steps;
+  const double acrossScene = std::ceil(double(p.getInt("lpv.resolution")) / double(p.getFloat("lpv.fine-extent")) - 1e-6);
+  return std::clamp(int(acrossScene), 1, 64);
+}
 // Cell indices, so that the viewer's volume probe (a click on a cell of an lpv volume) sets them;
 // -1 (the default) is the middle cell, larger values are clamped to the grid.
 ParamDesc probeParam(const char* axis) {

@@ -13,8 +13,9 @@
 //   1. voxelize    triangles -> voxel fragment list (the shared stage of src/techniques/common)
 //      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   2. shadow-map  depth from the light (shared)
-//   3. place       fine and coarse grid boxes, centred on the scene or ahead of the camera, snapped to
-//                  a multiple of their cell size
+//   3. place       fine and coarse grid boxes: the coarse one on the scene, the fine one ahead of the
+//                  camera inside the scene (or both on the scene, or both ahead of the camera),
+//                  snapped to a multiple of their cell size
 //   4. bin         the fragments binned into each cascade: colour/contrast/occupancy and four
 //                  tetrahedron-channel normals by atomicMax (Listings 4.27-4.29), fragment counts,
 //                  the surface each cell holds (the fragments of one voxel share its area)
@@ -45,11 +46,18 @@
 //   - Cells: cell i of a cascade covers origin + [i, i+1) s; the origin is the snapped centre
 //     floor(C / s) s minus res/2 cells, so cell boundaries lie on multiples of s: a camera move of
 //     less than a cell leaves every grid bit-identical, a move of one cell shifts it by one cell.
-//   - Fine cell = lpv.fine-extent (1.5) x the scene's largest extent / res: on the Cornell box the
-//     fine grid holds the whole box inside its blend shell (1.1 would put the walls in the shell,
-//     where the coarse cascade takes over); coarse cell = lpv.cascade-ratio (2, the thesis' "8 times the
-//     volume") x fine. lpv.centre=scene by default: a scene that fits in the fine grid is best
-//     covered around its own centre; camera is GPU Pro 4's placement for large scenes.
+//   - Fine cell = lpv.fine-extent (1.5) x the scene's largest extent / res; coarse cell =
+//     lpv.cascade-ratio (2, the thesis' "8 times the volume") x fine, so the coarse grid's edge is
+//     3 times the scene's largest extent. lpv.centre=view by default: the coarse grid on the scene's
+//     centre (it holds the whole scene), the fine grid on the point GPU Pro 4 puts it (camera +
+//     forward x half its extent) moved into the scene's bounds, so the fine grid covers the part of
+//     the scene ahead of the camera and the coarse one serves the rest (on the Cornell box at camera 0
+//     the blocks are fine, the back wall and ceiling blend into coarse). scene (both on the scene's
+//     centre; the former default) leaves the coarse grid unused whenever the scene fits in the fine
+//     one; camera (both ahead of the camera, GPU Pro 4) puts a camera outside the scene's fine grid
+//     in empty space. Against the reference path tracer at 22 steps, view against scene: indirect
+//     energy 0.60 vs 0.56 of the reference on the Cornell box, 1.04 vs 0.78 in skylight-room, equal
+//     elsewhere.
 //   - Injection (physical, K&D): flux Phi = albedo * E * A, intensity (Phi / pi) lobe(n). A is the
 //     surface a fragment stands for: its voxel's surface voxel^2 / |n|_1 (a conservative
 //     voxelization cuts |n|_1 voxels per voxel^2 of a plane) shared by the fragments of that voxel
@@ -96,8 +104,18 @@
 //     are skipped, not decoded to the zero vector. A = lpv.occlusion-amplifier 1 (GPU Pro 4): 25 %
 //     passes head on. The first step is unoccluded (GPU Pro 4, the NVIDIA sample, K&D ports) so a
 //     VPL's own voxel does not block its own light.
-//   - lpv.steps 8 (K&D-style implementations; GPU Pro 4 uses 10): light travels one cell per step,
-//     so 8 steps reach a quarter of a 32-cell grid; LPV brightness far from a VPL depends on it.
+//   - Steps (lpv.steps = 0, "scene", by default): ceil(lpv.resolution / lpv.fine-extent) = 22 at the
+//     defaults, the steps light needs to cross the scene's largest extent in the fine cascade (light
+//     moves one cell per step; the fine cell is fine-extent x that extent / resolution, so the count
+//     depends on the grid alone, and the coarse cascade, which holds the whole scene, crosses it in
+//     half as many). A fixed 8 (K&D-style implementations; GPU Pro 4 uses 10) carried light 21 cm on
+//     the 56 cm Cornell box: its ceiling stayed black and its indirect energy was 0.39 of the
+//     reference (0.60 now; skylight-room 0.50 -> 1.04, two-rooms 0.83 -> 1.03, corridor 0.69 -> 0.73,
+//     spheres-room 0.81 -> 1.06, Sponza 0.91 -> 0.94, with lpv.centre=view). The rest is LPV's own
+//     bias, not range: L1 propagation falls off much faster than 1 / r^2 beyond a few cells (note
+//     section 2.4), so the Cornell box's ceiling, 21 fine cells from the lit floor, reads 1 % of the
+//     reference while the floor next to a lit wall reads 2 to 7 times it (light kept near its VPLs);
+//     more steps barely change that (64 steps: Cornell box 0.70). No amplifier makes up for it.
 //   - Lookup: incident radiance L = gi.radiance-scale x I / s^2 (a cell face of area s^2 radiating
 //     intensity I; K&D's text uses (s/2)^2, i.e. scale 4; the scale is calibrated once against the
 //     reference path tracer, tests/unit/test_lpv.cpp, and recorded in docs/fidelity.md), E =
@@ -124,8 +142,8 @@
 //     and the reference path tracer are Lambertian.
 //   - No sky (sky.radiance, docs/architecture.md "Sky"): the diffuse light is the propagated VPL
 //     flux, read from the cell a point is in, and no ray leaves the grid; a sky would have to enter
-//     as flux through the grid's faces, which lpv.steps (light moves one cell per step) cannot
-//     carry to the interior. Only the glossy cone (off by default) leaves the reflection grid; a
+//     as flux through the grid's faces, and L1 propagation (above) carries little of it more than a
+//     few cells into the interior. Only the glossy cone (off by default) leaves the reflection grid; a
 //     sky there alone would light reflections but not the diffuse light, so lpv has none.
 //   - Bad input: parameters are range-checked before any GPU work (lpv.resolution 8..64, a power of
 //     two: at most 2 x (9 volumes of 4 MiB + 48 MiB of state); reflection.resolution 16..256); fragments outside a grid are counted in the bin stage's

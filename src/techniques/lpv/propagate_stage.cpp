@@ -18,9 +18,6 @@
 
 namespace voxlab::lpv {
 
-static ParamDesc stepsParam() {
-  return ParamDesc::integer("lpv.steps", 8, 1, 64, "propagation steps (iterations); light travels one cell per step", "steps");
-}
 static ParamDesc probeCascadeParam() {
   return ParamDesc::choice("probe.cascade", {"fine", "coarse"}, 0, "cascade of the picked cell");
 }
@@ -28,7 +25,7 @@ static std::string occlusionBuffer(int cascade) { return std::string("occlusion-
 static size_t occlusionBytes(const ParamSet& p) { return sizeof(gpu::LpvOcclusion) * cellCount(p); }
 static size_t stateBytes(const ParamSet& p) { return 6 * cellCount(p) * 16; }  // six sections of RGBA32F
 static size_t energyBytes(const ParamSet& p) {
-  return sizeof(gpu::LpvEnergy) * kCascades * size_t(p.getInt("lpv.steps") + 1);
+  return sizeof(gpu::LpvEnergy) * kCascades * size_t(propagationSteps(p) + 1);
 }
 // propagate.comp.glsl runs one invocation per column of cells along x, in work groups of 8 x 4
 // columns (y, z), and writes two vec4 of partial energy sums per column (per invocation of the
@@ -58,6 +55,7 @@ static ParamDesc schemeParam() {
 void PropagateStage::declare(StageBuilder& b) const {
   b.param(resolutionParam());
   b.param(stepsParam());
+  b.param(fineExtentParam());
   b.param(schemeParam());
   b.param(ParamDesc::choice("lpv.weighting", {"flux-consistent", "thesis"}, 0,
                             "face weight: solid angle / pi (a face of flux F re-emits F / pi times a cosine lobe), or "
@@ -157,7 +155,7 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.buffer("propagate.active-boxes", [](const ParamSet&, const ViewState&) { return 2 * kCascades * sizeof(glm::ivec4); });
 }
 
-int PropagateStage::iterations(const ParamSet& params) const { return params.getInt("lpv.steps"); }
+int PropagateStage::iterations(const ParamSet& params) const { return propagationSteps(params); }
 
 // The occlusion view (outputs occlusion-fine/coarse): per cell and direction of travel the
 // transmission the propagation applies to light leaving the cell head on, from the CPU reference's

@@ -12,6 +12,13 @@ namespace voxlab::lpv {
 
 std::string voxelBuffer(int cascade);
 ParamDesc resolutionParam();
+ParamDesc fineExtentParam();
+// lpv.steps; 0 (the default) sizes the propagation from the scene and the grid.
+ParamDesc stepsParam();
+// The steps the propagate stage runs: lpv.steps, or for 0 ceil(resolution / fine-extent), the steps
+// light needs to cross the scene's largest extent in the fine cascade (whose cell is fine-extent x
+// that extent / resolution), at most 64.
+int propagationSteps(const ParamSet& p);
 // Cell indices, so that the viewer's volume probe (a click on a cell of an lpv volume) sets them;
 // -1 (the default) is the middle cell, larger values are clamped to the grid.
 ParamDesc probeParam(const char* axis);

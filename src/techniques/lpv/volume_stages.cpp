@@ -18,19 +18,17 @@
 namespace voxlab::lpv {
 
 static std::string voxelColourVolume(int cascade) { return std::string("voxel-colour-") + kCascadeNames[cascade]; }
-static ParamDesc fineExtentParam() {
-  return ParamDesc::real("lpv.fine-extent", 1.5, 0.25, 4.0,
-                         "edge of the fine grid as a multiple of the scene's largest extent (1.5: the whole scene "
-                         "inside the cascade blend shell)");
-}
 static ParamDesc cascadeRatioParam() {
   return ParamDesc::real("lpv.cascade-ratio", 2.0, 1.25, 4.0,
                          "coarse cell / fine cell (2: the thesis' 8x volume; GPU Pro 4 uses 1.6)");
 }
 static ParamDesc centreParam() {
-  return ParamDesc::choice("lpv.centre", {"scene", "camera"}, 0,
-                           "centre of the grids: the scene's bounds, or ahead of the camera as GPU Pro 4 "
-                           "(fine at camera + forward * half its extent)");
+  return ParamDesc::choice("lpv.centre", {"view", "scene", "camera"}, 0,
+                           "centre of the grids. view: the fine grid on the point GPU Pro 4 puts it (camera + "
+                           "forward * half its extent) moved into the scene's bounds, the coarse grid on the "
+                           "scene's centre, so the coarse grid covers the whole scene and serves what the fine "
+                           "one does not; scene: both on the scene's centre (the fine grid then covers it all "
+                           "and the coarse one is not used); camera: both ahead of the camera as GPU Pro 4");
 }
 // The descs and sizes execute() allocates, shared with declare() (the resource budget).
 static TextureDesc voxelColourDesc(int res) {
@@ -58,6 +56,11 @@ std::array<gpu::LpvGrid, kCascades> placeGrids(const Scene& scene, const ViewSta
     float halfFine = 0.5f * cell[0] * float(res), halfCoarse = 0.5f * cell[1] * float(res);
     centre[0] = view.position + forward * (0.5f * halfFine);
     centre[1] = view.position + forward * (halfCoarse - 0.5f * halfFine);
+  } else if (params.getChoice("lpv.centre") == "view") {
+    const glm::vec3 forward = -glm::vec3(view.view[0][2], view.view[1][2], view.view[2][2]);
+    const float halfFine = 0.5f * cell[0] * float(res);
+    centre[0] = glm::clamp(view.position + forward * (0.5f * halfFine), scene.bounds.min, scene.bounds.max);
+    centre[1] = 0.5f * (scene.bounds.min + scene.bounds.max);
   } else {
     centre[0] = centre[1] = 0.5f * (scene.bounds.min + scene.bounds.max);
   }
