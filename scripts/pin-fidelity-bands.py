@@ -1,23 +1,25 @@
 #!/usr/bin/env python3
-"""Writes tests/fidelity/bands.json, the bands CI checks `voxlab fidelity --size 64x64` against,
+"""Writes tests/fidelity/bands.json, the bands CI checks `voxlab fidelity --size 128x128` against,
 from a measured report (fidelity.json of such a run). Review the change before committing it.
 
-  build/voxlab fidelity --size 64x64 --out build/fidelity-64
-  python3 scripts/pin-fidelity-bands.py build/fidelity-64/fidelity.json [--out tests/fidelity/bands.json]
+  build/voxlab fidelity --size 128x128 --out build/fidelity-128
+  python3 scripts/pin-fidelity-bands.py build/fidelity-128/fidelity.json [--out tests/fidelity/bands.json]
 
 Two kinds of band:
   - targets, one band for many cells: every technique's direct light within 5 % of the
     reference's on every scene (docs/fidelity.md, "Direct light"), except the techniques listed in
-    DIRECT_EXEMPT, which get pinned bands instead;
+    DIRECT_EXEMPT and the scenes in DIRECT_PINNED_SCENES, which get pinned bands instead (sponza:
+    1.046-1.050, inside the target but too near its edge for a band that host differences must not
+    cross);
   - pins, one band per technique, scene and output where no target holds yet: the measured energy
     ratio +- PIN_MARGIN (relative), and SSIM no lower than measured - SSIM_MARGIN. A pin catches a
     regression (and an improvement, which then re-pins here); the technique's own target is in
     docs/fidelity.md.
-Margins: two runs of the whole suite at 64x64 on llvmpipe (2 threads) differ by at most 0.6 % in
-energy ratio and 0.004 in SSIM (vct-grid, svo and clipmap on sponza: the order of inject's atomic
-averages; every other cell bit for bit), so PIN_MARGIN 0.05 and SSIM_MARGIN 0.03 leave room for
-that and for small changes elsewhere while failing any change of the light a technique delivers
-by more than 5 %.
+Margins: two runs of the whole suite at 128x128 on llvmpipe (LP_NUM_THREADS=2, Intel Xeon host)
+gave identical numbers in every cell; the Sponza textures' colours differ by up to 2 RGBA8 steps
+between Intel and AMD hosts (tests/golden/tolerances.json), whose effect on these numbers was not
+measured. PIN_MARGIN 0.05 and SSIM_MARGIN 0.03 leave room for that while failing any change of
+the light a technique delivers by more than 5 %.
 """
 import argparse
 import datetime
@@ -25,7 +27,8 @@ import json
 import os
 
 DIRECT_TARGET = (0.95, 1.05)
-DIRECT_EXEMPT = {"lrsm"}  # its own direct path (soft-shadow cone) is pinned, not held to the target yet
+DIRECT_EXEMPT = set()  # techniques whose direct light is pinned at its measured value, not held to the target
+DIRECT_PINNED_SCENES = {"sponza"}
 PIN_MARGIN = 0.05
 SSIM_MARGIN = 0.03
 
@@ -43,6 +46,7 @@ def main():
               "why": "target: direct light within 5 % of the reference on every scene"}]
     exempt = sorted(DIRECT_EXEMPT)
     bands[0]["technique_except"] = exempt
+    bands[0]["scene_except"] = sorted(DIRECT_PINNED_SCENES)
     for cell in report["cells"]:
         if "error" in cell:
             raise SystemExit(f"{cell['technique']} on {cell['scene']} failed: {cell['error']}")
@@ -52,7 +56,7 @@ def main():
                 roles[o["role"]] = o  # the last of each role in stage order, as voxlab fidelity picks
         for role, o in sorted(roles.items()):
             r = o["reference_error"]
-            if role == "direct" and cell["technique"] not in DIRECT_EXEMPT:
+            if role == "direct" and cell["technique"] not in DIRECT_EXEMPT and cell["scene"] not in DIRECT_PINNED_SCENES:
                 continue
             ratio, ssim = r["mean_ratio"], r["ssim"]
             measured = f"measured {ratio:.3f} (SSIM {ssim:.3f}) at {report['size']} on {day}"

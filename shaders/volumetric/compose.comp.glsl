@@ -2,7 +2,9 @@
 // Compose: the surface radiance, attenuated by the medium in front of it, plus the light the
 // medium scatters towards the camera: L = L_surface * T + L_in (linear, "combined"), then
 // exposure and x / (1 + x) per channel ("final"). The surface term is this technique's direct
-// light (Lambert, shadow map with 3x3 PCF, plus emission), an input image, or black.
+// light (Lambert, shadow map with 3x3 PCF, plus emission), an input image, or black. A pixel that
+// sees no surface shows the scene's own sky (the background, r = 0 in the reference), as every
+// composite does; volumetric gathers no sky light on surfaces.
 #include "common/shared.h"
 #include "common/lights.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -19,6 +21,7 @@ layout(rgba32f, binding = 1) uniform writeonly image2D u_combined;
 layout(rgba8, binding = 2) uniform writeonly image2D u_final;
 uniform int u_surfaceSource;   // 0 direct light, 1 none (black), 2 u_surfaceInput
 uniform float u_exposure;
+uniform vec3 u_skyRadiance;  // the scene's sky (Scene::skyRadiance), the background
 const float PI = 3.14159265358979;
 
 void main() {
@@ -35,6 +38,8 @@ void main() {
     lightDirection(pos.xyz, toLight, dist);
     surface = texelFetch(u_albedo, px, 0).rgb / PI * lightIrradiance(pos.xyz) * max(dot(n, toLight), 0.0)
             * shadowVisibility(u_shadowMap, pos.xyz, n) + texelFetch(u_emission, px, 0).rgb;
+  } else if (u_surfaceSource == 0) {
+    surface = u_skyRadiance;
   }
   vec3 combined = surface * texelFetch(u_transmittance, px, 0).r + texelFetch(u_inscatter, px, 0).rgb;
   vec3 mapped = u_exposure * combined;

@@ -17,6 +17,7 @@
 // first row), with the run folders under DIR/<scene>/<technique>/. --check BANDS.json compares
 // the numbers with bands and exits 1 naming every number outside its band. A band is
 // {"technique": id or "*", "technique_except": [ids], "scene": name, "*" or "interior",
+//  "scene_except": [names],
 //  "output": "direct" | "indirect" | "full", "metric": "mean_ratio" | "ssim" | "rmse",
 //  "min": x, "max": y, "why": "what was measured"} (tests/fidelity/bands.json, written by
 // scripts/pin-fidelity-bands.py).
@@ -102,6 +103,7 @@ struct Band {
   std::string technique = "*";  // id or "*"
   std::set<std::string> except;  // with "*": techniques the band does not hold for
   std::string scene = "*";      // name, "*" or "interior"
+  std::set<std::string> sceneExcept;  // with "*" or "interior": scenes the band does not hold for
   std::string role;             // direct, indirect, full
   std::string metric;           // mean_ratio, ssim, rmse
   double lo = -INFINITY, hi = INFINITY;
@@ -119,7 +121,7 @@ std::vector<Band> readBands(const std::string& path) {
   }
   if (!doc.contains("bands") || !doc["bands"].is_array())
     throw Error("--check: '" + path + "' has no \"bands\" array; valid: {\"bands\": [{\"technique\", \"technique_except\", "
-                "\"scene\", \"output\", \"metric\", \"min\", \"max\", \"why\"}, ...]}");
+                "\"scene\", \"scene_except\", \"output\", \"metric\", \"min\", \"max\", \"why\"}, ...]}");
   const std::set<std::string> roles = {"direct", "indirect", "full"}, metrics = {"mean_ratio", "ssim", "rmse"};
   std::vector<Band> bands;
   int k = 0;
@@ -130,6 +132,7 @@ std::vector<Band> readBands(const std::string& path) {
     try {
       band.technique = b.value("technique", "*");
       if (b.contains("technique_except")) band.except = b["technique_except"].get<std::set<std::string>>();
+      if (b.contains("scene_except")) band.sceneExcept = b["scene_except"].get<std::set<std::string>>();
       band.scene = b.value("scene", "*");
       band.role = b.at("output").get<std::string>();
       band.metric = b.value("metric", "mean_ratio");
@@ -455,6 +458,7 @@ int runFidelity(const std::vector<std::string>& argv) {
     for (const Band& band : bands) {
       if ((band.technique != "*" && band.technique != tid) || band.except.count(tid)) continue;
       if (band.scene == "interior" ? !interior : (band.scene != "*" && band.scene != sname)) continue;
+      if (band.sceneExcept.count(sname)) continue;
       const json* o = outputOfRole(cell, band.role);
       if (!o) continue;  // the technique has no output of this kind
       auto value = metricOf(cell, band.role, band.metric);

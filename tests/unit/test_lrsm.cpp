@@ -662,6 +662,7 @@ RunRequest thinWallRequest(const char* technique) {
 TEST(LrsmPhysics, ThinWallLeaksThroughIsotropicOcclusionAndTheShadowMapDoesNot) {
   RunRequest cone = thinWallRequest("lrsm");
   cone.sets.push_back("rsm.resolution=128");
+  cone.sets.push_back("composite.shadow=cone");
   auto& s = session(cone);
   const CapturedOutput position = capture(s, "gbuffer", "position");
   const SideMeans indirect = sideMeans(capture(s, "cone-gather", "indirect-diffuse"), position);
@@ -682,7 +683,7 @@ TEST(LrsmPhysics, ThinWallLeaksThroughIsotropicOcclusionAndTheShadowMapDoesNot) 
   const SideMeans truth = sideMeans(refOut, position);
   // (session() drops the other sessions: s is not used after the next call.)
   RunRequest mapped = cone;
-  mapped.sets.push_back("composite.shadow=shadow-map");
+  mapped.sets.back() = "composite.shadow=shadow-map";
   auto& sm = session(mapped);
   const SideMeans directMapped = sideMeans(capture(sm, "composite", "direct"), capture(sm, "gbuffer", "position"));
   auto& v = session(thinWallRequest("vct-grid"));
@@ -711,6 +712,48 @@ TEST(LrsmPhysics, ThinWallLeaksThroughIsotropicOcclusionAndTheShadowMapDoesNot) 
   EXPECT_LT(indirect.sealed / indirect.lit, 0.42);
   EXPECT_GT(direct.sealed / direct.lit, 0.006);
   EXPECT_LT(direct.sealed / direct.lit, 0.024);
+}
+
+}  // namespace
+}  // namespace voxlab
+
+namespace voxlab {
+namespace {
+
+// --- Direct light: every occluder the shadow map sees -----------------------------------------------
+
+// Mean ratio of lrsm's direct output to the reference's direct image (tests/golden/reference/
+// <scene>/direct.exr, box-filtered down to the output's size), camera 0.
+double directMeanRatio(const std::string& scene, const std::vector<std::string>& sets) {
+  RunRequest r;
+  r.technique = "lrsm";
+  r.scene = scene;
+  r.width = r.height = 64;
+  r.sets = sets;
+  auto& s = session(r);
+  const nlohmann::json e = compareWithReference(capture(s, "composite", "direct"), scene, 0, testing::TempDir(),
+                                                "lrsm-direct");
+  EXPECT_FALSE(e.is_null());
+  EXPECT_FALSE(e.contains("skipped")) << e.dump();
+  if (e.is_null() || e.contains("skipped")) return -1.0;
+  std::printf("lrsm direct on %s (%s): mean ratio %.3f, ssim %.3f\n", scene.c_str(),
+              sets.empty() ? "defaults" : sets[0].c_str(), e["mean_ratio"].get<double>(), e["ssim"].get<double>());
+  return e["mean_ratio"].get<double>();
+}
+
+// skylight-room: a closed room whose only light is a sun through a 1.2 m opening in a 20 cm
+// ceiling slab. The voxelized slab is two one-voxel faces with empty voxels between them, and the
+// isotropic mips average them away: the shadow cone (composite.shadow=cone) crossed the ceiling
+// at about half transmittance and lit every wall and the floor, 16.8x the reference's direct light
+// at 256x256 (16.85x here, 64x64), in horizontal bands where a step's samples landed on or beside
+// the slab. The default direct light is shadowed by the shadow map, which sees the slab: measured
+// 1.002 at 256x256 and 0.991 here, deterministic (one shadow-map lookup per pixel). The band is the
+// fidelity target (5 %): the sunlit patch is under a tenth of the floor, so the rest of the floor
+// lit through the ceiling at 1 % of the sun would already add about 10 %.
+TEST(LrsmPhysics, DefaultDirectLightSeesTheClosedCeilingOfTheSkylightRoom) {
+  const double ratio = directMeanRatio("skylight-room", {});
+  EXPECT_GT(ratio, 0.95);
+  EXPECT_LT(ratio, 1.05);
 }
 
 }  // namespace

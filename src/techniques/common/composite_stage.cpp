@@ -60,9 +60,11 @@ void CompositeStage::execute(StageContext& ctx) {
   setUniform(program, "u_termCount", termCount);
   glProgramUniform1fv(program, glGetUniformLocation(program, "u_termWeight"), kMaxCompositeTerms, weights);
   glProgramUniform1iv(program, glGetUniformLocation(program, "u_termScale"), kMaxCompositeTerms, scales);
-  // The program is shared by every technique: one without a sky sets its radiance to 0.
+  // The program is shared by every technique. One that gathers no sky light (no sky.radiance
+  // parameter) still shows the scene's own sky where a pixel sees no surface: the camera ray that
+  // misses sees it in the reference too.
   if (terms_.sky) setSkyUniforms(program, ctx.params, ctx.scene);
-  else setUniform(program, "u_skyRadiance", glm::vec3(0.0f));
+  else setUniform(program, "u_skyRadiance", glm::vec3(ctx.scene.skyRadiance));
   glUseProgram(program);
   const char* gbuffer[] = {"position", "normal", "albedo", "emission"};
   for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(1 + i), ctx.board.texture(gbuffer[i]).id());

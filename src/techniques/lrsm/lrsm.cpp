@@ -24,7 +24,7 @@
 //   8. gbuffer           position, normal, albedo from the camera (shared)
 //   9. cone-gather       6 x 60 deg diffuse, 1 x 10 deg specular and 1 shadow cone per pixel:
 //                        Eq. 1 with alpha from the occlusion mips and L from Algorithm 1
-//  10. composite         direct (shadow cone or shadow map) + indirect diffuse, tonemapped
+//  10. composite         direct (shadow map; the shadow cone as a variant) + indirect diffuse, tonemapped
 //
 // Details
 //   - Every decision the paper leaves open is listed, with its constant, in lrsm.h (layers,

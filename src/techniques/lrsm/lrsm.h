@@ -40,7 +40,11 @@
 //                  to pi, so E = sum w_k I_k and L_o = albedo/pi * E (white furnace exact). One
 //                  specular cone of 10 degrees along the mirror direction; one shadow cone toward
 //                  the light (cone.shadow-aperture, default 10 degrees so that it reaches across the
-//                  volume within cone.max-steps). The specular cone is off by default
+//                  volume within cone.max-steps). The direct light's visibility is the shadow map by
+//                  default (composite.shadow): the shadow cone reads the isotropic mips of surface
+//                  voxels, where a closed 20 cm slab is two one-voxel faces averaged with the empty
+//                  voxels between them, and let about half of skylight-room's sun through its
+//                  ceiling (direct light 16.8x the reference's). The specular cone is off by default
 //                  (cone.specular): the paper traces it only for pixels with a specular component,
 //                  and voxlab's materials are Lambertian.
 //   samples        sphere radius r = t tan(half angle); step = cone.step x diameter (default 1:

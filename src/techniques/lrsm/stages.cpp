@@ -511,12 +511,14 @@ void ConeGatherStage::execute(StageContext& ctx) {
 
 CompositeTerms compositeTerms() {
   CompositeTerms t;
-  t.summary = "Direct light (shadowed by the shadow cone or the shadow map) + emission + the gathered indirect "
-              "light, then tonemap.";
+  t.summary = "Direct light (shadowed by the shadow map, or by the shadow cone as a variant) + emission + the "
+              "gathered indirect light, then tonemap.";
   t.combinedHelp = "direct + one-bounce indirect diffuse, linear";
   t.params = {voxelResolutionParam(), kTracedCones.resolutionParam(),
-              ParamDesc::choice("composite.shadow", {"cone", "shadow-map"}, 0,
-                                "direct shadows from the shadow cone through the occlusion voxels (soft) or the shadow map"),
+              ParamDesc::choice("composite.shadow", {"shadow-map", "cone"}, 0,
+                                "direct shadows from the shadow map (sees every occluder the reference does) or from "
+                                "the shadow cone through the occlusion voxels (soft, but a hollow slab's mips let up to "
+                                "half of the light through: the ceiling of skylight-room lit 16.8x)"),
               compositeExposureParam(),
               ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)")};
   t.indirect = {{"indirect-diffuse", "composite.indirect"}};

@@ -518,6 +518,7 @@ void ComposeStage::execute(StageContext& ctx) {
   const std::string& source = ctx.params.getChoice("compose.surface");
   GLuint program = ctx.shaders.program({"volumetric/compose.comp.glsl"});
   setUniform(program, "u_surfaceSource", source == "direct" ? 0 : source == "none" ? 1 : 2);
+  setUniform(program, "u_skyRadiance", glm::vec3(ctx.scene.skyRadiance));
   setUniform(program, "u_exposure", ctx.params.getFloat("compose.exposure"));
   glUseProgram(program);
   const char* inputs[] = {"position", "normal", "albedo", "emission", "shadow-map", "inscatter-full", "transmittance-full"};
