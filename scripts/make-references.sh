@@ -53,7 +53,7 @@ for scene in $scenes; do
       # voxel-path-tracing's default paths.bounces=2 declares indirect-{paths.bounces}: r in {2, 3};
       # RMS standard error 0.0101
       render cornell-box 512x512 indirect-2 512
-      # and paths.bounces=4, scripts/fidelity.sh's variant: r in {2, ..., 5}; RMS standard error 0.0111
+      # and paths.bounces=4 (voxlab fidelity --set paths.bounces=4): r in {2, ..., 5}; RMS standard error 0.0111
       render cornell-box 512x512 indirect-4 512
       # vct-grid's bounces test (tests/unit/test_vct_bounces.cpp) runs at 128x128: direct light
       # and two indirect bounces (r <= 3), RMS standard error about 0.005

@@ -160,12 +160,7 @@ json runCell(const RunRequest& request, const std::string& outDir, const std::st
   const auto start = std::chrono::steady_clock::now();
   HeadlessSession session(request);
   const Technique& t = session.cursor().technique();
-  std::vector<OutputAddress> only;
-  only.push_back(OutputAddress::parse(t.id() + "/" + t.finalStage() + "/" + t.finalOutput()));
-  for (int i = 0; i < t.stageCount(); ++i)
-    for (const auto& o : t.decl(i).outputs)
-      if (!o.referenceMode.empty() && !(t.stage(i).id() == t.finalStage() && o.name == t.finalOutput()))
-        only.push_back(OutputAddress::parse(t.id() + "/" + t.stage(i).id() + "/" + o.name));
+  const std::vector<OutputAddress> only = finalAndComparedOutputs(t);
   session.run();
   const double runSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string dir = (fs::path(outDir) / rel).string();

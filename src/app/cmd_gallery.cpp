@@ -3,7 +3,7 @@
 //
 // Each technique runs once with its default parameters through HeadlessSession::writeOutputs, the
 // code path of `voxlab run` (so the error images and numbers are those of docs/fidelity.md, which
-// scripts/fidelity.sh makes from `voxlab run` manifests). What is shown comes from the
+// `voxlab fidelity` reports from the same code). What is shown comes from the
 // declarations alone: the final output (Technique::finalOutput), and every output tagged with a
 // reference mode (OutputDesc::referenceMode) with the reference image of that mode, the error
 // image and the metrics (the mode under the run's parameters, referenceModeUnder). An output
@@ -125,12 +125,7 @@ int runGallery(const std::vector<std::string>& argv) {
     req.technique = entry.id;
     HeadlessSession session(req);
     const Technique& t = session.cursor().technique();
-    std::vector<OutputAddress> only;
-    only.push_back(OutputAddress::parse(t.id() + "/" + t.finalStage() + "/" + t.finalOutput()));
-    for (int i = 0; i < t.stageCount(); ++i)
-      for (const auto& o : t.decl(i).outputs)
-        if (!o.referenceMode.empty() && !(t.stage(i).id() == t.finalStage() && o.name == t.finalOutput()))
-          only.push_back(OutputAddress::parse(t.id() + "/" + t.stage(i).id() + "/" + o.name));
+    const std::vector<OutputAddress> only = finalAndComparedOutputs(t);
     const std::string rel = scene + "/" + t.id();
     const std::string dir = (fs::path(out) / rel).string();
     session.run();

@@ -137,6 +137,16 @@ json compareWithReference(const CapturedOutput& out, const std::string& scene, i
   return r;
 }
 
+std::vector<OutputAddress> finalAndComparedOutputs(const Technique& t) {
+  std::vector<OutputAddress> only;
+  only.push_back(OutputAddress::parse(t.id() + "/" + t.finalStage() + "/" + t.finalOutput()));
+  for (int i = 0; i < t.stageCount(); ++i)
+    for (const auto& o : t.decl(i).outputs)
+      if (!o.referenceMode.empty() && !(t.stage(i).id() == t.finalStage() && o.name == t.finalOutput()))
+        only.push_back(OutputAddress::parse(t.id() + "/" + t.stage(i).id() + "/" + o.name));
+  return only;
+}
+
 void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png) {
   ImageFileData f = readImageFile(exr);
   CapturedOutput c;

@@ -10,10 +10,12 @@
 // output's first three channels, linear, unclamped.
 #pragma once
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "capture/capture.h"
+#include "graph/technique.h"
 
 namespace voxlab {
 
@@ -34,6 +36,10 @@ bool hasReferences(const std::string& scene);
 // A reference that exists but cannot be read is reported as skipped too (the run still succeeds).
 nlohmann::json compareWithReference(const CapturedOutput& out, const std::string& scene, int camera,
                                     const std::string& dir, const std::string& prefix);
+
+// The outputs a comparison with the references writes: the technique's final output, then every
+// output that declares a reference mode, in stage order.
+std::vector<OutputAddress> finalAndComparedOutputs(const Technique& technique);
 
 // Writes the reference EXR 'exr' as a PNG through the display mapping of 'desc' (its semantic and
 // tone map), so that it can stand beside that output's own PNG.
