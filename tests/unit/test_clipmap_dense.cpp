@@ -87,7 +87,10 @@ RunRequest request(const std::string& technique, const std::string& faces, const
   r.width = r.height = 32;
   r.lookFrom = kCamera;
   r.lookAt = kLookAt;
-  r.sets = {"inject.mode=" + inject, "inject.uniform-radiance=0.5", "cone.resolution=full", "cone.aperture=45"};
+  // The techniques' default start offsets differ (clipmap's levels put surfaces in coarse voxels):
+  // the same cones need the same one.
+  r.sets = {"inject.mode=" + inject, "inject.uniform-radiance=0.5", "cone.resolution=full", "cone.aperture=45",
+            "cone.start-offset=1.75"};
   if (technique == "vct-grid") {
     r.sets.insert(r.sets.end(), {"voxel.resolution=32", "voxelize.method=triangle-parallel",
                                  std::string("mipmap.mode=") + (faces == "anisotropic" ? "anisotropic" : "isotropic"),

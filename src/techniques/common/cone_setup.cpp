@@ -18,7 +18,7 @@ void declareConeParams(StageBuilder& b, const ConeDefaults& d) {
                             "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));
   b.param(ParamDesc::choice("cone.weighting", {"cosine", "equal"}, 0,
                             "cone weights, normalised to sum to 1: proportional to the cosine of each cone's axis, or equal"));
-  b.param(ParamDesc::real("cone.start-offset", 1.75, 0.0, 8.0, d.startOffsetHelp, "voxels"));
+  b.param(ParamDesc::real("cone.start-offset", d.startOffset, 0.0, 8.0, d.startOffsetHelp, "voxels"));
   b.param(ParamDesc::real("cone.step", 0.5, 0.1, 1.0, "step length as a fraction of the sample diameter"));
   b.param(ParamDesc::real("cone.lod-bias", -1.0, -2.0, 1.0, d.lodBiasHelp));
   b.param(ParamDesc::real("cone.max-distance", d.maxDistance, 0.05, d.maxDistanceLimit, d.maxDistanceHelp));

@@ -23,6 +23,7 @@ struct ConeDefaults {
   double aperture = 45.0;  // degrees, full angle
   std::string apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
                              "at 60 their lower edges graze the surface, which then occludes and lights itself)";
+  double startOffset = 1.75;  // voxels: about a voxel diagonal
   std::string startOffsetHelp = "cones start this far from the surface along its normal (avoids self-occlusion)";
   std::string lodBiasHelp = "mip level = log2(diameter / voxel) + bias; -1 makes the filter support equal the diameter";
   double maxDistance = 1.75, maxDistanceLimit = 2.0;  // fractions of the distance unit
