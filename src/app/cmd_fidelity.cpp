@@ -71,9 +71,13 @@ std::vector<SuiteScene> readSuite() {
     throw Error(path + " is not valid JSON: " + e.what());
   }
   std::vector<SuiteScene> suite;
-  for (const auto& s : doc.at("scenes"))
-    suite.push_back({s.at("name").get<std::string>(), s.at("name").get<std::string>(), s.at("interior").get<bool>(), true,
-                     s.value("tests", "")});
+  try {
+    for (const auto& s : doc.at("scenes"))
+      suite.push_back({s.at("name").get<std::string>(), s.at("name").get<std::string>(), s.at("interior").get<bool>(),
+                       true, s.value("tests", "")});
+  } catch (const json::exception& e) {
+    throw Error(path + ": " + e.what() + " (valid: {\"scenes\": [{\"name\", \"interior\", \"tests\"}, ...]})");
+  }
   return suite;
 }
 
@@ -156,7 +160,7 @@ std::vector<Band> readBands(const std::string& path) {
 // --- one cell ---------------------------------------------------------------------------------------
 
 // Runs one technique on one scene; returns the cell's JSON (numbers per compared output).
-json runCell(const RunRequest& request, const std::string& outDir, const std::string& rel) {
+json runCell(const RunRequest& request, const std::string& sceneName, const std::string& outDir, const std::string& rel) {
   const auto start = std::chrono::steady_clock::now();
   HeadlessSession session(request);
   const Technique& t = session.cursor().technique();
@@ -166,7 +170,7 @@ json runCell(const RunRequest& request, const std::string& outDir, const std::st
   const std::string dir = (fs::path(outDir) / rel).string();
   json manifest = session.writeOutputs(dir, false, only);
 
-  json cell = {{"technique", t.id()}, {"scene", request.scene}, {"wall_s", runSeconds}, {"outputs", json::array()}};
+  json cell = {{"technique", t.id()}, {"scene", sceneName}, {"wall_s", runSeconds}, {"outputs", json::array()}};
   for (const auto& s : manifest["stages"])
     for (const auto& e : s["outputs"]) {
       auto [stage, desc] = t.findOutput(s["id"].get<std::string>(), e["name"].get<std::string>());
@@ -420,15 +424,14 @@ int runFidelity(const std::vector<std::string>& argv) {
   const auto start = std::chrono::steady_clock::now();
   for (const auto& scene : scenes)
     for (const std::string& id : techniques) {
-      progress.update(double(done) / double(total), id + " on " + scene.name);
+      progress.update(int(done), int(total), id + " on " + scene.name);
       RunRequest request = base;
       request.technique = id;
       request.scene = scene.argument;
       request.sets = setsOf[id];
       json cell;
       try {
-        cell = runCell(request, out, scene.name + "/" + id);
-        cell["scene"] = scene.name;
+        cell = runCell(request, scene.name, out, scene.name + "/" + id);
       } catch (const std::exception& e) {
         cell = {{"technique", id}, {"scene", scene.name}, {"error", e.what()}};
         ++failed;
@@ -438,7 +441,7 @@ int runFidelity(const std::vector<std::string>& argv) {
       report["cells"].push_back(cell);
       ++done;
     }
-  progress.update(1.0, "done");
+  progress.update(int(total), int(total), "done");
   progress.finish();
   report["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

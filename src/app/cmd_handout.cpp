@@ -1,6 +1,4 @@
 // voxlab handout: lessons as HTML handouts with the picture of every step (handout/handout.h).
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +7,7 @@
 #include "core/args.h"
 #include "core/error.h"
 #include "core/paths.h"
+#include "core/progress.h"
 #include "handout/handout.h"
 #include "handout/step_picture.h"
 
@@ -39,28 +38,22 @@ int runHandout(const std::vector<std::string>& argv) {
   int total = 0;
   for (const auto& l : lessons) total += int(l.steps.size());
 
-  const bool tty = isatty(fileno(stderr));
+  ProgressBar bar("handout");
   int before = 0;
   auto t0 = std::chrono::steady_clock::now();
-  HandoutProgress progress = [&](int done, int, const std::string& label) {
-    if (!tty) return;
-    std::string line = progressBar(before + done, total, 30, label);
-    if (line.size() > 100) line.resize(100);
-    std::fprintf(stderr, "\r%-100s", line.c_str());
-    std::fflush(stderr);
-  };
+  HandoutProgress progress = [&](int done, int, const std::string& label) { bar.update(before + done, total, label); };
   StepRenderer renderer(width, height);
   std::vector<HandoutPage> pages;
   for (const auto& l : lessons) {
     try {
       pages.push_back(writeHandout(l, out, renderer, progress));
     } catch (const Error&) {
-      if (tty) std::fprintf(stderr, "\n");
+      bar.finish();
       throw;
     }
     before += int(l.steps.size());
   }
-  if (tty) std::fprintf(stderr, "\n");
+  bar.finish();
   if (all) writeHandoutIndex(pages, out);
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (const auto& p : pages)

@@ -1,6 +1,4 @@
 // voxlab reference: the CPU reference path tracer (ground truth for every technique).
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

@@ -36,16 +36,6 @@ std::string htmlEscape(const std::string& text) {
   return out;
 }
 
-std::string progressBar(int done, int total, int width, const std::string& label) {
-  total = std::max(total, 1);
-  done = std::clamp(done, 0, total);
-  int filled = int((long long)done * width / total);
-  std::string bar = "[" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), '.') + "] ";
-  std::string count = std::to_string(done) + "/" + std::to_string(total);
-  std::string pad(std::to_string(total).size() * 2 + 1 - count.size(), ' ');
-  return bar + pad + count + "  " + label;
-}
-
 namespace {
 
 const char* kStyle = R"(

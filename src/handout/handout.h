@@ -25,8 +25,6 @@ class StepRenderer;
 std::string markdownToHtml(const std::string& markdown);
 std::string htmlEscape(const std::string& text);
 
-// "[##########..........]  7/14  label", 'width' characters of bar; for terminals.
-std::string progressBar(int done, int total, int width, const std::string& label);
 
 struct HandoutPage {
   std::string title;

@@ -4,6 +4,7 @@
 
 #include "capture/capture.h"
 #include "core/paths.h"
+#include "core/progress.h"
 #include "handout/handout.h"
 #include "handout/step_picture.h"
 
