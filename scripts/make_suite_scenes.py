@@ -7,10 +7,9 @@ cannot cover. Each is written to scenes/<name>.gltf; scenes/suite.json lists the
 (name, interior or exterior, what the scene tests) and scenes/README.md says it in prose. Both
 are generated here from SUITE, so the list and its descriptions live in one place.
 
-Lights: voxlab's techniques shadow the scene's first light with one shadow map, which spot and
-directional lights have and point lights do not (ShadowMapStage). The point-lit scene of the
-suite (corridor) is therefore a convex room of single-sided walls in which the light sees every
-surface, so the reference and the techniques agree on direct visibility by construction.
+Lights: voxlab's techniques shadow the scene's first light with its shadow map (ShadowMapStage;
+a point light's is six cube faces). The point-lit scene of the suite (corridor) is a convex room
+of single-sided walls in which the light sees every surface: it measures range, not shadows.
 
 Walls of the closed rooms are solid slabs 20 cm thick (six faces each), as real walls are:
 a wall of zero thickness has its lit outside and its dark inside in the same voxels, which no
@@ -227,8 +226,7 @@ def spheres_room(path, k=1.0):
 def corridor(path):
     """A closed corridor 1.6 m wide, 2.4 m high and 12 m long, lit by a point light near its
     orange end wall; the camera looks down it from the far end. Light must travel 12 m. The
-    walls are single surfaces facing in (a convex room: the point light sees every surface, so
-    it needs no shadow map)."""
+    walls are single surfaces facing in (a convex room: the point light sees every surface)."""
     b = GltfBuilder("voxlab scripts/make_suite_scenes.py (corridor)")
     white = b.add_material("white", WHITE)
     floor = b.add_material("floor", GREY)

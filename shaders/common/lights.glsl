@@ -52,26 +52,64 @@ bool shadowMapDecides(inout vec3 uvz) {
   return true;
 }
 
+// The light's maps (shadow map, RSM) for a point light are atlases of six cube faces: the face
+// that sees p is the major axis of p - light (0..5: +x -x +y -y +z -z); -1 for spot and
+// directional lights, whose map is one view (shadowViewProj).
+int lightMapFace(vec3 p) {
+  if (u_light.positionType.w != VOXLAB_LIGHT_POINT) return -1;
+  vec3 d = p - u_light.positionType.xyz, a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
+  if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
+  return d.z >= 0.0 ? 4 : 5;
+}
+
+mat4 lightMapViewProj(int face) { return face < 0 ? u_light.shadowViewProj : u_light.faceViewProj[face]; }
+
+// The part of a map of 'size' texels a face covers, in texture coordinates (xy min, zw max): the
+// whole map for one view; for a point light face f the tile (f mod 3, f / 3) of floor(size.x / 3)
+// by size.y / 2 texels (techniques/common/shadow_map_stage.cpp renders the faces there).
+vec4 lightMapTile(int face, ivec2 size) {
+  if (face < 0) return vec4(0.0, 0.0, 1.0, 1.0);
+  vec2 tile = vec2(size.x / 3, size.y / 2);
+  vec2 lo = vec2(face % 3, face / 3) * tile;
+  return vec4(lo / vec2(size), (lo + tile) / vec2(size));
+}
+
+// Map coordinates of p: xy in the map texture (inside the face's tile), z its depth from the light;
+// false when p lies outside the face's view (beside a spot's map, behind the light).
+bool lightMapCoord(vec3 p, int face, ivec2 size, out vec3 uvz) {
+  vec4 clip = lightMapViewProj(face) * vec4(p, 1.0);
+  uvz = clip.xyz / clip.w * 0.5 + 0.5;
+  vec4 tile = lightMapTile(face, size);
+  bool inside = clip.w > 0.0 && all(greaterThanEqual(uvz, vec3(0.0))) && all(lessThanEqual(uvz, vec3(1.0)));
+  uvz.xy = mix(tile.xy, tile.zw, uvz.xy);
+  return inside;
+}
+
 // 1 when p is lit according to the shadow map (PCF over 3x3 texels), 0 when in shadow.
 float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
   if (u_light.spot.w < 0.5) return 1.0;
-  vec3 toLight; float dist;
-  lightDirection(p, toLight, dist);
   // Normal offset keeps the receiver from shadowing itself: shadow.normal-offset texels of the
   // map at the receiver (spot.z is per unit of clip w: 1 for a sun's orthographic map, the view
-  // depth for a spot's perspective one), so it scales with the scene and the map's resolution.
-  float w = (u_light.shadowViewProj * vec4(p, 1.0)).w;
-  vec4 clip = u_light.shadowViewProj * vec4(p + n * (u_light.spot.z * w), 1.0);
-  vec3 ndc = clip.xyz / clip.w;
-  vec3 uvz = ndc * 0.5 + 0.5;
+  // depth for a perspective one), so it scales with the scene and the map's resolution. A point
+  // light's face is the one that sees the offset receiver.
+  float w = (lightMapViewProj(lightMapFace(p)) * vec4(p, 1.0)).w;
+  vec3 q = p + n * (u_light.spot.z * w);
+  int face = lightMapFace(q);
+  ivec2 size = textureSize(shadowMap, 0);
+  vec3 uvz;
   // Surfaces lie inside the map's box (it is fitted to them); a receiver that its normal offset
   // moves out of the box is lit (measured: one Sponza pixel at 128x128 would change otherwise).
-  if (any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz, vec3(1.0)))) return 1.0;
-  vec2 texel = 1.0 / vec2(textureSize(shadowMap, 0));
+  if (!lightMapCoord(q, face, size, uvz)) return 1.0;
+  // The taps stay inside the face's tile: a point light's neighbouring tile is another view.
+  vec4 tile = lightMapTile(face, size);
+  vec2 texel = 1.0 / vec2(size);
   float lit = 0.0;
   for (int y = -1; y <= 1; ++y)
-    for (int x = -1; x <= 1; ++x)
-      lit += (texture(shadowMap, uvz.xy + vec2(x, y) * texel).r >= uvz.z - 1e-4) ? 1.0 : 0.0;
+    for (int x = -1; x <= 1; ++x) {
+      vec2 uv = clamp(uvz.xy + vec2(x, y) * texel, tile.xy + 0.5 * texel, tile.zw - 0.5 * texel);
+      lit += (texture(shadowMap, uv).r >= uvz.z - 1e-4) ? 1.0 : 0.0;
+    }
   return lit / 9.0;
 }
 

@@ -76,6 +76,10 @@ struct GpuLight {
   vec4 directionRange;  // xyz: unit direction the light travels, w: range (0 = infinite)
   vec4 radiance;        // rgb: colour * intensity (W/sr, or W/m^2 when directional)
   vec4 spot;            // x: cos(inner cone), y: cos(outer cone), z: normal offset per unit clip w (m), w: 1 = shadow map valid
+  // Point lights: the shadow map and the RSM are atlases of six cube faces, +x -x +y -y +z -z in
+  // tiles of 3 columns and 2 rows (common/lights.glsl: lightMapFace, lightMapTile); world -> clip
+  // space of each face's 90-degree view. Unused for spot and directional lights (shadowViewProj).
+  mat4 faceViewProj[6];
 };
 
 #ifdef __cplusplus

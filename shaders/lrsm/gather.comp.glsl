@@ -50,9 +50,13 @@ vec4 fetchLayer(sampler2D s, int layer, int level, vec2 uv) {
   return textureLod(s, vec2((float(layer) + inTile.x) / layers, inTile.y), float(level));
 }
 
+// Where p lies in the light's image (the RSM is twice a layer's width): one view, or the cube
+// face of a point light that looks at it (a face's tile of the atlas; a sphere near a face's edge
+// reads that face only).
 vec2 lightUV(vec3 p) {
-  vec4 c = u_light.shadowViewProj * vec4(p, 1.0);
-  return c.xy / c.w * 0.5 + 0.5;
+  vec3 uvz;
+  lightMapCoord(p, lightMapFace(p), ivec2(2 * u_layerWidth), uvz);
+  return uvz.xy;
 }
 
 // Algorithm 1: the radiance L_i of the sphere (xc, rc) toward the receiver p.

@@ -51,10 +51,11 @@ RsmLookup lookupRsm(vec3 hit, vec3 receiver) {
   r.position = vec4(0.0);
   r.texel = vec2(-1.0);
   r.dist = 0.0; r.epsilon = 0.0; r.facing = 0.0;
-  vec4 clip = u_light.shadowViewProj * vec4(hit, 1.0);
-  vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-  if (u_light.spot.w > 0.5 && clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) {
-    ivec2 texel = ivec2(uv * vec2(textureSize(u_rsmPosition, 0)));
+  // The texel that sees the hit: one view, or the cube face of a point light that looks at it.
+  const ivec2 rsmSize = textureSize(u_rsmPosition, 0);
+  vec3 uvz;
+  if (u_light.spot.w > 0.5 && lightMapCoord(hit, lightMapFace(hit), rsmSize, uvz) && all(lessThan(uvz.xy, vec2(1.0)))) {
+    ivec2 texel = ivec2(uvz.xy * vec2(rsmSize));
     r.texel = vec2(texel);
     vec4 sender = texelFetch(u_rsmPosition, texel, 0);
     r.position = sender;

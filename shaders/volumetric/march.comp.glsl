@@ -49,6 +49,12 @@ float ditherOffset(ivec2 q) {
 // not the whole medium: shadowMapDecides (common/lights.glsl) decides outside them.
 float visibility(vec3 p) {
   if (u_light.spot.w < 0.5) return 1.0;
+  const int face = lightMapFace(p);
+  if (face >= 0) {  // a point light's cube faces see every direction: the face decides
+    vec3 uvz;
+    if (!lightMapCoord(p, face, textureSize(u_shadowMap, 0), uvz)) return 1.0;
+    return texture(u_shadowMap, uvz.xy).r >= uvz.z - 1e-4 ? 1.0 : 0.0;
+  }
   vec4 clip = u_light.shadowViewProj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
   vec3 uvz = clip.xyz / clip.w * 0.5 + 0.5;

@@ -6,6 +6,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/shadow_map_stage.h"
 
 namespace voxlab {
 
@@ -64,13 +65,14 @@ void RsmStage::execute(StageContext& ctx) {
   glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
   if (hasMap) {
     GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/rsm.frag.glsl"});
-    setUniform(program, "u_viewProj", light.shadowViewProj);
     glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
     glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
-    glViewport(0, 0, size, size);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    ctx.gpuScene.draw(program);
+    forEachLightMapView(light, size, size, [&](const glm::mat4& viewProj) {
+      setUniform(program, "u_viewProj", viewProj);
+      ctx.gpuScene.draw(program);
+    });
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }

@@ -3,10 +3,10 @@
 // the light) and what it reflects of the direct light. Shared by every technique that gathers
 // one-bounce light from the light's view (near-field here; lpv and lrsm can read the same).
 //
-// It renders with the light's shadowViewProj from the "light" uniform buffer that ShadowMapStage
-// writes, so it follows the shared light model for spot lights (perspective over the outer cone)
-// and directional lights (orthographic over the scene) alike; a point light has no map (the
-// stage's statistics say so and every texel stays empty).
+// It renders the views of the "light" uniform buffer that ShadowMapStage writes, so it follows the
+// shared light model: spot lights perspective over the outer cone, directional lights
+// orthographic over the scene, point lights six cube faces in a 3 x 2 atlas (lightMapFace and
+// lightMapCoord in shaders/common/lights.glsl find a point's texel in every case).
 //
 // Outputs, per texel (empty texels are all zero):
 //   rsm-position  xyz world position, w = the texel's footprint on the surface in metres

@@ -1,8 +1,10 @@
 #include "techniques/common/shadow_map_stage.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/shared.h"
@@ -11,6 +13,32 @@
 #include "techniques/common/light_stage.h"
 
 namespace voxlab {
+
+std::array<glm::mat4, 6> pointLightFaceViewProj(glm::vec3 position, float far) {
+  static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  // Near a fixed fraction of far, as for a spot: the depth distribution does not depend on the unit.
+  const glm::mat4 proj = glm::perspective(glm::half_pi<float>(), 1.0f, far * 1e-3f, far);
+  std::array<glm::mat4, 6> out;
+  for (int f = 0; f < 6; ++f) {
+    const glm::vec3 up = f == 2 || f == 3 ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    out[size_t(f)] = proj * glm::lookAt(position, position + axes[f], up);
+  }
+  return out;
+}
+
+void forEachLightMapView(const gpu::GpuLight& light, int width, int height,
+                         const std::function<void(const glm::mat4& viewProj)>& draw) {
+  if (light.positionType.w != VOXLAB_LIGHT_POINT) {
+    glViewport(0, 0, width, height);
+    draw(light.shadowViewProj);
+    return;
+  }
+  const int tileW = width / 3, tileH = height / 2;
+  for (int f = 0; f < 6; ++f) {
+    glViewport((f % 3) * tileW, (f / 3) * tileH, tileW, tileH);
+    draw(light.faceViewProj[f]);
+  }
+}
 
 static TextureDesc shadowMapDesc(int size) {
   TextureDesc d;
@@ -107,7 +135,17 @@ void ShadowMapStage::execute(StageContext& ctx) {
       ctx.stats["texel_per_depth"] = texelPerDepth;
       hasShadow = true;
     } else {
+      // Six 90-degree views, one per cube face, in a 3 x 2 atlas of the map (lightMapTile in
+      // shaders/common/lights.glsl); far reaches the scene's farthest corner.
       light.positionType = glm::vec4(L.position, VOXLAB_LIGHT_POINT);
+      const float far = glm::length(L.position - center) + radius;
+      const auto faces = pointLightFaceViewProj(L.position, far);
+      for (int f = 0; f < 6; ++f) light.faceViewProj[f] = faces[size_t(f)];
+      // A face's texel at view depth w spans 2 w / (tile texels); the tile is size / 3 wide.
+      const float texelPerDepth = 2.0f / float(size / 3);
+      light.spot.z = offsetTexels * texelPerDepth;
+      ctx.stats["texel_per_depth"] = texelPerDepth;
+      hasShadow = true;
     }
   }
   light.spot.w = hasShadow ? 1.0f : 0.0f;
@@ -126,12 +164,13 @@ void ShadowMapStage::execute(StageContext& ctx) {
   glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
   if (hasShadow) {
     GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/depth_only.frag.glsl"});
-    setUniform(program, "u_viewProj", light.shadowViewProj);
     glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
-    glViewport(0, 0, size, size);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    ctx.gpuScene.draw(program);
+    forEachLightMapView(light, size, size, [&](const glm::mat4& viewProj) {
+      setUniform(program, "u_viewProj", viewProj);
+      ctx.gpuScene.draw(program);
+    });
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
