@@ -181,19 +181,43 @@ glm::vec3 lightIrradiance(const voxlab::gpu::GpuLight& l, glm::vec3 p) {
   return radiance * falloff;
 }
 
+// The face of a point light's cube-face atlas that sees p, -1 for one view (lightMapFace in
+// shaders/common/lights.glsl).
+static int lightMapFace(const voxlab::gpu::GpuLight& g, glm::vec3 p) {
+  if (g.positionType.w != VOXLAB_LIGHT_POINT) return -1;
+  const glm::vec3 d = p - glm::vec3(g.positionType), a = glm::abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0f ? 0 : 1;
+  if (a.y >= a.z) return d.y >= 0.0f ? 2 : 3;
+  return d.z >= 0.0f ? 4 : 5;
+}
+
 float shadowVisibility(const ShadowedLight& l, glm::vec3 p, glm::vec3 n, bool* marginal) {
   const voxlab::gpu::GpuLight& g = l.light;
   if (g.spot.w < 0.5f) return 1.0f;
-  float w = (g.shadowViewProj * glm::vec4(p, 1.0f)).w;
-  glm::vec4 clip = g.shadowViewProj * glm::vec4(p + n * (g.spot.z * w), 1.0f);
+  auto viewProj = [&g](int face) { return face < 0 ? g.shadowViewProj : g.faceViewProj[face]; };
+  float w = (viewProj(lightMapFace(g, p)) * glm::vec4(p, 1.0f)).w;
+  const glm::vec3 q = p + n * (g.spot.z * w);
+  const int face = lightMapFace(g, q);
+  glm::vec4 clip = viewProj(face) * glm::vec4(q, 1.0f);
   glm::vec3 uvz = glm::vec3(clip) / clip.w * 0.5f + 0.5f;
-  if (glm::any(glm::lessThan(uvz, glm::vec3(0.0f))) || glm::any(glm::greaterThan(uvz, glm::vec3(1.0f)))) return 1.0f;
+  if (clip.w <= 0.0f || glm::any(glm::lessThan(uvz, glm::vec3(0.0f))) || glm::any(glm::greaterThan(uvz, glm::vec3(1.0f))))
+    return 1.0f;
+  // The face's tile of the atlas (lightMapTile): the whole map for one view.
+  glm::vec2 tileLo(0.0f), tileHi(1.0f);
+  if (face >= 0) {
+    const glm::vec2 tile(float(l.width / 3), float(l.height / 2));
+    tileLo = glm::vec2(float(face % 3), float(face / 3)) * tile / glm::vec2(float(l.width), float(l.height));
+    tileHi = tileLo + tile / glm::vec2(float(l.width), float(l.height));
+  }
+  uvz = glm::vec3(glm::mix(tileLo, tileHi, glm::vec2(uvz)), uvz.z);
   const glm::vec2 texel = 1.0f / glm::vec2(float(l.width), float(l.height));
   const float threshold = uvz.z - 1e-4f;
   int lit = 0;
   for (int y = -1; y <= 1; ++y)
     for (int x = -1; x <= 1; ++x) {
-      glm::vec2 t = (glm::vec2(uvz) + glm::vec2(float(x), float(y)) * texel) * glm::vec2(float(l.width), float(l.height));
+      const glm::vec2 uv = glm::clamp(glm::vec2(uvz) + glm::vec2(float(x), float(y)) * texel, tileLo + 0.5f * texel,
+                                      tileHi - 0.5f * texel);
+      glm::vec2 t = uv * glm::vec2(float(l.width), float(l.height));
       glm::ivec2 i = glm::clamp(glm::ivec2(glm::floor(t)), glm::ivec2(0), glm::ivec2(l.width - 1, l.height - 1));
       float depth = l.depth[size_t(i.y) * l.width + i.x];
       lit += depth >= threshold;
