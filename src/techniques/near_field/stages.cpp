@@ -21,6 +21,9 @@
 
 namespace voxlab::nearfield {
 
+// rays.radius's default, in volume edges: above the volume's diagonal, sqrt 3.
+constexpr float kWholeVolumeRadius = 1.75f;
+
 int maxLevelOf(int res) {
   int l = 0;
   while ((1 << l) < res) ++l;
@@ -51,9 +54,10 @@ static void declareWalkParams(StageBuilder& b) {
   b.param(ParamDesc::real("rsm.distance-scale", 1.0, 0.0, 8.0,
                           "RSM validity: a hit is the RSM's surface when closer than max(voxel diagonal, scale * texel footprint), at most 4 diagonals"));
   b.param(ParamDesc::boolean("rsm.normal-check", true, "RSM validity: the sender must face the receiver"));
-  b.param(ParamDesc::choice("rsm.validity", {"distance", "plane"}, 0,
-                            "distance: |hit - RSM position| < epsilon (the paper); plane: the hit lies within a voxel "
-                            "diagonal of the RSM surface's plane (robust where light grazes the sender)"));
+  b.param(ParamDesc::choice("rsm.validity", {"distance", "plane"}, 1,
+                            "distance: |hit - RSM position| < epsilon (the paper); plane (the default): the hit lies "
+                            "within a voxel diagonal of the RSM surface's plane (keeps the true hits the paper's test "
+                            "rejects where light grazes the sender: sponza's sun)"));
 }
 
 // Uniforms of ray_common.glsl and traversal.glsl from those parameters.
@@ -213,12 +217,16 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(kTracedRays.resolutionParam());
   b.param(ParamDesc::integer("rays.count", 8, 1, 256, "rays per pixel, one per iteration", "rays"));
-  b.param(ParamDesc::real("rays.radius", 0.5, 0.01, 2.0,
-                          "longest ray (near-field radius), as a fraction of the voxel volume's edge"));
+  // The default reaches past the volume's diagonal (sqrt 3 = 1.732 edges): every ray runs until it
+  // meets a voxel or leaves the volume, so no light inside the volume is left out as "far field".
+  b.param(ParamDesc::real("rays.radius", kWholeVolumeRadius, 0.01, 2.0,
+                          "longest ray (near-field radius), as a fraction of the voxel volume's edge; the default, "
+                          "1.75, exceeds the volume's diagonal (sqrt 3): every ray crosses the whole volume"));
   declareWalkParams(b);
   b.param(ParamDesc::real("rays.spread", 1.0, 0.05, 1.0,
                           "fraction of the cosine-weighted hemisphere sampled (1 = all); the estimator is scaled by it"));
-  b.param(ParamDesc::boolean("rays.pixel-shift", true, "rotate each pixel's Hammersley set by a per-pixel shift"));
+  b.param(ParamDesc::boolean("rays.pixel-shift", true, "per-pixel directions: the pixels of a 4 x 4 tile take consecutive blocks of one Sobol "
+                             "(0,2)-sequence, shifted by a hashed offset per tile; off: every pixel the same Hammersley set"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
