@@ -112,7 +112,7 @@ static std::unique_ptr<Technique> makeNearField() {
   t->add<RsmStage>();
   t->add<GBufferStage>();
   t->add<nearfield::RaysStage>();
-  t->add<nearfield::FilterStage>();
+  t->add<AtrousFilterStage>(nearfield::filterConfig("indirect-1", "rays.count"));
   t->add<CompositeStage>(nearfield::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;

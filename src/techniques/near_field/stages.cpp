@@ -619,53 +619,18 @@ void PathsStage::execute(StageContext& ctx) {
 
 // --- Filter ------------------------------------------------------------------------------------
 
-void FilterStage::declare(StageBuilder& b) const {
-  b.param(voxelResolutionParam());
-  b.param(kTracedRays.resolutionParam());
-  b.param(ParamDesc::integer("filter.passes", 2, 0, 5,
-                             "a-trous passes (holes 1, 2, 4, ... traced pixels; 5x5 taps each); 0 = no filter"));
-  b.read("indirect");
-  b.read("position");
-  b.read("normal");
-  b.write("filter.scratch");
-  b.output("indirect-filtered", OutputKind::Image2D, Semantic::RadianceHDR,
-           "the indirect light after the passes so far (at rays.resolution)")
-      .referenceMode = referenceMode_;
-  // At the size of 'indirect', which the rays / paths stage allocates at the traced size.
-  kTracedRays.declareImage(b, "indirect-filtered", GL_RGBA32F);
-  kTracedRays.declareImage(b, "filter.scratch", GL_RGBA32F);
-}
-
-int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }
-
-void FilterStage::execute(StageContext& ctx) {
-  Texture& source = ctx.board.texture("indirect");
-  const glm::ivec3 size = source.desc().size;
-  Texture& filtered = ctx.board.ensureTexture("indirect-filtered", imageDesc(size.x, size.y, GL_RGBA32F));
-  Texture& scratch = ctx.board.ensureTexture("filter.scratch", imageDesc(size.x, size.y, GL_RGBA32F));
-  // Each pass reads the previous result (the ray sum for the first) and writes indirect-filtered.
-  Texture& input = ctx.iteration == 0 ? source : scratch;
-  if (ctx.iteration > 0)
-    glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, scratch.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
-                       size.y, 1);
-  if (ctx.params.getInt("filter.passes") == 0) {
-    glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
-                       size.y, 1);
-    return;
-  }
-  GLuint program = ctx.shaders.program({"near_field/filter.comp.glsl"});
-  setUniform(program, "u_step", 1 << ctx.iteration);
-  setUniform(program, "u_traceScale", kTracedRays.scale(ctx.params));
-  // Neighbours more than two columns off the centre's plane belong to another surface.
-  setUniform(program, "u_planeDistance",
-             2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
-  glUseProgram(program);
-  glBindTextureUnit(1, ctx.board.texture("position").id());
-  glBindTextureUnit(2, ctx.board.texture("normal").id());
-  glBindTextureUnit(3, input.id());
-  glBindImageTexture(0, filtered.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  dispatchCompute({size.x, size.y, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+AtrousFilterConfig filterConfig(const char* referenceMode, const char* raysParam) {
+  AtrousFilterConfig c;
+  c.referenceMode = referenceMode;
+  c.raysParam = raysParam;
+  c.traced = kTracedRays;
+  c.sharedParams = {voxelResolutionParam()};
+  // A voxel column: the hit points, and so the noise's spatial scale, are voxel-accurate, and the
+  // neighbours on one flat surface lie on its plane to well within that.
+  c.depthScale = [](const ParamSet& p, const Scene& scene) {
+    return BinaryGridGeometry::of(scene, p.getInt("voxel.resolution")).columnSize;
+  };
+  return c;
 }
 
 // --- Composite -----------------------------------------------------------------------------------
