@@ -1160,6 +1160,107 @@ TEST(NearFieldRsm, DirectionalLightRsmAndEstimatorFollowTheSharedLightModel) {
 }
 
 
+// --- Low-frequency noise (blotches) ----------------------------------------------------------------
+
+// Blotches: noise the filter spreads into soft patches a few tens of pixels wide. Measured on the
+// flat ceiling and on the back wall (the most common plane facing along z), each tiled into boxes
+// of 16 x 16 view pixels that lie wholly on it. A box's blotch is its mean minus the mean of its
+// neighbouring boxes on the plane (smooth shading, a gradient, cancels; a patch of the boxes' size
+// does not); the measure is the RMS of that over the boxes, over the plane's mean, divided by the
+// same measure of the reference (512 x 512 box-filtered), whose value is its own curvature and
+// noise. 'image' may be traced at a fraction of the G-buffer's resolution. Returns the larger
+// ratio of the two planes.
+double blotchRatio(const Readback& pos, const Readback& nrm, const Readback& image, const reference::Image& ref) {
+  const int size = pos.w, scale = pos.w / image.w, f = ref.width / size, box = 16, boxes = size / box;
+  std::vector<float> wallZ;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      if (pos.at(x, y)[3] != 0.0f && std::abs(nrm.at(x, y)[2]) > 0.9f) wallZ.push_back(pos.at(x, y)[2]);
+  std::nth_element(wallZ.begin(), wallZ.begin() + wallZ.size() / 2, wallZ.end());
+  const float backWall = wallZ.empty() ? 0.0f : wallZ[wallZ.size() / 2];
+  auto onPlane = [&](int plane, int x, int y) {
+    const float* p = pos.at(x, y);
+    const float* n = nrm.at(x, y);
+    if (p[3] == 0.0f) return false;
+    return plane == 0 ? n[1] < -0.9f : (std::abs(n[2]) > 0.9f && std::abs(p[2] - backWall) < 0.01f);
+  };
+  double worst = 0.0;
+  for (int plane = 0; plane < 2; ++plane) {
+    // Box means of the image and the reference; -1 where the box is not wholly on the plane.
+    std::vector<double> mine(size_t(boxes) * boxes, -1.0), theirs(size_t(boxes) * boxes, -1.0);
+    for (int by = 0; by < boxes; ++by)
+      for (int bx = 0; bx < boxes; ++bx) {
+        double a = 0, b = 0;
+        bool whole = true;
+        for (int y = by * box; y < (by + 1) * box && whole; ++y)
+          for (int x = bx * box; x < (bx + 1) * box; ++x) {
+            if (!onPlane(plane, x, y)) { whole = false; break; }
+            const float* v = image.at(x / scale, y / scale);
+            a += v[0] + v[1] + v[2];
+            for (int j = 0; j < f * f; ++j) {
+              const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
+              b += (r[0] + r[1] + r[2]) / double(f * f);
+            }
+          }
+        if (whole) {
+          mine[size_t(by) * boxes + bx] = a;
+          theirs[size_t(by) * boxes + bx] = b;
+        }
+      }
+    auto blotch = [&](const std::vector<double>& m) {
+      double sq = 0, sum = 0;
+      int count = 0;
+      for (int by = 0; by < boxes; ++by)
+        for (int bx = 0; bx < boxes; ++bx) {
+          const double c = m[size_t(by) * boxes + bx];
+          if (c < 0) continue;
+          double around = 0;
+          int k = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int x = bx + dx, y = by + dy;
+              if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= boxes || y >= boxes) continue;
+              const double q = m[size_t(y) * boxes + x];
+              if (q >= 0) { around += q; ++k; }
+            }
+          if (k < 3) continue;
+          sq += (c - around / k) * (c - around / k);
+          sum += c;
+          ++count;
+        }
+      return count > 0 ? std::sqrt(sq / count) / (sum / count) : 0.0;
+    };
+    const double b = blotch(mine), r = blotch(theirs);
+    if (r <= 0) continue;
+    std::printf("  %s: blotch %.4f, reference %.4f, ratio %.2f\n", plane == 0 ? "ceiling" : "back wall", b, r, b / r);
+    worst = std::max(worst, b / r);
+  }
+  return worst;
+}
+
+TEST(NearFieldNoise, FilteredIndirectHasNoBlotchesOnTheCeilingOrTheBackWall) {
+  // Both techniques at their defaults, 256 x 256, as voxlab fidelity runs them.
+  const std::vector<std::pair<std::string, std::string>> runs = {{"near-field", "indirect-1"},
+                                                                  {"voxel-path-tracing", "indirect-2"}};
+  for (const auto& [technique, mode] : runs) {
+    RunRequest r = request({}, "filter", 256);
+    r.technique = technique;
+    auto& s = session(r);
+    const reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/" + mode + ".exr"));
+    std::printf("%s, indirect-filtered against %s:\n", technique.c_str(), mode.c_str());
+    const double ratio =
+        blotchRatio(readFloat(s, "position"), readFloat(s, "normal"), readFloat(s, "indirect-filtered"), ref);
+    RecordProperty(technique + "_blotch_ratio", std::to_string(ratio));
+    // Measured 0.91 for both (back wall; ceiling 0.61): as smooth as the reference at the boxes'
+    // scale. The previous defaults (white per-pixel shifts, two fixed passes, radius half the edge)
+    // measured 2.92 (near-field) and 1.91 (voxel-path-tracing) on the same planes, and the images
+    // showed the blotches. The sampling and filter are deterministic (the same digits at
+    // LP_NUM_THREADS 1 and 2); the bound leaves 40 % of room below the blotchy 1.91.
+    constexpr double kBlotchBound = 1.3;
+    EXPECT_LT(ratio, kBlotchBound) << technique;
+  }
+}
+
 // --- Voxel path tracing ---------------------------------------------------------------------------
 
 RunRequest vptRequest(int bounces, int paths) {
