@@ -32,7 +32,8 @@ struct AtrousFilterConfig {
 };
 
 // Effective number of pixels the equivalent kernel of 'passes' B3 a-trous passes averages in 2D
-// (1 / sum of squared weights) on a flat surface with no edge: 1 for 0 passes, 13.4 for 1, 49 for 2.
+// (1 / sum of squared weights) on a flat surface with no edge: 1 for 0 passes, 13.4 for 1, 65.6 for
+// 2, 274.5 for 3, 1110 for 4.
 double atrousEffectivePixels(int passes);
 // The fewest passes (at most 'maxPasses') whose effective pixels times 'raysPerPixel' reach 'samples'.
 int atrousPassesFor(double samples, int raysPerPixel, int maxPasses);
