@@ -18,7 +18,8 @@
 //   6. rsm             position, normal, reflected radiance and flux seen from the light (shared)
 //   7. gbuffer         position, normal, albedo from the camera (vct-grid's stage)
 //   8. rays            one ray index per iteration: direction, offsets, traversal, RSM lookup, sum
-//   9. filter          geometry-aware a-trous passes over the indirect light, one per iteration
+//   9. filter          edge-aware a-trous passes over the indirect light, one per iteration, as many
+//                      as the rays per pixel need (shared: common/atrous_filter_stage)
 //  10. composite       direct + filtered indirect, tonemapped
 //
 // Details
@@ -74,8 +75,11 @@
 //   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact
 //     and already there). Voxel path tracing (section 3.2.4) is the technique voxel-path-tracing
 //     (voxel_path_tracing.cpp) on these stages.
-//   - The filter is voxlab's own (an a-trous pass per iteration, weights from the G-buffer); GP3's
-//     filter (radius 8, 2 iterations, distance limit 0.8) is off by default there.
+//   - The filter is the edge-avoiding a-trous wavelet filter of Dammertz et al. 2010 with depth and
+//     normal edge-stopping (no colour term: 8 rays leave noise as large as the edges it would keep),
+//     shared with voxel-path-tracing; its passes follow rays.count (filter.samples rays under the
+//     kernel: 3 passes for 8 rays). GP3's filter (radius 8, 2 iterations, distance limit 0.8) is
+//     off by default there.
 //   - Sky (sky.radiance, shaders/common/sky.glsl): a ray that ends its radius without a hit outside
 //     the scene's bounds escapes and adds the sky as a valid hit adds L~; one that ends inside the
 //     bounds is far field, which a near-field estimator leaves out, so it adds nothing (on the
@@ -87,7 +91,8 @@
 //   4.4.5, rays and intersection 4.4.6, RSM lookup), 4.6 table 5 (timings); Thiedemann, Henrich,
 //   Grosch, Mueller, "Voxel-based Global Illumination", I3D 2011, and their GPU Pro 3 chapter;
 //   Dachsbacher and Stamminger, "Reflective Shadow Maps", I3D 2005; Forest, Barthe, Paulin,
-//   "Real-time hierarchical binary-scene voxelization", JGT 2009.
+//   "Real-time hierarchical binary-scene voxelization", JGT 2009; Dammertz, Sewtz, Hanika, Lensch,
+//   "Edge-Avoiding A-Trous Wavelet Transform for fast Global Illumination Filtering", HPG 2010.
 #include "graph/technique.h"
 #include "techniques/common/binary_voxels_stage.h"
 #include "techniques/common/rsm_stage.h"
