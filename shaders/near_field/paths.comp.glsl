@@ -51,8 +51,9 @@ void main() {
     n = imageLoad(u_vertexNormal, px).xyz;
     weight = imageLoad(u_weight, px).rgb;
   }
-  // Path j, bounce k: Hammersley point j of P, shifted per pixel and bounce.
-  vec2 u = fract(hammersley(u_path, u_pathCount) + pixelShift(px + ivec2(7919 * u_bounce, 104729 * u_bounce)));
+  // Path j, bounce k: sample j of P of the pixel's tile pattern for bounce k (bounce 0 as
+  // near-field's rays, so one bounce of P paths is near-field's P rays).
+  vec2 u = samplePoint(u_path, u_pathCount, px, u_bounce);
   float cosTheta;
   vec3 dir = cosineDirection(n, u, 1.0, cosTheta);
   float along = u_rayOffset * u_voxelDiagonal / max(cosTheta, 1e-3);

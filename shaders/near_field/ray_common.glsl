@@ -13,13 +13,37 @@ const float PI = 3.14159265358979;
 vec2 hammersley(int i, int n) {
   return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(uint(i))) * 2.3283064365386963e-10);
 }
-// Per-pixel shift (Cranley-Patterson rotation), a hash of the pixel.
-vec2 pixelShift(ivec2 px) {
-  uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
+// A hash of a 2D cell to a point of [0, 1)^2 (white noise: neighbouring cells are unrelated).
+vec2 hashedPoint(ivec2 cell) {
+  uint h = uint(cell.x) * 1973u + uint(cell.y) * 9277u + 26699u;
   h = (h ^ 61u) ^ (h >> 16u); h *= 9u; h ^= h >> 4u; h *= 0x27d4eb2du; h ^= h >> 15u;
   uint g = h * 747796405u + 2891336453u;
   g = ((g >> ((g >> 28u) + 4u)) ^ g) * 277803737u; g = (g >> 22u) ^ g;
   return vec2(float(h >> 8u), float(g >> 8u)) / 16777216.0;
+}
+
+// Point j of the 2D Sobol (0,2)-sequence: (radical inverse of j, its second dimension). Every
+// aligned block of 2^m consecutive points has one point in each of the 2^m elementary boxes.
+vec2 sobolPoint(uint j) {
+  float first = float(bitfieldReverse(j)) * 2.3283064365386963e-10;
+  uint second = 0u;
+  for (uint v = 1u << 31; j != 0u; j >>= 1, v ^= v >> 1)
+    if ((j & 1u) != 0u) second ^= v;
+  return vec2(first, float(second) * 2.3283064365386963e-10);
+}
+
+// Sample i of pixel px's n directions, 'salt' choosing an independent pattern (a path's bounce).
+// The 16 pixels of a 4 x 4 tile share one Sobol (0,2)-sequence: pixel j of the tile (row by row)
+// takes its points j n .. j n + n - 1, so each pixel's n points are stratified on their own (an
+// aligned block of a (0,2)-sequence when n is a power of 2) and the tile's 16 n points together are
+// too; the tile shifts them all by one hashed offset (Cranley-Patterson rotation, which keeps
+// that stratification on the torus). The filter, which averages a tile and more, then averages a
+// well-spread set of 16 n directions instead of 16 unrelated sets (white noise per pixel blurs into
+// blotches of the filter's size).
+vec2 samplePoint(int i, int n, ivec2 px, int salt) {
+  ivec2 tile = (px >> 2) + ivec2(7919, 104729) * salt;
+  uint j = uint((px.x & 3) + 4 * (px.y & 3));
+  return fract(hashedPoint(tile) + sobolPoint(j * uint(n) + uint(i)));
 }
 
 // Cosine-distributed direction around n within the part of the hemisphere 'spread' keeps

@@ -50,8 +50,7 @@ void main() {
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
     // Cosine-distributed direction in the cone of the hemisphere that 'spread' keeps.
-    vec2 u = hammersley(u_rayIndex, u_rayCount);
-    if (u_shift != 0) u = fract(u + pixelShift(px));
+    vec2 u = u_shift != 0 ? samplePoint(u_rayIndex, u_rayCount, px, 0) : hammersley(u_rayIndex, u_rayCount);
     dir = cosineDirection(n, u, u_spread, cosTheta);
     // Start offsets against self-intersection: along the normal, and along the ray growing as
     // 1/cos (GP3's voxelOffsetNormalScale / voxelOffsetCosThetaScale, in voxel diagonals).

@@ -674,7 +674,7 @@ TEST(NearFieldProbe, HitVoxelContainsOrTouchesTheTrueFirstHitOnManyRandomRays) {
   const int res = 64;
   const BinaryGridGeometry g = BinaryGridGeometry::of(scene, res);
   const glm::dvec3 cell(g.columnSize, g.columnSize, g.sliceDepth);
-  const float radius = 0.5f * g.edge;  // rays.radius default
+  const float radius = 0.5f * g.edge;  // half the volume's edge: rays that end short as well as rays that hit
   Readback pos = readFloat(s, "position"), nrm = readFloat(s, "normal");
   std::mt19937 rng(21);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -897,7 +897,8 @@ TEST(NearFieldViews, ProbeRecordCarriesTheRsmLookupAndItsCheckCatchesAWrongCateg
   int looked = 0;
   for (int ray = 0; ray < 4; ++ray) {
     auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256",
-                               "probe.x=0.3", "probe.y=0.8", "probe.ray=" + std::to_string(ray)}));
+                               "rsm.validity=distance", "probe.x=0.3", "probe.y=0.8",
+                               "probe.ray=" + std::to_string(ray)}));
     const CapturedOutput out = capture(s, "rays", "probe-ray");
     gpu::ProbeRay p;
     ASSERT_EQ(out.records.size(), sizeof(p));
@@ -1006,13 +1007,17 @@ PhysicsResult comparePhysics(float spread, const std::string& scenePath = "corne
                              std::vector<std::string> extraSets = {}) {
   PhysicsResult result;
   const int size = 64, rays = 64;
+  // A radius of half the volume's edge (not the default, which crosses the whole volume), so the
+  // comparison with the one-bounce reference shows the light lost beyond it; the paper's distance
+  // validity unless extraSets says otherwise (the oracle's shadow ray is exact either way).
   std::vector<std::string> sets = {"voxel.resolution=128", "rays.count=" + std::to_string(rays), "rays.resolution=full",
-                                   "rays.spread=" + std::to_string(spread)};
+                                   "rays.spread=" + std::to_string(spread), "rays.radius=0.5",
+                                   "rsm.validity=distance"};
   sets.insert(sets.end(), extraSets.begin(), extraSets.end());
   auto& s = session(request(sets, "", size, scenePath));
   const Scene& scene = s.cursor().scene();
   BinaryGridGeometry g = BinaryGridGeometry::of(scene, 128);
-  const float radius = 0.5f * g.edge;  // rays.radius default
+  const float radius = 0.5f * g.edge;  // rays.radius=0.5, set above
   Readback pos = readFloat(s, "position"), nrm = readFloat(s, "normal"), alb = readFloat(s, "albedo");
   Readback ind = readFloat(s, "indirect");
   NearFieldOracle oracle(scene);
@@ -1075,7 +1080,7 @@ TEST(NearFieldPhysics, IndirectAgreesWithCpuNearFieldEstimatorAndLosesOnlyBeyond
   const double ratio = r.ratio, worstRel = r.worstRegion;
   RecordProperty("gpu_over_cpu", std::to_string(ratio));
   RecordProperty("worst_region_relative_difference", std::to_string(worstRel));
-  // Measured 0.995 overall (per channel 0.994..0.996) and 0.093 in the worst 16 x 16 region: the
+  // Measured 0.987 overall (per channel 0.983..0.989) and 0.082 in the worst 16 x 16 region: the
   // remaining differences are voxel hit points (up to a voxel off the surface), epsilon rejections
   // and Monte Carlo noise (64 GPU and 256 CPU rays per pixel; the whole-image mean's standard error
   // is about 0.5 %). A missing pi (the printed (rho/pi)/N form) gives 0.32, GP3's contrast 2 gives 2.
@@ -1083,7 +1088,7 @@ TEST(NearFieldPhysics, IndirectAgreesWithCpuNearFieldEstimatorAndLosesOnlyBeyond
   EXPECT_LT(worstRel, 0.2);
   std::printf("near-field / full one-bounce reference: %.4f\n", r.nearOverOneBounce);
   RecordProperty("near_field_over_one_bounce", std::to_string(r.nearOverOneBounce));
-  // Measured 0.467 with the default radius (half the volume edge): the rest of the one-bounce light
+  // Measured 0.464 with a radius of half the volume edge: the rest of the one-bounce light
   // comes from farther away. Bounded on both sides so neither "all lost" nor "more than the whole
   // bounce" passes.
   EXPECT_GT(r.nearOverOneBounce, 0.25);
@@ -1093,7 +1098,7 @@ TEST(NearFieldPhysics, IndirectAgreesWithCpuNearFieldEstimatorAndLosesOnlyBeyond
 TEST(NearFieldPhysics, ReducedSpreadIsCompensatedInTheEstimator) {
   // Rays only within the cone that keeps half of the cosine-weighted hemisphere: the pdf is
   // cos / (pi * spread), so the estimate is scaled by spread (GP3 leaves it uncompensated, which
-  // here would read about 0.5). Measured 0.99; same noise argument as above, fewer valid hits.
+  // here would read about 0.5). Measured 0.987; same noise argument as above, fewer valid hits.
   PhysicsResult r = comparePhysics(0.5f);
   RecordProperty("gpu_over_cpu", std::to_string(r.ratio));
   EXPECT_NEAR(r.ratio, 1.0, 0.05);
@@ -1140,9 +1145,9 @@ TEST(NearFieldRsm, DirectionalLightRsmAndEstimatorFollowTheSharedLightModel) {
   }
   // The estimator under the sun. The sun grazes the red wall (cos 0.17): a hit point a voxel off
   // the wall projects into an RSM texel about a voxel / 0.17 away along it, beyond the paper's
-  // epsilon, so the distance test rejects true hits there: measured GPU / CPU 0.919 (red 0.890),
-  // worst region 0.42. rsm.validity=plane (the hit within a voxel diagonal of the sender's plane)
-  // measured 1.042, worst region 0.070: it keeps those hits and admits a few more than the exact
+  // epsilon, so the distance test rejects true hits there: measured GPU / CPU 0.910 (red 0.870),
+  // worst region 0.43. rsm.validity=plane (the hit within a voxel diagonal of the sender's plane,
+  // the default) measured 1.040, worst region 0.073: it keeps those hits and admits a few more than the exact
   // shadow ray does (hits within a voxel of a shadow boundary).
   PhysicsResult plane = comparePhysics(1.0f, scene, {"rsm.validity=plane"});
   RecordProperty("plane_gpu_over_cpu", std::to_string(plane.ratio));
@@ -1154,6 +1159,107 @@ TEST(NearFieldRsm, DirectionalLightRsmAndEstimatorFollowTheSharedLightModel) {
   EXPECT_LT(distance.ratio, plane.ratio) << "the distance test should lose grazing hits the plane test keeps";
 }
 
+
+// --- Low-frequency noise (blotches) ----------------------------------------------------------------
+
+// Blotches: noise the filter spreads into soft patches a few tens of pixels wide. Measured on the
+// flat ceiling and on the back wall (the most common plane facing along z), each tiled into boxes
+// of 16 x 16 view pixels that lie wholly on it. A box's blotch is its mean minus the mean of its
+// neighbouring boxes on the plane (smooth shading, a gradient, cancels; a patch of the boxes' size
+// does not); the measure is the RMS of that over the boxes, over the plane's mean, divided by the
+// same measure of the reference (512 x 512 box-filtered), whose value is its own curvature and
+// noise. 'image' may be traced at a fraction of the G-buffer's resolution. Returns the larger
+// ratio of the two planes.
+double blotchRatio(const Readback& pos, const Readback& nrm, const Readback& image, const reference::Image& ref) {
+  const int size = pos.w, scale = pos.w / image.w, f = ref.width / size, box = 16, boxes = size / box;
+  std::vector<float> wallZ;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      if (pos.at(x, y)[3] != 0.0f && std::abs(nrm.at(x, y)[2]) > 0.9f) wallZ.push_back(pos.at(x, y)[2]);
+  std::nth_element(wallZ.begin(), wallZ.begin() + wallZ.size() / 2, wallZ.end());
+  const float backWall = wallZ.empty() ? 0.0f : wallZ[wallZ.size() / 2];
+  auto onPlane = [&](int plane, int x, int y) {
+    const float* p = pos.at(x, y);
+    const float* n = nrm.at(x, y);
+    if (p[3] == 0.0f) return false;
+    return plane == 0 ? n[1] < -0.9f : (std::abs(n[2]) > 0.9f && std::abs(p[2] - backWall) < 0.01f);
+  };
+  double worst = 0.0;
+  for (int plane = 0; plane < 2; ++plane) {
+    // Box means of the image and the reference; -1 where the box is not wholly on the plane.
+    std::vector<double> mine(size_t(boxes) * boxes, -1.0), theirs(size_t(boxes) * boxes, -1.0);
+    for (int by = 0; by < boxes; ++by)
+      for (int bx = 0; bx < boxes; ++bx) {
+        double a = 0, b = 0;
+        bool whole = true;
+        for (int y = by * box; y < (by + 1) * box && whole; ++y)
+          for (int x = bx * box; x < (bx + 1) * box; ++x) {
+            if (!onPlane(plane, x, y)) { whole = false; break; }
+            const float* v = image.at(x / scale, y / scale);
+            a += v[0] + v[1] + v[2];
+            for (int j = 0; j < f * f; ++j) {
+              const float* r = ref.at(x * f + j % f, (size - 1 - y) * f + j / f);
+              b += (r[0] + r[1] + r[2]) / double(f * f);
+            }
+          }
+        if (whole) {
+          mine[size_t(by) * boxes + bx] = a;
+          theirs[size_t(by) * boxes + bx] = b;
+        }
+      }
+    auto blotch = [&](const std::vector<double>& m) {
+      double sq = 0, sum = 0;
+      int count = 0;
+      for (int by = 0; by < boxes; ++by)
+        for (int bx = 0; bx < boxes; ++bx) {
+          const double c = m[size_t(by) * boxes + bx];
+          if (c < 0) continue;
+          double around = 0;
+          int k = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int x = bx + dx, y = by + dy;
+              if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= boxes || y >= boxes) continue;
+              const double q = m[size_t(y) * boxes + x];
+              if (q >= 0) { around += q; ++k; }
+            }
+          if (k < 3) continue;
+          sq += (c - around / k) * (c - around / k);
+          sum += c;
+          ++count;
+        }
+      return count > 0 ? std::sqrt(sq / count) / (sum / count) : 0.0;
+    };
+    const double b = blotch(mine), r = blotch(theirs);
+    if (r <= 0) continue;
+    std::printf("  %s: blotch %.4f, reference %.4f, ratio %.2f\n", plane == 0 ? "ceiling" : "back wall", b, r, b / r);
+    worst = std::max(worst, b / r);
+  }
+  return worst;
+}
+
+TEST(NearFieldNoise, FilteredIndirectHasNoBlotchesOnTheCeilingOrTheBackWall) {
+  // Both techniques at their defaults, 256 x 256, as voxlab fidelity runs them.
+  const std::vector<std::pair<std::string, std::string>> runs = {{"near-field", "indirect-1"},
+                                                                  {"voxel-path-tracing", "indirect-2"}};
+  for (const auto& [technique, mode] : runs) {
+    RunRequest r = request({}, "filter", 256);
+    r.technique = technique;
+    auto& s = session(r);
+    const reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/" + mode + ".exr"));
+    std::printf("%s, indirect-filtered against %s:\n", technique.c_str(), mode.c_str());
+    const double ratio =
+        blotchRatio(readFloat(s, "position"), readFloat(s, "normal"), readFloat(s, "indirect-filtered"), ref);
+    RecordProperty(technique + "_blotch_ratio", std::to_string(ratio));
+    // Measured 0.91 for both (back wall; ceiling 0.61): as smooth as the reference at the boxes'
+    // scale. The previous defaults (white per-pixel shifts, two fixed passes, radius half the edge)
+    // measured 2.92 (near-field) and 1.91 (voxel-path-tracing) on the same planes, and the images
+    // showed the blotches. The sampling and filter are deterministic (the same digits at
+    // LP_NUM_THREADS 1 and 2); the bound leaves 40 % of room below the blotchy 1.91.
+    constexpr double kBlotchBound = 1.3;
+    EXPECT_LT(ratio, kBlotchBound) << technique;
+  }
+}
 
 // --- Voxel path tracing ---------------------------------------------------------------------------
 
@@ -1193,7 +1299,8 @@ TEST(VoxelPathTracing, OneBounceEqualsNearFieldWithoutARadius) {
               worst, differing, values, sum / values, nfSum / values);
   EXPECT_GT(sum, 1.0);
   // The segments end at different lengths (radius vs volume diagonal), so a hit's point can round
-  // into a neighbouring RSM texel: measured worst 6.2e-5 in a few values, means equal to 1e-6.
+  // into a neighbouring RSM texel: measured worst 0 (6.2e-5 in a few values with other sampling
+  // patterns), means equal to 1e-6.
   EXPECT_LT(worst, 1e-3);
   EXPECT_LE(differing, values / 200);
   EXPECT_NEAR(sum / nfSum, 1.0, 1e-4);
@@ -1216,7 +1323,7 @@ TEST(VoxelPathTracing, MoreBouncesApproachTheAllBounceReference) {
   }
   RecordProperty("one_bounce_ratio", std::to_string(ratios[0]));
   RecordProperty("three_bounce_ratio", std::to_string(ratios[1]));
-  // Measured 0.513 (one bounce: the reference's indirect is about twice its first bounce) and 0.849
+  // Measured 0.520 (one bounce: the reference's indirect is about twice its first bounce) and 0.852
   // (three bounces): later bounces add light, and the estimate stays below the reference (no
   // emission carried, RSM rejections, voxel albedo instead of the surface's).
   EXPECT_GT(ratios[1], ratios[0] + 0.15);
@@ -1242,11 +1349,11 @@ TEST(VoxelPathTracing, KBouncesMatchTheKBounceReference) {
     std::printf("voxel path tracing, %d bounce(s): %.4f of %s, %.4f of indirect (all bounces)\n", bounces, same,
                 mode.c_str(), wrong);
     RecordProperty("ratio_to_" + mode, std::to_string(same));
-    // Measured 0.9573 (K = 1 against indirect-1), 0.9555 (K = 2, indirect-2) and 0.9628 (K = 4,
-    // indirect-4), the same four digits at LP_NUM_THREADS 1 and 2 (the paths are deterministic):
+    // Measured 0.9706 (K = 1 against indirect-1), 0.9647 (K = 2, indirect-2) and 0.9647 (K = 4,
+    // indirect-4) with the plane validity (0.957, 0.956, 0.963 with the paper's distance test), the same four digits at LP_NUM_THREADS 1 and 2 (the paths are deterministic):
     // the estimator's known loss (no emission carried along paths, RSM rejections, a voxel's
     // albedo). The band 0.93..1.03 is set by the wrong pairings it must exclude, the nearest being
-    // the all-bounce indirect at K = 4 (0.904; 0.513 at K = 1, 0.737 at K = 2, printed), then a
+    // the all-bounce indirect at K = 4 (0.906; 0.520 at K = 1, 0.744 at K = 2, printed), then a
     // mode fixed at another K: indirect-2 at K = 1 (0.665), at K = 4 (1.173), indirect-1 at K = 2
     // (1.375) (from the references' sums: indirect-1, indirect-2, indirect-4 = 0.536, 0.771, 0.939
     // of indirect). It leaves about 3 % of room for the estimator to change either way.
@@ -1273,8 +1380,10 @@ using testing_support::session;
 // grid, hierarchy and tables are shown by bitmask-columns, whose value under the cursor names the
 // column's set slices exactly (32-bit masks through the integer readback, not float).
 TEST(NearFieldVisualisers, TraversalCheckPassesOnTheWalkAndCatchesBrokenOnes) {
+  // Ray 1 of the probed floor pixel runs 0.14 m to the wall: 33 DDA cells, 14 walk steps (ray 0
+  // meets the floor's neighbour within 0.06 m, too short for the hierarchy to skip anything).
   auto& s = session(request({"voxel.resolution=64", "rays.count=4", "rsm.resolution=128", "shadow.resolution=256",
-                             "probe.x=0.3", "probe.y=0.8", "probe.ray=0"}));
+                             "probe.x=0.3", "probe.y=0.8", "probe.ray=1"}));
   const CapturedOutput steps = capture(s, "rays", "traversal-steps");
   ASSERT_TRUE(steps.desc.probeRecord);
   ASSERT_TRUE(capture(s, "rays", "probe-ray").desc.probeRecord);
@@ -1285,7 +1394,7 @@ TEST(NearFieldVisualisers, TraversalCheckPassesOnTheWalkAndCatchesBrokenOnes) {
   ASSERT_GT(ok.elements, 2u);
   std::vector<gpu::TraversalStep> rec(steps.recordCount);
   std::memcpy(rec.data(), steps.records.data(), rec.size() * sizeof(gpu::TraversalStep));
-  ASSERT_EQ(rec.back().slices.z, NF_END_HIT) << "the probed floor pixel's first ray hits (see the test above)";
+  ASSERT_EQ(rec.back().slices.z, NF_END_HIT) << "the probed floor pixel's ray 1 hits";
   auto broken = [&](auto change) {
     CapturedOutput c = steps;
     std::vector<gpu::TraversalStep> r = rec;

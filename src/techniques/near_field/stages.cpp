@@ -21,6 +21,9 @@
 
 namespace voxlab::nearfield {
 
+// rays.radius's default, in volume edges: above the volume's diagonal, sqrt 3.
+constexpr float kWholeVolumeRadius = 1.75f;
+
 int maxLevelOf(int res) {
   int l = 0;
   while ((1 << l) < res) ++l;
@@ -51,9 +54,10 @@ static void declareWalkParams(StageBuilder& b) {
   b.param(ParamDesc::real("rsm.distance-scale", 1.0, 0.0, 8.0,
                           "RSM validity: a hit is the RSM's surface when closer than max(voxel diagonal, scale * texel footprint), at most 4 diagonals"));
   b.param(ParamDesc::boolean("rsm.normal-check", true, "RSM validity: the sender must face the receiver"));
-  b.param(ParamDesc::choice("rsm.validity", {"distance", "plane"}, 0,
-                            "distance: |hit - RSM position| < epsilon (the paper); plane: the hit lies within a voxel "
-                            "diagonal of the RSM surface's plane (robust where light grazes the sender)"));
+  b.param(ParamDesc::choice("rsm.validity", {"distance", "plane"}, 1,
+                            "distance: |hit - RSM position| < epsilon (the paper); plane (the default): the hit lies "
+                            "within a voxel diagonal of the RSM surface's plane (keeps the true hits the paper's test "
+                            "rejects where light grazes the sender: sponza's sun)"));
 }
 
 // Uniforms of ray_common.glsl and traversal.glsl from those parameters.
@@ -213,12 +217,16 @@ void RaysStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(kTracedRays.resolutionParam());
   b.param(ParamDesc::integer("rays.count", 8, 1, 256, "rays per pixel, one per iteration", "rays"));
-  b.param(ParamDesc::real("rays.radius", 0.5, 0.01, 2.0,
-                          "longest ray (near-field radius), as a fraction of the voxel volume's edge"));
+  // The default reaches past the volume's diagonal (sqrt 3 = 1.732 edges): every ray runs until it
+  // meets a voxel or leaves the volume, so no light inside the volume is left out as "far field".
+  b.param(ParamDesc::real("rays.radius", kWholeVolumeRadius, 0.01, 2.0,
+                          "longest ray (near-field radius), as a fraction of the voxel volume's edge; the default, "
+                          "1.75, exceeds the volume's diagonal (sqrt 3): every ray crosses the whole volume"));
   declareWalkParams(b);
   b.param(ParamDesc::real("rays.spread", 1.0, 0.05, 1.0,
                           "fraction of the cosine-weighted hemisphere sampled (1 = all); the estimator is scaled by it"));
-  b.param(ParamDesc::boolean("rays.pixel-shift", true, "rotate each pixel's Hammersley set by a per-pixel shift"));
+  b.param(ParamDesc::boolean("rays.pixel-shift", true, "per-pixel directions: the pixels of a 4 x 4 tile take consecutive blocks of one Sobol "
+                             "(0,2)-sequence, shifted by a hashed offset per tile; off: every pixel the same Hammersley set"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
   b.param(ParamDesc::real("probe.y", 0.5, 0.0, 1.0, "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.param(ParamDesc::integer("probe.ray", 0, 0, 255, "ray index whose traversal the probe records"));
@@ -611,53 +619,18 @@ void PathsStage::execute(StageContext& ctx) {
 
 // --- Filter ------------------------------------------------------------------------------------
 
-void FilterStage::declare(StageBuilder& b) const {
-  b.param(voxelResolutionParam());
-  b.param(kTracedRays.resolutionParam());
-  b.param(ParamDesc::integer("filter.passes", 2, 0, 5,
-                             "a-trous passes (holes 1, 2, 4, ... traced pixels; 5x5 taps each); 0 = no filter"));
-  b.read("indirect");
-  b.read("position");
-  b.read("normal");
-  b.write("filter.scratch");
-  b.output("indirect-filtered", OutputKind::Image2D, Semantic::RadianceHDR,
-           "the indirect light after the passes so far (at rays.resolution)")
-      .referenceMode = referenceMode_;
-  // At the size of 'indirect', which the rays / paths stage allocates at the traced size.
-  kTracedRays.declareImage(b, "indirect-filtered", GL_RGBA32F);
-  kTracedRays.declareImage(b, "filter.scratch", GL_RGBA32F);
-}
-
-int FilterStage::iterations(const ParamSet& params) const { return std::max(params.getInt("filter.passes"), 1); }
-
-void FilterStage::execute(StageContext& ctx) {
-  Texture& source = ctx.board.texture("indirect");
-  const glm::ivec3 size = source.desc().size;
-  Texture& filtered = ctx.board.ensureTexture("indirect-filtered", imageDesc(size.x, size.y, GL_RGBA32F));
-  Texture& scratch = ctx.board.ensureTexture("filter.scratch", imageDesc(size.x, size.y, GL_RGBA32F));
-  // Each pass reads the previous result (the ray sum for the first) and writes indirect-filtered.
-  Texture& input = ctx.iteration == 0 ? source : scratch;
-  if (ctx.iteration > 0)
-    glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, scratch.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
-                       size.y, 1);
-  if (ctx.params.getInt("filter.passes") == 0) {
-    glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
-                       size.y, 1);
-    return;
-  }
-  GLuint program = ctx.shaders.program({"near_field/filter.comp.glsl"});
-  setUniform(program, "u_step", 1 << ctx.iteration);
-  setUniform(program, "u_traceScale", kTracedRays.scale(ctx.params));
-  // Neighbours more than two columns off the centre's plane belong to another surface.
-  setUniform(program, "u_planeDistance",
-             2.0f * BinaryGridGeometry::of(ctx.scene, ctx.params.getInt("voxel.resolution")).columnSize);
-  glUseProgram(program);
-  glBindTextureUnit(1, ctx.board.texture("position").id());
-  glBindTextureUnit(2, ctx.board.texture("normal").id());
-  glBindTextureUnit(3, input.id());
-  glBindImageTexture(0, filtered.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  dispatchCompute({size.x, size.y, 1}, {8, 8, 1});
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+AtrousFilterConfig filterConfig(const char* referenceMode, const char* raysParam) {
+  AtrousFilterConfig c;
+  c.referenceMode = referenceMode;
+  c.raysParam = raysParam;
+  c.traced = kTracedRays;
+  c.sharedParams = {voxelResolutionParam()};
+  // A voxel column: the hit points, and so the noise's spatial scale, are voxel-accurate, and the
+  // neighbours on one flat surface lie on its plane to well within that.
+  c.depthScale = [](const ParamSet& p, const Scene& scene) {
+    return BinaryGridGeometry::of(scene, p.getInt("voxel.resolution")).columnSize;
+  };
+  return c;
 }
 
 // --- Composite -----------------------------------------------------------------------------------

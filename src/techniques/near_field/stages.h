@@ -1,6 +1,7 @@
 // The stages of near-field after the shared ones (see near_field.cpp for the overview).
 #pragma once
 #include "graph/stage.h"
+#include "techniques/common/atrous_filter_stage.h"
 #include "techniques/common/composite_stage.h"
 #include "techniques/near_field/near_field.h"
 
@@ -82,24 +83,10 @@ class PathsStage : public Stage {
   void execute(StageContext& ctx) override;
 };
 
-class FilterStage : public Stage {
- public:
-  // 'referenceMode': what the filtered image approximates ("indirect-1" for near-field's one
-  // bounce, "indirect-{paths.bounces}" for voxel path tracing's K; OutputDesc::referenceMode).
-  explicit FilterStage(const char* referenceMode = "indirect-1") : referenceMode_(referenceMode) {}
-  const char* id() const override { return "filter"; }
-  const char* title() const override { return "Geometry-aware filter"; }
-  const char* summary() const override {
-    return "Average the noisy indirect light over neighbours on the same surface (a-trous passes with growing "
-           "holes, weighted by plane distance and normal agreement). One pass per iteration; 0 passes copies.";
-  }
-  void declare(StageBuilder& b) const override;
-  int iterations(const ParamSet& params) const override;
-  void execute(StageContext& ctx) override;
-
- private:
-  const char* referenceMode_;
-};
+// The shared a-trous filter (techniques/common/atrous_filter_stage.h) over 'indirect', whose rays
+// per pixel are 'raysParam' ("rays.count", "paths.count"), approximating 'referenceMode'
+// ("indirect-1" for near-field's one bounce, "indirect-{paths.bounces}" for voxel path tracing's K).
+AtrousFilterConfig filterConfig(const char* referenceMode, const char* raysParam);
 
 // The terms of this technique's composite (techniques/common/composite_stage.h).
 CompositeTerms compositeTerms();

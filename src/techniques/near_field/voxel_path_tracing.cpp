@@ -62,7 +62,7 @@ static std::unique_ptr<Technique> makeVoxelPathTracing() {
   t->add<RsmStage>();
   t->add<GBufferStage>();
   t->add<nearfield::PathsStage>();
-  t->add<nearfield::FilterStage>("indirect-{paths.bounces}");
+  t->add<AtrousFilterStage>(nearfield::filterConfig("indirect-{paths.bounces}", "paths.count"));
   t->add<CompositeStage>(nearfield::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;
