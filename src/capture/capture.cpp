@@ -238,7 +238,10 @@ DisplayImage pointView(const CapturedOutput& out, int size, std::vector<int32_t>
   float radius = 0.5f * glm::length(hi - lo) + 1.0f;
   float cy = std::cos(0.61f), sy = std::sin(0.61f), cp = std::cos(0.436f), sp = std::sin(0.436f);
   std::vector<float> depth(size_t(size) * size, 1e30f);
-  int splat = std::max(1, size / 256);
+  // Splats grow as records get fewer, so that forty cone samples read on a projector as well as
+  // a million fragments: about a third of the spacing of that many points spread over the view.
+  const int spacing = int(double(size) / (3.0 * std::sqrt(double(out.recordCount))));
+  int splat = std::clamp(spacing, std::max(1, size / 256), std::max(1, size / 48));
   for (uint32_t r = 0; r < out.recordCount; ++r) {
     glm::vec3 q = p[r] - c;
     float x1 = cy * q.x + sy * q.z, z1 = -sy * q.x + cy * q.z;
@@ -251,7 +254,7 @@ DisplayImage pointView(const CapturedOutput& out, int size, std::vector<int32_t>
     }
     for (int dy = 0; dy < splat; ++dy)
       for (int dx = 0; dx < splat; ++dx) {
-        int xx = px + dx, yy = py + dy;
+        int xx = px + dx - splat / 2, yy = py + dy - splat / 2;
         if (xx < 0 || yy < 0 || xx >= size || yy >= size) continue;
         size_t i = size_t(yy) * size + xx;
         if (z2 >= depth[i]) continue;

@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "capture/capture.h"
 #include "core/error.h"
 #include "handout/step_picture.h"
+#include "lesson/lesson_check.h"
 
 namespace voxlab {
 namespace fs = std::filesystem;
@@ -62,17 +64,6 @@ void writeText(const std::string& path, const std::string& text) {
   if (!f) throw Error("cannot write '" + path + "'");
 }
 
-// Standard deviation of the 8-bit values over every pixel and channel.
-double pixelSpread(const DisplayImage& image) {
-  double sum = 0, sq = 0;
-  for (uint8_t v : image.rgb) {
-    sum += v;
-    sq += double(v) * v;
-  }
-  const double n = std::max<double>(1.0, double(image.rgb.size()));
-  return std::sqrt(std::max(0.0, sq / n - (sum / n) * (sum / n)));
-}
-
 // The lesson's first step narrative repeats the "# title" heading; the page shows it once.
 std::string withoutTitle(const std::string& narrative, const std::string& title) {
   std::string first = narrative.substr(0, narrative.find('\n'));
@@ -81,6 +72,19 @@ std::string withoutTitle(const std::string& narrative, const std::string& title)
 }
 
 }  // namespace
+
+std::string blankPictureProblem(const Lesson& lesson, int index, const StepPicture& picture) {
+  const double detail = pictureDetail(picture.image);
+  if (detail >= kBlankPictureDetail) return "";
+  char share[32], needed[32];
+  std::snprintf(share, sizeof share, "%.2f %%", 100.0 * detail);
+  std::snprintf(needed, sizeof needed, "%.2f %%", 100.0 * kBlankPictureDetail);
+  return lesson.path + ":" + std::to_string(lesson.steps[size_t(index)].line) + ": step " + std::to_string(index + 1) +
+         "'s picture (" + picture.address + ", " + std::to_string(picture.image.width) + "x" +
+         std::to_string(picture.image.height) + ") is blank: " + share +
+         " of its pixels stand out from its background, at least " + needed + " needed; show an output, level or slice in "
+         "which the step's subject is visible";
+}
 
 HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRenderer& renderer,
                          const HandoutProgress& progress) {
@@ -104,8 +108,7 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
   html += "<p class=\"source\">Handout of <code>" + htmlEscape(fs::path(lesson.path).filename().string()) + "</code>, " +
           std::to_string(n) + " steps. Every picture was rendered by <code>voxlab handout</code>; the line under it " +
           "reproduces it with <code>voxlab run</code>.</p>\n";
-  DisplayImage thumb;  // the step picture with the most varied pixels: a slice of empty space is a poor thumbnail
-  double thumbSpread = -1.0;
+  DisplayImage thumb;  // the closing step's picture: the technique at its best, as the lesson ends
   for (int i = 0; i < n; ++i) {
     const LessonStep& step = lesson.steps[i];
     if (progress) progress(i, n, stem + ": step " + std::to_string(i + 1) + " " + step.stage + "/" + step.output);
@@ -113,12 +116,10 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
     char name[32];
     std::snprintf(name, sizeof name, "step-%02d.png", i + 1);
     const std::string rel = stem + "/" + name;
+    const std::string blank = blankPictureProblem(lesson, i, pic);
+    if (!blank.empty()) throw Error(blank);
     writePng(pic.image, (fs::path(dir) / rel).string());
-    const double spread = pixelSpread(pic.image);
-    if (spread >= thumbSpread) {  // ties go to the later step
-      thumbSpread = spread;
-      thumb = pic.image;
-    }
+    if (i == n - 1) thumb = pic.image;
 
     std::string params = "defaults";
     if (!pic.changed.empty()) {

@@ -20,6 +20,11 @@
 namespace voxlab {
 
 class StepRenderer;
+struct StepPicture;
+
+// "" when step 'index' of 'lesson' shows something, else "FILE:LINE: step N's picture ... is blank"
+// with the measure (lesson/lesson_check.h: pictureDetail under kBlankPictureDetail).
+std::string blankPictureProblem(const Lesson& lesson, int index, const StepPicture& picture);
 
 // CommonMark to HTML (cmark). Inline maths such as $L_o$ stays text.
 std::string markdownToHtml(const std::string& markdown);
@@ -37,12 +42,13 @@ struct HandoutPage {
 using HandoutProgress = std::function<void(int done, int total, const std::string& label)>;
 
 // Renders every step of 'lesson' with 'renderer' and writes the page and its pictures into 'dir'.
-// Throws Error "lesson.md:LINE: ..." naming the first step that cannot be rendered.
+// Throws Error "lesson.md:LINE: ..." naming the first step that cannot be rendered or whose
+// picture is blank.
 HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRenderer& renderer,
                          const HandoutProgress& progress = {});
 
 // DIR/index.html: the lessons in the given order, one line each with its thumbnail (the lesson's
-// step picture with the most varied pixels, 192 px wide).
+// closing step picture, 192 px wide).
 void writeHandoutIndex(const std::vector<HandoutPage>& pages, const std::string& dir);
 
 // The lesson files of a folder in order (file name order: 01-..., 02-...), README.md left out.

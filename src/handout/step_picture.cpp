@@ -116,7 +116,7 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
       throw Error("output " + address + " has levels 0.." + std::to_string(int(cap.levels.size()) - 1) + ", not " +
                   std::to_string(step.level));
     const LevelData& L = cap.levels[step.level];
-    SliceSpec slice = sliceToShow(L, SliceSpec{});
+    SliceSpec slice = sliceToShow(L, SliceSpec{step.sliceAxis, step.sliceIndex});
     SliceImage s = mapSlice(L, desc->semantic, slice, DisplaySettings{});
     pic.image.width = s.width;
     pic.image.height = s.height;
@@ -127,7 +127,7 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
     if (desc->kind == OutputKind::Volume3D) {
       const char* axis = slice.axis == 0 ? "x" : slice.axis == 1 ? "y" : "z";
       std::string n = "slice " + std::string(axis) + " = " + std::to_string(slice.index) + " of " +
-                      std::to_string(L.size[slice.axis]) + " (the viewer's default slice)";
+                      std::to_string(L.size[slice.axis]) + (step.sliceIndex < 0 ? " (the viewer's default slice)" : "");
       pic.notes += (pic.notes.empty() ? "" : "; ") + n;
     }
   }

@@ -1,9 +1,9 @@
 // Lesson tab: the step's narrative (Markdown headings and paragraphs), previous / next; and what a
 // lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations).
 #include <cstdio>
-#include <sstream>
 
 #include "core/error.h"
+#include "inspect/inspect_logic.h"
 #include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
@@ -27,6 +27,7 @@ void Viewer::applyLessonStep(int i) {
   selectStage(cursor->technique().stageIndex(s.stage));
   if (!s.output.empty()) selectOutput(s.output);
   view.level = s.level;
+  view.slice = SliceSpec{s.sliceAxis, s.sliceIndex};
   if (lessonStep < 0) wantTab = "lesson";
   lessonStep = i;
   overlay.options.bounds = s.bounds;
@@ -54,27 +55,25 @@ void Viewer::drawLesson() {
   if (ImGui::Button("Next step >")) applyLessonStep(lessonStep + 1);
   ImGui::Separator();
   ImGui::BeginChild("narrative");
-  // Markdown is hard-wrapped: join a paragraph's lines and let ImGui wrap; headings stand alone.
+  // The narrative as presenter mode sets it (headings, paragraphs, list items; inline markup
+  // reduced to its words), so that neither shows "**" or backticks.
   auto markdown = [](const std::string& text) {
-    std::istringstream in(text);
-    std::string line, para;
-    auto flush = [&] {
-      if (!para.empty()) ImGui::TextWrapped("%s", para.c_str());
-      para.clear();
-    };
-    while (std::getline(in, line)) {
-      if (line.rfind("#", 0) == 0) {
-        flush();
-        size_t k = line.find_first_not_of('#');
-        ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s", line.substr(std::min(k + 1, line.size())).c_str());
-      } else if (line.find_first_not_of(" \t") == std::string::npos) {
-        flush();
-        ImGui::Spacing();
-      } else {
-        para += (para.empty() ? "" : " ") + line;
+    for (const NarrativeBlock& block : narrativeBlocks(text)) {
+      switch (block.kind) {
+        case NarrativeBlock::Kind::Heading:
+          ImGui::Spacing();
+          ImGui::TextColored(ImVec4(0.6f, 0.8f, 1.0f, 1), "%s", block.text.c_str());
+          break;
+        case NarrativeBlock::Kind::Item:
+          ImGui::Bullet();
+          ImGui::TextWrapped("%s", block.text.c_str());
+          break;
+        case NarrativeBlock::Kind::Paragraph:
+          ImGui::TextWrapped("%s", block.text.c_str());
+          ImGui::Spacing();
+          break;
       }
     }
-    flush();
   };
   if (lessonStep >= 0) {
     markdown(lesson.steps[lessonStep].narrative);

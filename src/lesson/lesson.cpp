@@ -103,7 +103,7 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
   std::string line, narrative, block;
   int lineNo = 0, blockLine = 0;
   bool inStep = false, inOtherFence = false;
-  std::string technique, scene = "cornell-box";
+  std::string technique, scene, lessonScene = "cornell-box";
   while (std::getline(in, line)) {
     ++lineNo;
     std::string t = trim(line);
@@ -128,13 +128,15 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         step.narrative = trim(narrative);
         narrative.clear();
         static const char* known[] = {"technique", "scene", "stage",      "output",  "level",
-                                      "camera",    "set",   "iterations", "overlay", "bounds"};
+                                      "camera",    "set",   "iterations", "overlay", "bounds",
+                                      "slice",     "axis"};
         for (auto it = j.begin(); it != j.end(); ++it) {
           bool ok = false;
           for (const char* k : known) ok = ok || it.key() == k;
           if (!ok)
             throw Error(where + ": unknown key '" + it.key() +
-                        "'; valid keys: technique, scene, stage, output, level, camera, set, iterations, overlay, bounds");
+                        "'; valid keys: technique, scene, stage, output, level, camera, set, iterations, overlay, "
+                        "bounds, slice, axis");
         }
         auto str = [&](const char* key, std::string& out) {
           if (!j.contains(key)) return;
@@ -147,7 +149,11 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
           out = j[key].get<int>();
         };
         str("technique", technique);
+        // The scene is part of a step's absolute state: a step without "scene" shows the lesson's
+        // scene (the first step's), never whatever an earlier step switched to.
+        scene = lessonScene;
         str("scene", scene);
+        if (lesson.steps.empty()) lessonScene = scene;
         if (technique.empty()) throw Error(where + ": the first voxlab-step needs a \"technique\"");
         if (!j.contains("stage")) throw Error(where + ": a voxlab-step needs a \"stage\"");
         step.technique = technique;
@@ -157,6 +163,14 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         num("level", step.level);
         num("camera", step.camera);
         num("iterations", step.iterations);
+        num("slice", step.sliceIndex);
+        if (j.contains("slice") && step.sliceIndex < 0) throw Error(where + ": 'slice' must be 0 or more");
+        if (j.contains("axis")) {
+          std::string axis;
+          str("axis", axis);
+          if (axis != "x" && axis != "y" && axis != "z") throw Error(where + ": 'axis' must be \"x\", \"y\" or \"z\"");
+          step.sliceAxis = axis[0] - 'x';
+        }
         str("overlay", step.overlay);
         if (j.contains("bounds")) {
           if (!j["bounds"].is_boolean()) throw Error(where + ": 'bounds' must be true or false");

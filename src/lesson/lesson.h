@@ -9,11 +9,12 @@
 //
 // The narrative of a step is the text between the previous block (or the start of the file) and
 // its own block. A step's state is absolute: the technique's default parameters plus its "set",
-// so steps can be replayed in any order. Only "stage" is required; "technique" and "scene" carry
-// over from the previous step (the first step needs "technique"; "scene" defaults to
-// cornell-box). Optional: "iterations": N stops an iterative stage after N iterations (a partly
+// so steps can be replayed in any order. Only "stage" is required; "technique" carries over from
+// the previous step (the first step needs it); a step without "scene" shows the lesson's scene,
+// the first step's (default cornell-box), so a step that shows another scene says so itself. Optional: "iterations": N stops an iterative stage after N iterations (a partly
 // built pyramid); "overlay": "stage/output@level" lays that volume level's voxels over camera
-// images, "bounds": true the volume's box. Validation runs against the technique registry: an unknown technique, stage,
+// images, "bounds": true the volume's box; "slice": N shows that slice of a volume (along "axis":
+// "x", "y" or "z", default z) instead of the middle one. Validation runs against the technique registry: an unknown technique, stage,
 // output or parameter, or a bad value, is an Error naming "file:line".
 #pragma once
 #include <map>
@@ -30,6 +31,8 @@ struct LessonStep {
   std::string stage;
   std::string output;           // "" = the stage's first output
   int level = 0;
+  int sliceAxis = 2;            // the volume slice shown: 0 = x, 1 = y, 2 = z
+  int sliceIndex = -1;          // -1 = the middle slice (the viewer's default)
   int camera = 0;
   std::vector<std::pair<std::string, std::string>> sets;  // name, value (in file order)
   int iterations = 0;           // > 0: run only this many iterations of an iterative stage

@@ -17,9 +17,9 @@ voxlab_cli_case(view_bad_ui_scale 2 "--ui-scale '9' is not a number in 0.75..3"
 voxlab_cli_case(view_script_missing 2 "script file '.*no-such-script\\.txt' does not exist"
   "view --script @ROOT@/tests/viewer/no-such-script.txt")
 voxlab_cli_case(lesson_check_ok 0 "^$"
-  "lesson --check @ROOT@/lessons/01-voxel-cone-tracing.md")
+  "lesson --check @ROOT@/lessons/01-voxel-cone-tracing.md --no-render")
 voxlab_cli_case(lesson_check_voxelization_ok 0 "^$"
-  "lesson --check @ROOT@/lessons/02-voxelization.md")
+  "lesson --check @ROOT@/lessons/02-voxelization.md --no-render")
 voxlab_cli_case(lesson_unknown_param 2 "bad-lesson-param\\.md:9: unknown parameter 'mipmap\\.no-such-knob'|bad-lesson-param\\.md:9: .*mipmap\\.no-such-knob"
   "lesson --check @ROOT@/tests/viewer/bad-lesson-param.md")
 voxlab_cli_case(lesson_unknown_stage 2 "bad-lesson-stage\\.md:3: .*voxelise.*voxelize"

@@ -1,0 +1,9 @@
+# Lessons (src/lesson/lesson_check.h, src/app/cmd_lesson.cpp): every shipped lesson passes the whole
+# check, text and rendered pictures; a lesson with a blank step fails it, naming the step.
+add_test(NAME lesson.check_all
+  COMMAND $<TARGET_FILE:voxlab> lesson --check ${CMAKE_SOURCE_DIR}/lessons --size 256x256)
+set_tests_properties(lesson.check_all PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" TIMEOUT 600)
+
+voxlab_cli_case(lesson_blank_step 1
+  "blank-step\\.md:16: step 2's picture \\(svo/svo-build/svo-structure@4, 2x2\\) is blank: 0\\.00 % of its pixels"
+  "lesson --check @ROOT@/tests/cli/lesson/blank-step.md --size 64x64")
