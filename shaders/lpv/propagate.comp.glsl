@@ -38,6 +38,7 @@ uniform int u_clampFaces;
 uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none
 uniform float u_occlusionAmplifier;
 uniform int u_firstStepUnoccluded;
+uniform int u_reprojection;        // 0: lobe along the face's axis (K&D); 1: along the direction the light crossed it
 
 // Whether the voxels block at all in this step (the same for every cell).
 bool occlusionOn() { return u_occlusion != 2 && !(u_step == 0 && u_firstStepUnoccluded == 1); }
@@ -70,11 +71,18 @@ vec4 sourceAt(int ch, int index) { return stateIn[(u_thesisScheme == 1 ? ch : 3 
 struct ShRgb { vec4 r, g, b; };
 
 // One channel of one face: e = the neighbour's intensity towards the face, f = the flux through it.
+// The flux re-enters as a clamped-cosine lobe along the face's axis oj (K&D: a VPL at the cell's
+// centre shining through face j), or with lpv.reprojection=travel along d, the direction it
+// crossed the face in (from the neighbour's centre to the face's centre).
 vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, ivec3 oj, out float e, out float f) {
   e = shEvaluateSparse(src, d);
   if (u_clampFaces == 1) e = max(e, 0.0);
   precise float flux = ((e * omega) * occ) * u_weightScale;
   f = flux;
+  if (u_reprojection == 1) {
+    precise vec4 r = acc + flux * shLobe(d);
+    return r;
+  }
   return shAddAxisLobe(acc, flux, oj);
 }
 

@@ -35,10 +35,11 @@ ParamDesc fineExtentParam() {
 }
 ParamDesc stepsParam() {
   return ParamDesc::integer("lpv.steps", 0, 0, 64,
-                            "propagation steps (iterations); light travels one cell per step. 0 (scene): "
-                            "ceil(lpv.resolution / lpv.fine-extent), the steps light needs to cross the scene's "
-                            "largest extent in the fine cascade (22 at the defaults); the coarse cascade's cells are "
-                            "lpv.cascade-ratio larger, so it carries the light that much farther",
+                            "propagation steps (iterations); the light's frontier moves one cell per step, its bulk "
+                            "as a random walk (lesson 05, step 11). 0 (scene): ceil(lpv.resolution / "
+                            "lpv.fine-extent), the steps the frontier needs to cross the scene's largest extent in "
+                            "the fine cascade (22 at the defaults); the coarse cascade's cells are lpv.cascade-ratio "
+                            "larger, so it carries the light that much farther",
                             "steps");
 }
 int propagationSteps(const ParamSet& p) {

@@ -105,17 +105,37 @@
 //     passes head on. The first step is unoccluded (GPU Pro 4, the NVIDIA sample, K&D ports) so a
 //     VPL's own voxel does not block its own light.
 //   - Steps (lpv.steps = 0, "scene", by default): ceil(lpv.resolution / lpv.fine-extent) = 22 at the
-//     defaults, the steps light needs to cross the scene's largest extent in the fine cascade (light
-//     moves one cell per step; the fine cell is fine-extent x that extent / resolution, so the count
-//     depends on the grid alone, and the coarse cascade, which holds the whole scene, crosses it in
+//     defaults, the steps the light's frontier needs to cross the scene's largest extent in the fine
+//     cascade (the frontier moves one cell per step; the fine cell is fine-extent x that extent /
+//     resolution, so the count depends on the grid alone, and the coarse cascade, which holds the whole scene, crosses it in
 //     half as many). A fixed 8 (K&D-style implementations; GPU Pro 4 uses 10) carried light 21 cm on
 //     the 56 cm Cornell box: its ceiling stayed black and its indirect energy was 0.39 of the
 //     reference (0.60 now; skylight-room 0.50 -> 1.04, two-rooms 0.83 -> 1.03, corridor 0.69 -> 0.73,
-//     spheres-room 0.81 -> 1.06, Sponza 0.91 -> 0.94, with lpv.centre=view). The rest is LPV's own
-//     bias, not range: L1 propagation falls off much faster than 1 / r^2 beyond a few cells (note
-//     section 2.4), so the Cornell box's ceiling, 21 fine cells from the lit floor, reads 1 % of the
-//     reference while the floor next to a lit wall reads 2 to 7 times it (light kept near its VPLs);
-//     more steps barely change that (64 steps: Cornell box 0.70). No amplifier makes up for it.
+//     spheres-room 0.81 -> 1.06, Sponza 0.91 -> 0.94, with lpv.centre=view). Only the frontier moves
+//     a cell per step, though; the rest is the propagation's own bias, not range (next item): the
+//     Cornell box's ceiling, 21 fine cells from the lit floor, reads 0.1 % of the reference while the
+//     floor in front of the blocks reads 3.2 times it (light kept near its VPLs); more steps barely
+//     change that (64 steps: Cornell box 0.72, at 128 x 128). No amplifier makes up for it.
+//   - Reprojection (lpv.reprojection=face-axis, K&D): a face's flux re-enters as a lobe along the
+//     face's axis, so the side faces turn light across the way it came. A step keeps the flux but
+//     only 0.3686 of the band-1 vector (the direction of travel; tests/unit/test_lpv.cpp,
+//     ReprojectionKeepsPartOfTheDirectionOfTravel), and light does a random walk: a point VPL's
+//     wavefront keeps a mean height of 0.70 cells from step 2 on and after 22 steps has 1.8 % of its
+//     flux beyond 8 cells (LightSpreadsAsARandomWalk). In a room light that must cross L cells
+//     arrives as about 1 / L of a straight path's and after of the order of L^2 steps, which is why
+//     small closed rooms, many fine cells across, come out dark far from their lit surfaces (Cornell
+//     box 0.60 of the reference's indirect light; lesson 05, step 11). travel re-enters it along the
+//     direction it crossed the face in (neighbour centre to face centre), which keeps 2/3 of the
+//     direction (sum of omega d d^T over the 30 faces = 4 pi / 3 I): against the reference at 256 x
+//     256, indirect energy (SSIM) cornell-box 0.60 -> 0.70 (0.57 -> 0.70), Sponza 0.94 -> 0.82,
+//     skylight-room 1.04 -> 1.44, two-rooms 1.03 -> 1.28, corridor 0.73 -> 0.77 (0.75 -> 0.84),
+//     spheres-room 1.06 -> 1.10: a directional L1 field has large negative back lobes, and the face
+//     clamp adds what it drops (with lpv.clamp-faces off: 0.62, 0.78, 0.87, 1.13, 0.74, 0.97). Not the
+//     default: two scenes leave the band the face-axis step keeps them in. Measured and not kept
+//     (128 x 128): cells twice as large (lpv.fine-extent=3) give the ceiling 12 % but skylight-room
+//     2.1 (the floor lights itself over larger cells); reading the larger of the two cascades' light
+//     (the coarse one where the fine one has received none) gives the Cornell box 0.73 and
+//     skylight-room 2.3 (the coarse grid's self-illumination and leaks).
 //   - Lookup: incident radiance L = gi.radiance-scale x I / s^2 (a cell face of area s^2 radiating
 //     intensity I; K&D's text uses (s/2)^2, i.e. scale 4; the scale is calibrated once against the
 //     reference path tracer, tests/unit/test_lpv.cpp, and recorded in docs/fidelity.md), E =
@@ -126,7 +146,9 @@
 //   - Cascade blend: coarse weight 0 up to 4 fine cells (gi.blend-width) inside the fine grid's
 //     edge, 1 from half a cell inside it (trilinear reads stay inside), by the max norm from the
 //     fine grid's snapped centre (the grid is a box; the thesis' Euclidean 12..16 cells uses only
-//     the inscribed ball of the fine grid).
+//     the inscribed ball of the fine grid). The blend goes by position alone: on the
+//     Cornell box the front of the ceiling is read from the fine grid, which holds 1/80 of the
+//     coarse grid's light there.
 //   - Storage: RGBA32F (the thesis uses RGBA16F, 10-bit mantissa): the GPU matches the CPU
 //     reference propagation, and the energy records are meaningful. 32^3 x 16 B = 512 KiB per volume;
 //     per cascade 3 channels x (VPL, light, wavefront) = 4.5 MiB of volumes, 6 MiB of propagation

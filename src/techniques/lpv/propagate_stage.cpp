@@ -65,6 +65,10 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::boolean("lpv.clamp-faces", true,
                              "clamp each face's evaluated intensity at 0 (off: the linear operator, which conserves "
                              "flux exactly; on: negative back lobes are dropped, about +14 % on a first step)"));
+  b.param(ParamDesc::choice("lpv.reprojection", {"face-axis", "travel"}, 0,
+                            "the lobe a face's flux re-enters as: along the face's axis (Kaplanyan-Dachsbacher; the "
+                            "light keeps 37 % of its direction per step, a random walk), or along the direction it "
+                            "crossed the face in (keeps 2/3)"));
   b.param(ParamDesc::choice("lpv.occlusion", {"two-sided", "thesis", "none"}, 0,
                             "blocking by the source cell's voxel: a surface blocks both ways, as the thesis (only light "
                             "travelling along its stored normal), or not at all"));
@@ -298,6 +302,7 @@ void PropagateStage::execute(StageContext& ctx) {
       setUniform(program, "u_occlusion", occlusion);
       setUniform(program, "u_occlusionAmplifier", ctx.params.getFloat("lpv.occlusion-amplifier"));
       setUniform(program, "u_firstStepUnoccluded", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0);
+      setUniform(program, "u_reprojection", ctx.params.getInt("lpv.reprojection"));
       glUseProgram(program);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_IN, in.id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, out.id());

@@ -46,7 +46,7 @@ static void gatherNeighbour(const ShField& source, const std::vector<gpu::LpvVox
     glm::vec3 d = faceDirection(i, j);
     float omega = faceSolidAngle(i, j);
     float occ = faceTransmission(v, travel, d, s, step);
-    SH lobe = shLobe(glm::vec3(faceOffset(j)));
+    SH lobe = shLobe(s.reprojection == Reprojection::Travel ? d : glm::vec3(faceOffset(j)));
     for (int ch = 0; ch < 3; ++ch) {
       float e = shEvaluate(src[ch], d);
       if (s.clampFaces) e = std::fmax(e, 0.0f);

@@ -29,6 +29,9 @@ struct ShField {
 
 enum class Occlusion { TwoSided, Thesis, None };
 enum class Scheme { Wavefront, Thesis };
+// The lobe a face's flux re-enters as: along the face's axis (K&D) or along the direction the light
+// crossed the face (from the neighbour's centre to the face's centre).
+enum class Reprojection { FaceAxis, Travel };
 
 struct PropagationSettings {
   Scheme scheme = Scheme::Wavefront;
@@ -37,6 +40,7 @@ struct PropagationSettings {
   Occlusion occlusion = Occlusion::TwoSided;
   float occlusionAmplifier = 1.0f;
   bool firstStepUnoccluded = true;
+  Reprojection reprojection = Reprojection::FaceAxis;
 };
 
 // Transmission of the face evaluation along d of light leaving a cell whose voxel is 'v'
