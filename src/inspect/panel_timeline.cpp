@@ -37,7 +37,11 @@ void Viewer::drawLeftPanel() {
   ImGui::InputText("##scenepath", scenePath, sizeof scenePath);
   ImGui::SameLine();
   if (ImGui::Button("Load")) loadSceneNamed(scenePath);
-  if (!sceneError.empty()) ImGui::TextColored(kErrorColour, "%s", sceneError.c_str());
+  if (!sceneError.empty()) {  // wrapped: a path and its reason are often wider than the panel
+    ImGui::PushStyleColor(ImGuiCol_Text, kErrorColour);
+    ImGui::TextWrapped("%s", sceneError.c_str());
+    ImGui::PopStyleColor();
+  }
 
   // Stage timeline.
   ImGui::Separator();

@@ -165,6 +165,7 @@ bool Viewer::loadSceneNamed(const std::string& name) {
     return true;
   } catch (const Error& e) {
     sceneError = e.what();  // keep the current scene
+    status = "scene not loaded (the current one is kept): " + sceneError;
     return false;
   }
 }
@@ -307,7 +308,15 @@ bool Viewer::isCameraImage(int stage, const CapturedOutput& c) const {
 
 void Viewer::reloadShaders(bool fromWatch) {
   auto errors = shaders->reloadChanged();
-  if (fromWatch && errors.empty() && shaders->lastReloadCount() == 0) return;
+  const bool rebuilt = shaders->lastReloadCount() > 0;
+  if (fromWatch && errors.empty() && !rebuilt) return;
+  auto firstLine = [](const std::string& text) { return text.substr(0, text.find('\n')); };
+  if (errors.empty() && !rebuilt && !shaderError.empty()) {
+    // Nothing changed since a reload failed (the file watcher's, or an earlier F5): the shader is
+    // still broken, so its file:line stays in view and in the status line.
+    status = "shader still broken (no file changed since): " + firstLine(shaderError);
+    return;
+  }
   if (errors.empty()) {
     shaderError.clear();
     cursor->invalidateAll();
@@ -315,7 +324,7 @@ void Viewer::reloadShaders(bool fromWatch) {
     if (runs.autoRerun && runs.lastRequest >= 0) requestRun(runs.lastRequest);
   } else {
     shaderError = joinNames(errors, "\n");  // the last good programs stay in use
-    status = "shader reload failed";
+    status = "shader reload failed: " + firstLine(shaderError);
   }
 }
 
