@@ -125,6 +125,12 @@ VOXLAB_REGISTER_SCRIPT_VERBS(lesson, 80,
    }},
   {"lesson-next", 0, 0, "lesson-next", moveLessonStep},
   {"lesson-prev", 0, 0, "lesson-prev", moveLessonStep},
-  {"lesson-end", 0, 0, "lesson-end (play every remaining step, running each)", playLessonToEnd});
+  {"lesson-end", 0, 0, "lesson-end (play every remaining step, running each)", playLessonToEnd},
+  {"expect-lesson-step", 1, 1, "expect-lesson-step N (the lesson is at step N, counted from 1)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (viewer.lesson.steps.empty()) call.fail("no lesson is open");
+     if (viewer.lessonStep + 1 != call.intArg(0))
+       call.fail("the lesson is at step " + std::to_string(viewer.lessonStep + 1) + ", expected " + call.arg(0));
+   }});
 
 }  // namespace voxlab

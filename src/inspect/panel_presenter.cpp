@@ -108,11 +108,16 @@ bool Viewer::handlePresenterKeys() {
                               GLFW_KEY_4,     GLFW_KEY_5,    GLFW_KEY_6,         GLFW_KEY_7,         GLFW_KEY_8,
                               GLFW_KEY_9};
   ImGuiIO& io = ImGui::GetIO();
-  if (io.KeyCtrl || io.KeyAlt) return presenter.on && !lesson.steps.empty();
-  for (int k : kKeys)
-    if (ImGui::IsKeyPressed(k, false)) presenterKey(k);
-  for (int k = GLFW_KEY_KP_1; k <= GLFW_KEY_KP_9; ++k)
-    if (ImGui::IsKeyPressed(k, false)) presenterKey(k);
+  // The presses queued since the last frame (keyPresses), not ImGui's key state: a remote's tap
+  // can begin and end between two frames, and while a stage runs a frame takes long.
+  std::vector<int> presses;
+  presses.swap(keyPresses);
+  if (io.KeyCtrl || io.KeyAlt || io.WantTextInput) return presenter.on && !lesson.steps.empty();
+  for (int k : presses) {
+    const bool presenterKeyCode = std::find(std::begin(kKeys), std::end(kKeys), k) != std::end(kKeys) ||
+                                  (k >= GLFW_KEY_KP_1 && k <= GLFW_KEY_KP_9);
+    if (presenterKeyCode) presenterKey(k);
+  }
   return presenter.on && !lesson.steps.empty();
 }
 
@@ -296,7 +301,7 @@ void Viewer::drawPresenter() {
 
 namespace {
 
-void pressKey(Viewer& viewer, const ScriptCall& call) {
+int scriptKeyCode(const ScriptCall& call) {
   static const std::pair<const char*, int> kKeys[] = {
       {"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT},           {"pagedown", GLFW_KEY_PAGE_DOWN},
       {"pageup", GLFW_KEY_PAGE_UP}, {"space", GLFW_KEY_SPACE},      {"backspace", GLFW_KEY_BACKSPACE},
@@ -310,6 +315,20 @@ void pressKey(Viewer& viewer, const ScriptCall& call) {
   if (key < 0)
     call.badArgument("unknown key '" + name +
                      "'; valid: right, left, pagedown, pageup, space, backspace, home, end, 0..9, p, f11, escape");
+  return key;
+}
+
+// A press and its release delivered to the window's key callback before the next frame.
+void tapKey(Viewer& viewer, const ScriptCall& call) {
+  const int key = scriptKeyCode(call);
+  Viewer::onKeyEvent(viewer.window->handle(), key, 0, GLFW_PRESS, 0);
+  Viewer::onKeyEvent(viewer.window->handle(), key, 0, GLFW_RELEASE, 0);
+  viewer.script.waitFrames = 2;
+}
+
+void pressKey(Viewer& viewer, const ScriptCall& call) {
+  const int key = scriptKeyCode(call);
+  const std::string& name = call.arg(0);
   const int before = viewer.lessonStep;
   if (!viewer.presenterKey(key))
     call.fail("key " + name + " does nothing here (presenter mode is " + (viewer.presenter.on ? "on" : "off") +
@@ -350,6 +369,10 @@ VOXLAB_REGISTER_SCRIPT_VERBS(presenter, 90,
    "key NAME (a presenter-mode key, as pressed: right, left, pagedown, pageup, space, backspace, home, end, 0..9, p, "
    "f11, escape)",
    pressKey},
+  {"tap", 1, 1,
+   "tap NAME (a key pressed and released between two frames, through the window's key callback: what a "
+   "presenter remote sends; names as for key)",
+   tapKey},
   {"mouse", 2, 2, "mouse X Y (the pointer at window pixel X, Y from the top left, for presenter mode's edge panels)",
    [](Viewer& viewer, const ScriptCall& call) {
      viewer.presenter.scriptMouse = ImVec2(call.floatArg(0), call.floatArg(1));

@@ -89,9 +89,11 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // layout is fixed; no imgui.ini next to the binary
   ImGui::StyleColorsDark();
+  // Installed before ImGui's, which chains to it: every press is queued, however short the tap.
+  glfwSetWindowUserPointer(window->handle(), this);
+  glfwSetKeyCallback(window->handle(), &Viewer::onKeyEvent);
   ImGui_ImplGlfw_InitForOpenGL(window->handle(), true);
   // Dropped files are queued and loaded at the start of the next frame (dropFile).
-  glfwSetWindowUserPointer(window->handle(), this);
   glfwSetDropCallback(window->handle(), [](GLFWwindow* w, int count, const char** paths) {
     auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
     for (int i = 0; i < count; ++i) self->droppedFiles.emplace_back(paths[i]);
@@ -304,6 +306,11 @@ bool Viewer::isCameraImage(int stage, const CapturedOutput& c) const {
   if (c.desc.kind != OutputKind::Image2D || c.levels.empty()) return false;
   if (!cursor->technique().dependsOnView(stage)) return false;
   return c.levels[0].size.x == cursor->view().width && c.levels[0].size.y == cursor->view().height;
+}
+
+void Viewer::onKeyEvent(GLFWwindow* window, int key, int, int action, int) {
+  auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(window));
+  if (self && action == GLFW_PRESS) self->keyPresses.push_back(key);
 }
 
 void Viewer::reloadShaders(bool fromWatch) {

@@ -233,6 +233,11 @@ class Viewer {
   // drop: loaded as loadSceneNamed does, keeping the current scene when it fails.
   bool dropFile(const std::string& path);
   std::vector<std::string> droppedFiles;
+  // Key presses since the last frame, in order, from a GLFW key callback: a tap shorter than a
+  // frame (what presenter remotes send) is a press here, where Dear ImGui 1.86's per-frame key
+  // state can miss it. Presenter mode's keys are read from this queue (handlePresenterKeys).
+  std::vector<int> keyPresses;
+  static void onKeyEvent(GLFWwindow* window, int key, int scancode, int action, int mods);
   void handleFly();  // right mouse over a camera image: mouse looks, W/A/S/D/Q/E move
   void frameScene();
   // Queues iterations of the selected stage until 'count' of them have run (after the stages
