@@ -23,6 +23,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) readonly buffer BrickIndex { uint brickIndex[]; };
+layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
 layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDescentStep descent[]; };
@@ -74,6 +75,47 @@ vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
   return textureLod(u_brickPool, (origin + 0.5 + 2.0 * u) / vec3(textureSize(u_brickPool, 0)), 0.0);
 }
 
+// The node of voxel m, found from node 'from' (at 'level', holding voxel 'voxel'): up the parent
+// links to the closest common ancestor, then down along the bits of m; SVO_ABSENT where a node
+// on the way down has no children. The voxels around a sample share an ancestor a level or two
+// up, so this reads fewer nodes than a descent from the root.
+uint svoVoxelFrom(uint from, int level, uvec3 voxel, uvec3 m) {
+  uint node = from;
+  int l = level;
+  while (l > 0 && any(notEqual(voxel >> uint(u_depth - l), m >> uint(u_depth - l)))) {
+    node = nodes[node].parent;
+    --l;
+  }
+  for (++l; l <= u_depth; ++l) {
+    uint first = nodes[node].word & SVO_CHILD_MASK;
+    if (first == 0u) return SVO_ABSENT;
+    uvec3 bit = (m >> uint(u_depth - l)) & 1u;
+    node = first + bit.x + 2u * bit.y + 4u * bit.z;
+  }
+  return node;
+}
+
+// The voxel level at voxel-space point v as the dense grid's trilinear filter gives it: the eight
+// voxels around v (clamped to the volume, as CLAMP_TO_EDGE), absent or empty ones counting 0,
+// found from 'from', the deepest node of v's descent (at 'level'). Used where a sample's fine
+// level is the voxels and its voxel has no brick (empty, or no node at all): next to a filled
+// voxel the dense grid blends that voxel in there, which bricks only on non-empty nodes cannot
+// hold (without this, a cone starting next to a surface saw nothing in the first voxel).
+vec4 voxelLevelSample(vec3 v, uint from, int level, uvec3 voxel) {
+  vec3 p = v - 0.5;
+  ivec3 base = ivec3(floor(p));
+  vec3 f = p - vec3(base);
+  vec4 sum = vec4(0.0);
+  for (int k = 0; k < 8; ++k) {
+    ivec3 bit = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+    uvec3 cell = uvec3(clamp(base + bit, ivec3(0), ivec3(u_resolution - 1)));
+    uint n = svoVoxelFrom(from, level, voxel, cell);
+    vec3 w3 = mix(1.0 - f, f, vec3(bit));
+    if (n != SVO_ABSENT) sum += (w3.x * w3.y * w3.z) * values[n];
+  }
+  return sum;
+}
+
 // The octree at voxel-space point v and fractional level levelStar (0 = root .. D = voxels), seen
 // along 'dir': one descent from the root to the fine level, keeping the node one level above as
 // the coarse one. Layout T: level l is read from the bricks of level l - 1 (the descent ends one
@@ -85,6 +127,8 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex)
   float w = svoFineWeight(levelStar, float(u_depth));
   uvec3 voxel = uvec3(clamp(ivec3(floor(v)), ivec3(0), ivec3(u_resolution - 1)));
   uint node = 0u, coarseNode = SVO_ABSENT, fineNode = SVO_ABSENT;
+  uint deepest = 0u;  // the deepest node of the descent, at level deepestLevel
+  int deepestLevel = 0;
   fine -= shift;
   for (int l = 0; l <= fine; ++l) {
     if (l > 0) {
@@ -106,15 +150,22 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex)
                                     float[4](value.r, value.g, value.b, value.a));
     }
     if (node == SVO_ABSENT) break;  // the record ends at the first absent node
+    deepest = node;
+    deepestLevel = l;
   }
   vec4 coarse = coarseNode == SVO_ABSENT ? vec4(0.0) : brickSample(coarseNode, fine - 1, voxel, v, dir);
+  // Layout N at the voxel level: a voxel without a brick is read as the dense grid reads it.
+  const bool denseVoxels = u_layoutTile == 0 && fine == u_depth;
+  if (fineNode == SVO_ABSENT && denseVoxels) return mix(coarse, voxelLevelSample(v, deepest, deepestLevel, voxel), w);
   if (fineNode == SVO_ABSENT) {
     // Without dilation an absent fine node next to a filled one is not exactly empty: use the
     // coarse level alone there (the note's fallback for source error P2).
     if (u_dilated == 0) return coarse;
     return (1.0 - w) * coarse;
   }
-  return mix(coarse, brickSample(fineNode, fine, voxel, v, dir), w);
+  vec4 fineValue = denseVoxels && brickIndex[fineNode] == 0u ? voxelLevelSample(v, fineNode, fine, voxel)
+                                                               : brickSample(fineNode, fine, voxel, v, dir);
+  return mix(coarse, fineValue, w);
 }
 
 struct ConeResult {

@@ -761,6 +761,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("svo-levels");
   b.read("svo-counters");
   b.read("svo-brick-index");
+  b.read("svo-values");
   b.read("svo-brick-pool");
   b.read("svo-directional-bricks");
   b.read("position");
@@ -865,6 +866,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DESCENT, descent.id());
