@@ -11,6 +11,8 @@
 // bricks facing the cone, weighted dir^2 (common/anisotropic_mip.glsl, as vct-grid's
 // sampleVolume); the voxels stay isotropic, so between the voxel level and the one above a sample
 // blends the leaf with the directional value, as vct-grid fades its voxels into directional level 1.
+// A voxel without a brick (empty, or no node: bricks are only on non-empty nodes) is read as the
+// dense grid reads it, from the eight voxels around the sample (u_voxelHalo, voxelLevelSample).
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
@@ -40,6 +42,7 @@ uniform ivec3 u_bricksPerAxis;
 uniform int u_dilated;            // 1: empty neighbours have nodes, so an absent node is exactly 0
 uniform int u_layoutTile;         // 1: Layout T, the brick of a level-l node holds level l + 1
 uniform int u_anisotropic;        // 1: nodes above the voxels are read from their directional bricks
+uniform int u_voxelHalo;          // 1: a voxel without a brick is read as the dense grid's blend (voxelLevelSample)
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
 uniform vec4 u_aoCones[VOXLAB_MAX_CONES];
@@ -154,8 +157,8 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex)
     deepestLevel = l;
   }
   vec4 coarse = coarseNode == SVO_ABSENT ? vec4(0.0) : brickSample(coarseNode, fine - 1, voxel, v, dir);
-  // Layout N at the voxel level: a voxel without a brick is read as the dense grid reads it.
-  const bool denseVoxels = u_layoutTile == 0 && fine == u_depth;
+  // At the voxel level a voxel without a brick is read as the dense grid reads it (svo.voxel-halo).
+  const bool denseVoxels = u_voxelHalo == 1 && fine == u_depth;
   if (fineNode == SVO_ABSENT && denseVoxels) return mix(coarse, voxelLevelSample(v, deepest, deepestLevel, voxel), w);
   if (fineNode == SVO_ABSENT) {
     // Without dilation an absent fine node next to a filled one is not exactly empty: use the

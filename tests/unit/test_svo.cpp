@@ -836,7 +836,8 @@ TEST(SvoConeTrace, AnisotropicIndirectEqualsVctGridWithDilation) {
 
 // At both techniques' defaults (svo without dilation) the final images of the Cornell box are
 // close: the octree differs from the dense grid only next to filled nodes, where an absent or
-// brickless node reads 0 instead of the dense grid's blend (the note's P2).
+// brickless node above the voxels reads 0 instead of the dense grid's blend (the note's P2); at
+// the voxel level svo.voxel-halo reads such a voxel as the dense grid does.
 TEST(SvoConeTrace, AnisotropicFinalImageCloseToVctGrid) {
   CapturedOutput svoFinal = capture(session(request("svo", "cornell-box", {}, "", 128)), "composite", "final");
   CapturedOutput gridFinal = capture(session(request("vct-grid", "cornell-box", {}, "", 128)), "composite", "final");
@@ -846,12 +847,13 @@ TEST(SvoConeTrace, AnisotropicFinalImageCloseToVctGrid) {
   ::testing::Test::RecordProperty("final_share_above_0.05", std::to_string(d.shareAbove));
   std::printf("svo vs vct-grid final (128x128): mean %.5f, max %.4f, share above 0.05 %.5f\n", d.mean, d.worst,
               d.shareAbove);
-  // Measured (default voxel.resolution, 128x128, LP_NUM_THREADS 1): mean 0.00185, max 0.055 (at
-  // the short box's base, where the octree has no node in front of the rotated face), share of
-  // values off by more than 0.05: 0.000015; svo with mipmap.mode=isotropic (its indirect light about
-  // four times darker): mean 0.0275, share 0.20, so the check can fail. Allowed: mean 0.005, share
-  // 0.002.
+  // Measured (default voxel.resolution, 128x128, LP_NUM_THREADS 1): mean 0.00181, max 0.0157, no
+  // value off by more than 0.05. svo.voxel-halo=false: mean 0.00185, max 0.055 (stair bands at the
+  // short box's base, where the cones start in voxels without a node); svo with
+  // mipmap.mode=isotropic (its indirect light about four times darker): mean 0.0275, share above
+  // 0.05 0.20. So each check can fail. Allowed: mean 0.005, max 0.03, share 0.002.
   EXPECT_LT(d.mean, 0.005);
+  EXPECT_LT(d.worst, 0.03);
   EXPECT_LT(d.shareAbove, 0.002);
 }
 

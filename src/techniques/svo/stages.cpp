@@ -740,6 +740,11 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(dilateParam());
   b.param(layoutParam());
   b.param(mipmapModeParam());
+  b.param(ParamDesc::boolean("svo.voxel-halo", true,
+                             "read a voxel without a brick (empty, or no node there) as the dense grid does: the "
+                             "trilinear blend of the eight voxels around the sample, found in the octree, so a cone "
+                             "starting next to a surface sees it in its first voxel as in vct-grid (Layout N without "
+                             "dilation; off: such a voxel reads 0, and stair bands run along the edges: the note's P2)"));
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
@@ -846,6 +851,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
     setUniform(program, "u_depth", depth);
     setUniform(program, "u_bricksPerAxis", brickAxis);
     setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
+    // With dilation every voxel next to a filled one has its brick: the halo reads would add 0.
+    setUniform(program, "u_voxelHalo",
+               ctx.params.getBool("svo.voxel-halo") && !ctx.params.getBool("svo.dilate") && !tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_anisotropic", anisotropicBricks(ctx.params) ? 1 : 0);
     setUniform(program, "u_directionalPerAxis", directionalAxis);
