@@ -10,6 +10,8 @@
 //  - the octree's dense view = vct-grid's mip chain at every level (I9 at texel centres);
 //  - descent records nested from the root (I12);
 //  - svo AO = vct-grid AO with the same cones (I13), and next to a wall against quadrature;
+//  - anisotropic bricks: svo's indirect light = vct-grid's anisotropic one with dilation, and the
+//    default final images of both close (the voxel halo keeps the short box's base free of bands);
 //  - an undersized node pool: one-line error naming the pool and the size needed, guard intact (I15).
 #include <gtest/gtest.h>
 
