@@ -8,6 +8,7 @@
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/sky.glsl"
+#include "common/anisotropic_mip.glsl"
 
 layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; anisotropic: level 0
 // Anisotropic levels 1.. (their level 0 is level 1 of the hierarchy), one volume per travel
@@ -69,7 +70,7 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase) {
     return textureLod(u_radiance, uvw, 0.0);
   }
   g_fetches += phase == 1 ? 4u : 3u;
-  vec3 w = dir * dir;
+  vec3 w = anisotropicWeights(dir);
   float l = max(lod - 1.0, 0.0);
   vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
   vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);

@@ -17,6 +17,14 @@
 // children (child-level coordinates) and gets the mean of the 8 child-level cells sharing that
 // corner (clamped to the volume), so the brick of a level-l node holds level l + 1 and leaves have
 // none. u_pass 2 (Layout T, Gaussian) is below.
+// u_anisotropic = 1 (Layout N): every tagged node above the voxels also gets six directional
+// bricks in a second pool (u_directionalPool), one per travel direction d (+x -x +y -y +z -z),
+// with the same texel layout and border means as its isotropic brick but made of the same-level
+// cells' directional values (svo-mipmap): brick b of direction d lies at 3 * (b mod X, b / X mod
+// Y, b / XY) + (0, 0, 3 Z d) for the directional pool's X x Y x Z bricks per direction. Its
+// numbers are those of the isotropic bricks above the voxels (1 + the node's tile), so one brick
+// number addresses both pools. Trilinear filtering inside a directional brick then equals
+// vct-grid's trilinear sample of its directional volume of that level inside the node.
 #include "common/packing.glsl"
 #include "svo/svo_shared.h"
 
@@ -28,7 +36,11 @@ layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 value
 layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint counters[]; };
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) buffer BrickIndex { uint brickIndex[]; };
 layout(std430, binding = SVO_BINDING_GROUPS) readonly buffer Groups { uint groups[]; };  // svo-build's, of the voxel level
+layout(std430, binding = SVO_BINDING_DIRECTIONAL_VALUES) readonly buffer Directional { vec4 directional[]; };
 layout(rgba8, binding = 0) uniform writeonly image3D u_brickPool;
+layout(rgba8, binding = 1) uniform writeonly image3D u_directionalPool;
+uniform int u_anisotropic;
+uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform uint u_nodeCount;
 uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
 uniform ivec3 u_bricksPerAxis;
@@ -73,6 +85,59 @@ vec4 childValue(uint around[27], ivec3 pc, ivec3 m, int childCells) {
 // The brick of tagged node n above the voxels: 1 + the tile its children were given, whose
 // number is n's rank among the tagged nodes (svo-build allocates tiles in that order).
 uint innerBrick(uint n) { return 1u + ((nodes[n].word & SVO_CHILD_MASK) - 1u) / 8u; }
+
+// Origin of brick b of direction d in the directional pool.
+ivec3 directionalOrigin(uint b, int d) {
+  return 3 * ivec3(svoBrickCoords(b, uvec2(u_directionalPerAxis.xy))) + ivec3(0, 0, 3 * u_directionalPerAxis.z * d);
+}
+
+// The border means of a node-centred brick, in place: nb holds the centre values of the node's
+// 3x3x3 same-level cells and becomes the brick's 27 texels. The mean over the cells sharing a
+// texel's point is separable: per axis texel 0 is the mean of cells -1 and 0, texel 1 cell 0,
+// texel 2 the mean of cells 0 and +1. Filtering x, then y, then z adds every pair in the order of
+// increasing position, so two bricks sharing a texel compute it with the same operations
+// (identical values, test I7).
+void borderMeans(inout vec4 nb[27]) {
+  for (int j = 0; j < 9; ++j) {
+    vec4 lo = nb[3 * j], mid = nb[3 * j + 1], hi = nb[3 * j + 2];
+    nb[3 * j] = 0.5 * (lo + mid);
+    nb[3 * j + 2] = 0.5 * (mid + hi);
+  }
+  for (int j = 0; j < 9; ++j) {
+    int base = (j % 3) + 9 * (j / 3);
+    vec4 lo = nb[base], mid = nb[base + 3], hi = nb[base + 6];
+    nb[base] = 0.5 * (lo + mid);
+    nb[base + 6] = 0.5 * (mid + hi);
+  }
+  for (int j = 0; j < 9; ++j) {
+    vec4 lo = nb[j], mid = nb[j + 9], hi = nb[j + 18];
+    nb[j] = 0.5 * (lo + mid);
+    nb[j + 18] = 0.5 * (mid + hi);
+  }
+}
+
+// The tile of child-level cell m's children (clamped to the volume; 0xffffffff: the cell has no
+// node or no children, its directional values are 0).
+uint childTile(uint around[27], ivec3 pc, ivec3 m, int childCells) {
+  m = clamp(m, ivec3(0), ivec3(childCells - 1));
+  ivec3 o = (m >> 1) - pc + 1;
+  uint f = around[o.x + 3 * o.y + 9 * o.z];
+  if (f == 0u) return SVO_ABSENT;
+  ivec3 bit = m & 1;
+  uint grandchild = nodes[f + uint(bit.x + 2 * bit.y + 4 * bit.z)].word & SVO_CHILD_MASK;
+  return grandchild == 0u ? SVO_ABSENT : (grandchild - 1u) / 8u;
+}
+
+// The six directional bricks of brick b, from the tiles of the node's 3x3x3 same-level cells.
+void directionalBricks(uint b, uint tiles[27]) {
+  for (int d = 0; d < 6; ++d) {
+    vec4 nb[27];
+    for (int j = 0; j < 27; ++j) nb[j] = tiles[j] == SVO_ABSENT ? vec4(0.0) : directional[6u * tiles[j] + uint(d)];
+    borderMeans(nb);
+    ivec3 origin = directionalOrigin(b, d);
+    for (int t = 0; t < 27; ++t) imageStore(u_directionalPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
+  }
+}
 
 // Layout T, pass 1: node n's own tile brick.
 void tileBrick(uint n) {
@@ -173,7 +238,15 @@ void main() {
       brickIndex[0] = 1u;  // the root is the first tagged node: rank 0
       ivec3 origin = brickOrigin(1u);
       if (1u >= u_brickCapacity) { atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u); brickIndex[0] = 0u; }
-      else for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), values[0]);
+      else {
+        for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), values[0]);
+        if (u_anisotropic == 1 && u_depth > 0) {
+          // The root's cells beyond the volume are clamped to the root itself: tile 0 everywhere.
+          uint rootTiles[27];
+          for (int j = 0; j < 27; ++j) rootTiles[j] = 0u;
+          directionalBricks(1u, rootTiles);
+        }
+      }
     } else {
       brickIndex[0] = 0u;
     }
@@ -209,27 +282,13 @@ void main() {
     ivec3 c = 2 * pc + ivec3(k & 1u, (k >> 1) & 1u, (k >> 2) & 1u);
     vec4 nb[27];  // centre values of the child's 3x3x3 same-level cells (clamped to the volume)
     for (int j = 0; j < 27; ++j) nb[j] = childValue(around, pc, c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, cells);
-    // The mean over the cells sharing a texel's point is separable: per axis texel 0 is the mean
-    // of cells -1 and 0, texel 1 cell 0, texel 2 the mean of cells 0 and +1. Filtering x, then y,
-    // then z adds every pair in the order of increasing position, so two bricks sharing a texel
-    // compute it with the same operations (identical values, test I7).
-    for (int j = 0; j < 9; ++j) {
-      vec4 lo = nb[3 * j], mid = nb[3 * j + 1], hi = nb[3 * j + 2];
-      nb[3 * j] = 0.5 * (lo + mid);
-      nb[3 * j + 2] = 0.5 * (mid + hi);
-    }
-    for (int j = 0; j < 9; ++j) {
-      int base = (j % 3) + 9 * (j / 3);
-      vec4 lo = nb[base], mid = nb[base + 3], hi = nb[base + 6];
-      nb[base] = 0.5 * (lo + mid);
-      nb[base + 6] = 0.5 * (mid + hi);
-    }
-    for (int j = 0; j < 9; ++j) {
-      vec4 lo = nb[j], mid = nb[j + 9], hi = nb[j + 18];
-      nb[j] = 0.5 * (lo + mid);
-      nb[j + 18] = 0.5 * (mid + hi);
-    }
+    borderMeans(nb);
     ivec3 origin = brickOrigin(brick);
     for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
+    if (u_anisotropic == 1 && !voxels) {
+      uint tiles[27];
+      for (int j = 0; j < 27; ++j) tiles[j] = childTile(around, pc, c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, cells);
+      directionalBricks(brick, tiles);
+    }
   }
 }

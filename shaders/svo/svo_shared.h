@@ -83,6 +83,9 @@ struct SvoPickedNode {
   float texels[108];  // the brick's 27 texels (rgba each), t = x + 3y + 9z (premultiplied rgb, alpha)
 };
 #define SVO_BINDING_PICKED 21       // SvoPickedNode: the picked node
+// vec4[6] per node with children (indexed by its tile, (first child - 1) / 8): the node as seen by
+// a cone travelling along +x, -x, +y, -y, +z, -z (anisotropic mips, common/anisotropic_mip.glsl)
+#define SVO_BINDING_DIRECTIONAL_VALUES 22
 SVO_CONST uint SVO_ABSENT = 0xFFFFFFFFu;
 SVO_CONST uint SVO_MAX_DESCENT_STEPS = 16u * 64u * 10u;
 // Most bricks a pool may hold: the cone tracer finds a brick's place by float division, exact

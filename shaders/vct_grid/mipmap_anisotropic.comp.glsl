@@ -1,10 +1,7 @@
 #version 450
 // Anisotropic mipmapping (Crassin et al. 2011): six prefiltered volumes, one per direction a cone
-// can travel (+x, -x, +y, -y, +z, -z). For direction +x, each pair of children along x is first
-// composited front to back (the child with the smaller x in front: c = c0 + (1 - a0) c1,
-// a = a0 + (1 - a0) a1), then the four composited columns are averaged. A one-voxel wall seen
-// face-on therefore stays opaque at every level, where the isotropic average halves its opacity
-// per level.
+// can travel (+x, -x, +y, -y, +z, -z), each texel the 2x2x2 block below it as that direction sees
+// it (common/anisotropic_mip.glsl: pairs composited front to back along the axis, then averaged).
 // Level 1 of the hierarchy is built from the isotropic level-0 voxels; higher levels from the
 // direction's own previous level.
 // The radiance grids' image format: rgba8 unless the stage builds the program with
@@ -29,6 +26,7 @@ layout(VOXLAB_GRID_FORMAT, binding = 4) uniform writeonly image3D u_target4;
 layout(VOXLAB_GRID_FORMAT, binding = 5) uniform writeonly image3D u_target5;
 uniform int u_fromIsotropic;
 uniform int u_sourceLevel;
+#include "common/anisotropic_mip.glsl"
 
 vec4 child(int direction, ivec3 v) {
   if (u_fromIsotropic != 0) return texelFetch(u_isotropic, v, 0);
@@ -42,25 +40,11 @@ vec4 child(int direction, ivec3 v) {
   }
 }
 
-vec4 over(vec4 front, vec4 back) { return front + (1.0 - front.a) * back; }
-
 // Direction d = 2 * axis + (0 for +, 1 for -).
 vec4 reduce(int d, ivec3 base) {
-  int axis = d >> 1;
-  bool negative = (d & 1) == 1;
-  vec4 sum = vec4(0.0);
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) {
-      ivec3 lo = base, hi = base;
-      // (i, j) index the two axes other than 'axis'.
-      int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-      lo[a1] += i; lo[a2] += j;
-      hi = lo;
-      hi[axis] += 1;
-      vec4 near = child(d, negative ? hi : lo), far = child(d, negative ? lo : hi);
-      sum += over(near, far);
-    }
-  return sum * 0.25;
+  vec4 children[8];
+  for (int k = 0; k < 8; ++k) children[k] = child(d, base + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+  return anisotropicReduce(children, d);
 }
 
 void main() {

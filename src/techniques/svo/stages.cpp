@@ -78,6 +78,20 @@ static ParamDesc layoutParam() {
                            "blurred by [1 2 1] / 4 per axis)");
 }
 static bool tileLayout(const ParamSet& p) { return p.getChoice("svo.layout") == "tile"; }
+// vct-grid's parameter name, so that one --set mipmap.mode=... picks the same mips in both.
+static ParamDesc mipmapModeParam() {
+  return ParamDesc::choice("mipmap.mode", {"isotropic", "anisotropic"}, 1,
+                           "isotropic: one brick per node, the average of its children (vct-grid's isotropic mips "
+                           "exactly); anisotropic: above the voxels six more bricks per node, one per travel "
+                           "direction, compositing the children front to back before averaging (Crassin et al., "
+                           "vct-grid's default); the cones read the three facing the cone, weighted dir^2. Layout N "
+                           "only: svo.layout=tile stays isotropic");
+}
+// Directional bricks are built and read: anisotropic mips with Layout N.
+static bool anisotropicBricks(const ParamSet& p) {
+  return p.getChoice("mipmap.mode") == "anisotropic" && !tileLayout(p);
+}
+static size_t directionalValueBytes(uint32_t nodes) { return size_t(std::max(1u, (nodes - 1) / 8)) * 6 * 16; }
 static ParamDesc filterParam() {
   return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
                            "bricks above the finest level with svo.layout=tile: box (vertex means of the box-filtered "
@@ -422,6 +436,8 @@ void LeavesStage::execute(StageContext& ctx) {
 
 void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(layoutParam());
+  b.param(mipmapModeParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
@@ -432,7 +448,17 @@ void MipmapStage::declare(StageBuilder& b) const {
   b.output("svo-dense", OutputKind::Volume3D, Semantic::Color,
            "the octree resampled into a dense view: mip m holds the node values of level D - m (0 where no node), "
            "so it can be set beside vct-grid's radiance; alpha = opacity (the viewer's channel a)");
+  BufferLayout directional;
+  directional.stride = 6 * 16;
+  const char* names[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  for (uint32_t d = 0; d < 6; ++d) directional.fields.push_back({names[d], FieldType::Vec4, 16 * d, FieldRole::Color});
+  b.output("svo-directional-values", OutputKind::Buffer, Semantic::Color,
+           "per node with children, in the order of their tiles: the node as seen by a cone travelling along +x, -x, "
+           "+y, -y, +z, -z (anisotropic mips; one empty record with mipmap.mode=isotropic)")
+      .layout = directional;
   b.buffer("svo-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
+  b.buffer("svo-directional-values", [](const ParamSet&, const ViewState&) { return directionalValueBytes(1); },
+           /*pool=*/true);
   b.texture("svo-dense", [](const ParamSet& p, const ViewState&) { return denseDesc(p); });
 }
 
@@ -442,6 +468,9 @@ void MipmapStage::execute(StageContext& ctx) {
   std::vector<SvoLevel> levels = readLevels(ctx.board);
   const uint32_t nodes = nodeCount(levels);
   Buffer& values = ctx.board.ensureBuffer("svo-values", size_t(nodes) * 16);
+  const bool anisotropic = anisotropicBricks(ctx.params);
+  Buffer& directional =
+      ctx.board.ensureBuffer("svo-directional-values", directionalValueBytes(anisotropic ? nodes : 1));
   Texture& dense = ctx.board.ensureTexture("svo-dense", denseDesc(ctx.params));
   Buffer& nodePool = ctx.board.buffer("svo-nodes");
   GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"});
@@ -467,13 +496,17 @@ void MipmapStage::execute(StageContext& ctx) {
   GLuint program = ctx.shaders.program({"svo/mipmap.comp.glsl"});
   setUniform(program, "u_start", unsigned(levels[level].start));
   setUniform(program, "u_count", unsigned(levels[level].count));
+  setUniform(program, "u_anisotropic", anisotropic ? 1 : 0);
+  setUniform(program, "u_childrenAreVoxels", level + 1 == depth ? 1 : 0);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DIRECTIONAL_VALUES, directional.id());
   dispatchCompute({int(levels[level].count), 1, 1}, {64, 1, 1});
   barrierAll();
   writeDense(k + 1);
   ctx.stats["level_filtered"] = level;
+  ctx.stats["anisotropic"] = anisotropic ? 1 : 0;
   ctx.stats["levels_done"] = k + 2;
 }
 
@@ -497,15 +530,25 @@ static TextureDesc brickPoolDesc(uint32_t bricks) {
   return d;
 }
 
+// The directional brick pool for 'bricks' bricks per direction: six parts stacked along z, part d
+// (+x -x +y -y +z -z) holding every brick's direction d at the place bricksPerAxis gives it.
+static TextureDesc directionalPoolDesc(uint32_t bricks) {
+  TextureDesc d = brickPoolDesc(bricks);
+  d.size.z *= 6;
+  return d;
+}
+
 void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(brickPoolFractionParam());
   b.param(layoutParam());
   b.param(filterParam());
+  b.param(mipmapModeParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
   b.read("svo-values");
+  b.read("svo-directional-values");
   b.read("svo-groups");  // svo-build's last level: prefix sums of the tagged voxels per group of 64
   b.write("svo-brick-counters");
   b.output("svo-brick-index", OutputKind::Buffer, Semantic::Scalar,
@@ -516,7 +559,13 @@ void BricksStage::declare(StageBuilder& b) const {
            "radiance + opacity; borders = means of the nodes sharing the texel");
   // The brick pool is sized from the tagged-node count at run time: declared as a pool texture
   // whose start is the smallest pool (the zero brick and the root's).
+  b.output("svo-directional-bricks", OutputKind::Volume3D, Semantic::Color,
+           "the directional bricks (mipmap.mode=anisotropic): six parts stacked along z (+x, -x, +y, -y, +z, -z), each "
+           "with one 3x3x3 brick per node above the voxels at the place of its brick number; the node as seen by a "
+           "cone travelling that way, borders = means of the nodes sharing the texel (one empty brick when isotropic)");
   b.texture("svo-brick-pool", [](const ParamSet&, const ViewState&) { return brickPoolDesc(2); }, /*pool=*/true);
+  b.texture("svo-directional-bricks", [](const ParamSet&, const ViewState&) { return directionalPoolDesc(1); },
+            /*pool=*/true);
   b.buffer("svo-brick-index", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
   b.buffer("svo-brick-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
 }
@@ -546,6 +595,17 @@ void BricksStage::execute(StageContext& ctx) {
   Texture& pool = ctx.board.ensureTexture("svo-brick-pool", brickPoolDesc(capacity));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(pool.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  // The directional pool: the bricks above the voxels (numbers 1 .. tiles) and the zero brick.
+  const bool anisotropic = anisotropicBricks(ctx.params);
+  const uint32_t tiles = (nodes - 1) / 8;  // the pool is the root + 8 nodes per tile
+  const uint32_t directionalBricks = anisotropic ? tiles + 1 : 1;
+  const glm::ivec3 directionalAxis = bricksPerAxis(directionalBricks);
+  if (3 * 6 * directionalAxis.z > maxSize)
+    throw Error("svo-bricks: the directional brick pool needs " + std::to_string(3 * 6 * directionalAxis.z) +
+                " texels along z, beyond GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize) +
+                " (use a lower voxel.resolution or mipmap.mode=isotropic)");
+  Texture& directional = ctx.board.ensureTexture("svo-directional-bricks", directionalPoolDesc(directionalBricks));
+  glClearTexImage(directional.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   Buffer& index = ctx.board.ensureBuffer("svo-brick-index", size_t(nodes) * 4);
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
@@ -557,7 +617,9 @@ void BricksStage::execute(StageContext& ctx) {
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_layoutTile", tile ? 1 : 0);
   setUniform(program, "u_leafStart", unsigned(levels[depth].start));
-  setUniform(program, "u_tiles", unsigned((nodes - 1) / 8));  // the pool is the root + 8 nodes per tile
+  setUniform(program, "u_tiles", unsigned(tiles));
+  setUniform(program, "u_anisotropic", anisotropic ? 1 : 0);
+  setUniform(program, "u_directionalPerAxis", directionalAxis);
   const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
   setUniform(program, "u_gaussian", gaussian ? 1 : 0);
   glUseProgram(program);
@@ -566,7 +628,10 @@ void BricksStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, index.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, ctx.board.buffer("svo-groups").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DIRECTIONAL_VALUES,
+                   ctx.board.buffer("svo-directional-values").id());
   glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(1, directional.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
   setUniform(program, "u_pass", 1);
   glUseProgram(program);
   // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
@@ -592,17 +657,26 @@ void BricksStage::execute(StageContext& ctx) {
                 ctx.params.desc("svo.brick-pool-fraction").format(fraction) + "; 1 sizes the pool exactly)");
   ctx.stats["bricks"] = tagged;
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
+  ctx.stats["directional_bricks"] = anisotropic ? tiles : 0;
+  ctx.stats["directional_brick_pool_bytes"] = anisotropic ? double(directional.byteSize()) : 0.0;
+  const double bricksBytes = double(pool.byteSize()) + ctx.stats["directional_brick_pool_bytes"];
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
-  ctx.stats["octree_bytes"] = double(pool.byteSize()) + double(nodes) * (sizeof(SvoNode) + 4);
+  ctx.stats["octree_bytes"] = bricksBytes + double(nodes) * (sizeof(SvoNode) + 4);
   // What the cone tracer reads: Layout T never descends to the voxel level, whose nodes only carry
   // the leaf values into the filter (they could be dropped after this stage).
   const double tracedNodes = tile ? double(levels[depth].start) : double(nodes);
-  ctx.stats["traced_octree_bytes"] = double(pool.byteSize()) + tracedNodes * (sizeof(SvoNode) + 4);
-  // The dense comparison: vct-grid's radiance mip chain at this resolution (RGBA8, all levels).
-  double dense = 0.0;
+  ctx.stats["traced_octree_bytes"] = bricksBytes + tracedNodes * (sizeof(SvoNode) + 4);
+  // The dense comparison: vct-grid's radiance mip chain at this resolution (RGBA8, all levels),
+  // and with anisotropic mips also its six directional chains of half the edge.
+  double dense = 0.0, directionalDense = 0.0;
   for (int r = ctx.params.getInt("voxel.resolution"); r >= 1; r /= 2) dense += 4.0 * double(r) * r * r;
+  for (int r = ctx.params.getInt("voxel.resolution") / 2; r >= 1; r /= 2) directionalDense += 6 * 4.0 * double(r) * r * r;
   ctx.stats["dense_mip_chain_bytes"] = dense;
   ctx.stats["traced_octree_over_dense"] = ctx.stats["traced_octree_bytes"] / dense;
+  if (anisotropic) {
+    ctx.stats["dense_anisotropic_chain_bytes"] = dense + directionalDense;
+    ctx.stats["traced_octree_over_dense_anisotropic"] = ctx.stats["traced_octree_bytes"] / (dense + directionalDense);
+  }
 }
 
 // --- svo-pick --------------------------------------------------------------------------------------
@@ -665,6 +739,12 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(dilateParam());
   b.param(layoutParam());
+  b.param(mipmapModeParam());
+  b.param(ParamDesc::boolean("svo.voxel-halo", true,
+                             "read a voxel without a brick (empty, or no node there) as the dense grid does: the "
+                             "trilinear blend of the eight voxels around the sample, found in the octree, so a cone "
+                             "starting next to a surface sees it in its first voxel as in vct-grid (Layout N without "
+                             "dilation; off: such a voxel reads 0, and stair bands run along the edges: the note's P2)"));
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
@@ -686,7 +766,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("svo-levels");
   b.read("svo-counters");
   b.read("svo-brick-index");
+  b.read("svo-values");
   b.read("svo-brick-pool");
+  b.read("svo-directional-bricks");
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -757,6 +839,8 @@ void ConeTraceStage::execute(StageContext& ctx) {
                                        : std::vector<glm::vec4>(1, glm::vec4(0.0f));
 
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;
+  glm::ivec3 directionalAxis = ctx.board.texture("svo-directional-bricks").desc().size / 3;
+  directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
   const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
@@ -767,7 +851,12 @@ void ConeTraceStage::execute(StageContext& ctx) {
     setUniform(program, "u_depth", depth);
     setUniform(program, "u_bricksPerAxis", brickAxis);
     setUniform(program, "u_dilated", ctx.params.getBool("svo.dilate") ? 1 : 0);
+    // With dilation every voxel next to a filled one has its brick: the halo reads would add 0.
+    setUniform(program, "u_voxelHalo",
+               ctx.params.getBool("svo.voxel-halo") && !ctx.params.getBool("svo.dilate") && !tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
+    setUniform(program, "u_anisotropic", anisotropicBricks(ctx.params) ? 1 : 0);
+    setUniform(program, "u_directionalPerAxis", directionalAxis);
     glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
     setUniform(program, "u_aoConeCount", aoCount);
     setUniform(program, "u_aoAperture", aoAperture);
@@ -781,9 +870,11 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
   glBindTextureUnit(3, ctx.board.texture("albedo").id());
+  glBindTextureUnit(4, ctx.board.texture("svo-directional-bricks").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DESCENT, descent.id());
@@ -805,6 +896,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   cap(sampleCount, VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE);
   cap(descentCount, SVO_MAX_DESCENT_STEPS);
   ctx.stats["diffuse_cones"] = ctx.params.getInt("cone.count");
+  ctx.stats["anisotropic"] = anisotropicBricks(ctx.params) ? 1 : 0;
   ctx.stats["ao_cones"] = aoCount ? aoCount : ctx.params.getInt("cone.count");
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
   ctx.stats["probe_x"] = probe.x;

@@ -4,9 +4,12 @@
 //   The prefiltered voxels of vct-grid, stored sparsely: a node pool of 2x2x2 node tiles linked by
 //   child pointers, built top down one level per pass from the voxel fragment list, and a brick
 //   pool of 3x3x3 texels per node so that hardware trilinear filtering works inside a node. Leaves
-//   hold the fragments' direct light, inner nodes the box filter of their children; a cone sample
-//   descends from the root to the level of its diameter and blends two levels (quadrilinear).
-//   Empty space costs no nodes below the level where it becomes empty.
+//   hold the fragments' direct light, inner nodes the box filter of their children and, by default,
+//   six directional values (anisotropic mips, Crassin et al. 2011, as vct-grid's): each node above
+//   the voxels has six more bricks, one per travel direction; a cone sample descends from the root
+//   to the level of its diameter and blends two levels (quadrilinear), reading the three
+//   directional bricks that face the cone. Empty space costs no nodes below the level where it
+//   becomes empty.
 //
 // Overview (the stages, in order)
 //   1. voxelize        shared (techniques/common): triangles -> voxel fragment list
@@ -22,16 +25,22 @@
 //                      voxels off the voxel centre along the fragment's normal, so a voxel whose
 //                      centre lies behind its surface is not shadowed by it), exact fixed-point
 //                      sums per leaf, then mean and opacity 1
-//   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; the
-//                      "svo-dense" view resamples each level into a mip of a 3D texture
+//   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; with
+//                      mipmap.mode=anisotropic (default) also its six directional values, the
+//                      children composited front to back along each axis, then averaged
+//                      (common/anisotropic_mip.glsl, shared with vct-grid); the "svo-dense" view
+//                      resamples each level (isotropic) into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
-//                      (svo.layout=tile: one per subdivided node, at its children's corners)
+//                      (svo.layout=tile: one per subdivided node, at its children's corners); with
+//                      anisotropic mips six more per tagged node above the voxels, in a second pool
+//                      (svo-directional-bricks), made the same way from the directional values
 //      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
 //                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
 //   8. svo-cone-trace  vct-grid's cones through the octree (the shared cone set-up,
-//                      common/cone_setup.*, with vct-grid's defaults: 6 cones of 45 degrees, up to
-//                      1.75 volume edges); AO; probe records (samples, descents)
+//                      common/cone_setup.*, with vct-grid's defaults); above the voxels the three
+//                      directional bricks facing the cone, weighted dir^2 as vct-grid's; AO; probe
+//                      records (samples, descents)
 //   9. composite       vct-grid's composite, or the AO image as the final one (svo.shading=ao)
 //
 // Details
@@ -71,6 +80,26 @@
 //     falloff f(r) = 1 / (1 + lambda r), r in voxels, lambda = ao.falloff (default 0). ao.jitter
 //     (off) turns every pixel's cone frame about the normal by a fixed hash of the pixel (the same
 //     image every run; the seed gives no jitter pattern): banding becomes noise, the mean stays.
+//   - Anisotropic bricks (mipmap.mode=anisotropic, the default; Layout N only): a node above the
+//     voxels has six directional values, built from its children as vct-grid builds its
+//     directional mips (from the voxels' values for level D - 1, else from the children's own
+//     directional values; absent children count 0), and six bricks of them in
+//     svo-directional-bricks, numbered as its isotropic brick (1 + its tile), part d of the pool
+//     stacked along z, so the sign of the cone's direction is an offset (no divergent branch on
+//     llvmpipe). The voxels stay isotropic: between level D - 1 and D a sample blends the
+//     directional value with the leaf, as vct-grid fades its voxels into directional level 1.
+//     With dilation svo's indirect light equals vct-grid's anisotropic one (max 0.0033 at 64^3,
+//     test SvoConeTrace.AnisotropicIndirectEqualsVctGridWithDilation). Memory: the directional
+//     pool is 6 bricks per inner node, about 1.2-1.5x the isotropic pool (docs/performance.md).
+//     mipmap.mode=isotropic keeps the box chain, exactly vct-grid's isotropic mips.
+//   - Voxel halo (svo.voxel-halo, on): a sample whose fine level is the voxels and whose voxel has
+//     no brick (empty, or no node: Layout N has bricks on non-empty nodes only) reads the dense
+//     grid's trilinear blend of the eight voxels around it, found in the octree (from the deepest
+//     node of the descent, through the closest common ancestor); without it such a voxel reads 0
+//     and a cone that starts in it misses the surface next to it: stair bands along the short
+//     box's base on the Cornell box (0.055 off vct-grid's final image, 0.016 with the halo). It
+//     costs CPU time: a 512x512 run --final-only on one thread 2.9 s instead of 2.0 s. Above the voxels the same gap remains (P2):
+//     svo.dilate=true closes it everywhere.
 //   - Layout T (svo.layout=tile, Crassin/Gomes): one brick per subdivided node (tagged, above the
 //     voxels), texel t at its children's corner 2 cell + t holding the mean of the 8 child-level
 //     cells around that corner (clamped to the volume like Layout N's borders); a sample of level l
