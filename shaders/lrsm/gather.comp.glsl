@@ -27,7 +27,12 @@ layout(std430, binding = LRSM_BINDING_CONE_RESULTS) writeonly buffer Cones { Lrs
 
 uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_smoothFalloff, u_maxSteps, u_traceScale;
 uniform int u_traceSpecular;  // 1: trace the specular cone
-uniform int u_normalised;  // 1: divide L by the sum of its weights f * alpha * V * N (Eq. 2's denominator)
+uniform int u_estimator;      // LRSM_ESTIMATOR_*: what a sample adds to Eq. 1 (src/techniques/lrsm/lrsm.h)
+uniform int u_windowLayers;   // 1: every layer whose texels' interval meets the depth window, f = 1; 0: Eq. 15
+uniform int u_litOcclusion;  // 1: a sample's opacity is at least the lit surface's coverage (coverage estimator)
+uniform int u_horizon;  // 1: the receiver's plane bounds what its diffuse cones see (cone.horizon)
+uniform int u_visibility;     // 1: Eq. 12 (Gaussian depth visibility); 0: V = 1 (every texel of the column)
+uniform float u_footprintBias;  // added to log2(d_circle): the LRSM level, blended between its two neighbours
 uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
 uniform float u_shadowLodBias;  // the shadow cone's (cone.shadow-lod-bias)
 uniform float u_diffuseTanHalf, u_specularTanHalf, u_shadowTanHalf;
@@ -43,11 +48,20 @@ float g_voxelMip = 0.0, g_alpha = 0.0, g_transmittance = 1.0;
 // Bilinear fetch of one layer's tile at an LRSM level, clamped half a texel inside the tile so
 // that the filter never reaches a neighbouring layer (the texture filters GL_LINEAR within the
 // level, GL_LINEAR_MIPMAP_NEAREST picks exactly 'level').
-vec4 fetchLayer(sampler2D s, int layer, int level, vec2 uv) {
+vec4 fetchLayerLevel(sampler2D s, int layer, int level, vec2 uv) {
   float w = float(max(u_layerWidth >> level, 1));
   float layers = float(u_depthIntervals * u_normalIntervals);
   vec2 inTile = clamp(uv, vec2(0.5 / w), vec2(1.0 - 0.5 / w));
   return textureLod(s, vec2((float(layer) + inTile.x) / layers, inTile.y), float(level));
+}
+// The layer at a fractional level: its two neighbouring levels blended (trilinear, written out:
+// each level clamped inside its own tile), so that the footprint grows smoothly with the sphere
+// and no level switch draws a ring on a receiver.
+vec4 fetchLayer(sampler2D s, int layer, float level, vec2 uv) {
+  int l0 = int(floor(level));
+  int l1 = min(l0 + 1, u_lrsmLevels - 1);
+  float t = level - float(l0);
+  return mix(fetchLayerLevel(s, layer, l0, uv), fetchLayerLevel(s, layer, l1, uv), t);
 }
 
 // Where p lies in the light's image (the RSM is twice a layer's width): one view, or the cube
@@ -59,45 +73,85 @@ vec2 lightUV(vec3 p) {
   return uvz.xy;
 }
 
-// Algorithm 1: the radiance L_i of the sphere (xc, rc) toward the receiver p.
-vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
+// Does depth interval d's texel range (its classification interval; the first and last open
+// toward zNear and zFar) meet [z0, z1]?
+bool intervalMeets(int d, float z0, float z1) {
+  float w = (u_zFar - u_zNear) / float(u_depthIntervals);
+  float lo = d == 0 ? -1e30 : u_zNear + w * float(d);
+  float hi = d + 1 == u_depthIntervals ? 1e30 : u_zNear + w * float(d + 1);
+  return z1 >= lo && z0 <= hi;
+}
+
+// Algorithm 1 for the sphere (xc, rc) seen from the receiver p: what the sample adds to Eq. 1
+// before the transmittance (rgb) and the opacity it would carry (a) by the estimator chosen:
+//   coverage   sum_l A*R V <n.v> / <n.l>: the lit surface's radiance times the fraction of the
+//              cone's cross-section it covers (Eq. 3's Jacobian r^2 / <n.l> turns light-image
+//              area into surface area, <n.v> projects it toward the receiver); the depth window
+//              is half a step wide each side, so consecutive samples count a surface once.
+//   paper      sum_l f A*R V N as printed; the caller multiplies it by alpha_i.
+vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 litCoverage) {
+  litCoverage = vec2(0.0);
   vec2 uv = lightUV(xc);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   // Two directions perpendicular to the light ray through xc; the projected radius is their mean.
-  vec3 ray = u_light.positionType.w > VOXLAB_LIGHT_POINT + 0.5 ? normalize(xc - u_light.positionType.xyz)
-                                                                 : u_light.directionRange.xyz;
+  bool spot = u_light.positionType.w > VOXLAB_LIGHT_POINT + 0.5;
+  vec3 ray = spot ? normalize(xc - u_light.positionType.xyz) : u_light.directionRange.xyz;
   vec3 e1 = normalize(cross(ray, abs(ray.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
   vec3 e2 = cross(ray, e1);
   float uvRadius = 0.5 * (length(lightUV(xc + rc * e1) - uv) + length(lightUV(xc + rc * e2) - uv));
   float dCircle = 2.0 * uvRadius * float(u_layerWidth);
-  int level = clamp(int(ceil(log2(max(dCircle, 1.0)))), 0, u_lrsmLevels - 1);
+  float level = clamp(log2(max(dCircle, 1.0)) + u_footprintBias, 0.0, float(u_lrsmLevels - 1));
   float zc = lightDepth(xc);
   vec3 vc = normalize(p - xc);
+  vec3 toLight = -ray;
+  bool coverage = u_estimator == LRSM_ESTIMATOR_COVERAGE;
+  // Half-width of the depth window: the sphere's radius (Algorithm 1) or half the step (coverage).
+  float halfWindow = coverage ? 0.5 * stepLength : rc;
   vec3 L = vec3(0.0);
-  float weights = 0.0;
   for (int d = 0; d < u_depthIntervals; ++d) {
-    float f = layerFalloff(d, zc, u_smoothFalloff == 1);
+    float f = u_windowLayers == 1 ? (intervalMeets(d, zc - halfWindow, zc + halfWindow) ? 1.0 : 0.0)
+                                  : layerFalloff(d, zc, u_smoothFalloff == 1);
     float lo, hi;
     layerRange(d, lo, hi);
-    float zw = (zc - lo) / (hi - lo), rw = rc / (hi - lo);
+    float zw = (zc - lo) / (hi - lo), rw = halfWindow / (hi - lo);
     for (int m = 0; m < u_normalIntervals; ++m) {
       int l = d * u_normalIntervals + m;
-      float N = 0.0, mu = 0.0, sigma2 = 0.0, V = 0.0;
+      float N = 0.0, mu = 0.0, sigma2 = 0.0, V = 0.0, jacobian = 1.0;
       vec4 ar = vec4(0.0);
       vec3 add = vec3(0.0);
       if (f > 0.0) {
         vec4 nm = fetchLayer(u_lrsmNormal, l, level, uv);
         float alpha = nm.w;
         if (alpha > 1e-4) {
-          N = dot(nm.xyz / alpha, vc);
           vec4 mo = fetchLayer(u_lrsmMoments, l, level, uv);
           mu = mo.x / alpha;
           sigma2 = max(mo.y / alpha - mu * mu, u_minVariance);
-          if (N > 0.0) {
-            V = gaussianVisibility(zw, rw, mu, sigma2);
-            ar = fetchLayer(u_lrsmRadiance, l, level, uv);
-            if (V > 0.0) add = f * ar.rgb * V * N;
-            if (V > 0.0) weights += f * alpha * V * N;
+          vec3 nMean = nm.xyz / alpha;
+          // coverage: the receiver seen from the layer's mean surface point on the light ray
+          // through x_c (depth mu), not from x_c: a sphere that holds the receiver's own plane
+          // then sees it edge-on (N near 0), neither lit nor blocking.
+          vec3 xs = xc + ray * (lo + mu * (hi - lo) - zc);
+          N = dot(nMean, coverage ? normalize(p - xs) : vc);
+          // A surface behind the receiver's plane, or in it, is below its horizon: it neither
+          // lights nor shades the hemisphere (the receiver's own plane and the other faces of a
+          // box, seen by the light at grazing angles, would).
+          if (coverage && u_horizon == 1 && dot(xs - p, pn) < LRSM_HORIZON_VOXELS * u_voxelSize) N = 0.0;
+          // Algorithm 1 culls back faces; the coverage estimator keeps them as occluders.
+          if (coverage ? N != 0.0 : N > 0.0) {
+            V = u_visibility == 1 ? gaussianVisibility(zw, rw, mu, sigma2) : 1.0;
+            // <n.l> of the layer's mean normal, floored: R carries <n.l>, so A*R / <n.l> stays
+            // bounded as the surface turns edge-on to the light.
+            jacobian = coverage ? 1.0 / max(dot(nMean, toLight), LRSM_MIN_NDOTL) : 1.0;
+            if (coverage) {
+              // The fraction of the cone's cross-section the lit surface covers: x facing the
+              // receiver, y facing away (which sends nothing but blocks: a lit wall between rooms).
+              float c = f * alpha * V * abs(N) * jacobian;
+              litCoverage += N > 0.0 ? vec2(c, 0.0) : vec2(0.0, c);
+            }
+            if (N > 0.0 && V > 0.0) {
+              ar = fetchLayer(u_lrsmRadiance, l, level, uv);
+              add = f * ar.rgb * V * N * jacobian;
+            }
           }
         }
       }
@@ -106,12 +160,12 @@ vec3 sampleLrsm(vec3 xc, float rc, vec3 p) {
         uint k = atomicAdd(gatherCount, 1u);
         if (k < uint(LRSM_MAX_GATHER_RECORDS))
           gather[k] = LrsmGatherRecord(vec4(xc, rc), vec4(float(g_cone), float(g_step), g_voxelMip, g_alpha),
-                                       vec4(g_transmittance, uv, float(level)), vec4(float(l), f > 0.0 ? 1.0 : 0.0, f, N),
-                                       vec4(mu, sigma2, V, zw), ar, vec4(add, rw), vec4(dCircle, zc, 0.0, 1.0));
+                                       vec4(g_transmittance, uv, level), vec4(float(l), f > 0.0 ? 1.0 : 0.0, f, N),
+                                       vec4(mu, sigma2, V, zw), ar, vec4(add, rw), vec4(dCircle, zc, jacobian, 1.0));
       }
     }
   }
-  return u_normalised == 1 ? (weights > 1e-6 ? L / weights : vec3(0.0)) : L;
+  return L;
 }
 
 // Marches one cone from p (normal n) along dir; returns I (rgb, Eq. 1) and the opacity (a).
@@ -131,11 +185,28 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radi
     float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
     if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { left = true; break; }
     float mip = clamp(log2(diameter / u_voxelSize) + lodBias, 0.0, float(u_voxelLevels - 1));
+    if (radiance && u_horizon == 1) {
+      // The receiver's own surface does not occlude its hemisphere: the filter stays above the
+      // plane. A texel of edge s holding a surface voxel has its centre at most s/2 + 1 voxel from
+      // the surface and the trilinear filter reaches one texel, so s <= (h - voxel) / 1.5.
+      float h = dot(x - p, n);
+      mip = min(mip, max(log2(max(h - u_voxelSize, 0.0) / (1.5 * u_voxelSize)), 0.0));
+    }
     float a = textureLod(u_occlusion, uvw, mip).r;
     float stepLength = diameter * u_stepScale;
     a = 1.0 - pow(max(1.0 - a, 0.0), stepLength / (u_voxelSize * exp2(mip)));
     g_record = record; g_cone = coneIndex; g_step = step; g_voxelMip = mip; g_alpha = a; g_transmittance = T;
-    if (radiance && a > 0.0) I += T * a * sampleLrsm(x, 0.5 * diameter, p);
+    // coverage: the sample's own estimate of the lit surface it holds, weighted by the
+    // transmittance in front of it; paper: Eq. 1 with L_i from Algorithm 1.
+    if (radiance) {
+      vec2 lit;
+      if (u_estimator == LRSM_ESTIMATOR_COVERAGE) {
+        I += T * sampleLrsm(x, 0.5 * diameter, stepLength, p, n, lit);
+        // Eq. 1's alpha_i: the voxels' opacity, or the lit surfaces' coverage where that is more
+        // (a lit surface blocks what lies behind it; the isotropic mips of a thin wall let most through).
+        if (u_litOcclusion == 1) a = max(a, min(lit.x + lit.y, 1.0));
+      } else if (a > 0.0) I += T * a * sampleLrsm(x, 0.5 * diameter, stepLength, p, n, lit);
+    }
     T *= 1.0 - a;
     steps = step + 1;
     if (record) {

@@ -23,13 +23,17 @@
 //   7. lrsm-mips         box mips of every layer and the sum of coverage; one level per iteration
 //   8. gbuffer           position, normal, albedo from the camera (shared)
 //   9. cone-gather       6 x 60 deg diffuse, 1 x 10 deg specular and 1 shadow cone per pixel:
-//                        Eq. 1 with alpha from the occlusion mips and L from Algorithm 1
+//                        Eq. 1 with, per sample, the lit surface's coverage x radiance from the
+//                        layers (Algorithm 1's terms and Eq. 3's Jacobian) and alpha the larger
+//                        of the occlusion mips' and the lit coverage
 //  10. composite         direct (shadow map; the shadow cone as a variant) + indirect diffuse, tonemapped
 //
 // Details
 //   - Every decision the paper leaves open is listed, with its constant, in lrsm.h (layers,
 //     boundaries, light depth, overlap and falloff k, warp of z_c and r_c, premultiplied storage,
-//     variance floor, Eq. 12 by erf, cone weights, step and alpha correction, footprint to mip).
+//     variance floor, Eq. 12 by erf, the estimator, the layers read, the receiver's horizon,
+//     cone weights, step and alpha correction, footprint to level); docs/lrsm.md says why and
+//     what each measured.
 //   - Sum identity: texels go to exactly one layer and are stored premultiplied, so summed over
 //     the layers, LRSM level m equals the plain RSM's 2x2 box mip at level m + 1 (tested).
 //   - Equation 12 uses z_c and r_c warped into the layer's range, the units mu and sigma^2 are in.

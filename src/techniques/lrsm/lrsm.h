@@ -28,12 +28,33 @@
 //                  can move E[z^2] - mu^2 at alpha = 1/4).
 //   Eq. 12         Phi from erf (Abramowitz-Stegun 7.1.26, |error| < 1.5e-7) instead of a table.
 //   normal term    N = <n_mip/alpha . v_c> without renormalising n (Algorithm 1 divides by alpha only).
-//   estimator      Eq. 2 defines L as a weighted *mean* (divided by the integral of w' = w V <n.v>);
-//                  Algorithm 1 returns the numerator only (L += f A*R V N), which multiplies alpha_i
-//                  by two more fractions. Default lrsm.estimator=normalised: Algorithm 1's sum divided
-//                  by sum_l f alpha_l V_l N_l, Eq. 2's mean radiance of the surface in the sphere;
-//                  lrsm.estimator=paper keeps the sum as printed. Measured on the Cornell box against
-//                  the path tracer's indirect-1 (64^3, RSM 128, 128x128): mean ratio 0.34 vs 0.024.
+//   estimator      lrsm.estimator=coverage (default): what a sphere sample adds to Eq. 1 is
+//                  T_i * sum_l A*R V <n.v> / <n.l>. Algorithm 1's sum A*R V N is already coverage
+//                  times radiance (A V: the fraction of the sample's light-image footprint whose
+//                  lit surface lies in its depth window); Eq. 3's Jacobian r^2 / <n.l> turns that
+//                  light-image area into surface area and <n.v> projects it toward the receiver,
+//                  so A V <n.v> / <n.l> is the fraction of the cone's cross-section the surface
+//                  covers (summed over samples whose depth windows, half a step each side, tile
+//                  the cone, an infinite plane counts once whatever its tilt). <n.l> is the
+//                  layer's mean normal's, floored at 0.1 (LRSM_MIN_NDOTL); v points to the
+//                  receiver from the layer's mean surface point (depth mu on the light ray
+//                  through x_c), not from x_c. Eq. 1's alpha_i is the larger of the voxels'
+//                  opacity and the lit surfaces' coverage, either facing (lrsm.lit-occlusion):
+//                  a lit surface blocks what lies behind it, where a thin wall's isotropic mips
+//                  let most through. lrsm.estimator=paper multiplies Algorithm 1's sum (window =
+//                  the radius) by the voxels' alpha_i: coverage counted twice, 0.02-0.10 of
+//                  the reference on the suite (docs/lrsm.md).
+//   layers read    lrsm.layer-select=window (default): every layer whose texels' depth interval
+//                  meets the sample's depth window, weight 1 (each texel lies in one layer, so
+//                  this counts every texel in the window once); =overlap: Eq. 15's falloff over
+//                  the layers whose range holds z_c, made for texels written to both layers of
+//                  an overlap, which halves the light on a band around each depth boundary.
+//   horizon        cone.horizon (default on): the receiver's plane bounds what its cones see.
+//                  A radiance cone's occlusion lookup takes a finer mip where the coarse one's
+//                  filter would reach the plane (a texel of edge s holding a surface voxel has
+//                  its centre within s/2 + 1 voxel of the surface, the trilinear filter reaches
+//                  one texel: s <= (h - voxel) / 1.5); layers whose mean surface point lies less
+//                  than 2 voxels above the plane (LRSM_HORIZON_VOXELS) neither light nor block.
 //   cones          6 diffuse cones of 60 degrees (full apex angle), one along the normal and five at
 //                  60 degrees from it; weights pi * cos(tilt) / sum cos(tilt): each is proportional
 //                  to the cone cap's exact cosine integral pi sin^2(half) cos(tilt), and they sum
@@ -55,8 +76,10 @@
 //                  docs/fidelity.md);
 //                  alpha corrected to the step: 1 - (1 - a)^(step / texel size at that mip).
 //   footprint      d_circle = diameter of the sphere projected into the light's image, in LRSM base
-//                  texels; LRSM mip = ceil(log2(d_circle)) clamped to the chain (the first level
-//                  whose texel is at least the circle), bilinear within the layer's tile.
+//                  texels; LRSM level = log2(d_circle) + lrsm.footprint-bias (default -1: the
+//                  bilinear filter's support, two texels, equals the circle), fractional: the two
+//                  neighbouring levels, each bilinear within the layer's tile, blended (an integer
+//                  level switches along a receiver and draws rings).
 //   layout         the n layers of one attribute lie side by side in one 2D texture (layer l covers
 //                  x in [l W, (l+1) W)); a box mip of it is the per-layer box mip, since no 2x2
 //                  block straddles two tiles while W is a power of two (semantic "lrsm-layers").

@@ -292,7 +292,7 @@ void LrsmMipsStage::execute(StageContext& ctx) {
   Texture& baseRad = ctx.board.texture("layer-radiance");
   const glm::ivec3 base = baseRad.desc().size;
   const int w = base.y, n = base.x / base.y, levels = lrsmLevels(w);
-  // Filtered within a level (the gather's bilinear lookups), never across levels.
+  // Filtered within a level (the gather's bilinear lookups, blended across two levels by the shader).
   Texture& rad = ctx.board.ensureTexture("lrsm-radiance", lrsmMipDesc(base, GL_RGBA16F));
   Texture& nor = ctx.board.ensureTexture("lrsm-normal", lrsmMipDesc(base, GL_RGBA16F));
   Texture& dep = ctx.board.ensureTexture("lrsm-depth", lrsmMipDesc(base, GL_RGBA16));
@@ -335,11 +335,29 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                             "k of Eq. 15 across an overlap (both satisfy k(t) + k(1 - t) = 1)"));
   b.param(ParamDesc::real("lrsm.min-variance", kDefaultMinVariance, 1e-7, 0.01,
                           "floor of sigma^2 in warped depth units (UNORM16 moments move E[z^2] - mu^2 by up to 9.2e-5)"));
-  b.param(ParamDesc::choice("lrsm.estimator", {"paper", "normalised"}, 1,
-                            "L_i as Algorithm 1 sums it (paper: f A*R V N) or divided by the sum of f alpha V N "
-                            "(normalised: Eq. 2's mean radiance of the surface in the sphere)"));
+  b.param(ParamDesc::choice("lrsm.estimator", {"coverage", "paper"}, 0,
+                            "what a sphere sample adds to Eq. 1: coverage = T_i * sum_l A*R V <n.v> / <n.l> (the lit "
+                            "surface's radiance times the fraction of the cone it covers, depth window half a step); "
+                            "paper = T_i * alpha_i * sum_l f A*R V N (Algorithm 1 as printed, window = the radius)"));
+  b.param(ParamDesc::choice("lrsm.layer-select", {"window", "overlap"}, 0,
+                            "layers a sample reads: window = every layer whose texels' depth interval meets the "
+                            "sample's depth window, weight 1 (texels lie in one layer each); overlap = the layers "
+                            "whose range holds z_c, weighted by Eq. 15's falloff (the paper's, made for texels "
+                            "written to both layers of an overlap)"));
+  b.param(ParamDesc::boolean("lrsm.lit-occlusion", true,
+                             "coverage estimator: a sample's opacity is at least the coverage of the lit surfaces in its "
+                             "window (either facing), so a lit slab blocks the cones the voxel mips let through"));
+  b.param(ParamDesc::boolean("lrsm.visibility", true,
+                             "Eq. 12's Gaussian depth visibility; off: V = 1, every texel of the sample's column counts"));
+  b.param(ParamDesc::real("lrsm.footprint-bias", -1.0, -2.0, 2.0,
+                          "added to log2(d_circle), the LRSM level of a sample (blended between two levels)"));
   b.param(ParamDesc::real("cone.step", 1.0, 0.1, 2.0,
                           "step between sphere samples as a fraction of the diameter (1: touching spheres, as SRS14 Fig. 4)"));
+  b.param(ParamDesc::boolean("cone.horizon", true,
+                             "the receiver's plane bounds what its diffuse cones see: occlusion lookups take a finer mip "
+                             "where the coarse one would reach the plane, and lit surfaces whose mean point lies less than "
+                             "2 voxels above it are skipped (its own voxels shaded every cone near the surface, in stripes "
+                             "where a face crosses voxel columns; the other faces of a box, lit at grazing angles, blotched it)"));
   b.param(ParamDesc::real("cone.start", 1.5, 0.0, 8.0, "distance of the first sample from the surface", "voxels"));
   b.param(ParamDesc::real("cone.lod-bias", 0.0, -2.0, 2.0, "added to the voxel mip log2(diameter / voxel)"));
   b.param(ParamDesc::integer("cone.max-steps", 32, 1, LRSM_MAX_STEPS,
@@ -385,7 +403,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   auto& gr = b.output("gather-records", OutputKind::Buffer, kGatherRecords,
                       "Algorithm 1 per layer for every sphere sample of the probed pixel: x_c r_c, cone/sample/voxel "
                       "mip/alpha, transmittance/RSM uv/LRSM mip, layer/in range/f/N, mu/sigma^2/V/z', A*R/alpha, "
-                      "contribution/r', d_circle/z_c/L_i");
+                      "contribution/r', d_circle/z_c/Jacobian 1 / <n.l>");
   gr.layout = g;
   gr.probeRecord = true;
   BufferLayout c;
@@ -446,7 +464,13 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_smoothFalloff", ctx.params.getChoice("lrsm.falloff") == "smoothstep" ? 1 : 0);
   setUniform(program, "u_minVariance", ctx.params.getFloat("lrsm.min-variance"));
   setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_normalised", ctx.params.getChoice("lrsm.estimator") == "normalised" ? 1 : 0);
+  setUniform(program, "u_estimator",
+             ctx.params.getChoice("lrsm.estimator") == "paper" ? LRSM_ESTIMATOR_PAPER : LRSM_ESTIMATOR_COVERAGE);
+  setUniform(program, "u_windowLayers", ctx.params.getChoice("lrsm.layer-select") == "window" ? 1 : 0);
+  setUniform(program, "u_litOcclusion", ctx.params.getBool("lrsm.lit-occlusion") ? 1 : 0);
+  setUniform(program, "u_horizon", ctx.params.getBool("cone.horizon") ? 1 : 0);
+  setUniform(program, "u_visibility", ctx.params.getBool("lrsm.visibility") ? 1 : 0);
+  setUniform(program, "u_footprintBias", ctx.params.getFloat("lrsm.footprint-bias"));
   setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
   setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
   setUniform(program, "u_shadowLodBias", ctx.params.getFloat("cone.shadow-lod-bias"));

@@ -4,7 +4,8 @@
 // mip, alpha and transmittance, its RSM footprint and LRSM mip, then per layer in range, f, N, mu,
 // sigma^2, V, A*R and the contribution. The check asserts what the gather must keep: f, V, alpha
 // and transmittance in [0,1], sigma^2 >= 0, transmittance non-increasing along a cone, and each
-// contribution = f * A*R * V * N of its own terms.
+// contribution = f * A*R * V * N * J of its own terms (J: the coverage estimator's Jacobian
+// 1 / <n.l>, 1 for Algorithm 1 as printed).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -56,10 +57,11 @@ class GatherVisualiser : public BufferVisualiser {
       }
       lastT[cone] = T;
       for (int k = 0; k < 3; ++k) {
-        const float expect = (r[kLayer][1] > 0.5f && N > 0.0f && V > 0.0f) ? f * r[kCoverage][k] * V * N : 0.0f;
-        // fp32 products of the same four factors in another order: a few ulps.
+        const float J = r[kFootprint][2];
+        const float expect = (r[kLayer][1] > 0.5f && N > 0.0f && V > 0.0f) ? f * r[kCoverage][k] * V * N * J : 0.0f;
+        // fp32 products of the same five factors in another order: a few ulps.
         if (std::fabs(r[kContribution][k] - expect) > 1e-5f * std::max(1.0f, std::fabs(expect))) {
-          std::snprintf(buf, sizeof buf, "record %zu: contribution %.6g is not f * A*R * V * N = %.6g", i,
+          std::snprintf(buf, sizeof buf, "record %zu: contribution %.6g is not f * A*R * V * N * J = %.6g", i,
                         r[kContribution][k], expect);
           c.error = buf;
         }
@@ -94,9 +96,9 @@ class GatherVisualiser : public BufferVisualiser {
           char head[256];
           std::snprintf(head, sizeof head,
                         "sample %d: x_c (%.3f, %.3f, %.3f) r_c %.3f, voxel mip %.2f, alpha %.3f, T %.3f, uv (%.3f, %.3f), "
-                        "d_circle %.2f, LRSM mip %d, z_c %.3f", sample, r[kCentre][0], r[kCentre][1], r[kCentre][2],
+                        "d_circle %.2f, LRSM level %.2f, z_c %.3f", sample, r[kCentre][0], r[kCentre][1], r[kCentre][2],
                         r[kCentre][3], r[kCone][2], r[kCone][3], r[kMarch][0], r[kMarch][1], r[kMarch][2],
-                        r[kFootprint][0], int(r[kMarch][3]), r[kFootprint][1]);
+                        r[kFootprint][0], r[kMarch][3], r[kFootprint][1]);
           if (ImGui::TreeNode((void*)(intptr_t)(j + 1), "%s", head)) {
             if (ImGui::BeginTable("layers", 10, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg)) {
               for (const char* h : {"layer", "in range", "f", "N", "mu", "sigma^2", "z'", "V", "A*R", "contribution"})
