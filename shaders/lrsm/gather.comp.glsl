@@ -94,13 +94,17 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
   vec2 uv = lightUV(xc);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   // Two directions perpendicular to the light ray through xc; the projected radius is their mean.
-  bool spot = u_light.positionType.w > VOXLAB_LIGHT_POINT + 0.5;
-  vec3 ray = spot ? normalize(xc - u_light.positionType.xyz) : u_light.directionRange.xyz;
+  bool radial = u_light.positionType.w > VOXLAB_LIGHT_DIRECTIONAL + 0.5;  // spot or point
+  vec3 ray = radial ? normalize(xc - u_light.positionType.xyz) : u_light.directionRange.xyz;
   vec3 e1 = normalize(cross(ray, abs(ray.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
   vec3 e2 = cross(ray, e1);
   float uvRadius = 0.5 * (length(lightUV(xc + rc * e1) - uv) + length(lightUV(xc + rc * e2) - uv));
   float dCircle = 2.0 * uvRadius * float(u_layerWidth);
-  float level = clamp(log2(max(dCircle, 1.0)) + u_footprintBias, 0.0, float(u_lrsmLevels - 1));
+  // A point light's faces are tiles of the layer: a level whose texels span a tile would blend
+  // another face's surfaces into this one, so the level stops where a tile is 4 texels wide.
+  const float topLevel = u_light.positionType.w == VOXLAB_LIGHT_POINT
+                             ? max(floor(log2(float(u_layerWidth / 3))) - 2.0, 0.0) : float(u_lrsmLevels - 1);
+  float level = clamp(log2(max(dCircle, 1.0)) + u_footprintBias, 0.0, min(topLevel, float(u_lrsmLevels - 1)));
   float zc = lightDepth(xc);
   vec3 vc = normalize(p - xc);
   vec3 toLight = -ray;

@@ -27,7 +27,8 @@ static gpu::GpuLight readLight(Blackboard& board) {
   return light;
 }
 
-static bool isSpot(const gpu::GpuLight& light) { return light.positionType.w > VOXLAB_LIGHT_POINT + 0.5f; }
+// Spot and point lights measure depth radially from their position; a directional light along its direction.
+static bool radialDepth(const gpu::GpuLight& light) { return light.positionType.w > VOXLAB_LIGHT_DIRECTIONAL + 0.5f; }
 
 int lrsmLevels(int width) {
   int l = 1;
@@ -88,7 +89,7 @@ LayerLayout layoutFor(const Scene& scene, Blackboard& board, const ParamSet& par
   L.overlap = params.getFloat("lrsm.overlap");
   const gpu::GpuLight light = readLight(board);
   const glm::vec3 pos(light.positionType), dir(light.directionRange);
-  const bool spot = isSpot(light);
+  const bool spot = radialDepth(light);
   float lo = 1e30f, hi = -1e30f;
   const Bounds& b = scene.bounds;
   for (int i = 0; i < 8; ++i) {
@@ -194,7 +195,7 @@ void LayersStage::declare(StageBuilder& b) const {
   b.read("rsm-radiance");
   b.read("light");
   b.output("rsm-depth", OutputKind::Image2D, Semantic::Scalar,
-           "per RSM texel: x = light depth z (m; planar for a directional light, radial for a spot), y = <n.l>, "
+           "per RSM texel: x = light depth z (m; planar for a directional light, radial for a spot or point light), y = <n.l>, "
            "z = layer's warped depth z', 0 where empty");
   auto& id = b.output("layer-id", OutputKind::Image2D, kLayerId,
                       "layer of each RSM texel: depth interval * (b + 1) + <n.l> interval; 255 = empty");
@@ -257,7 +258,7 @@ void LayersStage::execute(StageContext& ctx) {
   ctx.stats["z_near_m"] = L.zNear;
   ctx.stats["z_far_m"] = L.zFar;
   ctx.stats["overlap_delta_m"] = L.delta();
-  ctx.stats["depth_radial"] = isSpot(light) ? 1 : 0;
+  ctx.stats["depth_radial"] = radialDepth(light) ? 1 : 0;
 }
 
 // --- LRSM mips --------------------------------------------------------------------------------------
