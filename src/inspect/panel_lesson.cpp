@@ -30,6 +30,8 @@ void Viewer::applyLessonStep(int i) {
   view.slice = SliceSpec{s.sliceAxis, s.sliceIndex};
   if (lessonStep < 0) wantTab = "lesson";
   lessonStep = i;
+  presenter.page = 0;  // a new step opens at its first page in presenter mode
+  presenter.pages = 1;
   overlay.options.bounds = s.bounds;
   overlay.options.voxels = !s.overlay.empty();
   if (!s.overlay.empty()) {

@@ -84,9 +84,20 @@ bool Viewer::presenterKey(int key) {
   }
   if (lesson.steps.empty()) return false;
   const int last = int(lesson.steps.size()) - 1;
+  const bool next = key == GLFW_KEY_PAGE_DOWN || key == GLFW_KEY_RIGHT || key == GLFW_KEY_SPACE;
+  const bool back = key == GLFW_KEY_PAGE_UP || key == GLFW_KEY_LEFT || key == GLFW_KEY_BACKSPACE;
+  // A long step's pages turn first (PresenterState::page).
+  if (next && presenter.page + 1 < presenter.pages) {
+    ++presenter.page;
+    return true;
+  }
+  if (back && presenter.page > 0) {
+    --presenter.page;
+    return true;
+  }
   int to = -1;
-  if (key == GLFW_KEY_PAGE_DOWN || key == GLFW_KEY_RIGHT || key == GLFW_KEY_SPACE) to = std::min(lessonStep + 1, last);
-  else if (key == GLFW_KEY_PAGE_UP || key == GLFW_KEY_LEFT || key == GLFW_KEY_BACKSPACE) to = std::max(lessonStep - 1, 0);
+  if (next) to = std::min(lessonStep + 1, last);
+  else if (back) to = std::max(lessonStep - 1, 0);
   else if (key == GLFW_KEY_HOME) to = 0;
   else if (key == GLFW_KEY_END) to = last;
   else if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) to = key - GLFW_KEY_1;
@@ -97,7 +108,12 @@ bool Viewer::presenterKey(int key) {
     status = "the lesson has " + std::to_string(last + 1) + " steps";
     return true;
   }
-  if (to != lessonStep) applyLessonStep(to);
+  if (to != lessonStep) {
+    applyLessonStep(to);
+    // Back to the previous step opens its last page (clamped to its page count when drawn).
+    presenter.page = back ? 1 << 20 : 0;
+    presenter.pages = 1;
+  }
   return true;
 }
 
@@ -172,7 +188,8 @@ void Viewer::drawNarrative(ImVec2 size) {
   }
 
   // The step's narrative (and, on the last step, the epilogue), fitted: the largest size from
-  // maxPx down to half of it at which every block fits above the footer.
+  // maxPx down to the smallest a hall reads (32 px per 1080 lines of window) at which every block
+  // fits above the footer; at that smallest size a longer narrative is cut into pages.
   std::vector<NarrativeBlock> blocks;
   if (lessonStep >= 0 && lessonStep < int(lesson.steps.size())) {
     blocks = narrativeBlocks(lesson.steps[lessonStep].narrative);
@@ -200,12 +217,33 @@ void Viewer::drawNarrative(ImVec2 size) {
     }
     return hsum;
   };
+  const float minPx = std::min(maxPx, std::round(32.0f * ImGui::GetIO().DisplaySize.y / 1080.0f));
   float px = maxPx;
-  while (px > 0.5f * maxPx && heightAt(px) > avail) px -= 1.0f;
+  while (px > minPx && heightAt(px) > avail) px -= 1.0f;
   presenter.narrativePx = px;
+  // Pages: consecutive blocks that fit the column at px (a block taller than the column alone).
+  std::vector<std::vector<NarrativeBlock>> pages(1);
+  {
+    std::vector<NarrativeBlock> one(1);
+    float used = 0.0f;
+    for (const auto& b : blocks) {
+      one[0] = b;
+      std::swap(blocks, one);
+      const float h = heightAt(px);
+      std::swap(blocks, one);
+      if (!pages.back().empty() && used + h > avail) {
+        pages.emplace_back();
+        used = 0.0f;
+      }
+      pages.back().push_back(b);
+      used += h;
+    }
+  }
+  presenter.pages = int(pages.size());
+  presenter.page = std::clamp(presenter.page, 0, presenter.pages - 1);
   ImGui::BeginChild("narrative-text", ImVec2(wrap, avail), false, ImGuiWindowFlags_NoBackground);
   ImGui::PushTextWrapPos(wrap);
-  for (const auto& b : blocks) {
+  for (const auto& b : pages[size_t(presenter.page)]) {
     const bool isHeading = b.kind == NarrativeBlock::Kind::Heading;
     ImFont* f = isHeading ? heading : body;
     ImGui::PushFont(f);
@@ -227,7 +265,10 @@ void Viewer::drawNarrative(ImVec2 size) {
   if (runs.target >= 0 || runs.iterateStage >= 0)
     ImGui::TextColored(kHeadingText, "running %s ...", cursor->technique().stage(std::max(runs.target, runs.iterateStage)).id());
   else if (!lesson.steps.empty())
-    ImGui::TextColored(kQuietText, "PgDn / \xE2\x86\x92 next   PgUp / \xE2\x86\x90 back   1\xE2\x80\x93" "9 step   P leave");
+    ImGui::TextColored(kQuietText, "%sPgDn / \xE2\x86\x92 next   PgUp / \xE2\x86\x90 back   1\xE2\x80\x93" "9 step   P leave",
+                       presenter.pages > 1 ? ("page " + std::to_string(presenter.page + 1) + " of " +
+                                              std::to_string(presenter.pages) + "   ").c_str()
+                                           : "");
   else
     ImGui::TextColored(kQuietText, "P leave   mouse at the left or right edge: panels");
   ImGui::SetWindowFontScale(1.0f);
@@ -279,6 +320,10 @@ void Viewer::drawPresenter() {
   presenter.leftShown = inside && (m.x < edge || (presenter.leftShown && m.x < leftWidth));
   presenter.rightShown = inside && (m.x >= win.x - edge || (presenter.rightShown && m.x >= win.x - rightWidth));
   const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+  // The edge panels are opaque: over the narrative, a translucent panel mixes two texts.
+  ImVec4 panelBg = ImGui::GetStyleColorVec4(ImGuiCol_WindowBg);
+  panelBg.w = 1.0f;
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, panelBg);
   if (presenter.leftShown) {
     ImGui::SetNextWindowPos(ImVec2(0, 0));
     ImGui::SetNextWindowSize(ImVec2(leftWidth, win.y));
@@ -295,6 +340,7 @@ void Viewer::drawPresenter() {
     drawRightPanel();
     ImGui::End();
   }
+  ImGui::PopStyleColor();
 }
 
 // --- Script verbs: presenter mode ---------------------------------------------------------------------
@@ -351,8 +397,10 @@ void expectPresenterView(Viewer& viewer, const ScriptCall& call) {
   viewer.window->framebufferSize(w, h);
   const ImVec2 size(presenter.imageMax.x - presenter.imageMin.x, presenter.imageMax.y - presenter.imageMin.y);
   const float fraction = size.x * size.y / float(std::max(w * h, 1));
-  std::printf("presenter view: image %.0fx%.0f at (%.0f, %.0f) in a %dx%d window: %.3f of it; narrative at %.1f px\n",
-              size.x, size.y, presenter.imageMin.x, presenter.imageMin.y, w, h, fraction, presenter.narrativePx);
+  std::printf("presenter view: image %.0fx%.0f at (%.0f, %.0f) in a %dx%d window: %.3f of it; narrative at %.1f px, "
+              "page %d of %d\n",
+              size.x, size.y, presenter.imageMin.x, presenter.imageMin.y, w, h, fraction, presenter.narrativePx,
+              presenter.page + 1, presenter.pages);
   if (!(fraction > call.floatArg(0)))
     call.fail("the view's image covers " + std::to_string(fraction) + " of the window, expected more than " + call.arg(0));
 }
@@ -377,6 +425,16 @@ VOXLAB_REGISTER_SCRIPT_VERBS(presenter, 90,
    [](Viewer& viewer, const ScriptCall& call) {
      viewer.presenter.scriptMouse = ImVec2(call.floatArg(0), call.floatArg(1));
      viewer.script.waitFrames = 2;  // a revealed panel is drawn from the next frame
+   }},
+  {"expect-narrative-px", 1, 1,
+   "expect-narrative-px MIN (presenter mode set the step's narrative at MIN px or more)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (!viewer.presenter.on) call.fail("presenter mode is off (present on)");
+     std::printf("narrative at %.1f px, page %d of %d\n", viewer.presenter.narrativePx, viewer.presenter.page + 1,
+                 viewer.presenter.pages);
+     if (viewer.presenter.narrativePx < call.floatArg(0))
+       call.fail("the narrative is set at " + std::to_string(viewer.presenter.narrativePx) + " px, expected " +
+                 call.arg(0) + " or more");
    }},
   {"expect-presenter-view", 1, 1,
    "expect-presenter-view MIN_FRACTION (presenter mode is on and the view's image covers more than MIN_FRACTION of "

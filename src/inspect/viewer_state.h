@@ -185,6 +185,10 @@ struct PresenterState {
   ImFont* headingFont = nullptr;
   ImVec2 imageMin{0, 0}, imageMax{0, 0};  // where the view's image was last drawn (window pixels)
   float narrativePx = 0.0f;           // the size the narrative was last fitted at
+  // A step's narrative that does not fit at the smallest size a hall can read (32 px at 1080
+  // lines) is shown in pages: 'page' of 'pages' (from the last drawing); next / back turn pages
+  // before they change the step.
+  int page = 0, pages = 1;
 };
 
 class Viewer {
