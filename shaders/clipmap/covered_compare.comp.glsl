@@ -8,9 +8,9 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) readonly buffer Accumulators { uint accum[]; };
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
-layout(rgba8, binding = 0) uniform readonly image3D u_atlas;
-layout(rgba8, binding = 1) uniform writeonly image3D u_direct;
-layout(rgba8, binding = 2) uniform writeonly image3D u_difference;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 0) uniform readonly image3D u_atlas;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 1) uniform writeonly image3D u_direct;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 2) uniform writeonly image3D u_difference;
 uniform ivec3 u_coveredLo[CLIPMAP_MAX_LEVELS];
 uniform ivec3 u_coveredHi[CLIPMAP_MAX_LEVELS];
 

@@ -5,7 +5,7 @@
 #include "clipmap/clipmap.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
-layout(rgba8, binding = 0) uniform image3D u_atlas;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 0) uniform image3D u_atlas;
 
 void main() {
   ivec3 texel = ivec3(gl_GlobalInvocationID);

@@ -4,9 +4,9 @@
 // mode 1 averages each 2x2x2 block of mip m-1 into mip m. It covers the same volume at every mip.
 #include "clipmap/clipmap.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(rgba8, binding = 0) uniform readonly image3D u_atlas;
-layout(rgba8, binding = 1) uniform readonly image3D u_source;
-layout(rgba8, binding = 2) uniform writeonly image3D u_target;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 0) uniform readonly image3D u_atlas;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 1) uniform readonly image3D u_source;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 2) uniform writeonly image3D u_target;
 uniform int u_mode;
 
 void main() {

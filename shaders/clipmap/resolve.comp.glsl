@@ -1,11 +1,11 @@
 #version 450
-// Turns the fixed-point sums of one box of cells into RGBA8 texels of every face: radiance =
+// Turns the fixed-point sums of one box of cells into texels of every face (RGBA8 or RGBA16F): radiance =
 // sum / fragments, alpha 1 in every occupied cell (the cell's direct content, Direct_k).
 #include "clipmap/clipmap.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) readonly buffer Accumulators { uint accum[]; };
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
-layout(rgba8, binding = 0) uniform writeonly image3D u_atlas;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 0) uniform writeonly image3D u_atlas;
 uniform ivec3 u_boxLo;
 uniform ivec3 u_boxSize;
 uniform int u_level;

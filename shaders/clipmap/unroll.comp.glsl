@@ -4,8 +4,8 @@
 // atlas, it shows where the physical seam cuts the region.
 #include "clipmap/clipmap.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(rgba8, binding = 0) uniform readonly image3D u_atlas;
-layout(rgba8, binding = 1) uniform writeonly image3D u_logical;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 0) uniform readonly image3D u_atlas;
+layout(CLIPMAP_ATLAS_FORMAT, binding = 1) uniform writeonly image3D u_logical;
 uniform int u_face;
 
 void main() {

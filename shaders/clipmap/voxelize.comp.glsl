@@ -110,7 +110,7 @@ void voxelizeEntry(uint t, int e) {
           vec3 emission = materialEmissionLod(voxelSampleUv(l0, l1, l2, t0, t1, t2, local), lod);
           radiance = albedo / PI * lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, normal) + emission;
         }
-        uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * u_fixedScale + 0.5);
+        uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, u_maxRadiance) * u_fixedScale + 0.5);
         uint i = accumulatorIndex(level, toroidalAddress(cell));
         atomicAdd(accum[i], 1u);
         atomicAdd(accum[i + 1u], fixedPoint.r);

@@ -18,6 +18,11 @@ layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; a
 layout(binding = 8) uniform sampler3D u_dirX;
 layout(binding = 9) uniform sampler3D u_dirY;
 layout(binding = 10) uniform sampler3D u_dirZ;
+// Anisotropic levels 1..: the opacity a cone travelling along +x, +y, +z sees (r, g, b of
+// u_opacityPos) or along -x, -y, -z (u_opacityNeg); the directional volumes' alpha is the coverage
+// of the surfaces' fronts only (vct_grid/mipmap_anisotropic.comp.glsl).
+layout(binding = 11) uniform sampler3D u_opacityPos;
+layout(binding = 12) uniform sampler3D u_opacityNeg;
 uniform int u_anisotropic;
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
@@ -52,7 +57,14 @@ vec4 directionalLookup(sampler3D pair, vec3 uvw, float lod, bool negative) {
   return mix(directionalLevel(pair, uvw, l0, negative), directionalLevel(pair, uvw, l1, negative), l - float(l0));
 }
 
-// The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod'. With
+const float kSeesNothing = 0.25;
+
+// Transmittance of a texel whose fronts are opaque in the optical-depth blend of sampleVolume:
+// exp(-69), so that a weight of 0.05 still leaves 3 %.
+const float kOpaqueTransmittance = 1e-30;
+
+// The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod', and in
+// 'solid' the opacity of its voxels as solid cubes. With
 // anisotropic mips, the three directional volumes facing the cone are blended with weights dir^2
 // (they sum to 1); between level 0 and 1 the isotropic voxels fade into the directional level.
 // 'phase' says which lookups the caller's lod needs (traceCone marches in three phases): 0 = lod is
@@ -60,24 +72,48 @@ vec4 directionalLookup(sampler3D pair, vec3 uvw, float lod, bool negative) {
 // llvmpipe evaluates both sides of a condition that differs between the pixels of a SIMD row (the
 // volume of +x or of -x: the cone's direction), so what a phase does not need must not be in its
 // code at all; each phase gives the same result as the general expression for its lods.
-vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase) {
+vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, out float solid) {
   if (u_anisotropic == 0) {
     g_fetches += 1u;
-    return textureLod(u_radiance, uvw, lod);
+    vec4 s = textureLod(u_radiance, uvw, lod);
+    solid = s.a;
+    return s;
   }
   if (phase == 0) {
     g_fetches += 1u;
-    return textureLod(u_radiance, uvw, 0.0);
+    vec4 s = textureLod(u_radiance, uvw, 0.0);
+    solid = s.a;
+    return s;
   }
-  g_fetches += phase == 1 ? 4u : 3u;
+  g_fetches += phase == 1 ? 6u : 5u;
   vec3 w = anisotropicWeights(dir);
   float l = max(lod - 1.0, 0.0);
   vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
   vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
   vec4 sz = directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
-  vec4 a = w.x * sx + w.y * sy + w.z * sz;
+  // The volumes show only the fronts of the surfaces they see (common/facing.glsl): alpha is the
+  // fronts' coverage; what a volume sees from behind or edge-on is empty in it. Their optical
+  // depths add, weighted (extinction is additive; the weights sum to 1, so a homogeneous texel
+  // keeps its opacity): a front that one volume sees opaque stops every ray of the cone, whatever
+  // the others see. So a floor seen at 45 degrees is opaque and keeps its radiance although the
+  // volume along the floor sees it edge-on, where blending the opacities would make it half
+  // transparent; the surface a cone starts from (seen from behind or edge-on) does not block it;
+  // and the volume that sees a slab edge-on does not average its sun-lit outside face with its
+  // inside one. The radiance is the volumes' average weighted by the fronts each sees.
+  vec3 fronts = vec3(sx.a, sy.a, sz.a);
+  float opacity = 1.0 - exp(dot(w, log(max(1.0 - fronts, kOpaqueTransmittance))));
+  float weight = dot(w, fronts);
+  vec3 radiance = weight > 0.0 ? (w.x * sx.rgb + w.y * sy.rgb + w.z * sz.rgb) / weight : vec3(0.0);
+  // What blocks a ray whichever way its surfaces face (ambient occlusion, cone-traced shadows): the
+  // voxels as solid cubes, their directional opacity blended as the opacities were before the
+  // volumes kept the fronts apart (the sign differs between pixels: both signs, one lookup each).
+  vec3 blocking = mix(textureLod(u_opacityPos, uvw, l).rgb, textureLod(u_opacityNeg, uvw, l).rgb, lessThan(dir, vec3(0.0)));
+  solid = dot(w, blocking);
+  vec4 a = vec4(radiance * opacity, opacity);
   if (phase == 2) return a;
-  return mix(textureLod(u_radiance, uvw, 0.0), a, lod);
+  vec4 iso = textureLod(u_radiance, uvw, 0.0);
+  solid = mix(iso.a, solid, lod);
+  return mix(iso, a, lod);
 }
 
 // Samples of the probed pixel's cones, for the viewer's cone inspector.
@@ -86,8 +122,9 @@ layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCoun
 
 struct ConeResult {
   vec3 radiance;    // premultiplied accumulated radiance
-  float opacity;    // accumulated opacity
-  float opacityAt;  // accumulated opacity when the cone passed 'markDistance'
+  float opacity;    // accumulated opacity of the fronts the radiance comes from
+  float blocked;    // accumulated opacity of the voxels as solid cubes (shadows)
+  float blockedAt;  // 'blocked' when the cone passed 'markDistance' (ambient occlusion)
 };
 
 // One cone's march: where it is and what it has gathered.
@@ -105,7 +142,9 @@ float coneLod(float tanHalf, float t) {
 
 // One sample of the march (phase: see sampleVolume); sets m.done where the cone ends.
 void coneStep(inout ConeMarch m, int phase) {
-  if (m.step >= u_maxSteps || m.r.opacity >= 0.99 || m.t >= m.maxDistance) { m.done = true; return; }
+  // Done when the radiance is gathered and, up to markDistance, the occlusion too.
+  bool gathered = m.r.opacity >= 0.99 && (m.r.blocked >= 0.99 || m.marked);
+  if (m.step >= u_maxSteps || gathered || m.t >= m.maxDistance) { m.done = true; return; }
   float diameter = max(2.0 * m.tanHalf * m.t, u_voxelSize);
   float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
   vec3 p = m.origin + m.dir * m.t;
@@ -114,8 +153,9 @@ void coneStep(inout ConeMarch m, int phase) {
   // the volume's boundary stays a wall for samples that straddle it).
   float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
   if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { m.done = true; m.escaped = true; return; }
-  if (!m.marked && m.t > m.markDistance) { m.r.opacityAt = m.r.opacity; m.marked = true; }
-  vec4 s = sampleVolume(uvw, lod, m.dir, phase);
+  if (!m.marked && m.t > m.markDistance) { m.r.blockedAt = m.r.blocked; m.marked = true; }
+  float solid;
+  vec4 s = sampleVolume(uvw, lod, m.dir, phase, solid);
   g_samples += 1u;
   float stepLength = diameter * u_stepScale;
   // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
@@ -124,6 +164,7 @@ void coneStep(inout ConeMarch m, int phase) {
   vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
   m.r.radiance += (1.0 - m.r.opacity) * c;
   m.r.opacity += (1.0 - m.r.opacity) * a;
+  m.r.blocked += (1.0 - m.r.blocked) * (1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize));
   if (m.record) {
     uint k = atomicAdd(coneSampleCount, 1u);
     if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
@@ -134,7 +175,7 @@ void coneStep(inout ConeMarch m, int phase) {
 }
 
 // Marches the cone front to back until it is opaque (0.99), leaves the volume, or reaches
-// maxDistance; opacityAt is the opacity when it passed markDistance. The march runs in three
+// maxDistance; blockedAt is the solid opacity when it passed markDistance. The march runs in three
 // loops, one per phase of sampleVolume (the lod only grows along a cone).
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
                      float markDistance, int coneIndex, bool record) {
@@ -151,11 +192,11 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   m.done = false;
   m.escaped = false;
   m.record = record;
-  m.r = ConeResult(vec3(0.0), 0.0, 0.0);
+  m.r = ConeResult(vec3(0.0), 0.0, 0.0, 0.0);
   while (!m.done && coneLod(m.tanHalf, m.t) <= 0.0) coneStep(m, 0);
   while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1);
   while (!m.done) coneStep(m, 2);
-  if (!m.marked) m.r.opacityAt = m.r.opacity;
+  if (!m.marked) m.r.blockedAt = m.r.blocked;
   // The sky through the transmittance left, if the cone escaped (common/sky.glsl).
   m.r.radiance += coneSky(m.escaped, m.t >= m.maxDistance, m.origin + m.dir * m.t, m.r.opacity);
   return m.r;

@@ -51,7 +51,7 @@ void main() {
     vec3 d = normalize(u_cones[i].x * t + u_cones[i].y * b + u_cones[i].z * n);
     ConeResult c = traceCone(origin, d, u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record);
     incoming += u_cones[i].w * c.radiance;
-    occlusion += u_cones[i].w * c.opacityAt;
+    occlusion += u_cones[i].w * c.blockedAt;
   }
   uint diffuseSamples = g_samples;
   imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
@@ -69,7 +69,7 @@ void main() {
   if (dot(n, toLight) > 0.0) {
     float end = shadowConeEnd(dist, tan(0.5 * u_shadowAperture), u_lodBias, u_voxelSize);
     ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 1e30, u_coneCount + 1, record);
-    shadowVis = 1.0 - sh.opacity;
+    shadowVis = 1.0 - sh.blocked;
   } else {
     shadowVis = 0.0;
   }

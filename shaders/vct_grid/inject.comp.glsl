@@ -12,11 +12,15 @@
 //    fragments have been averaged in (saturating at 255: later fragments are ignored); each
 //    update rounds to 8 bits, so the result depends on the order in which fragments arrive.
 // Either way the occlusion fix stage then sets alpha to 1 in every non-empty voxel.
+// Every fragment also ORs its normal's facing code (common/facing.glsl) into u_facing: per travel
+// direction of a cone, how much of the voxel's surfaces' fronts it sees (the anisotropic mips'
+// leaves, mipmap_anisotropic.comp.glsl).
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "common/lights.glsl"
 #include "common/fragment_light.glsl"
+#include "common/facing.glsl"
 
 layout(local_size_x = 64) in;
 layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { VoxelFragment fragments[]; };
@@ -26,6 +30,7 @@ layout(r32ui, binding = 1) uniform uimage3D u_sumR;
 layout(r32ui, binding = 2) uniform uimage3D u_sumG;
 layout(r32ui, binding = 3) uniform uimage3D u_sumB;
 layout(r32ui, binding = 4) uniform uimage3D u_count;
+layout(r32ui, binding = 5) uniform uimage3D u_facing;  // facing codes, common/facing.glsl
 layout(binding = 2) uniform sampler2D u_shadowMap;  // a texture unit (image units are separate)
 uniform uint u_fragmentCount;
 uniform int u_average;            // 0 = exact-sum, 1 = compare-and-swap
@@ -40,6 +45,7 @@ void main() {
   ivec3 voxel = ivec3(unpackVoxel10(f.position));
   vec3 radiance = fragmentRadiance(f, u_shadowMap);
   radiance = clamp(radiance, 0.0, u_maxRadiance);
+  imageAtomicOr(u_facing, voxel, facingCode(normalize(unpackSnorm4x8(f.normal).xyz)));
 
   if (u_average == 0) {
     uvec3 fixedPoint = uvec3(radiance * kFixedPointScale + 0.5);

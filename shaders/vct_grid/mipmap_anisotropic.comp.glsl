@@ -1,14 +1,28 @@
 #version 450
 // Anisotropic mipmapping (Crassin et al. 2011): six prefiltered volumes, one per direction a cone
-// can travel (+x, -x, +y, -y, +z, -z), each texel the 2x2x2 block below it as that direction sees
-// it (common/anisotropic_mip.glsl: pairs composited front to back along the axis, then averaged).
+// can travel (+x, -x, +y, -y, +z, -z). For direction +x, each pair of children along x is first
+// composited front to back (the child with the smaller x in front: c = c0 + (1 - a0) c1,
+// a = a0 + (1 - a0) a1), then the four composited columns are averaged. A one-voxel wall seen
+// face-on therefore stays opaque at every level, where the isotropic average halves its opacity
+// per level.
 // Level 1 of the hierarchy is built from the isotropic level-0 voxels; higher levels from the
 // direction's own previous level.
+// Each direction keeps apart what a cone gathers radiance from and what blocks it:
+//  - the fronts (the volume's rgba): a leaf shows its radiance only to the directions that see
+//    its surfaces' fronts, with their coverage as alpha (common/facing.glsl, codes from
+//    inject.comp.glsl); behind a surface or edge-on to it the leaf is empty. Composited front to
+//    back by that coverage, so a cone travelling up sees the underside of a ceiling slab, never
+//    its sun-lit top, and the volume that sees a slab edge-on holds neither face: averaging both
+//    there let the sun-lit outside of a closed room leak in;
+//  - the solid opacity (u_opacityPos/Neg, one channel per axis: +x +y +z and -x -y -z): a voxel
+//    is a cube, opaque from every direction; ambient occlusion and cone-traced shadows read it.
+// The cone sampler combines both (common/cone_trace.glsl, sampleVolume).
 // The radiance grids' image format: rgba8 unless the stage builds the program with
 // "#define VOXLAB_GRID_FORMAT rgba16f" (voxel.format=rgba16f).
 #ifndef VOXLAB_GRID_FORMAT
 #define VOXLAB_GRID_FORMAT rgba8
 #endif
+#include "common/facing.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(binding = 0) uniform sampler3D u_isotropic;  // level 0 voxels
 // The directional volumes, read at u_sourceLevel (+x -x +y -y +z -z).
@@ -18,43 +32,78 @@ layout(binding = 3) uniform sampler3D u_dir2;
 layout(binding = 4) uniform sampler3D u_dir3;
 layout(binding = 5) uniform sampler3D u_dir4;
 layout(binding = 6) uniform sampler3D u_dir5;
+layout(binding = 7) uniform usampler3D u_facing;  // level 0: the voxels' facing codes
+layout(binding = 8) uniform sampler3D u_opacityPos;  // opacity seen travelling +x, +y, +z (rgb)
+layout(binding = 9) uniform sampler3D u_opacityNeg;  // travelling -x, -y, -z
 layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_target0;
 layout(VOXLAB_GRID_FORMAT, binding = 1) uniform writeonly image3D u_target1;
 layout(VOXLAB_GRID_FORMAT, binding = 2) uniform writeonly image3D u_target2;
 layout(VOXLAB_GRID_FORMAT, binding = 3) uniform writeonly image3D u_target3;
 layout(VOXLAB_GRID_FORMAT, binding = 4) uniform writeonly image3D u_target4;
 layout(VOXLAB_GRID_FORMAT, binding = 5) uniform writeonly image3D u_target5;
+layout(rgba8, binding = 6) uniform writeonly image3D u_opacityPosTarget;
+layout(rgba8, binding = 7) uniform writeonly image3D u_opacityNegTarget;
 uniform int u_fromIsotropic;
 uniform int u_sourceLevel;
-#include "common/anisotropic_mip.glsl"
+uniform int u_writeOpacity;  // 0: the opacity volumes are already built (a bounce's grid, same geometry)
 
-vec4 child(int direction, ivec3 v) {
-  if (u_fromIsotropic != 0) return texelFetch(u_isotropic, v, 0);
-  switch (direction) {
-    case 0: return texelFetch(u_dir0, v, u_sourceLevel);
-    case 1: return texelFetch(u_dir1, v, u_sourceLevel);
-    case 2: return texelFetch(u_dir2, v, u_sourceLevel);
-    case 3: return texelFetch(u_dir3, v, u_sourceLevel);
-    case 4: return texelFetch(u_dir4, v, u_sourceLevel);
-    default: return texelFetch(u_dir5, v, u_sourceLevel);
+// A child texel as direction d sees it: the fronts' premultiplied radiance and coverage, and the
+// solid opacity.
+struct Seen { vec4 fronts; float opacity; };
+
+Seen child(int d, ivec3 v) {
+  if (u_fromIsotropic != 0) {
+    vec4 voxel = texelFetch(u_isotropic, v, 0);
+    return Seen(facingLeaf(voxel, texelFetch(u_facing, v, 0).r, d), voxel.a);
+  }
+  vec3 opacity = (d & 1) == 0 ? texelFetch(u_opacityPos, v, u_sourceLevel).rgb : texelFetch(u_opacityNeg, v, u_sourceLevel).rgb;
+  float a = opacity[d >> 1];
+  switch (d) {
+    case 0: return Seen(texelFetch(u_dir0, v, u_sourceLevel), a);
+    case 1: return Seen(texelFetch(u_dir1, v, u_sourceLevel), a);
+    case 2: return Seen(texelFetch(u_dir2, v, u_sourceLevel), a);
+    case 3: return Seen(texelFetch(u_dir3, v, u_sourceLevel), a);
+    case 4: return Seen(texelFetch(u_dir4, v, u_sourceLevel), a);
+    default: return Seen(texelFetch(u_dir5, v, u_sourceLevel), a);
   }
 }
 
 // Direction d = 2 * axis + (0 for +, 1 for -).
-vec4 reduce(int d, ivec3 base) {
-  vec4 children[8];
-  for (int k = 0; k < 8; ++k) children[k] = child(d, base + ivec3(k & 1, (k >> 1) & 1, k >> 2));
-  return anisotropicReduce(children, d);
+Seen reduce(int d, ivec3 base) {
+  int axis = d >> 1;
+  bool negative = (d & 1) == 1;
+  Seen sum = Seen(vec4(0.0), 0.0);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      ivec3 lo = base;
+      // (i, j) index the two axes other than 'axis'.
+      lo[(axis + 1) % 3] += i;
+      lo[(axis + 2) % 3] += j;
+      ivec3 hi = lo;
+      hi[axis] += 1;
+      Seen near = child(d, negative ? hi : lo), far = child(d, negative ? lo : hi);
+      sum.fronts += near.fronts + (1.0 - near.fronts.a) * far.fronts;
+      sum.opacity += near.opacity + (1.0 - near.opacity) * far.opacity;
+    }
+  sum.fronts *= 0.25;
+  sum.opacity *= 0.25;
+  return sum;
 }
 
 void main() {
   ivec3 v = ivec3(gl_GlobalInvocationID);
   if (any(greaterThanEqual(v, imageSize(u_target0)))) return;
   ivec3 base = 2 * v;
-  imageStore(u_target0, v, reduce(0, base));
-  imageStore(u_target1, v, reduce(1, base));
-  imageStore(u_target2, v, reduce(2, base));
-  imageStore(u_target3, v, reduce(3, base));
-  imageStore(u_target4, v, reduce(4, base));
-  imageStore(u_target5, v, reduce(5, base));
+  Seen s[6];
+  for (int d = 0; d < 6; ++d) s[d] = reduce(d, base);
+  imageStore(u_target0, v, s[0].fronts);
+  imageStore(u_target1, v, s[1].fronts);
+  imageStore(u_target2, v, s[2].fronts);
+  imageStore(u_target3, v, s[3].fronts);
+  imageStore(u_target4, v, s[4].fronts);
+  imageStore(u_target5, v, s[5].fronts);
+  if (u_writeOpacity != 0) {
+    imageStore(u_opacityPosTarget, v, vec4(s[0].opacity, s[2].opacity, s[4].opacity, 1.0));
+    imageStore(u_opacityNegTarget, v, vec4(s[1].opacity, s[3].opacity, s[5].opacity, 1.0));
+  }
 }

@@ -92,7 +92,8 @@ RunRequest request(const std::string& technique, const std::string& faces, const
   r.sets = {"inject.mode=" + inject, "inject.uniform-radiance=0.5", "cone.resolution=full", "cone.aperture=45",
             "cone.start-offset=1.75"};
   if (technique == "vct-grid") {
-    r.sets.insert(r.sets.end(), {"voxel.resolution=32", "voxelize.method=triangle-parallel",
+    // RGBA8 voxels, as clipmap's atlas (vct-grid's default is RGBA16F).
+    r.sets.insert(r.sets.end(), {"voxel.resolution=32", "voxel.format=rgba8", "voxelize.method=triangle-parallel",
                                  std::string("mipmap.mode=") + (faces == "anisotropic" ? "anisotropic" : "isotropic"),
                                  "cone.max-distance=0.5", "ao.range=0.25"});
   } else {
@@ -179,16 +180,19 @@ TexelDiff compareTexels(const Captured& clip, const Captured& dense, int faces) 
 // 0.5 * 4096 and 0.5 * 16384 are integers), their voxelizers make the same exact half-open
 // triangle/cell decision on the same float cell coordinates, and clipmap's covered blocks filter
 // with vct-grid's arithmetic (the mean of 8 children summed in the same order; the under operator
-// per face): every texel of levels 0-3 is equal, bit for bit.
+// per face): every texel of levels 0-3 is equal, bit for bit. Isotropic only: vct-grid's six
+// directional volumes now show a voxel only to the directions that see its surfaces' fronts
+// (common/facing.glsl), clipmap's six faces do not yet (measured: 2612 of 14956 occupied texels
+// differ, up to 1), so the faces are compared again once clipmap takes the same rule.
 TEST(ClipmapDense, ClipLevelsEqualTheDenseMipsTexelForTexel) {
-  for (const std::string faces : {"isotropic", "anisotropic"}) {
+  for (const std::string faces : {"isotropic"}) {
     const Captured dense = run("vct-grid", faces, "uniform");
     const Captured clip = run("clipmap", faces, "uniform");
     const TexelDiff d = compareTexels(clip, dense, faces == "anisotropic" ? 7 : 1);
     std::printf("clipmap vs dense (%s, uniform): %zu texels, %zu occupied, %zu differ (worst %.4f)\n", faces.c_str(),
                 d.texels, d.occupied, d.differ, double(d.worst));
     // Measured 2474 occupied texels over the four levels of face 0 (1913 at level 0).
-    EXPECT_GT(d.occupied, 2000u * size_t(faces == "anisotropic" ? 7 : 1)) << "the box must be in the grids";
+    EXPECT_GT(d.occupied, 2000u) << "the box must be in the grids";
     EXPECT_EQ(d.differ, 0u) << faces;
   }
 }
@@ -239,9 +243,10 @@ std::vector<gpu::ConeSample> samplesOf(const CapturedOutput& c) {
 // nothing is outside it) gathers the dense result: clipmap reads the finest level holding each
 // sample, which inside the volume is level max(lod, 0) as vct-grid's, so the probed pixel's
 // cones take the same samples (position, diameter, level) and accumulate the same radiance and
-// opacity, up to the lookups' rounding.
+// opacity, up to the lookups' rounding. Isotropic only, as the texel comparison above (measured
+// with six faces: mean ratio 1.063, the directional volumes differing by the facing rule).
 TEST(ClipmapDense, ConesGatherTheDenseResult) {
-  for (const std::string faces : {"isotropic", "anisotropic"}) {
+  for (const std::string faces : {"isotropic"}) {
     const Captured dense = run("vct-grid", faces, "uniform");
     const Captured clip = run("clipmap", faces, "uniform");
     const auto a = samplesOf(clip.samples), b = samplesOf(dense.samples);

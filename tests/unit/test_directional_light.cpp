@@ -93,7 +93,7 @@ TEST(DirectionalLight, VctGridDirectAndInjectionFollowTheLightModel) {
   RunRequest r;
   r.technique = "vct-grid";
   r.scene = scenePath();
-  r.sets = {"voxel.resolution=64"};
+  r.sets = {"voxel.resolution=64", "voxel.format=rgba8"};  // the voxel check below counts in 8-bit steps
   r.width = r.height = 128;
   HeadlessSession& s = testing_support::session(r);
   ASSERT_EQ(s.cursor().scene().lights.size(), 1u);

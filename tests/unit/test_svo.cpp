@@ -620,14 +620,14 @@ TEST(SvoViews, StructureAndDenseViewsHoldExactlyTheNodesOfEveryLevelAfterARerun)
 }
 
 // I9 at texel centres: the octree resampled into a dense view equals vct-grid's mip chain at every
-// level. Both use direct light; vct-grid averages fragments with the RGBA8 compare-and-swap loop
-// and rounds every mip level to 8 bits, the octree sums exactly and rounds once.
+// level. Both use direct light; vct-grid (set to RGBA8 voxels here, as the octree's bricks) rounds
+// every mip level to 8 bits, the octree sums exactly and rounds once.
 TEST(SvoValues, DenseViewEqualsVctGridMipChain) {
   auto& octree = session(request("svo", "cornell-box", {"voxel.resolution=64", "svo.dilate=true"}, "svo-mipmap"));
   CapturedOutput dense = capture(octree, "svo-mipmap", "svo-dense");
   // Both light the fragments with the same code (common/fragment_light.glsl, the shadow map read
   // inject.shadow-offset voxels off the voxel centre) at their defaults.
-  auto& grid = session(request("vct-grid", "cornell-box", {"voxel.resolution=64"}, "mipmap"));
+  auto& grid = session(request("vct-grid", "cornell-box", {"voxel.resolution=64", "voxel.format=rgba8"}, "mipmap"));
   CapturedOutput mips = capture(grid, "mipmap", "radiance");
   ASSERT_EQ(dense.levels.size(), mips.levels.size());
   for (size_t m = 0; m < dense.levels.size(); ++m) {
@@ -666,7 +666,7 @@ void expectOctreeSampleEqualsDenseSample(bool dilate) {
   std::vector<SvoNode> nodes = records<SvoNode>(capture(octree, "svo-build", "svo-nodes"));
   std::vector<uint32_t> brickOf = records<uint32_t>(capture(octree, "svo-bricks", "svo-brick-index"));
   CapturedOutput pool = capture(octree, "svo-bricks", "svo-brick-pool");
-  CapturedOutput mips = capture(session(request("vct-grid", "cornell-box", {"voxel.resolution=64"}, "mipmap")), "mipmap",
+  CapturedOutput mips = capture(session(request("vct-grid", "cornell-box", {"voxel.resolution=64", "voxel.format=rgba8"}, "mipmap")), "mipmap",
                                 "radiance");
   const LevelData& P = pool.levels[0];
   const glm::ivec3 axis = P.size / 3;

@@ -50,11 +50,29 @@ ParamDesc fixedPointParam() {
                             "bits");
 }
 
-// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments).
+ParamDesc atlasFormatParam() {
+  return ParamDesc::choice("clipmap.format", {"rgba8", "rgba16f"}, 0,
+                           "what the atlas, its mips and the unrolled levels store: rgba8 clamps radiance to [0,1] (the "
+                           "cells by a lamp or in the sun lose most of their light); rgba16f keeps up to 64 W/(m^2 sr) "
+                           "in half floats (HDR cells, twice the memory; until the faces show only their surfaces' "
+                           "fronts it also lets a sun-lit slab's outside leak in: skylight room 5.4x the reference)");
+}
+GLenum atlasFormat(const ParamSet& params) {
+  return params.getChoice("clipmap.format") == "rgba16f" ? GL_RGBA16F : GL_RGBA8;
+}
+std::string atlasFormatDefines(const ParamSet& params) {
+  return atlasFormat(params) == GL_RGBA16F ? "#define CLIPMAP_ATLAS_FORMAT rgba16f\n" : "";
+}
+static int maxRadianceLog2(const ParamSet& params) { return atlasFormat(params) == GL_RGBA16F ? 6 : 0; }  // 64 or 1
+
+// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments,
+// u_maxRadiance).
 void setFixedPointUniforms(GLuint program, const ParamSet& params) {
   const int bits = params.getInt("clipmap.fixed-point-bits");
+  const int radianceBits = maxRadianceLog2(params);
   setUniform(program, "u_fixedScale", float(std::ldexp(1.0, bits)));
-  setUniform(program, "u_maxFragments", unsigned(uint64_t(1) << (32 - bits)));
+  setUniform(program, "u_maxFragments", unsigned(uint64_t(1) << std::max(32 - bits - radianceBits, 0)));
+  setUniform(program, "u_maxRadiance", float(std::ldexp(1.0, radianceBits)));
 }
 
 // One line on stderr and a statistic when cells may have overflowed their fixed-point sums.
@@ -109,7 +127,7 @@ TextureDesc atlasDesc(const ParamSet& params) {
   const int n = params.getInt("clipmap.resolution"), b = n + 2;
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
+  d.format = atlasFormat(params);
   d.size = {facesOf(params) * b, params.getInt("clipmap.levels") * b, b};
   return d;
 }

@@ -16,7 +16,7 @@ static TextureDesc mipsDesc(const ParamSet& params) {
   const int n = params.getInt("clipmap.resolution");
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
+  d.format = atlasFormat(params);
   d.size = {n, n, n};
   d.levels = mipCount(n) + 1;
   d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
@@ -26,7 +26,7 @@ static TextureDesc logicalDesc(const ParamSet& params) {
   const int n = params.getInt("clipmap.resolution");
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
+  d.format = atlasFormat(params);
   d.size = {n, n * params.getInt("clipmap.levels"), n};
   d.minFilter = d.magFilter = GL_NEAREST;
   return d;
@@ -36,6 +36,7 @@ static TextureDesc logicalDesc(const ParamSet& params) {
 
 void MipsStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
+  b.param(atlasFormatParam());
   for (const auto& p : pathParams()) b.param(p);
   b.readView();
   b.read("clip-atlas");
@@ -59,27 +60,27 @@ void MipsStage::execute(StageContext& ctx) {
   const double s = layout.voxelSize(last);
   const Cell& o = origins[size_t(last)];
   ctx.board.place("clip-mips", WorldBox{glm::vec3(glm::dvec3(o) * s), glm::vec3(glm::dvec3(o + Cell(layout.n)) * s)});
-  GLuint program = ctx.shaders.program({"clipmap/mips.comp.glsl"});
+  GLuint program = ctx.shaders.program({"clipmap/mips.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(program, layout, origins);
   glUseProgram(program);
-  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   for (int m = 0; m < mips.levels(); ++m) {
     setUniform(program, "u_mode", m == 0 ? 0 : 1);
-    glBindImageTexture(1, mips.id(), std::max(m - 1, 0), GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
-    glBindImageTexture(2, mips.id(), m, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(1, mips.id(), std::max(m - 1, 0), GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
+    glBindImageTexture(2, mips.id(), m, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
     dispatchCompute(mips.levelSize(m), {4, 4, 4});
     glMemoryBarrier(kAllShaderWrites);
   }
   Texture& logical = ctx.board.ensureTexture("clip-logical", logicalDesc(ctx.params));
-  GLuint unroll = ctx.shaders.program({"clipmap/unroll.comp.glsl"});
+  GLuint unroll = ctx.shaders.program({"clipmap/unroll.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(unroll, layout, origins);
   setUniform(unroll, "u_face", 0);
   glUseProgram(unroll);
-  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
-  glBindImageTexture(1, logical.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
+  glBindImageTexture(1, logical.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
   dispatchCompute(logical.desc().size, {4, 4, 4});
   glMemoryBarrier(kAllShaderWrites);
-  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   ctx.stats["mips"] = mips.levels() - 1;
   ctx.stats["bytes"] = double(mips.byteSize()) + double(logical.byteSize());
 }
@@ -103,6 +104,7 @@ void CoveredCompareStage::declare(StageBuilder& b) const {
   for (const auto& p : pathParams()) b.param(p);
   for (const auto& p : injectParams()) b.param(p);
   b.param(fixedPointParam());
+  b.param(atlasFormatParam());
   b.param(ParamDesc::choice("clipmap.compare-covered", {"off", "on"}, 0,
                             "on: voxelize the covered blocks directly as well, to compare with their filtered content"));
   b.readView();
@@ -148,7 +150,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());
   std::vector<Entry> entries;
   std::vector<glm::ivec3> lo(kMaxLevels, glm::ivec3(0)), hi(kMaxLevels, glm::ivec3(0));
-  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(clear, layout, origins);
   setUniform(clear, "u_skipLo", glm::ivec3(0));
   setUniform(clear, "u_skipHi", glm::ivec3(0));
@@ -166,18 +168,18 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   glMemoryBarrier(kAllShaderWrites);
   int reached = 0, triangles = 0;
   voxelizeEntries(ctx, layout, origins, entries, order_.get(ctx.scene), "covered-triangle-visit", reached, triangles);
-  GLuint program = ctx.shaders.program({"clipmap/covered_compare.comp.glsl"});
+  GLuint program = ctx.shaders.program({"clipmap/covered_compare.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(program, layout, origins);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredHi"), kMaxLevels, &hi[0].x);
   setFixedPointUniforms(program, ctx.params);
   glUseProgram(program);
-  glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
-  glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  glBindImageTexture(2, difference.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
+  glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
+  glBindImageTexture(2, difference.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
   dispatchCompute(direct.desc().size, {4, 4, 4});
   glMemoryBarrier(kAllShaderWrites);
-  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA8);
+  for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   ctx.stats["covered_cells"] = double(cells);
   std::vector<uint32_t> counted(zero.size());
   auto bytes = counters.download(counted.size() * 4);

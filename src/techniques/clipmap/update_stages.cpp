@@ -154,6 +154,7 @@ void UpdateStage::declare(StageBuilder& b) const {
   for (const auto& p : pathParams()) b.param(p);
   for (const auto& p : injectParams()) b.param(p);
   b.param(fixedPointParam());
+  b.param(atlasFormatParam());
   b.readView();
   b.read("clip-levels");
   b.read("shadow-map");
@@ -257,13 +258,13 @@ void UpdateStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
 
   const TriangleOrder& order = order_.get(ctx.scene);
-  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"});
+  GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(clear, layout, after);
-  GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"});
+  GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(resolve, layout, after);
   setUniform(resolve, "u_faces", faces);
   setFixedPointUniforms(resolve, ctx.params);
-  GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"});
+  GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(filter, layout, after);
   setUniform(filter, "u_faces", faces);
 
@@ -309,7 +310,7 @@ void UpdateStage::execute(StageContext& ctx) {
     glUseProgram(resolve);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
-    glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
     setUniform(resolve, "u_level", k);
     setSkip(resolve, k);
     for (const Box& box : boxes[size_t(k)]) dispatchBox(resolve, box);
@@ -318,7 +319,7 @@ void UpdateStage::execute(StageContext& ctx) {
     // 4. Refilter the level's covered block from the finer level.
     if (k > 0 && !plans[size_t(k)].covered.empty()) {
       glUseProgram(filter);
-      glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+      glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
       setUniform(filter, "u_level", k);
       dispatchBox(filter, plans[size_t(k)].covered);
       glMemoryBarrier(kAllShaderWrites);
@@ -329,13 +330,13 @@ void UpdateStage::execute(StageContext& ctx) {
 
   // 5. Guard texels of every block.
   auto t = std::chrono::steady_clock::now();
-  GLuint guards = ctx.shaders.program({"clipmap/guards.comp.glsl"});
+  GLuint guards = ctx.shaders.program({"clipmap/guards.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(guards, layout, after);
   glUseProgram(guards);
-  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
   dispatchCompute(atlas.desc().size, {4, 4, 4});
   glMemoryBarrier(kAllShaderWrites);
-  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA8);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
   const double guardsMs = lap(t);
   const char* phaseNames[4] = {"clear_ms", "voxelize_ms", "resolve_ms", "filter_ms"};
   for (int i = 0; i < 4; ++i) ctx.stats[phaseNames[i]] = phaseMs[i];

@@ -54,6 +54,7 @@ std::string bounceDirectionalName(int bounce, int direction) {
 
 void declareGatheredGridReads(StageBuilder& b) {
   b.param(bouncesParam());
+  for (const char* name : kDirectionalOpacity) b.read(name);
   for (int k = 1; k <= kMaxBounces; ++k) {
     b.read(bounceGridName(k));
     for (int d = 0; d < 6; ++d) b.read(bounceDirectionalName(k, d));
@@ -104,6 +105,7 @@ void bindRadianceGrid(StageContext& ctx, int bounce) {
                         ctx.board.texture(bounceDirectionalName(bounce, 2 * a + 1)), packed);
     glBindTextureUnit(8 + a, packed.id());
   }
+  for (int sign = 0; sign < 2; ++sign) glBindTextureUnit(11 + sign, ctx.board.texture(kDirectionalOpacity[sign]).id());
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
@@ -148,6 +150,8 @@ void BounceStage::declare(StageBuilder& b) const {
   b.read("fragments");
   b.read("fragments.count");
   b.read("radiance-opaque");
+  b.read(kVoxelFacing);
+  for (const char* name : kDirectionalOpacity) b.read(name);
   b.read("radiance");
   for (const char* name : kDirectionalVolumes) b.read(name);
   for (const char* name : kBounceSums) {
@@ -249,7 +253,7 @@ void BounceStage::execute(StageContext& ctx) {
   for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
 
   // Re-mip with the mip stage's code: level 0 is already in place.
-  for (int k = 0; k < std::max(grids[bounce]->levels() - 1, 1); ++k) buildMipLevel(ctx, *grids[bounce], *grids[bounce], dirs[bounce], k);
+  for (int k = 0; k < std::max(grids[bounce]->levels() - 1, 1); ++k) buildMipLevel(ctx, *grids[bounce], *grids[bounce], dirs[bounce], k, false);
 
   uint32_t totals[2] = {0, 0};
   glGetNamedBufferSubData(counts.id(), 0, sizeof(totals), totals);

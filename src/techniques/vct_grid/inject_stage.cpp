@@ -24,10 +24,10 @@ TextureDesc radianceGridDesc(int res, int levels, GLenum format) {
 }
 
 ParamDesc voxelFormatParam() {
-  return ParamDesc::choice("voxel.format", {"rgba8", "rgba16f"}, 0,
-                           "what the radiance grids store: rgba8 clamps radiance to [0,1] (8 bits per channel); "
-                           "rgba16f keeps up to 64 W/(m^2 sr) in half floats (HDR voxels, twice the memory; needs "
-                           "inject.average=exact-sum)");
+  return ParamDesc::choice("voxel.format", {"rgba8", "rgba16f"}, 1,
+                           "what the radiance grids store: rgba16f keeps up to 64 W/(m^2 sr) in half floats (HDR "
+                           "voxels; needs inject.average=exact-sum); rgba8 clamps radiance to [0,1] (8 bits per "
+                           "channel, half the memory: the voxels by a lamp or in the sun lose most of their light)");
 }
 GLenum gridFormat(const ParamSet& p) { return p.getChoice("voxel.format") == "rgba16f" ? GL_RGBA16F : GL_RGBA8; }
 std::string gridFormatDefines(const ParamSet& p) {
@@ -49,6 +49,17 @@ static TextureDesc radianceSumsDesc(const ParamSet& p) {
   return d;
 }
 
+// Per voxel, the facing code of its surfaces (shaders/common/facing.glsl): what a cone travelling
+// along each axis direction sees of their fronts; the anisotropic mips' leaves.
+static TextureDesc voxelFacingDesc(const ParamSet& p) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_R32UI;
+  d.size = glm::ivec3(p.getInt("voxel.resolution"));
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   declareFragmentLightParams(b);
@@ -65,6 +76,10 @@ void InjectStage::declare(StageBuilder& b) const {
     b.write(name);
     b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceSumsDesc(p); });
   }
+  b.output(kVoxelFacing, OutputKind::Volume3D, Semantic::Occupancy,
+           "per voxel (r32ui), what a cone travelling along each axis direction sees of its surfaces' fronts: 6 fields "
+           "of 5 bits, +x -x +y -y +z -z, each a thermometer code of the largest front weight (shaders/common/facing.glsl)");
+  b.texture(kVoxelFacing, [](const ParamSet& p, const ViewState&) { return voxelFacingDesc(p); });
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
            "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255");
   b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
@@ -109,8 +124,12 @@ void InjectStage::execute(StageContext& ctx) {
     const uint32_t none = 0;
     if (exact) glClearTexImage(sums[c]->id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
   }
+  Texture& facing = ctx.board.ensureTexture(kVoxelFacing, voxelFacingDesc(ctx.params));
+  const uint32_t noSurface = 0;
+  glClearTexImage(facing.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &noSurface);
   setFragmentLightUniforms(program, ctx.params, space);
   glUseProgram(program);
+  glBindImageTexture(5, facing.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
@@ -119,6 +138,7 @@ void InjectStage::execute(StageContext& ctx) {
   dispatchCompute({int(count), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(5, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   if (view) glDeleteTextures(1, &view);
   if (exact) {
     GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
@@ -165,6 +185,7 @@ void OcclusionFixStage::execute(StageContext& ctx) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
+const char* const kDirectionalOpacity[2] = {"opacity-dir+", "opacity-dir-"};
 const char* const kDirectionalVolumes[6] = {"radiance-dir+x", "radiance-dir-x", "radiance-dir+y",
                                            "radiance-dir-y", "radiance-dir+z", "radiance-dir-z"};
 
@@ -185,6 +206,7 @@ void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelFormatParam());
   b.param(mipmapModeParam());
   b.read("radiance-opaque");
+  b.read(kVoxelFacing);
   b.output("radiance", OutputKind::Volume3D, Semantic::Color,
            "the prefiltered radiance grid: level 0 = the voxels, each further level averages 2x2x2");
   b.output("opacity", OutputKind::Volume3D, Semantic::Opacity, "alpha of the prefiltered grid per level")
@@ -195,9 +217,17 @@ void MipmapStage::declare(StageBuilder& b) const {
              "anisotropic levels 1.. as seen by a cone travelling along " + std::string(name).substr(prefix.size()) +
                  " (one voxel, empty, when mipmap.mode is isotropic)")
         .placeholderUnless = "mipmap.mode=anisotropic";
+  for (int sign = 0; sign < 2; ++sign)
+    b.output(kDirectionalOpacity[sign], OutputKind::Volume3D, Semantic::Color,
+             std::string("anisotropic levels 1..: opacity seen by a cone travelling along ") +
+                 (sign == 0 ? "+x, +y, +z" : "-x, -y, -z") + " in red, green, blue (the directional volumes' alpha is "
+                 "the coverage of the surfaces' fronts only)")
+        .placeholderUnless = "mipmap.mode=anisotropic";
   b.texture("radiance", [](const ParamSet& p, const ViewState&) {
     return radianceGridDesc(p.getInt("voxel.resolution"), 0, gridFormat(p));
   });
+  for (const char* name : kDirectionalOpacity)
+    b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceGridDesc(directionalSize(p), 0, GL_RGBA8); });
   for (const char* name : kDirectionalVolumes)
     b.texture(name, [](const ParamSet& p, const ViewState&) {
       return radianceGridDesc(directionalSize(p), 0, gridFormat(p));
@@ -223,16 +253,18 @@ void MipmapStage::execute(StageContext& ctx) {
   Texture* dirs[6];
   for (int d = 0; d < 6; ++d)
     dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0, format));
-  buildMipLevel(ctx, src, grid, dirs, ctx.iteration);
+  for (const char* name : kDirectionalOpacity) ctx.board.ensureTexture(name, radianceGridDesc(half, 0, GL_RGBA8));
+  buildMipLevel(ctx, src, grid, dirs, ctx.iteration, true);
   double bytes = double(grid.byteSize());
   for (auto* d : dirs) bytes += double(d->byteSize());
+  for (const char* name : kDirectionalOpacity) bytes += double(ctx.board.texture(name).byteSize());
   ctx.stats["levels"] = grid.levels();
   ctx.stats["levels_built"] = std::min(ctx.iteration + 2, grid.levels());
   ctx.stats["anisotropic"] = ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0;
   ctx.stats["bytes"] = bytes;
 }
 
-void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k) {
+void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k, bool writeOpacity) {
   const int res = grid.desc().size.x;
   const bool anisotropic = ctx.params.getChoice("mipmap.mode") == "anisotropic";
   const uint8_t zero[4] = {0, 0, 0, 0};
@@ -246,6 +278,10 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     for (int d = 0; d < 6; ++d)
       for (int level = 0; level < dirs[d]->levels(); ++level)
         glClearTexImage(dirs[d]->id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    if (writeOpacity)
+      for (const char* name : kDirectionalOpacity)
+        for (int level = 0; level < ctx.board.texture(name).levels(); ++level)
+          glClearTexImage(ctx.board.texture(name).id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   }
 
   if (k + 1 < grid.levels()) {
@@ -263,9 +299,18 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     glUseProgram(aniso);
     glBindTextureUnit(0, src.id());
     for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
+    glBindTextureUnit(7, ctx.board.texture(kVoxelFacing).id());
+    Texture& opacityPos = ctx.board.texture(kDirectionalOpacity[0]);
+    Texture& opacityNeg = ctx.board.texture(kDirectionalOpacity[1]);
+    glBindTextureUnit(8, opacityPos.id());
+    glBindTextureUnit(9, opacityNeg.id());
     setUniform(aniso, "u_fromIsotropic", k == 0 ? 1 : 0);
     setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
+    setUniform(aniso, "u_writeOpacity", writeOpacity ? 1 : 0);
     for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), k, GL_TRUE, 0, GL_WRITE_ONLY, dirs[d]->desc().format);
+    // Level k of the opacity volumes: written only with u_writeOpacity (a bounce's re-mip reads them).
+    glBindImageTexture(6, opacityPos.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(7, opacityNeg.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     dispatchCompute(dirs[0]->levelSize(k), {4, 4, 4});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }

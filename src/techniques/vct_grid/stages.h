@@ -26,8 +26,18 @@ float gridMaxRadiance(const ParamSet& p);         // 1 or kHdrMaxRadiance
 // Iteration k of the mip pyramid (MipmapStage; the bounce stage re-mips each bounce's grid with
 // it): k = 0 copies 'src' into level 0 of 'grid' (unless they are the same texture) and clears the
 // coarser levels and the six directional volumes; then level k+1 of 'grid' is built from level k,
-// and with mipmap.mode=anisotropic level k of 'dirs' (built from level 0 of 'src' when k = 0).
-void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k);
+// and with mipmap.mode=anisotropic level k of 'dirs' (built from level 0 of 'src' when k = 0,
+// each leaf seen per direction as its facing code in kVoxelFacing says) and, when
+// 'writeOpacity', level k of the directional opacity volumes (kDirectionalOpacity; a bounce's
+// grid has the mip stage's geometry, so it reads them).
+void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k, bool writeOpacity);
+// The inject stage's R32UI volume: per voxel, the facing code of its fragments' normals
+// (shaders/common/facing.glsl): per travel direction, how much of its surfaces' fronts is seen.
+inline constexpr const char* kVoxelFacing = "voxel-facing";
+// The mip stage's directional opacity (RGBA8, the directional volumes' size and levels): [0] the
+// opacity seen travelling +x, +y, +z in r, g, b, [1] travelling -x, -y, -z. The directional
+// volumes' alpha is the coverage of the surfaces' fronts only (mipmap_anisotropic.comp.glsl).
+extern const char* const kDirectionalOpacity[2];
 
 // Indirect bounces (bounce_stage.cpp): the parameter, the volumes each bounce's grid is made of,
 // and the grid the cones gather from (the mip stage's when bounces = 1, else the last bounce's).
