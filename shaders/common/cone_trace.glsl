@@ -24,6 +24,7 @@ layout(binding = 10) uniform sampler3D u_dirZ;
 layout(binding = 11) uniform sampler3D u_opacityPos;
 layout(binding = 12) uniform sampler3D u_opacityNeg;
 uniform int u_anisotropic;
+uniform int u_classicDirectional;  // 1: the directional volumes hold whole voxels (mipmap.fronts=false)
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
@@ -91,6 +92,16 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, out float solid) {
   vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
   vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
   vec4 sz = directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
+  if (u_classicDirectional != 0) {
+    // Crassin's classic blend: the three premultiplied values weighted by dir^2; opacity is theirs.
+    g_fetches -= 2u;  // no solid-opacity lookups
+    vec4 classic = w.x * sx + w.y * sy + w.z * sz;
+    solid = classic.a;
+    if (phase == 2) return classic;
+    vec4 iso0 = textureLod(u_radiance, uvw, 0.0);
+    solid = mix(iso0.a, solid, lod);
+    return mix(iso0, classic, lod);
+  }
   // The volumes show only the fronts of the surfaces they see (common/facing.glsl): alpha is the
   // fronts' coverage; what a volume sees from behind or edge-on is empty in it. Their optical
   // depths add, weighted (extinction is additive; the weights sum to 1, so a homogeneous texel

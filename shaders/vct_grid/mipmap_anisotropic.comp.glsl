@@ -45,7 +45,8 @@ layout(rgba8, binding = 6) uniform writeonly image3D u_opacityPosTarget;
 layout(rgba8, binding = 7) uniform writeonly image3D u_opacityNegTarget;
 uniform int u_fromIsotropic;
 uniform int u_sourceLevel;
-uniform int u_writeOpacity;  // 0: the opacity volumes are already built (a bounce's grid, same geometry)
+uniform int u_writeOpacity;
+uniform int u_classicDirectional;  // 1: mipmap.fronts=false, every voxel seen from all sides (Crassin's)  // 0: the opacity volumes are already built (a bounce's grid, same geometry)
 
 // A child texel as direction d sees it: the fronts' premultiplied radiance and coverage, and the
 // solid opacity.
@@ -54,6 +55,7 @@ struct Seen { vec4 fronts; float opacity; };
 Seen child(int d, ivec3 v) {
   if (u_fromIsotropic != 0) {
     vec4 voxel = texelFetch(u_isotropic, v, 0);
+    if (u_classicDirectional != 0) return Seen(voxel, voxel.a);
     return Seen(facingLeaf(voxel, texelFetch(u_facing, v, 0).r, d), voxel.a);
   }
   vec3 opacity = (d & 1) == 0 ? texelFetch(u_opacityPos, v, u_sourceLevel).rgb : texelFetch(u_opacityNeg, v, u_sourceLevel).rgb;

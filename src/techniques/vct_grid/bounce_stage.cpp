@@ -136,6 +136,7 @@ static TextureDesc bounceSumsDesc(const ParamSet& p) {
 void BounceStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(mipmapModeParam());
+  b.param(mipmapFrontsParam());
   b.param(voxelFormatParam());
   b.param(bouncesParam());
   b.param(ParamDesc::integer("bounce.cone-count", 6, 1, VOXLAB_MAX_CONES,
@@ -228,6 +229,7 @@ void BounceStage::execute(StageContext& ctx) {
   setUniform(gather, "u_lodBias", kLodBias);
   setUniform(gather, "u_maxSteps", 512);
   setUniform(gather, "u_anisotropic", anisotropic(ctx.params) ? 1 : 0);
+  setUniform(gather, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
   setUniform(gather, "u_fragmentCount", unsigned(count));
   setUniform(gather, "u_maxRadiance", gridMaxRadiance(ctx.params));
   setSkyUniforms(gather, ctx.params, ctx.scene);

@@ -196,6 +196,13 @@ ParamDesc mipmapModeParam() {
                            "colour with the opacity of the block's most opaque axis (thin walls stay opaque)");
 }
 
+ParamDesc mipmapFrontsParam() {
+  return ParamDesc::boolean("mipmap.fronts", true,
+                            "anisotropic mips show a voxel's light only to the directions that see its surfaces' "
+                            "fronts, its opacity kept apart as a solid cube's (false: Crassin's classic reduction, "
+                            "every voxel seen from all sides, as svo's directional bricks)");
+}
+
 // Edge of the six directional volumes: half the grid with anisotropic mips, one voxel without.
 int directionalSize(const ParamSet& p) {
   return p.getChoice("mipmap.mode") == "anisotropic" ? std::max(p.getInt("voxel.resolution") / 2, 1) : 1;
@@ -205,6 +212,7 @@ void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(voxelFormatParam());
   b.param(mipmapModeParam());
+  b.param(mipmapFrontsParam());
   b.read("radiance-opaque");
   b.read(kVoxelFacing);
   b.output("radiance", OutputKind::Volume3D, Semantic::Color,
@@ -307,6 +315,7 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     setUniform(aniso, "u_fromIsotropic", k == 0 ? 1 : 0);
     setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
     setUniform(aniso, "u_writeOpacity", writeOpacity ? 1 : 0);
+    setUniform(aniso, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
     for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), k, GL_TRUE, 0, GL_WRITE_ONLY, dirs[d]->desc().format);
     // Level k of the opacity volumes: written only with u_writeOpacity (a bounce's re-mip reads them).
     glBindImageTexture(6, opacityPos.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);

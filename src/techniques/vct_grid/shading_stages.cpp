@@ -25,6 +25,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(kTracedCones.resolutionParam());
   declareConeParams(b, ConeDefaults{});  // one voxel volume's cones (cone_setup.h)
   b.param(mipmapModeParam());
+  b.param(mipmapFrontsParam());
   declareSky(b);
   b.readView();
   declareGatheredGridReads(b);  // the mip stage's grid, or the last bounce's (bounce_stage.cpp)
@@ -83,6 +84,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const size_t coneCount = size_t(ctx.params.getInt("cone.count"));
 
   setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
+  setUniform(program, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   bindRadianceGrid(ctx, ctx.params.getInt("bounces"));

@@ -10,6 +10,7 @@ namespace voxlab::vct {
 // Names of the six anisotropic volumes (+x -x +y -y +z -z) and the parameter that enables them.
 extern const char* const kDirectionalVolumes[6];
 ParamDesc mipmapModeParam();
+ParamDesc mipmapFrontsParam();  // mipmap.fronts: the directional volumes show fronts only (default)
 
 // A radiance volume of res^3 voxels (levels 0: the whole mip chain), RGBA8 unless 'format'.
 TextureDesc radianceGridDesc(int res, int levels, GLenum format = GL_RGBA8);
