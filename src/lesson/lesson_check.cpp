@@ -147,7 +147,12 @@ class TextChecker {
     if (std::regex_search(l.text, heading)) return;
     static const std::regex ref(R"(\b[Ss]teps?\s+(\d+)(?:\s*(?:-|to|and|or)\s*(\d+))?)");
     const std::string prose = withoutCodeSpans(l.text);
+    // "lesson 01, step 15" names another lesson's step: not this one's.
+    static const std::regex otherLesson(R"([Ll]esson\s+\d+(?:'s|,)?\s*$)");
     for (std::sregex_iterator it(prose.begin(), prose.end(), ref), end; it != end; ++it) {
+      const size_t at = size_t(it->position());
+      const std::string before = prose.substr(at > 20 ? at - 20 : 0, at > 20 ? 20 : at);
+      if (std::regex_search(before, otherLesson)) continue;
       for (int g = 1; g <= 2; ++g) {
         if (!(*it)[g].matched) continue;
         int k = std::stoi((*it)[g].str());

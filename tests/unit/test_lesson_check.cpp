@@ -53,6 +53,7 @@ TEST(LessonCheck, NamedStepsExist) {
   ASSERT_EQ(p.size(), 1u) << joined(p);
   EXPECT_NE(p[0].find("names step 3, but the lesson has steps 1..2"), std::string::npos) << p[0];
   EXPECT_TRUE(problemsOf({"## Step 1: a\n\nsee `--set step 9`"}).empty()) << "code spans are not prose";
+  EXPECT_TRUE(problemsOf({"## Step 1: a\n\nas lesson 01, step 15 measures"}).empty()) << "another lesson's step";
 }
 
 TEST(LessonCheck, NamedFilesExist) {
