@@ -12,7 +12,8 @@
 // The plots use one number for the error: 1 - SSIM (default) or |1 - energy ratio| (--error
 // energy), of the main compared output: the indirect light when the technique has such an output
 // (what a GI technique's parameters change), else the combined image, else the direct light. The
-// time is the total CPU time of the stages. DIR/*.svg: error against the value, time against the
+// time is the total CPU time of the stages, measured after one warm-up run that is not kept;
+// --repeat N runs every value N times and takes each stage's median. DIR/*.svg: error against the value, time against the
 // value, error against time with the Pareto front (the runs no other run beats on both); with two
 // parameters one line per value of the second. DIR/sweep.html shows the plots and a slider that
 // swaps the images and moves a marker on every plot; "#run=K" in the address opens run K.
@@ -148,26 +149,53 @@ SweptParam parseSweptParam(const std::string& text, const ParamSet& params) {
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json runOne(const RunRequest& request, const std::string& outDir, const std::string& rel) {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Runs the request 'repeats' times (a fresh session each time); the last one writes its outputs.
+// A stage's time is the median over the repeats (each one in cpu_ms_runs), the total their sum.
+json runOne(const RunRequest& request, const std::string& outDir, const std::string& rel, int repeats) {
   const auto start = std::chrono::steady_clock::now();
+  std::vector<std::vector<double>> cpuMs, gpuMs;
+  auto record = [&](HeadlessSession& session) {
+    cpuMs.resize(size_t(session.untilStage()) + 1), gpuMs.resize(cpuMs.size());
+    for (int i = 0; i <= session.untilStage(); ++i) {
+      cpuMs[size_t(i)].push_back(session.cursor().record(i).cpuMs);
+      gpuMs[size_t(i)].push_back(session.cursor().record(i).gpuMs);
+    }
+  };
+  for (int r = 1; r < repeats; ++r) {
+    HeadlessSession session(request);
+    session.run();
+    record(session);
+  }
   HeadlessSession session(request);
   const Technique& t = session.cursor().technique();
   session.run();
+  record(session);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string dir = (fs::path(outDir) / rel).string();
   json manifest = session.writeOutputs(dir, false, finalAndComparedOutputs(t));
 
   json run = {{"dir", rel},
               {"wall_s", wall},
-              {"total_cpu_ms", manifest["total_cpu_ms"]},
-              {"total_gpu_ms", manifest["total_gpu_ms"]},
               {"resource_bytes", manifest["resource_bytes"]},
               {"stages", json::array()},
               {"outputs", json::array()}};
   if (manifest.contains("references_skipped")) run["references_skipped"] = manifest["references_skipped"];
+  double totalCpu = 0, totalGpu = 0;
+  size_t index = 0;
   for (const auto& s : manifest["stages"]) {
     const std::string stage = s["id"].get<std::string>();
-    run["stages"].push_back({{"id", stage}, {"cpu_ms", s["cpu_ms"]}, {"gpu_ms", s["gpu_ms"]}});
+    const double cpu = median(cpuMs[index]), gpu = median(gpuMs[index]);
+    totalCpu += cpu, totalGpu += gpu;
+    json entry = {{"id", stage}, {"cpu_ms", cpu}, {"gpu_ms", gpu}};
+    if (repeats > 1) entry["cpu_ms_runs"] = cpuMs[index];
+    run["stages"].push_back(entry);
+    ++index;
     for (const auto& e : s["outputs"]) {
       const OutputDesc* desc = t.findOutput(stage, e["name"].get<std::string>()).second;
       std::string png = manifestFileEndingWith(e, stage + "." + desc->name + ".png");
@@ -197,6 +225,8 @@ json runOne(const RunRequest& request, const std::string& outDir, const std::str
       run["outputs"].push_back(o);
     }
   }
+  run["total_cpu_ms"] = totalCpu;
+  run["total_gpu_ms"] = totalGpu;
   return run;
 }
 
@@ -483,6 +513,7 @@ int runSweep(const std::vector<std::string>& argv) {
               "NAME=V1,V2,... or NAME=FROM:TO:STEPS: the parameter swept; twice for the grid of two"},
              {"--set", true, true, "NAME=VALUE for every run, repeatable"},
              {"--size", true, false, "image size WIDTHxHEIGHT (default 256x256; the references' size or a divisor of it)"},
+             {"--repeat", true, false, "runs per value (default 1); a stage's time is its median over them"},
              {"--error", true, false, "the error plotted: ssim (1 - SSIM, default) or energy (|1 - energy ratio|)"},
              {"--out", true, false, "folder for sweep.json, sweep.html, the plots (SVG) and the runs"}});
   const std::string technique = args.require("--technique");
@@ -493,6 +524,7 @@ int runSweep(const std::vector<std::string>& argv) {
   base.scene = sceneArg;
   base.width = base.height = 256;
   if (args.has("--size")) Args::parseSize(args.get("--size"), base.width, base.height);
+  const int repeats = args.has("--repeat") ? Args::parseInt("--repeat", args.get("--repeat"), 1, 15) : 1;
   const std::string errorKind = args.get("--error", "ssim");
   if (errorKind != "ssim" && errorKind != "energy")
     throw Error("--error '" + errorKind + "' is not valid; valid: ssim (1 - SSIM), energy (|1 - energy ratio|)");
@@ -541,7 +573,9 @@ int runSweep(const std::vector<std::string>& argv) {
                  {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
                  {"sets", args.all("--set")},
                  {"parameters", json::array()},
-                 {"time", "total CPU time of the stages (ms; each stage's execute() with a glFinish)"},
+                 {"time", "total CPU time of the stages (ms; each stage's execute() with a glFinish" +
+                              std::string(repeats > 1 ? ", its median over the repeats" : "") + "; after one warm-up run)"},
+                 {"repeat", repeats},
                  {"runs", json::array()}};
   for (const SweptParam& p : swept) {
     json values = json::array();
@@ -553,16 +587,27 @@ int runSweep(const std::vector<std::string>& argv) {
   ProgressBar progress("sweep");
   int failed = 0;
   const auto start = std::chrono::steady_clock::now();
+  // The first session of a process pays once for what later ones reuse (measured: vct-grid's
+  // voxelize and inject stages take twice as long in it), so a warm-up run of the first point,
+  // neither kept nor written, keeps that cost off the first value's time.
+  progress.update(0, int(points.size()) + 1, "warm-up");
+  try {
+    RunRequest warmUp = base;
+    warmUp.sets = points[0].sets;
+    HeadlessSession(warmUp).run();
+  } catch (const std::exception&) {
+    // The run of the first point reports the failure.
+  }
   for (size_t k = 0; k < points.size(); ++k) {
     const Point& p = points[k];
     std::string label = swept[0].desc.name + "=" + swept[0].text(p.i0);
     if (swept.size() > 1) label += ", " + swept[1].desc.name + "=" + swept[1].text(p.i1);
-    progress.update(int(k), int(points.size()), label);
+    progress.update(int(k) + 1, int(points.size()) + 1, label);
     RunRequest request = base;
     request.sets = p.sets;
     json run;
     try {
-      run = runOne(request, out, "runs/" + fmt("%02.0f", double(k)));
+      run = runOne(request, out, "runs/" + fmt("%02.0f", double(k)), repeats);
     } catch (const std::exception& e) {
       run = {{"failed", e.what()}};
       ++failed;
@@ -575,7 +620,7 @@ int runSweep(const std::vector<std::string>& argv) {
     if (swept.size() > 1) run["values"][swept[1].desc.name] = swept[1].text(p.i1);
     report["runs"].push_back(run);
   }
-  progress.update(int(points.size()), int(points.size()), "done");
+  progress.update(int(points.size()) + 1, int(points.size()) + 1, "done");
   progress.finish();
   report["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -651,7 +696,7 @@ int runSweep(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("sweep",
                         "voxlab sweep --technique T [--scene S] --param NAME=V1,V2,...|NAME=FROM:TO:STEPS [--param ...] "
-                        "[--set NAME=VALUE]... [--size WxH] [--error ssim|energy] --out DIR",
+                        "[--set NAME=VALUE]... [--size WxH] [--repeat N] [--error ssim|energy] --out DIR",
                         "one technique at every value of one or two parameters: error against the reference, time, "
                         "GPU memory, plots",
                         &runSweep);

@@ -22,6 +22,8 @@ voxlab_cli_case(sweep_set_of_swept 2 "--set cone.aperture=40: cone.aperture is t
   "sweep --technique vct-grid --param cone.aperture=30,60 --set cone.aperture=40 --out @OUT@")
 voxlab_cli_case(sweep_bad_error 2 "--error 'psnr' is not valid; valid: ssim \\(1 - SSIM\\), energy"
   "sweep --technique vct-grid --param cone.aperture=30,60 --error psnr --out @OUT@")
+voxlab_cli_case(sweep_bad_repeat 2 "--repeat '0' is not an integer in 1\\.\\.15"
+  "sweep --technique vct-grid --param cone.aperture=30,60 --repeat 0 --out @OUT@")
 # A reduced sweep (64x64, a 32^3 grid; about a second): the files, then sweep.json holds three runs.
 voxlab_cli_case_output(sweep_small 0 ""
   "sweep --technique vct-grid --scene cornell-box --param cone.aperture=30,45,60 --set voxel.resolution=32 --size 64x64 --out @OUT@"
