@@ -12,8 +12,9 @@
 // The plots use one number for the error: 1 - SSIM (default) or |1 - energy ratio| (--error
 // energy), of the main compared output: the indirect light when the technique has such an output
 // (what a GI technique's parameters change), else the combined image, else the direct light. The
-// time is the total CPU time of the stages, measured after one warm-up run that is not kept;
-// --repeat N runs every value N times and takes each stage's median. DIR/*.svg: error against the value, time against the
+// time is the total CPU time of the stages (--time-stage: of the named stages only, to keep the
+// noise of the stages the parameter does not change off the plot), measured after one warm-up
+// run that is not kept; --repeat N runs every value N times and takes each stage's median. DIR/*.svg: error against the value, time against the
 // value, error against time with the Pareto front (the runs no other run beats on both); with two
 // parameters one line per value of the second. DIR/sweep.html shows the plots and a slider that
 // swaps the images and moves a marker on every plot; "#run=K" in the address opens run K.
@@ -446,7 +447,7 @@ std::string htmlPage(const json& report, const std::vector<std::string>& svgs) {
   for (const std::string& svg : svgs) html += svg;
   html += "</div>\n<table id=\"runs\">\n<tr><th>run</th>";
   for (const auto& p : report["parameters"]) html += "<th>" + htmlEscape(p["name"].get<std::string>()) + "</th>";
-  html += "<th>error</th><th>energy ratio</th><th>RMSE</th><th>SSIM</th><th>CPU time (ms)</th><th>GPU memory</th><th>Pareto</th></tr>\n";
+  html += "<th>error</th><th>energy ratio</th><th>RMSE</th><th>SSIM</th><th>time (ms)</th><th>GPU memory</th><th>Pareto</th></tr>\n";
   json data = json::array();
   for (const auto& run : report["runs"]) {
     const int k = run["index"].get<int>();
@@ -468,7 +469,7 @@ std::string htmlPage(const json& report, const std::vector<std::string>& svgs) {
     } else {
       html += "<td>" + cell("error", "%.4f") + "</td><td>" + mainCell("mean_ratio", "%.3f") + "</td><td>" +
               mainCell("rmse", "%.4f") + "</td><td>" + mainCell("ssim", "%.3f") + "</td><td>" +
-              cell("total_cpu_ms", "%.0f") + "</td><td>" +
+              cell("time_ms", "%.0f") + "</td><td>" +
               formatBytes(run["resource_bytes"].get<size_t>()) + "</td><td>" +
               (run.value("pareto", false) ? "yes" : "") + "</td></tr>\n";
     }
@@ -514,6 +515,7 @@ int runSweep(const std::vector<std::string>& argv) {
              {"--set", true, true, "NAME=VALUE for every run, repeatable"},
              {"--size", true, false, "image size WIDTHxHEIGHT (default 256x256; the references' size or a divisor of it)"},
              {"--repeat", true, false, "runs per value (default 1); a stage's time is its median over them"},
+             {"--time-stage", true, true, "stage id, repeatable: the time plotted is of these stages (default: all)"},
              {"--error", true, false, "the error plotted: ssim (1 - SSIM, default) or energy (|1 - energy ratio|)"},
              {"--out", true, false, "folder for sweep.json, sweep.html, the plots (SVG) and the runs"}});
   const std::string technique = args.require("--technique");
@@ -530,7 +532,16 @@ int runSweep(const std::vector<std::string>& argv) {
     throw Error("--error '" + errorKind + "' is not valid; valid: ssim (1 - SSIM), energy (|1 - energy ratio|)");
 
   // Everything is validated before the first run.
-  const ParamSet defaults = createTechnique(technique)->defaultParams();  // unknown id: lists the valid ones
+  const auto declared = createTechnique(technique);  // unknown id: one line listing the valid ones
+  const ParamSet defaults = declared->defaultParams();
+  const std::vector<std::string> timedStages = args.all("--time-stage");
+  for (const std::string& id : timedStages) {
+    try {
+      declared->stageIndex(id);
+    } catch (const Error& e) {
+      throw Error(std::string("--time-stage: ") + e.what());
+    }
+  }
   const std::vector<std::string> paramArgs = args.all("--param");
   if (paramArgs.empty() || paramArgs.size() > 2)
     throw Error("'sweep' needs one or two --param NAME=V1,V2,... (or NAME=FROM:TO:STEPS); got " +
@@ -573,8 +584,11 @@ int runSweep(const std::vector<std::string>& argv) {
                  {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
                  {"sets", args.all("--set")},
                  {"parameters", json::array()},
-                 {"time", "total CPU time of the stages (ms; each stage's execute() with a glFinish" +
+                 {"time", (timedStages.empty() ? std::string("total CPU time of the stages")
+                                               : "CPU time of " + joinNames(timedStages)) +
+                              " (ms; each stage's execute() with a glFinish" +
                               std::string(repeats > 1 ? ", its median over the repeats" : "") + "; after one warm-up run)"},
+                 {"time_stages", timedStages},
                  {"repeat", repeats},
                  {"runs", json::array()}};
   for (const SweptParam& p : swept) {
@@ -614,6 +628,14 @@ int runSweep(const std::vector<std::string>& argv) {
       progress.finish();
       std::fprintf(stderr, "voxlab sweep: %s failed: %s\n", label.c_str(), e.what());
     }
+    if (!run.contains("failed")) {
+      double timed = 0;
+      for (const auto& stage : run["stages"])
+        if (timedStages.empty() ||
+            std::find(timedStages.begin(), timedStages.end(), stage["id"].get<std::string>()) != timedStages.end())
+          timed += stage["cpu_ms"].get<double>();
+      run["time_ms"] = timed;
+    }
     run["index"] = int(k);
     run["values"] = json::object();
     run["values"][swept[0].desc.name] = swept[0].text(p.i0);
@@ -650,7 +672,7 @@ int runSweep(const std::vector<std::string>& argv) {
     if (run.contains("failed")) continue;
     const int k = run["index"].get<int>();
     const Point& p = points[size_t(k)];
-    const double x = axisValue(swept[0], p.i0), t = run["total_cpu_ms"].get<double>();
+    const double x = axisValue(swept[0], p.i0), t = run["time_ms"].get<double>();
     timeSeries[p.i1].push_back({k, x, t});
     times.push_back(t);
     if (!run.contains("error") || !run["error"].is_number()) continue;
@@ -671,7 +693,9 @@ int runSweep(const std::vector<std::string>& argv) {
                                                              : "";
   const Axis valueAxis = paramAxis(swept[0]);
   const Axis errorAxis = numberAxis(errorLabel, errors, "%.3g");
-  const Axis timeAxis = numberAxis("CPU time of the stages (ms)", times, "%.0f");
+  const Axis timeAxis = numberAxis(
+      (timedStages.empty() ? std::string("CPU time of the stages") : "CPU time of " + joinNames(timedStages)) + " (ms)",
+      times, "%.0f");
   // Error against time: each series joined in the order of the swept value (the path the
   // parameter takes through the trade-off), the Pareto front ringed.
   const std::vector<std::string> pages = {
