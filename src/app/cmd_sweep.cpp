@@ -320,6 +320,12 @@ Axis paramAxis(const SweptParam& p) {
 // Where a parameter value lies on its axis (categories: the index in the order given).
 double axisValue(const SweptParam& p, size_t index) { return p.categorical() ? double(index) : p.values[index]; }
 
+// One run of the sweep: the indices of its values, and the --set assignments it runs with.
+struct GridPoint {
+  size_t i0, i1;
+  std::vector<std::string> sets;
+};
+
 struct PlotPoint {
   int run;
   double x, y;
@@ -453,9 +459,10 @@ std::string htmlPage(const json& report, const std::vector<std::string>& svgs) {
     const int k = run["index"].get<int>();
     html += "<tr id=\"row-" + std::to_string(k) + "\"><td>" + std::to_string(k) + "</td>";
     std::string label;
-    for (const auto& [name, value] : run["values"].items()) {
-      html += "<td>" + htmlEscape(value.get<std::string>()) + "</td>";
-      label += (label.empty() ? "" : ", ") + name + "=" + value.get<std::string>();
+    for (const auto& p : report["parameters"]) {  // in the order given (run["values"] is sorted by name)
+      const std::string name = p["name"].get<std::string>(), value = run["values"][name].get<std::string>();
+      html += "<td>" + htmlEscape(value) + "</td>";
+      label += (label.empty() ? "" : ", ") + name + "=" + value;
     }
     auto cell = [&](const char* key, const char* format) {
       return run.contains(key) && run[key].is_number() ? fmt(format, run[key].get<double>()) : std::string("-");
@@ -502,6 +509,81 @@ std::string htmlPage(const json& report, const std::vector<std::string>& svgs) {
           "show(asked && +asked[1] < runs.length ? +asked[1] : 0);\n"
           "</script>\n</body>\n</html>\n";
   return html;
+}
+
+// The error of every run ("error", and "main": the main compared output's entry) and the
+// report's "error" (what it is and of which output).
+void assignErrors(json& report, const std::string& errorKind) {
+  const std::string mainAddress = mainOutputAddress(report["runs"]);
+  const std::string definition = errorKind == "ssim" ? "1 - SSIM" : "|1 - energy ratio|";
+  std::string mainRole;
+  for (auto& run : report["runs"]) {
+    const json* o = outputAt(run, mainAddress);
+    if (!o) continue;
+    run["main"] = *o;
+    mainRole = (*o)["role"].get<std::string>();
+    const char* metric = errorKind == "ssim" ? "ssim" : "mean_ratio";
+    if (o->contains(metric) && (*o)[metric].is_number())
+      run["error"] = number(errorKind == "ssim" ? 1.0 - (*o)[metric].get<double>() : std::abs(1.0 - (*o)[metric].get<double>()));
+  }
+  report["error"] = {{"definition", definition},
+                     {"metric", errorKind},
+                     {"output", mainAddress.empty() ? std::string("none") : mainAddress},
+                     {"role", mainRole}};
+
+}
+
+// The three plots (SVG) of a sweep; marks the runs of the Pareto front ("pareto": true).
+std::vector<std::string> plotSweep(json& report, const std::vector<SweptParam>& swept,
+                                   const std::vector<GridPoint>& points, const std::string& timeLabel) {
+  const size_t n1 = swept.size() > 1 ? swept[1].values.size() : 1;
+  const std::string definition = report["error"]["definition"], mainRole = report["error"]["role"];
+  const std::string mainAddress = report["error"]["output"] == "none" ? "" : report["error"]["output"].get<std::string>();
+  std::vector<PlotPoint> errorByTime;
+  std::vector<std::vector<PlotPoint>> errorSeries(n1), timeSeries(n1), tradeSeries(n1);
+  std::vector<double> errors, times;
+  for (const auto& run : report["runs"]) {
+    if (run.contains("failed")) continue;
+    const int k = run["index"].get<int>();
+    const GridPoint& p = points[size_t(k)];
+    const double x = axisValue(swept[0], p.i0), t = run["time_ms"].get<double>();
+    timeSeries[p.i1].push_back({k, x, t});
+    times.push_back(t);
+    if (!run.contains("error") || !run["error"].is_number()) continue;
+    const double e = run["error"].get<double>();
+    errorSeries[p.i1].push_back({k, x, e});
+    tradeSeries[p.i1].push_back({k, t, e});
+    errorByTime.push_back({k, t, e});
+    errors.push_back(e);
+  }
+  const std::vector<PlotPoint> front = paretoFront(errorByTime);
+  for (const PlotPoint& p : front) report["runs"][size_t(p.run)]["pareto"] = true;
+  std::vector<std::string> seriesNames;
+  if (swept.size() > 1)
+    for (size_t i = 0; i < n1; ++i) seriesNames.push_back(swept[1].desc.name + "=" + swept[1].text(i));
+  const std::string errorLabel = definition + " (" + (mainRole.empty() ? std::string("no compared output") : mainRole) + ")";
+  const std::string noError = mainAddress.empty()           ? "no output of this technique is compared"
+                              : errors.empty()               ? "no reference to compare with"
+                                                             : "";
+  const Axis valueAxis = paramAxis(swept[0]);
+  const Axis errorAxis = numberAxis(errorLabel, errors, "%.3g");
+  const Axis timeAxis = numberAxis(timeLabel, times, "%.0f");
+  // Error against time: each series joined in the order of the swept value (the path the
+  // parameter takes through the trade-off), the Pareto front ringed.
+  return {
+      svgPlot("error-by-value", "error against " + swept[0].desc.name, valueAxis, errorAxis, errorSeries, seriesNames, {},
+              noError),
+      svgPlot("time-by-value", "time against " + swept[0].desc.name, valueAxis, timeAxis, timeSeries, seriesNames, {}, ""),
+      svgPlot("error-by-time", "error against time (green: the Pareto front)", timeAxis, errorAxis, tradeSeries, seriesNames, front, noError)};
+}
+
+// The CPU time of the named stages of a run (all of them when none is named).
+double timeOfStages(const json& run, const std::vector<std::string>& stages) {
+  double ms = 0;
+  for (const auto& stage : run["stages"])
+    if (stages.empty() || std::find(stages.begin(), stages.end(), stage["id"].get<std::string>()) != stages.end())
+      ms += stage["cpu_ms"].get<double>();
+  return ms;
 }
 
 // --- the command -----------------------------------------------------------------------------------
@@ -564,14 +646,10 @@ int runSweep(const std::vector<std::string>& argv) {
   const Scene scene = loadScene(resolveScenePath(sceneArg));  // bad scene: one line listing the valid ones
 
   // The runs: the first parameter outermost.
-  struct Point {
-    size_t i0, i1;
-    std::vector<std::string> sets;
-  };
-  std::vector<Point> points;
+  std::vector<GridPoint> points;
   for (size_t i0 = 0; i0 < n0; ++i0)
     for (size_t i1 = 0; i1 < n1; ++i1) {
-      Point p{i0, i1, args.all("--set")};
+      GridPoint p{i0, i1, args.all("--set")};
       p.sets.push_back(swept[0].desc.name + "=" + swept[0].text(i0));
       if (swept.size() > 1) p.sets.push_back(swept[1].desc.name + "=" + swept[1].text(i1));
       ParamSet check = fixed;
@@ -613,7 +691,7 @@ int runSweep(const std::vector<std::string>& argv) {
     // The run of the first point reports the failure.
   }
   for (size_t k = 0; k < points.size(); ++k) {
-    const Point& p = points[k];
+    const GridPoint& p = points[k];
     std::string label = swept[0].desc.name + "=" + swept[0].text(p.i0);
     if (swept.size() > 1) label += ", " + swept[1].desc.name + "=" + swept[1].text(p.i1);
     progress.update(int(k) + 1, int(points.size()) + 1, label);
@@ -628,14 +706,7 @@ int runSweep(const std::vector<std::string>& argv) {
       progress.finish();
       std::fprintf(stderr, "voxlab sweep: %s failed: %s\n", label.c_str(), e.what());
     }
-    if (!run.contains("failed")) {
-      double timed = 0;
-      for (const auto& stage : run["stages"])
-        if (timedStages.empty() ||
-            std::find(timedStages.begin(), timedStages.end(), stage["id"].get<std::string>()) != timedStages.end())
-          timed += stage["cpu_ms"].get<double>();
-      run["time_ms"] = timed;
-    }
+    if (!run.contains("failed")) run["time_ms"] = timeOfStages(run, timedStages);
     run["index"] = int(k);
     run["values"] = json::object();
     run["values"][swept[0].desc.name] = swept[0].text(p.i0);
@@ -646,63 +717,10 @@ int runSweep(const std::vector<std::string>& argv) {
   progress.finish();
   report["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  // The error of every run, from its main compared output.
-  const std::string mainAddress = mainOutputAddress(report["runs"]);
-  const std::string definition = errorKind == "ssim" ? "1 - SSIM" : "|1 - energy ratio|";
-  std::string mainRole;
-  for (auto& run : report["runs"]) {
-    const json* o = outputAt(run, mainAddress);
-    if (!o) continue;
-    run["main"] = *o;
-    mainRole = (*o)["role"].get<std::string>();
-    const char* metric = errorKind == "ssim" ? "ssim" : "mean_ratio";
-    if (o->contains(metric) && (*o)[metric].is_number())
-      run["error"] = number(errorKind == "ssim" ? 1.0 - (*o)[metric].get<double>() : std::abs(1.0 - (*o)[metric].get<double>()));
-  }
-  report["error"] = {{"definition", definition},
-                     {"metric", errorKind},
-                     {"output", mainAddress.empty() ? std::string("none") : mainAddress},
-                     {"role", mainRole}};
-
-  // The plots.
-  std::vector<PlotPoint> errorByTime;
-  std::vector<std::vector<PlotPoint>> errorSeries(n1), timeSeries(n1), tradeSeries(n1);
-  std::vector<double> errors, times;
-  for (const auto& run : report["runs"]) {
-    if (run.contains("failed")) continue;
-    const int k = run["index"].get<int>();
-    const Point& p = points[size_t(k)];
-    const double x = axisValue(swept[0], p.i0), t = run["time_ms"].get<double>();
-    timeSeries[p.i1].push_back({k, x, t});
-    times.push_back(t);
-    if (!run.contains("error") || !run["error"].is_number()) continue;
-    const double e = run["error"].get<double>();
-    errorSeries[p.i1].push_back({k, x, e});
-    tradeSeries[p.i1].push_back({k, t, e});
-    errorByTime.push_back({k, t, e});
-    errors.push_back(e);
-  }
-  const std::vector<PlotPoint> front = paretoFront(errorByTime);
-  for (const PlotPoint& p : front) report["runs"][size_t(p.run)]["pareto"] = true;
-  std::vector<std::string> seriesNames;
-  if (swept.size() > 1)
-    for (size_t i = 0; i < n1; ++i) seriesNames.push_back(swept[1].desc.name + "=" + swept[1].text(i));
-  const std::string errorLabel = definition + " (" + (mainRole.empty() ? std::string("no compared output") : mainRole) + ")";
-  const std::string noError = mainAddress.empty()           ? "no output of this technique is compared"
-                              : errors.empty()               ? "no reference to compare with"
-                                                             : "";
-  const Axis valueAxis = paramAxis(swept[0]);
-  const Axis errorAxis = numberAxis(errorLabel, errors, "%.3g");
-  const Axis timeAxis = numberAxis(
-      (timedStages.empty() ? std::string("CPU time of the stages") : "CPU time of " + joinNames(timedStages)) + " (ms)",
-      times, "%.0f");
-  // Error against time: each series joined in the order of the swept value (the path the
-  // parameter takes through the trade-off), the Pareto front ringed.
-  const std::vector<std::string> pages = {
-      svgPlot("error-by-value", "error against " + swept[0].desc.name, valueAxis, errorAxis, errorSeries, seriesNames, {},
-              noError),
-      svgPlot("time-by-value", "time against " + swept[0].desc.name, valueAxis, timeAxis, timeSeries, seriesNames, {}, ""),
-      svgPlot("error-by-time", "error against time (green: the Pareto front)", timeAxis, errorAxis, tradeSeries, seriesNames, front, noError)};
+  assignErrors(report, errorKind);
+  const std::vector<std::string> pages = plotSweep(
+      report, swept, points,
+      (timedStages.empty() ? std::string("CPU time of the stages") : "CPU time of " + joinNames(timedStages)) + " (ms)");
 
   fs::create_directories(out);
   const char* files[] = {"error-by-value.svg", "time-by-value.svg", "error-by-time.svg"};
@@ -711,8 +729,9 @@ int runSweep(const std::vector<std::string>& argv) {
   std::ofstream(fs::path(out) / "sweep.json") << report.dump(2) << "\n";
   std::ofstream(fs::path(out) / "sweep.html") << htmlPage(report, pages);
   std::printf("voxlab sweep: %s on %s, %zu runs in %.0f s; error = %s of %s; written to %s/sweep.{json,html}\n",
-              technique.c_str(), scene.name.c_str(), points.size(), report["wall_s"].get<double>(), definition.c_str(),
-              mainAddress.empty() ? "no output" : mainAddress.c_str(), out.c_str());
+              technique.c_str(), scene.name.c_str(), points.size(), report["wall_s"].get<double>(),
+              report["error"]["definition"].get<std::string>().c_str(),
+              report["error"]["output"].get<std::string>().c_str(), out.c_str());
   return failed > 0 ? 1 : 0;
 }
 
