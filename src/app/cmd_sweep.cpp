@@ -13,10 +13,11 @@
 // energy), of the main compared output: the indirect light when the technique has such an output
 // (what a GI technique's parameters change), else the combined image, else the direct light. The
 // time is the total CPU time of the stages (--time-stage: of the named stages only, to keep the
-// noise of the stages the parameter does not change off the plot), measured after one warm-up
-// run that is not kept; --repeat N runs every value N times and takes each stage's median. DIR/*.svg: error against the value, time against the
-// value, error against time with the Pareto front (the runs no other run beats on both); with two
-// parameters one line per value of the second. DIR/sweep.html shows the plots and a slider that
+// noise of the stages the parameter does not change off the plot), measured as `voxlab bench`
+// does: one untimed run that compiles the shaders, then one timed run (--repeat N: N, each stage's
+// median). DIR/*.svg: error against the value, time against the value, error against time with
+// the Pareto front (the runs no other run beats on both); with two parameters one line per value
+// of the second. DIR/sweep.html shows the plots and a slider that
 // swaps the images and moves a marker on every plot; "#run=K" in the address opens run K.
 //
 // Bad input (a parameter the technique does not declare, a value outside its range, a malformed
@@ -32,6 +33,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/bench_runs.h"
 #include "app/command.h"
 #include "core/args.h"
 #include "core/error.h"
@@ -150,33 +152,15 @@ SweptParam parseSweptParam(const std::string& text, const ParamSet& params) {
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// Runs the request 'repeats' times (a fresh session each time); the last one writes its outputs.
-// A stage's time is the median over the repeats (each one in cpu_ms_runs), the total their sum.
+// Runs the request once untimed (shader compilation included: "first_cpu_ms") and then
+// 'repeats' timed times in the same session, as `voxlab bench` does; the last run writes its
+// outputs. A stage's time is its median over the timed runs (each in cpu_ms_runs), the total
+// their sum.
 json runOne(const RunRequest& request, const std::string& outDir, const std::string& rel, int repeats) {
   const auto start = std::chrono::steady_clock::now();
-  std::vector<std::vector<double>> cpuMs, gpuMs;
-  auto record = [&](HeadlessSession& session) {
-    cpuMs.resize(size_t(session.untilStage()) + 1), gpuMs.resize(cpuMs.size());
-    for (int i = 0; i <= session.untilStage(); ++i) {
-      cpuMs[size_t(i)].push_back(session.cursor().record(i).cpuMs);
-      gpuMs[size_t(i)].push_back(session.cursor().record(i).gpuMs);
-    }
-  };
-  for (int r = 1; r < repeats; ++r) {
-    HeadlessSession session(request);
-    session.run();
-    record(session);
-  }
   HeadlessSession session(request);
   const Technique& t = session.cursor().technique();
-  session.run();
-  record(session);
+  const StageTimes times = timeStages(session.cursor(), repeats);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string dir = (fs::path(outDir) / rel).string();
   json manifest = session.writeOutputs(dir, false, finalAndComparedOutputs(t));
@@ -191,10 +175,10 @@ json runOne(const RunRequest& request, const std::string& outDir, const std::str
   size_t index = 0;
   for (const auto& s : manifest["stages"]) {
     const std::string stage = s["id"].get<std::string>();
-    const double cpu = median(cpuMs[index]), gpu = median(gpuMs[index]);
+    const double cpu = median(times.cpu[index]), gpu = median(times.gpu[index]);
     totalCpu += cpu, totalGpu += gpu;
-    json entry = {{"id", stage}, {"cpu_ms", cpu}, {"gpu_ms", gpu}};
-    if (repeats > 1) entry["cpu_ms_runs"] = cpuMs[index];
+    json entry = {{"id", stage}, {"cpu_ms", cpu}, {"gpu_ms", gpu}, {"first_cpu_ms", times.first[index]}};
+    if (repeats > 1) entry["cpu_ms_runs"] = times.cpu[index];
     run["stages"].push_back(entry);
     ++index;
     for (const auto& e : s["outputs"]) {
@@ -596,7 +580,7 @@ int runSweep(const std::vector<std::string>& argv) {
               "NAME=V1,V2,... or NAME=FROM:TO:STEPS: the parameter swept; twice for the grid of two"},
              {"--set", true, true, "NAME=VALUE for every run, repeatable"},
              {"--size", true, false, "image size WIDTHxHEIGHT (default 256x256; the references' size or a divisor of it)"},
-             {"--repeat", true, false, "runs per value (default 1); a stage's time is its median over them"},
+             {"--repeat", true, false, "timed runs per value (default 1); a stage's time is its median over them"},
              {"--time-stage", true, true, "stage id, repeatable: the time plotted is of these stages (default: all)"},
              {"--error", true, false, "the error plotted: ssim (1 - SSIM, default) or energy (|1 - energy ratio|)"},
              {"--out", true, false, "folder for sweep.json, sweep.html, the plots (SVG) and the runs"}});
@@ -665,7 +649,8 @@ int runSweep(const std::vector<std::string>& argv) {
                  {"time", (timedStages.empty() ? std::string("total CPU time of the stages")
                                                : "CPU time of " + joinNames(timedStages)) +
                               " (ms; each stage's execute() with a glFinish" +
-                              std::string(repeats > 1 ? ", its median over the repeats" : "") + "; after one warm-up run)"},
+                              std::string(repeats > 1 ? ", its median over the repeats" : "") +
+                              "; after one untimed run that compiles the shaders)"},
                  {"time_stages", timedStages},
                  {"repeat", repeats},
                  {"runs", json::array()}};
@@ -679,22 +664,11 @@ int runSweep(const std::vector<std::string>& argv) {
   ProgressBar progress("sweep");
   int failed = 0;
   const auto start = std::chrono::steady_clock::now();
-  // The first session of a process pays once for what later ones reuse (measured: vct-grid's
-  // voxelize and inject stages take twice as long in it), so a warm-up run of the first point,
-  // neither kept nor written, keeps that cost off the first value's time.
-  progress.update(0, int(points.size()) + 1, "warm-up");
-  try {
-    RunRequest warmUp = base;
-    warmUp.sets = points[0].sets;
-    HeadlessSession(warmUp).run();
-  } catch (const std::exception&) {
-    // The run of the first point reports the failure.
-  }
   for (size_t k = 0; k < points.size(); ++k) {
     const GridPoint& p = points[k];
     std::string label = swept[0].desc.name + "=" + swept[0].text(p.i0);
     if (swept.size() > 1) label += ", " + swept[1].desc.name + "=" + swept[1].text(p.i1);
-    progress.update(int(k) + 1, int(points.size()) + 1, label);
+    progress.update(int(k), int(points.size()), label);
     RunRequest request = base;
     request.sets = p.sets;
     json run;
@@ -713,7 +687,7 @@ int runSweep(const std::vector<std::string>& argv) {
     if (swept.size() > 1) run["values"][swept[1].desc.name] = swept[1].text(p.i1);
     report["runs"].push_back(run);
   }
-  progress.update(int(points.size()) + 1, int(points.size()) + 1, "done");
+  progress.update(int(points.size()), int(points.size()), "done");
   progress.finish();
   report["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
