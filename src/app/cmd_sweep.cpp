@@ -68,7 +68,12 @@ struct SweptParam {
   ParamDesc desc;
   std::vector<double> values;  // in the order given (a range: ascending from FROM to TO)
   std::string text(size_t i) const { return desc.format(values[i]); }
-  bool categorical() const { return desc.type == ParamType::Choice || desc.type == ParamType::Bool; }
+  // Choices, booleans, and a list holding "scene" (a value with no place on a number line) are
+  // plotted as categories in the order given.
+  bool categorical() const {
+    return desc.type == ParamType::Choice || desc.type == ParamType::Bool ||
+           std::any_of(values.begin(), values.end(), ParamDesc::isSceneValue);
+  }
 };
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -81,6 +86,8 @@ std::vector<std::string> split(const std::string& text, char separator) {
     start = end + 1;
   }
 }
+
+bool isCategory(const ParamDesc& desc) { return desc.type == ParamType::Choice || desc.type == ParamType::Bool; }
 
 // "NAME=V1,V2,..." or "NAME=FROM:TO:STEPS", validated against the technique's declaration.
 SweptParam parseSweptParam(const std::string& text, const ParamSet& params) {
@@ -101,7 +108,7 @@ SweptParam parseSweptParam(const std::string& text, const ParamSet& params) {
     const std::vector<std::string> f = split(rest, ':');
     if (f.size() != 3)
       throw Error(where + "a range is FROM:TO:STEPS with STEPS an integer 2.." + std::to_string(kMaxSteps));
-    if (p.categorical())
+    if (isCategory(p.desc))
       throw Error(where + name + " is a " + p.desc.typeName() + " (valid: " + p.desc.rangeText() +
                   "); a range needs an int or float parameter, give a list of values");
     double from = 0, to = 0;
@@ -115,6 +122,8 @@ SweptParam parseSweptParam(const std::string& text, const ParamSet& params) {
     const long steps = std::strtol(f[2].c_str(), &end, 10);
     if (f[2].empty() || *end != '\0' || steps < 2 || steps > kMaxSteps)
       throw Error(where + "STEPS '" + f[2] + "' is not an integer 2.." + std::to_string(kMaxSteps));
+    if (ParamDesc::isSceneValue(from) || ParamDesc::isSceneValue(to))
+      throw Error(where + "a range runs between numbers (valid: " + p.desc.rangeText() + "); give \"scene\" in a list");
     if (from >= to) throw Error(where + "FROM must be below TO");
     for (long i = 0; i < steps; ++i) {
       const double t = double(i) / double(steps - 1);

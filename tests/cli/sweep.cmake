@@ -1,7 +1,8 @@
 # voxlab sweep (src/app/cmd_sweep.cpp): bad input gets one line naming what is wrong and what is
 # valid, exit 2, before anything runs; a small sweep writes sweep.json, the plots and sweep.html;
 # every technique of `voxlab list --json` swept over one parameter (tests/sweep/every_technique.py);
-# sweep.html's slider in headless Chromium (tests/sweep/browser_check.py).
+# sweep.html's slider in headless Chromium (tests/sweep/browser_check.py); the progress bar on a
+# terminal, and a refused sweep writing nothing (tests/sweep/progress_and_refusal.sh).
 voxlab_cli_case(sweep_needs_param 2 "'sweep' needs one or two --param NAME=V1,V2,\\.\\.\\. \\(or NAME=FROM:TO:STEPS\\); got 0"
   "sweep --technique vct-grid --out @OUT@")
 voxlab_cli_case(sweep_unknown_param 2 "--param: unknown parameter 'cone.nope'; valid parameters: .*cone\\.aperture"
@@ -39,3 +40,6 @@ add_test(NAME sweep.browser
   COMMAND python3 ${CMAKE_SOURCE_DIR}/tests/sweep/browser_check.py $<TARGET_FILE:voxlab> ${CMAKE_SOURCE_DIR}
           ${CMAKE_BINARY_DIR}/sweep-out/browser)
 set_tests_properties(sweep.browser PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600)
+add_test(NAME sweep.progress_and_refusal
+  COMMAND ${CMAKE_SOURCE_DIR}/tests/sweep/progress_and_refusal.sh $<TARGET_FILE:voxlab> ${CMAKE_BINARY_DIR}/sweep-out/progress)
+set_tests_properties(sweep.progress_and_refusal PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" TIMEOUT 120)
