@@ -28,8 +28,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <optional>
-#include <set>
 
 #include <nlohmann/json.hpp>
 
