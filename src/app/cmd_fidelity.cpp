@@ -81,19 +81,6 @@ std::vector<SuiteScene> readSuite() {
   return suite;
 }
 
-// The role of an output in the tables, from its resolved reference mode.
-std::string roleOfMode(const std::string& mode) {
-  reference::Mode m;
-  try {
-    m = reference::parseMode(mode);
-  } catch (const Error&) {
-    return "";
-  }
-  if (m == reference::Mode::Direct) return "direct";
-  if (m == reference::Mode::Full) return "full";
-  if (m.indirectOnly()) return "indirect";
-  return "";
-}
 
 std::string fmt(const char* format, double v) {
   char buf[64];
@@ -182,7 +169,7 @@ json runCell(const RunRequest& request, const std::string& sceneName, const std:
       if (!desc->referenceMode.empty()) {
         const std::string mode = referenceModeUnder(*desc, session.cursor().params());
         o["mode"] = mode;
-        o["role"] = roleOfMode(mode);
+        o["role"] = referenceRole(mode);
         if (e.contains("reference_error")) {
           json r = e["reference_error"];
           std::string err = manifestFileEndingWith(e, ".error.png");

@@ -11,6 +11,7 @@
 #include "core/paths.h"
 #include "reference/image_io.h"
 #include "reference/image_metrics.h"
+#include "reference/path_tracer.h"
 
 namespace voxlab {
 
@@ -18,6 +19,19 @@ using nlohmann::json;
 
 std::string referenceImagePath(const std::string& scene, const std::string& mode) {
   return projectPath("tests/golden/reference/" + scene + "/" + mode + ".exr");
+}
+
+std::string referenceRole(const std::string& mode) {
+  reference::Mode m;
+  try {
+    m = reference::parseMode(mode);
+  } catch (const Error&) {
+    return "";
+  }
+  if (m == reference::Mode::Direct) return "direct";
+  if (m == reference::Mode::Full) return "full";
+  if (m.indirectOnly()) return "indirect";
+  return "";
 }
 
 bool hasReferences(const std::string& scene) {

@@ -22,6 +22,11 @@ namespace voxlab {
 // Where the reference for (scene, mode) would be; it may not exist.
 std::string referenceImagePath(const std::string& scene, const std::string& mode);
 
+// What a resolved reference mode counts, as the fidelity tables and sweeps name it: "direct"
+// (r <= 1), "indirect" (indirect light only: indirect, indirect-K), "full" (every path), or ""
+// for any other mode.
+std::string referenceRole(const std::string& mode);
+
 // Whether tests/golden/reference/<scene>/ holds any reference image (of any mode).
 bool hasReferences(const std::string& scene);
 
