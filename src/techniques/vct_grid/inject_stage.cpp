@@ -76,15 +76,16 @@ void InjectStage::declare(StageBuilder& b) const {
     b.write(name);
     b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceSumsDesc(p); });
   }
-  b.output(kVoxelFacing, OutputKind::Volume3D, Semantic::Occupancy,
-           "per voxel (r32ui), what a cone travelling along each axis direction sees of its surfaces' fronts: 6 fields "
-           "of 5 bits, +x -x +y -y +z -z, each a thermometer code of the largest front weight (shaders/common/facing.glsl)");
-  b.texture(kVoxelFacing, [](const ParamSet& p, const ViewState&) { return voxelFacingDesc(p); });
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
            "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255");
   b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
     return radianceGridDesc(p.getInt("voxel.resolution"), 1, gridFormat(p));
   });
+  // The facing codes after the radiance: a stage's first output is its picture (the viewer's default).
+  b.output(kVoxelFacing, OutputKind::Volume3D, Semantic::Occupancy,
+           "per voxel (r32ui), what a cone travelling along each axis direction sees of its surfaces' fronts: 6 fields "
+           "of 5 bits, +x -x +y -y +z -z, each a thermometer code of the largest front weight (shaders/common/facing.glsl)");
+  b.texture(kVoxelFacing, [](const ParamSet& p, const ViewState&) { return voxelFacingDesc(p); });
 }
 
 void InjectStage::execute(StageContext& ctx) {
