@@ -1151,64 +1151,65 @@ TEST(ClipmapPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
   EXPECT_LT(rmse, 0.08);
 }
 
-// The mean indirect diffuse radiance over the camera-facing faces of one of the Cornell box's
-// boxes (G-buffer normal within 26 degrees of -z, in front of the back wall; 'sideX' picks the box
-// by the sign of the normal's x: the tall box's front turns to -x, the short box's to +x).
-static double meanOverBoxFront(HeadlessSession& s, float sideX, size_t* count) {
-  CapturedOutput indirect = capture(s, "cone-trace", "indirect-diffuse");
+// The traced pixels (of the half-resolution indirect image) that show the camera-facing faces of one
+// of the Cornell box's boxes: G-buffer normal within 26 degrees of -z, in front of the back wall;
+// 'sideX' picks the box by the sign of the normal's x (the tall box's front turns to -x, the short
+// box's to +x). Also returns the indirect diffuse image they index.
+static std::vector<glm::ivec2> boxFrontPixels(HeadlessSession& s, float sideX, CapturedOutput& indirect) {
+  indirect = capture(s, "cone-trace", "indirect-diffuse");
   CapturedOutput position = capture(s, "gbuffer", "position");
   CapturedOutput normal = capture(s, "gbuffer", "normal");
   const LevelData& in = indirect.levels[0];
   const LevelData& pos = position.levels[0];
   const LevelData& nrm = normal.levels[0];
   const int scale = pos.size.x / in.size.x;  // half resolution: pixel p shades G-buffer pixel 2p
-  double sum = 0.0;
-  *count = 0;
+  std::vector<glm::ivec2> pixels;
   for (int y = 0; y < in.size.y; ++y)
     for (int x = 0; x < in.size.x; ++x) {
       const int gx = std::min(x * scale, pos.size.x - 1), gy = std::min(y * scale, pos.size.y - 1);
       if (pos.at(gx, gy, 0, 3) == 0.0f) continue;
       const float nx = nrm.at(gx, gy, 0, 0), nz = nrm.at(gx, gy, 0, 2);
       if (nz > -0.9f || pos.at(gx, gy, 0, 2) > 0.45f || nx * sideX <= 0.0f) continue;
-      sum += in.at(x, y, 0, 0) + in.at(x, y, 0, 1) + in.at(x, y, 0, 2);
-      ++*count;
+      pixels.emplace_back(x, y);
     }
-  return *count > 0 ? sum / double(*count) : 0.0;
+  return pixels;
 }
 
-// The mean indirect diffuse radiance over one box's camera-facing faces (as meanOverBoxFront),
-// and the path tracer's one-bounce radiance (tests/golden/reference/cornell-box/indirect-1.exr,
-// 512x512, camera 0) over the same pixels: each traced pixel against the mean of the reference
-// pixels it covers.
+static double rgbSum(const LevelData& l, int x, int y) { return double(l.at(x, y, 0, 0)) + l.at(x, y, 0, 1) + l.at(x, y, 0, 2); }
+
+// The mean indirect diffuse radiance (r + g + b) over one box's camera-facing faces.
+static double meanOverBoxFront(HeadlessSession& s, float sideX, size_t* count) {
+  CapturedOutput indirect;
+  const std::vector<glm::ivec2> pixels = boxFrontPixels(s, sideX, indirect);
+  double sum = 0.0;
+  for (const glm::ivec2& p : pixels) sum += rgbSum(indirect.levels[0], p.x, p.y);
+  *count = pixels.size();
+  return pixels.empty() ? 0.0 : sum / double(pixels.size());
+}
+
+// The same mean, and the path tracer's one-bounce radiance (tests/golden/reference/cornell-box/
+// indirect-1.exr, 512x512, camera 0) over the same pixels: each traced pixel against the mean of
+// the reference pixels it covers.
 static std::pair<double, double> boxFrontAndReference(HeadlessSession& s, float sideX) {
-  CapturedOutput indirect = capture(s, "cone-trace", "indirect-diffuse");
-  CapturedOutput position = capture(s, "gbuffer", "position");
-  CapturedOutput normal = capture(s, "gbuffer", "normal");
+  CapturedOutput indirect;
+  const std::vector<glm::ivec2> pixels = boxFrontPixels(s, sideX, indirect);
   const LevelData& in = indirect.levels[0];
-  const LevelData& pos = position.levels[0];
-  const LevelData& nrm = normal.levels[0];
   const reference::Image ref = reference::readExr(projectPath("tests/golden/reference/cornell-box/indirect-1.exr"));
-  const int scale = pos.size.x / in.size.x, refScale = ref.width / in.size.x;
+  const int refScale = ref.width / in.size.x;
   double sum = 0.0, refSum = 0.0;
-  size_t count = 0;
-  for (int y = 0; y < in.size.y; ++y)
-    for (int x = 0; x < in.size.x; ++x) {
-      const int gx = std::min(x * scale, pos.size.x - 1), gy = std::min(y * scale, pos.size.y - 1);
-      if (pos.at(gx, gy, 0, 3) == 0.0f) continue;
-      const float nx = nrm.at(gx, gy, 0, 0), nz = nrm.at(gx, gy, 0, 2);
-      if (nz > -0.9f || pos.at(gx, gy, 0, 2) > 0.45f || nx * sideX <= 0.0f) continue;
-      sum += in.at(x, y, 0, 0) + in.at(x, y, 0, 1) + in.at(x, y, 0, 2);
-      double block = 0.0;
-      for (int j = 0; j < refScale; ++j)
-        for (int i = 0; i < refScale; ++i) {
-          const size_t p = size_t(ref.height - 1 - (y * refScale + j)) * size_t(ref.width) + size_t(x * refScale + i);
-          block += double(ref.rgb[3 * p]) + ref.rgb[3 * p + 1] + ref.rgb[3 * p + 2];
-        }
-      refSum += block / double(refScale * refScale);
-      ++count;
-    }
-  EXPECT_GT(count, 50u) << "the box's front must be in the picture";
-  return {sum / double(std::max<size_t>(count, 1)), refSum / double(std::max<size_t>(count, 1))};
+  for (const glm::ivec2& q : pixels) {
+    sum += rgbSum(in, q.x, q.y);
+    double block = 0.0;
+    for (int j = 0; j < refScale; ++j)
+      for (int i = 0; i < refScale; ++i) {
+        const size_t p = size_t(ref.height - 1 - (q.y * refScale + j)) * size_t(ref.width) + size_t(q.x * refScale + i);
+        block += double(ref.rgb[3 * p]) + ref.rgb[3 * p + 1] + ref.rgb[3 * p + 2];
+      }
+    refSum += block / double(refScale * refScale);
+  }
+  EXPECT_GT(pixels.size(), 50u) << "the box's front must be in the picture";
+  const double n = double(std::max<size_t>(pixels.size(), 1));
+  return {sum / n, refSum / n};
 }
 
 // The same faces against the path tracer. Measured (128x128, deterministic): 0.492 of the

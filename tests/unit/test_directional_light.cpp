@@ -9,8 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -25,8 +23,6 @@
 namespace voxlab {
 namespace {
 
-namespace fs = std::filesystem;
-
 const glm::vec3 kSunDirection = glm::normalize(glm::vec3(-0.3f, -1.0f, 0.2f));
 constexpr float kIrradiance = 2.0f, kAlbedo = 0.5f;
 const float kLit = kAlbedo / 3.14159265f * kIrradiance * -kSunDirection.y;  // 0.29944
@@ -37,51 +33,14 @@ bool inShadowCore(glm::vec3 p) { return p.x > 0.49f && p.x < 0.57f && p.z > -0.1
 // Points lit and far from the wall and the floor's edges:
 bool inLitCore(glm::vec3 p) { return std::abs(p.x) < 0.4f && std::abs(p.z) < 0.4f; }
 
+// The sun's node rotation turns -z (a light's direction in its node) onto kSunDirection.
 std::string writeScene() {
-  const fs::path dir = fs::path(::testing::TempDir()) / "voxlab-directional";
-  fs::create_directories(dir);
-  // Floor (2 triangles, +y) and the wall as a closed box (12 triangles).
-  std::vector<float> pos = {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1};
-  std::vector<uint32_t> idx = {0, 2, 1, 0, 3, 2};
-  const glm::vec3 lo(0.6f, 0.0f, -0.2f), hi(0.62f, 0.5f, 0.2f);
-  uint32_t base = 4;
-  for (int k = 0; k < 8; ++k) {
-    pos.push_back((k & 1) ? hi.x : lo.x);
-    pos.push_back((k & 2) ? hi.y : lo.y);
-    pos.push_back((k & 4) ? hi.z : lo.z);
-  }
-  const uint32_t box[36] = {0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2,
-                            1, 3, 7, 1, 7, 5, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
-  for (uint32_t i : box) idx.push_back(base + i);
-  std::ofstream bin(dir / "directional.bin", std::ios::binary);
-  bin.write(reinterpret_cast<const char*>(pos.data()), std::streamsize(pos.size() * 4));
-  bin.write(reinterpret_cast<const char*>(idx.data()), std::streamsize(idx.size() * 4));
-  bin.close();
   const glm::quat q = glm::rotation(glm::vec3(0, 0, -1), kSunDirection);
-  const glm::quat down = glm::rotation(glm::vec3(0, 0, -1), glm::vec3(0, -1, 0));
-  auto quatJson = [](glm::quat r) {
-    return "[" + std::to_string(r.x) + "," + std::to_string(r.y) + "," + std::to_string(r.z) + "," + std::to_string(r.w) + "]";
-  };
-  const size_t p = pos.size() * 4, n = idx.size() * 4;
-  std::string gltf =
-      "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
-      "\"nodes\":[{\"mesh\":0},{\"camera\":0,\"translation\":[0,2.5,0],\"rotation\":" + quatJson(down) + "},"
-      "{\"rotation\":" + quatJson(q) + ",\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}],"
-      "\"extensionsUsed\":[\"KHR_lights_punctual\"],"
-      "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":\"directional\",\"intensity\":" +
-      std::to_string(kIrradiance) + "}]}},"
-      "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.9,\"znear\":0.05,\"zfar\":20}}],"
-      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,\"material\":0}]}],"
-      "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.5,0.5,1]}}],"
-      "\"buffers\":[{\"uri\":\"directional.bin\",\"byteLength\":" + std::to_string(p + n) + "}],"
-      "\"bufferViews\":[{\"buffer\":0,\"byteLength\":" + std::to_string(p) + "},"
-      "{\"buffer\":0,\"byteOffset\":" + std::to_string(p) + ",\"byteLength\":" + std::to_string(n) + "}],"
-      "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":" + std::to_string(pos.size() / 3) +
-      ",\"type\":\"VEC3\"},{\"bufferView\":1,\"componentType\":5125,\"count\":" + std::to_string(idx.size()) +
-      ",\"type\":\"SCALAR\"}]}";
-  const std::string path = (dir / "directional.gltf").string();
-  std::ofstream(path) << gltf;
-  return path;
+  const std::string rotation = "[" + std::to_string(q.x) + "," + std::to_string(q.y) + "," + std::to_string(q.z) +
+                               "," + std::to_string(q.w) + "]";
+  return testing_support::writeFloorAndWallScene(
+      "directional", "{\"type\":\"directional\",\"intensity\":" + std::to_string(kIrradiance) + "}",
+      "\"rotation\":" + rotation);
 }
 
 const std::string& scenePath() {

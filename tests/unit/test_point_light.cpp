@@ -8,8 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -17,8 +16,6 @@
 
 namespace voxlab {
 namespace {
-
-namespace fs = std::filesystem;
 
 const glm::vec3 kLight(1.0f, 0.4f, 0.0f);
 constexpr float kIntensity = 2.0f;
@@ -32,49 +29,10 @@ bool inLitCore(glm::vec3 p) {
   return p.x > -0.8f && p.x < 0.5f && std::abs(p.z) > 0.5f * (1.0f - p.x) + 0.1f && std::abs(p.z) < 0.95f;
 }
 
-std::string writeScene() {
-  const fs::path dir = fs::path(::testing::TempDir()) / "voxlab-point-light";
-  fs::create_directories(dir);
-  std::vector<float> pos = {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1};
-  std::vector<uint32_t> idx = {0, 2, 1, 0, 3, 2};
-  const glm::vec3 lo(0.6f, 0.0f, -0.2f), hi(0.62f, 0.5f, 0.2f);
-  for (int k = 0; k < 8; ++k) {
-    pos.push_back((k & 1) ? hi.x : lo.x);
-    pos.push_back((k & 2) ? hi.y : lo.y);
-    pos.push_back((k & 4) ? hi.z : lo.z);
-  }
-  const uint32_t box[36] = {0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2,
-                            1, 3, 7, 1, 7, 5, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
-  for (uint32_t i : box) idx.push_back(4 + i);
-  std::ofstream bin(dir / "point.bin", std::ios::binary);
-  bin.write(reinterpret_cast<const char*>(pos.data()), std::streamsize(pos.size() * 4));
-  bin.write(reinterpret_cast<const char*>(idx.data()), std::streamsize(idx.size() * 4));
-  bin.close();
-  const size_t p = pos.size() * 4, n = idx.size() * 4;
-  // The camera looks straight down from 2.5 m (rotation: -z onto -y).
-  std::string gltf =
-      "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
-      "\"nodes\":[{\"mesh\":0},{\"camera\":0,\"translation\":[0,2.5,0],\"rotation\":[-0.7071068,0,0,0.7071068]},"
-      "{\"translation\":[1.0,0.4,0.0],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}}],"
-      "\"extensionsUsed\":[\"KHR_lights_punctual\"],"
-      "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":\"point\",\"intensity\":" +
-      std::to_string(kIntensity) + "}]}},"
-      "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.9,\"znear\":0.05,\"zfar\":20}}],"
-      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,\"material\":0}]}],"
-      "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.5,0.5,1]}}],"
-      "\"buffers\":[{\"uri\":\"point.bin\",\"byteLength\":" + std::to_string(p + n) + "}],"
-      "\"bufferViews\":[{\"buffer\":0,\"byteLength\":" + std::to_string(p) + "},"
-      "{\"buffer\":0,\"byteOffset\":" + std::to_string(p) + ",\"byteLength\":" + std::to_string(n) + "}],"
-      "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":" + std::to_string(pos.size() / 3) +
-      ",\"type\":\"VEC3\"},{\"bufferView\":1,\"componentType\":5125,\"count\":" + std::to_string(idx.size()) +
-      ",\"type\":\"SCALAR\"}]}";
-  const std::string path = (dir / "point.gltf").string();
-  std::ofstream(path) << gltf;
-  return path;
-}
-
 const std::string& scenePath() {
-  static const std::string p = writeScene();
+  static const std::string p = testing_support::writeFloorAndWallScene(
+      "point-light", "{\"type\":\"point\",\"intensity\":" + std::to_string(kIntensity) + "}",
+      "\"translation\":[1.0,0.4,0.0]");
   return p;
 }
 
@@ -113,8 +71,11 @@ TEST(PointLight, DirectLightIsShadowedByTheCubeFaceMap) {
     }
   EXPECT_GT(lit, 300u);
   EXPECT_GT(shadowed, 300u);
-  // composite/direct is rgba16f: a half float's relative step is 2^-11 = 4.9e-4.
-  EXPECT_LT(worstLit, 1e-3) << "lit floor against the light model";
+  // Measured: 9.5e-4 over 1922 pixels, the same with LP_NUM_THREADS 1 and 2: about two steps of a
+  // half float (2^-11 = 4.9e-4), as composite/direct (rgba16f) rounds what the G-buffer's
+  // half-float position gave the light model. An unshadowed or wrongly shadowed floor is off by 1.
+  std::printf("point light: lit floor worst relative error %.2e over %zu pixels\n", worstLit, lit);
+  EXPECT_LT(worstLit, 1.5e-3) << "lit floor against the light model";
   EXPECT_EQ(worstShadow, 0.0) << "inside the wall's shadow (before cube-face maps, point lights were unshadowed)";
 }
 
@@ -153,6 +114,8 @@ TEST(PointLight, EveryRsmTexelLiesInTheFaceTheLookupPicks) {
   EXPECT_EQ(wrongFace, 0u);
   // The light, 0.4 m above a 2 x 2 m floor and 0.4 m from the wall, sees the floor in the -y face
   // (3) and the side faces, the wall in -x (1); nothing above it (+y, 2).
+  // Measured: 5504 of the face's 10880 texels (the light stands over the floor's edge x = 1, so the
+  // floor fills half the downward face); bound 40 %.
   EXPECT_GT(perFace[3], size_t(tileW) * tileH * 4 / 10) << "the floor (x < 1) fills half the downward face";
   EXPECT_GT(perFace[1], 0u);
   EXPECT_EQ(perFace[2], 0u);

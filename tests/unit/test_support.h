@@ -15,4 +15,12 @@ HeadlessSession& session(const RunRequest& request);
 // Captures an output of a session's technique ("stage", "output").
 CapturedOutput capture(HeadlessSession& s, const std::string& stage, const std::string& output);
 
+// Writes TempDir/voxlab-<name>/<name>.gltf (and its .bin) and returns its path: a 2 x 2 m floor of
+// albedo 0.5 at y = 0 (+y up), a wall as a closed box at x 0.60..0.62, y 0..0.5, z -0.2..0.2, a
+// camera 2.5 m above the origin looking straight down (yfov 0.9), and one KHR_lights_punctual
+// light: 'lightJson' is its entry ({"type": ..., "intensity": ...}), 'lightNodeJson' the members
+// of its node ("\"translation\":[...]" and/or "\"rotation\":[...]").
+std::string writeFloorAndWallScene(const std::string& name, const std::string& lightJson,
+                                   const std::string& lightNodeJson);
+
 }  // namespace voxlab::testing_support
