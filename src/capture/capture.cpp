@@ -184,6 +184,20 @@ json levelStatistics(const CapturedOutput& out) {
 
 static uint8_t toByte(float v) { return unitToByte(v); }
 
+DisplayImage besideImage(const DisplayImage& left, const DisplayImage& right, int gap) {
+  DisplayImage out;
+  out.width = left.width + gap + right.width;
+  out.height = std::max(left.height, right.height);
+  out.rgb.assign(size_t(out.width) * out.height * 3, 0);
+  auto paste = [&](const DisplayImage& from, int x0) {
+    for (int y = 0; y < from.height; ++y)
+      std::copy_n(&from.rgb[size_t(y) * from.width * 3], size_t(from.width) * 3, &out.rgb[(size_t(y) * out.width + x0) * 3]);
+  };
+  paste(left, 0);
+  paste(right, left.width + gap);
+  return out;
+}
+
 DisplayImage displayImage(const CapturedOutput& out, int level) {
   const LevelData& d = out.levels.at(level);
   const TexelMapping& mapping = texelMapping(out.desc.semantic);

@@ -57,6 +57,10 @@ struct DisplayImage {
   std::vector<uint8_t> rgb;
 };
 DisplayImage displayImage(const CapturedOutput& out, int level);
+// 'left' and 'right' side by side, 'gap' black columns between them, top-aligned (the taller sets
+// the height; the shorter is padded black): the viewer's side-by-side compare view as one picture.
+constexpr int kBesideGap = 8;
+DisplayImage besideImage(const DisplayImage& left, const DisplayImage& right, int gap = kBesideGap);
 // Buffers with a Position field, as splats from a fixed three-quarter view. 'pick' (optional)
 // receives, per pixel (top row first), the index of the record drawn there or -1.
 DisplayImage pointView(const CapturedOutput& out, int size = 512, std::vector<int32_t>* pick = nullptr);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "capture/image_files.h"
 #include "core/error.h"
 #include "inspect/inspect_logic.h"
 #include "inspect/scene_overlay.h"
@@ -153,6 +154,32 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
   } else if (wantsOverlay) {
     pic.notes += std::string(pic.notes.empty() ? "" : "; ") + "overlay not drawn: " + address +
                  " is not a camera image";
+  }
+
+  if (step.besideReference) {
+    // The reference beside the image, mapped as the viewer's compare view maps it (the shown
+    // output's semantic, default display settings).
+    ImageFileData f = readImageFile(step.referenceImage);
+    LevelData L;
+    L.size = {f.width, f.height, 1};
+    L.channels = 3;
+    L.values.resize(size_t(f.width) * f.height * 3);
+    for (int y = 0; y < f.height; ++y)  // file rows top first; LevelData rows bottom first
+      for (int x = 0; x < f.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          L.values[(size_t(f.height - 1 - y) * f.width + x) * 3 + c] =
+              f.pixels[(size_t(y) * f.width + x) * f.channels + std::min(c, f.channels - 1)];
+    SliceImage r = mapSlice(L, desc->semantic, SliceSpec{2, 0}, DisplaySettings{});
+    DisplayImage right;
+    right.width = r.width;
+    right.height = r.height;
+    right.rgb.resize(size_t(r.width) * r.height * 3);
+    for (size_t i = 0; i < size_t(r.width) * r.height; ++i)
+      for (int c = 0; c < 3; ++c) right.rgb[i * 3 + c] = r.rgba[i * 4 + c];
+    pic.image = besideImage(pic.image, right);
+    pic.displayScale = 1;
+    pic.notes += std::string(pic.notes.empty() ? "" : "; ") + "right: the reference path tracer's " + step.referenceMode +
+                 " image of the same scene and camera";
   }
 
   const ParamSet defaults = t.defaultParams();

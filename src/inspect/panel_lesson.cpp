@@ -1,5 +1,6 @@
 // Lesson tab: the step's narrative (Markdown headings and paragraphs), previous / next; and what a
-// lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations).
+// lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations,
+// the reference beside the image).
 #include <cstdio>
 
 #include "core/error.h"
@@ -38,6 +39,16 @@ void Viewer::applyLessonStep(int i) {
     size_t at = s.overlay.find('@');
     overlay.volume = s.overlay.substr(0, at);
     overlay.level = at == std::string::npos ? -1 : std::stoi(s.overlay.substr(at + 1));
+  }
+  // "beside": "reference": the compare view, side by side with the reference image.
+  if (s.besideReference) {
+    compare.on = compare.setByLesson = true;
+    compare.source = CompareState::Source::File;
+    compare.mode = CompareState::Mode::SideBySide;
+    std::snprintf(compare.file, sizeof compare.file, "%s", s.referenceImage.c_str());
+    compare.key.clear();
+  } else if (compare.setByLesson) {
+    compare.on = compare.setByLesson = false;
   }
   if (s.iterations > 0) {
     // Stop the stage after that many iterations: run what comes before, then step it.

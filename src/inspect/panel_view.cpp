@@ -253,6 +253,10 @@ DisplayImage Viewer::viewportImage() const {
     img.rgb.insert(img.rgb.end(), &image2d.image.rgba[i * 4], &image2d.image.rgba[i * 4] + 3);
   // The overlay as ImGui draws it over the image (the handout's step pictures blend the same way).
   if (overlay.renderer && !overlay.key.empty() && isCameraImage(selected, cap)) blendOverlay(img, overlay.renderer->readPixels());
+  // The compare view side by side: the other image beside it, as the panel draws them.
+  if (compare.on && compare.mode == CompareState::Mode::SideBySide && compare.error.empty() && compare.metrics &&
+      compare.otherImage.width > 0)
+    img = besideImage(img, compare.otherImage);
   return img;
 }
 
@@ -293,6 +297,7 @@ void saveView(Viewer& viewer, const ScriptCall& call) {
   const CapturedOutput& cap = requireShownCapture(viewer, call);
   if (viewer.view3d.mode != ViewMode::Slice) viewer.update3D();
   else if (viewer.isCameraImage(viewer.selected, cap)) viewer.updateOverlay();
+  if (cap.desc.kind == OutputKind::Image2D) viewer.updateCompare();
   const std::filesystem::path p(call.arg(0));
   std::error_code ec;
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);

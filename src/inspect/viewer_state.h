@@ -79,6 +79,8 @@ struct CompareState {
   std::optional<reference::ImageMetrics> metrics;
   float errorScale = 0.0f;
   DisplayTexture otherTex, diffTex;
+  DisplayImage otherImage;      // what otherTex shows (RGB, top row first): Save view PNG puts it beside the image
+  bool setByLesson = false;     // a lesson step ("beside") turned the view on: the next step turns it off
 };
 
 // What the stage timeline has queued (panel_timeline.cpp); one stage runs per frame.

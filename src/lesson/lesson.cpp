@@ -6,7 +6,9 @@
 
 #include "core/error.h"
 #include "core/paths.h"
+#include "graph/reference_mode.h"
 #include "graph/technique.h"
+#include "run/reference_error.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -92,6 +94,27 @@ void validateStep(LessonStep& step, const std::string& where, bool checkScenes) 
       fail(e.what());
     }
   }
+  if (step.besideReference) {
+    auto [outStage, desc] = t->findOutput(step.stage, step.output);
+    (void)outStage;
+    std::string compared;
+    for (const auto& o : outs)
+      if (!o.referenceMode.empty()) compared += (compared.empty() ? "" : ", ") + o.name;
+    if (desc->kind != OutputKind::Image2D || desc->referenceMode.empty())
+      fail("beside: output " + step.output + " declares no reference mode to show beside it; outputs of " + step.stage +
+           " that do: " + (compared.empty() ? std::string("none") : compared));
+    if (step.camera != 0) fail("beside: the reference images are rendered from camera 0, the step shows camera " +
+                               std::to_string(step.camera));
+    try {
+      step.referenceMode = referenceModeUnder(*desc, params);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+    step.referenceImage = referenceImagePath(step.scene, step.referenceMode);
+    if (checkScenes && !fileExists(step.referenceImage))
+      fail("beside: scene " + step.scene + " has no reference image for mode " + step.referenceMode + " (" +
+           step.referenceImage + "; scripts/make-references.sh renders the suite's)");
+  }
 }
 
 }  // namespace
@@ -129,14 +152,14 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         narrative.clear();
         static const char* known[] = {"technique", "scene", "stage",      "output",  "level",
                                       "camera",    "set",   "iterations", "overlay", "bounds",
-                                      "slice",     "axis"};
+                                      "slice",     "axis",  "beside"};
         for (auto it = j.begin(); it != j.end(); ++it) {
           bool ok = false;
           for (const char* k : known) ok = ok || it.key() == k;
           if (!ok)
             throw Error(where + ": unknown key '" + it.key() +
                         "'; valid keys: technique, scene, stage, output, level, camera, set, iterations, overlay, "
-                        "bounds, slice, axis");
+                        "bounds, slice, axis, beside");
         }
         auto str = [&](const char* key, std::string& out) {
           if (!j.contains(key)) return;
@@ -175,6 +198,12 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         if (j.contains("bounds")) {
           if (!j["bounds"].is_boolean()) throw Error(where + ": 'bounds' must be true or false");
           step.bounds = j["bounds"].get<bool>();
+        }
+        if (j.contains("beside")) {
+          std::string beside;
+          str("beside", beside);
+          if (beside != "reference") throw Error(where + ": 'beside' must be \"reference\", got \"" + beside + "\"");
+          step.besideReference = true;
         }
         if (j.contains("set")) {
           if (!j["set"].is_object()) throw Error(where + ": 'set' must be an object of name: value");

@@ -14,7 +14,10 @@
 // the first step's (default cornell-box), so a step that shows another scene says so itself. Optional: "iterations": N stops an iterative stage after N iterations (a partly
 // built pyramid); "overlay": "stage/output@level" lays that volume level's voxels over camera
 // images, "bounds": true the volume's box; "slice": N shows that slice of a volume (along "axis":
-// "x", "y" or "z", default z) instead of the middle one. Validation runs against the technique registry: an unknown technique, stage,
+// "x", "y" or "z", default z) instead of the middle one; "beside": "reference" shows the reference path
+// tracer's image of the output's reference mode (OutputDesc::referenceMode) beside it, as the
+// viewer's compare view does side by side (a lesson's closing picture: the technique at its best
+// next to ground truth). Validation runs against the technique registry: an unknown technique, stage,
 // output or parameter, or a bad value, is an Error naming "file:line".
 #pragma once
 #include <map>
@@ -38,6 +41,9 @@ struct LessonStep {
   int iterations = 0;           // > 0: run only this many iterations of an iterative stage
   std::string overlay;          // "stage/output@level": that volume's voxels over camera images
   bool bounds = false;          // the voxel volume's bounds over camera images
+  bool besideReference = false; // "beside": "reference"
+  std::string referenceMode;    // with besideReference: the mode under the step's parameters ("indirect-1")
+  std::string referenceImage;   // ... and its file (tests/golden/reference/<scene>/<mode>.exr, absolute)
 };
 
 struct Lesson {

@@ -105,6 +105,26 @@ TEST(Lesson, ErrorsNameFileAndLine) {
   ov = bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"overlay\":\"mipmap/glow\"}");
   EXPECT_NE(ov.find("overlay: vct-grid/mipmap has no output 'glow'"), std::string::npos) << ov;
   EXPECT_EQ(bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"overlay\":\"mipmap/radiance@2\",\"bounds\":true}"), "");
+  // "beside": "reference" needs an image output that declares a reference mode, camera 0 and a
+  // reference image of that mode for the scene.
+  std::string bs = bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"output\":\"final\",\"beside\":\"reference\"}");
+  EXPECT_NE(bs.find("l.md:3: beside: output final declares no reference mode to show beside it; outputs of composite "
+                    "that do: direct, combined"),
+            std::string::npos)
+      << bs;
+  bs = bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"output\":\"combined\",\"beside\":\"truth\"}");
+  EXPECT_NE(bs.find("'beside' must be \"reference\", got \"truth\""), std::string::npos) << bs;
+  bs = bad("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"output\":\"combined\",\"camera\":1,"
+           "\"beside\":\"reference\"}");
+  EXPECT_NE(bs.find("rendered from camera 0"), std::string::npos) << bs;
+  bs = bad("{\"technique\":\"vct-grid\",\"scene\":\"tests/data/scenes/huge-triangles.gltf\",\"stage\":\"composite\","
+           "\"output\":\"combined\",\"beside\":\"reference\"}");
+  EXPECT_NE(bs.find("has no reference image for mode full"), std::string::npos) << bs;
+  Lesson beside = parseLesson("# b\n```voxlab-step\n{\"technique\":\"voxel-path-tracing\",\"stage\":\"filter\","
+                              "\"output\":\"indirect-filtered\",\"set\":{\"paths.bounces\":4},\"beside\":\"reference\"}\n```\n",
+                              "b.md");
+  EXPECT_EQ(beside.steps[0].referenceMode, "indirect-4");  // the mode follows the step's parameters
+  EXPECT_NE(beside.steps[0].referenceImage.find("tests/golden/reference/cornell-box/indirect-4.exr"), std::string::npos);
   // A JSON syntax error names the line inside the block.
   std::string j = errorOf([] { parseLesson("a\n```voxlab-step\n{\"technique\": \"vct-grid\",\n \"stage\" \"x\"}\n```\n", "j.md"); });
   EXPECT_EQ(j.rfind("j.md:4:", 0), 0u) << j;
