@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "inspect/inspect_logic.h"
 #include "inspect/scene_overlay.h"
+#include "inspect/visualiser.h"
 #include "run/session.h"
 
 namespace voxlab {
@@ -104,33 +105,33 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
 
   CapturedOutput cap = captureOutput(cursor.board(), *desc);
   const std::string address = t.id() + "/" + step.stage + "/" + step.output;
-  if (desc->kind == OutputKind::Buffer) {
-    bool hasPosition = std::any_of(desc->layout.fields.begin(), desc->layout.fields.end(),
-                                   [](const BufferField& f) { return f.role == FieldRole::Position; });
-    if (!hasPosition)
-      throw Error("output " + address + " is a buffer without a position field; the viewer shows it as a table, "
-                  "a handout needs a picture (choose an image, a volume or a point buffer)");
-    pic.image = pointView(cap, std::max(width_, height_));
-    pic.address = address;
-  } else {
-    if (step.level >= int(cap.levels.size()))
-      throw Error("output " + address + " has levels 0.." + std::to_string(int(cap.levels.size()) - 1) + ", not " +
-                  std::to_string(step.level));
+  // The picture is the view the viewer's visualiser for the output draws (its 2D view at the
+  // step's level and slice, default display settings), with the same context lookups.
+  const Visualiser& vis = visualiserFor(*desc);
+  if (desc->kind != OutputKind::Buffer && step.level >= int(cap.levels.size()))
+    throw Error("output " + address + " has levels 0.." + std::to_string(int(cap.levels.size()) - 1) + ", not " +
+                std::to_string(step.level));
+  const nlohmann::json stats = outputStatistics(cap);
+  const nlohmann::json records = desc->kind == OutputKind::Buffer ? recordsJson(cap, 32) : nlohmann::json();
+  ViewSettings view{step.level, SliceSpec{step.sliceAxis, step.sliceIndex}, DisplaySettings{}};
+  VisualiserContext ctx{cap, stats, records, view, contextVolumeLookup(cursor, stage), contextOutputLookup(cursor, stage)};
+  SliceImage s = vis.image2D(ctx);
+  if (s.width == 0)
+    throw Error("output " + address + " has no 2D view (a buffer without a position field: the viewer shows it as a "
+                "table); a handout needs a picture (choose an image, a volume or a point buffer)");
+  pic.image.width = s.width;
+  pic.image.height = s.height;
+  pic.image.rgb.resize(size_t(s.width) * s.height * 3);
+  for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
+    for (int c = 0; c < 3; ++c) pic.image.rgb[i * 3 + c] = s.rgba[i * 4 + c];
+  pic.address = desc->kind == OutputKind::Buffer ? address : address + "@" + std::to_string(step.level);
+  if (desc->kind == OutputKind::Volume3D) {
     const LevelData& L = cap.levels[step.level];
     SliceSpec slice = sliceToShow(L, SliceSpec{step.sliceAxis, step.sliceIndex});
-    SliceImage s = mapSlice(L, desc->semantic, slice, DisplaySettings{});
-    pic.image.width = s.width;
-    pic.image.height = s.height;
-    pic.image.rgb.resize(size_t(s.width) * s.height * 3);
-    for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
-      for (int c = 0; c < 3; ++c) pic.image.rgb[i * 3 + c] = s.rgba[i * 4 + c];
-    pic.address = address + "@" + std::to_string(step.level);
-    if (desc->kind == OutputKind::Volume3D) {
-      const char* axis = slice.axis == 0 ? "x" : slice.axis == 1 ? "y" : "z";
-      std::string n = "slice " + std::string(axis) + " = " + std::to_string(slice.index) + " of " +
-                      std::to_string(L.size[slice.axis]) + (step.sliceIndex < 0 ? " (the viewer's default slice)" : "");
-      pic.notes += (pic.notes.empty() ? "" : "; ") + n;
-    }
+    const char* axis = slice.axis == 0 ? "x" : slice.axis == 1 ? "y" : "z";
+    std::string n = "slice " + std::string(axis) + " = " + std::to_string(slice.index) + " of " +
+                    std::to_string(L.size[slice.axis]) + (step.sliceIndex < 0 ? " (the viewer's default slice)" : "");
+    pic.notes += (pic.notes.empty() ? "" : "; ") + n;
   }
 
   // The viewer fits a picture to its panel with nearest filtering (voxels stay squares); a page

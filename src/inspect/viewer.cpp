@@ -436,44 +436,8 @@ const Visualiser* Viewer::shownVisualiser() const {
 }
 
 VisualiserContext Viewer::visualiserContext() {
-  // The context volume of a buffer: the first volume output of the last stage before the selected
-  // one that wrote volumes and has run (its level 0 spans the voxel space that buffer positions use).
-  auto contextVolume = [this](CapturedOutput& out, std::string& name) {
-    const Technique& t = cursor->technique();
-    for (int i = selected - 1; i >= 0; --i) {
-      if (cursor->record(i).state == StageState::NotRun) continue;
-      for (const auto& o : t.decl(i).outputs)
-        if (o.kind == OutputKind::Volume3D) {
-          try {
-            out = captureOutput(cursor->board(), o);
-          } catch (const Error&) {
-            continue;
-          }
-          if (out.levels.empty()) continue;
-          name = std::string(t.stage(i).id()) + "/" + o.name;
-          return true;
-        }
-    }
-    return false;
-  };
-  // An output by semantic (or name) from the selected stage or the latest earlier one that has run.
-  auto contextOutput = [this](const char* what, CapturedOutput& out) {
-    const Technique& t = cursor->technique();
-    for (bool byName : {false, true})
-      for (int i = selected; i >= 0; --i) {
-        if (cursor->record(i).state == StageState::NotRun) continue;
-        for (const auto& o : t.decl(i).outputs)
-          if (byName ? o.name == what : std::strcmp(o.semantic.name(), what) == 0) {
-            try {
-              out = captureOutput(cursor->board(), o);
-              return true;
-            } catch (const Error&) {
-            }
-          }
-      }
-    return false;
-  };
-  return VisualiserContext{cap, capStats, capRecords, view, contextVolume, contextOutput};
+  return VisualiserContext{cap, capStats, capRecords, view, contextVolumeLookup(*cursor, selected),
+                           contextOutputLookup(*cursor, selected)};
 }
 
 void Viewer::handleKeys() {

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <map>
 
 #include <imgui.h>
 
 #include "core/error.h"
+#include "graph/step_cursor.h"
 
 namespace voxlab {
 
@@ -153,6 +155,46 @@ void drawRecordsTable(const char* id, const nlohmann::json& recs, float height) 
     }
   }
   ImGui::EndTable();
+}
+
+std::function<bool(CapturedOutput&, std::string&)> contextVolumeLookup(StepCursor& cursor, int selected) {
+  return [&cursor, selected](CapturedOutput& out, std::string& name) {
+    const Technique& t = cursor.technique();
+    for (int i = selected - 1; i >= 0; --i) {
+      if (cursor.record(i).state == StageState::NotRun) continue;
+      for (const auto& o : t.decl(i).outputs)
+        if (o.kind == OutputKind::Volume3D) {
+          try {
+            out = captureOutput(cursor.board(), o);
+          } catch (const Error&) {
+            continue;
+          }
+          if (out.levels.empty()) continue;
+          name = std::string(t.stage(i).id()) + "/" + o.name;
+          return true;
+        }
+    }
+    return false;
+  };
+}
+
+std::function<bool(const char*, CapturedOutput&)> contextOutputLookup(StepCursor& cursor, int selected) {
+  return [&cursor, selected](const char* what, CapturedOutput& out) {
+    const Technique& t = cursor.technique();
+    for (bool byName : {false, true})
+      for (int i = selected; i >= 0; --i) {
+        if (cursor.record(i).state == StageState::NotRun) continue;
+        for (const auto& o : t.decl(i).outputs)
+          if (byName ? o.name == what : std::strcmp(o.semantic.name(), what) == 0) {
+            try {
+              out = captureOutput(cursor.board(), o);
+              return true;
+            } catch (const Error&) {
+            }
+          }
+      }
+    return false;
+  };
 }
 
 }  // namespace voxlab

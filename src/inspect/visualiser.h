@@ -131,6 +131,15 @@ std::vector<std::string> semanticMismatches(const std::vector<SemanticUse>& decl
   static const bool VOXLAB_VISUALISER_CAT(voxlabVisualiserRegistered_, __LINE__) =                 \
       ::voxlab::registerVisualiser(kind, semantic, std::make_unique<Class>())
 
+// The lookups of a VisualiserContext for an output shown at stage 'selected' of 'cursor' (the
+// viewer's and the handout's): contextVolume finds the first volume output of the last stage
+// before it that wrote volumes and has run (its level 0 spans the voxel space that buffer
+// positions use); contextOutput an output by semantic (or, failing that, name) of that stage or
+// the latest earlier one that has run. Both keep a reference to 'cursor'.
+class StepCursor;
+std::function<bool(CapturedOutput&, std::string&)> contextVolumeLookup(StepCursor& cursor, int selected);
+std::function<bool(const char*, CapturedOutput&)> contextOutputLookup(StepCursor& cursor, int selected);
+
 // --- ImGui helpers the visualisers share (visualiser.cpp) ----------------------------------------------
 
 // A two-column table of a statistics object (key, value; arrays joined).

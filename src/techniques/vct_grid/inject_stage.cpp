@@ -6,6 +6,7 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "techniques/common/facing.h"
 #include "techniques/common/fragment_light.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
@@ -82,7 +83,7 @@ void InjectStage::declare(StageBuilder& b) const {
     return radianceGridDesc(p.getInt("voxel.resolution"), 1, gridFormat(p));
   });
   // The facing codes after the radiance: a stage's first output is its picture (the viewer's default).
-  b.output(kVoxelFacing, OutputKind::Volume3D, Semantic::Occupancy,
+  b.output(kVoxelFacing, OutputKind::Volume3D, kVoxelFacingSemantic,
            "per voxel (r32ui), what a cone travelling along each axis direction sees of its surfaces' fronts: 6 fields "
            "of 5 bits, +x -x +y -y +z -z, each a thermometer code of the largest front weight (shaders/common/facing.glsl)");
   b.texture(kVoxelFacing, [](const ParamSet& p, const ViewState&) { return voxelFacingDesc(p); });
