@@ -73,6 +73,26 @@ vec2 lightUV(vec3 p) {
   return uvz.xy;
 }
 
+// The coverage estimator reads A V <n.v> / <n.l> as a fraction of the footprint and lends it to
+// the cone's cross-section, which holds while the sphere is small against its distance zc from a
+// spot or point light (Eq. 3 takes r, the surface's distance from the light, as constant over the
+// sample). A sphere that reaches near the lamp breaks it: its footprint's lit surface may lie at
+// zs << zc, a small patch of surface (area ~ zs^2 per steradian of the light's image) with the
+// lamp's 1/zs^2 radiance, which the fraction would spread over the whole cross-section (the far
+// samples of a long corridor lit from its end). Bound: the surface the footprint can hold at
+// depth zs, Omega zs^2 (Omega = 2 pi (1 - cos a), sin a = rc / zc, the sphere's silhouette from
+// the light; all directions once the sphere holds the light), seen from the receiver at distance
+// ds, covers at most Omega zs^2 / ds^2 of solid angle, against pi rc^2 / t^2 of the sample's
+// (t: the sample's distance from the receiver). 1 for a small sphere with zs near zc. A
+// directional light's footprint has the sphere's own cross-section at every depth: 1.
+float solidAngleBound(float zc, float rc, float zs, float t, float ds) {
+  if (u_light.positionType.w <= VOXLAB_LIGHT_DIRECTIONAL + 0.5) return 1.0;
+  float s = min(rc / max(zc, 1e-6), 1.0);
+  // Omega / pi = 2 (1 - cos a), written without the cancellation of 1 - cos a at small a.
+  float omegaOverPi = 2.0 * s * s / (1.0 + sqrt(1.0 - s * s));
+  return min(omegaOverPi * (zs * t) * (zs * t) / max((rc * ds) * (rc * ds), 1e-12), 1.0);
+}
+
 // Does depth interval d's texel range (its classification interval; the first and last open
 // toward zNear and zFar) meet [z0, z1]?
 bool intervalMeets(int d, float z0, float z1) {
@@ -145,7 +165,9 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
             V = u_visibility == 1 ? gaussianVisibility(zw, rw, mu, sigma2) : 1.0;
             // <n.l> of the layer's mean normal, floored: R carries <n.l>, so A*R / <n.l> stays
             // bounded as the surface turns edge-on to the light.
-            jacobian = coverage ? 1.0 / max(dot(nMean, toLight), LRSM_MIN_NDOTL) : 1.0;
+            jacobian = coverage ? solidAngleBound(zc, rc, lo + mu * (hi - lo), length(xc - p), length(xs - p)) /
+                                      max(dot(nMean, toLight), LRSM_MIN_NDOTL)
+                                : 1.0;
             if (coverage) {
               // The fraction of the cone's cross-section the lit surface covers: x facing the
               // receiver, y facing away (which sends nothing but blocks: a lit wall between rooms).

@@ -38,7 +38,12 @@
 //                  the cone, an infinite plane counts once whatever its tilt). <n.l> is the
 //                  layer's mean normal's, floored at 0.1 (LRSM_MIN_NDOTL); v points to the
 //                  receiver from the layer's mean surface point (depth mu on the light ray
-//                  through x_c), not from x_c. Eq. 1's alpha_i is the larger of the voxels'
+//                  through x_c), not from x_c. For a spot or point light the fraction is capped by
+//                  the solid angle the footprint's surface can fill seen from the receiver,
+//                  min(1, Omega z_s^2 t^2 / (pi r_c^2 d_s^2)) (Omega: the sphere's silhouette from
+//                  the light; z_s the layer's mean depth; t, d_s: the sample's and that surface's
+//                  distances from the receiver): a wide sphere whose footprint reaches the lamp's
+//                  bright surroundings would otherwise lend them the whole cross-section. Eq. 1's alpha_i is the larger of the voxels'
 //                  opacity and the lit surfaces' coverage, either facing (lrsm.lit-occlusion):
 //                  a lit surface blocks what lies behind it, where a thin wall's isotropic mips
 //                  let most through. lrsm.estimator=paper multiplies Algorithm 1's sum (window =
