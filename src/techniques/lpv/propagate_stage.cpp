@@ -65,7 +65,10 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::boolean("lpv.clamp-faces", true,
                              "clamp each face's evaluated intensity at 0 (off: the linear operator, which conserves "
                              "flux exactly; on: negative back lobes are dropped, about +14 % on a first step)"));
-  b.param(ParamDesc::choice("lpv.reprojection", {"face-axis", "travel"}, 0,
+  b.param(ParamDesc::boolean("lpv.clamp-conserves", false,
+                             "with lpv.clamp-faces: scale each neighbour's clamped faces so they carry the flux of "
+                             "its unclamped five (the clamp keeps intensities non-negative without adding flux)"));
+  b.param(ParamDesc::choice("lpv.reprojection", {"face-axis", "travel", "beam"}, 0,
                             "the lobe a face's flux re-enters as: along the face's axis (Kaplanyan-Dachsbacher; the "
                             "light keeps 37 % of its direction per step, a random walk), or along the direction it "
                             "crossed the face in (keeps 2/3)"));
@@ -299,6 +302,7 @@ void PropagateStage::execute(StageContext& ctx) {
       setUniform(program, "u_thesisScheme", thesisScheme ? 1 : 0);
       setUniform(program, "u_weightScale", weightScale);
       setUniform(program, "u_clampFaces", ctx.params.getBool("lpv.clamp-faces") ? 1 : 0);
+      setUniform(program, "u_clampConserves", ctx.params.getBool("lpv.clamp-conserves") ? 1 : 0);
       setUniform(program, "u_occlusion", occlusion);
       setUniform(program, "u_occlusionAmplifier", ctx.params.getFloat("lpv.occlusion-amplifier"));
       setUniform(program, "u_firstStepUnoccluded", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0);
