@@ -36,7 +36,7 @@ uniform int u_thesisScheme;        // 1: propagate everything so far; 0: only th
 uniform float u_weightScale;       // 1/pi (flux-consistent) or fluxAmplifier/(4 pi) (thesis)
 uniform int u_clampFaces;
 uniform int u_clampConserves;      // 1: the clamped faces of a neighbour carry its unclamped flux
-uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none
+uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none, 3 front
 uniform float u_occlusionAmplifier;
 uniform int u_firstStepUnoccluded;
 uniform int u_reprojection;        // 0: lobe along the face's axis (K&D); 1: along the direction the light crossed it; 2: a beam along it
@@ -53,13 +53,16 @@ vec3 blockNormal(uvec4 normals, vec3 travel) {
     if (m == 0u) continue;
     vec3 n = decodeNormalMask(m);
     precise float t = (n.x * travel.x + n.y * travel.y) + n.z * travel.z;
-    if (u_occlusion == 0 && t < 0.0) { n = -n; t = -t; }
+    if ((u_occlusion == 0 && t < 0.0) || u_occlusion == 3) { n = -n; t = -t; }
     if (t > bestDot) { bestDot = t; best = n; }
   }
+  // front: no stored surface faces the light (it leaves the fronts of all of them): nothing blocks.
+  if (u_occlusion == 3 && !(bestDot > 0.0)) best = vec3(0.0);
   return best;
 }
 // Transmission along d: 1 - clamp(A <lobe(n), Y(d)>).
 float transmission(vec3 n, vec3 d) {
+  if (u_occlusion == 3 && n == vec3(0.0)) return 1.0;  // front: nothing faces the light
   precise float blocked = u_occlusionAmplifier * shEvaluate(shLobe(n), d);
   return 1.0 - min(max(blocked, 0.0), 1.0);
 }

@@ -641,15 +641,19 @@ TEST(LpvGpu, BinningEqualsCpuReference) {
 }
 
 TEST(LpvGpu, PropagationEqualsCpuReference) {
-  struct Variant { Reprojection reprojection; const char* name; bool conserves; };
-  for (const Variant& variant : {Variant{Reprojection::FaceAxis, "face-axis", false},
-                                 Variant{Reprojection::Travel, "travel", false}, Variant{Reprojection::Beam, "beam", true}}) {
+  struct Variant { Reprojection reprojection; const char* name; bool conserves; bool front; };
+  for (const Variant& variant : {Variant{Reprojection::FaceAxis, "face-axis", false, false},
+                                 Variant{Reprojection::Travel, "travel", false, false},
+                                 Variant{Reprojection::Beam, "beam", true, false},
+                                 Variant{Reprojection::FaceAxis, "face-axis", false, true}}) {
     // The conserving clamp evaluates a source's 30 faces per receiver (slow on llvmpipe): an 8^3
     // grid for it.
     auto& s = session(request({"voxel.resolution=64", variant.conserves ? "lpv.resolution=8" : "lpv.resolution=16", "lpv.steps=5",
                                std::string("lpv.reprojection=") + variant.name,
-                               variant.conserves ? "lpv.clamp-conserves=on" : "lpv.clamp-conserves=off"}));
+                               variant.conserves ? "lpv.clamp-conserves=on" : "lpv.clamp-conserves=off",
+                               variant.front ? "lpv.occlusion=front" : "lpv.occlusion=two-sided"}));
     PropagationSettings settings;
+    settings.occlusion = variant.front ? Occlusion::Front : Occlusion::TwoSided;
     settings.reprojection = variant.reprojection;
     settings.clampConserves = variant.conserves;
     for (int c = 0; c < kCascades; ++c) {

@@ -108,7 +108,14 @@
 //     light hitting a one-sided wall's front through, pitfall 4 of the note). Empty normal channels
 //     are skipped, not decoded to the zero vector. A = lpv.occlusion-amplifier 1 (GPU Pro 4): 25 %
 //     passes head on. The first step is unoccluded (GPU Pro 4, the NVIDIA sample, K&D ports) so a
-//     VPL's own voxel does not block its own light.
+//     VPL's own voxel does not block its own light. front blocks only light arriving at a stored
+//     surface's front (the normal most opposed to the travel direction; nothing if none faces
+//     it), never the light a surface sends: a measuring tool for how much of a room's light its
+//     own surfaces block. Against the reference at 256 x 256 (indirect energy): cornell-box 0.60 ->
+//     1.26, Sponza 1.03, skylight-room 2.41, two-rooms 2.39, corridor 1.51, spheres-room 2.10:
+//     two-sided blocking takes half of the Cornell box's light as it leaves the surfaces that send
+//     it (light spread sideways into a wall's or the floor's cells), and without it the surfaces'
+//     own light, smeared sideways by L1, lights them (self-illumination) everywhere else.
 //   - Steps (lpv.steps = 0, "scene", by default): ceil(lpv.resolution / lpv.fine-extent) = 22 at the
 //     defaults, the steps the light's frontier needs to cross the scene's largest extent in the fine
 //     cascade (the frontier moves one cell per step; the fine cell is fine-extent x that extent /

@@ -19,7 +19,9 @@ float faceTransmission(const gpu::LpvVoxel* v, const glm::vec3& travel, const gl
   if (s.occlusion == Occlusion::None || !v || !decodeOccupied(v->colorOcclusion)) return 1.0f;
   if (step == 0 && s.firstStepUnoccluded) return 1.0f;
   // The stored normal closest to the travel direction (thesis: blocks light travelling along it),
-  // or closest up to sign (two-sided: the surface blocks both ways), empty channels skipped.
+  // or closest up to sign (two-sided: the surface blocks both ways), or the one facing the light
+  // most (front: a surface blocks light arriving at its front, not the light it sends), empty
+  // channels skipped.
   glm::vec3 best(0.0f);
   float bestDot = -1e30f;
   for (int c = 0; c < 4; ++c) {
@@ -27,9 +29,11 @@ float faceTransmission(const gpu::LpvVoxel* v, const glm::vec3& travel, const gl
     if (m == 0u) continue;
     glm::vec3 n = decodeNormalMask(m);
     float t = (n.x * travel.x + n.y * travel.y) + n.z * travel.z;
-    if (s.occlusion == Occlusion::TwoSided && t < 0.0f) { n = -n; t = -t; }
+    if ((s.occlusion == Occlusion::TwoSided && t < 0.0f) || s.occlusion == Occlusion::Front) { n = -n; t = -t; }
     if (t > bestDot) { bestDot = t; best = n; }
   }
+  // front: no stored surface faces the light (it leaves the fronts of all of them): nothing blocks.
+  if (s.occlusion == Occlusion::Front && !(bestDot > 0.0f)) return 1.0f;
   float blocked = s.occlusionAmplifier * shEvaluate(shLobe(best), d);
   return 1.0f - std::fmin(std::fmax(blocked, 0.0f), 1.0f);
 }

@@ -27,7 +27,7 @@ struct ShField {
   glm::dvec3 flux() const;  // sum of c00 * 2 sqrt(pi) per channel
 };
 
-enum class Occlusion { TwoSided, Thesis, None };
+enum class Occlusion { TwoSided, Thesis, None, Front };
 enum class Scheme { Wavefront, Thesis };
 // The lobe a face's flux re-enters as: along the face's axis (K&D) or along the direction the light
 // crossed the face (from the neighbour's centre to the face's centre), as a clamped-cosine lobe
