@@ -156,6 +156,9 @@
 //     quarter of its peak intensity sideways and reads a quarter of grazing light back). Without the
 //     clamp: 0.78, 0.68, 0.73, 0.99, 0.91, 0.70, with black blotches where the field goes negative.
 //     With lpv.clamp-conserves: 0.55 (0.76), 0.66, 1.19 (0.63), 1.05 (0.71), 0.71 (0.86), 0.80 (0.84).
+//     With lpv.occlusion-amplifier=1.3333 (head-on light fully blocked) and the plain clamp: 1.12
+//     (0.79), 0.67, 2.50, 1.69, 0.95 (0.94), 1.22: the setting that brings the Cornell box and the
+//     corridor into [0.8, 1.25] (lesson 05, step 11), at the other rooms' cost.
 //     The face-axis default with lpv.clamp-conserves: 0.53, 0.87, 0.92, 0.92, 0.66, 0.93. So a
 //     flux-conserving propagation, whatever its reprojection, reads at most about 0.9 of the reference
 //     on every interior scene, and 0.53-0.55 on the Cornell box; the default's 1.04 in skylight-room and
