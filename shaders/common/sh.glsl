@@ -16,6 +16,7 @@ const float SH_Y00 = 0.282094792;    // 1 / (2 sqrt(pi))
 const float SH_Y1 = 0.488602512;     // sqrt(3 / (4 pi))
 const float SH_LOBE0 = 0.886226925;  // sqrt(pi) / 2
 const float SH_LOBE1 = 1.023326708;  // sqrt(pi / 3)
+const float SH_BEAM1 = 1.534990061;  // pi Y1 = sqrt(3 pi) / 2: band 1 of a narrow beam of the same flux as a lobe
 const float SH_FLUX_PER_C00 = 3.544907702;  // 4 pi Y00 = 2 sqrt(pi): flux of an intensity field per unit c00
 // Solid angles of a cell's faces seen from a face neighbour's centre (seed 000 Listing 4.32):
 // far face 4 asin(0.1); the four side faces share the rest of the 2 pi / 3 the shared face subtends.
@@ -26,6 +27,9 @@ const float LPV_SIDE_ACROSS = 0.4472135955; // 1 / sqrt(5): side-face direction 
 
 vec4 shBasis(vec3 d) { return vec4(SH_Y00, -SH_Y1 * d.y, SH_Y1 * d.z, -SH_Y1 * d.x); }
 vec4 shLobe(vec3 n) { return vec4(SH_LOBE0, -SH_LOBE1 * n.y, SH_LOBE1 * n.z, -SH_LOBE1 * n.x); }
+// pi Y(d): the L1 projection of a narrow beam along d carrying the flux of lobe(d) (same c00, band 1
+// 1.5 times the lobe's), so re-emitting a flux as beam keeps its direction whole.
+vec4 shBeam(vec3 d) { return vec4(SH_LOBE0, -SH_BEAM1 * d.y, SH_BEAM1 * d.z, -SH_BEAM1 * d.x); }
 // <sh, Y(d)>: the intensity the L1 field sends along d.
 float shEvaluate(vec4 sh, vec3 d) {
   precise float a = sh.x * SH_Y00;

@@ -35,10 +35,11 @@ uniform int u_step;
 uniform int u_thesisScheme;        // 1: propagate everything so far; 0: only the last wavefront
 uniform float u_weightScale;       // 1/pi (flux-consistent) or fluxAmplifier/(4 pi) (thesis)
 uniform int u_clampFaces;
-uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none
+uniform int u_clampConserves;      // 1: the clamped faces of a neighbour carry its unclamped flux
+uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none, 3 front
 uniform float u_occlusionAmplifier;
 uniform int u_firstStepUnoccluded;
-uniform int u_reprojection;        // 0: lobe along the face's axis (K&D); 1: along the direction the light crossed it
+uniform int u_reprojection;        // 0: lobe along the face's axis (K&D); 1: along the direction the light crossed it; 2: a beam along it
 
 // Whether the voxels block at all in this step (the same for every cell).
 bool occlusionOn() { return u_occlusion != 2 && !(u_step == 0 && u_firstStepUnoccluded == 1); }
@@ -52,13 +53,16 @@ vec3 blockNormal(uvec4 normals, vec3 travel) {
     if (m == 0u) continue;
     vec3 n = decodeNormalMask(m);
     precise float t = (n.x * travel.x + n.y * travel.y) + n.z * travel.z;
-    if (u_occlusion == 0 && t < 0.0) { n = -n; t = -t; }
+    if ((u_occlusion == 0 && t < 0.0) || u_occlusion == 3) { n = -n; t = -t; }
     if (t > bestDot) { bestDot = t; best = n; }
   }
+  // front: no stored surface faces the light (it leaves the fronts of all of them): nothing blocks.
+  if (u_occlusion == 3 && !(bestDot > 0.0)) best = vec3(0.0);
   return best;
 }
 // Transmission along d: 1 - clamp(A <lobe(n), Y(d)>).
 float transmission(vec3 n, vec3 d) {
+  if (u_occlusion == 3 && n == vec3(0.0)) return 1.0;  // front: nothing faces the light
   precise float blocked = u_occlusionAmplifier * shEvaluate(shLobe(n), d);
   return 1.0 - min(max(blocked, 0.0), 1.0);
 }
@@ -74,13 +78,17 @@ struct ShRgb { vec4 r, g, b; };
 // The flux re-enters as a clamped-cosine lobe along the face's axis oj (K&D: a VPL at the cell's
 // centre shining through face j), or with lpv.reprojection=travel along d, the direction it
 // crossed the face in (from the neighbour's centre to the face's centre).
-vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, ivec3 oj, out float e, out float f) {
+vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, float scale, ivec3 oj, out float e, out float f) {
   e = shEvaluateSparse(src, d);
   if (u_clampFaces == 1) e = max(e, 0.0);
-  precise float flux = ((e * omega) * occ) * u_weightScale;
+  precise float flux = (((e * omega) * occ) * u_weightScale) * scale;
   f = flux;
   if (u_reprojection == 1) {
     precise vec4 r = acc + flux * shLobe(d);
+    return r;
+  }
+  if (u_reprojection == 2) {
+    precise vec4 r = acc + flux * shBeam(d);
     return r;
   }
   return shAddAxisLobe(acc, flux, oj);
@@ -91,18 +99,41 @@ vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, ivec3 oj, o
 // after inlining the direction, solid angle and lobe axis are constants and the sparse evaluations
 // lose their zero terms and branches: the same operations in the same order as the loop of the CPU
 // reference (bit-identical).
-void addFace(ShRgb src, int i, int j, int k, float occ, inout ShRgb acc) {
+void addFace(ShRgb src, int i, int j, int k, float occ, vec3 scale, inout ShRgb acc) {
   vec3 d = lpvFaceDirection(i, j);
   float omega = lpvFaceSolidAngle(i, j);
   ivec3 oj = lpvOffset(j);
   vec3 e, f;
-  acc.r = faceChannel(acc.r, src.r, d, omega, occ, oj, e.r, f.r);
-  acc.g = faceChannel(acc.g, src.g, d, omega, occ, oj, e.g, f.g);
-  acc.b = faceChannel(acc.b, src.b, d, omega, occ, oj, e.b, f.b);
+  acc.r = faceChannel(acc.r, src.r, d, omega, occ, scale.r, oj, e.r, f.r);
+  acc.g = faceChannel(acc.g, src.g, d, omega, occ, scale.g, oj, e.g, f.g);
+  acc.b = faceChannel(acc.b, src.b, d, omega, occ, scale.b, oj, e.b, f.b);
 #ifdef LPV_PROBE
   probe.faceIntensity[5 * i + k] = vec4(e, omega);
   probe.faceFlux[5 * i + k] = vec4(f, occ);
 #endif
+}
+
+// lpv.clamp-conserves: the factor on a source cell's clamped face fluxes (one channel) that makes
+// the 30 faces it lights (5 in each of its 6 neighbours) carry the flux of the unclamped 30,
+// sum omega e (0 where that is not positive), so the clamp keeps intensities non-negative without
+// adding flux. The same for every receiver of the source.
+float conserveScale(vec4 src) {
+  precise float signedFlux = 0.0, clampedFlux = 0.0;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      if (j == i) continue;
+      float e = shEvaluate(src, lpvFaceDirection(i, j));
+      float omega = lpvFaceSolidAngle(i, j);
+      precise float a = signedFlux + e * omega;
+      precise float b = clampedFlux + max(e, 0.0) * omega;
+      signedFlux = a;
+      clampedFlux = b;
+    }
+  return clampedFlux > 0.0 ? max(signedFlux, 0.0) / clampedFlux : 0.0;
+}
+vec3 conserveScales(ShRgb src) {
+  if (u_clampConserves == 0 || u_clampFaces == 0) return vec3(1.0);
+  return vec3(conserveScale(src.r), conserveScale(src.g), conserveScale(src.b));
 }
 
 // Neighbour I's five faces J0 < ... < J4 (the shared face left out; the reference's order). The
@@ -121,11 +152,12 @@ void addFace(ShRgb src, int i, int j, int k, float occ, inout ShRgb acc) {
       t3 = transmission(bn, lpvFaceDirection(I, J3));                           \
       t4 = transmission(bn, lpvFaceDirection(I, J4));                           \
     }                                                                           \
-    addFace(src, I, J0, 0, t0, acc);                                            \
-    addFace(src, I, J1, 1, t1, acc);                                            \
-    addFace(src, I, J2, 2, t2, acc);                                            \
-    addFace(src, I, J3, 3, t3, acc);                                            \
-    addFace(src, I, J4, 4, t4, acc);                                            \
+    const vec3 scale = conserveScales(src);                                     \
+    addFace(src, I, J0, 0, t0, scale, acc);                                     \
+    addFace(src, I, J1, 1, t1, scale, acc);                                     \
+    addFace(src, I, J2, 2, t2, scale, acc);                                     \
+    addFace(src, I, J3, 3, t3, scale, acc);                                     \
+    addFace(src, I, J4, 4, t4, scale, acc);                                     \
     meanTransmission = ((((t0 + t1) + t2) + t3) + t4) / 5.0;                    \
   }
 

@@ -65,13 +65,17 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.param(ParamDesc::boolean("lpv.clamp-faces", true,
                              "clamp each face's evaluated intensity at 0 (off: the linear operator, which conserves "
                              "flux exactly; on: negative back lobes are dropped, about +14 % on a first step)"));
-  b.param(ParamDesc::choice("lpv.reprojection", {"face-axis", "travel"}, 0,
+  b.param(ParamDesc::boolean("lpv.clamp-conserves", false,
+                             "with lpv.clamp-faces: scale each neighbour's clamped faces so they carry the flux of "
+                             "its unclamped five (the clamp keeps intensities non-negative without adding flux)"));
+  b.param(ParamDesc::choice("lpv.reprojection", {"face-axis", "travel", "beam"}, 0,
                             "the lobe a face's flux re-enters as: along the face's axis (Kaplanyan-Dachsbacher; the "
                             "light keeps 37 % of its direction per step, a random walk), or along the direction it "
                             "crossed the face in (keeps 2/3)"));
-  b.param(ParamDesc::choice("lpv.occlusion", {"two-sided", "thesis", "none"}, 0,
+  b.param(ParamDesc::choice("lpv.occlusion", {"two-sided", "thesis", "none", "front"}, 0,
                             "blocking by the source cell's voxel: a surface blocks both ways, as the thesis (only light "
-                            "travelling along its stored normal), or not at all"));
+                            "travelling along its stored normal), not at all, or only light arriving at its front "
+                            "(not the light it sends)"));
   b.param(ParamDesc::real("lpv.occlusion-amplifier", 1.0, 0.0, 4.0,
                           "blocked fraction = amplifier * (0.25 + 0.5 n.d), clamped to 1: 1 lets 25 % through head "
                           "on, 4/3 blocks all"));
@@ -166,7 +170,7 @@ int PropagateStage::iterations(const ParamSet& params) const { return propagatio
 // faceTransmission (the same maths as propagate.comp.glsl, tested against it), at step 1.
 static void writeOcclusionView(StageContext& ctx, int occlusion) {
   PropagationSettings s;
-  s.occlusion = occlusion == 0 ? Occlusion::TwoSided : occlusion == 1 ? Occlusion::Thesis : Occlusion::None;
+  s.occlusion = occlusion == 0 ? Occlusion::TwoSided : occlusion == 1 ? Occlusion::Thesis : occlusion == 2 ? Occlusion::None : Occlusion::Front;
   s.occlusionAmplifier = ctx.params.getFloat("lpv.occlusion-amplifier");
   double least = 1.0, occupied = 0, blocking = 0;
   for (int c = 0; c < kCascades; ++c) {
@@ -299,6 +303,7 @@ void PropagateStage::execute(StageContext& ctx) {
       setUniform(program, "u_thesisScheme", thesisScheme ? 1 : 0);
       setUniform(program, "u_weightScale", weightScale);
       setUniform(program, "u_clampFaces", ctx.params.getBool("lpv.clamp-faces") ? 1 : 0);
+      setUniform(program, "u_clampConserves", ctx.params.getBool("lpv.clamp-conserves") ? 1 : 0);
       setUniform(program, "u_occlusion", occlusion);
       setUniform(program, "u_occlusionAmplifier", ctx.params.getFloat("lpv.occlusion-amplifier"));
       setUniform(program, "u_firstStepUnoccluded", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0);

@@ -19,7 +19,9 @@ float faceTransmission(const gpu::LpvVoxel* v, const glm::vec3& travel, const gl
   if (s.occlusion == Occlusion::None || !v || !decodeOccupied(v->colorOcclusion)) return 1.0f;
   if (step == 0 && s.firstStepUnoccluded) return 1.0f;
   // The stored normal closest to the travel direction (thesis: blocks light travelling along it),
-  // or closest up to sign (two-sided: the surface blocks both ways), empty channels skipped.
+  // or closest up to sign (two-sided: the surface blocks both ways), or the one facing the light
+  // most (front: a surface blocks light arriving at its front, not the light it sends), empty
+  // channels skipped.
   glm::vec3 best(0.0f);
   float bestDot = -1e30f;
   for (int c = 0; c < 4; ++c) {
@@ -27,11 +29,33 @@ float faceTransmission(const gpu::LpvVoxel* v, const glm::vec3& travel, const gl
     if (m == 0u) continue;
     glm::vec3 n = decodeNormalMask(m);
     float t = (n.x * travel.x + n.y * travel.y) + n.z * travel.z;
-    if (s.occlusion == Occlusion::TwoSided && t < 0.0f) { n = -n; t = -t; }
+    if ((s.occlusion == Occlusion::TwoSided && t < 0.0f) || s.occlusion == Occlusion::Front) { n = -n; t = -t; }
     if (t > bestDot) { bestDot = t; best = n; }
   }
+  // front: no stored surface faces the light (it leaves the fronts of all of them): nothing blocks.
+  if (s.occlusion == Occlusion::Front && !(bestDot > 0.0f)) return 1.0f;
   float blocked = s.occlusionAmplifier * shEvaluate(shLobe(best), d);
   return 1.0f - std::fmin(std::fmax(blocked, 0.0f), 1.0f);
+}
+
+// lpv.clamp-conserves: per channel, the factor on a source cell's clamped face fluxes that makes the
+// 30 faces it lights carry the flux of the unclamped 30, sum omega e (0 where that is not
+// positive); 1 when off. The twin of conserveScale in propagate.comp.glsl, in the same order.
+static glm::vec3 conserveScales(const std::array<SH, 3>& src, const PropagationSettings& s) {
+  if (!s.clampConserves || !s.clampFaces) return glm::vec3(1.0f);
+  glm::vec3 scale;
+  for (int ch = 0; ch < 3; ++ch) {
+    float signedFlux = 0.0f, clampedFlux = 0.0f;
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) {
+        if (j == i) continue;
+        float e = shEvaluate(src[ch], faceDirection(i, j)), omega = faceSolidAngle(i, j);
+        signedFlux = signedFlux + e * omega;
+        clampedFlux = clampedFlux + std::fmax(e, 0.0f) * omega;
+      }
+    scale[ch] = clampedFlux > 0.0f ? std::fmax(signedFlux, 0.0f) / clampedFlux : 0.0f;
+  }
+  return scale;
 }
 
 static void gatherNeighbour(const ShField& source, const std::vector<gpu::LpvVoxel>& voxels, glm::ivec3 cell, int i,
@@ -41,16 +65,19 @@ static void gatherNeighbour(const ShField& source, const std::vector<gpu::LpvVox
   const auto& src = source.at(n);
   const gpu::LpvVoxel* v = voxels.empty() ? nullptr : &voxels[source.index(n)];
   glm::vec3 travel = -glm::vec3(faceOffset(i));
+  const glm::vec3 scale = conserveScales(src, s);
   for (int j = 0; j < 6; ++j) {
     if (j == i) continue;
     glm::vec3 d = faceDirection(i, j);
     float omega = faceSolidAngle(i, j);
     float occ = faceTransmission(v, travel, d, s, step);
-    SH lobe = shLobe(s.reprojection == Reprojection::Travel ? d : glm::vec3(faceOffset(j)));
+    SH lobe = s.reprojection == Reprojection::Beam     ? shBeam(d)
+              : s.reprojection == Reprojection::Travel ? shLobe(d)
+                                                       : shLobe(glm::vec3(faceOffset(j)));
     for (int ch = 0; ch < 3; ++ch) {
       float e = shEvaluate(src[ch], d);
       if (s.clampFaces) e = std::fmax(e, 0.0f);
-      float f = ((e * omega) * occ) * s.weightScale;
+      float f = (((e * omega) * occ) * s.weightScale) * scale[ch];
       acc[ch] = acc[ch] + f * lobe;
     }
   }
@@ -107,6 +134,7 @@ std::array<FaceTerm, 5> faceTerms(const ShField& source, const std::vector<gpu::
   if (src[0] == SH(0.0f) && src[1] == SH(0.0f) && src[2] == SH(0.0f)) return terms;
   const gpu::LpvVoxel* v = voxels.empty() ? nullptr : &voxels[source.index(n)];
   glm::vec3 travel = -glm::vec3(faceOffset(i));
+  const glm::vec3 scale = conserveScales(src, s);
   for (FaceTerm& t : terms) {
     glm::vec3 d = faceDirection(i, t.face);
     t.solidAngle = faceSolidAngle(i, t.face);
@@ -115,7 +143,7 @@ std::array<FaceTerm, 5> faceTerms(const ShField& source, const std::vector<gpu::
       float e = shEvaluate(src[ch], d);
       if (s.clampFaces) e = std::fmax(e, 0.0f);
       t.intensity[ch] = e;
-      t.flux[ch] = ((e * t.solidAngle) * t.transmission) * s.weightScale;
+      t.flux[ch] = (((e * t.solidAngle) * t.transmission) * s.weightScale) * scale[ch];
     }
   }
   return terms;

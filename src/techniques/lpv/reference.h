@@ -27,16 +27,18 @@ struct ShField {
   glm::dvec3 flux() const;  // sum of c00 * 2 sqrt(pi) per channel
 };
 
-enum class Occlusion { TwoSided, Thesis, None };
+enum class Occlusion { TwoSided, Thesis, None, Front };
 enum class Scheme { Wavefront, Thesis };
 // The lobe a face's flux re-enters as: along the face's axis (K&D) or along the direction the light
-// crossed the face (from the neighbour's centre to the face's centre).
-enum class Reprojection { FaceAxis, Travel };
+// crossed the face (from the neighbour's centre to the face's centre), as a clamped-cosine lobe
+// (travel) or as a narrow beam (shBeam, keeps the whole direction).
+enum class Reprojection { FaceAxis, Travel, Beam };
 
 struct PropagationSettings {
   Scheme scheme = Scheme::Wavefront;
   float weightScale = float(1.0 / kPi);  // flux-consistent 1/pi; thesis fluxAmplifier / (4 pi)
   bool clampFaces = true;                // max(0, .) of each face evaluation
+  bool clampConserves = false;           // the clamped faces of a neighbour carry its unclamped flux
   Occlusion occlusion = Occlusion::TwoSided;
   float occlusionAmplifier = 1.0f;
   bool firstStepUnoccluded = true;

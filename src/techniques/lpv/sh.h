@@ -13,6 +13,7 @@ constexpr float kY00 = 0.282094792f;
 constexpr float kY1 = 0.488602512f;
 constexpr float kLobe0 = 0.886226925f;
 constexpr float kLobe1 = 1.023326708f;
+constexpr float kBeam1 = 1.534990061f;  // pi kY1: band 1 of a narrow beam of a lobe's flux (sh.glsl, shBeam)
 constexpr float kFluxPerC00 = 3.544907702f;
 constexpr float kSolidAngleFar = 0.4006696846f;
 constexpr float kSolidAngleSide = 0.4234313544f;
@@ -26,6 +27,7 @@ using SH = glm::vec4;  // (c00, c1-1, c10, c11)
 
 inline SH shBasis(const glm::vec3& d) { return {kY00, -kY1 * d.y, kY1 * d.z, -kY1 * d.x}; }
 inline SH shLobe(const glm::vec3& n) { return {kLobe0, -kLobe1 * n.y, kLobe1 * n.z, -kLobe1 * n.x}; }
+inline SH shBeam(const glm::vec3& d) { return {kLobe0, -kBeam1 * d.y, kBeam1 * d.z, -kBeam1 * d.x}; }
 inline float shEvaluate(const SH& sh, const glm::vec3& d) {
   float a = sh.x * kY00, b = sh.y * (-kY1 * d.y), c = sh.z * (kY1 * d.z), e = sh.w * (-kY1 * d.x);
   return ((a + b) + c) + e;
