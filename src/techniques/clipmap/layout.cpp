@@ -27,9 +27,10 @@ std::vector<ParamDesc> layoutParams() {
                            "edge s_0 of a level-0 voxel; scene: the scene's largest extent E times the power of two that lets "
                            "the coarsest level span at least 8 E",
                            "m"),
-      ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 0,
-                        "isotropic: one value per cell; anisotropic: also six directional values, filtered between "
-                        "levels front to back (the under operator)"),
+      ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 1,
+                        "isotropic: one value per cell; anisotropic: also six directional values, each showing a cone "
+                        "travelling that way the fronts of the surfaces it sees, filtered between levels front to back "
+                        "(the under operator)"),
   };
 }
 
@@ -51,11 +52,10 @@ ParamDesc fixedPointParam() {
 }
 
 ParamDesc atlasFormatParam() {
-  return ParamDesc::choice("clipmap.format", {"rgba8", "rgba16f"}, 0,
+  return ParamDesc::choice("clipmap.format", {"rgba8", "rgba16f"}, 1,
                            "what the atlas, its mips and the unrolled levels store: rgba8 clamps radiance to [0,1] (the "
                            "cells by a lamp or in the sun lose most of their light); rgba16f keeps up to 64 W/(m^2 sr) "
-                           "in half floats (HDR cells, twice the memory; until the faces show only their surfaces' "
-                           "fronts it also lets a sun-lit slab's outside leak in: skylight room 5.4x the reference)");
+                           "in half floats (HDR cells, twice the memory)");
 }
 GLenum atlasFormat(const ParamSet& params) {
   return params.getChoice("clipmap.format") == "rgba16f" ? GL_RGBA16F : GL_RGBA8;
@@ -65,9 +65,14 @@ std::string atlasFormatDefines(const ParamSet& params) {
 }
 static int maxRadianceLog2(const ParamSet& params) { return atlasFormat(params) == GL_RGBA16F ? 6 : 0; }  // 64 or 1
 
-// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments,
-// u_maxRadiance).
-void setFixedPointUniforms(GLuint program, const ParamSet& params) {
+// Words per cell of the accumulators (shaders/clipmap/clipmap.glsl, accumulatorIndex): 4 with one
+// face; with six, also the facing code and per direction the fronts' fragments and light.
+static uint32_t cellWords(const ParamSet& params) { return facesOf(params) == 7 ? 32u : 4u; }
+
+// The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_fixedScale,
+// u_maxFragments, u_maxRadiance).
+void setAccumulatorUniforms(GLuint program, const ParamSet& params) {
+  setUniform(program, "u_cellWords", unsigned(cellWords(params)));
   const int bits = params.getInt("clipmap.fixed-point-bits");
   const int radianceBits = maxRadianceLog2(params);
   setUniform(program, "u_fixedScale", float(std::ldexp(1.0, bits)));
@@ -134,7 +139,7 @@ TextureDesc atlasDesc(const ParamSet& params) {
 
 size_t accumulatorBytes(const ParamSet& p) {
   const size_t n = size_t(p.getInt("clipmap.resolution"));
-  return 16 * size_t(p.getInt("clipmap.levels")) * n * n * n;
+  return 4 * size_t(cellWords(p)) * size_t(p.getInt("clipmap.levels")) * n * n * n;
 }
 
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera) {

@@ -17,7 +17,7 @@ static TextureDesc mipsDesc(const ParamSet& params) {
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
   d.format = atlasFormat(params);
-  d.size = {n, n, n};
+  d.size = {facesOf(params) * n, n, n};  // the faces side by side along x
   d.levels = mipCount(n) + 1;
   d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
   return d;
@@ -42,7 +42,7 @@ void MipsStage::declare(StageBuilder& b) const {
   b.read("clip-atlas");
   b.output("clip-mips", OutputKind::Volume3D, Semantic::Color,
            "the coarsest level in logical order (mip 0: texel j = cell o_{L-1} + j) and its mips down to 4^3, each "
-           "covering the same volume");
+           "covering the same volume; with six faces, the faces side by side along x (isotropic, +x -x +y -y +z -z)");
   b.output("clip-logical", OutputKind::Volume3D, Semantic::Color,
            "every level's isotropic values unrolled into logical order, levels along y: texel (x, k N + y, z) = cell "
            "o_k + (x, y, z) of level k (compare with clip-atlas: the same data, cut at the physical seam)");
@@ -152,6 +152,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   std::vector<glm::ivec3> lo(kMaxLevels, glm::ivec3(0)), hi(kMaxLevels, glm::ivec3(0));
   GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(clear, layout, origins);
+  setAccumulatorUniforms(clear, ctx.params);
   setUniform(clear, "u_skipLo", glm::ivec3(0));
   setUniform(clear, "u_skipHi", glm::ivec3(0));
   glUseProgram(clear);
@@ -172,7 +173,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   setClipUniforms(program, layout, origins);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredHi"), kMaxLevels, &hi[0].x);
-  setFixedPointUniforms(program, ctx.params);
+  setAccumulatorUniforms(program, ctx.params);
   glUseProgram(program);
   glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));

@@ -14,8 +14,9 @@ inline constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/cli
 inline constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
 // The per-level counters, then one more: cells whose fragments overflowed the fixed-point sums.
 size_t countersBytes(int levels);
-// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments).
-void setFixedPointUniforms(GLuint program, const ParamSet& params);
+// The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_fixedScale,
+// u_maxFragments, u_maxRadiance).
+void setAccumulatorUniforms(GLuint program, const ParamSet& params);
 // One line on stderr and a statistic when cells may have overflowed their fixed-point sums.
 void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells);
 size_t accumulatorBytes(const ParamSet& p);

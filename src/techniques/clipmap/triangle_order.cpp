@@ -147,7 +147,7 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   setClipUniforms(vox, layout, origins);
   setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
   setUniform(vox, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
-  setFixedPointUniforms(vox, ctx.params);
+  setAccumulatorUniforms(vox, ctx.params);
   std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
   for (int k = 0; k < layout.levels; ++k) {
     cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));

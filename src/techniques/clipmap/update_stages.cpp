@@ -260,10 +260,11 @@ void UpdateStage::execute(StageContext& ctx) {
   const TriangleOrder& order = order_.get(ctx.scene);
   GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(clear, layout, after);
+  setAccumulatorUniforms(clear, ctx.params);
   GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(resolve, layout, after);
   setUniform(resolve, "u_faces", faces);
-  setFixedPointUniforms(resolve, ctx.params);
+  setAccumulatorUniforms(resolve, ctx.params);
   GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(filter, layout, after);
   setUniform(filter, "u_faces", faces);
