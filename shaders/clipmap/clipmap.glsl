@@ -33,10 +33,16 @@ uniform uint u_cellWords;
 const uint kClipFacingWord = 4u;
 uint clipDirectionWord(int d) { return 8u + 4u * uint(d); }
 
-// Index of a cell's accumulator (u_cellWords uints) by its physical address.
+// Levels with accumulators of their own: 1 where the levels take turns (the update stage clears,
+// voxelizes and resolves one level before the next), L where one pass fills every level's
+// (covered-compare).
+uniform int u_accumulatorLevels;
+
+// Index of a cell's accumulator (u_cellWords uints) by its level and physical address.
 uint accumulatorIndex(int level, ivec3 phys) {
   uint n = uint(u_clipN);
-  return u_cellWords * (((uint(level) * n + uint(phys.z)) * n + uint(phys.y)) * n + uint(phys.x));
+  uint slot = uint(level % u_accumulatorLevels);
+  return u_cellWords * (((slot * n + uint(phys.z)) * n + uint(phys.y)) * n + uint(phys.x));
 }
 
 // Fixed-point scale of the accumulated radiance: integer sums are order-independent, so a cell

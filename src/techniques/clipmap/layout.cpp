@@ -69,10 +69,11 @@ static int maxRadianceLog2(const ParamSet& params) { return atlasFormat(params) 
 // face; with six, also the facing code and per direction the fronts' fragments and light.
 static uint32_t cellWords(const ParamSet& params) { return facesOf(params) == 7 ? 32u : 4u; }
 
-// The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_fixedScale,
-// u_maxFragments, u_maxRadiance).
-void setAccumulatorUniforms(GLuint program, const ParamSet& params) {
+// The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_accumulatorLevels,
+// u_fixedScale, u_maxFragments, u_maxRadiance).
+void setAccumulatorUniforms(GLuint program, const ParamSet& params, int accumulatorLevels) {
   setUniform(program, "u_cellWords", unsigned(cellWords(params)));
+  setUniform(program, "u_accumulatorLevels", accumulatorLevels);
   const int bits = params.getInt("clipmap.fixed-point-bits");
   const int radianceBits = maxRadianceLog2(params);
   setUniform(program, "u_fixedScale", float(std::ldexp(1.0, bits)));
@@ -137,9 +138,9 @@ TextureDesc atlasDesc(const ParamSet& params) {
   return d;
 }
 
-size_t accumulatorBytes(const ParamSet& p) {
+size_t accumulatorBytes(const ParamSet& p, int accumulatorLevels) {
   const size_t n = size_t(p.getInt("clipmap.resolution"));
-  return 4 * size_t(cellWords(p)) * size_t(p.getInt("clipmap.levels")) * n * n * n;
+  return 4 * size_t(cellWords(p)) * size_t(accumulatorLevels) * n * n * n;
 }
 
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera) {

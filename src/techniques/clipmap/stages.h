@@ -132,10 +132,11 @@ bool mayReach(const Layout& layout, const Entry& e, const glm::vec3& lo, const g
 // bounds, then each triangle's) are listed in the blackboard buffer 'visitList' (uint per triangle,
 // one writer per stage) and only those are dispatched, one dispatch per material. Returns the
 // passes over the triangles; 'runs' receives the runs that reach an entry, 'triangles' the
-// triangles dispatched.
+// triangles dispatched. 'accumulatorLevels': the levels the bound accumulators hold (1: the levels
+// take turns, every entry then of one level; clipmap.levels: one each).
 int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
-                    const std::vector<Entry>& entries, const TriangleOrder& order, const std::string& visitList,
-                    int& runs, int& triangles);
+                    const std::vector<Entry>& entries, int accumulatorLevels, const TriangleOrder& order,
+                    const std::string& visitList, int& runs, int& triangles);
 
 class AnchorStage : public Stage {
  public:
