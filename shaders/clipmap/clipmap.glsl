@@ -57,7 +57,8 @@ uniform uint u_maxFragments;
 uniform float u_maxRadiance;
 
 // The image format of the atlas and of the textures copied from it (mips, the unrolled levels):
-// rgba8 unless the stage builds the program with "#define CLIPMAP_ATLAS_FORMAT rgba16f".
+// rgba8 unless the stage builds the program with "#define CLIPMAP_ATLAS_FORMAT rgba16f" (the
+// stages do by default: atlasFormatDefines).
 #ifndef CLIPMAP_ATLAS_FORMAT
 #define CLIPMAP_ATLAS_FORMAT rgba8
 #endif

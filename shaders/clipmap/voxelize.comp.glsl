@@ -69,6 +69,9 @@ void voxelizeEntry(uint t, int e) {
   int axis = dominantAxis(n);
   vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
   vec3 normal = normalize(n) * (dot(n, vertexNormals) < 0.0 ? -1.0 : 1.0);
+  // Which way the fronts face, from the normal as a voxel fragment carries it (8-bit snorm, as
+  // vct-grid's voxelizers store it): the same surface gets vct-grid's facing code.
+  vec3 facingNormal = normalize(unpackSnorm4x8(packSnorm4x8(vec4(normal, 0.0))).xyz);
 
   uint material = uint(u_materialIndex);
   vec4 alpha = materials[material].alpha;
@@ -122,9 +125,9 @@ void voxelizeEntry(uint t, int e) {
         if (u_cellWords > 4u) {
           // Six faces: the facing code, and the light of the fragment for every direction that
           // sees its front (resolve.comp.glsl shows each direction the fronts it sees).
-          atomicOr(accum[i + kClipFacingWord], facingCode(normal));
+          atomicOr(accum[i + kClipFacingWord], facingCode(facingNormal));
           for (int d = 0; d < 6; ++d) {
-            if (frontSteps(normal, d) == 0u) continue;
+            if (frontSteps(facingNormal, d) == 0u) continue;
             uint j = i + clipDirectionWord(d);
             atomicAdd(accum[j], 1u);
             atomicAdd(accum[j + 1u], fixedPoint.r);

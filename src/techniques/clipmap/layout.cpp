@@ -86,8 +86,9 @@ void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells) {
   ctx.stats["accumulator_overflow_cells"] = cells;
   if (cells == 0) return;
   const int bits = ctx.params.getInt("clipmap.fixed-point-bits");
+  const int fragmentBits = std::max(32 - bits - maxRadianceLog2(ctx.params), 0);  // u_maxFragments
   log::warn(std::string("clipmap/") + stage + ": " + std::to_string(cells) + " cells received " +
-            std::to_string(uint64_t(1) << (32 - bits)) + " fragments or more, so their fixed-point sums may have " +
+            std::to_string(uint64_t(1) << fragmentBits) + " fragments or more, so their fixed-point sums may have " +
             "overflowed (clipmap.fixed-point-bits=" + std::to_string(bits) + "); lower clipmap.fixed-point-bits, or " +
             "clipmap.voxel-size so that fewer triangles share a cell");
 }

@@ -62,7 +62,7 @@ Layout layoutOf(const ParamSet& params, const Scene& scene);
 int facesOf(const ParamSet& params);
 // The atlas: blocks of (N+2)^3 texels (one guard texel per side), faces along x, levels along y.
 TextureDesc atlasDesc(const ParamSet& params);
-// clipmap.format: the atlas's (and the mips' and unrolled levels') texel format, RGBA8 by
+// clipmap.format: the atlas's (and the mips' and unrolled levels') texel format, RGBA16F by
 // default; the define that builds an image-writing program for it (shaders/clipmap/clipmap.glsl).
 ParamDesc atlasFormatParam();
 GLenum atlasFormat(const ParamSet& params);
