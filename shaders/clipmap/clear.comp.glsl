@@ -17,6 +17,6 @@ void main() {
   ivec3 cell = u_boxLo + g;
   if (all(greaterThanEqual(cell, u_skipLo)) && all(lessThan(cell, u_skipHi))) return;
   uint i = accumulatorIndex(u_level, toroidalAddress(cell));
-  accum[i] = 0u; accum[i + 1u] = 0u; accum[i + 2u] = 0u; accum[i + 3u] = 0u;
+  for (uint w = 0u; w < u_cellWords; ++w) accum[i + w] = 0u;
   atomicAdd(counters[5 * u_level + 0], 1u);
 }

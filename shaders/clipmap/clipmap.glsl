@@ -6,7 +6,7 @@
 // block holding the wrapped neighbour (guard -1 = physical N-1, guard N = physical 0), so
 // trilinear filtering across the physical seam reads the right texels.
 #define CLIPMAP_MAX_LEVELS 8
-#define CLIPMAP_BINDING_ACCUM 12     // SSBO: uint[4] per cell and level (fragments, red, green, blue)
+#define CLIPMAP_BINDING_ACCUM 12     // SSBO: u_cellWords uints per cell and level (see accumulatorIndex)
 #define CLIPMAP_BINDING_COUNTERS 13  // SSBO: uint[5] per level: cleared, pairs, resolved, filtered, guards
 uniform int u_clipN;                                   // N, a power of two
 uniform int u_clipLevels;                              // L
@@ -25,10 +25,24 @@ bool insideRegion(ivec3 cell, int level) {
   return all(greaterThanEqual(cell, o)) && all(lessThan(cell, o + ivec3(u_clipN)));
 }
 
-// Index of a cell's accumulator (4 uints: fragments, red, green, blue) by its physical address.
+// Words per cell of the accumulators: 4 with one face (fragments, red, green, blue); 32 with six
+// faces, which add at word 4 the OR of the fragments' facing codes (common/facing.glsl) and at
+// words 8 + 4 d, per travel direction d of a cone (+x -x +y -y +z -z), the fronts that direction
+// sees: the sum of the fragments' front weights in fifths, then red, green, blue weighted by them.
+uniform uint u_cellWords;
+const uint kClipFacingWord = 4u;
+uint clipDirectionWord(int d) { return 8u + 4u * uint(d); }
+
+// Levels with accumulators of their own: 1 where the levels take turns (the update stage clears,
+// voxelizes and resolves one level before the next), L where one pass fills every level's
+// (covered-compare).
+uniform int u_accumulatorLevels;
+
+// Index of a cell's accumulator (u_cellWords uints) by its level and physical address.
 uint accumulatorIndex(int level, ivec3 phys) {
   uint n = uint(u_clipN);
-  return 4u * (((uint(level) * n + uint(phys.z)) * n + uint(phys.y)) * n + uint(phys.x));
+  uint slot = uint(level % u_accumulatorLevels);
+  return u_cellWords * (((slot * n + uint(phys.z)) * n + uint(phys.y)) * n + uint(phys.x));
 }
 
 // Fixed-point scale of the accumulated radiance: integer sums are order-independent, so a cell
@@ -43,7 +57,8 @@ uniform uint u_maxFragments;
 uniform float u_maxRadiance;
 
 // The image format of the atlas and of the textures copied from it (mips, the unrolled levels):
-// rgba8 unless the stage builds the program with "#define CLIPMAP_ATLAS_FORMAT rgba16f".
+// rgba8 unless the stage builds the program with "#define CLIPMAP_ATLAS_FORMAT rgba16f" (the
+// stages do by default: atlasFormatDefines).
 #ifndef CLIPMAP_ATLAS_FORMAT
 #define CLIPMAP_ATLAS_FORMAT rgba8
 #endif

@@ -11,6 +11,8 @@
 #include "clipmap/clipmap.glsl"
 #include "common/lights.glsl"
 #include "common/sky.glsl"
+#include "common/anisotropic_mip.glsl"
+#include "common/facing.glsl"
 // The cone table, apertures, distances and G-buffer samplers; u_startOffset is in voxels of the
 // level at the surface here (the tracer scales it).
 #include "common/cone_setup.glsl"
@@ -67,26 +69,60 @@ vec4 fetchFace(int face, int k, vec3 phys) {
   return textureLod(u_atlas, texel / vec3(textureSize(u_atlas, 0)), 0.0);
 }
 
-vec4 sampleLevel(int k, vec3 p, vec3 dir) {
+// Face 'face' of clip level k at p, trilinear (the caller ensures k >= k_min(p)).
+vec4 sampleLevel(int face, int k, vec3 p) {
   vec3 u = (p - u_levelMin[k]) / levelVoxel(k);
-  vec3 phys = mod(u + u_levelToroidal[k], float(u_clipN));
-  if (u_faces == 1) return fetchFace(0, k, phys);
-  vec3 w = dir * dir;
-  return w.x * fetchFace(dir.x >= 0.0 ? 1 : 2, k, phys) + w.y * fetchFace(dir.y >= 0.0 ? 3 : 4, k, phys) +
-         w.z * fetchFace(dir.z >= 0.0 ? 5 : 6, k, phys);
+  return fetchFace(face, k, mod(u + u_levelToroidal[k], float(u_clipN)));
 }
 
+// Face 'face' of level k of the whole hierarchy at p: a clip level, or above L-1 mip k - (L-1) of
+// the coarsest level, whose faces lie side by side along x (its x is clamped to the face's edge
+// texels' centres, as clamp-to-edge does to y and z, so no lookup reads the next face).
+vec4 sampleHierarchy(int face, int k, vec3 p) {
+  int last = u_clipLevels - 1;
+  if (k <= last) return sampleLevel(face, k, p);
+  int m = min(k - last, u_mipLevels);
+  float n = float(u_clipN >> m);
+  vec3 u = (p - u_levelMin[last]) / (levelVoxel(last) * float(u_clipN));
+  float x = clamp(u.x * n, 0.5, n - 0.5) + float(face) * n;
+  return textureLod(u_mips, vec3(x / (float(u_faces) * n), u.yz), float(m));
+}
+
+// One directional face at level 'level' >= 1: its two levels blended.
+vec4 sampleFace(int face, float level, vec3 p) {
+  int top = u_clipLevels - 1 + u_mipLevels;
+  int k0 = min(int(floor(level)), top);
+  float f = level - float(k0);
+  vec4 s = sampleHierarchy(face, k0, p);
+  if (f > 0.0 && k0 < top) s = mix(s, sampleHierarchy(face, k0 + 1, p), f);
+  return s;
+}
+
+// What a cone travelling along 'dir' sees at p at level 'level' (>= k_min(p)). The cone model is
+// vct-grid's (common/cone_trace.glsl, sampleVolume): one face, the isotropic values, quadrilinear
+// through the levels and the coarsest level's mips; with six faces, the isotropic values at level
+// 0, and from level 1 up the three faces facing the cone (the fronts each direction sees,
+// resolve.comp.glsl) blended by their optical depths (common/facing.glsl, seenFronts), faded in
+// between levels 0 and 1.
 vec4 sampleAt(vec3 p, float level, vec3 dir) {
   int last = u_clipLevels - 1;
-  if (level > float(last) && u_mipLevels > 0) {
-    vec3 u = (p - u_levelMin[last]) / levelVoxel(last);
-    return textureLod(u_mips, u / float(u_clipN), level - float(last));
+  if (u_faces == 1) {
+    if (level > float(last) && u_mipLevels > 0) {
+      vec3 u = (p - u_levelMin[last]) / levelVoxel(last);
+      return textureLod(u_mips, u / float(u_clipN), level - float(last));
+    }
+    int k0 = min(int(floor(level)), last);
+    float f = level - float(k0);
+    vec4 s = sampleLevel(0, k0, p);
+    if (f > 0.0 && k0 < last) s = mix(s, sampleLevel(0, k0 + 1, p), f);
+    return s;
   }
-  int k0 = min(int(floor(level)), last);
-  float f = level - float(k0);
-  vec4 s = sampleLevel(k0, p, dir);
-  if (f > 0.0 && k0 < last) s = mix(s, sampleLevel(k0 + 1, p, dir), f);
-  return s;
+  if (level <= 0.0) return sampleLevel(0, 0, p);
+  float directional = max(level, 1.0);
+  vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p),
+                      sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p), sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p));
+  if (level >= 1.0) return a;
+  return mix(sampleLevel(0, 0, p), a, level);
 }
 
 struct ConeResult { vec3 radiance; float opacity; float opacityAt; };

@@ -2,9 +2,12 @@
 // The covered block of level k (k >= 1) from its children at level k-1: face 0 (isotropic) is
 // the mean of the 8 premultiplied children; with six faces, face +x composites each pair of
 // children along x front to back for a cone travelling +x (near + (1 - near.a) far, the "under"
-// operator of seed 004 section 2-3-2) and averages the four pairs; the other faces likewise.
+// operator of seed 004 section 2-3-2) and averages the four pairs; the other faces likewise
+// (common/anisotropic_mip.glsl, the reduction of vct-grid's directional volumes: the faces hold
+// the fronts each direction sees, resolve.comp.glsl).
 // Children are read at their toroidal addresses: nothing depends on where the seam lies.
 #include "clipmap/clipmap.glsl"
+#include "common/anisotropic_mip.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 layout(CLIPMAP_ATLAS_FORMAT, binding = 0) uniform image3D u_atlas;
@@ -27,16 +30,7 @@ void main() {
       for (int i = 0; i < 8; ++i) value += child[i];
       value *= 0.125;
     } else {
-      int axis = (f - 1) / 2;
-      bool positive = (f - 1) % 2 == 0;  // faces 1..6: +x -x +y -y +z -z (the cone's direction)
-      int bit = 1 << axis;
-      for (int i = 0; i < 8; ++i) {
-        if ((i & bit) != 0) continue;
-        vec4 nearer = positive ? child[i] : child[i | bit];
-        vec4 farther = positive ? child[i | bit] : child[i];
-        value += nearer + (1.0 - nearer.a) * farther;
-      }
-      value *= 0.25;
+      value = anisotropicReduce(child, f - 1);  // faces 1..6: +x -x +y -y +z -z (the cone's direction)
     }
     imageStore(u_atlas, atlasTexel(f, u_level, phys), value);
   }

@@ -1,7 +1,9 @@
 #version 450
-// Turns the fixed-point sums of one box of cells into texels of every face (RGBA8 or RGBA16F): radiance =
-// sum / fragments, alpha 1 in every occupied cell (the cell's direct content, Direct_k).
+// Turns the fixed-point sums of one box of cells into texels of every face (RGBA8 or RGBA16F): the
+// isotropic face holds radiance = sum / fragments, alpha 1 in every occupied cell (the cell's
+// direct content, Direct_k); the six directional faces the fronts each direction sees.
 #include "clipmap/clipmap.glsl"
+#include "common/facing.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) readonly buffer Accumulators { uint accum[]; };
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
@@ -30,6 +32,19 @@ void main() {
     uvec3 mean = uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count;
     value = vec4(vec3(mean) / u_fixedScale, 1.0);
   }
-  for (int f = 0; f < u_faces; ++f) imageStore(u_atlas, atlasTexel(f, u_level, phys), value);
+  imageStore(u_atlas, atlasTexel(0, u_level, phys), value);
+  // Six faces: face 1 + d shows a cone travelling along d the fronts it sees (common/facing.glsl):
+  // the mean light of the fragments whose fronts d sees, covering the largest front weight among
+  // them. Behind a surface or edge-on to it the face is empty, so a cell holding both faces of a
+  // slab shows each side its own light (vct-grid builds its directional volumes from the same
+  // leaves, vct_grid/mipmap_anisotropic.comp.glsl).
+  uint code = accum[i + kClipFacingWord];
+  for (int d = 0; d < u_faces - 1; ++d) {
+    uint j = i + clipDirectionWord(d);
+    uint seen = accum[j];
+    vec4 leaf = vec4(0.0);
+    if (seen > 0u) leaf = vec4(vec3(uvec3(accum[j + 1u], accum[j + 2u], accum[j + 3u]) / seen) / u_fixedScale, 1.0);
+    imageStore(u_atlas, atlasTexel(1 + d, u_level, phys), facingLeaf(leaf, code, d));
+  }
   atomicAdd(counters[5 * u_level + 2], 1u);
 }

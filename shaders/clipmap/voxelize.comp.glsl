@@ -9,7 +9,9 @@
 // common/tri_box.glsl in triangle-local double coordinates, so a cell gets the same triangles in
 // a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
 // emission, evaluated at the cell centre's projection onto the triangle's plane) to the cell's
-// fixed-point accumulators with integer atomics: the sums do not depend on the order.
+// fixed-point accumulators with integer atomics: the sums do not depend on the order. With six
+// faces it also adds, per travel direction of a cone, the light of the fragments whose fronts
+// that direction sees, and ORs the fragment's facing code (common/facing.glsl).
 #include "common/shared.h"
 #include "clipmap/clipmap.glsl"
 #include "common/scene_triangles.glsl"
@@ -19,6 +21,7 @@ layout(local_size_x = 64) in;
 #include "common/material.glsl"
 #include "common/lights.glsl"
 #include "common/tri_box.glsl"
+#include "common/facing.glsl"
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) buffer Accumulators { uint accum[]; };
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 // The triangles this pass visits (those whose bounds reach an entry, tested on the CPU), one
@@ -66,6 +69,9 @@ void voxelizeEntry(uint t, int e) {
   int axis = dominantAxis(n);
   vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
   vec3 normal = normalize(n) * (dot(n, vertexNormals) < 0.0 ? -1.0 : 1.0);
+  // Which way the fronts face, from the normal as a voxel fragment carries it (8-bit snorm, as
+  // vct-grid's voxelizers store it): the same surface gets vct-grid's facing code.
+  vec3 facingNormal = normalize(unpackSnorm4x8(packSnorm4x8(vec4(normal, 0.0))).xyz);
 
   uint material = uint(u_materialIndex);
   vec4 alpha = materials[material].alpha;
@@ -116,6 +122,19 @@ void voxelizeEntry(uint t, int e) {
         atomicAdd(accum[i + 1u], fixedPoint.r);
         atomicAdd(accum[i + 2u], fixedPoint.g);
         atomicAdd(accum[i + 3u], fixedPoint.b);
+        if (u_cellWords > 4u) {
+          // Six faces: the facing code, and the light of the fragment for every direction that
+          // sees its front (resolve.comp.glsl shows each direction the fronts it sees).
+          atomicOr(accum[i + kClipFacingWord], facingCode(facingNormal));
+          for (int d = 0; d < 6; ++d) {
+            if (frontSteps(facingNormal, d) == 0u) continue;
+            uint j = i + clipDirectionWord(d);
+            atomicAdd(accum[j], 1u);
+            atomicAdd(accum[j + 1u], fixedPoint.r);
+            atomicAdd(accum[j + 2u], fixedPoint.g);
+            atomicAdd(accum[j + 3u], fixedPoint.b);
+          }
+        }
         atomicAdd(counters[5 * level + 1], 1u);
       }
     }

@@ -10,13 +10,16 @@
 
 const int kFacingSteps = 5;
 
+// The front weight a cone travelling along direction d sees of a surface of normal n, in steps of
+// 1 / kFacingSteps (0: behind the surface or edge-on to it).
+uint frontSteps(vec3 n, int d) {
+  float front = max((d & 1) == 0 ? -n[d >> 1] : n[d >> 1], 0.0);
+  return uint(clamp(front * float(kFacingSteps) + 0.5, 0.0, float(kFacingSteps)));
+}
+
 uint facingCode(vec3 n) {
   uint code = 0u;
-  for (int d = 0; d < 6; ++d) {
-    float front = max((d & 1) == 0 ? -n[d >> 1] : n[d >> 1], 0.0);
-    uint q = uint(clamp(front * float(kFacingSteps) + 0.5, 0.0, float(kFacingSteps)));
-    code |= ((1u << q) - 1u) << uint(kFacingSteps * d);
-  }
+  for (int d = 0; d < 6; ++d) code |= ((1u << frontSteps(n, d)) - 1u) << uint(kFacingSteps * d);
   return code;
 }
 
@@ -32,5 +35,30 @@ float facingFront(uint code, int d) {
 vec4 facingLeaf(vec4 voxel, uint code, int d) {
   float front = facingFront(code, d);
   return vec4(voxel.rgb, voxel.a) * front;
+}
+
+// Transmittance of a texel whose fronts are opaque in the optical-depth blend of seenFronts:
+// exp(-69), so that a weight of 0.05 still leaves 3 %.
+const float kOpaqueTransmittance = 1e-30;
+
+// What a cone travelling along a direction sees of the three directional values facing it (sx, sy,
+// sz: the fronts' premultiplied radiance and coverage as their volumes, or faces, hold them),
+// weighted by w = anisotropicWeights(dir) (common/anisotropic_mip.glsl): premultiplied radiance
+// and opacity. The values show only the fronts of the surfaces they see: what a volume sees from
+// behind or edge-on is empty in it. Their optical depths add, weighted (extinction is additive;
+// the weights sum to 1, so a homogeneous texel keeps its opacity): a front that one volume sees
+// opaque stops every ray of the cone, whatever the others see. So a floor seen at 45 degrees is
+// opaque and keeps its radiance although the volume along the floor sees it edge-on, where
+// blending the opacities would make it half transparent; the surface a cone starts from (seen
+// from behind or edge-on) does not block it; and the volume that sees a slab edge-on does not
+// average its sun-lit outside face with its inside one. The radiance is the volumes' average
+// weighted by the fronts each sees. Every cone tracer with directional values uses it (vct-grid's
+// common/cone_trace.glsl, clipmap's faces).
+vec4 seenFronts(vec3 w, vec4 sx, vec4 sy, vec4 sz) {
+  vec3 fronts = vec3(sx.a, sy.a, sz.a);
+  float opacity = 1.0 - exp(dot(w, log(max(1.0 - fronts, kOpaqueTransmittance))));
+  float weight = dot(w, fronts);
+  vec3 radiance = weight > 0.0 ? (w.x * sx.rgb + w.y * sy.rgb + w.z * sz.rgb) / weight : vec3(0.0);
+  return vec4(radiance * opacity, opacity);
 }
 #endif

@@ -790,7 +790,7 @@ TEST(ClipmapGpu, CoveredCellsDirectVersusFiltered) {
 // cell holds the mean of its 8 children (alpha within one RGBA8 step: the filter stores a float
 // mean, rounded once). Guards hold the wrapped texel exactly.
 TEST(ClipmapGpu, AtlasMatchesCpuVoxelsAndFilter) {
-  auto& s = session(clipRequest(kInside, {}, "update"));
+  auto& s = session(clipRequest(kInside, {"clipmap.faces=isotropic"}, "update"));
   CapturedOutput atlas = capture(s, "update", "clip-atlas");
   CapturedOutput levels = capture(s, "anchor", "clip-levels");
   const Scene& scene = s.cursor().scene();
@@ -1129,9 +1129,10 @@ TEST(ClipmapGpu, SamplesOutsideTheCoarsestRegionContributeNothing) {
 }
 
 // One bounce against the path tracer (indirect-1) on the Cornell box, camera 0, at the snapshot
-// size with the defaults (32^3 cells, 5 levels, s_0 = E/64, cones one voxel off the surface):
-// measured mean ratio 0.98 at 256x256 (voxlab fidelity), 0.980 and RMSE 0.0511 here at 128x128
-// (the printed line; 0.781 and 0.0608 with the earlier 1.75-voxel start offset). The band
+// size with the defaults (32^3 cells, 5 levels, s_0 = E/64, HDR cells, six faces showing the
+// fronts each direction sees, cones a quarter voxel off the surface): measured mean ratio 1.06 at
+// 256x256 (voxlab fidelity), 1.053 and RMSE 0.0437 here at 128x128 (the printed line; 1.206 with
+// the start offset of one voxel, 0.781 with 1.75 voxels and RGBA8 isotropic cells). The band
 // [0.9, 1.1] fails on a lost or extra pi (ratio 0.25 or 2.5), a lost cone or a level read at the
 // wrong place (each shifts the ratio by more than the 0.08 to the band; the run is deterministic).
 TEST(ClipmapPhysics, OneBounceIndirectAgainstTheReferencePathTracer) {
@@ -1212,11 +1213,11 @@ static std::pair<double, double> boxFrontAndReference(HeadlessSession& s, float 
   return {sum / n, refSum / n};
 }
 
-// The same faces against the path tracer. Measured (128x128, deterministic): 0.492 of the
-// reference on the tall box's front and 0.909 on the short box's with the default one-voxel start
-// offset (the tall box's front is darker: the coarse level-3 voxels blur the red and green walls'
-// light away from it), 0.074 and 0.045 with cone.start-offset=1.75 (the black faces). The bound
-// 0.3 lies far from both, so the defaults pass and the black faces fail it.
+// The same faces against the path tracer. Measured (128x128, deterministic): 0.595 of the
+// reference on the tall box's front and 0.533 on the short box's with the default quarter-voxel
+// start offset (the coarse level-3 voxels blur the walls' light away from them), 0.061 and 0.023
+// with cone.start-offset=1.75 (the black faces). The bound 0.3 lies far from both, so the defaults
+// pass and the black faces fail it.
 constexpr double kBoxFrontBound = 0.3;
 TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   RunRequest r;
@@ -1245,9 +1246,11 @@ TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
 // the cones of the short box's front began outside the box's open side and those of the tall box's
 // front close to it: measured 0.019 (short) and 0.060 (tall) of vct-grid's mean indirect radiance
 // there (vct-grid's 128^3 grid starts its cones a centimetre off the face). With the one-voxel
-// offset: 0.377 and 0.401 against vct-grid's RGBA8 voxels, 0.530 and 0.538 against its HDR
-// voxels and fronts-only volumes (the coarse voxels still blur the walls' light). The bound 0.25
-// sits far from all; the runs are deterministic, the measured ratios do not vary between runs.
+// offset and isotropic RGBA8 cells: 0.377 and 0.401 against vct-grid's RGBA8 voxels. With the
+// defaults now (HDR cells, six faces showing the fronts, a quarter-voxel offset): 0.641 (tall) and
+// 0.315 (short) against vct-grid's defaults (the coarse voxels still blur the walls' light). The
+// bound 0.25 sits below both and far above the far start's; the runs are deterministic, the
+// measured ratios do not vary between runs.
 TEST(ClipmapPhysics, CameraFacingBoxFacesGatherIndirectLight) {
   RunRequest r;
   r.technique = "clipmap";

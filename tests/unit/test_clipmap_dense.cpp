@@ -12,6 +12,7 @@
 // (o_0 = 2 floor(a / s_1) - N/2 = (-8, 16, 8)). The origin is a multiple of 8 cells, so levels 1-3
 // align with dense mips 1-3, and not of 32, so level 0's physical seam (T_0 = (24, 16, 8)) runs
 // through the box: the clip level's values come through its toroidal addresses and guards.
+#include <bitset>
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -21,6 +22,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+
+#include <glm/gtc/packing.hpp>
 
 #include "common/shared.h"
 #include "core/paths.h"
@@ -79,7 +82,8 @@ const std::string& scenePath() {
 // coarsest level's 8 m edge (4 levels of 32 cells from 1/32 m). Cones of 0.5 m keep the level
 // read below 3 (diameter 0.41 m at the end: log2(0.41 / s_0) - 1 = 2.7), where clip levels and
 // dense mips align.
-RunRequest request(const std::string& technique, const std::string& faces, const std::string& inject) {
+RunRequest request(const std::string& technique, const std::string& faces, const std::string& inject,
+                   int levels = 4) {
   RunRequest r;
   r.technique = technique;
   r.scene = scenePath();
@@ -92,24 +96,29 @@ RunRequest request(const std::string& technique, const std::string& faces, const
   r.sets = {"inject.mode=" + inject, "inject.uniform-radiance=0.5", "cone.resolution=full", "cone.aperture=45",
             "cone.start-offset=1.75"};
   if (technique == "vct-grid") {
-    // RGBA8 voxels, as clipmap's atlas (vct-grid's default is RGBA16F).
-    r.sets.insert(r.sets.end(), {"voxel.resolution=32", "voxel.format=rgba8", "voxelize.method=triangle-parallel",
+    // Both keep HDR voxels by default (voxel.format, clipmap.format: rgba16f).
+    r.sets.insert(r.sets.end(), {"voxel.resolution=32", "voxelize.method=triangle-parallel",
                                  std::string("mipmap.mode=") + (faces == "anisotropic" ? "anisotropic" : "isotropic"),
                                  "cone.max-distance=0.5", "ao.range=0.25"});
   } else {
-    r.sets.insert(r.sets.end(), {"clipmap.resolution=32", "clipmap.levels=4", "clipmap.voxel-size=0.03125",
-                                 "clipmap.faces=" + faces, "cone.max-distance=0.0625", "ao.range=0.03125"});
+    // One level: its 1 m edge is vct-grid's volume's, so the distances are vct-grid's fractions.
+    const bool one = levels == 1;
+    r.sets.insert(r.sets.end(), {"clipmap.resolution=32", "clipmap.levels=" + std::to_string(levels),
+                                 "clipmap.voxel-size=0.03125", "clipmap.faces=" + faces,
+                                 one ? "cone.max-distance=0.5" : "cone.max-distance=0.0625",
+                                 one ? "ao.range=0.25" : "ao.range=0.03125"});
   }
   return r;
 }
 
 struct Captured {
   std::vector<CapturedOutput> volumes;  // vct-grid: radiance, then the six directional volumes; clipmap: the atlas
+  CapturedOutput facing;                // vct-grid with six directions: its voxels' facing codes
   CapturedOutput indirect, samples;
 };
 
-Captured run(const std::string& technique, const std::string& faces, const std::string& inject) {
-  auto& s = session(request(technique, faces, inject));
+Captured run(const std::string& technique, const std::string& faces, const std::string& inject, int levels = 4) {
+  auto& s = session(request(technique, faces, inject, levels));
   Captured c;
   if (technique == "vct-grid") {
     c.volumes.push_back(capture(s, "mipmap", "radiance"));
@@ -117,13 +126,15 @@ Captured run(const std::string& technique, const std::string& faces, const std::
       for (const char* d : {"radiance-dir+x", "radiance-dir-x", "radiance-dir+y", "radiance-dir-y", "radiance-dir+z",
                             "radiance-dir-z"})
         c.volumes.push_back(capture(s, "mipmap", d));
+    if (faces == "anisotropic") c.facing = capture(s, "inject", "voxel-facing");
     // The grids coincide only if vct-grid placed its volume where this test says.
     const VoxelSpace space = VoxelSpace::fromScene(s.cursor().scene(), kN);
     EXPECT_EQ(space.voxelSize, float(kVoxel));
     EXPECT_EQ(space.origin, glm::vec3(glm::dvec3(kOrigin0) * kVoxel));
   } else {
     c.volumes.push_back(capture(s, "update", "clip-atlas"));
-    const auto origins = snapOrigins(Layout{4, kN, kVoxel}, glm::dvec3(kCamera));
+    c.volumes.push_back(capture(s, "mips", "clip-mips"));
+    const auto origins = snapOrigins(Layout{levels, kN, kVoxel}, glm::dvec3(kCamera));
     EXPECT_EQ(origins[0], kOrigin0);
     EXPECT_EQ(toroidal(origins[0], kN), glm::ivec3(24, 16, 8)) << "the physical seam must cross the region";
   }
@@ -152,9 +163,23 @@ struct TexelDiff {
   float worst = 0.0f;
 };
 
+// The leaf a cone travelling along direction d sees of a dense voxel (shaders/common/facing.glsl,
+// facingLeaf): the voxel times the largest front weight of its surfaces for d, in fifths.
+glm::vec4 denseLeaf(const Captured& dense, const glm::ivec3& j, int d) {
+  const LevelData& codes = dense.facing.levels[0];
+  const uint32_t code = codes.integers[(size_t(j.z) * codes.size.y + j.y) * codes.size.x + j.x];
+  const float front = float(std::bitset<5>((code >> (5 * d)) & 31u).count()) / 5.0f;
+  // vct-grid computes its leaves on the fly; clipmap stores them in its RGBA16F atlas.
+  const glm::vec4 leaf = denseTexel(dense.volumes[0].levels[0], j) * front;
+  glm::vec4 stored;
+  for (int c = 0; c < 4; ++c) stored[c] = glm::unpackHalf1x16(glm::packHalf1x16(leaf[c]));
+  return stored;
+}
+
 // Clip levels 0..3 against dense mips 0..3 over the dense volume, isotropic face (0) against
 // 'radiance', and with six faces each face against its directional volume (whose level m - 1 is
-// level m of the hierarchy; at level 0 every face holds the isotropic voxels).
+// level m of the hierarchy; at level 0 face 1 + d holds the leaves vct-grid builds its direction
+// d from: the voxels as d sees their fronts).
 TexelDiff compareTexels(const Captured& clip, const Captured& dense, int faces) {
   TexelDiff d;
   const LevelData& atlas = clip.volumes[0].levels[0];
@@ -166,7 +191,8 @@ TexelDiff compareTexels(const Captured& clip, const Captured& dense, int faces) 
       for (int z = 0; z < size; ++z)
         for (int y = 0; y < size; ++y)
           for (int x = 0; x < size; ++x) {
-            const glm::vec4 a = clipTexel(atlas, f, m, {x, y, z}), b = denseTexel(mip, {x, y, z});
+            const glm::vec4 a = clipTexel(atlas, f, m, {x, y, z});
+            const glm::vec4 b = f > 0 && m == 0 ? denseLeaf(dense, {x, y, z}, f - 1) : denseTexel(mip, {x, y, z});
             ++d.texels;
             if (b.w > 0.0f) ++d.occupied;
             if (a != b) ++d.differ;
@@ -180,20 +206,80 @@ TexelDiff compareTexels(const Captured& clip, const Captured& dense, int faces) 
 // 0.5 * 4096 and 0.5 * 16384 are integers), their voxelizers make the same exact half-open
 // triangle/cell decision on the same float cell coordinates, and clipmap's covered blocks filter
 // with vct-grid's arithmetic (the mean of 8 children summed in the same order; the under operator
-// per face): every texel of levels 0-3 is equal, bit for bit. Isotropic only: vct-grid's six
-// directional volumes now show a voxel only to the directions that see its surfaces' fronts
-// (common/facing.glsl), clipmap's six faces do not yet (measured: 2612 of 14956 occupied texels
-// differ, up to 1), so the faces are compared again once clipmap takes the same rule.
+// per face): every texel of levels 0-3 is equal, bit for bit, with six faces too: both show a
+// voxel only to the directions that see its surfaces' fronts (common/facing.glsl), from the same
+// facing codes (the triangle's normal as an 8-bit voxel fragment carries it), with one radiance
+// the fronts' light is that radiance, and both filter by common/anisotropic_mip's reduction.
+// (Before clipmap quantized the normal as vct-grid's fragments do, the codes differed on the tall
+// box's faces, whose normal's x lies near a step of the code: 509 of 6169 occupied texels.)
 TEST(ClipmapDense, ClipLevelsEqualTheDenseMipsTexelForTexel) {
-  for (const std::string faces : {"isotropic"}) {
+  for (const std::string faces : {"isotropic", "anisotropic"}) {
     const Captured dense = run("vct-grid", faces, "uniform");
     const Captured clip = run("clipmap", faces, "uniform");
     const TexelDiff d = compareTexels(clip, dense, faces == "anisotropic" ? 7 : 1);
     std::printf("clipmap vs dense (%s, uniform): %zu texels, %zu occupied, %zu differ (worst %.4f)\n", faces.c_str(),
                 d.texels, d.occupied, d.differ, double(d.worst));
-    // Measured 2474 occupied texels over the four levels of face 0 (1913 at level 0).
+    // Measured 2474 occupied texels over the four levels of face 0 (1913 at level 0), 6169 over
+    // the seven faces.
     EXPECT_GT(d.occupied, 2000u) << "the box must be in the grids";
     EXPECT_EQ(d.differ, 0u) << faces;
+  }
+}
+
+// One clip level spanning vct-grid's volume at its resolution (clipmap.levels=1): the level and
+// its mips (clip-mips: every face side by side along x, mip m at n_m = 32 / 2^m) are vct-grid's
+// voxels and mips, texel for texel, isotropic and with six faces (the mips reduce by the same
+// arithmetic as the covered blocks, common/anisotropic_mip.glsl), and the cones, which read the
+// mips above level 0 (one trilinear lookup per face and mip, blended in the shader), gather the
+// dense result within a measured tolerance.
+TEST(ClipmapDense, OneLevelAndItsMipsEqualTheDenseGrid) {
+  for (const std::string faces : {"isotropic", "anisotropic"}) {
+    const Captured dense = run("vct-grid", faces, "uniform");
+    const Captured clip = run("clipmap", faces, "uniform", 1);
+    const CapturedOutput& mips = clip.volumes[1];
+    const int faceCount = faces == "anisotropic" ? 7 : 1;
+    ASSERT_EQ(mips.levels.size(), 4u);  // 32, 16, 8, 4
+    size_t occupied = 0, differ = 0;
+    for (int m = 0; m <= 3; ++m) {
+      const int size = kN >> m;
+      const LevelData& clipMip = mips.levels[size_t(m)];
+      ASSERT_EQ(clipMip.size, glm::ivec3(faceCount * size, size, size));
+      for (int f = 0; f < faceCount; ++f)
+        for (int z = 0; z < size; ++z)
+          for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+              glm::vec4 a;
+              for (int c = 0; c < 4; ++c) a[c] = clipMip.at(f * size + x, y, z, c);
+              const glm::ivec3 j(x, y, z);
+              const glm::vec4 b = f == 0   ? denseTexel(dense.volumes[0].levels[size_t(m)], j)
+                                  : m == 0 ? denseLeaf(dense, j, f - 1)
+                                           : denseTexel(dense.volumes[size_t(f)].levels[size_t(m - 1)], j);
+              if (b.w > 0.0f) ++occupied;
+              if (a != b) ++differ;
+            }
+    }
+    const LevelData& ia = clip.indirect.levels[0];
+    const LevelData& ib = dense.indirect.levels[0];
+    ASSERT_EQ(ia.values.size(), ib.values.size());
+    double worstPixel = 0.0, sumA = 0.0, sumB = 0.0;
+    for (size_t i = 0; i < ia.values.size(); ++i) {
+      if (i % 4 == 3) continue;
+      worstPixel = std::max(worstPixel, double(std::abs(ia.values[i] - ib.values[i])));
+      sumA += ia.values[i], sumB += ib.values[i];
+    }
+    std::printf("one clip level vs dense (%s): %zu occupied texels, %zu differ; indirect-diffuse worst pixel %.4f, "
+                "mean ratio %.5f\n",
+                faces.c_str(), occupied, differ, worstPixel, sumA / std::max(sumB, 1e-9));
+    EXPECT_GT(occupied, 2000u) << "the box must be in the grids";
+    EXPECT_EQ(differ, 0u) << faces;
+    EXPECT_GT(sumB, 1.0) << "the cones must gather light for the comparison to mean anything";
+    // The data are equal; what the cones read differs by the lookups' rounding (vct-grid's
+    // quadrilinear fetch between mips, clipmap's trilinear fetches of its mips blended in the
+    // shader, both with llvmpipe's 8-bit filter weights). Measured: worst pixel 0.0033
+    // (isotropic) and 0.0110 (six faces: three per lookup), mean ratio 0.99914 and 0.99840. A
+    // lookup of the wrong mip or face moves the mean by far more than 1 %.
+    EXPECT_LT(worstPixel, 0.02);
+    EXPECT_NEAR(sumA / sumB, 1.0, 0.01);
   }
 }
 
@@ -225,8 +311,8 @@ TEST(ClipmapDense, DirectLightOccupiesTheSameCells) {
               occupied, occupancyDiffer, lit, sumClip / std::max(sumDense, 1e-9));
   EXPECT_GT(occupied, 1500u);  // measured 1913
   EXPECT_EQ(occupancyDiffer, 0u);
-  EXPECT_GT(lit, 500u);  // measured 990 cells with light in both
-  // Measured 0.961: the shading points differ by up to half a voxel (the spot's falloff and the
+  EXPECT_GT(lit, 500u);  // measured 1007 cells with light in both (990 with RGBA8 voxels)
+  // Measured 0.967 (0.961 with RGBA8 voxels): the shading points differ by up to half a voxel (the spot's falloff and the
   // shadow boundary move with them) and the means run over fragments in one, (triangle, cell)
   // pairs in the other. A light lost in one of them, or a cell lit at the wrong place, moves the
   // ratio far outside 0.9..1.1.
@@ -243,10 +329,10 @@ std::vector<gpu::ConeSample> samplesOf(const CapturedOutput& c) {
 // nothing is outside it) gathers the dense result: clipmap reads the finest level holding each
 // sample, which inside the volume is level max(lod, 0) as vct-grid's, so the probed pixel's
 // cones take the same samples (position, diameter, level) and accumulate the same radiance and
-// opacity, up to the lookups' rounding. Isotropic only, as the texel comparison above (measured
-// with six faces: mean ratio 1.063, the directional volumes differing by the facing rule).
+// opacity, up to the lookups' rounding; with six faces both blend the faces facing a cone as
+// common/facing.glsl's seenFronts does.
 TEST(ClipmapDense, ConesGatherTheDenseResult) {
-  for (const std::string faces : {"isotropic"}) {
+  for (const std::string faces : {"isotropic", "anisotropic"}) {
     const Captured dense = run("vct-grid", faces, "uniform");
     const Captured clip = run("clipmap", faces, "uniform");
     const auto a = samplesOf(clip.samples), b = samplesOf(dense.samples);
@@ -281,9 +367,10 @@ TEST(ClipmapDense, ConesGatherTheDenseResult) {
     // The samples are the same (measured: positions and levels bit-identical); what they read
     // differs by the lookups' rounding: vct-grid's hardware quadrilinear fetch between mips, and
     // clipmap's two trilinear fetches of the atlas (at its toroidal coordinates) mixed in the
-    // shader, both with llvmpipe's 8-bit filter weights. Measured: accumulated radiance and opacity
-    // within 0.0021 and 0.0020, indirect-diffuse within 0.0029 (isotropic) and 0.0100
-    // (anisotropic: three faces per lookup) per pixel, mean ratio 0.997 and 0.998.
+    // shader, both with llvmpipe's 8-bit filter weights. Measured with HDR voxels in both: the
+    // probed pixel's accumulated radiance and opacity within 0.00005, indirect-diffuse within
+    // 0.0027 (isotropic) and 0.0090 (six faces: three per lookup) per pixel, mean ratio 0.9992 and
+    // 0.9984 (with RGBA8 voxels: 0.0021, 0.0020, 0.0029, 0.0100, 0.997, 0.998).
     EXPECT_LT(worstPosition, 1e-6f);
     EXPECT_LT(worstLevel, 1e-5f);
     EXPECT_LT(worstRadiance, 0.01f);

@@ -14,11 +14,12 @@
 //                  the path's moves); per move the planner's disjoint slabs and counts
 //   3. update      iterative, one camera move per iteration (update#0 = the full build): level by
 //                  level, clear the accumulators of the cells to voxelize, voxelize + inject them
-//                  (shadow-mapped Lambert, fixed-point atomics), resolve into the RGBA8 atlas,
-//                  refilter the covered block from the finer level (isotropic mean; six faces by
-//                  the under operator); then refresh the guard texels (timed per level and phase)
-//   4. mips        the coarsest level unrolled into logical order, mipped down to 4^3; every level
-//                  unrolled for display (clip-logical)
+//                  (shadow-mapped Lambert, fixed-point atomics), resolve into the atlas (RGBA16F
+//                  by default), refilter the covered block from the finer level (isotropic mean;
+//                  six faces by the under operator); then refresh the guard texels (timed per
+//                  level and phase)
+//   4. mips        the coarsest level unrolled into logical order, every face mipped down to 4^3;
+//                  every level unrolled for display (clip-logical)
 //   5. covered-compare  (clipmap.compare-covered) covered cells voxelized directly beside their
 //                  filtered content, and the difference (the source of popping)
 //   6. gbuffer     position, normal, albedo, emission, depth from the camera at the end of the path
@@ -46,6 +47,15 @@
 //   - The fixed-point sums have clipmap.fixed-point-bits b fraction bits (default 14): a cell holds
 //     2^(32-b) fragments before they can overflow; cells that reach it are counted and reported
 //     (accumulator_overflow_cells and one warning line), never silently wrapped.
+//   - The cone model is vct-grid's (clipmap.faces=anisotropic, the default): each of a cell's six
+//     directional faces shows a cone travelling that way only the fronts of the surfaces it sees
+//     (common/facing.glsl: the mean light of the fragments whose fronts it sees, covering their
+//     largest front weight), coarser cells composite their children front to back per direction
+//     (common/anisotropic_mip.glsl), and a sample blends the three faces facing the cone by their
+//     optical depths (seenFronts), fading in from the isotropic level 0. A coarse cell voxelized
+//     directly can hold both faces of a slab (a sun-lit roof's top and its underside): each side
+//     sees only its own. With level 0's region over vct-grid's volume, levels 0-3 equal its mips
+//     texel for texel, isotropic and six faces (tests/unit/test_clipmap_dense.cpp).
 //   - Guard texels on every side of every block make trilinear filtering across the physical seam
 //     correct; a level serves a sample only when its footprint lies inside the level's region.
 //   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same

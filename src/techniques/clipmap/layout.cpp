@@ -21,15 +21,17 @@ size_t countersBytes(int levels) { return size_t(4 * (kCountersPerLevel * levels
 
 std::vector<ParamDesc> layoutParams() {
   return {
-      ParamDesc::integer("clipmap.levels", 5, 2, kMaxLevels, "clip levels L; level k has voxels 2^k times level 0's", "levels"),
+      ParamDesc::integer("clipmap.levels", 5, 1, kMaxLevels,
+                         "clip levels L; level k has voxels 2^k times level 0's (1: one level and the mips of it)", "levels"),
       ParamDesc::integer("clipmap.resolution", 32, 8, 64, "cells N along each axis of every level", "voxels").pow2(),
       ParamDesc::fromScene("clipmap.voxel-size", 1e-4, 100.0,
                            "edge s_0 of a level-0 voxel; scene: the scene's largest extent E times the power of two that lets "
                            "the coarsest level span at least 8 E",
                            "m"),
-      ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 0,
-                        "isotropic: one value per cell; anisotropic: also six directional values, filtered between "
-                        "levels front to back (the under operator)"),
+      ParamDesc::choice("clipmap.faces", {"isotropic", "anisotropic"}, 1,
+                        "isotropic: one value per cell; anisotropic: also six directional values, each showing a cone "
+                        "travelling that way the fronts of the surfaces it sees, filtered between levels front to back "
+                        "(the under operator)"),
   };
 }
 
@@ -51,11 +53,10 @@ ParamDesc fixedPointParam() {
 }
 
 ParamDesc atlasFormatParam() {
-  return ParamDesc::choice("clipmap.format", {"rgba8", "rgba16f"}, 0,
+  return ParamDesc::choice("clipmap.format", {"rgba8", "rgba16f"}, 1,
                            "what the atlas, its mips and the unrolled levels store: rgba8 clamps radiance to [0,1] (the "
                            "cells by a lamp or in the sun lose most of their light); rgba16f keeps up to 64 W/(m^2 sr) "
-                           "in half floats (HDR cells, twice the memory; until the faces show only their surfaces' "
-                           "fronts it also lets a sun-lit slab's outside leak in: skylight room 5.4x the reference)");
+                           "in half floats (HDR cells, twice the memory)");
 }
 GLenum atlasFormat(const ParamSet& params) {
   return params.getChoice("clipmap.format") == "rgba16f" ? GL_RGBA16F : GL_RGBA8;
@@ -65,9 +66,15 @@ std::string atlasFormatDefines(const ParamSet& params) {
 }
 static int maxRadianceLog2(const ParamSet& params) { return atlasFormat(params) == GL_RGBA16F ? 6 : 0; }  // 64 or 1
 
-// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments,
-// u_maxRadiance).
-void setFixedPointUniforms(GLuint program, const ParamSet& params) {
+// Words per cell of the accumulators (shaders/clipmap/clipmap.glsl, accumulatorIndex): 4 with one
+// face; with six, also the facing code and per direction the fronts' fragments and light.
+static uint32_t cellWords(const ParamSet& params) { return facesOf(params) == 7 ? 32u : 4u; }
+
+// The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_accumulatorLevels,
+// u_fixedScale, u_maxFragments, u_maxRadiance).
+void setAccumulatorUniforms(GLuint program, const ParamSet& params, int accumulatorLevels) {
+  setUniform(program, "u_cellWords", unsigned(cellWords(params)));
+  setUniform(program, "u_accumulatorLevels", accumulatorLevels);
   const int bits = params.getInt("clipmap.fixed-point-bits");
   const int radianceBits = maxRadianceLog2(params);
   setUniform(program, "u_fixedScale", float(std::ldexp(1.0, bits)));
@@ -80,8 +87,9 @@ void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells) {
   ctx.stats["accumulator_overflow_cells"] = cells;
   if (cells == 0) return;
   const int bits = ctx.params.getInt("clipmap.fixed-point-bits");
+  const int fragmentBits = std::max(32 - bits - maxRadianceLog2(ctx.params), 0);  // u_maxFragments
   log::warn(std::string("clipmap/") + stage + ": " + std::to_string(cells) + " cells received " +
-            std::to_string(uint64_t(1) << (32 - bits)) + " fragments or more, so their fixed-point sums may have " +
+            std::to_string(uint64_t(1) << fragmentBits) + " fragments or more, so their fixed-point sums may have " +
             "overflowed (clipmap.fixed-point-bits=" + std::to_string(bits) + "); lower clipmap.fixed-point-bits, or " +
             "clipmap.voxel-size so that fewer triangles share a cell");
 }
@@ -132,9 +140,9 @@ TextureDesc atlasDesc(const ParamSet& params) {
   return d;
 }
 
-size_t accumulatorBytes(const ParamSet& p) {
+size_t accumulatorBytes(const ParamSet& p, int accumulatorLevels) {
   const size_t n = size_t(p.getInt("clipmap.resolution"));
-  return 16 * size_t(p.getInt("clipmap.levels")) * n * n * n;
+  return 4 * size_t(cellWords(p)) * size_t(accumulatorLevels) * n * n * n;
 }
 
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera) {

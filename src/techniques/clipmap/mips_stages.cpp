@@ -17,7 +17,7 @@ static TextureDesc mipsDesc(const ParamSet& params) {
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
   d.format = atlasFormat(params);
-  d.size = {n, n, n};
+  d.size = {facesOf(params) * n, n, n};  // the faces side by side along x
   d.levels = mipCount(n) + 1;
   d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
   return d;
@@ -42,7 +42,7 @@ void MipsStage::declare(StageBuilder& b) const {
   b.read("clip-atlas");
   b.output("clip-mips", OutputKind::Volume3D, Semantic::Color,
            "the coarsest level in logical order (mip 0: texel j = cell o_{L-1} + j) and its mips down to 4^3, each "
-           "covering the same volume");
+           "covering the same volume; with six faces, the faces side by side along x (isotropic, +x -x +y -y +z -z)");
   b.output("clip-logical", OutputKind::Volume3D, Semantic::Color,
            "every level's isotropic values unrolled into logical order, levels along y: texel (x, k N + y, z) = cell "
            "o_k + (x, y, z) of level k (compare with clip-atlas: the same data, cut at the physical seam)");
@@ -123,7 +123,7 @@ void CoveredCompareStage::declare(StageBuilder& b) const {
   b.texture("covered-direct", [](const ParamSet& p, const ViewState&) { return compareDesc(p); });
   b.texture("covered-difference", [](const ParamSet& p, const ViewState&) { return compareDesc(p); });
   b.buffer("covered-accumulators", [](const ParamSet& p, const ViewState&) {
-    return compareOn(p) ? accumulatorBytes(p) : size_t(16);
+    return compareOn(p) ? accumulatorBytes(p, p.getInt("clipmap.levels")) : size_t(16);
   });
   b.buffer("covered-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
   b.buffer("covered-triangle-visit", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
@@ -134,7 +134,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   Texture& difference = ctx.board.ensureTexture("covered-difference", compareDesc(ctx.params));
   Buffer& counters = ctx.board.ensureBuffer("covered-counters", countersBytes(ctx.params.getInt("clipmap.levels")));
   const bool on = compareOn(ctx.params);
-  Buffer& accum = ctx.board.ensureBuffer("covered-accumulators", on ? accumulatorBytes(ctx.params) : size_t(16));
+  Buffer& accum = ctx.board.ensureBuffer("covered-accumulators", on ? accumulatorBytes(ctx.params, ctx.params.getInt("clipmap.levels")) : size_t(16));
   ctx.board.ensureBuffer("covered-triangle-visit", 4);  // grown by voxelizeEntries
   if (!on) {
     const uint8_t zero[4] = {0, 0, 0, 0};
@@ -152,6 +152,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   std::vector<glm::ivec3> lo(kMaxLevels, glm::ivec3(0)), hi(kMaxLevels, glm::ivec3(0));
   GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(clear, layout, origins);
+  setAccumulatorUniforms(clear, ctx.params, layout.levels);
   setUniform(clear, "u_skipLo", glm::ivec3(0));
   setUniform(clear, "u_skipHi", glm::ivec3(0));
   glUseProgram(clear);
@@ -167,12 +168,13 @@ void CoveredCompareStage::execute(StageContext& ctx) {
   }
   glMemoryBarrier(kAllShaderWrites);
   int reached = 0, triangles = 0;
-  voxelizeEntries(ctx, layout, origins, entries, order_.get(ctx.scene), "covered-triangle-visit", reached, triangles);
+  voxelizeEntries(ctx, layout, origins, entries, layout.levels, order_.get(ctx.scene), "covered-triangle-visit", reached,
+                  triangles);
   GLuint program = ctx.shaders.program({"clipmap/covered_compare.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(program, layout, origins);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredLo"), kMaxLevels, &lo[0].x);
   glProgramUniform3iv(program, glGetUniformLocation(program, "u_coveredHi"), kMaxLevels, &hi[0].x);
-  setFixedPointUniforms(program, ctx.params);
+  setAccumulatorUniforms(program, ctx.params, layout.levels);
   glUseProgram(program);
   glBindImageTexture(0, ctx.board.texture("clip-atlas").id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   glBindImageTexture(1, direct.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));

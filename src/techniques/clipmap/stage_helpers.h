@@ -14,11 +14,13 @@ inline constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/cli
 inline constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
 // The per-level counters, then one more: cells whose fragments overflowed the fixed-point sums.
 size_t countersBytes(int levels);
-// The fixed-point uniforms of shaders/clipmap/clipmap.glsl (u_fixedScale, u_maxFragments).
-void setFixedPointUniforms(GLuint program, const ParamSet& params);
+// The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_accumulatorLevels,
+// u_fixedScale, u_maxFragments, u_maxRadiance), for accumulators of 'accumulatorLevels' levels:
+// 1 where the levels take turns (update), clipmap.levels where one pass fills them all.
+void setAccumulatorUniforms(GLuint program, const ParamSet& params, int accumulatorLevels);
 // One line on stderr and a statistic when cells may have overflowed their fixed-point sums.
 void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells);
-size_t accumulatorBytes(const ParamSet& p);
+size_t accumulatorBytes(const ParamSet& p, int accumulatorLevels);
 // The uniforms every clipmap shader shares (shaders/clipmap/clipmap.glsl).
 void setClipUniforms(GLuint program, const Layout& layout, const std::vector<Cell>& origins);
 void dispatchBox(GLuint program, const Box& box);

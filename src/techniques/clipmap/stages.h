@@ -62,7 +62,7 @@ Layout layoutOf(const ParamSet& params, const Scene& scene);
 int facesOf(const ParamSet& params);
 // The atlas: blocks of (N+2)^3 texels (one guard texel per side), faces along x, levels along y.
 TextureDesc atlasDesc(const ParamSet& params);
-// clipmap.format: the atlas's (and the mips' and unrolled levels') texel format, RGBA8 by
+// clipmap.format: the atlas's (and the mips' and unrolled levels') texel format, RGBA16F by
 // default; the define that builds an image-writing program for it (shaders/clipmap/clipmap.glsl).
 ParamDesc atlasFormatParam();
 GLenum atlasFormat(const ParamSet& params);
@@ -132,10 +132,11 @@ bool mayReach(const Layout& layout, const Entry& e, const glm::vec3& lo, const g
 // bounds, then each triangle's) are listed in the blackboard buffer 'visitList' (uint per triangle,
 // one writer per stage) and only those are dispatched, one dispatch per material. Returns the
 // passes over the triangles; 'runs' receives the runs that reach an entry, 'triangles' the
-// triangles dispatched.
+// triangles dispatched. 'accumulatorLevels': the levels the bound accumulators hold (1: the levels
+// take turns, every entry then of one level; clipmap.levels: one each).
 int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
-                    const std::vector<Entry>& entries, const TriangleOrder& order, const std::string& visitList,
-                    int& runs, int& triangles);
+                    const std::vector<Entry>& entries, int accumulatorLevels, const TriangleOrder& order,
+                    const std::string& visitList, int& runs, int& triangles);
 
 class AnchorStage : public Stage {
  public:

@@ -102,8 +102,8 @@ bool mayReach(const Layout& layout, const Entry& e, const glm::vec3& lo, const g
 // block holds the whole scene, dispatch nothing); the runs' bounds are tested first, so a move
 // looks at the triangles of a few runs only.
 int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<Cell>& origins,
-                    const std::vector<Entry>& entries, const TriangleOrder& order, const std::string& visitList,
-                    int& runs, int& triangles) {
+                    const std::vector<Entry>& entries, int accumulatorLevels, const TriangleOrder& order,
+                    const std::string& visitList, int& runs, int& triangles) {
   const int n = layout.n;
   const size_t perGroup = std::clamp<size_t>(size_t(60000 / (7 * n * n)), 1, 40);  // CLIPMAP_MAX_ENTRIES
   // Per group, the triangles to dispatch, in order (so grouped by material): one list for the
@@ -147,7 +147,7 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   setClipUniforms(vox, layout, origins);
   setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
   setUniform(vox, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));
-  setFixedPointUniforms(vox, ctx.params);
+  setAccumulatorUniforms(vox, ctx.params, accumulatorLevels);
   std::vector<float> cellsPerMetre(kMaxLevels, 0.0f), cellSize(kMaxLevels, 0.0f);
   for (int k = 0; k < layout.levels; ++k) {
     cellsPerMetre[size_t(k)] = float(1.0 / layout.voxelSize(k));

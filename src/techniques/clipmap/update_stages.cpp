@@ -188,7 +188,9 @@ void UpdateStage::declare(StageBuilder& b) const {
   b.buffer("clip-move", [](const ParamSet& p, const ViewState&) { return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")); });
   b.buffer("clip-move-boxes", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.texture("clip-atlas", [](const ParamSet& p, const ViewState&) { return atlasDesc(p); });
-  b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p); });
+  // One level's accumulators: the levels take turns (each is cleared, voxelized and resolved
+  // before the next).
+  b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p, 1); });
   b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
   // Sized from the triangles a pass dispatches (4 B each).
   b.buffer("clip-triangle-visit", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
@@ -209,7 +211,7 @@ void UpdateStage::execute(StageContext& ctx) {
   const int n = layout.n, faces = facesOf(ctx.params);
   const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
   Texture& atlas = ctx.board.ensureTexture("clip-atlas", atlasDesc(ctx.params));
-  Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params));
+  Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params, 1));
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
   ctx.board.ensureBuffer("clip-triangle-visit", 4);  // grown by voxelizeEntries
 
@@ -260,10 +262,11 @@ void UpdateStage::execute(StageContext& ctx) {
   const TriangleOrder& order = order_.get(ctx.scene);
   GLuint clear = ctx.shaders.program({"clipmap/clear.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(clear, layout, after);
+  setAccumulatorUniforms(clear, ctx.params, 1);
   GLuint resolve = ctx.shaders.program({"clipmap/resolve.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(resolve, layout, after);
   setUniform(resolve, "u_faces", faces);
-  setFixedPointUniforms(resolve, ctx.params);
+  setAccumulatorUniforms(resolve, ctx.params, 1);
   GLuint filter = ctx.shaders.program({"clipmap/filter.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(filter, layout, after);
   setUniform(filter, "u_faces", faces);
@@ -301,7 +304,7 @@ void UpdateStage::execute(StageContext& ctx) {
     for (const Box& box : boxes[size_t(k)]) entries.push_back({k, box, skips[size_t(k)]});
     if (!entries.empty()) {
       int reached = 0, triangles = 0;
-      passes += voxelizeEntries(ctx, layout, after, entries, order, "clip-triangle-visit", reached, triangles);
+      passes += voxelizeEntries(ctx, layout, after, entries, 1, order, "clip-triangle-visit", reached, triangles);
       runsReached += reached;
       trianglesDispatched += triangles;
     }
