@@ -60,10 +60,6 @@ vec4 directionalLookup(sampler3D pair, vec3 uvw, float lod, bool negative) {
 
 const float kSeesNothing = 0.25;
 
-// Transmittance of a texel whose fronts are opaque in the optical-depth blend of sampleVolume:
-// exp(-69), so that a weight of 0.05 still leaves 3 %.
-const float kOpaqueTransmittance = 1e-30;
-
 // The prefiltered volume seen by a cone travelling along 'dir' at level of detail 'lod', and in
 // 'solid' the opacity of its voxels as solid cubes. With
 // anisotropic mips, the three directional volumes facing the cone are blended with weights dir^2
@@ -102,25 +98,14 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, out float solid) {
     solid = mix(iso0.a, solid, lod);
     return mix(iso0, classic, lod);
   }
-  // The volumes show only the fronts of the surfaces they see (common/facing.glsl): alpha is the
-  // fronts' coverage; what a volume sees from behind or edge-on is empty in it. Their optical
-  // depths add, weighted (extinction is additive; the weights sum to 1, so a homogeneous texel
-  // keeps its opacity): a front that one volume sees opaque stops every ray of the cone, whatever
-  // the others see. So a floor seen at 45 degrees is opaque and keeps its radiance although the
-  // volume along the floor sees it edge-on, where blending the opacities would make it half
-  // transparent; the surface a cone starts from (seen from behind or edge-on) does not block it;
-  // and the volume that sees a slab edge-on does not average its sun-lit outside face with its
-  // inside one. The radiance is the volumes' average weighted by the fronts each sees.
-  vec3 fronts = vec3(sx.a, sy.a, sz.a);
-  float opacity = 1.0 - exp(dot(w, log(max(1.0 - fronts, kOpaqueTransmittance))));
-  float weight = dot(w, fronts);
-  vec3 radiance = weight > 0.0 ? (w.x * sx.rgb + w.y * sy.rgb + w.z * sz.rgb) / weight : vec3(0.0);
+  // The volumes show only the fronts of the surfaces they see: blended by optical depth
+  // (common/anisotropic_mip.glsl, frontsBlend).
+  vec4 a = frontsBlend(sx, sy, sz, w);
   // What blocks a ray whichever way its surfaces face (ambient occlusion, cone-traced shadows): the
   // voxels as solid cubes, their directional opacity blended as the opacities were before the
   // volumes kept the fronts apart (the sign differs between pixels: both signs, one lookup each).
   vec3 blocking = mix(textureLod(u_opacityPos, uvw, l).rgb, textureLod(u_opacityNeg, uvw, l).rgb, lessThan(dir, vec3(0.0)));
   solid = dot(w, blocking);
-  vec4 a = vec4(radiance * opacity, opacity);
   if (phase == 2) return a;
   vec4 iso = textureLod(u_radiance, uvw, 0.0);
   solid = mix(iso.a, solid, lod);
