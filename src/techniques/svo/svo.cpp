@@ -135,7 +135,7 @@
 //     and level 0 (the root's value) is not stored: samples coarser than level 1 read level 1. The
 //     finest level is the dense grid filtered by [1 2 1] / 4 per axis (the note's fact 2), so the AO
 //     is darker (mean 0.083 from Layout N's on the Cornell box at 64^3). Memory on Sponza at 256^3:
-//     127,450 bricks instead of 662,065; the traced octree is 0.245 of vct-grid's mip chain
+//     127,450 bricks instead of 662,065; the traced octree is 0.21 of vct-grid's mip chain (both in half floats)
 //     (docs/performance.md).
 //   - Neighbour links (S3) are their own stage and output; the bricks' borders do not follow them
 //     but gather by position (the same descent), so the links are for inspection and tests.
