@@ -25,8 +25,9 @@
 // numbers are those of the isotropic bricks above the voxels (1 + the node's tile), so one brick
 // number addresses both pools. Trilinear filtering inside a directional brick then equals
 // vct-grid's trilinear sample of its directional volume of that level inside the node. With
-// u_fronts = 1 (mipmap.fronts) two more parts, 6 and 7, hold the nodes' solid opacity seen
-// travelling +x, +y, +z and -x, -y, -z (rgb), as vct-grid's opacity volumes.
+// u_fronts = 1 (mipmap.fronts) the same bricks of a third pool (u_opacityPool, RGBA8, two parts)
+// hold the nodes' solid opacity seen travelling +x, +y, +z and -x, -y, -z (rgb), as vct-grid's
+// opacity volumes.
 // The pools' image format: rgba8 unless the stage defines VOXLAB_GRID_FORMAT (voxel.format=rgba16f).
 #ifndef VOXLAB_GRID_FORMAT
 #define VOXLAB_GRID_FORMAT rgba8
@@ -45,8 +46,9 @@ layout(std430, binding = SVO_BINDING_GROUPS) readonly buffer Groups { uint group
 layout(std430, binding = SVO_BINDING_DIRECTIONAL_VALUES) readonly buffer Directional { vec4 directional[]; };
 layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_brickPool;
 layout(VOXLAB_GRID_FORMAT, binding = 1) uniform writeonly image3D u_directionalPool;
+layout(rgba8, binding = 2) uniform writeonly image3D u_opacityPool;
 uniform int u_anisotropic;
-uniform int u_fronts;  // 1: the directional pool has the two solid-opacity parts too
+uniform int u_fronts;  // 1: the solid-opacity bricks are built too
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform uint u_nodeCount;
 uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
@@ -135,14 +137,19 @@ uint childTile(uint around[27], ivec3 pc, ivec3 m, int childCells) {
   return grandchild == 0u ? SVO_ABSENT : (grandchild - 1u) / 8u;
 }
 
-// The directional bricks of brick b (six, eight with the solid opacity), from the tiles of the
-// node's 3x3x3 same-level cells.
+// The directional bricks of brick b (and with the fronts rule its two solid-opacity bricks), from
+// the tiles of the node's 3x3x3 same-level cells.
 void directionalBricks(uint b, uint tiles[27]) {
   for (int d = 0; d < (u_fronts == 1 ? 8 : 6); ++d) {
     vec4 nb[27];
     for (int j = 0; j < 27; ++j)
       nb[j] = tiles[j] == SVO_ABSENT ? vec4(0.0) : directional[SVO_DIRECTIONAL_RECORD * tiles[j] + uint(d)];
     borderMeans(nb);
+    if (d >= 6) {
+      ivec3 origin = directionalOrigin(b, d - 6);
+      for (int t = 0; t < 27; ++t) imageStore(u_opacityPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
+      continue;
+    }
     ivec3 origin = directionalOrigin(b, d);
     for (int t = 0; t < 27; ++t) imageStore(u_directionalPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
   }

@@ -36,9 +36,9 @@ layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCoun
 layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDescentStep descent[]; };
 layout(std430, binding = SVO_BINDING_DESCENT_COUNT) buffer DescentCount { uint descentCount; };
 layout(binding = 0) uniform sampler3D u_brickPool;
-// Parts stacked along z: +x -x +y -y +z -z, then (u_fronts) the solid opacity travelling +x +y +z
-// and -x -y -z (rgb).
-layout(binding = 4) uniform sampler3D u_directionalPool;
+layout(binding = 4) uniform sampler3D u_directionalPool;  // six parts stacked along z: +x -x +y -y +z -z
+// (u_fronts) the solid opacity travelling +x +y +z and -x -y -z (rgb), two parts, the same bricks
+layout(binding = 5) uniform sampler3D u_opacityPool;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
@@ -112,8 +112,9 @@ Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
     s.z = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.z < 0.0 ? 5.0 : 4.0))) / size, 0.0);
   }
   if (u_fronts == 1 && g_wantSolid) {
-    vec3 pos = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * 6.0)) / size, 0.0).rgb;
-    vec3 neg = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * 7.0)) / size, 0.0).rgb;
+    vec3 opacitySize = vec3(textureSize(u_opacityPool, 0));
+    vec3 pos = textureLod(u_opacityPool, texel / opacitySize, 0.0).rgb;
+    vec3 neg = textureLod(u_opacityPool, (texel + vec3(0.0, 0.0, part)) / opacitySize, 0.0).rgb;
     s.solid = mix(pos, neg, lessThan(dir, vec3(0.0)));
   }
   return s;

@@ -99,14 +99,13 @@ static size_t directionalValueBytes(uint32_t nodes) {
 static ParamDesc frontsParam() {
   return ParamDesc::boolean("mipmap.fronts", true,
                             "directional bricks show a voxel's light only to the directions that see its surfaces' "
-                            "fronts, its opacity kept apart as a solid cube's in two more bricks per node (vct-grid's "
+                            "fronts, its opacity kept apart as a solid cube's in two more RGBA8 bricks per node (vct-grid's "
                             "rule; false: Crassin's classic reduction, every voxel seen from all sides)");
 }
 // The fronts rule is in use: directional bricks whose alpha is the fronts' coverage, and the solid
 // opacity bricks beside them.
 static bool frontsBricks(const ParamSet& p) { return anisotropicBricks(p) && p.getBool("mipmap.fronts"); }
-// Parts of the directional pool stacked along z: six directions, then the two solid-opacity parts.
-static int directionalParts(const ParamSet& p) { return frontsBricks(p) ? 8 : 6; }
+
 static ParamDesc voxelFormatParam() {
   return ParamDesc::choice("voxel.format", {"rgba8", "rgba16f"}, 1,
                            "what the bricks store: rgba16f keeps radiance up to 64 W/(m^2 sr) in half floats (HDR, "
@@ -577,12 +576,19 @@ static TextureDesc brickPoolDesc(uint32_t bricks, GLenum format) {
   return d;
 }
 
-// The directional brick pool for 'bricks' bricks per direction: parts stacked along z, part d
-// (+x -x +y -y +z -z, then with mipmap.fronts the solid opacity +x+y+z and -x-y-z) holding every
-// brick's part d at the place bricksPerAxis gives it.
+// The directional brick pool for 'bricks' bricks per direction: six parts stacked along z, part d
+// (+x -x +y -y +z -z) holding every brick's direction d at the place bricksPerAxis gives it.
 static TextureDesc directionalPoolDesc(uint32_t bricks, const ParamSet& p) {
   TextureDesc d = brickPoolDesc(bricks, brickFormat(p));
-  d.size.z *= directionalParts(p);
+  d.size.z *= 6;
+  return d;
+}
+// The solid-opacity bricks (mipmap.fronts) of the same bricks: two parts stacked along z, the
+// opacity seen travelling +x, +y, +z and -x, -y, -z (rgb). Opacity lies in [0, 1]: RGBA8, as
+// vct-grid's opacity volumes (and llvmpipe filters RGBA8 faster than half floats).
+static TextureDesc opacityPoolDesc(uint32_t bricks) {
+  TextureDesc d = brickPoolDesc(bricks, GL_RGBA8);
+  d.size.z *= 2;
   return d;
 }
 
@@ -610,14 +616,19 @@ void BricksStage::declare(StageBuilder& b) const {
   // The brick pool is sized from the tagged-node count at run time: declared as a pool texture
   // whose start is the smallest pool (the zero brick and the root's).
   b.output("svo-directional-bricks", OutputKind::Volume3D, Semantic::Color,
-           "the directional bricks (mipmap.mode=anisotropic): parts stacked along z (+x, -x, +y, -y, +z, -z, then with "
-           "mipmap.fronts the solid opacity seen travelling +x+y+z and -x-y-z, rgb), each with one 3x3x3 brick per node "
-           "above the voxels at the place of its brick number; the node as seen by a cone travelling that way, borders "
-           "= means of the nodes sharing the texel (one empty brick when isotropic)");
+           "the directional bricks (mipmap.mode=anisotropic): six parts stacked along z (+x, -x, +y, -y, +z, -z), each "
+           "with one 3x3x3 brick per node above the voxels at the place of its brick number; the node as seen by a cone "
+           "travelling that way (with mipmap.fronts the fronts only), borders = means of the nodes sharing the texel "
+           "(one empty brick when isotropic)");
+  b.output("svo-opacity-bricks", OutputKind::Volume3D, Semantic::Color,
+           "the solid-opacity bricks (mipmap.fronts): two parts stacked along z, the opacity of the voxels as cubes "
+           "seen travelling +x, +y, +z and -x, -y, -z (rgb), laid out as the directional bricks (one empty brick "
+           "without the fronts rule)");
   b.texture("svo-brick-pool", [](const ParamSet& p, const ViewState&) { return brickPoolDesc(2, brickFormat(p)); },
             /*pool=*/true);
   b.texture("svo-directional-bricks", [](const ParamSet& p, const ViewState&) { return directionalPoolDesc(1, p); },
             /*pool=*/true);
+  b.texture("svo-opacity-bricks", [](const ParamSet&, const ViewState&) { return opacityPoolDesc(1); }, /*pool=*/true);
   b.buffer("svo-brick-index", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
   b.buffer("svo-brick-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
 }
@@ -652,13 +663,15 @@ void BricksStage::execute(StageContext& ctx) {
   const uint32_t tiles = (nodes - 1) / 8;  // the pool is the root + 8 nodes per tile
   const uint32_t directionalBricks = anisotropic ? tiles + 1 : 1;
   const glm::ivec3 directionalAxis = bricksPerAxis(directionalBricks);
-  const int parts = directionalParts(ctx.params);
-  if (3 * parts * directionalAxis.z > maxSize)
-    throw Error("svo-bricks: the directional brick pool needs " + std::to_string(3 * parts * directionalAxis.z) +
+  if (3 * 6 * directionalAxis.z > maxSize)
+    throw Error("svo-bricks: the directional brick pool needs " + std::to_string(3 * 6 * directionalAxis.z) +
                 " texels along z, beyond GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize) +
                 " (use a lower voxel.resolution or mipmap.mode=isotropic)");
   Texture& directional = ctx.board.ensureTexture("svo-directional-bricks", directionalPoolDesc(directionalBricks, ctx.params));
   glClearTexImage(directional.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  const bool fronts = frontsBricks(ctx.params);
+  Texture& opacity = ctx.board.ensureTexture("svo-opacity-bricks", opacityPoolDesc(fronts ? directionalBricks : 1));
+  glClearTexImage(opacity.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   Buffer& index = ctx.board.ensureBuffer("svo-brick-index", size_t(nodes) * 4);
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
@@ -686,6 +699,7 @@ void BricksStage::execute(StageContext& ctx) {
                    ctx.board.buffer("svo-directional-values").id());
   glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
   glBindImageTexture(1, directional.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
+  glBindImageTexture(2, opacity.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
   setUniform(program, "u_pass", 1);
   glUseProgram(program);
   // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
@@ -712,7 +726,9 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["bricks"] = tagged;
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
   ctx.stats["directional_bricks"] = anisotropic ? tiles : 0;
-  ctx.stats["directional_brick_pool_bytes"] = anisotropic ? double(directional.byteSize()) : 0.0;
+  ctx.stats["directional_brick_pool_bytes"] =
+      anisotropic ? double(directional.byteSize()) + (fronts ? double(opacity.byteSize()) : 0.0) : 0.0;
+  ctx.stats["opacity_brick_pool_bytes"] = fronts ? double(opacity.byteSize()) : 0.0;
   const double bricksBytes = double(pool.byteSize()) + ctx.stats["directional_brick_pool_bytes"];
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
   ctx.stats["octree_bytes"] = bricksBytes + double(nodes) * (sizeof(SvoNode) + 4);
@@ -827,6 +843,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("svo-values");
   b.read("svo-brick-pool");
   b.read("svo-directional-bricks");
+  b.read("svo-opacity-bricks");
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -898,7 +915,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
 
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;
   glm::ivec3 directionalAxis = ctx.board.texture("svo-directional-bricks").desc().size / 3;
-  directionalAxis.z /= directionalParts(ctx.params);
+  directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
   const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
@@ -930,6 +947,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindTextureUnit(2, ctx.board.texture("normal").id());
   glBindTextureUnit(3, ctx.board.texture("albedo").id());
   glBindTextureUnit(4, ctx.board.texture("svo-directional-bricks").id());
+  glBindTextureUnit(5, ctx.board.texture("svo-opacity-bricks").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());

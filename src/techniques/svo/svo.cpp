@@ -8,8 +8,8 @@
 //   nodes the box filter of their children and, by default, six directional values (anisotropic
 //   mips, Crassin et al. 2011, with vct-grid's fronts rule: a direction sees a voxel's light only
 //   where it sees its surfaces' fronts, and the voxels' solid opacity is kept apart for ambient
-//   occlusion and shadows): each node above the voxels has eight more bricks, six directions and
-//   two of solid opacity; a cone sample descends from the root to the level of its diameter and
+//   occlusion and shadows): each node above the voxels has six more bricks, one per direction, and
+//   two of solid opacity (RGBA8); a cone sample descends from the root to the level of its diameter and
 //   blends two levels (quadrilinear), reading the directional bricks that face the cone and
 //   combining them as vct-grid's cone tracer does. The cone model is vct-grid's; only where the
 //   voxels live differs. Empty space costs no nodes below the level where it becomes empty.
@@ -39,9 +39,10 @@
 //                      into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
 //                      (svo.layout=tile: one per subdivided node, at its children's corners); with
-//                      anisotropic mips six more per tagged node above the voxels (eight with
-//                      mipmap.fronts: the solid opacity along +x+y+z and -x-y-z), in a second pool
-//                      (svo-directional-bricks), made the same way from the directional values
+//                      anisotropic mips six more per tagged node above the voxels, in a second pool
+//                      (svo-directional-bricks), made the same way from the directional values,
+//                      and with mipmap.fronts two of solid opacity along +x+y+z and -x-y-z in a
+//                      third, RGBA8 (svo-opacity-bricks, as vct-grid's opacity volumes)
 //      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
 //                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
@@ -113,11 +114,12 @@
 //     the corridor's walls seen edge-on half their opacity; with the rule and HDR leaves svo is in
 //     the band on every interior scene (docs/fidelity.md). A sample reads the solid opacity only
 //     where it is used (up to ao.range, and on the shadow cone, which reads no fronts). With
-//     dilation svo's indirect light and AO equal vct-grid's (max 0.0062 and 0.0029 at 64^3, test
+//     dilation svo's indirect light and AO equal vct-grid's (max 0.0062 and 0.0034 at 64^3, test
 //     SvoConeTrace.FrontsIndirectAndOcclusionEqualVctGridWithDilation; with mipmap.fronts=false
 //     and RGBA8 on both, max 0.0033: AnisotropicIndirectEqualsVctGridWithDilation). Memory: the
-//     directional pool is 8 bricks per inner node (6 without the rule), in half floats like the
-//     isotropic pool (docs/performance.md). mipmap.mode=isotropic keeps the box chain, exactly
+//     directional pool is 6 bricks per inner node in half floats like the isotropic pool, the
+//     opacity pool 2 in RGBA8 (docs/performance.md); RGBA8, because opacity lies in [0, 1] and
+//     llvmpipe filters RGBA8 faster than half floats (the run's CPU time 4.0 s instead of 4.3 s). mipmap.mode=isotropic keeps the box chain, exactly
 //     vct-grid's isotropic mips.
 //   - Voxel halo (svo.voxel-halo, on): a sample whose fine level is the voxels and whose voxel has
 //     no brick (empty, or no node: Layout N has bricks on non-empty nodes only) reads the dense
