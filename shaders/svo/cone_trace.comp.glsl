@@ -31,6 +31,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) readonly buffer BrickIndex { uint brickIndex[]; };
 layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
+// SVO_SCALED_BRICKS (HDR bricks of Layout N): per brick number the scales of its isotropic and six
+// directional bricks' radiance (svo/bricks.comp.glsl)
+layout(std430, binding = SVO_BINDING_BRICK_SCALES) readonly buffer BrickScales { float brickScales[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
 layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDescentStep descent[]; };
@@ -75,7 +78,11 @@ vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
   uint b = brickIndex[node];
   if (b == 0u) return vec4(0.0);
   vec3 origin = 3.0 * vec3(svoBrickCoords(b, uvec2(u_bricksPerAxis.xy)));
-  return textureLod(u_brickPool, (origin + 0.5 + 2.0 * nodePosition(level, voxel, v)) / vec3(textureSize(u_brickPool, 0)), 0.0);
+  vec4 s = textureLod(u_brickPool, (origin + 0.5 + 2.0 * nodePosition(level, voxel, v)) / vec3(textureSize(u_brickPool, 0)), 0.0);
+#ifdef SVO_SCALED_BRICKS
+  s.rgb *= brickScales[8u * b];
+#endif
+  return s;
 }
 
 // What a node above the voxels shows a cone travelling along 'dir': its directional bricks facing
@@ -110,6 +117,11 @@ Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
     s.x = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.x < 0.0 ? 1.0 : 0.0))) / size, 0.0);
     s.y = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.y < 0.0 ? 3.0 : 2.0))) / size, 0.0);
     s.z = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.z < 0.0 ? 5.0 : 4.0))) / size, 0.0);
+#ifdef SVO_SCALED_BRICKS
+    s.x.rgb *= brickScales[8u * b + (dir.x < 0.0 ? 2u : 1u)];
+    s.y.rgb *= brickScales[8u * b + (dir.y < 0.0 ? 4u : 3u)];
+    s.z.rgb *= brickScales[8u * b + (dir.z < 0.0 ? 6u : 5u)];
+#endif
   }
   if (u_fronts == 1 && g_wantSolid) {
     vec3 opacitySize = vec3(textureSize(u_opacityPool, 0));

@@ -91,6 +91,10 @@ struct SvoPickedNode {
 SVO_CONST uint SVO_DIRECTIONAL_RECORD = 8u;
 // uint per node: its leaf's facing code, the OR of its fragments' (common/facing.glsl)
 #define SVO_BINDING_LEAF_FACING 23
+// float[8] per brick number (HDR bricks of Layout N, SVO_SCALED_BRICKS): the scale of its isotropic
+// brick's radiance, then of its six directional bricks' (+x -x +y -y +z -z); the texels hold
+// radiance / scale in RGBA8 (alpha unscaled)
+#define SVO_BINDING_BRICK_SCALES 24
 SVO_CONST uint SVO_ABSENT = 0xFFFFFFFFu;
 SVO_CONST uint SVO_MAX_DESCENT_STEPS = 16u * 64u * 10u;
 // Most bricks a pool may hold: the cone tracer finds a brick's place by float division, exact

@@ -113,10 +113,23 @@ static ParamDesc voxelFormatParam() {
                            "memory: the voxels by a lamp or in the sun lose most of their light)");
 }
 static bool hdrBricks(const ParamSet& p) { return p.getChoice("voxel.format") == "rgba16f"; }
-static GLenum brickFormat(const ParamSet& p) { return hdrBricks(p) ? GL_RGBA16F : GL_RGBA8; }
+// HDR bricks of Layout N are RGBA8 with one scale per brick and part (the largest radiance
+// channel of its 27 texels; shared-exponent blocks): a sample never filters across two bricks, so
+// the scaled texels filter exactly, and llvmpipe filters RGBA8 on a faster path than half floats
+// (a 512x512 Cornell run 0.6 s less CPU). Layout T's Gaussian pass filters across bricks: half floats.
+static bool scaledBricks(const ParamSet& p) { return hdrBricks(p) && !tileLayout(p); }
+static GLenum brickFormat(const ParamSet& p) { return hdrBricks(p) && !scaledBricks(p) ? GL_RGBA16F : GL_RGBA8; }
+// The dense view holds the node values as they are: half floats when HDR.
+static GLenum denseFormat(const ParamSet& p) { return hdrBricks(p) ? GL_RGBA16F : GL_RGBA8; }
+static std::string denseFormatDefines(const ParamSet& p) {
+  return hdrBricks(p) ? "#define VOXLAB_GRID_FORMAT rgba16f\n" : "";
+}
+// Scales per brick number: the isotropic brick's, then the six directional bricks' (+x -x +y -y +z -z), one unused.
+static constexpr size_t kBrickScaleFloats = 8;
 // What a leaf can hold: vct-grid's limits (64 in half floats, 1 in RGBA8).
 static float maxLeafRadiance(const ParamSet& p) { return hdrBricks(p) ? vct::kHdrMaxRadiance : 1.0f; }
 static std::string brickFormatDefines(const ParamSet& p) {
+  if (scaledBricks(p)) return "#define SVO_SCALED_BRICKS 1\n";
   return hdrBricks(p) ? "#define VOXLAB_GRID_FORMAT rgba16f\n" : "";
 }
 static ParamDesc filterParam() {
@@ -144,7 +157,7 @@ static TextureDesc denseDesc(const ParamSet& p) {
   const int res = p.getInt("voxel.resolution");
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = brickFormat(p);
+  d.format = denseFormat(p);
   d.size = {res, res, res};
   d.levels = 0;
   d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
@@ -516,7 +529,7 @@ void MipmapStage::execute(StageContext& ctx) {
       ctx.board.ensureBuffer("svo-directional-values", directionalValueBytes(anisotropic ? nodes : 1));
   Texture& dense = ctx.board.ensureTexture("svo-dense", denseDesc(ctx.params));
   Buffer& nodePool = ctx.board.buffer("svo-nodes");
-  GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"}, brickFormatDefines(ctx.params));
+  GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"}, denseFormatDefines(ctx.params));
   auto writeDense = [&](int mip) {
     const SvoLevel& level = levels[depth - mip];
     setUniform(resample, "u_start", unsigned(level.start));
@@ -524,7 +537,7 @@ void MipmapStage::execute(StageContext& ctx) {
     glUseProgram(resample);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
-    glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
+    glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, denseFormat(ctx.params));
     dispatchCompute({int(level.count), 1, 1}, {64, 1, 1});
     barrierAll();
   };
@@ -629,6 +642,17 @@ void BricksStage::declare(StageBuilder& b) const {
   b.texture("svo-directional-bricks", [](const ParamSet& p, const ViewState&) { return directionalPoolDesc(1, p); },
             /*pool=*/true);
   b.texture("svo-opacity-bricks", [](const ParamSet&, const ViewState&) { return opacityPoolDesc(1); }, /*pool=*/true);
+  BufferLayout scales;
+  scales.stride = kBrickScaleFloats * 4;
+  const char* scaleNames[kBrickScaleFloats] = {"isotropic", "+x", "-x", "+y", "-y", "+z", "-z", "unused"};
+  for (uint32_t k = 0; k < kBrickScaleFloats; ++k) scales.fields.push_back({scaleNames[k], FieldType::F32, 4 * k});
+  b.output("svo-brick-scales", OutputKind::Buffer, Semantic::Scalar,
+           "per brick number, with HDR bricks (voxel.format=rgba16f, Layout N): the scale of its isotropic brick's "
+           "radiance and of its six directional bricks' (the largest radiance channel of the brick's texels, which "
+           "hold radiance / scale in RGBA8); 1 otherwise")
+      .layout = scales;
+  b.buffer("svo-brick-scales", [](const ParamSet&, const ViewState&) { return kBrickScaleFloats * 4 * 2; },
+           /*pool=*/true);
   b.buffer("svo-brick-index", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
   b.buffer("svo-brick-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
 }
@@ -673,6 +697,9 @@ void BricksStage::execute(StageContext& ctx) {
   Texture& opacity = ctx.board.ensureTexture("svo-opacity-bricks", opacityPoolDesc(fronts ? directionalBricks : 1));
   glClearTexImage(opacity.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   Buffer& index = ctx.board.ensureBuffer("svo-brick-index", size_t(nodes) * 4);
+  Buffer& scales = ctx.board.ensureBuffer("svo-brick-scales", size_t(capacity) * kBrickScaleFloats * 4);
+  const float one = 1.0f;
+  glClearNamedBufferData(scales.id(), GL_R32F, GL_RED, GL_FLOAT, &one);
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
   counters.upload(c.data(), c.size() * 4);
@@ -695,6 +722,7 @@ void BricksStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, index.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, ctx.board.buffer("svo-groups").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_SCALES, scales.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DIRECTIONAL_VALUES,
                    ctx.board.buffer("svo-directional-values").id());
   glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
@@ -729,7 +757,9 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["directional_brick_pool_bytes"] =
       anisotropic ? double(directional.byteSize()) + (fronts ? double(opacity.byteSize()) : 0.0) : 0.0;
   ctx.stats["opacity_brick_pool_bytes"] = fronts ? double(opacity.byteSize()) : 0.0;
-  const double bricksBytes = double(pool.byteSize()) + ctx.stats["directional_brick_pool_bytes"];
+  ctx.stats["brick_scale_bytes"] = scaledBricks(ctx.params) ? double(scales.size()) : 0.0;
+  const double bricksBytes =
+      double(pool.byteSize()) + ctx.stats["directional_brick_pool_bytes"] + ctx.stats["brick_scale_bytes"];
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
   ctx.stats["octree_bytes"] = bricksBytes + double(nodes) * (sizeof(SvoNode) + 4);
   // What the cone tracer reads: Layout T never descends to the voxel level, whose nodes only carry
@@ -767,6 +797,7 @@ void PickStage::declare(StageBuilder& b) const {
   b.read("svo-neighbour-links");
   b.read("svo-brick-index");
   b.read("svo-brick-pool");
+  b.read("svo-brick-scales");
   BufferLayout l;
   l.stride = sizeof(SvoPickedNode);
   l.fields = {{"node", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"cell", FieldType::Packed10_10_10, 8},
@@ -795,6 +826,7 @@ void PickStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NEIGHBOURS, ctx.board.buffer("svo-neighbour-links").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_SCALES, ctx.board.buffer("svo-brick-scales").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_PICKED, out.id());
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   dispatchCompute({1, 1, 1}, {8, 8, 1});
@@ -844,6 +876,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("svo-brick-pool");
   b.read("svo-directional-bricks");
   b.read("svo-opacity-bricks");
+  b.read("svo-brick-scales");
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -918,8 +951,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
-  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
-  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, "#define SVO_RECORD_PROBE 1\n");
+  const std::string scaled = scaledBricks(ctx.params) ? "#define SVO_SCALED_BRICKS 1\n" : "";
+  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, scaled);
+  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, scaled + "#define SVO_RECORD_PROBE 1\n");
   glm::ivec2 probe(0);
   for (GLuint program : {tracer, recorder}) {
     space.setUniforms(program);
@@ -952,6 +986,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_SCALES, ctx.board.buffer("svo-brick-scales").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DESCENT, descent.id());

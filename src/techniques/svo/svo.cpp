@@ -4,7 +4,8 @@
 //   The prefiltered voxels of vct-grid, stored sparsely: a node pool of 2x2x2 node tiles linked by
 //   child pointers, built top down one level per pass from the voxel fragment list, and a brick
 //   pool of 3x3x3 texels per node so that hardware trilinear filtering works inside a node. Leaves
-//   hold the fragments' direct light (half floats by default: HDR, as vct-grid's voxels), inner
+//   hold the fragments' direct light (HDR by default, as vct-grid's voxels: RGBA8 bricks with a
+//   scale each), inner
 //   nodes the box filter of their children and, by default, six directional values (anisotropic
 //   mips, Crassin et al. 2011, with vct-grid's fronts rule: a direction sees a voxel's light only
 //   where it sees its surfaces' fronts, and the voxels' solid opacity is kept apart for ambient
@@ -85,7 +86,7 @@
 //   - Leaf radiance uses exact integer sums (steps of 1/4096, as vct-grid's) instead of the RGBA8
 //     CAS moving average (P8); the result is independent of fragment order and thread count. Each
 //     fragment's radiance is clamped to what the bricks hold (voxel.format, vct-grid's parameter):
-//     64 in half floats (rgba16f, the default), 1 in RGBA8. Clamped to 1, the sun patch of
+//     64 with voxel.format=rgba16f (the default), 1 with rgba8. Clamped to 1, the sun patch of
 //     skylight-room and the voxels by the corridor's lamp lose most of their light (indirect energy
 //     0.42 and 0.40 of the reference with vct-grid's fronts rule).
 //   - AO: from the diffuse cones by default (the same cones as vct-grid, so the two AO images can be
@@ -114,13 +115,21 @@
 //     the corridor's walls seen edge-on half their opacity; with the rule and HDR leaves svo is in
 //     the band on every interior scene (docs/fidelity.md). A sample reads the solid opacity only
 //     where it is used (up to ao.range, and on the shadow cone, which reads no fronts). With
-//     dilation svo's indirect light and AO equal vct-grid's (max 0.0062 and 0.0034 at 64^3, test
+//     dilation svo's indirect light and AO equal vct-grid's (max 0.020 and 0.0034 at 64^3, test
 //     SvoConeTrace.FrontsIndirectAndOcclusionEqualVctGridWithDilation; with mipmap.fronts=false
 //     and RGBA8 on both, max 0.0033: AnisotropicIndirectEqualsVctGridWithDilation). Memory: the
-//     directional pool is 6 bricks per inner node in half floats like the isotropic pool, the
-//     opacity pool 2 in RGBA8 (docs/performance.md); RGBA8, because opacity lies in [0, 1] and
-//     llvmpipe filters RGBA8 faster than half floats (the run's CPU time 4.0 s instead of 4.3 s). mipmap.mode=isotropic keeps the box chain, exactly
-//     vct-grid's isotropic mips.
+//     directional pool is 6 bricks per inner node, the opacity pool 2 (docs/performance.md).
+//     mipmap.mode=isotropic keeps the box chain, exactly vct-grid's isotropic mips.
+//   - HDR bricks (voxel.format=rgba16f, the default; Layout N): RGBA8 texels holding radiance
+//     divided by a scale per brick and part, the largest radiance channel of its 27 texels
+//     (svo-brick-scales; shared-exponent blocks); opacity unscaled. A sample filters within one
+//     brick only, so the scaled texels filter exactly; the error is 8 bits of the brick's largest
+//     value (indirect light max 0.020 off vct-grid's half floats at 64^3 with dilation, 0.0062
+//     with half-float bricks; suite energies equal to two decimals). Why not half floats: llvmpipe
+//     filters RGBA8 on a faster path; a 512x512 Cornell run took about 4.0 s of CPU with half-float
+//     bricks, 4.3 s with half-float opacity bricks too, 3.5-4.0 s now (2.7-3.0 s before the fronts
+//     rule and HDR; docs/performance.md). Layout T keeps half floats: its Gaussian pass filters
+//     across bricks.
 //   - Voxel halo (svo.voxel-halo, on): a sample whose fine level is the voxels and whose voxel has
 //     no brick (empty, or no node: Layout N has bricks on non-empty nodes only) reads the dense
 //     grid's trilinear blend of the eight voxels around it, found in the octree (from the deepest
@@ -137,7 +146,7 @@
 //     and level 0 (the root's value) is not stored: samples coarser than level 1 read level 1. The
 //     finest level is the dense grid filtered by [1 2 1] / 4 per axis (the note's fact 2), so the AO
 //     is darker (mean 0.083 from Layout N's on the Cornell box at 64^3). Memory on Sponza at 256^3:
-//     127,450 bricks instead of 662,065; the traced octree is 0.21 of vct-grid's mip chain (both in half floats)
+//     127,450 bricks instead of 662,065; the traced octree is 0.21 of vct-grid's mip chain (both in half floats, before the scaled RGBA8 bricks)
 //     (docs/performance.md).
 //   - Neighbour links (S3) are their own stage and output; the bricks' borders do not follow them
 //     but gather by position (the same descent), so the links are for inspection and tests.
