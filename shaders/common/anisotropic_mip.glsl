@@ -1,7 +1,8 @@
-// Anisotropic prefiltering (Crassin et al. 2011) of svo's directional bricks, and the weights
-// with which every cone tracer blends the three directional values facing a cone. (vct-grid's
-// directional volumes composite the same way but keep a voxel's fronts and its solid opacity
-// apart: shaders/vct_grid/mipmap_anisotropic.comp.glsl.) A 2x2x2 block is seen differently by a cone travelling
+// Anisotropic prefiltering (Crassin et al. 2011) of svo's directional bricks, and how every cone
+// tracer weights the three directional values facing a cone (anisotropicWeights; they are blended
+// by common/facing.glsl's seenFronts).
+// (vct-grid's directional volumes composite the same way in their own pass:
+// shaders/vct_grid/mipmap_anisotropic.comp.glsl.) A 2x2x2 block is seen differently by a cone travelling
 // along each of six directions d = 2 * axis + sign (0 = towards +axis, 1 = towards -axis: +x -x
 // +y -y +z -z): along the direction's axis each pair of children is composited front to back (the
 // child the cone reaches first in front), then the four composited pairs are averaged. A one-voxel

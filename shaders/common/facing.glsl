@@ -53,7 +53,7 @@ const float kOpaqueTransmittance = 1e-30;
 // from behind or edge-on) does not block it; and the volume that sees a slab edge-on does not
 // average its sun-lit outside face with its inside one. The radiance is the volumes' average
 // weighted by the fronts each sees. Every cone tracer with directional values uses it (vct-grid's
-// common/cone_trace.glsl, clipmap's faces).
+// common/cone_trace.glsl, svo's bricks, clipmap's faces).
 vec4 seenFronts(vec3 w, vec4 sx, vec4 sy, vec4 sz) {
   vec3 fronts = vec3(sx.a, sy.a, sz.a);
   float opacity = 1.0 - exp(dot(w, log(max(1.0 - fronts, kOpaqueTransmittance))));

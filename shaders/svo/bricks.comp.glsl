@@ -24,7 +24,18 @@
 // Y, b / XY) + (0, 0, 3 Z d) for the directional pool's X x Y x Z bricks per direction. Its
 // numbers are those of the isotropic bricks above the voxels (1 + the node's tile), so one brick
 // number addresses both pools. Trilinear filtering inside a directional brick then equals
-// vct-grid's trilinear sample of its directional volume of that level inside the node.
+// vct-grid's trilinear sample of its directional volume of that level inside the node. With
+// u_fronts = 1 (mipmap.fronts) the same bricks of a third pool (u_opacityPool, RGBA8, two parts)
+// hold the nodes' solid opacity seen travelling +x, +y, +z and -x, -y, -z (rgb), as vct-grid's
+// opacity volumes.
+// The pools' image format: rgba8 unless the stage defines VOXLAB_GRID_FORMAT (voxel.format=rgba16f
+// with Layout T). With SVO_SCALED_BRICKS (voxel.format=rgba16f, Layout N) the pools stay RGBA8 and
+// every brick stores its radiance divided by its own scale, the largest radiance channel of its 27
+// texels (brickScales, per brick number: the isotropic brick, then the six directions); a sample
+// filters within one brick only, so the scaled texels filter exactly. Opacity is not scaled.
+#ifndef VOXLAB_GRID_FORMAT
+#define VOXLAB_GRID_FORMAT rgba8
+#endif
 #include "common/packing.glsl"
 #include "svo/svo_shared.h"
 
@@ -37,9 +48,12 @@ layout(std430, binding = SVO_BINDING_COUNTERS) coherent buffer Counters { uint c
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) buffer BrickIndex { uint brickIndex[]; };
 layout(std430, binding = SVO_BINDING_GROUPS) readonly buffer Groups { uint groups[]; };  // svo-build's, of the voxel level
 layout(std430, binding = SVO_BINDING_DIRECTIONAL_VALUES) readonly buffer Directional { vec4 directional[]; };
-layout(rgba8, binding = 0) uniform writeonly image3D u_brickPool;
-layout(rgba8, binding = 1) uniform writeonly image3D u_directionalPool;
+layout(std430, binding = SVO_BINDING_BRICK_SCALES) writeonly buffer BrickScales { float brickScales[]; };
+layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_brickPool;
+layout(VOXLAB_GRID_FORMAT, binding = 1) uniform writeonly image3D u_directionalPool;
+layout(rgba8, binding = 2) uniform writeonly image3D u_opacityPool;
 uniform int u_anisotropic;
+uniform int u_fronts;  // 1: the solid-opacity bricks are built too
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform uint u_nodeCount;
 uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
@@ -55,6 +69,18 @@ layout(binding = 0) uniform sampler3D u_poolRead;  // the same pool, read back i
 #include "svo/octree.glsl"
 
 ivec3 brickOrigin(uint b) { return 3 * ivec3(svoBrickCoords(b, uvec2(u_bricksPerAxis.xy))); }
+
+// A Layout N brick's 27 texels, scaled (SVO_SCALED_BRICKS): its radiance divided by the largest
+// radiance channel among them, which is stored as the scale of part 'part' of brick b.
+void scaleBrick(inout vec4 nb[27], uint b, uint part) {
+#ifdef SVO_SCALED_BRICKS
+  float largest = 0.0;
+  for (int t = 0; t < 27; ++t) largest = max(largest, max(nb[t].r, max(nb[t].g, nb[t].b)));
+  float scale = largest > 0.0 ? largest : 1.0;
+  for (int t = 0; t < 27; ++t) nb[t].rgb /= scale;
+  brickScales[8u * b + part] = scale;
+#endif
+}
 
 bool hasBrick(uint n) {
   return (nodes[n].word & SVO_TAG) != 0u && (u_layoutTile == 0 || int(nodes[n].level) < u_depth);
@@ -128,12 +154,20 @@ uint childTile(uint around[27], ivec3 pc, ivec3 m, int childCells) {
   return grandchild == 0u ? SVO_ABSENT : (grandchild - 1u) / 8u;
 }
 
-// The six directional bricks of brick b, from the tiles of the node's 3x3x3 same-level cells.
+// The directional bricks of brick b (and with the fronts rule its two solid-opacity bricks), from
+// the tiles of the node's 3x3x3 same-level cells.
 void directionalBricks(uint b, uint tiles[27]) {
-  for (int d = 0; d < 6; ++d) {
+  for (int d = 0; d < (u_fronts == 1 ? 8 : 6); ++d) {
     vec4 nb[27];
-    for (int j = 0; j < 27; ++j) nb[j] = tiles[j] == SVO_ABSENT ? vec4(0.0) : directional[6u * tiles[j] + uint(d)];
+    for (int j = 0; j < 27; ++j)
+      nb[j] = tiles[j] == SVO_ABSENT ? vec4(0.0) : directional[SVO_DIRECTIONAL_RECORD * tiles[j] + uint(d)];
     borderMeans(nb);
+    if (d < 6) scaleBrick(nb, b, uint(1 + d));
+    if (d >= 6) {
+      ivec3 origin = directionalOrigin(b, d - 6);
+      for (int t = 0; t < 27; ++t) imageStore(u_opacityPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
+      continue;
+    }
     ivec3 origin = directionalOrigin(b, d);
     for (int t = 0; t < 27; ++t) imageStore(u_directionalPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
   }
@@ -239,7 +273,10 @@ void main() {
       ivec3 origin = brickOrigin(1u);
       if (1u >= u_brickCapacity) { atomicMax(counters[SVO_COUNTER_OVERFLOW], 1u); brickIndex[0] = 0u; }
       else {
-        for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), values[0]);
+        vec4 root[27];
+        for (int t = 0; t < 27; ++t) root[t] = values[0];
+        scaleBrick(root, 1u, 0u);
+        for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), root[t]);
         if (u_anisotropic == 1 && u_depth > 0) {
           // The root's cells beyond the volume are clamped to the root itself: tile 0 everywhere.
           uint rootTiles[27];
@@ -283,6 +320,7 @@ void main() {
     vec4 nb[27];  // centre values of the child's 3x3x3 same-level cells (clamped to the volume)
     for (int j = 0; j < 27; ++j) nb[j] = childValue(around, pc, c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, cells);
     borderMeans(nb);
+    scaleBrick(nb, brick, 0u);
     ivec3 origin = brickOrigin(brick);
     for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
     if (u_anisotropic == 1 && !voxels) {

@@ -8,9 +8,14 @@
 // sample's opacity by the falloff f(r) = 1 / (1 + lambda r), r in voxels (lambda 0: vct-grid's
 // plain range cut). For the probed pixel every sample and every level of its descent is recorded.
 // With anisotropic mips (u_anisotropic) a node above the voxels is read from its three directional
-// bricks facing the cone, weighted dir^2 (common/anisotropic_mip.glsl, as vct-grid's
-// sampleVolume); the voxels stay isotropic, so between the voxel level and the one above a sample
-// blends the leaf with the directional value, as vct-grid fades its voxels into directional level 1.
+// bricks facing the cone, weighted dir^2, the two levels of a sample blended per direction before
+// the three are combined, as vct-grid's sampleVolume does (common/cone_trace.glsl): with
+// mipmap.fronts (u_fronts, the default) the bricks hold the fronts only and combine by optical
+// depth (seenFronts, common/facing.glsl), and two more bricks hold the voxels' solid
+// opacity, which ambient occlusion and the shadow cone accumulate (ConeResult.blocked); without
+// it, Crassin's classic weighted sum, whose opacity is also the solid one. The voxels stay
+// isotropic, so between the voxel level and the one above a sample blends the leaf with the
+// directional value, as vct-grid fades its voxels into directional level 1.
 // A voxel without a brick (empty, or no node: bricks are only on non-empty nodes) is read as the
 // dense grid reads it, from the eight voxels around the sample (u_voxelHalo, voxelLevelSample).
 #include "common/shared.h"
@@ -20,18 +25,24 @@
 #include "common/cone_setup.glsl"
 #include "common/sky.glsl"
 #include "common/anisotropic_mip.glsl"
+#include "common/facing.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) readonly buffer BrickIndex { uint brickIndex[]; };
 layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
+// SVO_SCALED_BRICKS (HDR bricks of Layout N): per brick number the scales of its isotropic and six
+// directional bricks' radiance (svo/bricks.comp.glsl)
+layout(std430, binding = SVO_BINDING_BRICK_SCALES) readonly buffer BrickScales { float brickScales[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
 layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDescentStep descent[]; };
 layout(std430, binding = SVO_BINDING_DESCENT_COUNT) buffer DescentCount { uint descentCount; };
 layout(binding = 0) uniform sampler3D u_brickPool;
 layout(binding = 4) uniform sampler3D u_directionalPool;  // six parts stacked along z: +x -x +y -y +z -z
+// (u_fronts) the solid opacity travelling +x +y +z and -x -y -z (rgb), two parts, the same bricks
+layout(binding = 5) uniform sampler3D u_opacityPool;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
@@ -42,6 +53,7 @@ uniform ivec3 u_bricksPerAxis;
 uniform int u_dilated;            // 1: empty neighbours have nodes, so an absent node is exactly 0
 uniform int u_layoutTile;         // 1: Layout T, the brick of a level-l node holds level l + 1
 uniform int u_anisotropic;        // 1: nodes above the voxels are read from their directional bricks
+uniform int u_fronts;             // 1: the directional bricks hold fronts only, solid opacity apart (mipmap.fronts)
 uniform int u_voxelHalo;          // 1: a voxel without a brick is read as the dense grid's blend (voxelLevelSample)
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
@@ -54,28 +66,84 @@ uniform float u_lodBias;
 uniform int u_maxSteps;
 #include "svo/octree.glsl"
 
-// The trilinear sample of the brick of 'node' (at 'level', holding voxel 'voxel') at voxel-space
-// point v (clamped into the node), as seen by a cone travelling along 'dir'. The node's cell
-// follows from the voxel: no pool read for it.
-vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
+// The position inside the node of 'level' holding voxel 'voxel' of voxel-space point v (clamped
+// into the node): the node's cell follows from the voxel, no pool read for it.
+vec3 nodePosition(int level, uvec3 voxel, vec3 v) {
+  float cell = exp2(float(u_depth - level));
+  return clamp(v / cell - vec3(voxel >> uint(u_depth - level)), 0.0, 1.0);
+}
+
+// The trilinear sample of the isotropic brick of 'node' (at 'level', holding voxel 'voxel') at
+// voxel-space point v.
+vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
   uint b = brickIndex[node];
   if (b == 0u) return vec4(0.0);
-  float cell = exp2(float(u_depth - level));
-  vec3 u = clamp(v / cell - vec3(voxel >> uint(u_depth - level)), 0.0, 1.0);
-  if (u_anisotropic == 1 && level < u_depth) {
-    // Directional bricks: the +axis or -axis part of each axis is a z offset (the same lookups for
-    // every pixel, whatever the sign: no divergent branch on llvmpipe).
-    vec3 size = vec3(textureSize(u_directionalPool, 0));
-    vec3 texel = 3.0 * vec3(svoBrickCoords(b, uvec2(u_directionalPerAxis.xy))) + 0.5 + 2.0 * u;
-    float part = 3.0 * float(u_directionalPerAxis.z);
-    vec3 w = anisotropicWeights(dir);
-    vec4 sx = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.x < 0.0 ? 1.0 : 0.0))) / size, 0.0);
-    vec4 sy = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.y < 0.0 ? 3.0 : 2.0))) / size, 0.0);
-    vec4 sz = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.z < 0.0 ? 5.0 : 4.0))) / size, 0.0);
-    return w.x * sx + w.y * sy + w.z * sz;
-  }
   vec3 origin = 3.0 * vec3(svoBrickCoords(b, uvec2(u_bricksPerAxis.xy)));
-  return textureLod(u_brickPool, (origin + 0.5 + 2.0 * u) / vec3(textureSize(u_brickPool, 0)), 0.0);
+  vec4 s = textureLod(u_brickPool, (origin + 0.5 + 2.0 * nodePosition(level, voxel, v)) / vec3(textureSize(u_brickPool, 0)), 0.0);
+#ifdef SVO_SCALED_BRICKS
+  s.rgb *= brickScales[8u * b];
+#endif
+  return s;
+}
+
+// What a node above the voxels shows a cone travelling along 'dir': its directional bricks facing
+// the cone, one per axis, and (u_fronts) the solid opacity per axis.
+struct Seen {
+  vec4 x, y, z;
+  vec3 solid;
+};
+const Seen kSeenNothing = Seen(vec4(0.0), vec4(0.0), vec4(0.0), vec3(0.0));
+Seen mixSeen(Seen a, Seen b, float w) {
+  return Seen(mix(a.x, b.x, w), mix(a.y, b.y, w), mix(a.z, b.z, w), mix(a.solid, b.solid, w));
+}
+
+// What the current sample must read with the fronts rule (set per cone and step by traceCone,
+// the same for every pixel of a dispatch row, so no lane pays for another's lookups): the fronts
+// (radiance), and the solid opacity (ambient occlusion up to its range, the shadow cone). Without
+// the fronts rule a sample's opacity is its solid opacity: everything is read.
+bool g_wantFronts = true;
+bool g_wantSolid = true;
+
+// The directional bricks of 'node' (above the voxels) at v. The +axis or -axis part of each axis is
+// a z offset (the same lookups for every pixel, whatever the sign: no divergent branch on
+// llvmpipe); the solid opacity of both signs is read and the cone's picked per axis.
+Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
+  uint b = brickIndex[node];
+  if (b == 0u) return kSeenNothing;
+  vec3 size = vec3(textureSize(u_directionalPool, 0));
+  vec3 texel = 3.0 * vec3(svoBrickCoords(b, uvec2(u_directionalPerAxis.xy))) + 0.5 + 2.0 * nodePosition(level, voxel, v);
+  float part = 3.0 * float(u_directionalPerAxis.z);
+  Seen s = kSeenNothing;
+  if (g_wantFronts || u_fronts == 0) {
+    s.x = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.x < 0.0 ? 1.0 : 0.0))) / size, 0.0);
+    s.y = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.y < 0.0 ? 3.0 : 2.0))) / size, 0.0);
+    s.z = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.z < 0.0 ? 5.0 : 4.0))) / size, 0.0);
+#ifdef SVO_SCALED_BRICKS
+    s.x.rgb *= brickScales[8u * b + (dir.x < 0.0 ? 2u : 1u)];
+    s.y.rgb *= brickScales[8u * b + (dir.y < 0.0 ? 4u : 3u)];
+    s.z.rgb *= brickScales[8u * b + (dir.z < 0.0 ? 6u : 5u)];
+#endif
+  }
+  if (u_fronts == 1 && g_wantSolid) {
+    vec3 opacitySize = vec3(textureSize(u_opacityPool, 0));
+    vec3 pos = textureLod(u_opacityPool, texel / opacitySize, 0.0).rgb;
+    vec3 neg = textureLod(u_opacityPool, (texel + vec3(0.0, 0.0, part)) / opacitySize, 0.0).rgb;
+    s.solid = mix(pos, neg, lessThan(dir, vec3(0.0)));
+  }
+  return s;
+}
+
+// The three directional values as one premultiplied sample, and in 'solid' the opacity of the
+// voxels as solid cubes (vct-grid's sampleVolume at lod >= 1).
+vec4 combineSeen(Seen s, vec3 dir, out float solid) {
+  vec3 w = anisotropicWeights(dir);
+  if (u_fronts == 0) {
+    vec4 classic = w.x * s.x + w.y * s.y + w.z * s.z;
+    solid = classic.a;
+    return classic;
+  }
+  solid = dot(w, s.solid);
+  return seenFronts(w, s.x, s.y, s.z);
 }
 
 // The node of voxel m, found from node 'from' (at 'level', holding voxel 'voxel'): up the parent
@@ -122,9 +190,10 @@ vec4 voxelLevelSample(vec3 v, uint from, int level, uvec3 voxel) {
 
 // The octree at voxel-space point v and fractional level levelStar (0 = root .. D = voxels), seen
 // along 'dir': one descent from the root to the fine level, keeping the node one level above as
-// the coarse one. Layout T: level l is read from the bricks of level l - 1 (the descent ends one
-// level higher and the root's brick is the coarsest level, 1).
-vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex) {
+// the coarse one; 'solid' is the opacity of the voxels as solid cubes there (the sample's own
+// opacity except with the fronts rule). Layout T: level l is read from the bricks of level l - 1
+// (the descent ends one level higher and the root's brick is the coarsest level, 1).
+vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex, out float solid) {
   const int shift = u_layoutTile;
   levelStar = max(levelStar, float(shift));
   int fine = int(svoFineLevel(levelStar, float(u_depth)));
@@ -148,7 +217,10 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex)
     if (l == fine) fineNode = node;
     if (record) {
       uint k = atomicAdd(descentCount, 1u);
-      vec4 value = node == SVO_ABSENT ? vec4(0.0) : brickSample(node, l, voxel, v, dir);
+      float ignored;
+      vec4 value = node == SVO_ABSENT                       ? vec4(0.0)
+                   : u_anisotropic == 1 && l < u_depth ? combineSeen(directionalSample(node, l, voxel, v, dir), dir, ignored)
+                                                        : brickSample(node, l, voxel, v);
       if (k < SVO_MAX_DESCENT_STEPS)
         descent[k] = SvoDescentStep(sampleIndex, uint(l), node, packVoxel10(voxel >> uint(u_depth - l)),
                                     float[4](value.r, value.g, value.b, value.a));
@@ -157,34 +229,60 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex)
     deepest = node;
     deepestLevel = l;
   }
-  vec4 coarse = coarseNode == SVO_ABSENT ? vec4(0.0) : brickSample(coarseNode, fine - 1, voxel, v, dir);
+  // Without dilation an absent fine node next to a filled one is not exactly empty: the coarse
+  // level alone is used there (the note's fallback for source error P2); with it, it is 0.
   // At the voxel level a voxel without a brick is read as the dense grid reads it (svo.voxel-halo).
   const bool denseVoxels = u_voxelHalo == 1 && fine == u_depth;
-  if (fineNode == SVO_ABSENT && denseVoxels) return mix(coarse, voxelLevelSample(v, deepest, deepestLevel, voxel), w);
-  if (fineNode == SVO_ABSENT) {
-    // Without dilation an absent fine node next to a filled one is not exactly empty: use the
-    // coarse level alone there (the note's fallback for source error P2).
-    if (u_dilated == 0) return coarse;
-    return (1.0 - w) * coarse;
+  const bool fineFallback = fineNode == SVO_ABSENT && !denseVoxels;
+  const float fineWeight = fineFallback && u_dilated == 0 ? 0.0 : w;
+  // A level of weight 0 is not read: the coarse one while a cone is no wider than the voxels
+  // (lod 0: the fine level's weight is 1, as vct-grid reads its voxels alone there), most of a
+  // narrow shadow cone's samples. Every pixel's cone takes the same steps, so the lanes agree.
+  const bool readCoarse = coarseNode != SVO_ABSENT && fineWeight < 1.0;
+  if (u_anisotropic == 1 && fine < u_depth) {
+    // Both levels directional: blended per direction, then combined.
+    Seen coarse = !readCoarse ? kSeenNothing : directionalSample(coarseNode, fine - 1, voxel, v, dir);
+    Seen fineSeen = fineNode == SVO_ABSENT ? kSeenNothing : directionalSample(fineNode, fine, voxel, v, dir);
+    return combineSeen(mixSeen(coarse, fineSeen, fineWeight), dir, solid);
   }
-  vec4 fineValue = denseVoxels && brickIndex[fineNode] == 0u ? voxelLevelSample(v, fineNode, fine, voxel)
-                                                               : brickSample(fineNode, fine, voxel, v, dir);
-  return mix(coarse, fineValue, w);
+  vec4 coarse = vec4(0.0);
+  float coarseSolid = 0.0;
+  if (readCoarse) {
+    if (u_anisotropic == 1) coarse = combineSeen(directionalSample(coarseNode, fine - 1, voxel, v, dir), dir, coarseSolid);
+    else coarse = brickSample(coarseNode, fine - 1, voxel, v);
+    if (u_anisotropic == 0) coarseSolid = coarse.a;
+  }
+  vec4 fineValue = vec4(0.0);
+  if (fineNode == SVO_ABSENT && denseVoxels) fineValue = voxelLevelSample(v, deepest, deepestLevel, voxel);
+  else if (fineNode != SVO_ABSENT)
+    fineValue = denseVoxels && brickIndex[fineNode] == 0u ? voxelLevelSample(v, fineNode, fine, voxel)
+                                                           : brickSample(fineNode, fine, voxel, v);
+  solid = mix(coarseSolid, fineValue.a, fineWeight);
+  return mix(coarse, fineValue, fineWeight);
 }
 
 struct ConeResult {
   vec3 radiance;
-  float opacity;
-  float occlusion;  // opacity with the AO falloff, accumulated up to markDistance
+  float opacity;    // accumulated opacity of the fronts the radiance comes from
+  float blocked;    // accumulated opacity of the voxels as solid cubes (shadows)
+  float occlusion;  // 'blocked' with the AO falloff, accumulated up to markDistance
 };
 
+// Marches the cone front to back until the radiance is gathered (opacity 0.99; unless
+// wantRadiance is false: the shadow and AO cones) and, up to markDistance, the occlusion too
+// (vct-grid's traceCone, common/cone_trace.glsl), or it leaves the volume, or reaches maxDistance.
+// With the fronts rule the solid opacity is read only up to markDistance (beyond it only
+// 'blocked' would use it, which no cone that asks for the radiance reads).
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
-                     float markDistance, int coneIndex, bool record) {
+                     float markDistance, int coneIndex, bool record, bool wantRadiance) {
+  g_wantFronts = wantRadiance;
   float tanHalf = tan(0.5 * aperture);
   float t = startDistance;
-  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
+  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0, 0.0);
   bool left = false;  // the sample lay wholly outside the volume
-  for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
+  for (int step = 0; step < u_maxSteps && t < maxDistance; ++step) {
+    if ((r.opacity >= 0.99 || !wantRadiance) && (r.blocked >= 0.99 || t > markDistance)) break;
+    g_wantSolid = t <= markDistance;
     float diameter = max(2.0 * tanHalf * t, u_voxelSize);
     float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
     float levelStar = clamp(float(u_depth) - lod, 0.0, float(u_depth));
@@ -194,17 +292,20 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
     if (any(lessThan(v, vec3(-margin))) || any(greaterThan(v, vec3(float(u_resolution) + margin)))) { left = true; break; }
     uint k = 0u;
     if (record) k = atomicAdd(coneSampleCount, 1u);
-    vec4 s = svoSample(v, levelStar, dir, record, k);
+    float solid;
+    vec4 s = svoSample(v, levelStar, dir, record, k, solid);
     float stepLength = diameter * u_stepScale;
     float texelSize = u_voxelSize * exp2(lod);
     float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+    float aSolid = 1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize);
     vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
     r.radiance += (1.0 - r.opacity) * c;
     if (t <= markDistance) {
       float falloff = 1.0 / (1.0 + u_aoFalloff * t / u_voxelSize);
-      r.occlusion += (1.0 - r.occlusion) * a * falloff;
+      r.occlusion += (1.0 - r.occlusion) * aSolid * falloff;
     }
     r.opacity += (1.0 - r.opacity) * a;
+    r.blocked += (1.0 - r.blocked) * aSolid;
     if (record && k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
       coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, lod, a));
     t += stepLength;
@@ -254,7 +355,7 @@ void main() {
   vec3 incoming = vec3(0.0);
   float occlusion = 0.0;
   for (int i = 0; i < u_coneCount; ++i) {
-    ConeResult c = traceCone(origin, coneAxis(u_cones[i], t, b, n), u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record);
+    ConeResult c = traceCone(origin, coneAxis(u_cones[i], t, b, n), u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record, true);
     incoming += u_cones[i].w * c.radiance;
     occlusion += u_cones[i].w * c.occlusion;
   }
@@ -262,7 +363,7 @@ void main() {
     occlusion = 0.0;
     for (int i = 0; i < u_aoConeCount; ++i) {
       ConeResult c = traceCone(origin, coneAxis(u_aoCones[i], t, b, n), u_aoAperture, start, u_aoRange, u_aoRange,
-                               u_coneCount + 2 + i, record);
+                               u_coneCount + 2 + i, record, false);
       occlusion += u_aoCones[i].w * c.occlusion;
     }
   }
@@ -270,17 +371,17 @@ void main() {
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
 
   vec3 view = normalize(surface.position - u_cameraPos);
-  ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, u_maxDistance,
-                              u_coneCount, record);
+  ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, 0.0,
+                              u_coneCount, record, true);
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
   vec3 toLight; float dist;
   lightDirection(surface.position, toLight, dist);
   float shadowVis = 0.0;
   if (dot(n, toLight) > 0.0) {
     float end = shadowConeEnd(dist, tan(0.5 * u_shadowAperture), u_lodBias, u_voxelSize);
-    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 0.0,
-                              u_coneCount + 1, record);
-    shadowVis = 1.0 - sh.opacity;
+    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 1e30,
+                              u_coneCount + 1, record, false);
+    shadowVis = 1.0 - sh.blocked;
   }
   imageStore(u_softShadow, px, vec4(shadowVis));
 }

@@ -1,15 +1,20 @@
 #version 450
 // svo-leaves. u_pass 0, one invocation per voxel fragment: light the fragment with vct-grid's
 // inject code (common/fragment_light.glsl: Lambert, the shadow map read inject.shadow-offset voxels
-// off the voxel centre along the fragment's normal, plus emission; or one uniform radiance) and add
-// it to its leaf's fixed-point sums with atomicAdd (exact and order-independent: no RGBA8
+// off the voxel centre along the fragment's normal, plus emission; or one uniform radiance),
+// clamped to what the bricks hold (u_maxRadiance: 1 with voxel.format=rgba8, 64 with rgba16f), and
+// add it to its leaf's fixed-point sums with atomicAdd (exact and order-independent: no RGBA8
 // compare-and-swap average, whose counter wraps and whose truncation biases the mean, source
-// error P8). u_pass 1, one invocation per leaf node: mean = sums / count, opacity 1.
+// error P8; the same 1/4096 steps as vct-grid's exact sums). Each fragment also ORs its normal's
+// facing code (common/facing.glsl) into its leaf's: the directional bricks show a leaf only to the
+// directions that see its surfaces' fronts (mipmap.fronts, svo/mipmap.comp.glsl). u_pass 1, one
+// invocation per leaf node: mean = sums / count, opacity 1.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
 #include "common/lights.glsl"
 #include "common/fragment_light.glsl"
+#include "common/facing.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
@@ -19,13 +24,17 @@ layout(std430, binding = VOXLAB_BINDING_FRAGMENTS) readonly buffer Fragments { V
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_LEAF_SUMS) coherent buffer LeafSums { uvec4 sums[]; };
 layout(std430, binding = SVO_BINDING_VALUES) writeonly buffer Values { vec4 values[]; };
+layout(std430, binding = SVO_BINDING_LEAF_FACING) coherent buffer LeafFacing { uint facing[]; };
 layout(binding = 2) uniform sampler2D u_shadowMap;
 uniform uint u_fragmentCount;
 uniform uint u_start;  // the leaf level's nodes (pass 1)
 uniform uint u_count;
 uniform int u_depth;
 uniform int u_pass;
-const float kFixedPoint = 65535.0;  // 16 fractional bits: sums of up to 65536 fragments fit in 32 bits
+uniform float u_maxRadiance;
+// Radiance units per integer step, as vct-grid's exact sums: up to 16384 fragments of radiance 64
+// per leaf fit in 32 bits.
+const float kFixedPoint = 4096.0;
 #include "svo/octree.glsl"
 
 void main() {
@@ -42,7 +51,8 @@ void main() {
   uint leaf = svoFind(voxel, u_depth);
   if (leaf == SVO_ABSENT) return;
   vec3 radiance = fragmentRadiance(f, u_shadowMap);
-  uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, 1.0) * kFixedPoint + 0.5);
+  uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, u_maxRadiance) * kFixedPoint + 0.5);
+  atomicOr(facing[leaf], facingCode(normalize(unpackSnorm4x8(f.normal).xyz)));
   atomicAdd(sums[leaf].x, fixedPoint.x);
   atomicAdd(sums[leaf].y, fixedPoint.y);
   atomicAdd(sums[leaf].z, fixedPoint.z);

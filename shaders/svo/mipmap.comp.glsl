@@ -6,18 +6,26 @@
 // (common/anisotropic_mip.glsl, as vct-grid's anisotropic mips): from its children's centre values
 // where they are voxels, else from their own directional values; vct-grid builds its directional
 // level 1 from the voxels and every higher level from the level below in the same way.
+// With u_fronts = 1 (mipmap.fronts, the default, vct-grid's rule) a voxel shows its radiance only
+// to the directions that see its surfaces' fronts, with their coverage as alpha (facingLeaf of its
+// facing code, common/facing.glsl), and each node also keeps its solid opacity per direction (the
+// voxels as opaque cubes, composited the same way: records 6 and 7), which ambient occlusion and
+// shadows read; u_fronts = 0 is Crassin's classic rule, every voxel seen from all sides.
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
 // common/invocation.glsl reads gl_WorkGroupSize, so it comes after the layout line.
 #include "common/invocation.glsl"
 #include "common/anisotropic_mip.glsl"
+#include "common/facing.glsl"
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_VALUES) buffer Values { vec4 values[]; };
 layout(std430, binding = SVO_BINDING_DIRECTIONAL_VALUES) buffer Directional { vec4 directional[]; };
+layout(std430, binding = SVO_BINDING_LEAF_FACING) readonly buffer LeafFacing { uint facing[]; };
 uniform uint u_start;
 uniform uint u_count;
 uniform int u_anisotropic;
+uniform int u_fronts;              // 1: the voxels show their fronts only, solid opacity kept apart
 uniform int u_childrenAreVoxels;  // 1: the level below is the voxel level (isotropic leaves)
 
 uint tileOf(uint first) { return (first - 1u) / 8u; }
@@ -33,16 +41,32 @@ void main() {
   values[n] = sum * 0.125;
   if (u_anisotropic == 0) return;
   uint tile = tileOf(first);
+  uint grandTile[8];  // the tiles of the children's own children (SVO_ABSENT: none)
+  for (uint k = 0u; k < 8u; ++k) {
+    uint grandchild = u_childrenAreVoxels == 1 ? 0u : nodes[first + k].word & SVO_CHILD_MASK;
+    grandTile[k] = grandchild == 0u ? SVO_ABSENT : tileOf(grandchild);
+  }
+  vec3 solidPos = vec3(0.0), solidNeg = vec3(0.0);
   for (int d = 0; d < 6; ++d) {
-    vec4 children[8];
+    vec4 children[8], solid[8];
     for (uint k = 0u; k < 8u; ++k) {
       if (u_childrenAreVoxels == 1) {
-        children[k] = values[first + k];
+        vec4 voxel = values[first + k];
+        children[k] = u_fronts == 1 ? facingLeaf(voxel, facing[first + k], d) : voxel;
+        solid[k] = vec4(voxel.a);
+      } else if (grandTile[k] == SVO_ABSENT) {
+        children[k] = solid[k] = vec4(0.0);
       } else {
-        uint grandchild = nodes[first + k].word & SVO_CHILD_MASK;
-        children[k] = grandchild == 0u ? vec4(0.0) : directional[6u * tileOf(grandchild) + uint(d)];
+        uint record = SVO_DIRECTIONAL_RECORD * grandTile[k];
+        children[k] = directional[record + uint(d)];
+        solid[k] = vec4(directional[record + 6u + uint(d & 1)][d >> 1]);
       }
     }
-    directional[6u * tile + uint(d)] = anisotropicReduce(children, d);
+    directional[SVO_DIRECTIONAL_RECORD * tile + uint(d)] = anisotropicReduce(children, d);
+    if (u_fronts == 0) continue;
+    float a = anisotropicReduce(solid, d).a;
+    if ((d & 1) == 0) solidPos[d >> 1] = a; else solidNeg[d >> 1] = a;
   }
+  directional[SVO_DIRECTIONAL_RECORD * tile + 6u] = vec4(solidPos, 1.0);
+  directional[SVO_DIRECTIONAL_RECORD * tile + 7u] = vec4(solidNeg, 1.0);
 }

@@ -9,6 +9,7 @@ layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode node
 layout(std430, binding = SVO_BINDING_NEIGHBOURS) readonly buffer Neighbours { uint links[]; };
 layout(std430, binding = SVO_BINDING_BRICK_INDEX) readonly buffer BrickIndex { uint brickIndex[]; };
 layout(std430, binding = SVO_BINDING_PICKED) writeonly buffer Picked { SvoPickedNode picked; };
+layout(std430, binding = SVO_BINDING_BRICK_SCALES) readonly buffer BrickScales { float brickScales[]; };  // 1 unless HDR
 layout(binding = 0) uniform sampler3D u_brickPool;
 uniform ivec3 u_cell;
 uniform int u_level;
@@ -32,6 +33,7 @@ void main() {
   ivec3 origin = 3 * ivec3(b % bx, (b / bx) % by, b / (bx * by));
   for (int t = 0; t < 27; ++t) {
     vec4 v = b == 0u ? vec4(0.0) : texelFetch(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), 0);
+    v.rgb *= b == 0u ? 0.0 : brickScales[8u * b];
     for (int c = 0; c < 4; ++c) picked.texels[4 * t + c] = v[c];
   }
 }

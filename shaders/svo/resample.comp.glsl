@@ -11,7 +11,11 @@ layout(local_size_x = 64) in;
 #include "common/invocation.glsl"
 layout(std430, binding = SVO_BINDING_NODES) readonly buffer Nodes { SvoNode nodes[]; };
 layout(std430, binding = SVO_BINDING_VALUES) readonly buffer Values { vec4 values[]; };
-layout(rgba8, binding = 0) uniform writeonly image3D u_dense;
+// The bricks' format: rgba8 unless the stage defines VOXLAB_GRID_FORMAT (voxel.format=rgba16f).
+#ifndef VOXLAB_GRID_FORMAT
+#define VOXLAB_GRID_FORMAT rgba8
+#endif
+layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_dense;
 uniform uint u_start;
 uniform uint u_count;
 

@@ -83,9 +83,18 @@ struct SvoPickedNode {
   float texels[108];  // the brick's 27 texels (rgba each), t = x + 3y + 9z (premultiplied rgb, alpha)
 };
 #define SVO_BINDING_PICKED 21       // SvoPickedNode: the picked node
-// vec4[6] per node with children (indexed by its tile, (first child - 1) / 8): the node as seen by
-// a cone travelling along +x, -x, +y, -y, +z, -z (anisotropic mips, common/anisotropic_mip.glsl)
+// vec4[SVO_DIRECTIONAL_RECORD] per node with children (indexed by its tile, (first child - 1) / 8):
+// the node as seen by a cone travelling along +x, -x, +y, -y, +z, -z (anisotropic mips,
+// common/anisotropic_mip.glsl), then its solid opacity seen travelling +x, +y, +z (rgb of record 6)
+// and -x, -y, -z (record 7; mipmap.fronts, where the six hold the surfaces' fronts only)
 #define SVO_BINDING_DIRECTIONAL_VALUES 22
+SVO_CONST uint SVO_DIRECTIONAL_RECORD = 8u;
+// uint per node: its leaf's facing code, the OR of its fragments' (common/facing.glsl)
+#define SVO_BINDING_LEAF_FACING 23
+// float[8] per brick number (HDR bricks of Layout N, SVO_SCALED_BRICKS): the scale of its isotropic
+// brick's radiance, then of its six directional bricks' (+x -x +y -y +z -z); the texels hold
+// radiance / scale in RGBA8 (alpha unscaled)
+#define SVO_BINDING_BRICK_SCALES 24
 SVO_CONST uint SVO_ABSENT = 0xFFFFFFFFu;
 SVO_CONST uint SVO_MAX_DESCENT_STEPS = 16u * 64u * 10u;
 // Most bricks a pool may hold: the cone tracer finds a brick's place by float division, exact

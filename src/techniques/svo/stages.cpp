@@ -16,6 +16,7 @@
 #include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
+#include "techniques/vct_grid/stages.h"
 
 namespace voxlab::svo {
 
@@ -91,7 +92,46 @@ static ParamDesc mipmapModeParam() {
 static bool anisotropicBricks(const ParamSet& p) {
   return p.getChoice("mipmap.mode") == "anisotropic" && !tileLayout(p);
 }
-static size_t directionalValueBytes(uint32_t nodes) { return size_t(std::max(1u, (nodes - 1) / 8)) * 6 * 16; }
+static size_t directionalValueBytes(uint32_t nodes) {
+  return size_t(std::max(1u, (nodes - 1) / 8)) * SVO_DIRECTIONAL_RECORD * 16;
+}
+// vct-grid's parameter names and defaults, so that one --set picks the same rule in both.
+static ParamDesc frontsParam() {
+  return ParamDesc::boolean("mipmap.fronts", true,
+                            "directional bricks show a voxel's light only to the directions that see its surfaces' "
+                            "fronts, its opacity kept apart as a solid cube's in two more RGBA8 bricks per node (vct-grid's "
+                            "rule; false: Crassin's classic reduction, every voxel seen from all sides)");
+}
+// The fronts rule is in use: directional bricks whose alpha is the fronts' coverage, and the solid
+// opacity bricks beside them.
+static bool frontsBricks(const ParamSet& p) { return anisotropicBricks(p) && p.getBool("mipmap.fronts"); }
+
+static ParamDesc voxelFormatParam() {
+  return ParamDesc::choice("voxel.format", {"rgba8", "rgba16f"}, 1,
+                           "what the bricks store: rgba16f keeps radiance up to 64 W/(m^2 sr) in half floats (HDR, "
+                           "vct-grid's default); rgba8 clamps each fragment's radiance to [0,1] (half the brick "
+                           "memory: the voxels by a lamp or in the sun lose most of their light)");
+}
+static bool hdrBricks(const ParamSet& p) { return p.getChoice("voxel.format") == "rgba16f"; }
+// HDR bricks of Layout N are RGBA8 with one scale per brick and part (the largest radiance
+// channel of its 27 texels; shared-exponent blocks): a sample never filters across two bricks, so
+// the scaled texels filter exactly, and llvmpipe filters RGBA8 on a faster path than half floats
+// (a 512x512 Cornell run 0.6 s less CPU). Layout T's Gaussian pass filters across bricks: half floats.
+static bool scaledBricks(const ParamSet& p) { return hdrBricks(p) && !tileLayout(p); }
+static GLenum brickFormat(const ParamSet& p) { return hdrBricks(p) && !scaledBricks(p) ? GL_RGBA16F : GL_RGBA8; }
+// The dense view holds the node values as they are: half floats when HDR.
+static GLenum denseFormat(const ParamSet& p) { return hdrBricks(p) ? GL_RGBA16F : GL_RGBA8; }
+static std::string denseFormatDefines(const ParamSet& p) {
+  return hdrBricks(p) ? "#define VOXLAB_GRID_FORMAT rgba16f\n" : "";
+}
+// Scales per brick number: the isotropic brick's, then the six directional bricks' (+x -x +y -y +z -z), one unused.
+static constexpr size_t kBrickScaleFloats = 8;
+// What a leaf can hold: vct-grid's limits (64 in half floats, 1 in RGBA8).
+static float maxLeafRadiance(const ParamSet& p) { return hdrBricks(p) ? vct::kHdrMaxRadiance : 1.0f; }
+static std::string brickFormatDefines(const ParamSet& p) {
+  if (scaledBricks(p)) return "#define SVO_SCALED_BRICKS 1\n";
+  return hdrBricks(p) ? "#define VOXLAB_GRID_FORMAT rgba16f\n" : "";
+}
 static ParamDesc filterParam() {
   return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
                            "bricks above the finest level with svo.layout=tile: box (vertex means of the box-filtered "
@@ -117,7 +157,7 @@ static TextureDesc denseDesc(const ParamSet& p) {
   const int res = p.getInt("voxel.resolution");
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
+  d.format = denseFormat(p);
   d.size = {res, res, res};
   d.levels = 0;
   d.minFilter = GL_LINEAR_MIPMAP_LINEAR;
@@ -381,6 +421,7 @@ static BufferLayout valueLayout() {
 
 void LeavesStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
+  b.param(voxelFormatParam());
   declareFragmentLightParams(b);
   b.read("fragments");
   b.read("fragments.count");
@@ -393,6 +434,12 @@ void LeavesStage::declare(StageBuilder& b) const {
   b.output("svo-leaf-values", OutputKind::Buffer, Semantic::Color,
            "per node: its leaf's mean outgoing radiance (premultiplied) and opacity 1; 0 for inner nodes")
       .layout = valueLayout();
+  BufferLayout facing{4, {{"facing", FieldType::U32, 0}}, "svo-counters", 4 * 6, 1.0f};
+  b.output("svo-leaf-facing", OutputKind::Buffer, Semantic::Scalar,
+           "per node: its leaf's facing code, the OR of its fragments' (common/facing.glsl: per travel direction of a "
+           "cone, how much of the leaf's surfaces' fronts it sees, 5 bits each); 0 for inner nodes")
+      .layout = facing;
+  b.buffer("svo-leaf-facing", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
   b.buffer("svo-leaf-sums", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
   b.buffer("svo-leaf-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
 }
@@ -404,6 +451,8 @@ void LeavesStage::execute(StageContext& ctx) {
   const uint32_t nodes = nodeCount(levels);
   Buffer& sums = ctx.board.ensureBuffer("svo-leaf-sums", size_t(nodes) * 16);
   Buffer& values = ctx.board.ensureBuffer("svo-leaf-values", size_t(nodes) * 16);
+  Buffer& facing = ctx.board.ensureBuffer("svo-leaf-facing", size_t(nodes) * 4);
+  glClearNamedBufferData(facing.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   glClearNamedBufferData(sums.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   glClearNamedBufferData(values.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   const uint32_t fragments = voxelFragmentCount(ctx.board);
@@ -413,12 +462,14 @@ void LeavesStage::execute(StageContext& ctx) {
   setUniform(program, "u_depth", depth);
   setUniform(program, "u_start", unsigned(levels[depth].start));
   setUniform(program, "u_count", unsigned(levels[depth].count));
+  setUniform(program, "u_maxRadiance", maxLeafRadiance(ctx.params));
   setFragmentLightUniforms(program, ctx.params, space);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_LEAF_SUMS, sums.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_LEAF_FACING, facing.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
   setUniform(program, "u_pass", 0);
@@ -438,10 +489,13 @@ void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(layoutParam());
   b.param(mipmapModeParam());
+  b.param(frontsParam());
+  b.param(voxelFormatParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
   b.read("svo-leaf-values");
+  b.read("svo-leaf-facing");
   b.output("svo-values", OutputKind::Buffer, Semantic::Color,
            "per node: the filtered premultiplied radiance and opacity at its centre (leaves: svo-leaf-values)")
       .layout = valueLayout();
@@ -449,12 +503,14 @@ void MipmapStage::declare(StageBuilder& b) const {
            "the octree resampled into a dense view: mip m holds the node values of level D - m (0 where no node), "
            "so it can be set beside vct-grid's radiance; alpha = opacity (the viewer's channel a)");
   BufferLayout directional;
-  directional.stride = 6 * 16;
-  const char* names[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-  for (uint32_t d = 0; d < 6; ++d) directional.fields.push_back({names[d], FieldType::Vec4, 16 * d, FieldRole::Color});
+  directional.stride = SVO_DIRECTIONAL_RECORD * 16;
+  const char* names[SVO_DIRECTIONAL_RECORD] = {"+x", "-x", "+y", "-y", "+z", "-z", "solid +x+y+z", "solid -x-y-z"};
+  for (uint32_t d = 0; d < SVO_DIRECTIONAL_RECORD; ++d)
+    directional.fields.push_back({names[d], FieldType::Vec4, 16 * d, FieldRole::Color});
   b.output("svo-directional-values", OutputKind::Buffer, Semantic::Color,
            "per node with children, in the order of their tiles: the node as seen by a cone travelling along +x, -x, "
-           "+y, -y, +z, -z (anisotropic mips; one empty record with mipmap.mode=isotropic)")
+           "+y, -y, +z, -z (anisotropic mips; with mipmap.fronts the fronts only), then its solid opacity seen "
+           "travelling +x, +y, +z and -x, -y, -z (rgb; mipmap.fronts); one empty record with mipmap.mode=isotropic")
       .layout = directional;
   b.buffer("svo-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
   b.buffer("svo-directional-values", [](const ParamSet&, const ViewState&) { return directionalValueBytes(1); },
@@ -473,7 +529,7 @@ void MipmapStage::execute(StageContext& ctx) {
       ctx.board.ensureBuffer("svo-directional-values", directionalValueBytes(anisotropic ? nodes : 1));
   Texture& dense = ctx.board.ensureTexture("svo-dense", denseDesc(ctx.params));
   Buffer& nodePool = ctx.board.buffer("svo-nodes");
-  GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"});
+  GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"}, denseFormatDefines(ctx.params));
   auto writeDense = [&](int mip) {
     const SvoLevel& level = levels[depth - mip];
     setUniform(resample, "u_start", unsigned(level.start));
@@ -481,7 +537,7 @@ void MipmapStage::execute(StageContext& ctx) {
     glUseProgram(resample);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
-    glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, denseFormat(ctx.params));
     dispatchCompute({int(level.count), 1, 1}, {64, 1, 1});
     barrierAll();
   };
@@ -497,11 +553,13 @@ void MipmapStage::execute(StageContext& ctx) {
   setUniform(program, "u_start", unsigned(levels[level].start));
   setUniform(program, "u_count", unsigned(levels[level].count));
   setUniform(program, "u_anisotropic", anisotropic ? 1 : 0);
+  setUniform(program, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
   setUniform(program, "u_childrenAreVoxels", level + 1 == depth ? 1 : 0);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DIRECTIONAL_VALUES, directional.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_LEAF_FACING, ctx.board.buffer("svo-leaf-facing").id());
   dispatchCompute({int(levels[level].count), 1, 1}, {64, 1, 1});
   barrierAll();
   writeDense(k + 1);
@@ -519,11 +577,12 @@ static glm::ivec3 bricksPerAxis(uint32_t bricks) {
   return {side, side, std::max(z, 1)};
 }
 
-// The brick pool's texture for 'bricks' bricks: 3x3x3 RGBA8 texels each, laid out by bricksPerAxis.
-static TextureDesc brickPoolDesc(uint32_t bricks) {
+// The brick pool's texture for 'bricks' bricks: 3x3x3 texels each (RGBA8, or RGBA16F with
+// voxel.format=rgba16f), laid out by bricksPerAxis.
+static TextureDesc brickPoolDesc(uint32_t bricks, GLenum format) {
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
-  d.format = GL_RGBA8;
+  d.format = format;
   d.size = 3 * bricksPerAxis(bricks);
   d.levels = 1;
   d.minFilter = d.magFilter = GL_LINEAR;
@@ -532,9 +591,17 @@ static TextureDesc brickPoolDesc(uint32_t bricks) {
 
 // The directional brick pool for 'bricks' bricks per direction: six parts stacked along z, part d
 // (+x -x +y -y +z -z) holding every brick's direction d at the place bricksPerAxis gives it.
-static TextureDesc directionalPoolDesc(uint32_t bricks) {
-  TextureDesc d = brickPoolDesc(bricks);
+static TextureDesc directionalPoolDesc(uint32_t bricks, const ParamSet& p) {
+  TextureDesc d = brickPoolDesc(bricks, brickFormat(p));
   d.size.z *= 6;
+  return d;
+}
+// The solid-opacity bricks (mipmap.fronts) of the same bricks: two parts stacked along z, the
+// opacity seen travelling +x, +y, +z and -x, -y, -z (rgb). Opacity lies in [0, 1]: RGBA8, as
+// vct-grid's opacity volumes (and llvmpipe filters RGBA8 faster than half floats).
+static TextureDesc opacityPoolDesc(uint32_t bricks) {
+  TextureDesc d = brickPoolDesc(bricks, GL_RGBA8);
+  d.size.z *= 2;
   return d;
 }
 
@@ -544,6 +611,8 @@ void BricksStage::declare(StageBuilder& b) const {
   b.param(layoutParam());
   b.param(filterParam());
   b.param(mipmapModeParam());
+  b.param(frontsParam());
+  b.param(voxelFormatParam());
   b.read("svo-nodes");
   b.read("svo-levels");
   b.read("svo-counters");
@@ -561,11 +630,29 @@ void BricksStage::declare(StageBuilder& b) const {
   // whose start is the smallest pool (the zero brick and the root's).
   b.output("svo-directional-bricks", OutputKind::Volume3D, Semantic::Color,
            "the directional bricks (mipmap.mode=anisotropic): six parts stacked along z (+x, -x, +y, -y, +z, -z), each "
-           "with one 3x3x3 brick per node above the voxels at the place of its brick number; the node as seen by a "
-           "cone travelling that way, borders = means of the nodes sharing the texel (one empty brick when isotropic)");
-  b.texture("svo-brick-pool", [](const ParamSet&, const ViewState&) { return brickPoolDesc(2); }, /*pool=*/true);
-  b.texture("svo-directional-bricks", [](const ParamSet&, const ViewState&) { return directionalPoolDesc(1); },
+           "with one 3x3x3 brick per node above the voxels at the place of its brick number; the node as seen by a cone "
+           "travelling that way (with mipmap.fronts the fronts only), borders = means of the nodes sharing the texel "
+           "(one empty brick when isotropic)");
+  b.output("svo-opacity-bricks", OutputKind::Volume3D, Semantic::Color,
+           "the solid-opacity bricks (mipmap.fronts): two parts stacked along z, the opacity of the voxels as cubes "
+           "seen travelling +x, +y, +z and -x, -y, -z (rgb), laid out as the directional bricks (one empty brick "
+           "without the fronts rule)");
+  b.texture("svo-brick-pool", [](const ParamSet& p, const ViewState&) { return brickPoolDesc(2, brickFormat(p)); },
             /*pool=*/true);
+  b.texture("svo-directional-bricks", [](const ParamSet& p, const ViewState&) { return directionalPoolDesc(1, p); },
+            /*pool=*/true);
+  b.texture("svo-opacity-bricks", [](const ParamSet&, const ViewState&) { return opacityPoolDesc(1); }, /*pool=*/true);
+  BufferLayout scales;
+  scales.stride = kBrickScaleFloats * 4;
+  const char* scaleNames[kBrickScaleFloats] = {"isotropic", "+x", "-x", "+y", "-y", "+z", "-z", "unused"};
+  for (uint32_t k = 0; k < kBrickScaleFloats; ++k) scales.fields.push_back({scaleNames[k], FieldType::F32, 4 * k});
+  b.output("svo-brick-scales", OutputKind::Buffer, Semantic::Scalar,
+           "per brick number, with HDR bricks (voxel.format=rgba16f, Layout N): the scale of its isotropic brick's "
+           "radiance and of its six directional bricks' (the largest radiance channel of the brick's texels, which "
+           "hold radiance / scale in RGBA8); 1 otherwise")
+      .layout = scales;
+  b.buffer("svo-brick-scales", [](const ParamSet&, const ViewState&) { return kBrickScaleFloats * 4 * 2; },
+           /*pool=*/true);
   b.buffer("svo-brick-index", [](const ParamSet&, const ViewState&) { return perNodeStart(4); }, /*pool=*/true);
   b.buffer("svo-brick-counters", [](const ParamSet&, const ViewState&) { return kCounterBytes; });
 }
@@ -592,7 +679,7 @@ void BricksStage::execute(StageContext& ctx) {
     throw Error("svo-bricks: the brick pool needs " + std::to_string(capacity) + " bricks, " +
                 std::to_string(3 * std::max(axis.x, axis.z)) + " texels along an axis, beyond GL_MAX_3D_TEXTURE_SIZE " +
                 std::to_string(maxSize) + " (use a lower voxel.resolution)");
-  Texture& pool = ctx.board.ensureTexture("svo-brick-pool", brickPoolDesc(capacity));
+  Texture& pool = ctx.board.ensureTexture("svo-brick-pool", brickPoolDesc(capacity, brickFormat(ctx.params)));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(pool.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   // The directional pool: the bricks above the voxels (numbers 1 .. tiles) and the zero brick.
@@ -604,13 +691,19 @@ void BricksStage::execute(StageContext& ctx) {
     throw Error("svo-bricks: the directional brick pool needs " + std::to_string(3 * 6 * directionalAxis.z) +
                 " texels along z, beyond GL_MAX_3D_TEXTURE_SIZE " + std::to_string(maxSize) +
                 " (use a lower voxel.resolution or mipmap.mode=isotropic)");
-  Texture& directional = ctx.board.ensureTexture("svo-directional-bricks", directionalPoolDesc(directionalBricks));
+  Texture& directional = ctx.board.ensureTexture("svo-directional-bricks", directionalPoolDesc(directionalBricks, ctx.params));
   glClearTexImage(directional.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  const bool fronts = frontsBricks(ctx.params);
+  Texture& opacity = ctx.board.ensureTexture("svo-opacity-bricks", opacityPoolDesc(fronts ? directionalBricks : 1));
+  glClearTexImage(opacity.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   Buffer& index = ctx.board.ensureBuffer("svo-brick-index", size_t(nodes) * 4);
+  Buffer& scales = ctx.board.ensureBuffer("svo-brick-scales", size_t(capacity) * kBrickScaleFloats * 4);
+  const float one = 1.0f;
+  glClearNamedBufferData(scales.id(), GL_R32F, GL_RED, GL_FLOAT, &one);
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
   counters.upload(c.data(), c.size() * 4);
-  GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"});
+  GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"}, brickFormatDefines(ctx.params));
   setUniform(program, "u_nodeCount", unsigned(nodes));
   setUniform(program, "u_brickCapacity", unsigned(capacity));
   setUniform(program, "u_bricksPerAxis", axis);
@@ -619,6 +712,7 @@ void BricksStage::execute(StageContext& ctx) {
   setUniform(program, "u_leafStart", unsigned(levels[depth].start));
   setUniform(program, "u_tiles", unsigned(tiles));
   setUniform(program, "u_anisotropic", anisotropic ? 1 : 0);
+  setUniform(program, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
   setUniform(program, "u_directionalPerAxis", directionalAxis);
   const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
   setUniform(program, "u_gaussian", gaussian ? 1 : 0);
@@ -628,10 +722,12 @@ void BricksStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, index.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_GROUPS, ctx.board.buffer("svo-groups").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_SCALES, scales.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DIRECTIONAL_VALUES,
                    ctx.board.buffer("svo-directional-values").id());
-  glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  glBindImageTexture(1, directional.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
+  glBindImageTexture(1, directional.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
+  glBindImageTexture(2, opacity.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
   setUniform(program, "u_pass", 1);
   glUseProgram(program);
   // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
@@ -658,19 +754,26 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["bricks"] = tagged;
   ctx.stats["brick_pool_bytes"] = double(pool.byteSize());
   ctx.stats["directional_bricks"] = anisotropic ? tiles : 0;
-  ctx.stats["directional_brick_pool_bytes"] = anisotropic ? double(directional.byteSize()) : 0.0;
-  const double bricksBytes = double(pool.byteSize()) + ctx.stats["directional_brick_pool_bytes"];
+  ctx.stats["directional_brick_pool_bytes"] =
+      anisotropic ? double(directional.byteSize()) + (fronts ? double(opacity.byteSize()) : 0.0) : 0.0;
+  ctx.stats["opacity_brick_pool_bytes"] = fronts ? double(opacity.byteSize()) : 0.0;
+  ctx.stats["brick_scale_bytes"] = scaledBricks(ctx.params) ? double(scales.size()) : 0.0;
+  const double bricksBytes =
+      double(pool.byteSize()) + ctx.stats["directional_brick_pool_bytes"] + ctx.stats["brick_scale_bytes"];
   ctx.stats["node_pool_bytes"] = double(nodes) * (sizeof(SvoNode) + 4);
   ctx.stats["octree_bytes"] = bricksBytes + double(nodes) * (sizeof(SvoNode) + 4);
   // What the cone tracer reads: Layout T never descends to the voxel level, whose nodes only carry
   // the leaf values into the filter (they could be dropped after this stage).
   const double tracedNodes = tile ? double(levels[depth].start) : double(nodes);
   ctx.stats["traced_octree_bytes"] = bricksBytes + tracedNodes * (sizeof(SvoNode) + 4);
-  // The dense comparison: vct-grid's radiance mip chain at this resolution (RGBA8, all levels),
-  // and with anisotropic mips also its six directional chains of half the edge.
+  // The dense comparison: vct-grid's radiance mip chain at this resolution and format (all
+  // levels), and with anisotropic mips also its six directional chains of half the edge, and with
+  // the fronts rule its two RGBA8 opacity chains.
+  const double texelBytes = hdrBricks(ctx.params) ? 8.0 : 4.0;
   double dense = 0.0, directionalDense = 0.0;
-  for (int r = ctx.params.getInt("voxel.resolution"); r >= 1; r /= 2) dense += 4.0 * double(r) * r * r;
-  for (int r = ctx.params.getInt("voxel.resolution") / 2; r >= 1; r /= 2) directionalDense += 6 * 4.0 * double(r) * r * r;
+  for (int r = ctx.params.getInt("voxel.resolution"); r >= 1; r /= 2) dense += texelBytes * double(r) * r * r;
+  for (int r = ctx.params.getInt("voxel.resolution") / 2; r >= 1; r /= 2)
+    directionalDense += (6 * texelBytes + (frontsBricks(ctx.params) ? 2 * 4.0 : 0.0)) * double(r) * r * r;
   ctx.stats["dense_mip_chain_bytes"] = dense;
   ctx.stats["traced_octree_over_dense"] = ctx.stats["traced_octree_bytes"] / dense;
   if (anisotropic) {
@@ -694,6 +797,7 @@ void PickStage::declare(StageBuilder& b) const {
   b.read("svo-neighbour-links");
   b.read("svo-brick-index");
   b.read("svo-brick-pool");
+  b.read("svo-brick-scales");
   BufferLayout l;
   l.stride = sizeof(SvoPickedNode);
   l.fields = {{"node", FieldType::U32, 0}, {"level", FieldType::U32, 4}, {"cell", FieldType::Packed10_10_10, 8},
@@ -722,6 +826,7 @@ void PickStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NEIGHBOURS, ctx.board.buffer("svo-neighbour-links").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_SCALES, ctx.board.buffer("svo-brick-scales").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_PICKED, out.id());
   glBindTextureUnit(0, ctx.board.texture("svo-brick-pool").id());
   dispatchCompute({1, 1, 1}, {8, 8, 1});
@@ -740,6 +845,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.param(dilateParam());
   b.param(layoutParam());
   b.param(mipmapModeParam());
+  b.param(frontsParam());
   b.param(ParamDesc::boolean("svo.voxel-halo", true,
                              "read a voxel without a brick (empty, or no node there) as the dense grid does: the "
                              "trilinear blend of the eight voxels around the sample, found in the octree, so a cone "
@@ -769,6 +875,8 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.read("svo-values");
   b.read("svo-brick-pool");
   b.read("svo-directional-bricks");
+  b.read("svo-opacity-bricks");
+  b.read("svo-brick-scales");
   b.read("position");
   b.read("normal");
   b.read("albedo");
@@ -843,8 +951,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
-  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"});
-  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, "#define SVO_RECORD_PROBE 1\n");
+  const std::string scaled = scaledBricks(ctx.params) ? "#define SVO_SCALED_BRICKS 1\n" : "";
+  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, scaled);
+  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, scaled + "#define SVO_RECORD_PROBE 1\n");
   glm::ivec2 probe(0);
   for (GLuint program : {tracer, recorder}) {
     space.setUniforms(program);
@@ -856,6 +965,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
                ctx.params.getBool("svo.voxel-halo") && !ctx.params.getBool("svo.dilate") && !tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_anisotropic", anisotropicBricks(ctx.params) ? 1 : 0);
+    setUniform(program, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
     setUniform(program, "u_directionalPerAxis", directionalAxis);
     glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
     setUniform(program, "u_aoConeCount", aoCount);
@@ -871,10 +981,12 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindTextureUnit(2, ctx.board.texture("normal").id());
   glBindTextureUnit(3, ctx.board.texture("albedo").id());
   glBindTextureUnit(4, ctx.board.texture("svo-directional-bricks").id());
+  glBindTextureUnit(5, ctx.board.texture("svo-opacity-bricks").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_INDEX, ctx.board.buffer("svo-brick-index").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_BRICK_SCALES, ctx.board.buffer("svo-brick-scales").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLES, samples.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_CONE_SAMPLE_COUNT, sampleCount.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_DESCENT, descent.id());

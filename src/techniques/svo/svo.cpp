@@ -4,12 +4,16 @@
 //   The prefiltered voxels of vct-grid, stored sparsely: a node pool of 2x2x2 node tiles linked by
 //   child pointers, built top down one level per pass from the voxel fragment list, and a brick
 //   pool of 3x3x3 texels per node so that hardware trilinear filtering works inside a node. Leaves
-//   hold the fragments' direct light, inner nodes the box filter of their children and, by default,
-//   six directional values (anisotropic mips, Crassin et al. 2011, as vct-grid's): each node above
-//   the voxels has six more bricks, one per travel direction; a cone sample descends from the root
-//   to the level of its diameter and blends two levels (quadrilinear), reading the three
-//   directional bricks that face the cone. Empty space costs no nodes below the level where it
-//   becomes empty.
+//   hold the fragments' direct light (HDR by default, as vct-grid's voxels: RGBA8 bricks with a
+//   scale each), inner
+//   nodes the box filter of their children and, by default, six directional values (anisotropic
+//   mips, Crassin et al. 2011, with vct-grid's fronts rule: a direction sees a voxel's light only
+//   where it sees its surfaces' fronts, and the voxels' solid opacity is kept apart for ambient
+//   occlusion and shadows): each node above the voxels has six more bricks, one per direction, and
+//   two of solid opacity (RGBA8); a cone sample descends from the root to the level of its diameter and
+//   blends two levels (quadrilinear), reading the directional bricks that face the cone and
+//   combining them as vct-grid's cone tracer does. The cone model is vct-grid's; only where the
+//   voxels live differs. Empty space costs no nodes below the level where it becomes empty.
 //
 // Overview (the stages, in order)
 //   1. voxelize        shared (techniques/common): triangles -> voxel fragment list
@@ -24,23 +28,31 @@
 //                      (common/fragment_light.glsl: the shadow map read inject.shadow-offset
 //                      voxels off the voxel centre along the fragment's normal, so a voxel whose
 //                      centre lies behind its surface is not shadowed by it), exact fixed-point
-//                      sums per leaf, then mean and opacity 1
+//                      sums per leaf, then mean and opacity 1; the OR of the fragments' facing
+//                      codes per leaf (common/facing.glsl, as vct-grid's inject)
 //   5. svo-mipmap      one level per iteration, D-1 .. 0: parent = mean of its 8 children; with
 //                      mipmap.mode=anisotropic (default) also its six directional values, the
 //                      children composited front to back along each axis, then averaged
-//                      (common/anisotropic_mip.glsl, shared with vct-grid); the "svo-dense" view
-//                      resamples each level (isotropic) into a mip of a 3D texture
+//                      (common/anisotropic_mip.glsl); with mipmap.fronts (default) a voxel shows
+//                      each direction only its fronts (facingLeaf, common/facing.glsl) and the
+//                      solid opacity per direction is reduced beside them, as vct-grid's
+//                      mipmap_anisotropic; the "svo-dense" view resamples each level (isotropic)
+//                      into a mip of a 3D texture
 //   6. svo-bricks      one 3x3x3 brick per tagged node, borders gathered from the same-level nodes
 //                      (svo.layout=tile: one per subdivided node, at its children's corners); with
 //                      anisotropic mips six more per tagged node above the voxels, in a second pool
-//                      (svo-directional-bricks), made the same way from the directional values
+//                      (svo-directional-bricks), made the same way from the directional values,
+//                      and with mipmap.fronts two of solid opacity along +x+y+z and -x-y-z in a
+//                      third, RGBA8 (svo-opacity-bricks, as vct-grid's opacity volumes)
 //      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
 //                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
 //   8. svo-cone-trace  vct-grid's cones through the octree (the shared cone set-up,
 //                      common/cone_setup.*, with vct-grid's defaults); above the voxels the three
-//                      directional bricks facing the cone, weighted dir^2 as vct-grid's; AO; probe
-//                      records (samples, descents)
+//                      directional bricks facing the cone, weighted dir^2, the two levels blended
+//                      per direction and combined by optical depth (seenFronts,
+//                      common/anisotropic_mip.glsl, vct-grid's too); AO and the shadow cone from
+//                      the solid opacity; probe records (samples, descents)
 //   9. composite       vct-grid's composite, or the AO image as the final one (svo.shading=ao)
 //
 // Details
@@ -71,8 +83,12 @@
 //   - Quadrilinear: levelStar = D - max(log2(d / voxel) + bias, 0); fine = min(D, floor + 1),
 //     weight of fine = levelStar - (fine - 1). This is GL's LINEAR_MIPMAP_LINEAR with lod =
 //     D - levelStar, continuous across integer levels (Gomes' listing 4.25 inverts it: P1).
-//   - Leaf radiance uses exact integer sums (16 fractional bits) instead of the RGBA8 CAS moving
-//     average (P8); the result is independent of fragment order and thread count.
+//   - Leaf radiance uses exact integer sums (steps of 1/4096, as vct-grid's) instead of the RGBA8
+//     CAS moving average (P8); the result is independent of fragment order and thread count. Each
+//     fragment's radiance is clamped to what the bricks hold (voxel.format, vct-grid's parameter):
+//     64 with voxel.format=rgba16f (the default), 1 with rgba8. Clamped to 1, the sun patch of
+//     skylight-room and the voxels by the corridor's lamp lose most of their light (indirect energy
+//     0.42 and 0.40 of the reference with vct-grid's fronts rule).
 //   - AO: from the diffuse cones by default (the same cones as vct-grid, so the two AO images can be
 //     compared), or Basgier's constellations (ao.cones): 5 cones of 90 deg and 8 of 60 deg as
 //     published, 3 cones of 100 deg (the seed leaves the aperture open: our choice, with the ring
@@ -88,16 +104,39 @@
 //     stacked along z, so the sign of the cone's direction is an offset (no divergent branch on
 //     llvmpipe). The voxels stay isotropic: between level D - 1 and D a sample blends the
 //     directional value with the leaf, as vct-grid fades its voxels into directional level 1.
-//     With dilation svo's indirect light equals vct-grid's anisotropic one (max 0.0033 at 64^3,
-//     test SvoConeTrace.AnisotropicIndirectEqualsVctGridWithDilation). Memory: the directional
-//     pool is 6 bricks per inner node, about 1.2-1.5x the isotropic pool (docs/performance.md).
+//   - The fronts rule (mipmap.fronts, the default, vct-grid's): a leaf's facing code says, per
+//     travel direction, how much of its surfaces' fronts a cone sees; the directional values hold
+//     only that (premultiplied radiance and coverage), and two more records per node the solid
+//     opacity (the voxels as cubes) along +x+y+z and -x-y-z. A cone blends each direction's two
+//     levels, then combines the three by optical depth (common/facing.glsl, seenFronts,
+//     the code vct-grid's sampler calls); AO and the shadow cone accumulate the solid opacity.
+//     Crassin's classic rule (every voxel seen from all sides) let the sun-lit top of
+//     skylight-room's roof shine into the room (indirect energy 1.95 of the reference) and gave
+//     the corridor's walls seen edge-on half their opacity; with the rule and HDR leaves svo is in
+//     the band on every interior scene (docs/fidelity.md). A sample reads the solid opacity only
+//     where it is used (up to ao.range, and on the shadow cone, which reads no fronts). With
+//     dilation svo's indirect light and AO equal vct-grid's (max 0.020 and 0.0034 at 64^3, test
+//     SvoConeTrace.FrontsIndirectAndOcclusionEqualVctGridWithDilation; with mipmap.fronts=false
+//     and RGBA8 on both, max 0.0033: AnisotropicIndirectEqualsVctGridWithDilation). Memory: the
+//     directional pool is 6 bricks per inner node, the opacity pool 2 (docs/performance.md).
 //     mipmap.mode=isotropic keeps the box chain, exactly vct-grid's isotropic mips.
+//   - HDR bricks (voxel.format=rgba16f, the default; Layout N): RGBA8 texels holding radiance
+//     divided by a scale per brick and part, the largest radiance channel of its 27 texels
+//     (svo-brick-scales; shared-exponent blocks); opacity unscaled. A sample filters within one
+//     brick only, so the scaled texels filter exactly; the error is 8 bits of the brick's largest
+//     value (indirect light max 0.020 off vct-grid's half floats at 64^3 with dilation, 0.0062
+//     with half-float bricks; suite energies equal to two decimals). Why not half floats: llvmpipe
+//     filters RGBA8 on a faster path; a 512x512 Cornell run took about 4.0 s of CPU with half-float
+//     bricks, 4.3 s with half-float opacity bricks too, 3.5-4.0 s now (2.7-3.0 s before the fronts
+//     rule and HDR; docs/performance.md). Layout T keeps half floats: its Gaussian pass filters
+//     across bricks.
 //   - Voxel halo (svo.voxel-halo, on): a sample whose fine level is the voxels and whose voxel has
 //     no brick (empty, or no node: Layout N has bricks on non-empty nodes only) reads the dense
 //     grid's trilinear blend of the eight voxels around it, found in the octree (from the deepest
 //     node of the descent, through the closest common ancestor); without it such a voxel reads 0
 //     and a cone that starts in it misses the surface next to it: stair bands along the short
-//     box's base on the Cornell box (0.055 off vct-grid's final image, 0.016 with the halo). It
+//     box's base on the Cornell box (0.055 off vct-grid's final image, 0.016 with the halo, both
+//     with the classic rule and RGBA8 voxels). It
 //     costs CPU time: a 512x512 run --final-only on one thread 2.9 s instead of 2.0 s. Above the voxels the same gap remains (P2):
 //     svo.dilate=true closes it everywhere.
 //   - Layout T (svo.layout=tile, Crassin/Gomes): one brick per subdivided node (tagged, above the
@@ -107,7 +146,7 @@
 //     and level 0 (the root's value) is not stored: samples coarser than level 1 read level 1. The
 //     finest level is the dense grid filtered by [1 2 1] / 4 per axis (the note's fact 2), so the AO
 //     is darker (mean 0.083 from Layout N's on the Cornell box at 64^3). Memory on Sponza at 256^3:
-//     127,450 bricks instead of 662,065; the traced octree is 0.245 of vct-grid's mip chain
+//     127,450 bricks instead of 662,065; the traced octree is 0.21 of vct-grid's mip chain (both in half floats, before the scaled RGBA8 bricks)
 //     (docs/performance.md).
 //   - Neighbour links (S3) are their own stage and output; the bricks' borders do not follow them
 //     but gather by position (the same descent), so the links are for inspection and tests.

@@ -202,7 +202,7 @@ ParamDesc mipmapFrontsParam() {
   return ParamDesc::boolean("mipmap.fronts", true,
                             "anisotropic mips show a voxel's light only to the directions that see its surfaces' "
                             "fronts, its opacity kept apart as a solid cube's (false: Crassin's classic reduction, "
-                            "every voxel seen from all sides, as svo's directional bricks)");
+                            "every voxel seen from all sides)");
 }
 
 // Edge of the six directional volumes: half the grid with anisotropic mips, one voxel without.
