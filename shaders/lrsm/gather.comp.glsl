@@ -32,6 +32,7 @@ uniform int u_windowLayers;   // 1: every layer whose texels' interval meets the
 uniform int u_litOcclusion;  // 1: a sample's opacity is at least the lit surface's coverage (coverage estimator)
 uniform int u_horizon;  // 1: the receiver's plane bounds what its diffuse cones see (cone.horizon)
 uniform int u_visibility;     // 1: Eq. 12 (Gaussian depth visibility); 0: V = 1 (every texel of the column)
+uniform int u_twoLobes;       // 1: V from two Gaussians matched to four depth moments (lrsm.two-lobes)
 uniform float u_footprintBias;  // added to log2(d_circle): the LRSM level, blended between its two neighbours
 uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
 uniform float u_shadowLodBias;  // the shadow cone's (cone.shadow-lod-bias)
@@ -148,37 +149,56 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
         float alpha = nm.w;
         if (alpha > 1e-4) {
           vec4 mo = fetchLayer(u_lrsmMoments, l, level, uv);
-          mu = mo.x / alpha;
-          sigma2 = max(mo.y / alpha - mu * mu, u_minVariance);
+          vec4 moments = mo / alpha;  // E[z'], E[z'^2], E[z'^3], E[z'^4]
+          mu = moments.x;
+          sigma2 = max(moments.y - mu * mu, u_minVariance);
           vec3 nMean = nm.xyz / alpha;
-          // coverage: the receiver seen from the layer's mean surface point on the light ray
-          // through x_c (depth mu), not from x_c: a sphere that holds the receiver's own plane
-          // then sees it edge-on (N near 0), neither lit nor blocking.
-          vec3 xs = xc + ray * (lo + mu * (hi - lo) - zc);
-          N = dot(nMean, coverage ? normalize(p - xs) : vc);
-          // A surface behind the receiver's plane, or in it, is below its horizon: it neither
-          // lights nor shades the hemisphere (the receiver's own plane and the other faces of a
-          // box, seen by the light at grazing angles, would).
-          if (coverage && u_horizon == 1 && dot(xs - p, pn) < LRSM_HORIZON_VOXELS * u_voxelSize) N = 0.0;
-          // Algorithm 1 culls back faces; the coverage estimator keeps them as occluders.
-          if (coverage ? N != 0.0 : N > 0.0) {
-            V = u_visibility == 1 ? gaussianVisibility(zw, rw, mu, sigma2) : 1.0;
+          // The layer's depths as lobes (depthLobes): one Gaussian, or two where the layer holds
+          // two surfaces at different depths; each lobe is a surface of its own (its mean point,
+          // horizon, V and Jacobian), sharing the layer's normal and radiance.
+          vec3 means, weights, variances;
+          int lobes = coverage && u_visibility == 1 && u_twoLobes == 1
+                          ? depthLobes(moments, u_minVariance, means, weights, variances)
+                          : singleLobe(mu, sigma2, means, weights, variances);
+          float sumN = 0.0, sumAdded = 0.0;
+          V = 0.0;
+          for (int k = 0; k < lobes; ++k) {
+            if (weights[k] <= 0.0) continue;
+            float zs = lo + means[k] * (hi - lo);
+            // coverage: the receiver seen from the lobe's mean surface point on the light ray
+            // through x_c (depth mu), not from x_c: a sphere that holds the receiver's own plane
+            // then sees it edge-on (N near 0), neither lit nor blocking.
+            vec3 xs = xc + ray * (zs - zc);
+            float Nk = dot(nMean, coverage ? normalize(p - xs) : vc);
+            // A surface behind the receiver's plane, or in it, is below its horizon: it neither
+            // lights nor shades the hemisphere (the receiver's own plane and the other faces of a
+            // box, seen by the light at grazing angles, would).
+            if (coverage && u_horizon == 1 && dot(xs - p, pn) < LRSM_HORIZON_VOXELS * u_voxelSize) Nk = 0.0;
+            // Algorithm 1 culls back faces; the coverage estimator keeps them as occluders.
+            if (coverage ? Nk == 0.0 : Nk <= 0.0) continue;
+            float Vk = weights[k] * (u_visibility == 0 ? 1.0 : gaussianVisibility(zw, rw, means[k], variances[k]));
             // <n.l> of the layer's mean normal, floored: R carries <n.l>, so A*R / <n.l> stays
             // bounded as the surface turns edge-on to the light.
-            jacobian = coverage ? solidAngleBound(zc, rc, lo + mu * (hi - lo), length(xc - p), length(xs - p)) /
+            float Jk = coverage ? solidAngleBound(zc, rc, zs, length(xc - p), length(xs - p)) /
                                       max(dot(nMean, toLight), LRSM_MIN_NDOTL)
                                 : 1.0;
             if (coverage) {
               // The fraction of the cone's cross-section the lit surface covers: x facing the
               // receiver, y facing away (which sends nothing but blocks: a lit wall between rooms).
-              float c = f * alpha * V * abs(N) * jacobian;
-              litCoverage += N > 0.0 ? vec2(c, 0.0) : vec2(0.0, c);
+              float c = f * alpha * Vk * abs(Nk) * Jk;
+              litCoverage += Nk > 0.0 ? vec2(c, 0.0) : vec2(0.0, c);
             }
-            if (N > 0.0 && V > 0.0) {
-              ar = fetchLayer(u_lrsmRadiance, l, level, uv);
-              add = f * ar.rgb * V * N * jacobian;
+            if (Nk > 0.0 && Vk > 0.0) {
+              if (ar.a == 0.0) ar = fetchLayer(u_lrsmRadiance, l, level, uv);
+              add += f * ar.rgb * Vk * Nk * Jk;
+              sumAdded += Vk * Nk * Jk;
             }
+            V += Vk, sumN += Vk * Nk;
           }
+          // Recorded: V summed over the lobes, N their V-weighted mean, J such that f A*R V N J
+          // is what the lobes added.
+          N = V > 0.0 ? sumN / V : 0.0;
+          jacobian = V * N != 0.0 ? sumAdded / (V * N) : 1.0;
         }
       }
       L += add;

@@ -54,7 +54,8 @@ void main() {
       if (ids[i] != l) continue;
       r += vec4(rad[i], 1.0);
       n += vec4(nor[i], 1.0);
-      m += vec4(zw[i], zw[i] * zw[i], 1.0, 0.0);
+      float z2 = zw[i] * zw[i];
+      m += vec4(zw[i], z2, z2 * zw[i], z2 * z2);
     }
     ivec2 a = ivec2(l * u_layerWidth + block.x, block.y);
     imageStore(u_radiance, a, 0.25 * r);

@@ -54,3 +54,49 @@ float gaussianVisibility(float zc, float rc, float mu, float sigma2) {
   float k = 1.0 / sqrt(2.0 * sigma2);
   return clamp(0.5 * (approxErf((zc + rc - mu) * k) - approxErf((zc - rc - mu) * k)), 0.0, 1.0);
 }
+
+// One lobe: the layer's Gaussian (Eq. 12 as printed).
+int singleLobe(float mu, float sigma2, out vec3 means, out vec3 weights, out vec3 variances) {
+  means = vec3(mu, 0.0, 0.0);
+  weights = vec3(1.0, 0.0, 0.0);
+  variances = vec3(sigma2, 1.0, 1.0);
+  return 1;
+}
+
+// A layer's depths as Gaussian lobes (means, weights summing to 1, variances; warped units) for
+// Eq. 12. A layer may hold two surfaces at different depths (a box's top and the floor beyond its
+// shadow, both facing the light): one Gaussian fitted to both puts surface in the empty air
+// between them, and its mean point there. From the first four moments (E[z'^k], k = 1..4) the
+// depths are matched by two Gaussians of equal variance lambda sigma^2 whose means carry the rest
+// of the variance and all of the skewness: lambda = 0 is two planes, lambda = 1 one Gaussian
+// (kurtosis 3, no skew), a tilted plane's even spread gives lambda = 0.23. Where sigma^2 is small
+// the third and fourth central moments are lost in the UNORM16 rounding (about 1e-5 / alpha per
+// moment), so the two lobes take over from the single one over sigma^2 in
+// [LRSM_TWO_LOBE_VARIANCE, 3 LRSM_TWO_LOBE_VARIANCE]: lobe 0 is the single Gaussian, 1 and 2 the pair.
+int depthLobes(vec4 moments, float minVariance, out vec3 means, out vec3 weights, out vec3 variances) {
+  float mu = moments.x, var = moments.y - mu * mu;
+  singleLobe(mu, max(var, minVariance), means, weights, variances);
+  float blend = smoothstep(LRSM_TWO_LOBE_VARIANCE, 3.0 * LRSM_TWO_LOBE_VARIANCE, var);
+  if (blend <= 0.0) return 1;
+  float c3 = moments.z - 3.0 * mu * moments.y + 2.0 * mu * mu * mu;
+  float c4 = moments.w - 4.0 * mu * moments.z + 6.0 * mu * mu * moments.y - 3.0 * mu * mu * mu * mu;
+  float skew = c3 / (var * sqrt(var));
+  float kurtosis = max(c4 / (var * var), skew * skew + 1.0);  // no distribution lies below
+  // The pair's kurtosis, skew^2 / (1 - lambda) + 1 + 4 lambda - 2 lambda^2, rises with lambda.
+  float lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 16; ++i) {
+    float lambda = 0.5 * (lo + hi);
+    float k = skew * skew / max(1.0 - lambda, 1e-6) + 1.0 + 4.0 * lambda - 2.0 * lambda * lambda;
+    if (k < kurtosis) lo = lambda; else hi = lambda;
+  }
+  float lambda = 0.5 * (lo + hi);
+  if (lambda > 0.999) return 1;
+  // The lobes' means: a two-point distribution of variance (1 - lambda) sigma^2 and skewness gamma0.
+  float rest = 1.0 - lambda, gamma0 = skew / (rest * sqrt(rest));
+  float q = clamp(0.5 * (1.0 - sign(gamma0) * sqrt(gamma0 * gamma0 / (gamma0 * gamma0 + 4.0))), 1e-4, 1.0 - 1e-4);
+  float spread = sqrt(rest * var), lobeVariance = max(lambda * var, minVariance);
+  means = vec3(mu, mu + spread * sqrt((1.0 - q) / q), mu - spread * sqrt(q / (1.0 - q)));
+  weights = vec3(1.0 - blend, blend * q, blend * (1.0 - q));
+  variances = vec3(max(var, minVariance), lobeVariance, lobeVariance);
+  return 3;
+}

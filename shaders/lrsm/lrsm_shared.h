@@ -17,6 +17,7 @@ using vec4 = glm::vec4;
 #define LRSM_ESTIMATOR_COVERAGE 0     // lrsm.estimator=coverage: T_i * sum_l A*R V <n.v> / <n.l>
 #define LRSM_ESTIMATOR_PAPER 1        // lrsm.estimator=paper: T_i * alpha_i * sum_l f A*R V N (Algorithm 1)
 #define LRSM_MIN_NDOTL 0.1            // floor of <n_mean . l> in the coverage estimator's Jacobian
+#define LRSM_TWO_LOBE_VARIANCE 0.01   // sigma^2 (warped) from which two depth lobes are blended in (lrsm::kTwoLobeVariance)
 #define LRSM_HORIZON_VOXELS 2.0       // a layer's mean surface point must lie this far above the receiver's plane
 
 #define LRSM_BINDING_GATHER 12        // SSBO: LrsmGatherRecord[] of the probed pixel

@@ -21,12 +21,18 @@
 //                  before Eq. 12 (r' = r_c / (zMax_l - zMin_l)).
 //   premultiplied  every layer texel holds alpha * value (alpha = texels of the layer in the 2x2
 //                  block / 4): radiance rgb = A*R, a = alpha; normal xyz = alpha*n, w = alpha;
-//                  depth (UNORM16) x = alpha*z', y = alpha*z'^2, z = alpha, w unused (0). Box mips
+//                  depth (UNORM16) alpha*z'^k, k = 1..4 (alpha: the normal's .w). Box mips
 //                  then keep sum over layers of A*R = the plain RSM's box mip (the sum identity).
 //   variance floor sigma^2 >= lrsm.min-variance (warped units; default 1e-4, above the bound
 //                  3 x (0.5/65535) / alpha = 9.2e-5 by which UNORM16 rounding of alpha z and alpha z^2
 //                  can move E[z^2] - mu^2 at alpha = 1/4).
 //   Eq. 12         Phi from erf (Abramowitz-Stegun 7.1.26, |error| < 1.5e-7) instead of a table.
+//   two lobes      lrsm.two-lobes (default on): a layer's depths are read as two Gaussians matched to
+//                  its first four moments where sigma^2 >= 0.01 (warped; blended in up to 0.03,
+//                  below which UNORM16 rounding swamps the third and fourth central moments), each
+//                  a surface of its own in the coverage estimator (mean point, horizon, V, Jacobian;
+//                  the layer's normal and radiance shared): one Gaussian fitted to two surfaces
+//                  (a box's top and the floor beyond its shadow) puts surface in the air between.
 //   normal term    N = <n_mip/alpha . v_c> without renormalising n (Algorithm 1 divides by alpha only).
 //   estimator      lrsm.estimator=coverage (default): what a sphere sample adds to Eq. 1 is
 //                  T_i * sum_l A*R V <n.v> / <n.l>. Algorithm 1's sum A*R V N is already coverage
@@ -135,6 +141,21 @@ float approxErf(float x);
 float gaussianVisibility(float zc, float rc, float mu, float sigma2);
 // Eq. 12 with std::erf, for the tests.
 double gaussianVisibilityExact(double zc, double rc, double mu, double sigma2);
+
+// A layer's depths as Gaussian lobes from its first four moments (E[z'^k], k = 1..4, warped),
+// the formulas of shaders/lrsm/lrsm_common.glsl depthLobes: lobe 0 the single Gaussian (weight
+// 1 - blend), lobes 1 and 2 two Gaussians of variance lambda sigma^2 matched to the mean, variance,
+// skewness and kurtosis (weights blend q, blend (1 - q)); blend rises from 0 to 1 over sigma^2 in
+// [kTwoLobeVariance, 3 kTwoLobeVariance]. count = 1 where only the single Gaussian is used.
+inline constexpr float kTwoLobeVariance = 0.01f;  // LRSM_TWO_LOBE_VARIANCE
+struct DepthLobes {
+  int count = 1;
+  float mean[3] = {0, 0, 0}, weight[3] = {1, 0, 0}, variance[3] = {1, 1, 1};
+  float lambda = 1.0f;
+};
+DepthLobes depthLobes(const glm::vec4& moments, float minVariance);
+// Eq. 12 summed over the lobes, weighted.
+float lobeVisibility(const DepthLobes& lobes, float zc, float rc);
 
 struct DiffuseCone {
   glm::vec3 direction;  // tangent space, z = normal

@@ -65,6 +65,49 @@ double gaussianVisibilityExact(double zc, double rc, double mu, double sigma2) {
   return 0.5 * (std::erf((zc + rc - mu) * k) - std::erf((zc - rc - mu) * k));
 }
 
+DepthLobes depthLobes(const glm::vec4& m, float minVariance) {
+  const float mu = m.x, var = m.y - mu * mu;
+  DepthLobes out;
+  out.count = 1;
+  out.mean[0] = mu;
+  out.weight[0] = 1.0f;
+  out.variance[0] = std::max(var, minVariance);
+  const float t = std::clamp((var - kTwoLobeVariance) / (2.0f * kTwoLobeVariance), 0.0f, 1.0f);
+  const float blend = t * t * (3.0f - 2.0f * t);
+  if (blend <= 0.0f) return out;
+  const float c3 = m.z - 3.0f * mu * m.y + 2.0f * mu * mu * mu;
+  const float c4 = m.w - 4.0f * mu * m.z + 6.0f * mu * mu * m.y - 3.0f * mu * mu * mu * mu;
+  const float skew = c3 / (var * std::sqrt(var));
+  const float kurtosis = std::max(c4 / (var * var), skew * skew + 1.0f);
+  float lo = 0.0f, hi = 1.0f;
+  for (int i = 0; i < 16; ++i) {
+    const float lambda = 0.5f * (lo + hi);
+    const float k = skew * skew / std::max(1.0f - lambda, 1e-6f) + 1.0f + 4.0f * lambda - 2.0f * lambda * lambda;
+    (k < kurtosis ? lo : hi) = lambda;
+  }
+  out.lambda = 0.5f * (lo + hi);
+  if (out.lambda > 0.999f) return out;
+  const float rest = 1.0f - out.lambda, gamma0 = skew / (rest * std::sqrt(rest));
+  const float sign = gamma0 < 0.0f ? -1.0f : (gamma0 > 0.0f ? 1.0f : 0.0f);
+  const float q = std::clamp(0.5f * (1.0f - sign * std::sqrt(gamma0 * gamma0 / (gamma0 * gamma0 + 4.0f))), 1e-4f, 1.0f - 1e-4f);
+  const float spread = std::sqrt(rest * var), lobeVariance = std::max(out.lambda * var, minVariance);
+  out.count = 3;
+  out.weight[0] = 1.0f - blend;
+  out.mean[1] = mu + spread * std::sqrt((1.0f - q) / q);
+  out.weight[1] = blend * q;
+  out.mean[2] = mu - spread * std::sqrt(q / (1.0f - q));
+  out.weight[2] = blend * (1.0f - q);
+  out.variance[1] = out.variance[2] = lobeVariance;
+  return out;
+}
+
+float lobeVisibility(const DepthLobes& lobes, float zc, float rc) {
+  float v = 0.0f;
+  for (int k = 0; k < lobes.count; ++k)
+    if (lobes.weight[k] > 0.0f) v += lobes.weight[k] * gaussianVisibility(zc, rc, lobes.mean[k], lobes.variance[k]);
+  return v;
+}
+
 double capCosineIntegral(double half, double tilt) {
   const double pi = 3.14159265358979323846;
   return pi * std::sin(half) * std::sin(half) * std::cos(tilt);
@@ -120,7 +163,7 @@ LayerBase buildLayersCpu(const LayerLayout& layout, int rsmSize, const std::vect
       const size_t a = size_t(y / 2) * out.width * out.layers + size_t(l) * out.width + size_t(x / 2);
       out.radiance[a] += glm::vec4(radiance[i], 1.0f) * 0.25f;
       out.normal[a] += glm::vec4(normal[i], 1.0f) * 0.25f;
-      out.depth[a] += glm::vec4(z, z * z, 1.0f, 0.0f) * 0.25f;
+      out.depth[a] += glm::vec4(z, z * z, z * z * z, z * z * z * z) * 0.25f;
     }
   return out;
 }

@@ -204,7 +204,7 @@ void LayersStage::declare(StageBuilder& b) const {
            "LRSM base, layers side by side: rgb = A*R (radiance premultiplied by coverage), a = alpha");
   b.output("layer-normal", OutputKind::Image2D, kLayerNormal, "LRSM base: xyz = alpha * n, w = alpha");
   b.output("layer-depth", OutputKind::Image2D, kLayerDepth,
-           "LRSM base (UNORM16): x = alpha * z', y = alpha * z'^2 (z' warped into the layer's range), z = alpha");
+           "LRSM base (UNORM16): alpha * z'^k, k = 1..4 (z' warped into the layer's range; alpha is the normal's .w)");
   auto rsmTex = [](GLenum format) {
     return [format](const ParamSet& p, const ViewState&) {
       return rsmTexDesc(p.getInt("rsm.resolution"), format);
@@ -271,7 +271,7 @@ void LrsmMipsStage::declare(StageBuilder& b) const {
   b.output("lrsm-radiance", OutputKind::Image2D, kLayerRadiance, "LRSM radiance mips per layer: rgb = A*R, a = alpha");
   b.output("lrsm-normal", OutputKind::Image2D, kLayerNormal, "LRSM normal mips per layer: xyz = alpha * n, w = alpha");
   b.output("lrsm-depth", OutputKind::Image2D, kLayerDepth,
-           "LRSM moment mips per layer: alpha * z', alpha * z'^2, alpha (mu = x / z, sigma^2 = y / z - mu^2)");
+           "LRSM moment mips per layer: alpha * z'^k, k = 1..4 (mu = x / alpha, sigma^2 = y / alpha - mu^2; alpha: lrsm-normal .w)");
   b.output("coverage-sum", OutputKind::Image2D, Semantic::Fraction,
            "sum over layers of alpha at every level: the RSM's covered fraction (1 where fully covered)");
   // The base is the layer atlas LayersStage allocates (execute() reads its size from it).
@@ -350,6 +350,9 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                              "window (either facing), so a lit slab blocks the cones the voxel mips let through"));
   b.param(ParamDesc::boolean("lrsm.visibility", true,
                              "Eq. 12's Gaussian depth visibility; off: V = 1, every texel of the sample's column counts"));
+  b.param(ParamDesc::boolean("lrsm.two-lobes", true,
+                             "V from two Gaussians matched to the layer's four depth moments (two surfaces at different "
+                             "depths in one layer leave the air between them empty); off: Eq. 12's single Gaussian"));
   b.param(ParamDesc::real("lrsm.footprint-bias", -1.0, -2.0, 2.0,
                           "added to log2(d_circle), the LRSM level of a sample (blended between two levels)"));
   b.param(ParamDesc::real("cone.step", 1.0, 0.1, 2.0,
@@ -471,6 +474,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_litOcclusion", ctx.params.getBool("lrsm.lit-occlusion") ? 1 : 0);
   setUniform(program, "u_horizon", ctx.params.getBool("cone.horizon") ? 1 : 0);
   setUniform(program, "u_visibility", ctx.params.getBool("lrsm.visibility") ? 1 : 0);
+  setUniform(program, "u_twoLobes", ctx.params.getBool("lrsm.two-lobes") ? 1 : 0);
   setUniform(program, "u_footprintBias", ctx.params.getFloat("lrsm.footprint-bias"));
   setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
   setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));

@@ -15,7 +15,7 @@ namespace voxlab::lrsm {
 // Semantics of the layered data (visualisers in src/techniques/lrsm/views/lrsm_*.cpp).
 inline constexpr Semantic kLayerRadiance{"lrsm-layer-radiance"};  // atlas of n layers: rgb = A*R, a = alpha
 inline constexpr Semantic kLayerNormal{"lrsm-layer-normal"};      // atlas: xyz = alpha * n, w = alpha
-inline constexpr Semantic kLayerDepth{"lrsm-layer-depth"};        // atlas: alpha * z', alpha * z'^2, alpha, 0
+inline constexpr Semantic kLayerDepth{"lrsm-layer-depth"};        // atlas: alpha * z'^k, k = 1..4 (alpha: the normal's .w)
 inline constexpr Semantic kLayerId{"lrsm-layer-id"};              // per RSM texel: layer id, 255 = empty
 inline constexpr Semantic kGatherRecords{"lrsm-gather"};          // LrsmGatherRecord[] of the probed pixel
 

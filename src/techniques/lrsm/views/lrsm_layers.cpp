@@ -2,8 +2,9 @@
 // side by side in one image (layer l covers x in [l W, (l+1) W), W = height), stored premultiplied
 // by the layer's coverage alpha. The 2D view shows every layer of the chosen level, with what the
 // gather reads from it: A*R or alpha (radiance), the mean normal n/alpha or alpha (normal), mu,
-// sigma or alpha (moments); the value under the cursor names the layer and un-premultiplies; the
-// statistics add each layer's coverage per level. The layer-id image gets a colour per layer.
+// sigma or alpha (moments: alpha z'^k, k = 1..4, whose alpha is the normal atlas's at the same
+// level); the value under the cursor names the layer and un-premultiplies; the statistics add each
+// layer's coverage per level. The layer-id image gets a colour per layer.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -29,8 +30,24 @@ Attribute attributeOf(const OutputDesc& d) {
   return d.semantic == kLayerNormal ? Attribute::Normal : Attribute::Depth;
 }
 
-// The alpha channel of each attribute's texel (radiance .a, normal .w, moments .z).
-int alphaChannel(Attribute a) { return a == Attribute::Depth ? 2 : 3; }
+// The alpha of each attribute's texels: radiance .a, normal .w; the moments hold none (their
+// four channels are alpha z'^k), so theirs is the normal atlas's .w at the same level.
+struct AlphaSource {
+  CapturedOutput normal;  // the normal atlas, for the moments
+  const LevelData* level = nullptr;
+  float at(int x, int y) const { return level ? level->at(x, y, 0, 3) : 0.0f; }
+};
+AlphaSource alphaFor(const VisualiserContext& ctx, const LevelData* shown) {
+  AlphaSource a;
+  if (attributeOf(ctx.out.desc) != Attribute::Depth) {
+    a.level = shown;
+  } else if (ctx.contextOutput && ctx.contextOutput(kLayerNormal.name(), a.normal) &&
+             ctx.view.level < int(a.normal.levels.size()) && shown &&
+             a.normal.levels[ctx.view.level].size == shown->size) {
+    a.level = &a.normal.levels[ctx.view.level];
+  }
+  return a;
+}
 
 const char* const kModes[3][3] = {{"A*R", "alpha", nullptr}, {"mean normal n", "alpha", nullptr}, {"mu", "sigma", "alpha"}};
 int modeCount(Attribute a) { return a == Attribute::Depth ? 3 : 2; }
@@ -50,7 +67,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
 
   nlohmann::json statistics(const CapturedOutput& out) const override {
     nlohmann::json s = ImageVisualiser::statistics(out);
-    const int ac = alphaChannel(attributeOf(out.desc));
+    if (attributeOf(out.desc) == Attribute::Depth) return s;  // no alpha of their own
     nlohmann::json perLevel = nlohmann::json::array();
     for (const LevelData& L : out.levels) {
       const int n = layersOf(L), w = L.size.y;
@@ -58,7 +75,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
       for (int l = 0; l < n; ++l) {
         double alpha = 0;
         for (int y = 0; y < w; ++y)
-          for (int x = 0; x < w; ++x) alpha += L.at(l * w + x, y, 0, std::min(ac, L.channels - 1));
+          for (int x = 0; x < w; ++x) alpha += L.at(l * w + x, y, 0, std::min(3, L.channels - 1));
         layers.push_back(alpha / (double(w) * w));
       }
       perLevel.push_back(layers);
@@ -73,7 +90,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
     if (!L) return {};
     const Attribute a = attributeOf(ctx.out.desc);
     const int mode = std::clamp(modes()[&ctx.view], 0, modeCount(a) - 1);
-    const int ac = alphaChannel(a);
+    const AlphaSource alphas = alphaFor(ctx, L);
     const float x = ctx.view.display.exposure;
     SliceImage img;
     img.width = L->size.x;
@@ -82,12 +99,12 @@ class LayerAtlasVisualiser : public ImageVisualiser {
     float sigmaMax = 1e-12f;
     if (a == Attribute::Depth && mode == 1)
       for (int y = 0; y < L->size.y; ++y)
-        for (int px = 0; px < L->size.x; ++px) sigmaMax = std::max(sigmaMax, sigmaAt(*L, px, y));
+        for (int px = 0; px < L->size.x; ++px) sigmaMax = std::max(sigmaMax, sigmaAt(*L, alphas.at(px, y), px, y));
     for (int py = 0; py < img.height; ++py)
       for (int px = 0; px < img.width; ++px) {
         const int ty = img.height - 1 - py;
         uint8_t* o = &img.rgba[(size_t(py) * img.width + px) * 4];
-        const float alpha = L->at(px, ty, 0, ac);
+        const float alpha = alphas.at(px, ty);
         auto grey = [&](float v) { o[0] = o[1] = o[2] = unitToByte(v); };
         if (mode == modeCount(a) - 1) { grey(alpha * x); continue; }
         if (alpha <= 0.0f) { o[0] = o[1] = o[2] = 0; continue; }
@@ -101,7 +118,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
         } else if (mode == 0) {
           grey(L->at(px, ty, 0, 0) / alpha);
         } else {
-          falseColourRamp(sigmaAt(*L, px, ty) / sigmaMax, o);
+          falseColourRamp(sigmaAt(*L, alpha, px, ty) / sigmaMax, o);
         }
       }
     return img;
@@ -112,7 +129,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
     if (!L || t.x < 0 || t.y < 0 || t.x >= L->size.x || t.y >= L->size.y) return "";
     const Attribute a = attributeOf(ctx.out.desc);
     const int w = L->size.y, layer = t.x / w;
-    const float alpha = L->at(t.x, t.y, 0, alphaChannel(a));
+    const float alpha = alphaFor(ctx, L).at(t.x, t.y);
     char buf[256];
     if (a == Attribute::Radiance)
       std::snprintf(buf, sizeof buf, "layer %d texel (%d, %d), level %d: alpha %.4g, A*R (%.4g, %.4g, %.4g)", layer,
@@ -145,8 +162,7 @@ class LayerAtlasVisualiser : public ImageVisualiser {
   }
 
  private:
-  static float sigmaAt(const LevelData& L, int x, int y) {
-    const float alpha = L.at(x, y, 0, 2);
+  static float sigmaAt(const LevelData& L, float alpha, int x, int y) {
     if (alpha <= 0.0f) return 0.0f;
     const float mu = L.at(x, y, 0, 0) / alpha;
     return std::sqrt(std::max(L.at(x, y, 0, 1) / alpha - mu * mu, 0.0f));
@@ -165,7 +181,8 @@ void layerIdColour(const float* v, int, float, float, float, uint8_t* o) {
 }
 
 // The files `voxlab run` writes (PNG per level) show what the default 2D view shows: A*R
-// tonemapped, the mean normal n / alpha, mu = E[z'] in grey; black where a layer is empty.
+// tonemapped, the mean normal n / alpha, alpha mu = alpha E[z'] in grey (the moments hold no alpha
+// of their own); black where a layer is empty.
 void layerRadianceColour(const float* v, int n, float x, float, float, uint8_t* o) {
   for (int k = 0; k < 3; ++k) {
     const float y = (k < n ? v[k] : 0.0f) * x;
@@ -177,8 +194,7 @@ void layerNormalColour(const float* v, int n, float, float, float, uint8_t* o) {
   for (int k = 0; k < 3; ++k) o[k] = a > 0.0f ? unitToByte(v[k] / a * 0.5f + 0.5f) : 0;
 }
 void layerDepthColour(const float* v, int n, float, float, float, uint8_t* o) {
-  const float a = n >= 3 ? v[2] : 0.0f;
-  o[0] = o[1] = o[2] = a > 0.0f ? unitToByte(v[0] / a) : 0;
+  o[0] = o[1] = o[2] = n >= 1 ? unitToByte(v[0]) : 0;
 }
 
 struct Registration {
