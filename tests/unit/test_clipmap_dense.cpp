@@ -44,6 +44,20 @@ const Cell kOrigin0(-8, 16, 8);            // level-0 origin = the dense volume'
 const glm::vec3 kCamera(0.28f, 1.03f, 0.78f);
 const glm::vec3 kLookAt(0.28f, 0.625f, 0.5f);  // down onto the moved box's floor and blocks
 
+// Two RGBA images' colour channels: the largest difference of one value and the sums of each.
+struct ImageDifference {
+  double worstPixel = 0.0, sumA = 0.0, sumB = 0.0;
+};
+ImageDifference rgbDifference(const LevelData& a, const LevelData& b) {
+  ImageDifference d;
+  for (size_t i = 0; i < a.values.size(); ++i) {
+    if (i % 4 == 3) continue;
+    d.worstPixel = std::max(d.worstPixel, double(std::abs(a.values[i] - b.values[i])));
+    d.sumA += a.values[i], d.sumB += b.values[i];
+  }
+  return d;
+}
+
 std::string alignedCornellBox() {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path();
@@ -258,15 +272,9 @@ TEST(ClipmapDense, OneLevelAndItsMipsEqualTheDenseGrid) {
               if (a != b) ++differ;
             }
     }
-    const LevelData& ia = clip.indirect.levels[0];
-    const LevelData& ib = dense.indirect.levels[0];
-    ASSERT_EQ(ia.values.size(), ib.values.size());
-    double worstPixel = 0.0, sumA = 0.0, sumB = 0.0;
-    for (size_t i = 0; i < ia.values.size(); ++i) {
-      if (i % 4 == 3) continue;
-      worstPixel = std::max(worstPixel, double(std::abs(ia.values[i] - ib.values[i])));
-      sumA += ia.values[i], sumB += ib.values[i];
-    }
+    ASSERT_EQ(clip.indirect.levels[0].values.size(), dense.indirect.levels[0].values.size());
+    const ImageDifference diff = rgbDifference(clip.indirect.levels[0], dense.indirect.levels[0]);
+    const double worstPixel = diff.worstPixel, sumA = diff.sumA, sumB = diff.sumB;
     std::printf("one clip level vs dense (%s): %zu occupied texels, %zu differ; indirect-diffuse worst pixel %.4f, "
                 "mean ratio %.5f\n",
                 faces.c_str(), occupied, differ, worstPixel, sumA / std::max(sumB, 1e-9));
@@ -351,15 +359,9 @@ TEST(ClipmapDense, ConesGatherTheDenseResult) {
       worstRadiance = std::max({worstRadiance, d.x, d.y, d.z});
       worstOpacity = std::max(worstOpacity, std::abs(a[i].accumulated.w - bCones[i].accumulated.w));
     }
-    const LevelData& ia = clip.indirect.levels[0];
-    const LevelData& ib = dense.indirect.levels[0];
-    ASSERT_EQ(ia.values.size(), ib.values.size());
-    double worstPixel = 0.0, sumA = 0.0, sumB = 0.0;
-    for (size_t i = 0; i < ia.values.size(); ++i) {
-      if (i % 4 == 3) continue;
-      worstPixel = std::max(worstPixel, double(std::abs(ia.values[i] - ib.values[i])));
-      sumA += ia.values[i], sumB += ib.values[i];
-    }
+    ASSERT_EQ(clip.indirect.levels[0].values.size(), dense.indirect.levels[0].values.size());
+    const ImageDifference diff = rgbDifference(clip.indirect.levels[0], dense.indirect.levels[0]);
+    const double worstPixel = diff.worstPixel, sumA = diff.sumA, sumB = diff.sumB;
     std::printf("clipmap vs dense cones (%s): %zu samples, worst position %.3g m, level %.3g, accumulated radiance "
                 "%.4f, opacity %.4f; indirect-diffuse worst pixel %.4f, mean ratio %.5f\n",
                 faces.c_str(), a.size(), double(worstPosition), double(worstLevel), double(worstRadiance),

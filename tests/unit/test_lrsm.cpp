@@ -942,6 +942,17 @@ double faceDetail(const std::vector<double>& lum, int w, int x0, int y0, int x1,
   return std::sqrt(detail / m) / mean;
 }
 
+// lrsm's one-bounce indirect light on the Cornell box at the fidelity size (256x256, cones at
+// 128x128), with 'sets' on top of the defaults.
+CapturedOutput cornellIndirect256(const std::vector<std::string>& sets) {
+  RunRequest r;
+  r.technique = "lrsm";
+  r.scene = "cornell-box";
+  r.width = r.height = 256;
+  r.sets = sets;
+  return capture(session(r), "cone-gather", "indirect-diffuse");
+}
+
 struct CornellFaces {
   double ceiling, backWall, tallBox;
 };
@@ -966,13 +977,7 @@ CornellFaces cornellFaceDetail(const std::vector<std::string>& sets, bool refere
         lum[size_t(y) * w + x] = sum / (f * f);
       }
   } else {
-    RunRequest r;
-    r.technique = "lrsm";
-    r.scene = "cornell-box";
-    r.width = r.height = 256;
-    r.sets = sets;
-    auto& s = session(r);
-    const CapturedOutput out = capture(s, "cone-gather", "indirect-diffuse");
+    const CapturedOutput out = cornellIndirect256(sets);
     const LevelData& I = out.levels[0];
     for (int y = 0; y < w; ++y)
       for (int x = 0; x < w; ++x) lum[size_t(y) * w + x] = lumTop(I, x, y);
@@ -1010,13 +1015,7 @@ TEST(LrsmPhysics, CornellBoxFlatFacesHaveNoRingsOrStripes) {
 // reference's indirect-1 box-filtered to 128x128. A face lit evenly in the reference should be lit
 // evenly in lrsm, whatever the overall ratio.
 double shortBoxFaceSpread(const std::vector<std::string>& sets) {
-  RunRequest r;
-  r.technique = "lrsm";
-  r.scene = "cornell-box";
-  r.width = r.height = 256;
-  r.sets = sets;
-  auto& s = session(r);
-  const CapturedOutput out = capture(s, "cone-gather", "indirect-diffuse");
+  const CapturedOutput out = cornellIndirect256(sets);
   const LevelData& I = out.levels[0];
   const reference::Image ref = reference::readExr(referenceImagePath("cornell-box", "indirect-1"));
   const int f = ref.width / I.size.x;
