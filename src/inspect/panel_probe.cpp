@@ -293,15 +293,17 @@ void expectProbeChain(Viewer& viewer, const ScriptCall& call) {
     // The chain stores the value rounded to 8 bits as the final image does; a value exactly between
     // two steps may round either way on the GPU, one step (1/255) at most.
     constexpr double kOneStep = 1.0 / 255.0 + 1e-6;
+    double worst = 0.0;
     for (int c = 0; c < std::min(int(shown->values.size()), L.channels); ++c) {
       const double image = L.values[(size_t(y) * size_t(L.size.x) + size_t(x)) * size_t(L.channels) + size_t(c)];
+      worst = std::max(worst, std::fabs(image - shown->values[size_t(c)]));
       if (std::fabs(image - shown->values[size_t(c)]) > kOneStep)
         call.fail(name + ": displayed channel " + std::to_string(c) + " is " + formatSignificant(shown->values[size_t(c)]) +
                   ", but " + t.finalStage() + "/" + t.finalOutput() + " holds " + formatSignificant(image) + " at pixel (" +
                   std::to_string(x) + ", " + std::to_string(y) + ")");
     }
-    std::printf("  displayed value matches %s/%s at pixel (%d, %d from the bottom)\n", t.finalStage().c_str(),
-                t.finalOutput().c_str(), x, y);
+    std::printf("  displayed value matches %s/%s at pixel (%d, %d from the bottom): largest difference %s\n",
+                t.finalStage().c_str(), t.finalOutput().c_str(), x, y, formatSignificant(worst).c_str());
   }
   if (chains == 0) call.fail("technique " + t.id() + " records no probe chain (no stage declares a probe-chain output)");
 }
