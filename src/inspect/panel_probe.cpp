@@ -205,6 +205,10 @@ void Viewer::drawProbe() {
       nlohmann::json stats;  // the record view needs none
       VisualiserContext ctx{r.out, stats, r.records, view, nullptr};
       ctx.recordStep = &probes.recordStep[name];
+      if (probes.scrollTo == name) {
+        ImGui::SetScrollHereY(0.0f);
+        probes.scrollTo.clear();
+      }
       ImGui::Indent();
       vis.drawRecordView(ctx);
       ImGui::Unindent();
@@ -225,16 +229,23 @@ std::string recordName(const Viewer& viewer, const ProbeRecords& r) {
   return std::string(viewer.cursor->technique().stage(r.stage).id()) + "/" + r.desc->name;
 }
 
-// Every probe record of every probing stage, checked by its visualiser (cone samples: the
-// accumulated opacity of every sample is the front-to-back composite of the one before and the
-// sample's own alpha).
+// Every probe record of every probing stage that has run, checked by its visualiser (cone
+// samples: the accumulated opacity of every sample is the front-to-back composite of the one
+// before and the sample's own alpha). Records of stages after the ones run (a script that runs up
+// to an earlier stage) are named and skipped; at least one must be checked.
 void expectProbeRecords(Viewer& viewer, const ScriptCall& call) {
   const size_t atLeast = size_t(std::max(call.intArg(0), 0));
   const auto& records = viewer.probeRecords();
   if (records.empty())
     call.fail("technique " + viewer.cursor->technique().id() + " declares no probe-record output on a probing stage");
+  size_t checked = 0;
   for (const auto& r : records) {
     const std::string name = recordName(viewer, r);
+    if (viewer.cursor->record(r.stage).state == StageState::NotRun) {
+      std::printf("probe: %s: its stage has not run, skipped\n", name.c_str());
+      continue;
+    }
+    ++checked;
     if (!r.error.empty()) call.fail(name + ": " + r.error);
     const Visualiser& vis = visualiserFor(r.out.desc);
     RecordCheck c = vis.checkRecords(r.out);
@@ -243,6 +254,7 @@ void expectProbeRecords(Viewer& viewer, const ScriptCall& call) {
     if (!c.error.empty()) call.fail(name + ": " + c.error);
     std::printf("probe: %s (%s): %s\n", name.c_str(), vis.name(), c.summary.c_str());
   }
+  if (checked == 0) call.fail("no probing stage has run: run before expect-probe-records");
 }
 
 // The chains that explain the probed pixel (Semantic::ProbeChain records): each has the sections
@@ -326,6 +338,7 @@ void showRecordStep(Viewer& viewer, const ScriptCall& call) {
   if (n == 0) call.fail(wanted + " (" + vis.name() + ") has no steps to show; with steps now: " + joinNames(names));
   int& k = viewer.probes.recordStep[wanted];
   const bool moves = call.verb() == "record-step";
+  if (moves) viewer.probes.scrollTo = wanted;  // the Probe tab brings that record into view
   if (moves) {
     const std::string& to = call.arg(1);
     if (to == "first") k = 0;

@@ -126,6 +126,7 @@ struct ProbePanelState {
   // The space of the last click or probe verb (none yet: the screen, where the chain is): the
   // Probe tab opens the records of the stages probing there and folds the others.
   ProbeSpace lastSpace = ProbeSpace::Screen;
+  std::string scrollTo;  // "stage/output": a record the tab scrolls to once (its step slider was moved by a script)
   int clicks = 0, clicksShown = -1;  // probes set, and the count the tab last opened its records for
   int marksShown = 0;  // probe marks (rings in presenter mode) drawn over the view in the last frame
 };
