@@ -184,8 +184,8 @@ class ConeSamplesVisualiser : public BufferVisualiser {
       // What stopped it: an opaque sample, or the end of its path (the volume's edge or its maximum distance).
       const bool opaque = c.opacity.back() >= kOpaqueEnough;
       ImGui::TextWrapped("gathered luminance %.4g, opacity %.3g; stopped %s at %.4g m", c.luminance.back(),
-                         c.opacity.back(), opaque ? "by an opaque sample" : "at the end of its path (volume edge or "
-                         "maximum distance; what it did not gather counts as black)", c.distance.back());
+                         c.opacity.back(), opaque ? "by an opaque sample" : "at the end of its path (the volume's edge, "
+                         "its maximum distance, or a shadow cone's end short of the light)", c.distance.back());
       drawAxesPlot("lod", c.distance, c.lod, "distance [m]", "mip level", 0.0f, NAN);
       drawAxesPlot("opacity", c.distance, c.opacity, "distance [m]", "accumulated opacity", 0.0f, 1.0f);
       drawAxesPlot("radiance", c.distance, c.luminance, "distance [m]", "accumulated luminance [W/m^2/sr]", 0.0f, NAN);

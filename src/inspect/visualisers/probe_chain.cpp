@@ -64,8 +64,8 @@ class ProbeChainVisualiser : public BufferVisualiser {
       if (!ImGui::BeginTable(section.name.c_str(), 4, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp))
         continue;
       ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed);
-      ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthStretch, 3.0f);
-      ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 2.0f);
+      ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+      ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 1.0f);
       ImGui::TableSetupColumn("unit", ImGuiTableColumnFlags_WidthFixed);
       ImGui::TableHeadersRow();
       for (const auto& e : section.entries) {
@@ -75,7 +75,7 @@ class ProbeChainVisualiser : public BufferVisualiser {
         ImGui::TableNextColumn();
         ImGui::TextWrapped("%s", e.label.c_str());
         ImGui::TableNextColumn();
-        ImGui::TextUnformatted(valuesText(e.values).c_str());
+        ImGui::TextWrapped("%s", valuesText(e.values).c_str());
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(e.unit.c_str());
         if (e.role == FieldRole::Displayed && e.values.size() >= 3) {
