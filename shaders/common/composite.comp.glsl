@@ -4,7 +4,8 @@
 // indirect term times its weight, in linear radiance ("combined"), then exposure and the Reinhard
 // operator x / (1 + x) per channel ("final", linear; PNGs are sRGB-encoded on export). Traced
 // images are upsampled along surfaces (common/upsample.glsl); a term of scale 1 is read one texel
-// per pixel. A pixel that sees no surface shows the sky (common/sky.glsl; 0 without one).
+// per pixel. A pixel that sees no surface shows the sky (common/sky.glsl; 0 without one). The
+// probed pixel writes each step of its sum to the probe chain (PROBE_CHAIN_* in common/shared.h).
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/upsample.glsl"
@@ -30,33 +31,68 @@ uniform int u_termCount;
 uniform float u_termWeight[COMPOSITE_MAX_TERMS];
 uniform int u_termScale[COMPOSITE_MAX_TERMS];  // G-buffer pixels per texel of each term: u_traceScale or 1
 uniform float u_exposure;
+uniform ivec2 u_probePixel;  // the pixel whose chain is recorded (GL rows, from the bottom)
+layout(std430, binding = VOXLAB_BINDING_PROBE_CHAIN) writeonly buffer ProbeChain { vec4 chain[]; };
 const float PI = 3.14159265358979;
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = textureSize(u_position, 0);
   if (any(greaterThanEqual(px, size))) return;
+  const bool probed = px == u_probePixel;
   vec4 pos = texelFetch(u_position, px, 0);
   vec3 direct = skyBackground(), combined = direct;
+  if (probed) {
+    for (int i = 0; i < PROBE_CHAIN_SLOTS; ++i) chain[i] = vec4(0.0);
+    chain[PROBE_CHAIN_PIXEL] = vec4(float(px.x), float(size.y - 1 - px.y), pos.w != 0.0 ? 1.0 : 0.0, 0.0);
+    chain[PROBE_CHAIN_REFLECTED] = vec4(direct, 0.0);
+  }
   if (pos.w != 0.0) {
     vec3 n = normalize(texelFetch(u_normal, px, 0).xyz);
     vec3 albedo = texelFetch(u_albedo, px, 0).rgb;
+    vec3 emission = texelFetch(u_emission, px, 0).rgb;
     vec3 toLight; float dist;
     lightDirection(pos.xyz, toLight, dist);
+    ShadowTest shadow = shadowTest(u_shadowMap, pos.xyz, n);
     float visibility = u_tracedVisibility == 1
                            ? upsampleAlongSurface(u_visibility, u_position, u_normal, px, pos.xyz, n, u_traceScale,
                                                   u_planeDistance).r
-                           : shadowVisibility(u_shadowMap, pos.xyz, n);
-    direct = albedo / PI * lightIrradiance(pos.xyz) * max(dot(n, toLight), 0.0) * visibility
-           + texelFetch(u_emission, px, 0).rgb;
+                           : shadow.visibility;
+    vec3 irradiance = lightIrradiance(pos.xyz);
+    float cosine = max(dot(n, toLight), 0.0);
+    vec3 reflected = albedo / PI * irradiance * cosine * visibility;
+    direct = reflected + emission;
     combined = direct;
+    if (probed) {
+      chain[PROBE_CHAIN_POSITION] = vec4(pos.xyz, 1.0);
+      chain[PROBE_CHAIN_NORMAL] = vec4(n, 0.0);
+      chain[PROBE_CHAIN_ALBEDO] = vec4(albedo, 0.0);
+      chain[PROBE_CHAIN_EMISSION] = vec4(emission, 0.0);
+      chain[PROBE_CHAIN_TO_LIGHT] = vec4(toLight, dist);
+      chain[PROBE_CHAIN_IRRADIANCE] = vec4(irradiance, cosine);
+      chain[PROBE_CHAIN_SHADOW] = vec4(shadow.receiverDepth, shadow.mapDepth, shadow.litTaps, visibility);
+      chain[PROBE_CHAIN_REFLECTED] = vec4(reflected, 0.0);
+    }
     for (int i = 0; i < COMPOSITE_MAX_TERMS; ++i)
-      if (i < u_termCount)
-        combined += u_termWeight[i] * upsampleAlongSurface(u_terms[i], u_position, u_normal, px, pos.xyz, n,
-                                                           u_termScale[i], u_planeDistance).rgb;
+      if (i < u_termCount) {
+        vec3 term = upsampleAlongSurface(u_terms[i], u_position, u_normal, px, pos.xyz, n, u_termScale[i],
+                                         u_planeDistance).rgb;
+        combined += u_termWeight[i] * term;
+        if (probed) {
+          chain[PROBE_CHAIN_TERMS + 2 * i] = vec4(term, u_termWeight[i]);
+          chain[PROBE_CHAIN_TERMS + 2 * i + 1] = vec4(u_termWeight[i] * term, 0.0);
+        }
+      }
   }
   vec3 mapped = u_exposure * combined;
+  vec3 tonemapped = mapped / (1.0 + mapped);
   imageStore(u_direct, px, vec4(direct, 1.0));
   imageStore(u_combined, px, vec4(combined, 1.0));
-  imageStore(u_final, px, vec4(mapped / (1.0 + mapped), 1.0));
+  imageStore(u_final, px, vec4(tonemapped, 1.0));
+  if (probed) {
+    chain[PROBE_CHAIN_COMBINED] = vec4(combined, u_exposure);
+    chain[PROBE_CHAIN_EXPOSED] = vec4(mapped, 0.0);
+    chain[PROBE_CHAIN_TONEMAPPED] = vec4(tonemapped, 0.0);
+    chain[PROBE_CHAIN_STORED] = vec4(round(clamp(tonemapped, 0.0, 1.0) * 255.0) / 255.0, 0.0);
+  }
 }

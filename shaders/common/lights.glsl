@@ -86,9 +86,18 @@ bool lightMapCoord(vec3 p, int face, ivec2 size, out vec3 uvz) {
   return inside;
 }
 
-// 1 when p is lit according to the shadow map (PCF over 3x3 texels), 0 when in shadow.
-float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
-  if (u_light.spot.w < 0.5) return 1.0;
+// The shadow-map test of one receiver, with what decided it (the probe chain records it).
+struct ShadowTest {
+  float visibility;     // lit taps / 9
+  float receiverDepth;  // the offset receiver's depth in the map (0 near .. 1 far); -1 when the map does not decide
+  float mapDepth;       // the depth the map stores at the centre tap; -1 when the map does not decide
+  float litTaps;        // taps of the 3x3 PCF that see the light
+};
+
+// The 3x3 PCF shadow test of p with normal n (shadowVisibility's visibility is its result).
+ShadowTest shadowTest(sampler2D shadowMap, vec3 p, vec3 n) {
+  ShadowTest r = ShadowTest(1.0, -1.0, -1.0, 9.0);
+  if (u_light.spot.w < 0.5) return r;
   // Normal offset keeps the receiver from shadowing itself: shadow.normal-offset texels of the
   // map at the receiver (spot.z is per unit of clip w: 1 for a sun's orthographic map, the view
   // depth for a perspective one), so it scales with the scene and the map's resolution. A point
@@ -100,7 +109,7 @@ float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
   vec3 uvz;
   // Surfaces lie inside the map's box (it is fitted to them); a receiver that its normal offset
   // moves out of the box is lit (measured: one Sponza pixel at 128x128 would change otherwise).
-  if (!lightMapCoord(q, face, size, uvz)) return 1.0;
+  if (!lightMapCoord(q, face, size, uvz)) return r;
   // The taps stay inside the face's tile: a point light's neighbouring tile is another view.
   vec4 tile = lightMapTile(face, size);
   vec2 texel = 1.0 / vec2(size);
@@ -110,8 +119,12 @@ float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) {
       vec2 uv = clamp(uvz.xy + vec2(x, y) * texel, tile.xy + 0.5 * texel, tile.zw - 0.5 * texel);
       lit += (texture(shadowMap, uv).r >= uvz.z - 1e-4) ? 1.0 : 0.0;
     }
-  return lit / 9.0;
+  vec2 centre = clamp(uvz.xy, tile.xy + 0.5 * texel, tile.zw - 0.5 * texel);
+  return ShadowTest(lit / 9.0, uvz.z, texture(shadowMap, centre).r, lit);
 }
+
+// 1 when p is lit according to the shadow map (PCF over 3x3 texels), 0 when in shadow.
+float shadowVisibility(sampler2D shadowMap, vec3 p, vec3 n) { return shadowTest(shadowMap, p, n).visibility; }
 
 // Where a cone toward a light at distance dist must end so that its samples stay clear of the
 // light's own surroundings. A point light sits on or just under a fixture (the Cornell box's spot

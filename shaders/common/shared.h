@@ -28,6 +28,7 @@ using uint = uint32_t;
 #define VOXLAB_BINDING_COVERAGE_BITS 10   // SSBO: uint[] alpha coverage pyramids, 32 bits per word (scene/alpha_coverage.h)
 #define VOXLAB_BINDING_COVERAGE_LEVELS 11 // SSBO: uvec4[] per pyramid level: first bit, width, height, unused
 #define VOXLAB_BINDING_CONE_TRACE_COUNTS 12  // SSBO: uint[5] of a cone-trace pass: samples (diffuse, specular, shadow), volume fetches, pixels shaded
+#define VOXLAB_BINDING_PROBE_CHAIN 13     // SSBO: vec4[PROBE_CHAIN_SLOTS], the composite's record of the probed pixel
 
 #define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
 
@@ -65,6 +66,25 @@ struct ConeSample {
   vec4 accumulated;  // rgb: accumulated radiance after this sample, a: accumulated opacity
   vec4 info;         // x: cone index, y: distance along the cone, z: mip level (LOD), w: sample alpha
 };
+
+// The probe chain: what the composite computed for the probed pixel, one vec4 per slot, from the
+// surface through the direct light and each indirect term to the displayed value. The composite
+// stage (src/techniques/common/composite_stage.cpp) declares a named field for each, with its unit.
+#define PROBE_CHAIN_PIXEL 0       // xy: the pixel (rows from the top, as clicked), z: 1 = a surface (0: the sky)
+#define PROBE_CHAIN_POSITION 1    // xyz: world position (m)
+#define PROBE_CHAIN_NORMAL 2      // xyz: unit normal
+#define PROBE_CHAIN_ALBEDO 3      // rgb: diffuse albedo
+#define PROBE_CHAIN_EMISSION 4    // rgb: emitted radiance
+#define PROBE_CHAIN_TO_LIGHT 5    // xyz: unit direction to the light, w: distance (m; 1e30 for a sun)
+#define PROBE_CHAIN_IRRADIANCE 6  // rgb: irradiance on a surface facing the light, w: n.l clamped at 0
+#define PROBE_CHAIN_SHADOW 7      // x: receiver depth, y: map depth (centre tap), z: lit taps of 9, w: visibility used
+#define PROBE_CHAIN_REFLECTED 8   // rgb: albedo / pi * irradiance * n.l * visibility (the sky where no surface)
+#define PROBE_CHAIN_TERMS 9       // two slots per indirect term: rgb the term, w its weight; then rgb weight * term
+#define PROBE_CHAIN_COMBINED 17   // rgb: reflected + emission + the weighted terms, w: exposure
+#define PROBE_CHAIN_EXPOSED 18    // rgb: exposure * combined
+#define PROBE_CHAIN_TONEMAPPED 19 // rgb: x / (1 + x) of the exposed value
+#define PROBE_CHAIN_STORED 20     // rgb: the tonemapped value as the 8-bit final image stores it
+#define PROBE_CHAIN_SLOTS 21
 
 // The light every technique shades with (the scene's first light), std140-compatible.
 #define VOXLAB_LIGHT_DIRECTIONAL 0.0

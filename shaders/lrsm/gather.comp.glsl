@@ -298,12 +298,15 @@ void main() {
   vec3 view = normalize(p - u_cameraPos);
   vec3 mirror = reflect(view, n);
   vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, u_lodBias, true, far, 6, record) : vec4(0.0);
+  // A cone that is not traced is still recorded under its own index, with no steps.
+  if (record && u_traceSpecular != 1) coneResults[6] = LrsmConeResult(vec4(mirror, 0.0), vec4(0.0), vec4(6.0, 0.0, 0.0, 0.0));
   if (record) coneResults[6].info.zw = vec2(2.0 * atan(u_specularTanHalf), 1.0);
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
   const float shadowEnd = min(shadowConeEnd(dist, u_shadowTanHalf, u_shadowLodBias, u_voxelSize), far);
   vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, u_shadowLodBias, false, shadowEnd, 7, record)
                                       : vec4(0.0, 0.0, 0.0, 1.0);
+  if (record && dot(n, toLight) <= 0.0) coneResults[7] = LrsmConeResult(vec4(toLight, 0.0), vec4(0.0, 0.0, 0.0, 1.0), vec4(7.0, 0.0, 0.0, 0.0));
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
   vec3 diffuse = albedo / PI * E;
   imageStore(u_diffuse, px, vec4(diffuse, 1.0));

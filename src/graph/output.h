@@ -36,6 +36,10 @@ class Semantic {
   static const Semantic Fraction;     // a scalar in [0,1] (visibility, occlusion), shown grey
   static const Semantic Points;       // a buffer of records with a position field, shown as a point view
   static const Semantic ConeSamples;  // a buffer of cone-trace samples for one probed pixel
+  // One record explaining one probed pixel step by step: fields named "section: label [unit]", in
+  // the order the value is built; the Addend fields sum to the Sum field, and the Displayed field is
+  // the value the final image holds at the pixel (FieldRole).
+  static const Semantic ProbeChain;
 
  private:
   const char* name_;  // a string literal (or other text that outlives every OutputDesc)
@@ -50,13 +54,15 @@ inline constexpr Semantic Semantic::Opacity{"opacity"};
 inline constexpr Semantic Semantic::Fraction{"fraction"};
 inline constexpr Semantic Semantic::Points{"points"};
 inline constexpr Semantic Semantic::ConeSamples{"cone-samples"};
+inline constexpr Semantic Semantic::ProbeChain{"probe-chain"};
 
 const char* kindName(OutputKind kind);
 const char* semanticName(Semantic semantic);
 
 // One field of a buffer record.
 enum class FieldType { U32, I32, F32, Vec2, Vec3, Vec4, UnormRGBA8, SnormRGBA8, Packed10_10_10 };
-enum class FieldRole { Other, Position, Color, Normal };
+// Addend, Sum, Displayed: a probe chain's parts, their total, and the value shown at the pixel.
+enum class FieldRole { Other, Position, Color, Normal, Addend, Sum, Displayed };
 
 struct BufferField {
   std::string name;

@@ -68,12 +68,16 @@ std::vector<ImVec2> probeMarks(const Viewer& v, const std::vector<ProbeSpace>& p
   for (ProbeSpace space : probeSpaces)
     for (auto [stage, p] : v.probesFor(space, cap.desc.resourceName())) {
       if (bare) {
+        // Set by a click or by the lesson step (a step may point it at the default pixel).
         bool set = false;
-        for (const std::string& n : p->paramNames()) set = set || ps.value(n) != defaults.value(n);
+        for (const std::string& n : p->paramNames()) set = set || ps.value(n) != defaults.value(n) || v.lessonStepSets(n);
         if (!set) continue;
       }
       if (space != ProbeSpace::Volume) {
-        marks.emplace_back(float(ps.value(p->x)), float(ps.value(p->y)));
+        // Stages probing the same pixel share one mark.
+        const ImVec2 at(float(ps.value(p->x)), float(ps.value(p->y)));
+        if (std::none_of(marks.begin(), marks.end(), [&](const ImVec2& m) { return m.x == at.x && m.y == at.y; }))
+          marks.push_back(at);
         continue;
       }
       // A probed cell shows when it lies in the shown slice of the shown level (the inverse of sliceTexel).
@@ -115,6 +119,7 @@ void drawViewCaption(const Viewer& v, const Visualiser& vis, const VisualiserCon
 }  // namespace
 
 void Viewer::drawView() {
+  probes.marksShown = 0;
   const Technique& t = cursor->technique();
   const StageRecord& rec = cursor->record(selected);
   const auto& outs = t.decl(selected).outputs;
@@ -220,7 +225,9 @@ void Viewer::drawView() {
                    ImVec2(origin.x + size.x, origin.y + size.y), ImVec2(0, 1), ImVec2(1, 0));
   }
   handleViewMouse(*this, imageHovered, cameraImage, probeSpaces);
-  for (const ImVec2& f : probeMarks(*this, probeSpaces, bare)) {
+  const std::vector<ImVec2> marks = probeMarks(*this, probeSpaces, bare);
+  probes.marksShown = int(marks.size());
+  for (const ImVec2& f : marks) {
     float qx = origin.x + f.x * size.x, qy = origin.y + f.y * size.y;
     if (bare) {
       drawLaserPointer(dl, ImVec2(qx, qy), size);

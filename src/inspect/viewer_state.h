@@ -125,6 +125,12 @@ struct ProbePanelState {
   std::vector<ProbeRecords> cache;
   long cacheKey = -1;
   std::map<std::string, int> recordStep;  // per probe record "stage/output": the step its record view shows
+  // The space of the last click or probe verb (none yet: the screen, where the chain is): the
+  // Probe tab opens the records of the stages probing there and folds the others.
+  ProbeSpace lastSpace = ProbeSpace::Screen;
+  std::string scrollTo;  // "stage/output": a record the tab scrolls to once (its step slider was moved by a script)
+  int clicks = 0, clicksShown = -1;  // probes set, and the count the tab last opened its records for
+  int marksShown = 0;  // probe marks (rings in presenter mode) drawn over the view in the last frame
 };
 
 // Scene overlays over camera images (panel_overlay.cpp).
@@ -269,6 +275,8 @@ class Viewer {
   // queues what went stale. Returns the number of stages probed.
   int probeShownAt(const glm::ivec3& texel, int level);
   void probePixel(int x, int y);  // screen space: pixel of the camera images (from the top left)
+  // Whether the lesson step being shown sets parameter 'name' (a probe it points somewhere).
+  bool lessonStepSets(const std::string& name) const;
   // Every probe record output of a probing stage that has run, captured (refreshed per generation).
   const std::vector<ProbeRecords>& probeRecords();
 

@@ -144,7 +144,18 @@ std::function<bool(const char*, CapturedOutput&)> contextOutputLookup(StepCursor
 
 // A two-column table of a statistics object (key, value; arrays joined).
 void drawStatisticsTable(const char* id, const nlohmann::json& stats);
-// A table of decoded records (recordsJson: an array of objects, one column per field).
+// A table of decoded records (recordsJson: an array of objects, one column per field), numbers
+// with 4 significant digits.
 void drawRecordsTable(const char* id, const nlohmann::json& records, float height);
+
+// A line plot with axes: y from yLo to yHi (NaN: the data's range) labelled at both ends, x the
+// values 'xs' labelled at both ends, each axis named with its unit ("distance [m]"); the point
+// under the cursor is shown with both its values. xs and ys have the same length.
+void drawAxesPlot(const char* id, const std::vector<float>& xs, const std::vector<float>& ys, const std::string& xAxis,
+                  const std::string& yAxis, float yLo, float yHi, float height = 90.0f);
+// Horizontal bars from 0, one per value, each labelled with its name and value; the axis spans
+// 0..max(values) and is labelled with 'unit'.
+void drawValueBars(const char* id, const std::vector<std::string>& names, const std::vector<float>& values,
+                   const std::string& unit);
 
 }  // namespace voxlab

@@ -165,15 +165,42 @@ TEST(Probes, ValidateChecksTheNamedParameters) {
 }
 
 TEST(Probes, VctGridDeclaresItsConeSamplesAsAScreenProbeRecord) {
-  // Declarations only: no GL. The cone samples are one probe record among others.
+  // Declarations only: no GL. Two stages probe the screen: cone-trace records the pixel's cone
+  // samples, the composite its chain (semantic probe-chain), both on the same probe.x/probe.y.
   auto t = createTechnique("vct-grid");
-  int probing = 0, records = 0;
+  int probing = 0, records = 0, chains = 0;
   for (int i = 0; i < t->stageCount(); ++i) {
-    for (const auto& p : t->decl(i).probes) probing += p.space == ProbeSpace::Screen;
-    for (const auto& o : t->decl(i).outputs) records += o.probeRecord;
+    for (const auto& p : t->decl(i).probes) {
+      probing += p.space == ProbeSpace::Screen;
+      EXPECT_EQ(p.x, "probe.x");
+    }
+    for (const auto& o : t->decl(i).outputs) {
+      records += o.probeRecord;
+      chains += o.probeRecord && o.semantic == Semantic::ProbeChain;
+    }
   }
-  EXPECT_EQ(probing, 1);
-  EXPECT_EQ(records, 1);
+  EXPECT_EQ(probing, 2);
+  EXPECT_EQ(records, 2);
+  EXPECT_EQ(chains, 1);
+}
+
+TEST(Probes, EveryCompositingTechniqueExplainsThePixelWithAChain) {
+  // The composite every technique shares declares the chain, with the technique's own terms.
+  for (const char* id : {"vct-grid", "svo", "lrsm", "lpv", "near-field", "clipmap"}) {
+    auto t = createTechnique(id);
+    const auto [stage, chain] = t->findOutput("composite", "probe-chain");
+    EXPECT_TRUE(chain->probeRecord) << id;
+    EXPECT_EQ(chain->semantic, Semantic::ProbeChain) << id;
+    int addends = 0, sums = 0, shown = 0;
+    for (const auto& f : chain->layout.fields) {
+      addends += f.role == FieldRole::Addend;
+      sums += f.role == FieldRole::Sum;
+      shown += f.role == FieldRole::Displayed;
+    }
+    EXPECT_GE(addends, 3) << id << ": reflected, emission and at least one indirect term";
+    EXPECT_EQ(sums, 1) << id;
+    EXPECT_EQ(shown, 1) << id;
+  }
 }
 
 }  // namespace

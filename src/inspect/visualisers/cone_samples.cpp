@@ -95,6 +95,10 @@ std::string checkFrontToBackCompositing(const std::vector<ConeSeries>& cones) {
 
 namespace {
 
+// The opacity at which a cone counts as stopped by what it hit (the tracers stop at or just
+// under 1: vct-grid at 0.99).
+constexpr float kOpaqueEnough = 0.99f;
+
 // Accumulated opacity 0 -> 1 as blue -> magenta -> orange -> yellow.
 glm::vec3 opacityColour(float a) {
   static const glm::vec3 stops[4] = {{0.15f, 0.45f, 1.0f}, {0.85f, 0.25f, 0.85f}, {1.0f, 0.55f, 0.15f}, {1.0f, 0.95f, 0.3f}};
@@ -170,15 +174,21 @@ class ConeSamplesVisualiser : public BufferVisualiser {
       const float aperture = c.distance.back() > 0.0f
                                  ? 2.0f * std::atan(0.5f * c.diameter.back() / c.distance.back()) * 57.29578f
                                  : 0.0f;
-      char title[96];
-      std::snprintf(title, sizeof title, "cone %d: %.0f deg, %zu samples, to distance %.3f m", c.cone, aperture,
-                    c.distance.size(), c.distance.back());
+      const glm::vec3 axis = c.position.size() > 1 && glm::length(c.position.back() - c.position.front()) > 1e-6f
+                                 ? glm::normalize(c.position.back() - c.position.front())
+                                 : glm::vec3(0.0f);
+      char title[160];
+      std::snprintf(title, sizeof title, "cone %d: direction (%.3g, %.3g, %.3g), %.3g deg, %zu samples, to %.3g m", c.cone,
+                    axis.x, axis.y, axis.z, aperture, c.distance.size(), c.distance.back());
       if (!ImGui::TreeNodeEx(title, ImGuiTreeNodeFlags_DefaultOpen)) continue;
-      int n = int(c.distance.size());
-      ImGui::PlotLines("lod", c.lod.data(), n, 0, "mip level per sample", 0.0f, FLT_MAX, ImVec2(0, 40));
-      ImGui::PlotLines("opacity", c.opacity.data(), n, 0, "accumulated opacity", 0.0f, 1.0f, ImVec2(0, 40));
-      ImGui::PlotLines("radiance", c.luminance.data(), n, 0, "accumulated luminance", 0.0f, FLT_MAX, ImVec2(0, 40));
-      ImGui::TextDisabled("final opacity %.3f, luminance %.4f", c.opacity.back(), c.luminance.back());
+      // What stopped it: an opaque sample, or the end of its path (the volume's edge or its maximum distance).
+      const bool opaque = c.opacity.back() >= kOpaqueEnough;
+      ImGui::TextWrapped("gathered luminance %.4g, opacity %.3g; stopped %s at %.4g m", c.luminance.back(),
+                         c.opacity.back(), opaque ? "by an opaque sample" : "at the end of its path (the volume's edge, "
+                         "its maximum distance, or a shadow cone's end short of the light)", c.distance.back());
+      drawAxesPlot("lod", c.distance, c.lod, "distance [m]", "mip level", 0.0f, NAN);
+      drawAxesPlot("opacity", c.distance, c.opacity, "distance [m]", "accumulated opacity", 0.0f, 1.0f);
+      drawAxesPlot("radiance", c.distance, c.luminance, "distance [m]", "accumulated luminance [W/m^2/sr]", 0.0f, NAN);
       ImGui::TreePop();
     }
   }

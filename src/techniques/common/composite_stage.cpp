@@ -1,6 +1,7 @@
 // The composite stage shared by every technique (composite_stage.h).
 #include "techniques/common/composite_stage.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "common/shared.h"
@@ -23,9 +24,68 @@ CompositeStage::CompositeStage(CompositeTerms terms) : terms_(std::move(terms)) 
                 std::to_string(kMaxCompositeTerms));
 }
 
+namespace {
+
+constexpr const char* kRadiance = " [W/m^2/sr]";
+constexpr size_t kProbeChainBytes = size_t(PROBE_CHAIN_SLOTS) * 16;
+
+// The probe chain's fields: one per step of the composite's sum at the probed pixel, in the
+// order the shader builds it (PROBE_CHAIN_* slots in shaders/common/shared.h), each named
+// "section: label [unit]".
+BufferLayout probeChainLayout(const CompositeTerms& terms) {
+  BufferLayout l;
+  l.stride = uint32_t(kProbeChainBytes);
+  auto add = [&](const std::string& name, FieldType type, int slot, int component = 0,
+                 FieldRole role = FieldRole::Other) {
+    l.fields.push_back({name, type, uint32_t(16 * slot + 4 * component), role});
+  };
+  add("surface: pixel (x, y from the top)", FieldType::Vec2, PROBE_CHAIN_PIXEL);
+  add("surface: seen (1 a surface, 0 the sky)", FieldType::F32, PROBE_CHAIN_PIXEL, 2);
+  add("surface: position [m]", FieldType::Vec3, PROBE_CHAIN_POSITION);
+  add("surface: normal", FieldType::Vec3, PROBE_CHAIN_NORMAL);
+  add("surface: albedo", FieldType::Vec3, PROBE_CHAIN_ALBEDO);
+  add(std::string("surface: emission") + kRadiance, FieldType::Vec3, PROBE_CHAIN_EMISSION);
+  add("direct: direction to the light", FieldType::Vec3, PROBE_CHAIN_TO_LIGHT);
+  add("direct: distance to the light [m]", FieldType::F32, PROBE_CHAIN_TO_LIGHT, 3);
+  add("direct: irradiance facing the light [W/m^2]", FieldType::Vec3, PROBE_CHAIN_IRRADIANCE);
+  add("direct: n.l", FieldType::F32, PROBE_CHAIN_IRRADIANCE, 3);
+  add("direct: shadow receiver depth (map depth units, -1 map not used)", FieldType::F32, PROBE_CHAIN_SHADOW, 0);
+  add("direct: shadow map depth at the centre tap", FieldType::F32, PROBE_CHAIN_SHADOW, 1);
+  add("direct: shadow taps that see the light (of 9)", FieldType::F32, PROBE_CHAIN_SHADOW, 2);
+  add(std::string("direct: visibility used") +
+          (terms.visibility ? " (" + terms.visibility->image + " when " + terms.visibility->param + "=" +
+                                  terms.visibility->tracedOption + ")"
+                            : std::string()),
+      FieldType::F32, PROBE_CHAIN_SHADOW, 3);
+  add(std::string("direct: reflected = albedo/pi * irradiance * n.l * visibility (the sky where no surface)") + kRadiance,
+      FieldType::Vec3, PROBE_CHAIN_REFLECTED, 0, FieldRole::Addend);
+  add(std::string("direct: emission") + kRadiance, FieldType::Vec3, PROBE_CHAIN_EMISSION, 0, FieldRole::Addend);
+  for (size_t i = 0; i < terms.indirect.size(); ++i) {
+    const CompositeTerm& t = terms.indirect[i];
+    const int slot = PROBE_CHAIN_TERMS + 2 * int(i);
+    add("indirect: " + t.image + kRadiance, FieldType::Vec3, slot);
+    add("indirect: " + t.weight + " (weight of " + t.image + ")", FieldType::F32, slot, 3);
+    add("indirect: " + t.weight + " * " + t.image + kRadiance, FieldType::Vec3, slot + 1, 0, FieldRole::Addend);
+  }
+  add(std::string("composite: combined = the sum of the above") + kRadiance, FieldType::Vec3, PROBE_CHAIN_COMBINED,
+      0, FieldRole::Sum);
+  add("composite: composite.exposure", FieldType::F32, PROBE_CHAIN_COMBINED, 3);
+  add("composite: exposed = exposure * combined", FieldType::Vec3, PROBE_CHAIN_EXPOSED);
+  add("composite: tone mapped = x / (1 + x)", FieldType::Vec3, PROBE_CHAIN_TONEMAPPED);
+  add("composite: final, as stored (8 bits per channel, linear)", FieldType::Vec3, PROBE_CHAIN_STORED, 0,
+      FieldRole::Displayed);
+  return l;
+}
+
+}  // namespace
+
 void CompositeStage::declare(StageBuilder& b) const {
   for (const ParamDesc& p : terms_.params) b.param(p);
   if (terms_.sky) declareSky(b);  // the background: pixels that see no surface show the sky
+  b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "horizontal position of the probed pixel (0 left, 1 right)"));
+  b.param(ParamDesc::real("probe.y", terms_.probeDefaultY, 0.0, 1.0,
+                          "vertical position of the probed pixel (0 top, 1 bottom)"));
+  b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the explained pixel
   for (const char* gbuffer : {"position", "normal", "albedo", "emission"}) b.read(gbuffer);
   for (const CompositeTerm& term : terms_.indirect) b.read(term.image);
   if (terms_.visibility) b.read(terms_.visibility->image);
@@ -34,8 +94,17 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, terms_.combinedHelp).referenceMode = "full";
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
+  auto& chain = b.output("probe-chain", OutputKind::Buffer, Semantic::ProbeChain,
+                         "the probed pixel explained: surface, direct light with its shadow test, each indirect term "
+                         "and its weight, the sum, exposure, tone map and the stored value");
+  chain.layout = probeChainLayout(terms_);
+  chain.probeRecord = true;
+  // No golden: every value is a texel of an image above (the G-buffer, the terms, the composite's
+  // images, all compared with goldens) at one pixel; expect-probe-chain checks how they combine.
+  chain.tier = CaptureTier::None;
   for (const auto& [name, format] : kCompositeImages)
     b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return viewImageDesc(v, format); });
+  b.buffer("probe-chain", [](const ParamSet&, const ViewState&) { return kProbeChainBytes; });
 }
 
 void CompositeStage::execute(StageContext& ctx) {
@@ -58,6 +127,12 @@ void CompositeStage::execute(StageContext& ctx) {
     scales[i] = terms_.indirect[size_t(i)].traced ? traceScale : 1;
   }
   setUniform(program, "u_termCount", termCount);
+  // probe.y counts from the top of the image; GL rows count from the bottom.
+  const int probeX = std::min(int(ctx.params.getFloat("probe.x") * float(ctx.view.width)), ctx.view.width - 1);
+  const int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * float(ctx.view.height)), ctx.view.height - 1);
+  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+  Buffer& chain = ctx.board.ensureBuffer("probe-chain", kProbeChainBytes);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_PROBE_CHAIN, chain.id());
   glProgramUniform1fv(program, glGetUniformLocation(program, "u_termWeight"), kMaxCompositeTerms, weights);
   glProgramUniform1iv(program, glGetUniformLocation(program, "u_termScale"), kMaxCompositeTerms, scales);
   // The program is shared by every technique. One that gathers no sky light (no sky.radiance

@@ -1,7 +1,9 @@
 // The composite every technique ends with, written once: direct light (Lambert, shadowed by the
 // shadow map or by a traced visibility image) plus emission, plus each indirect term times its
 // weight, in linear radiance ("combined"); then exposure and the Reinhard operator x / (1 + x)
-// ("final"). A technique declares its terms (CompositeTerms: which images, weighed by which
+// ("final"). The probed pixel (probe.x, probe.y: a screen probe) is recorded step by step in the
+// "probe-chain" output (Semantic::ProbeChain), one field per step with its unit, the terms named
+// by their images and weights. A technique declares its terms (CompositeTerms: which images, weighed by which
 // parameters, traced at which resolution) and adds CompositeStage(terms); the shader is
 // shaders/common/composite.comp.glsl.
 #pragma once
@@ -43,6 +45,9 @@ struct CompositeTerms {
   // upsampling (unused without traced images).
   std::function<float(const ParamSet&, const Scene&)> planeDistance;
   bool sky = true;  // declares sky.radiance (after 'params'): pixels that see no surface show the sky
+  // Where probe.y points before a click (fraction of the height from the top); a technique whose
+  // other stages declare probe.y declares it with the same default.
+  double probeDefaultY = 0.5;
 };
 
 // composite.exposure: the scale applied before tonemapping.

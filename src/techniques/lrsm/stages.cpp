@@ -80,6 +80,7 @@ static TextureDesc lrsmMipDesc(glm::ivec3 base, GLenum format) {
 static TextureDesc coverageSumDesc(int w) { return texDesc({w, w, 1}, GL_R16F, lrsmLevels(w)); }
 static glm::ivec3 traceSize(const ParamSet& p, const ViewState& v) { return glm::ivec3(kTracedCones.size(p, v), 1); }
 static constexpr size_t kGatherRecordsBytes = sizeof(gpu::LrsmGatherRecord) * LRSM_MAX_GATHER_RECORDS;
+static constexpr double kProbeDefaultY = 0.6;  // a floor pixel of the Cornell box
 static constexpr size_t kConeResultsBytes = sizeof(gpu::LrsmConeResult) * (LRSM_MAX_CONES + 1);
 
 LayerLayout layoutFor(const Scene& scene, Blackboard& board, const ParamSet& params) {
@@ -376,7 +377,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                           "diffuse cones' paper value, it reads the boxes' one-voxel shells at coarse mips and sees "
                           "through them)"));
   b.param(ParamDesc::real("probe.x", 0.5, 0.0, 1.0, "probed pixel, fraction of the width"));
-  b.param(ParamDesc::real("probe.y", 0.6, 0.0, 1.0, "probed pixel, fraction of the height from the top"));
+  b.param(ParamDesc::real("probe.y", kProbeDefaultY, 0.0, 1.0, "probed pixel, fraction of the height from the top"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));
   declareSky(b);
   b.readView();
@@ -556,6 +557,7 @@ CompositeTerms compositeTerms() {
   t.planeDistance = [](const ParamSet& p, const Scene& scene) {
     return 2.0f * VoxelSpace::fromScene(scene, p.getInt("voxel.resolution")).voxelSize;
   };
+  t.probeDefaultY = kProbeDefaultY;  // the cone-gather stage's probe
   return t;
 }
 
