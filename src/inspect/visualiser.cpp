@@ -197,6 +197,8 @@ std::function<bool(const char*, CapturedOutput&)> contextOutputLookup(StepCursor
       }
     return false;
   };
+}
+
 void drawAxesPlot(const char* id, const std::vector<float>& xs, const std::vector<float>& ys, const std::string& xAxis,
                   const std::string& yAxis, float yLo, float yHi, float height) {
   const size_t n = std::min(xs.size(), ys.size());
