@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_runs.h"
+#include "run/bench_runs.h"
 #include "app/command.h"
 #include "run/reference_error.h"
 #include "run/session.h"
