@@ -14,12 +14,19 @@
 // the first step's (default cornell-box), so a step that shows another scene says so itself. Optional: "iterations": N stops an iterative stage after N iterations (a partly
 // built pyramid); "overlay": "stage/output@level" lays that volume level's voxels over camera
 // images, "bounds": true the volume's box; "slice": N shows that slice of a volume (along "axis":
-// "x", "y" or "z", default z) instead of the middle one. Validation runs against the technique registry: an unknown technique, stage,
+// "x", "y" or "z", default z) instead of the middle one; "sweep": "NAME=V1,V2,..." (or
+// NAME=FROM:TO:STEPS) declares a sweep of one parameter of the step's technique on the step's scene
+// (run/sweep.h): the viewer plots its error and time beside the view, with the value the view
+// shows marked, and the handout embeds its slider page. A lesson's sweep runs small
+// (kLessonSweepSize, with the step's "set" and "sweep_set", an object of name: value held for the
+// sweep's runs only, e.g. a coarser grid) so handouts and lesson checks stay fast. Validation runs against the technique registry: an unknown technique, stage,
 // output or parameter, or a bad value, is an Error naming "file:line".
 #pragma once
 #include <map>
 #include <string>
 #include <vector>
+
+#include "run/sweep.h"
 
 namespace voxlab {
 
@@ -38,7 +45,13 @@ struct LessonStep {
   int iterations = 0;           // > 0: run only this many iterations of an iterative stage
   std::string overlay;          // "stage/output@level": that volume's voxels over camera images
   bool bounds = false;          // the voxel volume's bounds over camera images
+  std::string sweep;            // "NAME=V1,V2,...": the step's sweep; "" = none
+  std::vector<std::pair<std::string, std::string>> sweepSets;  // "sweep_set": for the sweep's runs only
 };
+
+// The image size of a lesson step's sweep runs: a quarter of the references' 256x256 per side,
+// enough for the plots' trend at about a second per run.
+constexpr int kLessonSweepSize = 64;
 
 struct Lesson {
   std::string path;
@@ -51,5 +64,9 @@ struct Lesson {
 // 'checkScenes' also resolves each scene name to a file.
 Lesson parseLesson(const std::string& text, const std::string& path, bool checkScenes = true);
 Lesson loadLesson(const std::string& path, bool checkScenes = true);  // reads, then parseLesson
+
+// The sweep a step declares: its technique and scene at kLessonSweepSize, the step's "set" (less
+// the swept parameter) and then its "sweep_set". Only for a step whose 'sweep' is not empty.
+SweepRequest lessonSweepRequest(const LessonStep& step);
 
 }  // namespace voxlab

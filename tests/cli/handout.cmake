@@ -52,3 +52,11 @@ add_test(NAME handout.viewer_match
           ${CMAKE_BINARY_DIR}/handout-out/viewer_match)
 set_tests_properties(handout.viewer_match PROPERTIES
   ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 600 RESOURCE_LOCK xvfb)
+
+# handout.sweep: a lesson step's sweep in its handout: the measured errors under the step and the
+# sweep's slider page in a frame whose slider works (tests/cli/handout/sweep_check.py; skipped only
+# without chromium).
+add_test(NAME handout.sweep
+  COMMAND python3 ${CMAKE_SOURCE_DIR}/tests/cli/handout/sweep_check.py $<TARGET_FILE:voxlab> ${CMAKE_SOURCE_DIR}
+          ${CMAKE_BINARY_DIR}/handout-out/sweep)
+set_tests_properties(handout.sweep PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 300)
