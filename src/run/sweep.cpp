@@ -615,6 +615,18 @@ std::vector<std::string> sweepValueTexts(const std::string& technique, const std
   return texts;
 }
 
+std::vector<std::string> sweepArguments(const SweepRequest& request, const std::string& outDir) {
+  std::vector<std::string> args = {"--technique", request.technique, "--scene", request.scene};
+  for (const std::string& p : request.params) args.insert(args.end(), {"--param", p});
+  for (const std::string& s : request.sets) args.insert(args.end(), {"--set", s});
+  args.insert(args.end(), {"--size", std::to_string(request.width) + "x" + std::to_string(request.height)});
+  if (request.repeats != 1) args.insert(args.end(), {"--repeat", std::to_string(request.repeats)});
+  if (request.error != "ssim") args.insert(args.end(), {"--error", request.error});
+  for (const std::string& t : request.timeStages) args.insert(args.end(), {"--time-stage", t});
+  args.insert(args.end(), {"--out", outDir});
+  return args;
+}
+
 json runSweep(const SweepRequest& request, const std::string& out, const SweepProgress& progress,
               const SweepFailure& onFailure) {
   const SweepPlan plan = planSweep(request, "--param");

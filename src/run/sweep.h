@@ -56,6 +56,10 @@ void validateSweep(const SweepRequest& request, const std::string& paramLabel = 
 std::vector<std::string> sweepValueTexts(const std::string& technique, const std::string& param,
                                          const std::string& paramLabel = "--param");
 
+// The arguments of the `voxlab sweep` command line that runs 'request' into 'outDir' (after
+// "sweep": --technique, --scene, --param, --set, --size, --repeat, --error, --time-stage, --out).
+std::vector<std::string> sweepArguments(const SweepRequest& request, const std::string& outDir);
+
 // Called before each run (done = runs finished so far) and once at the end (done = total).
 using SweepProgress = std::function<void(int done, int total, const std::string& label)>;
 

@@ -2,7 +2,7 @@
 # tests/viewer/run_viewer_test.sh; skipped only when xvfb-run is missing), plus command-line
 # cases for bad scripts and lessons, which fail before any window opens.
 foreach(script walk_stages every_lesson probe probe_lrsm probe_lpv lesson lesson_near_field lesson_volumetric lesson_light scene_error view3d camera_overlay presenter presenter_taps light clipmap_fly clipmap_sponza_fly bounces
-               budget_gl_log soak)
+               budget_gl_log soak lesson_sweep)
   add_test(NAME viewer.${script}
     COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>
             ${CMAKE_SOURCE_DIR}/tests/viewer/${script}.txt ${CMAKE_BINARY_DIR}/viewer-out/${script})

@@ -27,6 +27,13 @@ case "${script##*/}" in  # the file name: a checkout path may contain any of the
       view >"$VOXLAB_VIEWER_OUT/log.txt" 2>&1 || { cat "$VOXLAB_VIEWER_OUT/log.txt"; exit 1; }
       grep "^lesson step" "$VOXLAB_VIEWER_OUT/log.txt" | tail -n 1
     done ;;
+  *lesson_sweep*)
+    # The step's sweep runs into a cache under TMPDIR: a fresh one, so the child really runs.
+    export VOXLAB_VIEWER_OUT="$out" TMPDIR="$out/tmp"
+    mkdir -p "$TMPDIR"
+    view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }
+    cat "$out/log.txt"
+    [ -f "$(ls -d "$TMPDIR"/voxlab-sweeps/*/ | head -n 1)sweep.json" ] || { echo "no sweep.json in the cache"; exit 1; } ;;
   *camera_overlay*)
     export VOXLAB_VIEWER_OUT="$out"
     view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }
