@@ -388,6 +388,8 @@ class Viewer {
   Lesson lesson;
   int lessonStep = -1;
   LessonSweepPlot lessonSweep;
+  // Writes the shown output's figure (inspect/figure.h, as `voxlab figure`) to 'path'; returns it.
+  std::string saveFigure(const std::string& path);
   void drawLessonSweep(const LessonStep& step);
   // The parameter value the view shows, formatted as the sweep's values are ("" when the
   // technique has no such parameter).
