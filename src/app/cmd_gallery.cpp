@@ -60,13 +60,19 @@ std::string fmt(const char* format, double v) {
 
 // The sweep the gallery plots for a technique: the first grid resolution it declares, at 32, 64 and
 // 128, or 16, 32 and 64 where 128 is out of its range (cheap at 64x64: a second or two per run); an
-// empty request (no "params") when it declares none of them.
+// empty request (no "params") when it declares none of them or compares no output with the
+// reference (no error to plot).
 SweepRequest defaultGallerySweep(const std::string& technique, const std::string& scene) {
   SweepRequest request;
   request.technique = technique;
   request.scene = scene;
   request.width = request.height = 64;
-  const ParamSet params = createTechnique(technique)->defaultParams();
+  const auto declared = createTechnique(technique);
+  bool compared = false;  // an error needs an output compared with the reference
+  for (int i = 0; i < declared->stageCount(); ++i)
+    for (const OutputDesc& o : declared->decl(i).outputs) compared = compared || !o.referenceMode.empty();
+  if (!compared) return request;
+  const ParamSet params = declared->defaultParams();
   for (const char* name : {"voxel.resolution", "clipmap.resolution", "density.resolution"}) {
     if (!params.has(name)) continue;
     for (const char* values : {"=32,64,128", "=16,32,64"}) {
@@ -199,7 +205,7 @@ int runGallery(const std::vector<std::string>& argv) {
     if (!args.has("--no-sweeps")) {
       const SweepRequest sweep = defaultGallerySweep(entry.id, base.scene);
       if (sweep.params.empty()) {
-        tj["sweep"] = {{"none", "declares no grid resolution to sweep"}};
+        tj["sweep"] = {{"none", "compares no output with the reference or declares no grid resolution to sweep"}};
       } else {
         const std::string rel = scene + "/" + entry.id + "/sweep";
         std::fprintf(stderr, "voxlab gallery: %s: sweep of %s at 64x64\n", entry.id.c_str(), sweep.params[0].c_str());
