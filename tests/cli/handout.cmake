@@ -48,7 +48,7 @@ set_tests_properties(handout.progress_bar PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${
 # handout.viewer_match: every picture of a lesson's handout is what the viewer's view shows at that
 # step (tests/cli/handout/viewer_match.sh under Xvfb; skipped only without xvfb-run). Every lesson
 # but two: measured on 2 shared cores (load average 3 to 5), 01, 06 and 02 took 68 s together, 03
-# 38 s, 04 12 s, 07 19 s, so the six cost about 2.5 minutes. Lessons 05 and 08 are left out because
+# 38 s, 04 12 s, 07 19 s; the six in one run 106 s. Lessons 05 and 08 are left out because
 # they fail it: a step whose output the viewer shows through the technique's own visualiser, which
 # the handout does not use (05's step 9, lpv/propagate/occlusion-fine: the viewer's plates view
 # 416x416, the handout's point view 512x512; 08's step 3, clipmap/update/clip-atlas: the viewer's
