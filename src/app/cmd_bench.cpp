@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_runs.h"
+#include "run/bench_runs.h"
 #include "app/command.h"
 #include "run/session.h"
 #include "core/args.h"

@@ -10,6 +10,9 @@
 // whose mode counts only indirect light (reference::Mode::indirectOnly: indirect, indirect-K) is
 // the technique's indirect term. The time per frame
 // is the median over --bench-runs runs of all stages, measured as `voxlab bench` measures it.
+// Beside it a small plot of error against time over the technique's default sweep
+// (defaultGallerySweep: its grid's resolution at three values, 64x64 pixels; run/sweep.h), which
+// --no-sweeps leaves out.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_runs.h"
+#include "run/bench_runs.h"
 #include "app/command.h"
 #include "run/reference_error.h"
 #include "run/session.h"
@@ -32,6 +35,7 @@
 #include "handout/handout.h"
 #include "handout/step_picture.h"
 #include "reference/path_tracer.h"
+#include "run/sweep.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -52,6 +56,36 @@ std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
+}
+
+// The sweep the gallery plots for a technique: the first grid resolution it declares, at 32, 64 and
+// 128, or 16, 32 and 64 where 128 is out of its range (cheap at 64x64: a second or two per run); an
+// empty request (no "params") when it declares none of them or compares no output with the
+// reference (no error to plot).
+SweepRequest defaultGallerySweep(const std::string& technique, const std::string& scene) {
+  SweepRequest request;
+  request.technique = technique;
+  request.scene = scene;
+  request.width = request.height = 64;
+  const auto declared = createTechnique(technique);
+  bool compared = false;  // an error needs an output compared with the reference
+  for (int i = 0; i < declared->stageCount(); ++i)
+    for (const OutputDesc& o : declared->decl(i).outputs) compared = compared || !o.referenceMode.empty();
+  if (!compared) return request;
+  const ParamSet params = declared->defaultParams();
+  for (const char* name : {"voxel.resolution", "clipmap.resolution", "density.resolution"}) {
+    if (!params.has(name)) continue;
+    for (const char* values : {"=32,64,128", "=16,32,64"}) {
+      request.params = {std::string(name) + values};
+      try {
+        validateSweep(request);
+        return request;
+      } catch (const Error&) {
+        request.params.clear();
+      }
+    }
+  }
+  return request;
 }
 
 // A small copy for the documentation: DIR/<scene>.md (a Markdown table per technique) and its
@@ -103,6 +137,7 @@ int runGallery(const std::vector<std::string>& argv) {
              {"--camera", true, false, "index of the scene camera (default 0, the references' camera)"},
              {"--size", true, false, "image size WIDTHxHEIGHT (default 512x512, the references' size)"},
              {"--bench-runs", true, false, "timed runs of all stages per technique (default 5, as voxlab bench)"},
+             {"--no-sweeps", false, false, "leave out the error-against-time plot of each technique's default sweep"},
              {"--docs-copy", true, false, "also write DIR/<scene>.md with its pictures 160 px wide (docs/gallery)"},
              {"--out", true, false, "folder for <scene>.html, <scene>.json and <scene>/<technique>/"}});
   RunRequest base;
@@ -121,6 +156,8 @@ int runGallery(const std::vector<std::string>& argv) {
   for (const auto& entry : registry) {
     ++k;
     std::fprintf(stderr, "voxlab gallery: %d/%zu %s on %s\n", k, registry.size(), entry.id.c_str(), scene.c_str());
+    json tj;
+    {  // the session's GL context is closed before the sweep opens its own
     RunRequest req = base;
     req.technique = entry.id;
     HeadlessSession session(req);
@@ -131,7 +168,7 @@ int runGallery(const std::vector<std::string>& argv) {
     session.run();
     json manifest = session.writeOutputs(dir, false, only);
 
-    json tj = {{"id", t.id()}, {"title", t.title()}, {"outputs", json::array()}};
+    tj = {{"id", t.id()}, {"title", t.title()}, {"outputs", json::array()}};
     for (const auto& s : manifest["stages"])
       for (const auto& e : s["outputs"]) {
         auto [stage, desc] = t.findOutput(s["id"].get<std::string>(), e["name"].get<std::string>());
@@ -164,6 +201,19 @@ int runGallery(const std::vector<std::string>& argv) {
     tj["frame_cpu_ms_median"] = median(times.totalCpu);
     tj["frame_gpu_ms_median"] = median(times.totalGpu);
     tj["gl_renderer"] = manifest["gl"]["renderer"];
+    }
+    if (!args.has("--no-sweeps")) {
+      const SweepRequest sweep = defaultGallerySweep(entry.id, base.scene);
+      if (sweep.params.empty()) {
+        tj["sweep"] = {{"none", "compares no output with the reference or declares no grid resolution to sweep"}};
+      } else {
+        const std::string rel = scene + "/" + entry.id + "/sweep";
+        std::fprintf(stderr, "voxlab gallery: %s: sweep of %s at 64x64\n", entry.id.c_str(), sweep.params[0].c_str());
+        const json report = runSweep(sweep, (fs::path(out) / rel).string());
+        tj["sweep"] = {{"param", sweep.params[0]}, {"plot", rel + "/error-by-time.svg"}, {"page", rel + "/sweep.html"},
+                       {"error", report["error"]}, {"failed_runs", report["failed_runs"]}};
+      }
+    }
     page["techniques"].push_back(tj);
   }
 
@@ -172,6 +222,7 @@ int runGallery(const std::vector<std::string>& argv) {
                      htmlEscape(scene) + "</title>\n<style>\nbody { font-family: sans-serif; margin: 2em; color: #222; }\n"
                      "table { border-collapse: collapse; } td, th { padding: 0.3em 0.6em; vertical-align: top; text-align: left; }\n"
                      "img { width: 256px; height: auto; border: 1px solid #ccc; }\n"
+                     "img.sweep { width: 345px; } figure.sweep { margin: 0.5em 0; font-size: 0.85em; }\n"
                      "table.metrics td { padding: 0 0.4em; text-align: right; } code { background: #f3f3f3; }\n"
                      "</style>\n</head>\n<body>\n";
   html += "<h1>voxlab gallery: " + htmlEscape(scene) + "</h1>\n<p>Every technique in <code>voxlab list</code> at its default "
@@ -193,6 +244,16 @@ int runGallery(const std::vector<std::string>& argv) {
     html += "<p>Time per frame: " + fmt("%.1f", tj["frame_cpu_ms_median"].get<double>()) + " ms CPU wall, " +
             fmt("%.1f", tj["frame_gpu_ms_median"].get<double>()) + " ms GPU (" +
             htmlEscape(tj["gl_renderer"].get<std::string>()) + ").</p>\n";
+    if (tj.contains("sweep") && tj["sweep"].contains("plot")) {
+      const json& sw = tj["sweep"];
+      html += "<figure class=\"sweep\"><a href=\"" + htmlEscape(sw["page"].get<std::string>()) + "\"><img class=\"sweep\" src=\"" +
+              htmlEscape(sw["plot"].get<std::string>()) + "\" alt=\"error against time\"></a><figcaption>Error (" +
+              htmlEscape(sw["error"]["definition"].get<std::string>()) + " of <code>" +
+              htmlEscape(sw["error"]["output"].get<std::string>()) + "</code>) against time over the sweep <code>" +
+              htmlEscape(sw["param"].get<std::string>()) + "</code> at 64x64 (the link opens its slider page).</figcaption></figure>\n";
+    } else if (tj.contains("sweep")) {
+      html += "<p>No sweep: the technique " + htmlEscape(tj["sweep"]["none"].get<std::string>()) + ".</p>\n";
+    }
     html += "<table>\n<tr><th>output</th><th>image</th><th>reference</th><th>error</th><th>numbers</th></tr>\n";
     for (const auto& o : outs) {
       html += "<tr><td><code>" + htmlEscape(o["address"].get<std::string>()) + "</code><br>" +
@@ -242,7 +303,7 @@ int runGallery(const std::vector<std::string>& argv) {
 }  // namespace
 
 VOXLAB_REGISTER_COMMAND("gallery",
-                        "voxlab gallery --scene S [--camera N] [--size WxH] [--bench-runs N] --out DIR",
+                        "voxlab gallery --scene S [--camera N] [--size WxH] [--bench-runs N] [--no-sweeps] --out DIR",
                         "every technique against the reference on one scene: images, error images, numbers, time per frame",
                         &runGallery);
 

@@ -142,10 +142,10 @@ static void appendChunk(std::string& out, const char* type, const unsigned char*
   appendBigEndian(out, uint32_t(crc));
 }
 
-void writePngFile(const std::string& path, int width, int height, int channels, const uint8_t* data) {
+std::string encodePng(int width, int height, int channels, const uint8_t* data) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
-    throw Error("cannot write '" + path + "': " + std::to_string(width) + "x" + std::to_string(height) + "x" +
-                std::to_string(channels) + " is not an image PNG can hold");
+    throw Error(std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels) +
+                " is not an image PNG can hold");
   const size_t stride = size_t(width) * channels;
   std::vector<unsigned char> filtered((stride + 1) * size_t(height));
   for (int y = 0; y < height; ++y) {
@@ -157,7 +157,7 @@ void writePngFile(const std::string& path, int width, int height, int channels, 
   uLongf packedSize = compressBound(uLong(filtered.size()));
   std::vector<unsigned char> packed(packedSize);
   if (compress2(packed.data(), &packedSize, filtered.data(), uLong(filtered.size()), Z_BEST_SPEED) != Z_OK)
-    throw Error("cannot write '" + path + "': zlib could not compress the image");
+    throw Error("zlib could not compress the image");
   static const unsigned char kColourType[5] = {0, 0, 4, 2, 6};  // by channel count: grey, grey+alpha, RGB, RGBA
   unsigned char header[13];
   for (int i = 0; i < 4; ++i) {
@@ -171,6 +171,16 @@ void writePngFile(const std::string& path, int width, int height, int channels, 
   appendChunk(file, "IHDR", header, sizeof header);
   appendChunk(file, "IDAT", packed.data(), packedSize);
   appendChunk(file, "IEND", nullptr, 0);
+  return file;
+}
+
+void writePngFile(const std::string& path, int width, int height, int channels, const uint8_t* data) {
+  std::string file;
+  try {
+    file = encodePng(width, height, channels, data);
+  } catch (const Error& e) {
+    throw Error("cannot write '" + path + "': " + e.what());
+  }
   std::ofstream f(path, std::ios::binary);
   if (!f || !f.write(file.data(), std::streamsize(file.size())))
     throw Error("cannot write '" + path + "' (folder missing or not writable?)");

@@ -40,6 +40,8 @@ void writeExrFile(const std::string& path, int width, int height, int channels,
 void toHalfBits(const float* in, uint16_t* out, size_t count);
 // Writes 8-bit PNG (1..4 channels, top row first). Throws Error naming the path.
 void writePngFile(const std::string& path, int width, int height, int channels, const uint8_t* data);
+// The bytes of that PNG file (for a page that embeds the image); throws Error on a bad size.
+std::string encodePng(int width, int height, int channels, const uint8_t* data);
 // Reads EXR (any channels; R,G,B,A or Y first) or an 8-bit format stb reads. Throws Error.
 ImageFileData readImageFile(const std::string& path);
 

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "handout/step_picture.h"
 #include "lesson/lesson_check.h"
+#include "run/sweep.h"
 
 namespace voxlab {
 namespace fs = std::filesystem;
@@ -21,20 +22,6 @@ std::string markdownToHtml(const std::string& markdown) {
   char* html = cmark_markdown_to_html(markdown.data(), markdown.size(), CMARK_OPT_DEFAULT | CMARK_OPT_SMART);
   std::string out = html ? html : "";
   free(html);
-  return out;
-}
-
-std::string htmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
   return out;
 }
 
@@ -50,6 +37,7 @@ figure { margin: 1em 0; }
 figure img { max-width: 100%; height: auto; image-rendering: pixelated; border: 1px solid #ccc; }
 figcaption { font-size: 0.9em; color: #444; }
 table.index td { padding: 0.3em 0.8em; vertical-align: middle; }
+.sweep iframe { width: 100%; height: 1000px; border: 1px solid #ccc; }
 table.index img { width: 160px; height: auto; image-rendering: pixelated; border: 1px solid #ccc; }
 )";
 
@@ -69,6 +57,34 @@ std::string withoutTitle(const std::string& narrative, const std::string& title)
   std::string first = narrative.substr(0, narrative.find('\n'));
   if (first == "# " + title) return narrative.substr(std::min(narrative.size(), first.size() + 1));
   return narrative;
+}
+
+// "0.190, 0.113, 0.136": a number of every run of a sweep, "-" where the run has none.
+std::string runNumbers(const nlohmann::json& report, const char* key, const char* format) {
+  std::string text;
+  for (const auto& run : report["runs"]) {
+    char buf[32] = "-";
+    if (run.contains(key) && run[key].is_number()) std::snprintf(buf, sizeof buf, format, run[key].get<double>());
+    text += (text.empty() ? "" : ", ") + std::string(buf);
+  }
+  return text;
+}
+
+// What a step's sweep measured, in a sentence, and its slider page in a frame.
+std::string sweepSection(const LessonStep& step, const nlohmann::json& report, const std::string& page) {
+  const auto& param = report["parameters"][0];
+  std::string values;
+  for (const auto& v : param["values"]) values += (values.empty() ? "" : ", ") + v.get<std::string>();
+  std::string html = "<div class=\"sweep\">\n<p>Sweep of <code>" + htmlEscape(param["name"].get<std::string>()) +
+                     "</code> over " + htmlEscape(values) + " on " + htmlEscape(report["scene"].get<std::string>()) +
+                     " at " + htmlEscape(report["size"].get<std::string>());
+  for (const auto& set : report["sets"]) html += ", <code>" + htmlEscape(set.get<std::string>()) + "</code>";
+  html += ": " + htmlEscape(report["error"]["definition"].get<std::string>()) + " of <code>" +
+          htmlEscape(report["error"]["output"].get<std::string>()) + "</code> " + runNumbers(report, "error", "%.3f") +
+          "; CPU time of the stages " + runNumbers(report, "time_ms", "%.0f") +
+          " ms. The slider picks a value; <a href=\"" + htmlEscape(page) + "\">open the sweep page</a>.</p>\n";
+  html += "<iframe src=\"" + htmlEscape(page) + "\" title=\"sweep of " + htmlEscape(step.sweep) + "\"></iframe>\n</div>\n";
+  return html;
 }
 
 }  // namespace
@@ -108,6 +124,21 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
   html += "<p class=\"source\">Handout of <code>" + htmlEscape(fs::path(lesson.path).filename().string()) + "</code>, " +
           std::to_string(n) + " steps. Every picture was rendered by <code>voxlab handout</code>; the line under it " +
           "reproduces it with <code>voxlab run</code>.</p>\n";
+  // The steps' sweeps first: each run opens a GL context of its own, so the renderer's is closed.
+  std::vector<nlohmann::json> sweeps(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const LessonStep& step = lesson.steps[size_t(i)];
+    if (step.sweep.empty()) continue;
+    renderer.release();
+    const std::string folder = (fs::path(dir) / stem / ("sweep-" + std::to_string(i + 1))).string();
+    sweeps[size_t(i)] = runSweep(lessonSweepRequest(step), folder, [&](int done, int total, const std::string& label) {
+      if (progress) progress(i, n, stem + ": step " + std::to_string(i + 1) + " sweep " + std::to_string(done) + "/" +
+                                       std::to_string(total) + " " + label);
+    });
+    if (sweeps[size_t(i)]["failed_runs"].get<int>() > 0)
+      throw Error(lesson.path + ":" + std::to_string(step.line) + ": the sweep " + step.sweep + " has failed runs (" +
+                  folder + "/sweep.json)");
+  }
   DisplayImage thumb;  // the closing step's picture: the technique at its best, as the lesson ends
   for (int i = 0; i < n; ++i) {
     const LessonStep& step = lesson.steps[i];
@@ -137,6 +168,8 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
             std::to_string(step.camera) + "; parameters: " + params + ".";
     if (!pic.notes.empty()) html += " " + htmlEscape(pic.notes) + ".";
     html += "</p>\n<pre class=\"run\"><code>" + htmlEscape(pic.command) + "</code></pre>\n</figcaption>\n</figure>\n";
+    if (!step.sweep.empty())
+      html += sweepSection(step, sweeps[size_t(i)], stem + "/sweep-" + std::to_string(i + 1) + "/sweep.html");
     html += "</section>\n";
   }
   if (!lesson.epilogue.empty()) html += "<div class=\"epilogue\">\n" + markdownToHtml(lesson.epilogue) + "</div>\n";

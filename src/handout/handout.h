@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/html.h"
 #include "lesson/lesson.h"
 
 namespace voxlab {
@@ -28,7 +29,6 @@ std::string blankPictureProblem(const Lesson& lesson, int index, const StepPictu
 
 // CommonMark to HTML (cmark). Inline maths such as $L_o$ stays text.
 std::string markdownToHtml(const std::string& markdown);
-std::string htmlEscape(const std::string& text);
 
 
 struct HandoutPage {

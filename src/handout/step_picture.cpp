@@ -35,7 +35,9 @@ DisplayImage shrink(const DisplayImage& image, int width) {
 
 StepRenderer::StepRenderer(int width, int height) : width_(width), height_(height) {}
 
-StepRenderer::~StepRenderer() {
+StepRenderer::~StepRenderer() { release(); }
+
+void StepRenderer::release() {
   overlay_.reset();  // its GL objects belong to the session's context
   session_.reset();
 }

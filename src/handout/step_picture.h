@@ -38,6 +38,9 @@ class StepRenderer {
   // Renders one step of 'lesson'. Throws Error "lesson.md:LINE: what failed" for a step that
   // cannot be rendered (a level the output does not have, a stage without outputs, ...).
   StepPicture render(const Lesson& lesson, const LessonStep& step);
+  // Closes the session and its GL context (the next render opens them again): before something
+  // else, such as a sweep, opens contexts of its own.
+  void release();
 
  private:
   StepPicture renderStep(const LessonStep& step);

@@ -65,6 +65,8 @@ void mapTexel(const float* v, int channels, const TexelMapping& mapping, int ch,
 
 }  // namespace
 
+void normalisedRange(const LevelData& level, int channel, float& lo, float& hi) { levelRange(level, channel, lo, hi); }
+
 SliceImage mapSlice(const LevelData& d, Semantic semantic, const SliceSpec& s, const DisplaySettings& ds) {
   SliceImage img;
   glm::ivec2 e = sliceExtent(d, s);

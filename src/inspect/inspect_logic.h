@@ -40,6 +40,9 @@ struct SliceImage {
 };
 glm::ivec2 sliceExtent(const LevelData& level, const SliceSpec& slice);
 SliceImage mapSlice(const LevelData& level, Semantic semantic, const SliceSpec& slice, const DisplaySettings& ds);
+// The range a normalised (false-colour) semantic maps onto its ramp: channel c's finite min and max
+// over the whole level, as mapSlice takes it.
+void normalisedRange(const LevelData& level, int channel, float& lo, float& hi);
 // Texel (x, y, z) shown at image pixel (px, py) (top-row-first image coordinates).
 glm::ivec3 sliceTexel(const LevelData& level, const SliceSpec& slice, int px, int py);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -12,12 +13,26 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "gpu/shader_library.h"
+#include "inspect/figure.h"
 #include "inspect/script_verbs.h"
 #include "inspect/viewer_state.h"
 
 namespace voxlab {
 
 namespace fs = std::filesystem;
+
+std::string Viewer::saveFigure(const std::string& path) {
+  FigureRequest request;
+  request.stage = cursor->technique().stage(selected).id();
+  request.output = cap.desc.name;
+  request.level = std::clamp(view.level, 0, std::max(int(cap.levels.size()) - 1, 0));
+  request.slice = view.slice;
+  request.display = view.display;
+  const std::string svg = figureSvg(outputFigure(*cursor, request), 800);
+  std::ofstream file(path, std::ios::binary);
+  if (!file || !(file << svg)) throw Error("cannot write '" + path + "' (folder missing or not writable?)");
+  return path;
+}
 
 void Viewer::drawExport() {
   const Technique& t = cursor->technique();
@@ -57,6 +72,17 @@ void Viewer::drawExport() {
       status = e.what();
     }
   }
+  if (ImGui::Button("Save figure SVG") && capError.empty()) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    const std::string path = std::string(dir) + "/" + t.stage(selected).id() + "." + cap.desc.name + ".figure.svg";
+    try {
+      status = "saved " + saveFigure(path);
+    } catch (const Error& e) {
+      status = e.what();
+    }
+  }
+  ImGui::SameLine();
   if (ImGui::Button("Screenshot")) {
     pendingScreenshot = std::string(dir) + "/screenshot.png";
     screenshotDelay = 1;
@@ -149,6 +175,11 @@ VOXLAB_REGISTER_SCRIPT_VERBS(exporting, 100,
   {"compare-output", 2, 3,
    "compare-output VIEW_DIR RUN_DIR [TOLERANCE] (EXR/bin of the selected output saved by save-output vs voxlab run)",
    compareOutput},
+  {"save-figure", 1, 1, "save-figure PATH.svg (the shown output as `voxlab figure` writes it: title, parameters, colour bar, reference)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     requireShownCapture(viewer, call);
+     std::printf("saved figure %s\n", viewer.saveFigure(call.arg(0)).c_str());
+   }},
   {"screenshot", 1, 1, "screenshot PATH.png (the window's back buffer)",
    [](Viewer& viewer, const ScriptCall& call) {
      viewer.pendingScreenshot = call.arg(0);

@@ -67,6 +67,10 @@ void Viewer::drawLesson() {
   ImGui::SameLine();
   if (ImGui::Button("Next step >")) applyLessonStep(lessonStep + 1);
   ImGui::Separator();
+  if (lessonStep >= 0 && !lesson.steps[size_t(lessonStep)].sweep.empty()) {
+    drawLessonSweep(lesson.steps[size_t(lessonStep)]);
+    ImGui::Separator();
+  }
   ImGui::BeginChild("narrative");
   // The narrative as presenter mode sets it (headings, paragraphs, list items; inline markup
   // reduced to its words), so that neither shows "**" or backticks.

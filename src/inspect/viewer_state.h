@@ -199,6 +199,23 @@ struct PresenterState {
   int page = 0, pages = 1;
 };
 
+// The current lesson step's sweep (panel_lesson_sweep.cpp): a child `voxlab sweep` runs it into a
+// cache folder named by the request, so the viewer stays responsive and a step seen before plots
+// at once; the Lesson tab plots its error and time with the value the view shows ringed.
+struct LessonSweepPlot {
+  std::string key;      // the sweep's command line; a new one starts another sweep
+  std::string dir;      // the cache folder: <temp>/voxlab-sweeps/<hash of key>
+  std::string status;   // "running", "" when the report is loaded, else what went wrong
+  std::string swept;    // the parameter's name
+  int pid = 0;          // the child while it runs
+  nlohmann::json report;
+  LessonSweepPlot() = default;
+  LessonSweepPlot(const LessonSweepPlot&) = delete;
+  LessonSweepPlot& operator=(const LessonSweepPlot&) = delete;
+  ~LessonSweepPlot();   // ends the child it started, if it still runs
+  void stop();
+};
+
 class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o);
@@ -380,6 +397,13 @@ class Viewer {
 
   Lesson lesson;
   int lessonStep = -1;
+  LessonSweepPlot lessonSweep;
+  // Writes the shown output's figure (inspect/figure.h, as `voxlab figure`) to 'path'; returns it.
+  std::string saveFigure(const std::string& path);
+  void drawLessonSweep(const LessonStep& step);
+  // The parameter value the view shows, formatted as the sweep's values are ("" when the
+  // technique has no such parameter).
+  std::string currentParamText(const std::string& name) const;
 
   ScriptState script;
   std::string pendingScreenshot;

@@ -87,6 +87,13 @@ void validateStep(LessonStep& step, const std::string& where, bool checkScenes) 
     if (step.iterations < 1 || step.iterations > n)
       fail("iterations must be 1.." + std::to_string(n) + " for " + step.stage + ", got " + std::to_string(step.iterations));
   }
+  if (!step.sweep.empty()) {
+    try {
+      validateSweep(lessonSweepRequest(step), "sweep");
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+  }
   if (checkScenes) {
     try {
       resolveScenePath(step.scene);
@@ -152,14 +159,14 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         narrative.clear();
         static const char* known[] = {"technique", "scene", "stage",      "output",  "level",
                                       "camera",    "set",   "iterations", "overlay", "bounds",
-                                      "slice",     "axis",  "beside"};
+                                      "slice",     "axis",  "beside",     "sweep",   "sweep_set"};
         for (auto it = j.begin(); it != j.end(); ++it) {
           bool ok = false;
           for (const char* k : known) ok = ok || it.key() == k;
           if (!ok)
             throw Error(where + ": unknown key '" + it.key() +
                         "'; valid keys: technique, scene, stage, output, level, camera, set, iterations, overlay, "
-                        "bounds, slice, axis, beside");
+                        "bounds, slice, axis, beside, sweep, sweep_set");
         }
         auto str = [&](const char* key, std::string& out) {
           if (!j.contains(key)) return;
@@ -205,16 +212,24 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
           if (beside != "reference") throw Error(where + ": 'beside' must be \"reference\", got \"" + beside + "\"");
           step.besideReference = true;
         }
-        if (j.contains("set")) {
-          if (!j["set"].is_object()) throw Error(where + ": 'set' must be an object of name: value");
-          for (auto it = j["set"].begin(); it != j["set"].end(); ++it) {
+        auto assignments = [&](const char* key, std::vector<std::pair<std::string, std::string>>& out) {
+          if (!j.contains(key)) return;
+          if (!j[key].is_object()) throw Error(where + ": '" + key + "' must be an object of name: value");
+          for (auto it = j[key].begin(); it != j[key].end(); ++it) {
             try {
-              step.sets.emplace_back(it.key(), jsonText(it.value()));
+              out.emplace_back(it.key(), jsonText(it.value()));
             } catch (const Error& e) {
               throw Error(where + ": " + it.key() + ": " + e.what());
             }
           }
-        }
+        };
+        assignments("set", step.sets);
+        str("sweep", step.sweep);
+        if (j.contains("sweep") && step.sweep.empty())
+          throw Error(where + ": 'sweep' must be \"NAME=V1,V2,...\" or \"NAME=FROM:TO:STEPS\"");
+        assignments("sweep_set", step.sweepSets);
+        if (!step.sweepSets.empty() && step.sweep.empty())
+          throw Error(where + ": 'sweep_set' needs a 'sweep' in the same step");
         validateStep(step, where, checkScenes);
         lesson.steps.push_back(std::move(step));
       } else {
@@ -237,6 +252,19 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
   lesson.epilogue = trim(narrative);
   if (lesson.title.empty()) lesson.title = path;
   return lesson;
+}
+
+SweepRequest lessonSweepRequest(const LessonStep& step) {
+  SweepRequest request;
+  request.technique = step.technique;
+  request.scene = step.scene;
+  request.width = request.height = kLessonSweepSize;
+  request.params = {step.sweep};
+  const std::string swept = step.sweep.substr(0, step.sweep.find('='));
+  for (const auto& [name, value] : step.sets)
+    if (name != swept && name.rfind(swept + ".", 0) != 0) request.sets.push_back(name + "=" + value);
+  for (const auto& [name, value] : step.sweepSets) request.sets.push_back(name + "=" + value);
+  return request;
 }
 
 Lesson loadLesson(const std::string& path, bool checkScenes) {

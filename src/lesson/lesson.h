@@ -17,12 +17,19 @@
 // "x", "y" or "z", default z) instead of the middle one; "beside": "reference" shows the reference path
 // tracer's image of the output's reference mode (OutputDesc::referenceMode) beside it, as the
 // viewer's compare view does side by side (a lesson's closing picture: the technique at its best
-// next to ground truth). Validation runs against the technique registry: an unknown technique, stage,
+// next to ground truth); "sweep": "NAME=V1,V2,..." (or
+// NAME=FROM:TO:STEPS) declares a sweep of one parameter of the step's technique on the step's scene
+// (run/sweep.h): the viewer plots its error and time beside the view, with the value the view
+// shows marked, and the handout embeds its slider page. A lesson's sweep runs small
+// (kLessonSweepSize, with the step's "set" and "sweep_set", an object of name: value held for the
+// sweep's runs only, e.g. a coarser grid) so handouts and lesson checks stay fast. Validation runs against the technique registry: an unknown technique, stage,
 // output or parameter, or a bad value, is an Error naming "file:line".
 #pragma once
 #include <map>
 #include <string>
 #include <vector>
+
+#include "run/sweep.h"
 
 namespace voxlab {
 
@@ -44,7 +51,13 @@ struct LessonStep {
   bool besideReference = false; // "beside": "reference"
   std::string referenceMode;    // with besideReference: the mode under the step's parameters ("indirect-1")
   std::string referenceImage;   // ... and its file (tests/golden/reference/<scene>/<mode>.exr, absolute)
+  std::string sweep;            // "NAME=V1,V2,...": the step's sweep; "" = none
+  std::vector<std::pair<std::string, std::string>> sweepSets;  // "sweep_set": for the sweep's runs only
 };
+
+// The image size of a lesson step's sweep runs: a quarter of the references' 256x256 per side,
+// enough for the plots' trend at about a second per run.
+constexpr int kLessonSweepSize = 64;
 
 struct Lesson {
   std::string path;
@@ -57,5 +70,9 @@ struct Lesson {
 // 'checkScenes' also resolves each scene name to a file.
 Lesson parseLesson(const std::string& text, const std::string& path, bool checkScenes = true);
 Lesson loadLesson(const std::string& path, bool checkScenes = true);  // reads, then parseLesson
+
+// The sweep a step declares: its technique and scene at kLessonSweepSize, the step's "set" (less
+// the swept parameter) and then its "sweep_set". Only for a step whose 'sweep' is not empty.
+SweepRequest lessonSweepRequest(const LessonStep& step);
 
 }  // namespace voxlab

@@ -161,7 +161,7 @@ std::vector<OutputAddress> finalAndComparedOutputs(const Technique& t) {
   return only;
 }
 
-void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png) {
+DisplayImage referenceDisplayImage(const OutputDesc& desc, const std::string& exr) {
   ImageFileData f = readImageFile(exr);
   CapturedOutput c;
   c.desc = desc;
@@ -174,7 +174,11 @@ void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std
       for (int ch = 0; ch < std::min(f.channels, 3); ++ch)
         L.values[(size_t(f.height - 1 - y) * f.width + x) * 4 + ch] = f.pixels[(size_t(y) * f.width + x) * f.channels + ch];
   c.levels.push_back(std::move(L));
-  writePng(displayImage(c, 0), png);
+  return displayImage(c, 0);
+}
+
+void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png) {
+  writePng(referenceDisplayImage(desc, exr), png);
 }
 
 std::string manifestFileEndingWith(const json& entry, const std::string& suffix) {

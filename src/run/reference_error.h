@@ -49,6 +49,7 @@ std::vector<OutputAddress> finalAndComparedOutputs(const Technique& technique);
 // Writes the reference EXR 'exr' as a PNG through the display mapping of 'desc' (its semantic and
 // tone map), so that it can stand beside that output's own PNG.
 void writeReferencePng(const OutputDesc& desc, const std::string& exr, const std::string& png);
+DisplayImage referenceDisplayImage(const OutputDesc& desc, const std::string& exr);  // the same, as an image
 
 // The first file of a manifest output entry ("files") whose name ends with 'suffix'; "" if none.
 std::string manifestFileEndingWith(const nlohmann::json& entry, const std::string& suffix);

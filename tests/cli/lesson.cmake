@@ -7,3 +7,11 @@ set_tests_properties(lesson.check_all PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAK
 voxlab_cli_case(lesson_blank_step 1
   "blank-step\\.md:16: step 2's picture \\(svo/svo-build/svo-structure@4, 2x2\\) is blank: 0\\.00 % of its pixels"
   "lesson --check @ROOT@/tests/cli/lesson/blank-step.md --size 64x64")
+
+# A step's sweep is validated with the lesson, before anything renders: one line naming the step.
+voxlab_cli_case(lesson_sweep_unknown_param 2
+  "bad-sweep-param\\.md:3: sweep: unknown parameter 'cone\\.nope'; valid parameters: .*cone\\.aperture"
+  "lesson --check @ROOT@/tests/cli/lesson/bad-sweep-param.md --no-render")
+voxlab_cli_case(lesson_sweep_value_out_of_range 2
+  "bad-sweep-value\\.md:3: sweep cone\\.aperture=30,500: parameter cone\\.aperture='500' is not valid; valid: 5\\.\\.120"
+  "lesson --check @ROOT@/tests/cli/lesson/bad-sweep-value.md --no-render")

@@ -30,7 +30,7 @@
 #include <random>
 #include <set>
 
-#include "app/bench_runs.h"
+#include "run/bench_runs.h"
 #include "run/reference_error.h"
 #include "reference/cpu_voxelizer.h"
 #include "reference/image_io.h"

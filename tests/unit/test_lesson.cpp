@@ -133,6 +133,34 @@ TEST(Lesson, ErrorsNameFileAndLine) {
             std::string::npos);
 }
 
+// A step's sweep: validated with the step (one line naming it), and run with the step's state less
+// the swept parameter, then "sweep_set", at the lesson sweep size.
+TEST(Lesson, StepSweepIsValidatedAndCarriesTheStepsState) {
+  auto parse = [](const std::string& json) { return parseLesson("# x\n\n```voxlab-step\n" + json + "\n```\n", "l.md"); };
+  auto bad = [&](const std::string& json) { return errorOf([&] { parse(json); }); };
+  const Lesson lesson = parse(
+      "{\"technique\":\"vct-grid\",\"stage\":\"cone-trace\",\"set\":{\"cone.aperture\":60,\"cone.count\":9},"
+      "\"sweep\":\"cone.aperture=30:60:3\",\"sweep_set\":{\"voxel.resolution\":32}}");
+  ASSERT_EQ(lesson.steps.size(), 1u);
+  EXPECT_EQ(lesson.steps[0].sweep, "cone.aperture=30:60:3");
+  const SweepRequest request = lessonSweepRequest(lesson.steps[0]);
+  EXPECT_EQ(request.technique, "vct-grid");
+  EXPECT_EQ(request.width, kLessonSweepSize);
+  EXPECT_EQ(request.params, std::vector<std::string>{"cone.aperture=30:60:3"});
+  EXPECT_EQ(request.sets, (std::vector<std::string>{"cone.count=9", "voxel.resolution=32"}));
+  EXPECT_EQ(sweepValueTexts("vct-grid", "cone.aperture=30:60:3"), (std::vector<std::string>{"30", "45", "60"}));
+  std::string e = bad("{\"technique\":\"vct-grid\",\"stage\":\"cone-trace\",\"sweep\":\"cone.nope=1,2\"}");
+  EXPECT_EQ(e.rfind("l.md:3: sweep: unknown parameter 'cone.nope'", 0), 0u) << e;
+  e = bad("{\"technique\":\"vct-grid\",\"stage\":\"cone-trace\",\"sweep\":\"cone.aperture=30\"}");
+  EXPECT_NE(e.find("a sweep needs at least two values"), std::string::npos) << e;
+  e = bad("{\"technique\":\"vct-grid\",\"stage\":\"cone-trace\",\"sweep_set\":{\"voxel.resolution\":32}}");
+  EXPECT_NE(e.find("l.md:3: 'sweep_set' needs a 'sweep' in the same step"), std::string::npos) << e;
+  e = bad("{\"technique\":\"vct-grid\",\"stage\":\"cone-trace\",\"sweep\":\"cone.aperture=30,60\","
+          "\"sweep_set\":{\"voxel.resolution\":33}}");
+  EXPECT_NE(e.find("l.md:3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("voxel.resolution"), std::string::npos) << e;
+}
+
 TEST(Script, ParsesVerbsCommentsAndEnvironment) {
   setenv("VOXLAB_TEST_DIR", "/tmp/x", 1);
   auto a = parseScript("# comment\nstage mipmap\n\nlevel 2 # trailing\nscreenshot ${VOXLAB_TEST_DIR}/a.png\n", "s.txt");

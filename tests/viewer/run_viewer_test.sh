@@ -27,6 +27,32 @@ case "${script##*/}" in  # the file name: a checkout path may contain any of the
       view >"$VOXLAB_VIEWER_OUT/log.txt" 2>&1 || { cat "$VOXLAB_VIEWER_OUT/log.txt"; exit 1; }
       grep "^lesson step" "$VOXLAB_VIEWER_OUT/log.txt" | tail -n 1
     done ;;
+  *lesson_sweep*)
+    # The step's sweep runs into a cache under TMPDIR: a fresh one, so the child really runs.
+    export VOXLAB_VIEWER_OUT="$out" TMPDIR="$out/tmp"
+    mkdir -p "$TMPDIR"
+    view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }
+    cat "$out/log.txt"
+    [ -f "$(ls -d "$TMPDIR"/voxlab-sweeps/*/ | head -n 1)sweep.json" ] || { echo "no sweep.json in the cache"; exit 1; }
+    # The viewer's figure and voxlab figure's of the same state say the same (title, notes,
+    # captions) and hold pictures of the same sizes.
+    "$exe" figure --technique vct-grid --output cone-trace/indirect-diffuse --size 512x512 \
+      --out "$out/cli-figure.svg" >/dev/null
+    python3 - "$out/figure.svg" "$out/cli-figure.svg" <<'PY'
+import base64, struct, sys
+import xml.etree.ElementTree as ET
+def summary(path):
+    root = ET.parse(path).getroot()
+    texts = [(e.get("class"), e.text) for e in root.iter("{http://www.w3.org/2000/svg}text")]
+    sizes = [struct.unpack(">II", base64.b64decode(e.get("href").split(",", 1)[1])[16:24])
+             for e in root.iter("{http://www.w3.org/2000/svg}image")]
+    return texts, sizes
+viewer, cli = summary(sys.argv[1]), summary(sys.argv[2])
+print("viewer figure:", viewer)
+if viewer != cli or len(viewer[1]) != 2:
+    sys.exit(f"the viewer's figure {viewer} differs from voxlab figure's {cli}")
+PY
+    ;;
   *camera_overlay*)
     export VOXLAB_VIEWER_OUT="$out"
     view >"$out/log.txt" 2>&1 || { cat "$out/log.txt"; exit 1; }

@@ -2,7 +2,9 @@
 """gallery.cornell_box, gallery.sponza: `voxlab gallery --scene SCENE` shows every technique of
 `voxlab list`, and its numbers are those `voxlab fidelity --scene SCENE` reports at the same size
 (every compared output of every technique, at default parameters), its pictures exist and the
-page links them.
+page links them. Each technique's default sweep (its grid resolution at three values, 64x64) is
+plotted as error against time: the plot exists, has a point per run of its sweep.json, and the page
+shows it; the gallery of the scene without references runs with --no-sweeps and shows none.
 
     gallery_check.py VOXLAB ROOT OUT [SCENE]      (SCENE: cornell-box by default)
 
@@ -33,6 +35,22 @@ def fail(msg):
 
 if [t["id"] for t in page["techniques"]] != listed:
     fail(f"gallery techniques {[t['id'] for t in page['techniques']]} != voxlab list {listed}")
+
+# The default sweeps: every technique that declares a grid resolution and compares an output has its
+# plot, one point per run, shown on the page (all but voxelization,
+# which compares nothing, so at most one technique may go without).
+swept = [t for t in page["techniques"] if "plot" in t.get("sweep", {})]
+if len(swept) < len(listed) - 1:
+    fail(f"only {[t['id'] for t in swept]} have a sweep plot")
+for t in swept:
+    plot = os.path.join(out, t["sweep"]["plot"])
+    report = json.load(open(os.path.join(os.path.dirname(plot), "sweep.json")))
+    points = open(plot).read().count('class="point"') if os.path.exists(plot) else 0
+    if t["sweep"]["failed_runs"] or points != len(report["runs"]):
+        fail(f"{t['id']}: sweep plot {plot} has {points} points for {len(report['runs'])} runs "
+             f"({t['sweep']['failed_runs']} failed)")
+    if f'src="{t["sweep"]["plot"]}"' not in html:
+        fail(f"{t['id']}: the page does not show its sweep plot")
 
 # `voxlab fidelity` on the same scene at the same size: its numbers come from the same run code
 # (HeadlessSession::writeOutputs and the reference comparison), so the two must agree.
@@ -100,7 +118,7 @@ if scene != "cornell-box":
 # tagged output says that no reference exists instead of showing numbers.
 other = os.path.join(out, "no-reference")
 subprocess.run([exe, "gallery", "--scene", os.path.join(root, "tests/data/scenes/furnace-box.gltf"), "--size", "64x64",
-                "--bench-runs", "1", "--out", other], check=True)
+                "--bench-runs", "1", "--no-sweeps", "--out", other], check=True)
 page2 = json.load(open(os.path.join(other, "furnace-box.json")))
 html2 = open(os.path.join(other, "furnace-box.html")).read()
 if [t["id"] for t in page2["techniques"]] != listed:
@@ -110,6 +128,8 @@ if not tagged or any("reference_error" in o for o in tagged):
     fail(f"furnace-box: expected tagged outputs without reference numbers, got {tagged}")
 if html2.count("no reference image for mode") != len(tagged):
     fail(f"furnace-box page: {html2.count('no reference image for mode')} 'no reference' notes for {len(tagged)} tagged outputs")
+if any("sweep" in t for t in page2["techniques"]) or 'class="sweep"' in html2:
+    fail("furnace-box: --no-sweeps still ran or showed a sweep")
 if failures:
     sys.exit(1)
 print(f"gallery matches voxlab fidelity ({len(seen)} outputs)")

@@ -1,4 +1,4 @@
-#include "app/bench_runs.h"
+#include "run/bench_runs.h"
 
 #include <algorithm>
 
