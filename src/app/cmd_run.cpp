@@ -1,7 +1,9 @@
-// voxlab run: runs a technique up to a stage headless and writes every output and a manifest.
+// voxlab run: runs a technique up to a stage headless and writes every output and a manifest; with
+// --frames, a sequence of frames while --animate'd parameters change (run/frames.h).
 #include <cstdio>
 
 #include "app/command.h"
+#include "run/frames.h"
 #include "run/session.h"
 #include "core/args.h"
 #include "core/error.h"
@@ -22,6 +24,8 @@ int runRun(const std::vector<std::string>& argv) {
              {"--look-at", true, false, "X,Y,Z: the point a free camera looks at"},
              {"--final-only", false, false, "write only the technique's final output"},
              {"--only", true, true, "write only this output: technique/stage/output[@level], repeatable"},
+             {"--frames", true, false, "run N frames (1..1000), each into OUT/frames/NNNN/, re-running only what changed"},
+             {"--animate", true, true, "NAME=FROM:TO: a number parameter moved linearly over the frames, repeatable"},
              {"--out", true, false, "folder to write the outputs and manifest.json into"}});
   RunRequest req;
   req.technique = args.require("--technique");
@@ -52,6 +56,27 @@ int runRun(const std::vector<std::string>& argv) {
     (void)desc;
     if (stage > session.untilStage()) throw Error("--only " + a.str() + " is after --until " + req.until);
   }
+  if (args.has("--animate") && !args.has("--frames"))
+    throw Error("--animate needs --frames N (the number of frames to move it over)");
+  if (args.has("--frames")) {
+    FramesRequest fr;
+    fr.frames = Args::parseInt("--frames", args.get("--frames"), 1, 1000);
+    for (const auto& a : args.all("--animate")) fr.animations.push_back(parseAnimation(session.cursor().params(), a));
+    fr.finalOnly = args.has("--final-only");
+    fr.only = only;
+    auto m = runFrames(session, fr, out, [&](int frame, const std::vector<std::string>& reran) {
+      std::string list;
+      for (const auto& id : reran) list += (list.empty() ? "" : " ") + id;
+      std::printf("voxlab run: frame %d/%d re-ran %zu stage(s)%s%s\n", frame, fr.frames, reran.size(),
+                  reran.empty() ? "" : ": ", list.c_str());
+    });
+    if (m["temporal"].contains("mean_flicker"))
+      std::printf("voxlab run: %d frames of %s on %s written to %s/frames/; %s: mean flicker %.4g, mean %.4g (manifest.json)\n",
+                  fr.frames, req.technique.c_str(), m["scene"].get<std::string>().c_str(), out.c_str(),
+                  m["temporal"]["output"].get<std::string>().c_str(), m["temporal"]["mean_flicker"].get<double>(),
+                  m["temporal"]["mean_energy"].get<double>());
+    return 0;
+  }
   session.run();
   auto manifest = session.writeOutputs(out, args.has("--final-only"), only);
   size_t files = 0;
@@ -77,7 +102,8 @@ int runRun(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("run",
                         "voxlab run --technique T [--scene S] [--until STAGE] [--set name=value]... "
-                        "[--size WxH] [--camera N] [--look-from X,Y,Z --look-at X,Y,Z] [--final-only] [--only technique/stage/output[@level]]... --out DIR",
+                        "[--size WxH] [--camera N] [--look-from X,Y,Z --look-at X,Y,Z] [--final-only] [--only technique/stage/output[@level]]... "
+                        "[--frames N [--animate NAME=FROM:TO]...] --out DIR",
                         "run a technique headless and write every stage output and a manifest", &runRun);
 
 }  // namespace voxlab

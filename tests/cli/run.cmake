@@ -53,3 +53,22 @@ voxlab_cli_case_output(run_reference_mode_missing 0 ""
   "run --technique voxel-path-tracing --set voxel.resolution=64 --set paths.count=1 --set paths.bounces=7 --size 64x64 --only voxel-path-tracing/paths/indirect --out @OUT@"
   "voxel-path-tracing/paths/indirect not compared: no reference image of mode indirect-7 \\(tests/golden/reference/cornell-box/indirect-7.exr\\); make it with voxlab reference --mode indirect-7"
   "@OUT@/manifest.json" 0 "" "")
+
+# voxlab run --frames / --animate (run/frames.h): bad input is one line and exit 2; a run of frames
+# re-runs per frame only the stages its change invalidates, and measures the change
+# (tests/cli/frames/frames_check.py).
+voxlab_cli_case(run_animate_without_frames 2 "--animate needs --frames N"
+  "run --technique vct-grid --animate light.0.azimuth=0:90 --out @OUT@")
+voxlab_cli_case(run_animate_bad_form 2 "--animate 'light.0.azimuth': expected NAME=FROM:TO"
+  "run --technique vct-grid --frames 2 --animate light.0.azimuth --out @OUT@")
+voxlab_cli_case(run_animate_unknown_parameter 2 "unknown parameter 'light.9.azimuth'; valid parameters: .*light.0.azimuth"
+  "run --technique vct-grid --frames 2 --animate light.9.azimuth=0:90 --out @OUT@")
+voxlab_cli_case(run_animate_choice 2 "--animate mipmap.mode: a choice .one of isotropic, anisotropic.*. cannot be animated; valid: a number parameter"
+  "run --technique vct-grid --frames 2 --animate mipmap.mode=0:1 --out @OUT@")
+voxlab_cli_case(run_animate_out_of_range 2 "light.0.elevation=120 is out of range; valid: -90..90"
+  "run --technique vct-grid --frames 2 --animate light.0.elevation=0:120 --out @OUT@")
+voxlab_cli_case(run_frames_out_of_range 2 "--frames.*1..1000"
+  "run --technique vct-grid --frames 0 --out @OUT@")
+add_test(NAME cli.run_frames
+  COMMAND python3 ${CMAKE_SOURCE_DIR}/tests/cli/frames/frames_check.py $<TARGET_FILE:voxlab> ${CMAKE_BINARY_DIR}/cli-out/run_frames)
+set_tests_properties(cli.run_frames PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}")

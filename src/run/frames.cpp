@@ -1,0 +1,140 @@
+#include "run/frames.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "capture/capture.h"
+#include "core/error.h"
+#include "run/session.h"
+
+namespace voxlab {
+
+using nlohmann::json;
+
+ParamAnimation parseAnimation(const ParamSet& params, const std::string& text) {
+  const size_t eq = text.find('='), colon = text.find(':', eq == std::string::npos ? 0 : eq);
+  if (eq == std::string::npos || eq == 0 || colon == std::string::npos)
+    throw Error("--animate '" + text + "': expected NAME=FROM:TO, e.g. light.0.azimuth=0:90");
+  ParamAnimation a;
+  a.name = text.substr(0, eq);
+  const ParamDesc& d = params.desc(a.name);  // throws listing the valid names
+  if (d.type == ParamType::Bool || d.type == ParamType::Choice)
+    throw Error("--animate " + a.name + ": a " + d.typeName() + " (" + d.rangeText() +
+                ") cannot be animated; valid: a number parameter (voxlab list names each one's range)");
+  auto number = [&](const std::string& s, const char* which) {
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
+      throw Error("--animate " + a.name + ": " + which + " '" + s + "' is not a number; valid: " + d.rangeText());
+    d.validate(v);  // throws naming the parameter and its range
+    return v;
+  };
+  a.from = number(text.substr(eq + 1, colon - eq - 1), "FROM");
+  a.to = number(text.substr(colon + 1), "TO");
+  return a;
+}
+
+namespace {
+
+// Mean of the first three channels of level 0, and the mean absolute difference from 'previous'
+// (same size) over the same channels.
+double meanValue(const LevelData& L) {
+  double sum = 0.0;
+  const int c = std::min(L.channels, 3);
+  for (size_t i = 0; i < L.values.size(); ++i)
+    if (int(i % size_t(L.channels)) < c) sum += L.values[i];
+  return sum / std::max<double>(1.0, double(L.values.size() / size_t(L.channels) * size_t(c)));
+}
+
+double meanAbsoluteChange(const LevelData& a, const LevelData& b) {
+  double sum = 0.0;
+  size_t n = 0;
+  const int c = std::min(a.channels, 3);
+  for (size_t i = 0; i < a.values.size() && i < b.values.size(); ++i)
+    if (int(i % size_t(a.channels)) < c) sum += std::abs(double(a.values[i]) - double(b.values[i])), ++n;
+  return n ? sum / double(n) : 0.0;
+}
+
+}  // namespace
+
+json runFrames(HeadlessSession& session, const FramesRequest& request, const std::string& dir,
+               const std::function<void(int, const std::vector<std::string>&)>& progress) {
+  if (request.frames < 1) throw Error("--frames must be 1 or more");
+  StepCursor& cursor = session.cursor();
+  const Technique& t = cursor.technique();
+  const int until = session.untilStage();
+  // The temporal metrics follow the technique's final output when the run reaches it.
+  const int finalStage = t.stageIndex(t.finalStage());
+  const OutputDesc* finalDesc = finalStage <= until ? t.findOutput(t.finalStage(), t.finalOutput()).second : nullptr;
+
+  json m = session.manifestHeader();
+  json frames = json::array(), energy = json::array(), flicker = json::array();
+  LevelData previous;
+  double flickerSum = 0.0;
+  for (int k = 0; k < request.frames; ++k) {
+    const double s = request.frames > 1 ? double(k) / double(request.frames - 1) : 0.0;
+    json values = json::object();
+    for (const ParamAnimation& a : request.animations) {
+      double v = a.from + (a.to - a.from) * s;
+      if (cursor.params().desc(a.name).type == ParamType::Int) v = std::round(v);
+      cursor.setParam(a.name, v);
+      values[a.name] = v;
+    }
+    std::vector<int> stale;
+    for (int i = 0; i <= until; ++i)
+      if (cursor.record(i).state != StageState::Done) stale.push_back(i);
+    session.run();
+    json reran = json::array();
+    std::vector<std::string> reranIds;
+    double cpu = 0.0;
+    for (int i : stale) {
+      reran.push_back({{"stage", t.stage(i).id()}, {"cpu_ms", cursor.record(i).cpuMs}, {"gpu_ms", cursor.record(i).gpuMs}});
+      reranIds.push_back(t.stage(i).id());
+      cpu += cursor.record(i).cpuMs;
+    }
+    char name[16];
+    std::snprintf(name, sizeof name, "%04d", k);
+    const std::string frameDir = dir + "/frames/" + name;
+    session.writeOutputs(frameDir, request.finalOnly, request.only);
+    json frame = {{"frame", k}, {"dir", std::string("frames/") + name}, {"parameters", values},
+                  {"stages_run", reran}, {"cpu_ms", cpu}};
+    if (finalDesc) {
+      CapturedOutput cap = captureOutput(cursor.board(), *finalDesc);
+      const LevelData& L = cap.levels.at(0);
+      energy.push_back(meanValue(L));
+      if (k > 0) {
+        const double f = meanAbsoluteChange(L, previous);
+        flicker.push_back(f);
+        flickerSum += f;
+        frame["flicker"] = f;
+      }
+      previous = L;
+    }
+    frames.push_back(frame);
+    if (progress) progress(k + 1, reranIds);
+  }
+  m["frames"] = frames;
+  json animated = json::array();
+  for (const ParamAnimation& a : request.animations) animated.push_back({{"name", a.name}, {"from", a.from}, {"to", a.to}});
+  m["animate"] = animated;
+  if (finalDesc) {
+    double energySum = 0.0;
+    for (const auto& e : energy) energySum += e.get<double>();
+    m["temporal"] = {{"output", t.id() + "/" + t.finalStage() + "/" + t.finalOutput()},
+                     {"energy", energy},
+                     {"mean_energy", energySum / double(energy.size())},
+                     {"flicker", flicker},
+                     {"mean_flicker", flicker.empty() ? 0.0 : flickerSum / double(flicker.size())},
+                     {"measure", "flicker: mean |I_k - I_(k-1)| over pixels and colour channels of the final output; "
+                                 "energy: its mean"}};
+  } else {
+    m["temporal"] = {{"skipped", "the run stops before the final output (--until)"}};
+  }
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/manifest.json") << m.dump(2) << "\n";
+  return m;
+}
+
+}  // namespace voxlab

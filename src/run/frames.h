@@ -1,0 +1,48 @@
+// Frames: one technique run as a sequence of frames while parameters change (an animation: the
+// sun sweeping, a spot turning, a parameter ramp), each frame re-running only the stages its change
+// invalidates. What is stale is decided by the declarations (StepCursor: a stage that declares a
+// changed parameter, and every stage reading what a stale stage wrote), so no technique is named
+// here. `voxlab run --frames N --animate NAME=FROM:TO` drives it.
+//
+// Per frame k of N, every animated parameter is FROM + (TO - FROM) k / (N - 1) (linear; N = 1
+// holds FROM); the frame's outputs go to DIR/frames/NNNN/ (with its own manifest.json), and
+// DIR/manifest.json holds the run's header, the frames (their parameter values, the stages each
+// re-ran with their CPU times) and a temporal section over the technique's final output: per
+// frame its mean value (energy) and, from the second frame on, its flicker, the mean absolute
+// change of every pixel's channels from the frame before, and their means.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "graph/output.h"
+#include "graph/param.h"
+
+namespace voxlab {
+
+class HeadlessSession;
+
+struct ParamAnimation {
+  std::string name;  // a numeric parameter of the technique
+  double from = 0.0, to = 0.0;
+};
+
+// "NAME=FROM:TO" against 'params': throws Error in one line naming what is wrong (the form, a name
+// that is not a parameter, a choice or switch, a value out of the parameter's range).
+ParamAnimation parseAnimation(const ParamSet& params, const std::string& text);
+
+struct FramesRequest {
+  int frames = 1;
+  std::vector<ParamAnimation> animations;
+  bool finalOnly = false;            // per frame, only the final output (as run --final-only)
+  std::vector<OutputAddress> only;   // per frame, only these outputs (as run --only)
+};
+
+// Runs the frames and writes DIR/frames/NNNN/ and DIR/manifest.json; returns that manifest.
+// 'progress' (optional) is told after every frame (1-based) and the stages it re-ran.
+nlohmann::json runFrames(HeadlessSession& session, const FramesRequest& request, const std::string& dir,
+                         const std::function<void(int frame, const std::vector<std::string>& reran)>& progress = {});
+
+}  // namespace voxlab
