@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "capture/image_files.h"
 #include "core/error.h"
 #include "inspect/inspect_logic.h"
 #include "inspect/scene_overlay.h"
 #include "inspect/visualiser.h"
+#include "run/reference_error.h"
 #include "run/session.h"
 
 namespace voxlab {
@@ -121,11 +121,7 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
   if (s.width == 0)
     throw Error("output " + address + " has no 2D view (a buffer without a position field: the viewer shows it as a "
                 "table); a handout needs a picture (choose an image, a volume or a point buffer)");
-  pic.image.width = s.width;
-  pic.image.height = s.height;
-  pic.image.rgb.resize(size_t(s.width) * s.height * 3);
-  for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
-    for (int c = 0; c < 3; ++c) pic.image.rgb[i * 3 + c] = s.rgba[i * 4 + c];
+  pic.image = rgbOf(s);
   pic.address = desc->kind == OutputKind::Buffer ? address : address + "@" + std::to_string(step.level);
   if (desc->kind == OutputKind::Volume3D) {
     const LevelData& L = cap.levels[step.level];
@@ -160,25 +156,9 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
   }
 
   if (step.besideReference) {
-    // The reference beside the image, mapped as the viewer's compare view maps it (the shown
-    // output's semantic, default display settings).
-    ImageFileData f = readImageFile(step.referenceImage);
-    LevelData L;
-    L.size = {f.width, f.height, 1};
-    L.channels = 3;
-    L.values.resize(size_t(f.width) * f.height * 3);
-    for (int y = 0; y < f.height; ++y)  // file rows top first; LevelData rows bottom first
-      for (int x = 0; x < f.width; ++x)
-        for (int c = 0; c < 3; ++c)
-          L.values[(size_t(f.height - 1 - y) * f.width + x) * 3 + c] =
-              f.pixels[(size_t(y) * f.width + x) * f.channels + std::min(c, f.channels - 1)];
-    SliceImage r = mapSlice(L, desc->semantic, SliceSpec{2, 0}, DisplaySettings{});
-    DisplayImage right;
-    right.width = r.width;
-    right.height = r.height;
-    right.rgb.resize(size_t(r.width) * r.height * 3);
-    for (size_t i = 0; i < size_t(r.width) * r.height; ++i)
-      for (int c = 0; c < 3; ++c) right.rgb[i * 3 + c] = r.rgba[i * 4 + c];
+    // The reference beside the image, mapped through the shown output's display mapping, as the
+    // viewer's compare view maps it.
+    const DisplayImage right = referenceDisplayImage(*desc, step.referenceImage);
     pic.image = besideImage(pic.image, right);
     pic.displayScale = 1;
     pic.notes += std::string(pic.notes.empty() ? "" : "; ") + "right: the reference path tracer's " + step.referenceMode +

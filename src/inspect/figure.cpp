@@ -39,15 +39,6 @@ std::string pngDataUri(const DisplayImage& image) {
   return "data:image/png;base64," + base64(encodePng(image.width, image.height, 3, image.rgb.data()));
 }
 
-DisplayImage rgbOf(const SliceImage& s) {
-  DisplayImage image;
-  image.width = s.width;
-  image.height = s.height;
-  image.rgb.resize(size_t(s.width) * s.height * 3);
-  for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
-    for (int c = 0; c < 3; ++c) image.rgb[i * 3 + c] = s.rgba[i * 4 + c];
-  return image;
-}
 
 }  // namespace
 

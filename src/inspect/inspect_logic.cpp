@@ -67,6 +67,16 @@ void mapTexel(const float* v, int channels, const TexelMapping& mapping, int ch,
 
 void normalisedRange(const LevelData& level, int channel, float& lo, float& hi) { levelRange(level, channel, lo, hi); }
 
+DisplayImage rgbOf(const SliceImage& slice) {
+  DisplayImage image;
+  image.width = slice.width;
+  image.height = slice.height;
+  image.rgb.resize(size_t(slice.width) * slice.height * 3);
+  for (size_t i = 0; i < size_t(slice.width) * slice.height; ++i)
+    for (int c = 0; c < 3; ++c) image.rgb[i * 3 + c] = slice.rgba[i * 4 + c];
+  return image;
+}
+
 SliceImage mapSlice(const LevelData& d, Semantic semantic, const SliceSpec& s, const DisplaySettings& ds) {
   SliceImage img;
   glm::ivec2 e = sliceExtent(d, s);

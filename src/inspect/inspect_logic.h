@@ -40,6 +40,8 @@ struct SliceImage {
 };
 glm::ivec2 sliceExtent(const LevelData& level, const SliceSpec& slice);
 SliceImage mapSlice(const LevelData& level, Semantic semantic, const SliceSpec& slice, const DisplaySettings& ds);
+// Its RGB (alpha dropped), as the image files and the handout's pictures hold it.
+DisplayImage rgbOf(const SliceImage& slice);
 // The range a normalised (false-colour) semantic maps onto its ramp: channel c's finite min and max
 // over the whole level, as mapSlice takes it.
 void normalisedRange(const LevelData& level, int channel, float& lo, float& hi);

@@ -117,11 +117,7 @@ void Viewer::updateCompare() {
   }
   SliceImage o = mapSlice(b, other->desc.semantic, SliceSpec{2, 0}, view.display);
   compare.otherTex.upload(o.width, o.height, o.rgba.data());
-  compare.otherImage.width = o.width;
-  compare.otherImage.height = o.height;
-  compare.otherImage.rgb.resize(size_t(o.width) * o.height * 3);
-  for (size_t i = 0; i < size_t(o.width) * o.height; ++i)
-    for (int c = 0; c < 3; ++c) compare.otherImage.rgb[i * 3 + c] = o.rgba[i * 4 + c];
+  compare.otherImage = rgbOf(o);
 }
 
 void Viewer::drawCompareControls() {
