@@ -850,7 +850,8 @@ void ConeTraceStage::declare(StageBuilder& b) const {
                              "read a voxel without a brick (empty, or no node there) as the dense grid does: the "
                              "trilinear blend of the eight voxels around the sample, found in the octree, so a cone "
                              "starting next to a surface sees it in its first voxel as in vct-grid (Layout N without "
-                             "dilation; off: such a voxel reads 0, and stair bands run along the edges: the note's P2)"));
+                             "dilation; the soft-shadow cone never reads it; off: such a voxel reads 0, and stair bands "
+                             "run along the edges: the note's P2)"));
   b.param(ParamDesc::choice("cone.resolution", {"half", "full"}, 0,
                             "trace cones for every pixel (full) or every 2x2 block (half, 4x cheaper; composite "
                             "upsamples along surfaces)"));
