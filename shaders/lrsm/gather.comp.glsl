@@ -192,11 +192,12 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
               if (ar.a == 0.0) ar = fetchLayer(u_lrsmRadiance, l, level, uv);
               add += f * ar.rgb * Vk * Nk * Jk;
               sumAdded += Vk * Nk * Jk;
+              sumN += Vk * Nk;
             }
-            V += Vk, sumN += Vk * Nk;
+            V += Vk;
           }
-          // Recorded: V summed over the lobes, N their V-weighted mean, J such that f A*R V N J
-          // is what the lobes added.
+          // Recorded: V summed over the lobes, N the V-weighted mean of the lobes that add light
+          // (a lobe facing away blocks but adds nothing), J such that f A*R V N J is what they added.
           N = V > 0.0 ? sumN / V : 0.0;
           jacobian = V * N != 0.0 ? sumAdded / (V * N) : 1.0;
         }
