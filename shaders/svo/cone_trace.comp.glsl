@@ -47,6 +47,7 @@ layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
 layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
+uniform int u_traceShadow;  // 0: the soft-shadow image is not wanted (outputs on demand)
 
 uniform int u_depth;
 uniform ivec3 u_bricksPerAxis;
@@ -338,7 +339,7 @@ void main() {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
     imageStore(u_indirectSpecular, px, vec4(0.0));
     imageStore(u_ambientOcclusion, px, vec4(0.0));
-    imageStore(u_softShadow, px, vec4(0.0));
+    if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(0.0));
     return;
   }
   vec3 n = surface.normal;
@@ -378,6 +379,7 @@ void main() {
   ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, 0.0,
                               u_coneCount, record, true, true);
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+  if (u_traceShadow == 0) return;  // the soft-shadow image is not wanted (outputs on demand)
   vec3 toLight; float dist;
   lightDirection(surface.position, toLight, dist);
   float shadowVis = 0.0;

@@ -16,6 +16,7 @@ layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
 layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
+uniform int u_traceShadow;  // 0: the soft-shadow image is not wanted (outputs on demand)
 
 // Totals over the pass: samples of the diffuse, specular and shadow cones, volume fetches, pixels
 // shaded (the background traces nothing).
@@ -34,7 +35,7 @@ void main() {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
     imageStore(u_indirectSpecular, px, vec4(0.0));
     imageStore(u_ambientOcclusion, px, vec4(0.0));
-    imageStore(u_softShadow, px, vec4(0.0));
+    if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(0.0));
     return;
   }
   bool record = px == u_probePixel;
@@ -63,17 +64,17 @@ void main() {
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
   uint specularSamples = g_samples - diffuseSamples;
 
-  vec3 toLight; float dist;
-  lightDirection(pos.xyz, toLight, dist);
-  float shadowVis = 1.0;
-  if (dot(n, toLight) > 0.0) {
-    float end = shadowConeEnd(dist, tan(0.5 * u_shadowAperture), u_lodBias, u_voxelSize);
-    ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 1e30, u_coneCount + 1, record);
-    shadowVis = 1.0 - sh.blocked;
-  } else {
-    shadowVis = 0.0;
+  if (u_traceShadow != 0) {
+    vec3 toLight; float dist;
+    lightDirection(pos.xyz, toLight, dist);
+    float shadowVis = 0.0;
+    if (dot(n, toLight) > 0.0) {
+      float end = shadowConeEnd(dist, tan(0.5 * u_shadowAperture), u_lodBias, u_voxelSize);
+      ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 1e30, u_coneCount + 1, record);
+      shadowVis = 1.0 - sh.blocked;
+    }
+    imageStore(u_softShadow, px, vec4(shadowVis));
   }
-  imageStore(u_softShadow, px, vec4(shadowVis));
   atomicAdd(coneTraceCounts[0], diffuseSamples);
   atomicAdd(coneTraceCounts[1], specularSamples);
   atomicAdd(coneTraceCounts[2], g_samples - diffuseSamples - specularSamples);

@@ -106,6 +106,7 @@ int runBench(const std::vector<std::string>& argv) {
              {"--size", true, false, "output size WIDTHxHEIGHT (default 512x512)"},
              {"--runs", true, false, "timed runs of all stages in one process (default 5)"},
              {"--process-runs", true, false, "whole `voxlab run --final-only` processes to time (default 5, 0 = skip)"},
+             {"--final-only", false, false, "time only the stages and outputs the final image needs (outputs on demand)"},
              {"--out", true, false, "folder for bench.json and bench.md (default: print only)"}});
   RunRequest req;
   req.technique = args.require("--technique");
@@ -121,6 +122,7 @@ int runBench(const std::vector<std::string>& argv) {
     HeadlessSession session(req);
     StepCursor& cursor = session.cursor();
     int n = cursor.stageCount();
+    session.demand(args.has("--final-only"));
     StageTimes times = timeStages(cursor, runs);
     const auto &cpu = times.cpu, &gpu = times.gpu;
     const auto &first = times.first, &totalCpu = times.totalCpu, &totalGpu = times.totalGpu;
@@ -129,6 +131,7 @@ int runBench(const std::vector<std::string>& argv) {
     r["scene"] = header["scene"];
     r["view"] = size;
     r["runs"] = runs;
+    r["demand"] = args.has("--final-only") ? "final image" : "every output";
     r["gl_renderer"] = header["gl"]["renderer"];
     r["gl_version"] = header["gl"]["version"];
     r["parameters"] = header["parameters"];

@@ -152,6 +152,7 @@ json runCell(const RunRequest& request, const std::string& sceneName, const std:
   HeadlessSession session(request);
   const Technique& t = session.cursor().technique();
   const std::vector<OutputAddress> only = finalAndComparedOutputs(t);
+  session.demand(false, only);  // only what the compared outputs need is computed
   session.run();
   const double runSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string dir = (fs::path(outDir) / rel).string();

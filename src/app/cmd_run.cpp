@@ -56,6 +56,8 @@ int runRun(const std::vector<std::string>& argv) {
     (void)desc;
     if (stage > session.untilStage()) throw Error("--only " + a.str() + " is after --until " + req.until);
   }
+  // Outputs on demand: --final-only and --only compute only what they write.
+  session.demand(args.has("--final-only"), only);
   if (args.has("--animate") && !args.has("--frames"))
     throw Error("--animate needs --frames N (the number of frames to move it over)");
   if (args.has("--frames")) {

@@ -18,20 +18,23 @@ const char* kindName(OutputKind k) {
 
 const char* semanticName(Semantic s) { return s.name(); }
 
-bool isPlaceholderUnder(const OutputDesc& desc, const ParamSet& params) {
-  const std::string& c = desc.placeholderUnless;
-  if (c.empty()) return false;
+bool conditionHolds(const std::string& c, const ParamSet& params, const std::string& what) {
+  if (c.empty()) return true;
   if (size_t ge = c.find(">="); ge != std::string::npos) {
     const std::string number = c.substr(ge + 2);
     char* end = nullptr;
     const double least = std::strtod(number.c_str(), &end);
-    if (number.empty() || *end) throw Error("output " + desc.name + ": placeholder condition '" + c + "' is not param>=number");
-    return params.value(c.substr(0, ge)) < least;
+    if (number.empty() || *end) throw Error(what + ": condition '" + c + "' is not param>=number");
+    return params.value(c.substr(0, ge)) >= least;
   }
   const size_t eq = c.find('=');
-  if (eq == std::string::npos) throw Error("output " + desc.name + ": placeholder condition '" + c + "' is not param=value or param>=number");
+  if (eq == std::string::npos) throw Error(what + ": condition '" + c + "' is not param=value or param>=number");
   const std::string name = c.substr(0, eq);
-  return params.desc(name).format(params.value(name)) != c.substr(eq + 1);
+  return params.desc(name).format(params.value(name)) == c.substr(eq + 1);
+}
+
+bool isPlaceholderUnder(const OutputDesc& desc, const ParamSet& params) {
+  return !conditionHolds(desc.placeholderUnless, params, "output " + desc.name + " placeholder");
 }
 
 OutputAddress OutputAddress::parse(const std::string& text) {

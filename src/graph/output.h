@@ -111,6 +111,15 @@ struct OutputDesc {
   // The snapshot suite then checks it is empty instead of comparing it with a golden
   // (isPlaceholderUnder).
   std::string placeholderUnless;
+  // Computed on demand: the stage computes (and allocates) it only when the run needs it
+  // (StageContext::wants), e.g. a soft-shadow cone the composite does not read, a dense view of
+  // octree data kept for the viewer. Outputs without it are computed whenever their stage runs.
+  bool onDemand = false;
+  // Written alongside what the final image needs, by the same pass, at no cost worth skipping: a
+  // raster pass's depth attachment, the composite's direct and combined terms, a probe record of
+  // one pixel. A --final-only run keeps these (the on-demand test lists them); anything else the
+  // final image does not read is not computed by such a run.
+  bool alongside = false;
 
   const std::string& resourceName() const { return resource.empty() ? name : resource; }
 };
@@ -119,6 +128,9 @@ class ParamSet;
 // Whether 'desc' is only a placeholder under 'params' (OutputDesc::placeholderUnless); throws Error
 // on a condition that names no parameter of 'params' or is neither form.
 bool isPlaceholderUnder(const OutputDesc& desc, const ParamSet& params);
+// Whether "param=value" or "param>=number" holds under 'params' ("" holds); throws Error naming
+// 'what' (the output or read it conditions) on a condition of neither form.
+bool conditionHolds(const std::string& condition, const ParamSet& params, const std::string& what);
 
 // "technique/stage/output@level" (level optional, -1 = all levels).
 struct OutputAddress {

@@ -1,6 +1,18 @@
 #include "graph/stage.h"
 
+#include "core/error.h"
+
 namespace voxlab {
+
+StageBuilder& StageBuilder::alongside(std::initializer_list<std::string> outputs) {
+  for (const std::string& name : outputs) {
+    bool found = false;
+    for (auto& o : decl_.outputs)
+      if (o.name == name) o.alongside = found = true;
+    if (!found) throw Error("alongside: no output '" + name + "' is declared before it");
+  }
+  return *this;
+}
 
 OutputDesc& StageBuilder::output(const std::string& name, OutputKind kind, Semantic semantic,
                                  const std::string& help) {

@@ -3,7 +3,9 @@
 // benchmark and the lessons all work from that declaration alone.
 #pragma once
 #include <functional>
+#include <initializer_list>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -65,6 +67,10 @@ struct ResourceDecl {
 
 struct StageDecl {
   std::vector<std::string> reads;     // resources (and kViewResource) this stage reads
+  // Reads that happen only under a parameter condition ("param=value" or "param>=number", as
+  // OutputDesc::placeholderUnless): outputs on demand follow such a read only when it holds (the
+  // composite reads the soft-shadow image only when it is the chosen visibility).
+  std::map<std::string, std::string> readConditions;
   std::vector<std::string> writes;    // resources it writes that are not outputs
   std::vector<OutputDesc> outputs;    // resources it writes that can be inspected
   std::vector<ParamDesc> params;
@@ -77,8 +83,15 @@ class StageBuilder {
   explicit StageBuilder(StageDecl& decl) : decl_(decl) {}
   StageBuilder& read(const std::string& resource) { decl_.reads.push_back(resource); return *this; }
   StageBuilder& readView() { return read(kViewResource); }
+  StageBuilder& readWhen(const std::string& resource, const std::string& condition) {
+    decl_.readConditions[resource] = condition;
+    return read(resource);
+  }
   StageBuilder& write(const std::string& resource) { decl_.writes.push_back(resource); return *this; }
   OutputDesc& output(const std::string& name, OutputKind kind, Semantic semantic, const std::string& help);
+  // Marks outputs declared above as written alongside what the final image needs
+  // (OutputDesc::alongside); throws Error on a name not declared yet.
+  StageBuilder& alongside(std::initializer_list<std::string> outputs);
   StageBuilder& param(const ParamDesc& p) { decl_.params.push_back(p); return *this; }
   // The named parameters (declared with param()) point at one element of 'probe.space'.
   StageBuilder& probe(const ProbeDesc& p) { decl_.probes.push_back(p); return *this; }
@@ -122,6 +135,12 @@ struct StageContext {
   const ViewState& view;
   StageStats& stats;
   int iteration = 0;  // 0..iterations()-1 for iterative stages
+  // Outputs on demand: the names of this stage's outputs the run needs (demanded by the caller, or
+  // read by a later stage that runs); null when every output is wanted. A stage computes an output
+  // it declares onDemand (OutputDesc::onDemand) only when wants() says so, and then does not even
+  // allocate it; every other output it computes whenever it runs.
+  const std::set<std::string>* wantedOutputs = nullptr;
+  bool wants(const std::string& output) const { return !wantedOutputs || wantedOutputs->count(output) != 0; }
 };
 
 class Stage {

@@ -131,24 +131,101 @@ std::string StepCursor::resourceBudgetExcess() const {
   return checkResourceBudget(*technique_, params_, view_, *limits_);
 }
 
+void StepCursor::demandEverything() { demand_.reset(); }
+
+void StepCursor::demandOutputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  std::set<std::pair<int, std::string>> demand;
+  for (const auto& [stage, output] : outputs) {
+    auto [index, desc] = technique_->findOutput(stage, output);  // throws naming the valid ones
+    demand.insert({index, desc->name});
+  }
+  demand_ = std::move(demand);
+}
+
+std::vector<StagePlan> StepCursor::plan(int alsoStage) const {
+  const int n = stageCount();
+  std::vector<StagePlan> plan(n);
+  if (!demand_) return plan;  // every stage, every output
+  // Backwards from the last stage: a stage is needed when one of its outputs is demanded or a
+  // later needed stage reads something it wrote; the outputs it must compute are the demanded ones
+  // and those such a stage reads.
+  for (int i = n - 1; i >= 0; --i) {
+    StagePlan& p = plan[i];
+    p.wanted.emplace();
+    p.needed = false;
+    const StageDecl& d = technique_->decl(i);
+    for (const auto& o : d.outputs)
+      if (i == alsoStage || demand_->count({i, o.name})) p.wanted->insert(o.name);
+    for (int j = i + 1; j < n; ++j) {
+      if (!plan[j].needed) continue;
+      const StageDecl& reader = technique_->decl(j);
+      for (const auto& res : reader.reads) {
+        if (res == kViewResource || technique_->writerOf(res, j) != i) continue;
+        if (auto c = reader.readConditions.find(res); c != reader.readConditions.end() &&
+            !conditionHolds(c->second, params_, std::string(technique_->stage(j).id()) + " reading " + res))
+          continue;
+        p.needed = true;  // a plain write, or an output read as a resource
+        for (const auto& o : d.outputs)
+          if (o.resourceName() == res) p.wanted->insert(o.name);
+      }
+    }
+    if (!p.wanted->empty()) p.needed = true;
+  }
+  return plan;
+}
+
+static const OutputDesc* findDeclaredOutput(const StageDecl& decl, const std::string& name) {
+  for (const auto& o : decl.outputs)
+    if (o.name == name) return &o;
+  return nullptr;
+}
+
+bool StepCursor::ranForLess(int stage, const std::optional<std::set<std::string>>& wanted) const {
+  const auto& ran = records_.at(stage).wanted;
+  if (!ran) return false;  // it computed everything
+  const StageDecl& d = technique_->decl(stage);
+  for (const auto& o : d.outputs) {
+    const bool wantedNow = !wanted || wanted->count(o.name);
+    if (wantedNow && o.onDemand && !ran->count(o.name)) return true;
+  }
+  return false;
+}
+
+bool StepCursor::outputComputed(int stage, const std::string& output) const {
+  const StageRecord& r = records_.at(stage);
+  if (r.state != StageState::Done && r.state != StageState::Partial) return false;
+  if (!r.wanted || r.wanted->count(output)) return true;
+  const OutputDesc* o = findDeclaredOutput(technique_->decl(stage), output);
+  return o && !o->onDemand;
+}
+
+void StepCursor::runNeeded(int last, const std::vector<StagePlan>& p) {
+  for (int i = 0; i <= last; ++i) {
+    if (!p[i].needed) continue;
+    if (records_[i].state == StageState::Done && ranForLess(i, p[i].wanted)) markStale(i);
+    if (records_[i].state != StageState::Done) runStage(i, std::numeric_limits<int>::max(), p[i].wanted);
+  }
+}
+
 void StepCursor::runThrough(int last) {
   if (!scene_) throw Error("no scene loaded");
   if (std::string excess = resourceBudgetExcess(); !excess.empty()) throw Error(excess);
-  last = std::min(last, stageCount() - 1);
-  for (int i = 0; i <= last; ++i)
-    if (records_[i].state != StageState::Done) runStage(i, std::numeric_limits<int>::max());
+  runNeeded(std::min(last, stageCount() - 1), plan());
 }
 
 int StepCursor::runIteration(int stage) {
   if (!scene_) throw Error("no scene loaded");
   if (std::string excess = resourceBudgetExcess(); !excess.empty()) throw Error(excess);
-  if (stage > 0) runThrough(stage - 1);
+  // The stepped stage is wanted whole, with everything it reads.
+  const std::vector<StagePlan> p = plan(stage);
+  if (stage > 0) runNeeded(stage - 1, p);
+  if (records_.at(stage).state == StageState::Done && ranForLess(stage, p[stage].wanted)) markStale(stage);
   int next = records_.at(stage).state == StageState::Partial ? records_[stage].iterationsRun : 0;
-  runStage(stage, next + 1);
+  runStage(stage, next + 1, p[stage].wanted);
   return next;
 }
 
-void StepCursor::runStage(int i, int untilIteration) {
+void StepCursor::runStage(int i, int untilIteration, const std::optional<std::set<std::string>>& wanted) {
   StageRecord& r = records_.at(i);
   Stage& stage = technique_->stage(i);
   const int total = stage.iterations(params_);
@@ -163,7 +240,10 @@ void StepCursor::runStage(int i, int untilIteration) {
   r.iterationsTotal = total;
   untilIteration = std::min(untilIteration, total);
   board_.setMemoryBudget(size_t(params_.getInt(memoryBudgetParam().name)) << 20);
-  StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0};
+  // A Partial stage continues with what it started with.
+  if (r.state != StageState::Partial) r.wanted = wanted;
+  StageContext ctx{*scene_, *gpuScene_, params_, board_, shaders_, view_, r.stats, 0,
+                   r.wanted ? &*r.wanted : nullptr};
   GLDebugScope scope("stage " + technique_->id() + "/" + stage.id());
   GpuTimer timer(technique_->id() + "/" + stage.id() + ".timer");
   auto t0 = std::chrono::steady_clock::now();

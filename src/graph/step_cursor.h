@@ -8,6 +8,7 @@
 #pragma once
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,15 @@ struct StageRecord {
   int iterationsRun = 0;    // of the current (or last) run
   int iterationsTotal = 1;  // the stage's iterations() for that run
   StageStats stats;
+  // The outputs the run wanted of it (StageContext::wantedOutputs); nullopt = all of them.
+  std::optional<std::set<std::string>> wanted;
+};
+
+// What a run needs of each stage under the current demand: whether it runs at all, and which of
+// its outputs are wanted (demanded, or read by a later stage that runs).
+struct StagePlan {
+  bool needed = true;
+  std::optional<std::set<std::string>> wanted;  // nullopt = every output
 };
 
 class StepCursor {
@@ -70,6 +80,20 @@ class StepCursor {
   int runIteration(int stage);
   int iterations(int stage) const { return technique_->stage(stage).iterations(params_); }
 
+  // Outputs on demand. By default a run computes every output. With a demand (stage id, output
+  // name pairs), runThrough runs only the stages the demanded outputs depend on, following the
+  // declared reads back from them, and tells each which of its outputs are wanted; a stage that ran
+  // for fewer outputs than a later demand wants runs again. The viewer demands what it shows, the
+  // CLI what it writes (--final-only: the final output), fidelity what it compares.
+  void demandEverything();
+  void demandOutputs(const std::vector<std::pair<std::string, std::string>>& outputs);  // throws on unknown ones
+  bool demandsEverything() const { return !demand_.has_value(); }
+  // The plan under the current demand; 'alsoStage' >= 0 demands every output of that stage too.
+  std::vector<StagePlan> plan(int alsoStage = -1) const;
+  // Whether 'output' of 'stage' holds data of the last run: the stage ran (Done or Partial) and
+  // the output was wanted then or is not computed on demand.
+  bool outputComputed(int stage, const std::string& output) const;
+
   Blackboard& board() { return board_; }
   ShaderLibrary& shaders() { return shaders_; }
   void invalidateAll();  // e.g. after a shader reload; stages forget held results (Stage::forgetHeldResults)
@@ -85,7 +109,11 @@ class StepCursor {
   void markReadersStale(int stage);  // every later stage reading what 'stage' wrote, then propagate()
   // Runs iterations of 'stage' until 'untilIteration' (exclusive, clamped to its count),
   // continuing a Partial stage; marks it Done after the last one.
-  void runStage(int stage, int untilIteration);
+  void runStage(int stage, int untilIteration, const std::optional<std::set<std::string>>& wanted);
+  // Runs every stage 0..last the plan needs that is not Done for what it wants.
+  void runNeeded(int last, const std::vector<StagePlan>& plan);
+  // Done under a demand that wanted fewer on-demand outputs than 'wanted': it must run again.
+  bool ranForLess(int stage, const std::optional<std::set<std::string>>& wanted) const;
   void propagate();
   void updateViewMatrices();
 
@@ -98,6 +126,7 @@ class StepCursor {
   ViewState view_;
   Blackboard board_;
   std::vector<StageRecord> records_;
+  std::optional<std::set<std::pair<int, std::string>>> demand_;  // (stage index, output); nullopt = all
   mutable std::optional<ResourceLimits> limits_;  // queried from GL on first use
 };
 

@@ -67,6 +67,17 @@ HeadlessSession::~HeadlessSession() {
 
 void HeadlessSession::run() { cursor_->runThrough(untilStage_); }
 
+void HeadlessSession::demand(bool finalOnly, const std::vector<OutputAddress>& only) {
+  const Technique& t = cursor_->technique();
+  std::vector<std::pair<std::string, std::string>> outputs;
+  if (finalOnly) outputs.push_back({t.finalStage(), t.finalOutput()});
+  for (const auto& a : only) outputs.push_back({a.stage, a.output});
+  if (outputs.empty())
+    cursor_->demandEverything();
+  else
+    cursor_->demandOutputs(outputs);
+}
+
 json HeadlessSession::manifestHeader() const {
   json m;
   const auto& t = cursor_->technique();
@@ -126,7 +137,7 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
     json s;
     s["id"] = t.stage(i).id();
     s["title"] = t.stage(i).title();
-    s["state"] = stageStateName(r.state);
+    s["state"] = r.state == StageState::NotRun && !cursor_->demandsEverything() ? "not needed" : stageStateName(r.state);
     s["cpu_ms"] = r.cpuMs;
     s["gpu_ms"] = r.gpuMs;
     s["iterations"] = r.iterationsRun;
@@ -135,6 +146,7 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
     totalCpu += r.cpuMs;
     totalGpu += r.gpuMs;
     for (const auto& o : t.decl(i).outputs) {
+      if (!cursor_->outputComputed(i, o.name)) continue;  // not needed by this run's demand
       bool isFinal = t.finalStage() == t.stage(i).id() && t.finalOutput() == o.name;
       if (finalOnly && !isFinal) continue;
       int onlyLevel = -1;

@@ -44,10 +44,13 @@ class HeadlessSession {
   double sceneLoadMs() const { return sceneLoadMs_; }  // wall time of loadScene()
   int untilStage() const { return untilStage_; }  // index of the last stage to run
   void run();                                     // runs stages 0..untilStage
+  // What run() computes: every output (the default); with finalOnly, only what the final output
+  // needs; with 'only', only what those outputs need (outputs on demand, StepCursor::demandOutputs).
+  void demand(bool finalOnly, const std::vector<OutputAddress>& only = {});
 
-  // Writes every output of every stage 0..untilStage (only the final output when finalOnly; only
-  // the listed outputs, and levels, when 'only' is not empty) into dir, then dir/manifest.json
-  // last. Returns the manifest.
+  // Writes every computed output of every stage 0..untilStage (only the final output when
+  // finalOnly; only the listed outputs, and levels, when 'only' is not empty) into dir, then
+  // dir/manifest.json last. Returns the manifest.
   nlohmann::json writeOutputs(const std::string& dir, bool finalOnly = false,
                               const std::vector<OutputAddress>& only = {});
   nlohmann::json manifestHeader() const;  // technique, scene, parameters, GL strings, view

@@ -142,6 +142,7 @@ json runOne(const RunRequest& request, const std::string& outDir, const std::str
   const auto start = std::chrono::steady_clock::now();
   HeadlessSession session(request);
   const Technique& t = session.cursor().technique();
+  session.demand(false, finalAndComparedOutputs(t));  // timed for what is compared, as fidelity runs
   const StageTimes times = timeStages(session.cursor(), repeats);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string dir = (fs::path(outDir) / rel).string();

@@ -10,8 +10,18 @@
 
 namespace voxlab::testing_support {
 
+namespace {
+std::map<std::string, std::unique_ptr<HeadlessSession>> sessions;
+}  // namespace
+
+HeadlessSession& freshSession(const RunRequest& r) {
+  sessions.clear();
+  auto& fresh = sessions["fresh: not cached"];  // no request key: session() never returns it
+  fresh = std::make_unique<HeadlessSession>(r);
+  return *fresh;
+}
+
 HeadlessSession& session(const RunRequest& r) {
-  static std::map<std::string, std::unique_ptr<HeadlessSession>> sessions;
   std::string key = r.technique + "|" + r.scene + "|" + r.until + "|" + std::to_string(r.width) + "x" +
                     std::to_string(r.height) + "|" + std::to_string(r.camera);
   auto point = [](const glm::vec3& p) { return std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z); };

@@ -12,6 +12,9 @@ namespace voxlab::testing_support {
 
 // Runs (once per process, cached by its arguments) the technique up to 'until' on 'scene'.
 HeadlessSession& session(const RunRequest& request);
+// A new session for 'request' that has not run yet (for tests that set a demand or parameters
+// first); the cached sessions are dropped, as session() does, since a process holds one context.
+HeadlessSession& freshSession(const RunRequest& request);
 // Captures an output of a session's technique ("stage", "output").
 CapturedOutput capture(HeadlessSession& s, const std::string& stage, const std::string& output);
 

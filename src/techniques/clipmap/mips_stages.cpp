@@ -45,7 +45,8 @@ void MipsStage::declare(StageBuilder& b) const {
            "covering the same volume; with six faces, the faces side by side along x (isotropic, +x -x +y -y +z -z)");
   b.output("clip-logical", OutputKind::Volume3D, Semantic::Color,
            "every level's isotropic values unrolled into logical order, levels along y: texel (x, k N + y, z) = cell "
-           "o_k + (x, y, z) of level k (compare with clip-atlas: the same data, cut at the physical seam)");
+           "o_k + (x, y, z) of level k (compare with clip-atlas: the same data, cut at the physical seam)")
+      .onDemand = true;  // a view for the viewer: the cones read the atlas
   b.texture("clip-mips", [](const ParamSet& p, const ViewState&) { return mipsDesc(p); });
   b.texture("clip-logical", [](const ParamSet& p, const ViewState&) { return logicalDesc(p); });
 }
@@ -71,18 +72,22 @@ void MipsStage::execute(StageContext& ctx) {
     dispatchCompute(mips.levelSize(m), {4, 4, 4});
     glMemoryBarrier(kAllShaderWrites);
   }
-  Texture& logical = ctx.board.ensureTexture("clip-logical", logicalDesc(ctx.params));
-  GLuint unroll = ctx.shaders.program({"clipmap/unroll.comp.glsl"}, atlasFormatDefines(ctx.params));
-  setClipUniforms(unroll, layout, origins);
-  setUniform(unroll, "u_face", 0);
-  glUseProgram(unroll);
-  glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
-  glBindImageTexture(1, logical.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
-  dispatchCompute(logical.desc().size, {4, 4, 4});
-  glMemoryBarrier(kAllShaderWrites);
+  double bytes = double(mips.byteSize());
+  if (ctx.wants("clip-logical")) {
+    Texture& logical = ctx.board.ensureTexture("clip-logical", logicalDesc(ctx.params));
+    GLuint unroll = ctx.shaders.program({"clipmap/unroll.comp.glsl"}, atlasFormatDefines(ctx.params));
+    setClipUniforms(unroll, layout, origins);
+    setUniform(unroll, "u_face", 0);
+    glUseProgram(unroll);
+    glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
+    glBindImageTexture(1, logical.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
+    dispatchCompute(logical.desc().size, {4, 4, 4});
+    glMemoryBarrier(kAllShaderWrites);
+    bytes += double(logical.byteSize());
+  }
   for (int unit = 0; unit < 3; ++unit) glBindImageTexture(GLuint(unit), 0, 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   ctx.stats["mips"] = mips.levels() - 1;
-  ctx.stats["bytes"] = double(mips.byteSize()) + double(logical.byteSize());
+  ctx.stats["bytes"] = bytes;
 }
 
 // --- Covered cells: direct versus filtered ----------------------------------------------------------

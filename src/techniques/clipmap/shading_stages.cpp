@@ -73,9 +73,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
       .referenceMode = "indirect-1";
   b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
-           "cosine-weighted visible fraction within ao.range (1 = open)");
+           "cosine-weighted visible fraction within ao.range (1 = open)").alongside = true;
   b.output("level-used", OutputKind::Image2D, Semantic::Scalar,
-           "per pixel, the finest clip level whose region holds the surface point (-1: outside every level, or sky)");
+           "per pixel, the finest clip level whose region holds the surface point (-1: outside every level, or sky)").alongside = true;
   coneSamplesOutput(b, "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
                        "cone/distance/level read (floor: the finer level, fraction: the next level's weight)/alpha");
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},

@@ -94,11 +94,13 @@ void AnchorStage::declare(StageBuilder& b) const {
            "per move and level, the planner's cell counts: exposed (N^3 - prod(N - |d_i|)), voxelized directly, "
            "changed coverage, refiltered; and the move d in cells")
       .layout = planLayout();
+  b.alongside({"clip-plan"});
   b.output("clip-slabs", OutputKind::Buffer, Semantic::Points,
            "the boxes of cells the last move voxelizes directly (disjoint exposed slabs; cells that left the covered "
            "block): world box (min, level; max, cells), cell range, the physical texel of its min corner and how "
            "many physical boxes it splits into where it wraps")
       .layout = slabLayout("clip-slabs.count");
+  b.alongside({"clip-slabs"});
   b.write("clip-slabs.count");
   b.buffer("clip-slabs", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });
   b.buffer("clip-levels", [](const ParamSet& p, const ViewState&) { return sizeof(LevelRecord) * size_t(p.getInt("clipmap.levels")); });
@@ -175,15 +177,18 @@ void UpdateStage::declare(StageBuilder& b) const {
            "per level, what the last move's shaders wrote, counted by atomics: accumulators cleared, triangle/cell "
            "pairs injected, texels resolved, texels refiltered, guard texels")
       .layout = counters;
+  b.alongside({"clip-counters"});
   b.output("clip-move", OutputKind::Buffer, Semantic::Scalar,
            "per level, the plan of the move this run made (from the origins held before: after a viewer camera "
            "move too): exposed, voxelized directly, changed coverage, refiltered cells and the move d; d = 0 and "
            "all cells exposed for a full build")
       .layout = planLayout();
+  b.alongside({"clip-move"});
   b.output("clip-move-boxes", OutputKind::Buffer, Semantic::Points,
            "the boxes of cells this run's move voxelized directly, as clip-slabs (the viewer's clip-counters view "
            "draws them)")
       .layout = slabLayout("clip-move-boxes.count");
+  b.alongside({"clip-move-boxes"});
   b.write("clip-move-boxes.count");
   b.buffer("clip-move", [](const ParamSet& p, const ViewState&) { return sizeof(PlanRecord) * size_t(p.getInt("clipmap.levels")); });
   b.buffer("clip-move-boxes", [](const ParamSet& p, const ViewState&) { return slabBytes(p.getInt("clipmap.levels")); });

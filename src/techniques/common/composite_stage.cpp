@@ -88,15 +88,18 @@ void CompositeStage::declare(StageBuilder& b) const {
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the explained pixel
   for (const char* gbuffer : {"position", "normal", "albedo", "emission"}) b.read(gbuffer);
   for (const CompositeTerm& term : terms_.indirect) b.read(term.image);
-  if (terms_.visibility) b.read(terms_.visibility->image);
+  if (terms_.visibility) b.readWhen(terms_.visibility->image, terms_.visibility->param + "=" + terms_.visibility->tracedOption);
   b.read("shadow-map");
   b.read("light");
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
+  b.alongside({"direct"});
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, terms_.combinedHelp).referenceMode = "full";
+  b.alongside({"combined"});
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined");
   auto& chain = b.output("probe-chain", OutputKind::Buffer, Semantic::ProbeChain,
                          "the probed pixel explained: surface, direct light with its shadow test, each indirect term "
                          "and its weight, the sum, exposure, tone map and the stored value");
+  chain.alongside = true;
   chain.layout = probeChainLayout(terms_);
   chain.probeRecord = true;
   // No golden: every value is a texel of an image above (the G-buffer, the terms, the composite's

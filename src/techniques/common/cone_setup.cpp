@@ -80,6 +80,7 @@ OutputDesc& coneSamplesOutput(StageBuilder& b, const std::string& help) {
                     {"info", FieldType::Vec4, 32, FieldRole::Other}};
   samples.countResource = "cone-samples.count";
   OutputDesc& probed = b.output("cone-samples", OutputKind::Buffer, Semantic::ConeSamples, help);
+  probed.alongside = true;  // a probe record of one pixel
   probed.layout = samples;
   probed.probeRecord = true;  // the records of the pixel the screen probe points at
   b.buffer("cone-samples", [](const ParamSet&, const ViewState&) { return coneSamplesBytes(); });

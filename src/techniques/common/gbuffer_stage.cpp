@@ -21,7 +21,7 @@ void GBufferStage::declare(StageBuilder& b) const {
   b.output("normal", OutputKind::Image2D, Semantic::Normal, "unit normal facing the camera");
   b.output("albedo", OutputKind::Image2D, Semantic::Color, "Lambertian albedo (base colour)");
   b.output("emission", OutputKind::Image2D, Semantic::RadianceHDR, "emitted radiance");
-  b.output("depth", OutputKind::Image2D, Semantic::Depth, "depth buffer (0 near, 1 far)");
+  b.output("depth", OutputKind::Image2D, Semantic::Depth, "depth buffer (0 near, 1 far)").alongside = true;
   const std::pair<const char*, GLenum> images[] = {{"position", GL_RGBA32F}, {"normal", GL_RGBA16F},
                                                    {"albedo", GL_RGBA8}, {"emission", GL_RGBA16F},
                                                    {"depth", GL_DEPTH_COMPONENT32F}};

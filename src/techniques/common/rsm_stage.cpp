@@ -29,7 +29,7 @@ void RsmStage::declare(StageBuilder& b) const {
   b.output("rsm-radiance", OutputKind::Image2D, Semantic::RadianceHDR,
            "reflected radiance of the direct light: albedo / pi * irradiance");
   b.output("rsm-flux", OutputKind::Image2D, Semantic::RadianceHDR,
-           "reflected flux per texel (W): albedo * irradiance * texel area on the surface");
+           "reflected flux per texel (W): albedo * irradiance * texel area on the surface").alongside = true;
   for (auto [name, format] : {std::pair<const char*, GLenum>{"rsm-position", GL_RGBA32F},
                               {"rsm-normal", GL_RGBA16F}, {"rsm-radiance", GL_RGBA16F}, {"rsm-flux", GL_RGBA32F}})
     b.texture(name, [format = format](const ParamSet& p, const ViewState&) {

@@ -34,7 +34,7 @@ void VoxelizeStage::declare(StageBuilder& b) const {
            "voxel fragments: packed voxel coordinates, albedo, normal, emission")
       .layout = voxelFragmentLayout("fragments.count");
   b.output("triangle-axes", OutputKind::Image2D, Semantic::Color,
-           "triangles coloured by the axis they are projected along (x red, y green, z blue)");
+           "triangles coloured by the axis they are projected along (x red, y green, z blue)").alongside = true;
   declareFragmentPool(b);
   b.texture("triangle-axes", [](const ParamSet&, const ViewState& v) { return triangleAxesDesc(v); });
 }

@@ -101,7 +101,8 @@ void PropagateStage::declare(StageBuilder& b) const {
     for (int ch = 0; ch < 3; ++ch)
       b.output(shVolume("wavefront", c, ch), OutputKind::Volume3D, kShL1,
                std::string("sh-l1: light that moved in the last step, ") + kChannelNames[ch] + ", " + kCascadeNames[c] +
-                   " (the L1 diamond); shown as log c00, |b|/c00 or lobes");
+                   " (the L1 diamond); shown as log c00, |b|/c00 or lobes")
+          .alongside = true;  // the propagation's own state
   BufferLayout energy;
   energy.stride = sizeof(gpu::LpvEnergy);
   energy.fields = {{"wavefront", FieldType::Vec4, 0, FieldRole::Other}, {"total", FieldType::Vec4, 16, FieldRole::Other}};
@@ -109,6 +110,7 @@ void PropagateStage::declare(StageBuilder& b) const {
   b.output("energy", OutputKind::Buffer, kLpvEnergy,
            "per step (0 = injected) and cascade: flux of the wavefront (rgb, step) and of the grid (rgb, cascade), W")
       .layout = energy;
+  b.alongside({"energy"});
   BufferLayout probe;
   probe.stride = sizeof(gpu::LpvProbe);
   probe.fields = {{"cell", FieldType::I32, 0}, {"cell-y", FieldType::I32, 4}, {"cell-z", FieldType::I32, 8},
@@ -133,6 +135,7 @@ void PropagateStage::declare(StageBuilder& b) const {
            "the picked cell (probe.cell-x/y/z, probe.cascade) after the current step: SH per channel, its voxel's "
            "words, c00 gained from each neighbour (a: mean face transmission), and per neighbour its five face "
            "evaluations (intensity towards the face, solid angle, transmission, flux) that sum to it");
+  cellRecord.alongside = true;
   cellRecord.layout = probe;
   cellRecord.probeRecord = true;  // checked and drawn by src/inspect/visualisers/lpv_probe.cpp
   BufferLayout occ;
@@ -148,6 +151,7 @@ void PropagateStage::declare(StageBuilder& b) const {
                  "(minus.xyz), least (plus.w) and mean (minus.w) of the six, by lpv.occlusion and "
                  "lpv.occlusion-amplifier from step 1 on")
         .layout = occ;
+    b.alongside({occlusionBuffer(c)});  // the propagation reads it as it goes
     b.buffer(occlusionBuffer(c), [](const ParamSet& p, const ViewState&) { return occlusionBytes(p); });
   }
   for (int c = 0; c < kCascades; ++c)

@@ -75,6 +75,7 @@ void ReflectionStage::declare(StageBuilder& b) const {
   b.output("reflection", OutputKind::Volume3D, Semantic::RadianceHDR,
            "outgoing radiance per reflection voxel (L0 of the fine cascade's light), alpha = occupancy; level k = mean "
            "of 8 texels of level k-1");
+  b.alongside({"reflection-colour"});  // the words the same pass turns into the radiance
   b.texture("reflection-colour", [](const ParamSet& p, const ViewState&) { return reflectionColourDesc(p); });
   b.texture("reflection", [](const ParamSet& p, const ViewState&) { return reflectionDesc(p); });
 }
@@ -168,9 +169,9 @@ void GiStage::declare(StageBuilder& b) const {
   for (int c = 0; c < kCascades; ++c)
     for (int ch = 0; ch < 3; ++ch) b.read(shVolume("light", c, ch));
   b.read("reflection");
-  b.output("irradiance-fine", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the fine cascade (W/m^2)");
-  b.output("irradiance-coarse", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the coarse cascade (W/m^2)");
-  b.output("cascade-blend", OutputKind::Image2D, Semantic::Fraction, "weight of the coarse cascade (0 fine only, 1 coarse only)");
+  b.output("irradiance-fine", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the fine cascade (W/m^2)").alongside = true;
+  b.output("irradiance-coarse", OutputKind::Image2D, Semantic::RadianceHDR, "indirect irradiance from the coarse cascade (W/m^2)").alongside = true;
+  b.output("cascade-blend", OutputKind::Image2D, Semantic::Fraction, "weight of the coarse cascade (0 fine only, 1 coarse only)").alongside = true;
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo / pi * blended irradiance")
       .referenceMode = "indirect-1";
@@ -183,6 +184,7 @@ void GiStage::declare(StageBuilder& b) const {
            "world boxes: fine cascade, coarse cascade, and the blend shell between coarse weight 0 (inner box) and 1 "
            "(outer box, half a fine cell inside the fine grid's edge)")
       .layout = boxes;
+  b.alongside({"cascade-boxes"});
   for (const auto& [name, format] : kGiImages)
     b.texture(name, [format = format](const ParamSet&, const ViewState& v) { return viewImageDesc(v, format); });
   b.buffer("cascade-boxes", [](const ParamSet&, const ViewState&) { return 4 * sizeof(gpu::LpvBox); });

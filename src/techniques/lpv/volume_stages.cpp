@@ -138,7 +138,8 @@ void BinStage::declare(StageBuilder& b) const {
                  "tetrahedron-channel normal masks (Listings 4.28/4.29)")
         .layout = voxelLayout();
     b.output(voxelColourVolume(c), OutputKind::Volume3D, Semantic::Color,
-             std::string("decoded ") + kCascadeNames[c] + " cells: stored linear albedo, alpha = occupied");
+             std::string("decoded ") + kCascadeNames[c] + " cells: stored linear albedo, alpha = occupied")
+        .alongside = true;  // decoded in the pass that bins the fragments
   }
   b.buffer("bin.outside", [](const ParamSet&, const ViewState&) { return size_t(4 * kCascades); });
   b.write("voxel-fragments");

@@ -197,9 +197,10 @@ void LayersStage::declare(StageBuilder& b) const {
   b.read("light");
   b.output("rsm-depth", OutputKind::Image2D, Semantic::Scalar,
            "per RSM texel: x = light depth z (m; planar for a directional light, radial for a spot or point light), y = <n.l>, "
-           "z = layer's warped depth z', 0 where empty");
+           "z = layer's warped depth z', 0 where empty").alongside = true;
   auto& id = b.output("layer-id", OutputKind::Image2D, kLayerId,
                       "layer of each RSM texel: depth interval * (b + 1) + <n.l> interval; 255 = empty");
+  id.alongside = true;
   id.tier = CaptureTier::Exact;
   b.output("layer-radiance", OutputKind::Image2D, kLayerRadiance,
            "LRSM base, layers side by side: rgb = A*R (radiance premultiplied by coverage), a = alpha");
@@ -274,7 +275,7 @@ void LrsmMipsStage::declare(StageBuilder& b) const {
   b.output("lrsm-depth", OutputKind::Image2D, kLayerDepth,
            "LRSM moment mips per layer: alpha * z'^k, k = 1..4 (mu = x / alpha, sigma^2 = y / alpha - mu^2; alpha: lrsm-normal .w)");
   b.output("coverage-sum", OutputKind::Image2D, Semantic::Fraction,
-           "sum over layers of alpha at every level: the RSM's covered fraction (1 where fully covered)");
+           "sum over layers of alpha at every level: the RSM's covered fraction (1 where fully covered)").alongside = true;
   // The base is the layer atlas LayersStage allocates (execute() reads its size from it).
   auto mipTex = [](GLenum format) {
     return [format](const ParamSet& p, const ViewState&) {
@@ -394,7 +395,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
            "outgoing one-bounce diffuse radiance: albedo / pi * sum_k w_k I_k (at cone.resolution)")
       .referenceMode = "indirect-1";
   b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR,
-           "radiance I gathered by the 10-degree cone along the mirror direction");
+           "radiance I gathered by the 10-degree cone along the mirror direction").alongside = true;
   b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction,
            "transmittance of the shadow cone toward the light through the occlusion mips (1 = lit)");
   coneSamplesOutput(b, "every sphere sample of the probed pixel's cones: centre + diameter, accumulated I + opacity, "
@@ -409,6 +410,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                       "Algorithm 1 per layer for every sphere sample of the probed pixel: x_c r_c, cone/sample/voxel "
                       "mip/alpha, transmittance/RSM uv/LRSM mip, layer/in range/f/N, mu/sigma^2/V/z', A*R/alpha, "
                       "contribution/r', d_circle/z_c/Jacobian 1 / <n.l>");
+  gr.alongside = true;
   gr.layout = g;
   gr.probeRecord = true;
   BufferLayout c;
@@ -419,6 +421,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   auto& cr = b.output("cone-results", OutputKind::Buffer, Semantic::Scalar,
                       "the probed pixel's cones: axis + weight, I + opacity, index/samples/aperture/kind (0 diffuse, "
                       "1 specular, 2 shadow, 3 = the final sum: rgb = indirect diffuse)");
+  cr.alongside = true;
   cr.layout = c;
   cr.probeRecord = true;
   auto traceTex = [](GLenum format) {

@@ -119,15 +119,18 @@ constexpr size_t kMaxDdaCells = 2048;
 void BitmaskTablesStage::declare(StageBuilder& b) const {
   auto& orT = b.output("or-table", OutputKind::Image2D, kBitmaskColumns,
                        "128 x 1 RGBA32UI: texel k has only slice k set (MSB first in channel k >> 5)");
+  orT.alongside = true;
   orT.tier = CaptureTier::Exact;
   auto& xorT = b.output("xor-table", OutputKind::Image2D, kBitmaskColumns,
                         "129 x 1 RGBA32UI: texel k has slices k..127 set; texel 128 is all zero");
+  xorT.alongside = true;
   xorT.tier = CaptureTier::Exact;
   auto& rays = b.output("ray-masks", OutputKind::Image2D, kBitmaskColumns,
                         "128 x 128 RGBA32UI: texel (i, j) = XOR[i] ^ XOR[j+1], the slices i..j (used only for i <= j)");
   rays.tier = CaptureTier::Exact;
   auto& pc = b.output("ray-mask-popcount", OutputKind::Image2D, Semantic::Scalar,
                       "set slices per ray mask: j - i + 1 above the diagonal; below it the unused i > j half");
+  pc.alongside = true;
   pc.tier = CaptureTier::Exact;
   b.texture("or-table", [](const ParamSet&, const ViewState&) { return orTableDesc(); });
   b.texture("xor-table", [](const ParamSet&, const ViewState&) { return xorTableDesc(); });
@@ -165,6 +168,7 @@ void HierarchyStage::declare(StageBuilder& b) const {
   h.tier = CaptureTier::Exact;
   auto& pc = b.output("hierarchy-popcount", OutputKind::Image2D, Semantic::Scalar,
                       "set slices per column at every level (never decreases from a level to the next)");
+  pc.alongside = true;
   pc.tier = CaptureTier::Exact;
   b.texture("bitmask-hierarchy", [](const ParamSet& p, const ViewState&) {
     return hierarchyDesc(p.getInt("voxel.resolution"), GL_RGBA32UI);
@@ -251,10 +255,12 @@ void RaysStage::declare(StageBuilder& b) const {
   auto& cat = b.output("ray-category", OutputKind::Image2D, kRayCategory,
                        "the last ray's outcome: 0 valid, 1 no hit, 2 not in the RSM, 3 too far from the RSM's surface, "
                        "4 wrong facing, 5 step budget spent, 6 dropped (offset > radius), 7 no receiver");
+  cat.alongside = true;
   cat.tier = CaptureTier::Exact;
   auto& steps = b.output("ray-steps", OutputKind::Image2D, Semantic::Scalar, "traversal steps per pixel, summed over the rays so far");
+  steps.alongside = true;
   steps.tier = CaptureTier::Exact;
-  b.output("hit-position", OutputKind::Image2D, Semantic::Scalar, "the last ray's hit point (world xyz), w = 1 where it hit");
+  b.output("hit-position", OutputKind::Image2D, Semantic::Scalar, "the last ray's hit point (world xyz), w = 1 where it hit").alongside = true;
   BufferLayout sl;
   sl.stride = sizeof(gpu::TraversalStep);
   const char* u32Names[] = {"step", "level", "texel-x", "texel-y", "first-slice", "last-slice", "action", "hit-slice",
@@ -269,6 +275,7 @@ void RaysStage::declare(StageBuilder& b) const {
   auto& st = b.output("traversal-steps", OutputKind::Buffer, kTraversalSteps,
                       "every step of the probed pixel's probe.ray walk: level, texel, slice range, ray mask, AND, "
                       "action (8 descend, 9 advance, 0 hit)");
+  st.alongside = true;
   st.layout = sl;
   st.tier = CaptureTier::Exact;
   st.probeRecord = true;  // checked and drawn by src/techniques/near_field/views/bitmask_columns.cpp
@@ -300,6 +307,7 @@ void RaysStage::declare(StageBuilder& b) const {
                        "the probed ray's segment walked cell by cell by a brute-force 3D DDA on the CPU over the same "
                        "binary grid (x, y, slice; t entering it; 1 where set: the last is the DDA's hit; walk-hit 1 where "
                        "the hierarchical walk hit that cell), beside the hierarchical walk");
+  dda.alongside = true;
   dda.layout = dl;
   dda.tier = CaptureTier::Exact;
   dda.probeRecord = true;
@@ -313,6 +321,7 @@ void RaysStage::declare(StageBuilder& b) const {
            "steps, the true surface point on the same ray (w t; exact ray/triangle query on the CPU) and its distance "
            "from the hit voxel in voxels (x largest axis, y Euclidean, z along the ray in voxel diagonals, w triangle), "
            "the RSM texel's position (w footprint) and normal (w: 1 normal test on, + 2 plane validity)");
+  pr.alongside = true;
   pr.layout = pl;
   pr.probeRecord = true;
   kTracedRays.declareImage(b, "indirect", GL_RGBA32F);
@@ -561,7 +570,7 @@ void PathsStage::declare(StageBuilder& b) const {
            "indirect radiance of paths.bounces diffuse bounces so far: (1/P) sum over paths of sum_k W_k L~_k")
       .referenceMode = "indirect-{paths.bounces}";  // K bounces: the reference's r in {2, ..., K+1}
   b.output("path-vertex", OutputKind::Image2D, Semantic::Scalar,
-           "the current path vertex per pixel (world xyz), w = 1 while the path is alive");
+           "the current path vertex per pixel (world xyz), w = 1 while the path is alive").alongside = true;
   for (const char* name : {"indirect", "path-vertex", "paths.normal", "paths.weight"})
     kTracedRays.declareImage(b, name, GL_RGBA32F);
 }

@@ -240,7 +240,8 @@ void BuildStage::declare(StageBuilder& b) const {
       .layout = levels;
   b.output("svo-structure", OutputKind::Volume3D, Semantic::Fraction,
            "the octree's nodes as a volume: mip m shows level D - m (1 non-empty, 0.6 dilated, 0.3 empty sibling, "
-           "0 no node); overlay a level on the camera images to see its node boxes in the scene");
+           "0 no node); overlay a level on the camera images to see its node boxes in the scene")
+      .onDemand = true;  // a view: the octree is the node pool
   b.output("svo-counters", OutputKind::Buffer, Semantic::Scalar,
            "counters: tiles, overflow flag, level non-empty, level tagged, -, -, nodes written")
       .layout = BufferLayout{4, {{"value", FieldType::U32, 0}}, "", 0, 1.0f};
@@ -336,7 +337,7 @@ void BuildStage::execute(StageContext& ctx) {
   }
   levelBuffer.upload(levels.data(), levels.size() * sizeof(SvoLevel));
   // The structure view of this level (mip D - level), now that its flags are final.
-  {
+  if (ctx.wants("svo-structure")) {
     Texture& structure = ctx.board.ensureTexture("svo-structure", structureDesc(ctx.params));
     if (level == 0) {
       const uint8_t zero = 0;
@@ -501,7 +502,8 @@ void MipmapStage::declare(StageBuilder& b) const {
       .layout = valueLayout();
   b.output("svo-dense", OutputKind::Volume3D, Semantic::Color,
            "the octree resampled into a dense view: mip m holds the node values of level D - m (0 where no node), "
-           "so it can be set beside vct-grid's radiance; alpha = opacity (the viewer's channel a)");
+           "so it can be set beside vct-grid's radiance; alpha = opacity (the viewer's channel a)")
+      .onDemand = true;  // a view for the viewer and the tests: nothing later reads it
   BufferLayout directional;
   directional.stride = SVO_DIRECTIONAL_RECORD * 16;
   const char* names[SVO_DIRECTIONAL_RECORD] = {"+x", "-x", "+y", "-y", "+z", "-z", "solid +x+y+z", "solid -x-y-z"};
@@ -527,24 +529,26 @@ void MipmapStage::execute(StageContext& ctx) {
   const bool anisotropic = anisotropicBricks(ctx.params);
   Buffer& directional =
       ctx.board.ensureBuffer("svo-directional-values", directionalValueBytes(anisotropic ? nodes : 1));
-  Texture& dense = ctx.board.ensureTexture("svo-dense", denseDesc(ctx.params));
+  Texture* dense = ctx.wants("svo-dense") ? &ctx.board.ensureTexture("svo-dense", denseDesc(ctx.params)) : nullptr;
   Buffer& nodePool = ctx.board.buffer("svo-nodes");
   GLuint resample = ctx.shaders.program({"svo/resample.comp.glsl"}, denseFormatDefines(ctx.params));
   auto writeDense = [&](int mip) {
+    if (!dense) return;
     const SvoLevel& level = levels[depth - mip];
     setUniform(resample, "u_start", unsigned(level.start));
     setUniform(resample, "u_count", unsigned(level.count));
     glUseProgram(resample);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
-    glBindImageTexture(0, dense.id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, denseFormat(ctx.params));
+    glBindImageTexture(0, dense->id(), mip, GL_TRUE, 0, GL_WRITE_ONLY, denseFormat(ctx.params));
     dispatchCompute({int(level.count), 1, 1}, {64, 1, 1});
     barrierAll();
   };
   if (k == 0) {
     glCopyNamedBufferSubData(ctx.board.buffer("svo-leaf-values").id(), values.id(), 0, 0, GLsizeiptr(nodes) * 16);
     const uint8_t zero[4] = {0, 0, 0, 0};
-    for (int m = 0; m < dense.levels(); ++m) glClearTexImage(dense.id(), m, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    if (dense)
+      for (int m = 0; m < dense->levels(); ++m) glClearTexImage(dense->id(), m, GL_RGBA, GL_UNSIGNED_BYTE, zero);
     barrierAll();
     writeDense(0);
   }
@@ -889,7 +893,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "weighted visible fraction within ao.range (1 = open)");
-  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the octree (1 = lit)");
+  // Traced only when something reads it (composite.shadow=soft-shadow-cone, a view, --only).
+  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the octree (1 = lit)")
+      .onDemand = true;
   coneSamplesOutput(b, "every sample of the probed pixel's cones: centre+diameter, accumulated radiance+opacity, "
                        "cone/distance/mip/alpha");
   BufferLayout steps;
@@ -900,6 +906,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   OutputDesc& descent = b.output("svo-descent", OutputKind::Buffer, kOctreeDescent,
                                  "for every sample of the probed pixel: the node visited at each level from the root "
                                  "to the sample's fine level (0xffffffff = absent), its cell, its brick's value there");
+  descent.alongside = true;
   descent.layout = steps;
   descent.probeRecord = true;
   b.texture("indirect-diffuse", [](const ParamSet& p, const ViewState& v) { return kTracedCones.desc(p, v, GL_RGBA16F); });
@@ -918,7 +925,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
-  Texture& shadow = ctx.board.ensureTexture("soft-shadow", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  const bool traceShadow = ctx.wants("soft-shadow");
+  // Without the shadow cone its image unit is bound to the ambient-occlusion image, never written.
+  Texture& shadow = traceShadow ? ctx.board.ensureTexture("soft-shadow", kTracedCones.desc(ctx.params, ctx.view, GL_R16F)) : ao;
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& descent = ctx.board.ensureBuffer("svo-descent", kDescentBytes);
@@ -966,6 +975,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
                ctx.params.getBool("svo.voxel-halo") && !ctx.params.getBool("svo.dilate") && !tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_layoutTile", tileLayout(ctx.params) ? 1 : 0);
     setUniform(program, "u_anisotropic", anisotropicBricks(ctx.params) ? 1 : 0);
+    setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
     setUniform(program, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
     setUniform(program, "u_directionalPerAxis", directionalAxis);
     glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);

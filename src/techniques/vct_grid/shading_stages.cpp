@@ -42,8 +42,11 @@ void ConeTraceStage::declare(StageBuilder& b) const {
       .referenceMode = "indirect-1";
   b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
-           "cosine-weighted visible fraction within ao.range (1 = open)");
-  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the voxels (1 = lit)");
+           "cosine-weighted visible fraction within ao.range (1 = open)").alongside = true;
+  // Traced only when something reads it (composite.shadow=soft-shadow-cone, a view, --only): the
+  // default composite takes its visibility from the shadow map.
+  b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction, "visibility of the light through the voxels (1 = lit)")
+      .onDemand = true;
   coneSamplesOutput(b, "every sample of the probed pixel's cones (probe.x/probe.y pick the traced pixel): centre+diameter, "
                        "accumulated radiance+opacity, cone/distance/lod/alpha");
   const std::pair<const char*, GLenum> traced[] = {{"indirect-diffuse", GL_RGBA16F}, {"indirect-specular", GL_RGBA16F},
@@ -58,7 +61,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
-  Texture& shadow = ctx.board.ensureTexture("soft-shadow", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
+  const bool traceShadow = ctx.wants("soft-shadow");
+  // Without the shadow cone its image unit is bound to the ambient-occlusion image, never written.
+  Texture& shadow = traceShadow ? ctx.board.ensureTexture("soft-shadow", kTracedCones.desc(ctx.params, ctx.view, GL_R16F)) : ao;
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& counts = ctx.board.ensureBuffer("cone-trace.counts", 20);
@@ -84,6 +89,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const size_t coneCount = size_t(ctx.params.getInt("cone.count"));
 
   setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
+  setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
   setUniform(program, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);

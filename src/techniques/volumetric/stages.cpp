@@ -133,6 +133,7 @@ void DensityStage::declare(StageBuilder& b) const {
   b.output("particles", OutputKind::Buffer, Semantic::Points,
            "every particle: position in density-grid voxels, age as a fraction of its lifetime")
       .layout = particles;
+  b.alongside({"particles"});
   b.texture("particle-count", [](const ParamSet& p, const ViewState&) {
     return countGridDesc(p.getInt("density.resolution"));
   });
@@ -298,7 +299,7 @@ void MarchStage::declare(StageBuilder& b) const {
   b.output("transmittance", OutputKind::Image2D, Semantic::Fraction,
            "transmittance from the camera to the march front; after the last sample, to the surface");
   b.output("ray-length", OutputKind::Image2D, Semantic::Depth,
-           "length of the marched segment: the camera ray inside the density grid and before the surface (m)");
+           "length of the marched segment: the camera ray inside the density grid and before the surface (m)").alongside = true;
   BufferLayout rec;
   rec.stride = sizeof(gpu::RaySample);
   rec.fields = {{"voxel+t", FieldType::Vec4, 0, FieldRole::Position},
@@ -312,11 +313,12 @@ void MarchStage::declare(StageBuilder& b) const {
       "every sample of the probed pixel's ray (probe.x/probe.y pick it): voxel position and distance t, world "
       "position and start offset, lit/sigma_s/sigma_t/particle count, mu/p(mu)/E/T, contribution and running sum");
   samples.layout = rec;
+  samples.alongside = true;  // a probe record of one pixel
   samples.tier = CaptureTier::Tolerance;  // float fields, compared with the tolerances
   samples.probeRecord = true;              // the Probe tab shows it (src/techniques/volumetric/views/volumetric_ray.cpp)
   b.output("ray-plot", OutputKind::Image2D, Semantic::Color,
            "the probed ray, one column band per sample: contribution over the largest (yellow bars; red tick: "
-           "shadowed), transmittance T (blue) and running sum over its final value (green), 0..1");
+           "shadowed), transmittance T (blue) and running sum over its final value (green), 0..1").alongside = true;
   for (const char* name : {"transmittance", "march.optical-depth", "ray-length"})
     b.texture(name, [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_R32F); });
   b.texture("inscatter", [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_RGBA32F); });
@@ -404,7 +406,7 @@ void BlurStage::declare(StageBuilder& b) const {
   b.write("blur.horizontal");
   b.output("inscatter-blurred", OutputKind::Image2D, Semantic::RadianceHDR,
            "the in-scattered radiance after the bilateral blur, W/(m^2 sr) (alpha: the blurred transmittance)");
-  b.output("transmittance-blurred", OutputKind::Image2D, Semantic::Fraction, "the transmittance after the bilateral blur");
+  b.output("transmittance-blurred", OutputKind::Image2D, Semantic::Fraction, "the transmittance after the bilateral blur").alongside = true;
   for (const char* name : {"blur.horizontal", "inscatter-blurred"})
     b.texture(name, [](const ParamSet& p, const ViewState& v) { return imageDesc(marchedSize(v, p), GL_RGBA32F); });
   b.texture("transmittance-blurred",
@@ -496,6 +498,7 @@ void ComposeStage::declare(StageBuilder& b) const {
   if (!surfaceInput_.empty()) b.read(surfaceInput_);
   OutputDesc& surface = b.output("surface", OutputKind::Image2D, Semantic::RadianceHDR,
                                  "surface radiance before the medium, W/(m^2 sr)");
+  surface.alongside = true;
   surface.resource = "volumetric-surface";
   // Alone, the surface term is direct light + emission (compose.surface=direct): the path tracer's
   // 'direct' mode (docs/fidelity.md). Over another technique's image it is that image's, untagged.
@@ -503,6 +506,7 @@ void ComposeStage::declare(StageBuilder& b) const {
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR,
            "surface * transmittance + in-scattered radiance, W/(m^2 sr)")
       .resource = "volumetric-combined";
+  b.alongside({"combined"});
   b.output("final", OutputKind::Image2D, Semantic::Color, "the tonemapped image: x / (1 + x) of exposure * combined")
       .resource = "volumetric-final";
   for (const char* name : {"volumetric-surface", "volumetric-combined"})

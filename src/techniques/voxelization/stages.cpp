@@ -36,7 +36,7 @@ void ClassifyStage::declare(StageBuilder& b) const {
   b.write("triangle-list");
   b.write("triangle-classes");
   b.output("triangle-axes", OutputKind::Image2D, Semantic::Color,
-           "triangles coloured by the axis they are projected along (x red, y green, z blue)");
+           "triangles coloured by the axis they are projected along (x red, y green, z blue)").alongside = true;
   b.texture("triangle-axes", [](const ParamSet&, const ViewState& v) { return triangleAxesDesc(v); });
 }
 
@@ -155,6 +155,7 @@ void CompareStage::declare(StageBuilder& b) const {
            "alphaMode MASK triangles only where their alpha coverage is opaque)");
   b.output("difference", OutputKind::Volume3D, Semantic::Scalar,
            "0 = method and reference agree, 1 = missed by the method, 2 = added by the method");
+  b.alongside({"reference"});  // the difference is computed from it
   b.texture("reference", [](const ParamSet& p, const ViewState&) { return volumeDesc(p.getInt("voxel.resolution"), GL_R8); });
   b.texture("difference", [](const ParamSet& p, const ViewState&) {
     return volumeDesc(p.getInt("voxel.resolution"), GL_R32F);

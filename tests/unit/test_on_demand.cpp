@@ -1,0 +1,132 @@
+// Outputs on demand (StepCursor::demandOutputs): a run that asks only for the final image computes
+// only what the final image depends on, found from the stages' declared reads; asking for
+// everything afterwards computes the rest, and the final image is the same either way. Run for
+// every registered technique, so a new technique or output is checked without being named here.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "graph/technique.h"
+#include "test_support.h"
+
+namespace voxlab {
+namespace {
+
+// The resources the final output depends on, from the declarations alone (written here apart
+// from StepCursor::plan, so that the two are checked against each other): the final output's
+// resource, then, from the last stage back, everything a stage reads when it writes one of them.
+std::set<std::string> finalDependencies(const Technique& t, const ParamSet& params) {
+  std::set<std::string> needed;
+  auto [finalStage, finalDesc] = t.findOutput(t.finalStage(), t.finalOutput());
+  needed.insert(finalDesc->resourceName());
+  for (int i = finalStage; i >= 0; --i) {
+    const StageDecl& d = t.decl(i);
+    bool writesNeeded = false;
+    for (const auto& o : d.outputs) writesNeeded |= needed.count(o.resourceName()) != 0;
+    for (const auto& w : d.writes) writesNeeded |= needed.count(w) != 0;
+    if (!writesNeeded) continue;
+    for (const auto& r : d.reads) {
+      auto condition = d.readConditions.find(r);
+      if (r != kViewResource && (condition == d.readConditions.end() || conditionHolds(condition->second, params, r)))
+        needed.insert(r);
+    }
+  }
+  return needed;
+}
+
+bool onBoard(Blackboard& board, const std::string& resource) {
+  return board.hasTexture(resource) || board.hasBuffer(resource);
+}
+
+class OnDemand : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OnDemand, FinalOnlyComputesOnlyWhatTheFinalImageUses) {
+  RunRequest request;
+  request.technique = GetParam();
+  request.scene = "cornell-box";
+  request.width = request.height = 64;
+  HeadlessSession& s = testing_support::freshSession(request);
+  StepCursor& cursor = s.cursor();
+  const Technique& t = cursor.technique();
+  const std::set<std::string> needed = finalDependencies(t, cursor.params());
+
+  s.demand(/*finalOnly=*/true);
+  s.run();
+  int skippedStages = 0, alongside = 0;
+  for (int i = 0; i < t.stageCount(); ++i) {
+    if (cursor.record(i).state == StageState::NotRun) ++skippedStages;
+    for (const auto& o : t.decl(i).outputs) {
+      const std::string address = t.id() + "/" + t.stage(i).id() + "/" + o.name;
+      if (needed.count(o.resourceName())) {
+        EXPECT_TRUE(cursor.outputComputed(i, o.name)) << address << " is needed by the final image but was not computed";
+        continue;
+      }
+      // A placeholder (one empty texel under these parameters) is not a computed output, and an
+      // output written alongside by a pass the final image needs is declared so (OutputDesc::alongside).
+      if (isPlaceholderUnder(o, cursor.params()) || o.alongside) {
+        ++alongside;
+        continue;
+      }
+      EXPECT_FALSE(onBoard(cursor.board(), o.resourceName()))
+          << address << " was computed (resource '" << o.resourceName()
+          << "' allocated) by a --final-only run, but the final image does not depend on it";
+      EXPECT_FALSE(cursor.outputComputed(i, o.name)) << address;
+    }
+  }
+  const CapturedOutput finalOnly = testing_support::capture(s, t.finalStage(), t.finalOutput());
+
+  // Everything asked for afterwards (the viewer opening every view): every output is there.
+  cursor.demandEverything();
+  s.run();
+  for (int i = 0; i < t.stageCount(); ++i) {
+    EXPECT_EQ(cursor.record(i).state, StageState::Done) << t.id() << "/" << t.stage(i).id();
+    for (const auto& o : t.decl(i).outputs) {
+      EXPECT_TRUE(cursor.outputComputed(i, o.name)) << t.id() << "/" << t.stage(i).id() << "/" << o.name;
+      EXPECT_TRUE(onBoard(cursor.board(), o.resourceName())) << t.id() << "/" << t.stage(i).id() << "/" << o.name;
+    }
+  }
+  const CapturedOutput everything = testing_support::capture(s, t.finalStage(), t.finalOutput());
+  ASSERT_EQ(finalOnly.levels.size(), everything.levels.size());
+  const auto& a = finalOnly.levels[0].values;
+  const auto& b = everything.levels[0].values;
+  ASSERT_EQ(a.size(), b.size());
+  double maxDiff = 0;
+  for (size_t k = 0; k < a.size(); ++k) maxDiff = std::max(maxDiff, double(std::abs(a[k] - b[k])));
+  // The same stages on the same data: measured 0 for every technique (the runs are deterministic),
+  // so any difference means the final image used something the final-only run left out.
+  EXPECT_EQ(maxDiff, 0.0) << t.id() << ": the final image differs between a --final-only run and a whole run";
+  RecordProperty("stages_skipped_final_only", skippedStages);
+  RecordProperty("outputs_alongside_or_placeholder", alongside);
+}
+
+std::vector<std::string> everyTechnique() { return techniqueIds(); }
+
+INSTANTIATE_TEST_SUITE_P(EveryTechnique, OnDemand, ::testing::ValuesIn(everyTechnique()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+// An output that does not exist is named in one line, before anything runs.
+TEST(OnDemandCursor, UnknownOutputIsRefusedInOneLine) {
+  RunRequest request;
+  request.technique = "vct-grid";
+  request.width = request.height = 32;
+  HeadlessSession& s = testing_support::freshSession(request);
+  try {
+    s.cursor().demandOutputs({{"composite", "no-such-output"}});
+    FAIL() << "an unknown output was accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no-such-output"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace voxlab
