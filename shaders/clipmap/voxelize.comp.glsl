@@ -8,7 +8,7 @@
 // (triangle, cell) pair is decided by the exact half-open separating-axis test of
 // common/tri_box.glsl in triangle-local double coordinates, so a cell gets the same triangles in
 // a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
-// emission, evaluated at the cell centre's projection onto the triangle's plane) to the cell's
+// emission, evaluated at the point of the triangle nearest the cell centre) to the cell's
 // fixed-point accumulators with integer atomics: the sums do not depend on the order. With six
 // faces it also adds, per travel direction of a cone, the light of the fragments whose fronts
 // that direction sees, and ORs the fragment's facing code (common/facing.glsl).
@@ -46,6 +46,27 @@ const float PI = 3.14159265358979;
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 ivec3 toProjectedI(ivec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 ivec3 fromProjectedI(ivec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
+
+// The point of triangle (a, b, c) nearest to p (Voronoi regions of its vertices, edges and face).
+vec3 nearestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 ab = b - a, ac = c - a, ap = p - a;
+  float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  vec3 bp = p - b;
+  float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  vec3 cp = p - c;
+  float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  float denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
 
 void voxelizeEntry(uint t, int e) {
   const int level = u_entryLevel[e];
@@ -106,9 +127,11 @@ void voxelizeEntry(uint t, int e) {
         if (u_mode == 1) {
           radiance = u_uniformRadiance;
         } else {
-          // The cell centre's projection onto the plane, in world metres.
-          dvec3 q = centre - dn * (dot(dn, centre - d0) / dot(dn, dn));
-          vec3 p = (origin + vec3(q)) * u_cellSize[level];
+          // The point of the triangle nearest the cell centre, in world metres: where a cell holds
+          // only a sliver of a surface, the centre's projection onto the plane lies off the
+          // triangle (above the ceiling, beyond a corner), where the light and the shadow map
+          // belong to another place; coarse cells hold more such slivers.
+          vec3 p = (origin + nearestOnTriangle(vec3(centre), l0, l1, l2)) * u_cellSize[level];
           vec3 toLight; float dist;
           lightDirection(p, toLight, dist);
           float cosine = max(dot(normal, toLight), 0.0);
