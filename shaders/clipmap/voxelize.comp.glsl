@@ -47,25 +47,27 @@ vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.z
 ivec3 toProjectedI(ivec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 ivec3 fromProjectedI(ivec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
 
-// The point of triangle (a, b, c) nearest to p (Voronoi regions of its vertices, edges and face).
+// The point of segment [a, b] nearest to p.
+vec3 nearestOnSegment(vec3 p, vec3 a, vec3 b) {
+  vec3 ab = b - a;
+  float t = clamp(dot(p - a, ab) / max(dot(ab, ab), 1e-30), 0.0, 1.0);
+  return a + t * ab;
+}
+
+// The point of triangle (a, b, c) nearest to p: p's projection onto the triangle's plane when it
+// falls inside the triangle (on the inner side of all three edges), else the nearest point of the
+// three edges.
 vec3 nearestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
-  vec3 ab = b - a, ac = c - a, ap = p - a;
-  float d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  vec3 bp = p - b;
-  float d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
-  vec3 cp = p - c;
-  float d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  float va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  float denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  vec3 n = cross(b - a, c - a);
+  float area2 = dot(n, n);
+  if (area2 > 1e-30) {
+    vec3 q = p - n * (dot(n, p - a) / area2);
+    if (dot(cross(b - a, q - a), n) >= 0.0 && dot(cross(c - b, q - b), n) >= 0.0 && dot(cross(a - c, q - c), n) >= 0.0)
+      return q;
+  }
+  vec3 onAB = nearestOnSegment(p, a, b), onBC = nearestOnSegment(p, b, c), onCA = nearestOnSegment(p, c, a);
+  float dAB = dot(p - onAB, p - onAB), dBC = dot(p - onBC, p - onBC), dCA = dot(p - onCA, p - onCA);
+  return dAB <= dBC && dAB <= dCA ? onAB : (dBC <= dCA ? onBC : onCA);
 }
 
 void voxelizeEntry(uint t, int e) {
