@@ -135,7 +135,8 @@
 //     resolution, so the count depends on the grid alone, and the coarse cascade, which holds the whole scene, crosses it in
 //     half as many). A fixed 8 (K&D-style implementations; GPU Pro 4 uses 10) carried light 21 cm on
 //     the 56 cm Cornell box: its ceiling stayed black and its indirect energy was 0.39 of the
-//     reference (0.60 at 22 steps with VPLs unshifted, 0.81 shifted; unshifted skylight-room 0.50 -> 1.04, two-rooms 0.83 -> 1.03, corridor 0.69 -> 0.73,
+//     reference (0.60 at 22 steps with VPLs unshifted, 0.81 shifted; unshifted skylight-room
+//     0.50 -> 1.04, two-rooms 0.83 -> 1.03, corridor 0.69 -> 0.73,
 //     spheres-room 0.81 -> 1.06, Sponza 0.91 -> 0.94, with lpv.centre=view). Only the frontier moves
 //     a cell per step, though; the rest is the propagation's own bias, not range (next item): the
 //     Cornell box's ceiling, 21 fine cells from the lit floor, reads 1-3 % of the reference while the
@@ -161,7 +162,8 @@
 //     default, SSIM higher on all six, skylight-room further out; not the default (an unpublished
 //     reprojection, and without the clamp the field can go negative). With VPLs unshifted travel
 //     read 0.70, 0.82, 1.44, 1.28, 0.77, 1.10 (without the clamp 0.62, 0.78, 0.87, 1.13, 0.74, 0.97).
-//     Measured and not kept (128 x 128, VPLs unshifted): cells twice as large (lpv.fine-extent=3) give the ceiling 12 % but skylight-room
+//     Measured and not kept (128 x 128, VPLs unshifted): cells twice as large (lpv.fine-extent=3)
+//     give the ceiling 12 % but skylight-room
 //     2.1 (the floor lights itself over larger cells); reading the larger of the two cascades' light
 //     (the coarse one where the fine one has received none) gives the Cornell box 0.73 and
 //     skylight-room 2.3 (the coarse grid's self-illumination and leaks).
