@@ -1073,9 +1073,9 @@ TEST(LrsmPhysics, CornellTallBoxFaceHasNoDarkPatch) {
   // Measured (deterministic): the darkest cell 0.850 of the median at the defaults, after the
   // filter and before it alike (a 4x4 cell of the gathered image averages one tile of the 16 step
   // phases: the interleaving, not the filter, lifts the patch); 0.792 with one step phase for
-  // every pixel (kUnfiltered: a dark patch low in the face's middle, where the horizontal cones'
-  // samples all reach the floor in front of the box at the same phase), 0.828 with one phase and
-  // the filter. The bound sits between the interleaved and the single phase.
+  // every pixel (kUnfiltered: a dark patch low in the face's middle, which the one phase puts
+  // there: with sixteen phases it is gone before any filtering), 0.828 with one phase and the
+  // filter. The bound sits between the interleaved and the single phase.
   EXPECT_GT(tallBoxDarkestCell({}, "filter", "indirect-filtered"), 0.82);
   EXPECT_GT(tallBoxDarkestCell({}, "cone-gather", "indirect-diffuse"), 0.82);
   EXPECT_LT(tallBoxDarkestCell(kUnfiltered, "filter", "indirect-filtered"), 0.82);
