@@ -50,6 +50,20 @@ void Viewer::applyLessonStep(int i) {
   } else if (compare.setByLesson) {
     compare.on = compare.setByLesson = false;
   }
+  // "frames": the timeline takes the step's animations and plays them once from frame 0.
+  frames.playing = false;
+  frames.running = frames.pauseAt = -1;
+  if (s.frameCount > 0) {
+    frames.animations = s.frameAnimations;
+    frames.count = s.frameCount;
+    frames.looping = false;
+    frames.stageMs.clear();
+    frames.frame = -1;
+    frames.playing = true;
+    selectStage(cursor->technique().stageIndex(s.stage));
+    showFrame(0);
+    return;
+  }
   if (s.iterations > 0) {
     // Stop the stage after that many iterations: run what comes before, then step it.
     cursor->invalidate(selected);
