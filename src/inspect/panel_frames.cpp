@@ -98,7 +98,8 @@ void drawFrameTimes(Viewer& v) {
   }
   std::vector<float> total(size_t(v.frames.count), 0.0f);
   for (const auto& [k, ms] : v.frames.stageMs)
-    for (float m : ms) total[size_t(k)] += m;
+    if (k < v.frames.count)  // a frame that ran before the count was lowered is off the plot
+      for (float m : ms) total[size_t(k)] += m;
   const float top = *std::max_element(total.begin(), total.end());
   const float width = std::max(120.0f, ImGui::GetContentRegionAvail().x);
   char label[96];
@@ -109,6 +110,7 @@ void drawFrameTimes(Viewer& v) {
     std::vector<float> line(size_t(v.frames.count), 0.0f);
     bool any = false;
     for (const auto& [k, ms] : v.frames.stageMs) {
+      if (k >= v.frames.count) continue;
       line[size_t(k)] = ms[size_t(i)];
       any = any || ms[size_t(i)] > 0.0f;
     }

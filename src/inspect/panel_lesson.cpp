@@ -52,13 +52,13 @@ void Viewer::applyLessonStep(int i) {
   }
   // "frames": the timeline takes the step's animations and plays them once from frame 0.
   frames.playing = false;
-  frames.running = frames.pauseAt = -1;
+  frames.running = frames.pauseAt = frames.frame = -1;  // no frame shown: the stage list marks nothing
+  frames.reran.clear();
   if (s.frameCount > 0) {
     frames.animations = s.frameAnimations;
     frames.count = s.frameCount;
     frames.looping = false;
     frames.stageMs.clear();
-    frames.frame = -1;
     frames.playing = true;
     selectStage(cursor->technique().stageIndex(s.stage));
     showFrame(0);
