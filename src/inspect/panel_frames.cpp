@@ -62,7 +62,7 @@ void Viewer::updateFrames() {
   ++generation;
   if (!frames.playing) return;
   if (done == frames.pauseAt || (done + 1 >= frames.count && !frames.looping)) {
-    frames.playing = false;
+    frames.playing = frames.scriptWaits = false;
     frames.pauseAt = -1;
     return;
   }
@@ -225,8 +225,12 @@ VOXLAB_REGISTER_SCRIPT_VERBS(frames, 85,
      if (call.count() && n < 1) call.badArgument("N must be 1 or more, got " + call.arg(0));
      const int first = f.frame + 1 >= f.count ? 0 : f.frame + 1;
      f.pauseAt = n ? (first + n - 1) % f.count : -1;
-     f.playing = true;
+     f.playing = f.scriptWaits = true;
      if (!viewer.showFrame(first)) call.fail(viewer.status);
+   }},
+  {"frames-wait", 0, 0, "frames-wait (wait until the timeline stops playing: a lesson step's frames have all run)",
+   [](Viewer& viewer, const ScriptCall&) {
+     if (viewer.frames.playing) viewer.frames.scriptWaits = true;
    }},
   {"frame", 1, 1, "frame K (scrub to frame K, counted from 0, and run what it re-runs)",
    [](Viewer& viewer, const ScriptCall& call) {

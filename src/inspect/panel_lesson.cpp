@@ -51,7 +51,7 @@ void Viewer::applyLessonStep(int i) {
     compare.on = compare.setByLesson = false;
   }
   // "frames": the timeline takes the step's animations and plays them once from frame 0.
-  frames.playing = false;
+  frames.playing = frames.scriptWaits = false;
   frames.running = frames.pauseAt = frames.frame = -1;  // no frame shown: the stage list marks nothing
   frames.reran.clear();
   if (s.frameCount > 0) {

@@ -228,6 +228,9 @@ struct FramesTimeline {
   int running = -1;      // the frame whose stages are still queued (-1: none)
   bool playing = false, looping = false;
   int pauseAt = -1;      // while playing: pause once this frame has run (-1: at the end)
+  // A script waits for the playing to stop (frames-play, frames-wait); otherwise only for the
+  // frame being run, so a script that steps through a lesson does not play every frame of it.
+  bool scriptWaits = false;
   std::vector<int> queued;  // the stages the running frame re-runs
   std::vector<int> reran;   // the stages the shown frame re-ran
   std::map<int, std::vector<float>> stageMs;  // per frame that ran: CPU ms per stage (0: not re-run)
@@ -374,7 +377,8 @@ class Viewer {
 
   // --- script (script_runner.cpp) ---
   bool scriptBusy() const {
-    return runs.target >= 0 || runs.iterateStage >= 0 || frames.running >= 0 || frames.playing || pendingCamera || !pendingScreenshot.empty() || script.waitFrames > 0;
+    return runs.target >= 0 || runs.iterateStage >= 0 || frames.running >= 0 || (frames.playing && frames.scriptWaits) ||
+           pendingCamera || !pendingScreenshot.empty() || script.waitFrames > 0;
   }
   void stepScript();
   void execute(const ScriptAction& a);
