@@ -1,6 +1,6 @@
 // Lesson tab: the step's narrative (Markdown headings and paragraphs), previous / next; and what a
 // lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations,
-// the reference beside the image).
+// the reference beside the image, the frames it plays on the Frames tab's timeline).
 #include <cstdio>
 
 #include "core/error.h"
