@@ -48,6 +48,8 @@ double meanValue(const LevelData& L) {
   return sum / std::max<double>(1.0, double(L.values.size() / size_t(L.channels) * size_t(c)));
 }
 
+}  // namespace
+
 double meanAbsoluteChange(const LevelData& a, const LevelData& b) {
   double sum = 0.0;
   size_t n = 0;
@@ -57,7 +59,23 @@ double meanAbsoluteChange(const LevelData& a, const LevelData& b) {
   return n ? sum / double(n) : 0.0;
 }
 
-}  // namespace
+FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames) {
+  const double s = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
+  FrameValues values;
+  for (const ParamAnimation& a : animations) {
+    double v = a.from + (a.to - a.from) * s;
+    if (params.desc(a.name).type == ParamType::Int) v = std::round(v);
+    values.params.emplace_back(a.name, v);
+  }
+  return values;
+}
+
+std::vector<int> staleStages(const StepCursor& cursor, int until) {
+  std::vector<int> stale;
+  for (int i = 0; i <= until; ++i)
+    if (cursor.record(i).state != StageState::Done) stale.push_back(i);
+  return stale;
+}
 
 json runFrames(HeadlessSession& session, const FramesRequest& request, const std::string& dir,
                const std::function<void(int, const std::vector<std::string>&)>& progress) {
@@ -74,17 +92,12 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   LevelData previous;
   double flickerSum = 0.0;
   for (int k = 0; k < request.frames; ++k) {
-    const double s = request.frames > 1 ? double(k) / double(request.frames - 1) : 0.0;
     json values = json::object();
-    for (const ParamAnimation& a : request.animations) {
-      double v = a.from + (a.to - a.from) * s;
-      if (cursor.params().desc(a.name).type == ParamType::Int) v = std::round(v);
-      cursor.setParam(a.name, v);
-      values[a.name] = v;
+    for (const auto& [name, v] : animatedFrame(cursor.params(), request.animations, k, request.frames).params) {
+      cursor.setParam(name, v);
+      values[name] = v;
     }
-    std::vector<int> stale;
-    for (int i = 0; i <= until; ++i)
-      if (cursor.record(i).state != StageState::Done) stale.push_back(i);
+    const std::vector<int> stale = staleStages(cursor, until);
     session.run();
     json reran = json::array();
     std::vector<std::string> reranIds;

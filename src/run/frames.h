@@ -17,8 +17,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "capture/capture.h"
 #include "graph/output.h"
 #include "graph/param.h"
+#include "graph/step_cursor.h"
 
 namespace voxlab {
 
@@ -32,6 +34,24 @@ struct ParamAnimation {
 // "NAME=FROM:TO" against 'params': throws Error in one line naming what is wrong (the form, a name
 // that is not a parameter, a choice or switch, a value out of the parameter's range).
 ParamAnimation parseAnimation(const ParamSet& params, const std::string& text);
+
+// What frame k of an animation sets: every animated parameter's value. The frame loop here and the
+// viewer's timeline step frames only through animatedFrame, so another source of animation (scene
+// time) is one more field here and one more source in that function.
+struct FrameValues {
+  std::vector<std::pair<std::string, double>> params;  // name, value (in the animations' order)
+};
+
+// Frame 'frame' of 'frames' (0-based): FROM + (TO - FROM) k / (N - 1) per animation, rounded for an
+// integer parameter of 'params' (N = 1 holds FROM).
+FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames);
+
+// The stages up to 'until' that are not Done: what the next run re-runs once a frame's values are set.
+std::vector<int> staleStages(const StepCursor& cursor, int until);
+
+// Mean absolute change of every pixel's first three channels between two frames of one output
+// (the same size): the flicker measure of the temporal section.
+double meanAbsoluteChange(const LevelData& a, const LevelData& b);
 
 struct FramesRequest {
   int frames = 1;
