@@ -69,6 +69,12 @@ voxlab_cli_case(run_animate_out_of_range 2 "light.0.elevation=120 is out of rang
   "run --technique vct-grid --frames 2 --animate light.0.elevation=0:120 --out @OUT@")
 voxlab_cli_case(run_frames_out_of_range 2 "--frames.*1..1000"
   "run --technique vct-grid --frames 0 --out @OUT@")
+voxlab_cli_case(run_time_range_without_frames 2 "--time-range needs --frames N"
+  "run --technique vct-grid --scene cornell-box-moving --time-range 0:1 --out @OUT@")
+voxlab_cli_case(run_time_range_bad_form 2 "--time-range '1': expected FROM:TO in seconds"
+  "run --technique vct-grid --scene cornell-box-moving --frames 2 --time-range 1 --out @OUT@")
+voxlab_cli_case(run_time_range_still_scene 2 "--time-range: scene 'cornell-box' has no animation"
+  "run --technique vct-grid --frames 2 --time-range 0:1 --size 16x16 --out @OUT@")
 add_test(NAME cli.run_frames
   COMMAND python3 ${CMAKE_SOURCE_DIR}/tests/cli/frames/frames_check.py $<TARGET_FILE:voxlab> ${CMAKE_BINARY_DIR}/cli-out/run_frames)
 set_tests_properties(cli.run_frames PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}")
