@@ -98,8 +98,10 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   const Technique& t = cursor.technique();
   const int until = session.untilStage();
   // The temporal metrics follow the technique's final output when the run reaches it.
-  const int finalStage = t.stageIndex(t.finalStage());
-  const OutputDesc* finalDesc = finalStage <= until ? t.findOutput(t.finalStage(), t.finalOutput()).second : nullptr;
+  const std::string measuredStage = request.measure ? request.measure->stage : t.finalStage();
+  const std::string measuredOutput = request.measure ? request.measure->output : t.finalOutput();
+  const int finalStage = t.stageIndex(measuredStage);
+  const OutputDesc* finalDesc = finalStage <= until ? t.findOutput(measuredStage, measuredOutput).second : nullptr;
 
   // The scene's animation plays over the frames (a still scene has none to play). It is read from
   // the scene's file again (the session keeps the scene, not its animation), and the session's
@@ -181,12 +183,12 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   if (finalDesc) {
     double energySum = 0.0;
     for (const auto& e : energy) energySum += e.get<double>();
-    m["temporal"] = {{"output", t.id() + "/" + t.finalStage() + "/" + t.finalOutput()},
+    m["temporal"] = {{"output", t.id() + "/" + measuredStage + "/" + measuredOutput},
                      {"energy", energy},
                      {"mean_energy", energySum / double(energy.size())},
                      {"flicker", flicker},
                      {"mean_flicker", flicker.empty() ? 0.0 : flickerSum / double(flicker.size())},
-                     {"measure", "flicker: mean |I_k - I_(k-1)| over pixels and colour channels of the final output; "
+                     {"measure", "flicker: mean |I_k - I_(k-1)| over pixels and colour channels of the output; "
                                  "energy: its mean"}};
   } else {
     m["temporal"] = {{"skipped", "the run stops before the final output (--until)"}};

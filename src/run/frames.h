@@ -51,6 +51,8 @@ struct FramesRequest {
   std::vector<ParamAnimation> animations;
   bool finalOnly = false;            // per frame, only the final output (as run --final-only)
   std::vector<OutputAddress> only;   // per frame, only these outputs (as run --only)
+  // The output the temporal section measures; unset = the technique's final output.
+  std::optional<OutputAddress> measure;
 };
 
 // Poses the session's scene at 'time' (seconds) of 'animation' (read from the same file with
