@@ -17,7 +17,9 @@
 // tracer's rendering of the same frames at the same size (run/temporal_reference.h, --reference-spp
 // samples, cached under build/temporal-reference/): the flicker ratio (technique over reference;
 // the reference's own noise floor, its flicker between two seeds of one frame, stated beside it)
-// and the energy ratio per frame (mean, min, max over the frames).
+// and the energy ratio per frame (mean, min, max over the frames). A technique with no output of
+// mode full (nothing the still tables compare as the combined image) has its final image's
+// flicker measured and no ratios.
 //
 // Writes DIR/fidelity.json (per cell: wall time, and per compared output its mode, mean ratio,
 // RMSE, SSIM, ...), DIR/fidelity.md (tables: rows techniques, columns scenes) and
@@ -374,7 +376,7 @@ int runTemporalFidelity(const Args& args, const std::vector<std::string>& techni
   RunRequest base;
   base.width = base.height = 64;
   if (args.has("--size")) Args::parseSize(args.get("--size"), base.width, base.height);
-  const int spp = args.has("--reference-spp") ? Args::parseInt("--reference-spp", args.get("--reference-spp"), 1, 100000) : 16;
+  const int spp = args.has("--reference-spp") ? Args::parseInt("--reference-spp", args.get("--reference-spp"), 1, 100000) : 64;
   std::vector<SuiteScene> scenes;
   if (args.has("--scene")) {
     for (const std::string& name : args.all("--scene")) scenes.push_back({loadScene(resolveScenePath(name)).name, name, false, false, ""});
@@ -391,7 +393,8 @@ int runTemporalFidelity(const Args& args, const std::vector<std::string>& techni
                    "light transport has; the reference's noise floor, its flicker between two seeds of one frame, "
                    "is what part of its flicker is noise). energy: the image's mean over the reference's, per "
                    "frame (mean, min..max). The image is the technique's combined output in linear radiance (the "
-                   "one the still tables compare as 'full'), else its final image.\n\n";
+                   "one the still tables compare as 'full'); a technique without one has its final image's flicker "
+                   "only.\n\n";
   int failed = 0;
   for (const SuiteScene& scene : scenes) {
     const TemporalReference ref = temporalReference(scene.argument, frames, base.width, base.height, spp, cache);
@@ -420,9 +423,17 @@ int runTemporalFidelity(const Args& args, const std::vector<std::string>& techni
             if (!o.referenceMode.empty() && referenceRole(referenceModeUnder(o, session.cursor().params())) == "full")
               fr.measure = OutputAddress{t.id(), t.stage(i).id(), o.name, -1};
         cell["output"] = fr.measure ? fr.measure->str() : t.id() + "/" + t.finalStage() + "/" + t.finalOutput();
+        const bool compared = fr.measure.has_value();
         const json m = runFrames(session, fr, (fs::path(out) / ref.scene / id).string());
         cell["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         cell["mean_flicker"] = m["temporal"]["mean_flicker"];
+        if (!compared) {
+          cell["not_compared"] = "no output of mode full: its final image's flicker only";
+          md += "| " + id + " | " + fmt("%.4g", cell["mean_flicker"].get<double>()) +
+                " | no output of mode full | | | | " + fmt("%.1f", cell["wall_s"].get<double>()) + " |\n";
+          report["cells"].push_back(cell);
+          continue;
+        }
         cell["flicker_ratio"] = ref.meanFlicker > 0 ? m["temporal"]["mean_flicker"].get<double>() / ref.meanFlicker : 0.0;
         std::vector<double> ratios;
         for (size_t k = 0; k < m["temporal"]["energy"].size() && k < ref.energy.size(); ++k)
@@ -465,7 +476,7 @@ int runFidelity(const std::vector<std::string>& argv) {
              {"--size", true, false, "image size WIDTHxHEIGHT (default 256x256; the references' size or a divisor of it)"},
              {"--check", true, false, "bands file (JSON): exit 1 naming every number outside its band"},
              {"--frames", true, false, "N: the animated scenes over N frames: flicker and energy per frame against the reference animation"},
-             {"--reference-spp", true, false, "--frames: samples per pixel of the reference frames (default 16)"},
+             {"--reference-spp", true, false, "--frames: samples per pixel of the reference frames (default 64)"},
              {"--out", true, false, "folder for fidelity.json, fidelity.md, fidelity.html and the runs"}});
   if (args.has("--frames")) {
     const int frames = Args::parseInt("--frames", args.get("--frames"), 2, 1000);
