@@ -265,6 +265,16 @@ SUITE = [
      "(scene extras sky_radiance 0.3): the exterior case, most light direct"),
 ]
 
+# The animated scenes (scripts/make_motion_scenes.py writes them from the still ones): `voxlab
+# run --frames N` plays their glTF animation over 'duration' seconds; 'frames' is how many frames
+# the temporal runs take. They are not in the still-image suite above.
+ANIMATED = [
+    ("cornell-box-moving", True, 16, 2.0, "the Cornell box with a 10 cm box flying above the tall block and "
+     "turning: a moving object (re-voxelized every frame), its shadow and bounce moving with it"),
+    ("sponza-sun-sweep", True, 16, 2.0, "Crytek Sponza with its sun turning 60 degrees in azimuth: a light move "
+     "(geometry still), shadows sweeping across the courtyard"),
+]
+
 
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
@@ -280,7 +290,9 @@ def main():
     write_json(os.path.join(scenes, "suite.json"), {
         "_comment": "The fidelity suite, written by scripts/make_suite_scenes.py: the scenes `voxlab fidelity` runs "
                     "by default. interior: the technique energy bands hold there (docs/fidelity.md).",
-        "scenes": [{"name": n, "interior": i, "tests": t} for n, i, _, t in SUITE]})
+        "scenes": [{"name": n, "interior": i, "tests": t} for n, i, _, t in SUITE],
+        "animated": [{"name": n, "interior": i, "frames": f, "duration": d, "tests": t}
+                     for n, i, f, d, t in ANIMATED]})
     lines = ["# Scenes", "",
              "Every glTF/GLB file here (or folder `<name>/<name>.gltf`) is a scene: `voxlab list` names them, "
              "`--scene NAME` loads one. The fidelity suite (`voxlab fidelity`, docs/fidelity.md) is listed in "
@@ -288,6 +300,11 @@ def main():
              "| scene | class | what it tests |", "|---|---|---|"]
     for name, interior, _, tests in SUITE:
         lines.append("| `%s` | %s | %s |" % (name, "interior" if interior else "exterior", tests))
+    lines += ["", "Animated scenes (suite.json's `animated`: frames and duration in seconds; `voxlab run --frames N` "
+              "plays them), written by scripts/make_motion_scenes.py:", "",
+              "| scene | frames | duration | what it tests |", "|---|---|---|---|"]
+    for name, _, frames, duration, tests in ANIMATED:
+        lines.append("| `%s` | %d | %g s | %s |" % (name, frames, duration, tests))
     with open(os.path.join(scenes, "README.md"), "w", encoding="utf-8", newline="\n") as f:
         f.write("\n".join(lines) + "\n")
     print("wrote scenes/suite.json, scenes/README.md")

@@ -8,7 +8,7 @@
 // (triangle, cell) pair is decided by the exact half-open separating-axis test of
 // common/tri_box.glsl in triangle-local double coordinates, so a cell gets the same triangles in
 // a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
-// emission, evaluated at the cell centre's projection onto the triangle's plane) to the cell's
+// emission, evaluated at the point of the triangle nearest the cell centre) to the cell's
 // fixed-point accumulators with integer atomics: the sums do not depend on the order. With six
 // faces it also adds, per travel direction of a cone, the light of the fragments whose fronts
 // that direction sees, and ORs the fragment's facing code (common/facing.glsl).
@@ -46,6 +46,29 @@ const float PI = 3.14159265358979;
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 ivec3 toProjectedI(ivec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 ivec3 fromProjectedI(ivec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
+
+// The point of segment [a, b] nearest to p.
+vec3 nearestOnSegment(vec3 p, vec3 a, vec3 b) {
+  vec3 ab = b - a;
+  float t = clamp(dot(p - a, ab) / max(dot(ab, ab), 1e-30), 0.0, 1.0);
+  return a + t * ab;
+}
+
+// The point of triangle (a, b, c) nearest to p: p's projection onto the triangle's plane when it
+// falls inside the triangle (on the inner side of all three edges), else the nearest point of the
+// three edges.
+vec3 nearestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 n = cross(b - a, c - a);
+  float area2 = dot(n, n);
+  if (area2 > 1e-30) {
+    vec3 q = p - n * (dot(n, p - a) / area2);
+    if (dot(cross(b - a, q - a), n) >= 0.0 && dot(cross(c - b, q - b), n) >= 0.0 && dot(cross(a - c, q - c), n) >= 0.0)
+      return q;
+  }
+  vec3 onAB = nearestOnSegment(p, a, b), onBC = nearestOnSegment(p, b, c), onCA = nearestOnSegment(p, c, a);
+  float dAB = dot(p - onAB, p - onAB), dBC = dot(p - onBC, p - onBC), dCA = dot(p - onCA, p - onCA);
+  return dAB <= dBC && dAB <= dCA ? onAB : (dBC <= dCA ? onBC : onCA);
+}
 
 void voxelizeEntry(uint t, int e) {
   const int level = u_entryLevel[e];
@@ -106,9 +129,11 @@ void voxelizeEntry(uint t, int e) {
         if (u_mode == 1) {
           radiance = u_uniformRadiance;
         } else {
-          // The cell centre's projection onto the plane, in world metres.
-          dvec3 q = centre - dn * (dot(dn, centre - d0) / dot(dn, dn));
-          vec3 p = (origin + vec3(q)) * u_cellSize[level];
+          // The point of the triangle nearest the cell centre, in world metres: where a cell holds
+          // only a sliver of a surface, the centre's projection onto the plane lies off the
+          // triangle (above the ceiling, beyond a corner), where the light and the shadow map
+          // belong to another place; coarse cells hold more such slivers.
+          vec3 p = (origin + nearestOnTriangle(vec3(centre), l0, l1, l2)) * u_cellSize[level];
           vec3 toLight; float dist;
           lightDirection(p, toLight, dist);
           float cosine = max(dot(normal, toLight), 0.0);

@@ -86,7 +86,7 @@ void main() {
       }
     }
   }
-  if (u_shift == 0.0) {  // nothing moves: store directly, no second pass
+  if (u_shift == 0.0 || u_perFragment == 1) {  // nothing moves here (fragments moved before binning): store directly
     for (int ch = 0; ch < 3; ++ch) imageStore(u_vpl[ch], c, sh[ch]);
     return;
   }

@@ -27,6 +27,7 @@ uniform float u_fragmentArea;
 uniform float u_areaUnits;
 uniform float u_unitsPerWatt;  // fixed-point units per W/sr of one coefficient
 uniform int u_pass;
+uniform float u_shift;         // cells: each fragment's VPL moves this far along its normal before it is binned (K&D)
 const float PI = 3.14159265358979;
 
 void main() {
@@ -35,10 +36,14 @@ void main() {
   VoxelFragment f = fragments[i];
   uvec3 voxel = unpackVoxel10(f.position);
   precise vec3 p = u_volumeOrigin + (vec3(voxel) + 0.5) * u_voxelSize;
-  precise vec3 u = (p - u_gridOrigin) / u_cellSize;
+  vec3 n = normalize(unpackSnorm4x8(f.normal).xyz);
+  // K&D's shift: the fragment's VPL moves u_shift cells along its normal before it is binned.
+  // Binned at the voxel centre (u_shift 0), a wall on a cell boundary (cell boundaries lie on
+  // multiples of the cell size, walls often do too) puts up to half its voxels' VPLs in the cell
+  // behind it, whose voxels then block the light from the second step on.
+  precise vec3 u = (p - u_gridOrigin) / u_cellSize + u_shift * n;
   ivec3 c = ivec3(floor(u));
   if (!cellInside(c)) return;
-  vec3 n = normalize(unpackSnorm4x8(f.normal).xyz);
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
   float cosine = dot(n, toLight);

@@ -16,7 +16,7 @@ layout(binding = 3) uniform sampler2D u_lrsmMoments;
 layout(binding = 4) uniform sampler2D u_position;
 layout(binding = 5) uniform sampler2D u_normal;
 layout(binding = 6) uniform sampler2D u_albedo;
-layout(rgba16f, binding = 0) uniform writeonly image2D u_diffuse;
+layout(rgba32f, binding = 0) uniform writeonly image2D u_diffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_specular;
 layout(r16f, binding = 2) uniform writeonly image2D u_shadow;
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
@@ -40,6 +40,7 @@ uniform float u_diffuseTanHalf, u_specularTanHalf, u_shadowTanHalf;
 uniform vec3 u_cameraPos;
 uniform vec4 u_diffuseCones[6];  // tangent space direction, weight (sum pi)
 uniform ivec2 u_probePixel;
+uniform int u_interleave;  // 1: each pixel of a 4 x 4 tile shifts its diffuse cones' steps (cone.interleave)
 const float PI = 3.14159265358979;
 
 bool g_record = false;
@@ -215,12 +216,14 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
   return L;
 }
 
-// Marches one cone from p (normal n) along dir; returns I (rgb, Eq. 1) and the opacity (a).
+// Marches one cone from p (normal n) along dir, its first sample 'phase' of a step beyond
+// cone.start; returns I (rgb, Eq. 1) and the opacity (a).
 // radiance = false: the shadow cone (occlusion only, until the light or the volume's edge).
 vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radiance, float maxDistance, int coneIndex,
-               bool record) {
+               bool record, float phase) {
   vec3 origin = p + n * u_voxelSize;
   float t = u_startVoxels * u_voxelSize;
+  t += phase * max(2.0 * tanHalf * t, u_voxelSize) * u_stepScale;  // phase: a fraction of the first step
   vec3 I = vec3(0.0);
   float T = 1.0;
   int steps = 0;
@@ -288,24 +291,35 @@ void main() {
   vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
   vec3 tx = normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
   vec3 ty = cross(n, tx);
+  // Interleaved steps: each pixel of a 4 x 4 tile starts its diffuse cones' sphere samples at
+  // its own fraction of the first step (a Bayer order: neighbours take far-apart fractions,
+  // centred on cone.start). With one start for every pixel, a flat surface's receivers all place
+  // their samples at the same heights above it, and where a sample's depth window meets a wall
+  // or a floor the count jumps from one receiver to the next: swirls round the lamp on the
+  // Cornell ceiling, a dark patch on the tall box. The filter stage averages the tile.
+  float phase = 0.0;
+  if (u_interleave == 1) {
+    const int bayer[16] = int[16](0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5);
+    phase = (float(bayer[(px.y & 3) * 4 + (px.x & 3)]) + 0.5) / 16.0 - 0.5;
+  }
   float far = u_voxelSize * float(u_resolution) * 1.7320508;
   vec3 E = vec3(0.0);
   for (int k = 0; k < 6; ++k) {
     vec3 d = normalize(u_diffuseCones[k].x * tx + u_diffuseCones[k].y * ty + u_diffuseCones[k].z * n);
-    vec4 c = traceCone(p, n, d, u_diffuseTanHalf, u_lodBias, true, far, k, record);
+    vec4 c = traceCone(p, n, d, u_diffuseTanHalf, u_lodBias, true, far, k, record, phase);
     E += u_diffuseCones[k].w * c.rgb;
     if (record) { coneResults[k].direction.w = u_diffuseCones[k].w; coneResults[k].info.zw = vec2(2.0 * atan(u_diffuseTanHalf), 0.0); }
   }
   vec3 view = normalize(p - u_cameraPos);
   vec3 mirror = reflect(view, n);
-  vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, u_lodBias, true, far, 6, record) : vec4(0.0);
+  vec4 spec = u_traceSpecular == 1 ? traceCone(p, n, mirror, u_specularTanHalf, u_lodBias, true, far, 6, record, 0.0) : vec4(0.0);
   // A cone that is not traced is still recorded under its own index, with no steps.
   if (record && u_traceSpecular != 1) coneResults[6] = LrsmConeResult(vec4(mirror, 0.0), vec4(0.0), vec4(6.0, 0.0, 0.0, 0.0));
   if (record) coneResults[6].info.zw = vec2(2.0 * atan(u_specularTanHalf), 1.0);
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
   const float shadowEnd = min(shadowConeEnd(dist, u_shadowTanHalf, u_shadowLodBias, u_voxelSize), far);
-  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, u_shadowLodBias, false, shadowEnd, 7, record)
+  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, u_shadowLodBias, false, shadowEnd, 7, record, 0.0)
                                       : vec4(0.0, 0.0, 0.0, 1.0);
   if (record && dot(n, toLight) <= 0.0) coneResults[7] = LrsmConeResult(vec4(toLight, 0.0), vec4(0.0, 0.0, 0.0, 1.0), vec4(7.0, 0.0, 0.0, 0.0));
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);

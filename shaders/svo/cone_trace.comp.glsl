@@ -184,7 +184,9 @@ vec4 voxelLevelSample(vec3 v, uint from, int level, uvec3 voxel) {
   for (int k = 0; k < 8; ++k) {
     ivec3 bit = ivec3(k & 1, (k >> 1) & 1, k >> 2);
     uvec3 cell = uvec3(clamp(base + bit, ivec3(0), ivec3(u_resolution - 1)));
-    if (all(equal(cell, voxel))) continue;  // the sample's own voxel has no brick: it is empty
+    // Inside the cell of 'from' the voxels are empty: 'from' is the sample's own voxel without a
+    // brick, or a node above the voxels without children (svoVoxelFrom would find none there).
+    if (all(equal(cell >> uint(u_depth - level), voxel >> uint(u_depth - level)))) continue;
     uint n = svoVoxelFrom(from, level, voxel, cell);
     vec3 w3 = mix(1.0 - f, f, vec3(bit));
     if (n != SVO_ABSENT) sum += (w3.x * w3.y * w3.z) * values[n];

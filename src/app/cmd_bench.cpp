@@ -1,6 +1,8 @@
 // voxlab bench: per-stage timings (medians over repeated runs, CPU wall and GPU timestamps),
 // memory per resource, and the wall time of whole `voxlab run --final-only` processes
-// (start-up and shader compilation included). Prints Markdown; writes JSON and Markdown files.
+// (start-up and shader compilation included); with --frames N, the per-frame cost by stage of a
+// light move, a camera move and a moving object (run/frame_costs.h). Prints Markdown; writes JSON
+// and Markdown files.
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run/bench_runs.h"
+#include "run/frame_costs.h"
 #include "app/command.h"
 #include "run/session.h"
 #include "core/args.h"
@@ -87,6 +90,27 @@ std::string markdown(const json& r) {
                   r["process_wall_ms_min"].get<double>(), r["process_wall_ms_max"].get<double>());
     md << line;
   }
+  if (r.contains("frame_changes")) {
+    md << "Per frame of change (" << r["frames"].get<int>()
+       << " frames of each; a frame re-runs only the stages its change invalidates; medians over the frames):\n\n";
+    md << "| change | what changed | stages re-run | median frame CPU ms | median frame GPU ms |\n|---|---|---|---:|---:|\n";
+    for (const auto& c : r["frame_changes"]) {
+      std::string stages;
+      for (const auto& s : c["stages"]) stages += (stages.empty() ? "" : ", ") + s.get<std::string>();
+      std::snprintf(line, sizeof line, "| %s | %s | %s | %.1f | %.1f |\n", c["change"].get<std::string>().c_str(),
+                    c["how"].get<std::string>().c_str(), stages.empty() ? "none" : stages.c_str(),
+                    c["frame_cpu_ms_median"].get<double>(), c["frame_gpu_ms_median"].get<double>());
+      md << line;
+    }
+    md << "\n| change | stage | median CPU ms | median GPU ms |\n|---|---|---:|---:|\n";
+    for (const auto& c : r["frame_changes"])
+      for (const auto& s : c["per_stage"]) {
+        std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f |\n", c["change"].get<std::string>().c_str(),
+                      s["id"].get<std::string>().c_str(), s["cpu_ms_median"].get<double>(), s["gpu_ms_median"].get<double>());
+        md << line;
+      }
+    md << "\n";
+  }
   md << "| resource | kind | size | MiB |\n|---|---|---|---:|\n";
   for (const auto& m : r["memory"]) {
     std::snprintf(line, sizeof line, "| %s | %s | %s | %.2f |\n", m["name"].get<std::string>().c_str(),
@@ -107,6 +131,7 @@ int runBench(const std::vector<std::string>& argv) {
              {"--runs", true, false, "timed runs of all stages in one process (default 5)"},
              {"--process-runs", true, false, "whole `voxlab run --final-only` processes to time (default 5, 0 = skip)"},
              {"--final-only", false, false, "time only the stages and outputs the final image needs (outputs on demand)"},
+             {"--frames", true, false, "N: also time N frames each of a light move, a camera move and a moving object, by stage"},
              {"--out", true, false, "folder for bench.json and bench.md (default: print only)"}});
   RunRequest req;
   req.technique = args.require("--technique");
@@ -116,6 +141,7 @@ int runBench(const std::vector<std::string>& argv) {
   Args::parseSize(size, req.width, req.height);
   int runs = Args::parseInt("--runs", args.get("--runs", "5"), 1, 1000);
   int processRuns = Args::parseInt("--process-runs", args.get("--process-runs", "5"), 0, 1000);
+  const int frames = args.has("--frames") ? Args::parseInt("--frames", args.get("--frames"), 1, 1000) : 0;
 
   json r;
   {
@@ -178,6 +204,20 @@ int runBench(const std::vector<std::string>& argv) {
       r["memory"].push_back({{"name", name}, {"kind", "buffer"}, {"shape", std::to_string(b->size()) + " bytes"}, {"mib", mib}});
     }
     r["memory_total_mib"] = total;
+    if (frames > 0) {
+      r["frames"] = frames;
+      r["frame_changes"] = json::array();
+      for (const FrameChangeCost& c : timeFrameChanges(session, frames)) {
+        json change = {{"change", c.change}, {"how", c.how}, {"stages", c.stages},
+                       {"frame_cpu_ms", c.frameCpuMs}, {"frame_gpu_ms", c.frameGpuMs},
+                       {"frame_cpu_ms_median", median(c.frameCpuMs)}, {"frame_gpu_ms_median", median(c.frameGpuMs)},
+                       {"per_stage", json::array()}};
+        for (const std::string& id : c.stages)
+          change["per_stage"].push_back({{"id", id}, {"cpu_ms_median", median(c.cpuMs.at(id))},
+                                         {"gpu_ms_median", median(c.gpuMs.at(id))}});
+        r["frame_changes"].push_back(change);
+      }
+    }
   }
   if (processRuns > 0) {
     std::string tmp = (std::filesystem::temp_directory_path() / ("voxlab-bench-" + std::to_string(getpid()))).string();
@@ -208,7 +248,7 @@ int runBench(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("bench",
                         "voxlab bench --technique T [--scene S] [--set name=value]... [--size WxH] [--runs N] "
-                        "[--process-runs N] [--out DIR]",
+                        "[--process-runs N] [--frames N] [--out DIR]",
                         "time every stage (medians, CPU and GPU) and whole runs; memory per resource", &runBench);
 
 }  // namespace voxlab

@@ -11,6 +11,16 @@
 // indirect-K; the last such output in stage order, the one the composite uses), "full" (every
 // path), and the final image.
 //
+// With --frames N it measures change instead (the animated scenes of suite.json's "animated", or
+// --scene): each technique plays the scene's animation over N frames (`voxlab run --frames`), and
+// its final image's flicker (mean |I_k - I_(k-1)|) and per-frame energy are compared with the path
+// tracer's rendering of the same frames at the same size (run/temporal_reference.h, --reference-spp
+// samples, cached under build/temporal-reference/): the flicker ratio (technique over reference;
+// the reference's own noise floor, its flicker between two seeds of one frame, stated beside it)
+// and the energy ratio per frame (mean, min, max over the frames). A technique with no output of
+// mode full (nothing the still tables compare as the combined image) has its final image's
+// flicker measured and no ratios.
+//
 // Writes DIR/fidelity.json (per cell: wall time, and per compared output its mode, mean ratio,
 // RMSE, SSIM, ...), DIR/fidelity.md (tables: rows techniques, columns scenes) and
 // DIR/fidelity.html (per cell the final image, the error image, the numbers; the references in the
@@ -35,7 +45,9 @@
 
 #include "app/command.h"
 #include "run/reference_error.h"
+#include "run/frames.h"
 #include "run/session.h"
+#include "run/temporal_reference.h"
 #include "core/args.h"
 #include "core/error.h"
 #include "core/paths.h"
@@ -348,6 +360,113 @@ std::string htmlPage(const json& report) {
   return html;
 }
 
+// --- frames: flicker and energy per frame against the reference animation ---------------------------
+
+std::vector<SuiteScene> readAnimatedSuite() {
+  std::ifstream in(projectPath("scenes/suite.json"));
+  const json doc = json::parse(in);
+  std::vector<SuiteScene> scenes;
+  for (const auto& s : doc.value("animated", json::array()))
+    scenes.push_back({s.at("name").get<std::string>(), s.at("name").get<std::string>(), s.at("interior").get<bool>(),
+                      true, s.value("tests", "")});
+  return scenes;
+}
+
+int runTemporalFidelity(const Args& args, const std::vector<std::string>& techniques, int frames) {
+  const std::string out = args.require("--out");
+  RunRequest base;
+  base.width = base.height = 64;
+  if (args.has("--size")) Args::parseSize(args.get("--size"), base.width, base.height);
+  const int spp = args.has("--reference-spp") ? Args::parseInt("--reference-spp", args.get("--reference-spp"), 1, 100000) : 64;
+  std::vector<SuiteScene> scenes;
+  if (args.has("--scene")) {
+    for (const std::string& name : args.all("--scene")) scenes.push_back({loadScene(resolveScenePath(name)).name, name, false, false, ""});
+  } else {
+    scenes = readAnimatedSuite();
+  }
+  json report = {{"size", std::to_string(base.width) + "x" + std::to_string(base.height)}, {"frames", frames},
+                 {"reference_spp", spp}, {"references", json::array()}, {"cells", json::array()}};
+  const std::string cache = projectPath("build/temporal-reference");
+  std::string md = "## Fidelity over frames: flicker and energy per frame\n\nWritten by `voxlab fidelity --frames " +
+                   std::to_string(frames) + "` (" + report["size"].get<std::string>() +
+                   ", camera 0, default parameters). flicker: mean |I_k - I_(k-1)| of the final image over pixels "
+                   "and colour channels; ratio: the technique's over the reference's (1 = as much change as the "
+                   "light transport has; the reference's noise floor, its flicker between two seeds of one frame, "
+                   "is what part of its flicker is noise). energy: the image's mean over the reference's, per "
+                   "frame (mean, min..max). The image is the technique's combined output in linear radiance (the "
+                   "one the still tables compare as 'full'); a technique without one has its final image's flicker "
+                   "only.\n\n";
+  int failed = 0;
+  for (const SuiteScene& scene : scenes) {
+    const TemporalReference ref = temporalReference(scene.argument, frames, base.width, base.height, spp, cache);
+    report["references"].push_back({{"scene", ref.scene}, {"spp", spp}, {"mean_flicker", ref.meanFlicker},
+                                    {"noise_floor", ref.noiseFloor}, {"energy", ref.energy}, {"flicker", ref.flicker},
+                                    {"seconds", ref.seconds}});
+    md += "### " + ref.scene + "\n\nReference: the path tracer at " + std::to_string(spp) + " spp, mean flicker " +
+          fmt("%.4g", ref.meanFlicker) + ", noise floor " + fmt("%.4g", ref.noiseFloor) + ".\n\n" +
+          "| technique | flicker | flicker / reference | energy ratio (mean) | min | max | s |\n|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::string& id : techniques) {
+      RunRequest request = base;
+      request.technique = id;
+      request.scene = scene.argument;
+      json cell = {{"technique", id}, {"scene", ref.scene}};
+      try {
+        const auto start = std::chrono::steady_clock::now();
+        HeadlessSession session(request);
+        FramesRequest fr;
+        fr.frames = frames;
+        fr.finalOnly = true;
+        // The output compared with the reference: the last one of role "full" (the combined
+        // image in linear radiance), else the final image.
+        const Technique& t = session.cursor().technique();
+        for (int i = 0; i < t.stageCount(); ++i)
+          for (const OutputDesc& o : t.decl(i).outputs)
+            if (!o.referenceMode.empty() && referenceRole(referenceModeUnder(o, session.cursor().params())) == "full")
+              fr.measure = OutputAddress{t.id(), t.stage(i).id(), o.name, -1};
+        cell["output"] = fr.measure ? fr.measure->str() : t.id() + "/" + t.finalStage() + "/" + t.finalOutput();
+        const bool compared = fr.measure.has_value();
+        const json m = runFrames(session, fr, (fs::path(out) / ref.scene / id).string());
+        cell["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        cell["mean_flicker"] = m["temporal"]["mean_flicker"];
+        if (!compared) {
+          cell["not_compared"] = "no output of mode full: its final image's flicker only";
+          md += "| " + id + " | " + fmt("%.4g", cell["mean_flicker"].get<double>()) +
+                " | no output of mode full | | | | " + fmt("%.1f", cell["wall_s"].get<double>()) + " |\n";
+          report["cells"].push_back(cell);
+          continue;
+        }
+        cell["flicker_ratio"] = ref.meanFlicker > 0 ? m["temporal"]["mean_flicker"].get<double>() / ref.meanFlicker : 0.0;
+        std::vector<double> ratios;
+        for (size_t k = 0; k < m["temporal"]["energy"].size() && k < ref.energy.size(); ++k)
+          ratios.push_back(ref.energy[k] > 0 ? m["temporal"]["energy"][k].get<double>() / ref.energy[k] : 0.0);
+        double sum = 0.0;
+        for (double r : ratios) sum += r;
+        cell["energy_ratio"] = ratios;
+        cell["energy_ratio_mean"] = ratios.empty() ? 0.0 : sum / double(ratios.size());
+        cell["energy_ratio_min"] = ratios.empty() ? 0.0 : *std::min_element(ratios.begin(), ratios.end());
+        cell["energy_ratio_max"] = ratios.empty() ? 0.0 : *std::max_element(ratios.begin(), ratios.end());
+        md += "| " + id + " | " + fmt("%.4g", cell["mean_flicker"].get<double>()) + " | " +
+              fmt("%.2f", cell["flicker_ratio"].get<double>()) + " | " + fmt("%.2f", cell["energy_ratio_mean"].get<double>()) +
+              " | " + fmt("%.2f", cell["energy_ratio_min"].get<double>()) + " | " +
+              fmt("%.2f", cell["energy_ratio_max"].get<double>()) + " | " + fmt("%.1f", cell["wall_s"].get<double>()) + " |\n";
+      } catch (const std::exception& e) {
+        cell["error"] = e.what();
+        ++failed;
+        md += "| " + id + " | failed: " + e.what() + " | | | | | |\n";
+        std::fprintf(stderr, "voxlab fidelity: %s on %s failed: %s\n", id.c_str(), ref.scene.c_str(), e.what());
+      }
+      report["cells"].push_back(cell);
+    }
+    md += "\n";
+  }
+  fs::create_directories(out);
+  std::ofstream(fs::path(out) / "fidelity.json") << report.dump(2) << "\n";
+  std::ofstream(fs::path(out) / "fidelity.md") << md;
+  std::printf("voxlab fidelity: %zu techniques x %zu animated scenes, %d frames each, written to %s/fidelity.{json,md}\n",
+              techniques.size(), scenes.size(), frames, out.c_str());
+  return failed > 0 ? 1 : 0;
+}
+
 // --- the command --------------------------------------------------------------------------------------
 
 int runFidelity(const std::vector<std::string>& argv) {
@@ -357,7 +476,15 @@ int runFidelity(const std::vector<std::string>& argv) {
              {"--set", true, true, "NAME=VALUE override for every technique that declares NAME, repeatable"},
              {"--size", true, false, "image size WIDTHxHEIGHT (default 256x256; the references' size or a divisor of it)"},
              {"--check", true, false, "bands file (JSON): exit 1 naming every number outside its band"},
+             {"--frames", true, false, "N: the animated scenes over N frames: flicker and energy per frame against the reference animation"},
+             {"--reference-spp", true, false, "--frames: samples per pixel of the reference frames (default 64)"},
              {"--out", true, false, "folder for fidelity.json, fidelity.md, fidelity.html and the runs"}});
+  if (args.has("--frames")) {
+    const int frames = Args::parseInt("--frames", args.get("--frames"), 2, 1000);
+    std::vector<std::string> ids = args.has("--technique") ? args.all("--technique") : techniqueIds();
+    for (const std::string& id : ids) createTechnique(id);  // unknown id: one line listing the valid ones
+    return runTemporalFidelity(args, ids, frames);
+  }
   const std::string out = args.require("--out");
   RunRequest base;
   base.width = base.height = 256;
@@ -482,7 +609,7 @@ int runFidelity(const std::vector<std::string>& argv) {
 
 VOXLAB_REGISTER_COMMAND("fidelity",
                         "voxlab fidelity [--scene S]... [--technique T]... [--set NAME=VALUE]... [--size WxH] "
-                        "[--check BANDS.json] --out DIR",
+                        "[--check BANDS.json] [--frames N [--reference-spp S]] --out DIR",
                         "every technique on every scene of the suite against the reference: energy, RMSE, SSIM, time",
                         &runFidelity);
 

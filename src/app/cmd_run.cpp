@@ -1,5 +1,6 @@
 // voxlab run: runs a technique up to a stage headless and writes every output and a manifest; with
-// --frames, a sequence of frames while --animate'd parameters change (run/frames.h).
+// --frames, a sequence of frames while the scene plays its animation and --animate'd parameters
+// change (run/frames.h).
 #include <cstdio>
 
 #include "app/command.h"
@@ -26,6 +27,7 @@ int runRun(const std::vector<std::string>& argv) {
              {"--only", true, true, "write only this output: technique/stage/output[@level], repeatable"},
              {"--frames", true, false, "run N frames (1..1000), each into OUT/frames/NNNN/, re-running only what changed"},
              {"--animate", true, true, "NAME=FROM:TO: a number parameter moved linearly over the frames, repeatable"},
+             {"--time-range", true, false, "FROM:TO: seconds of the scene's animation the frames span (default: all of it)"},
              {"--out", true, false, "folder to write the outputs and manifest.json into"}});
   RunRequest req;
   req.technique = args.require("--technique");
@@ -60,10 +62,13 @@ int runRun(const std::vector<std::string>& argv) {
   session.demand(args.has("--final-only"), only);
   if (args.has("--animate") && !args.has("--frames"))
     throw Error("--animate needs --frames N (the number of frames to move it over)");
+  if (args.has("--time-range") && !args.has("--frames"))
+    throw Error("--time-range needs --frames N (the number of frames to play it over)");
   if (args.has("--frames")) {
     FramesRequest fr;
     fr.frames = Args::parseInt("--frames", args.get("--frames"), 1, 1000);
     for (const auto& a : args.all("--animate")) fr.animations.push_back(parseAnimation(session.cursor().params(), a));
+    if (args.has("--time-range")) fr.timeRange = parseTimeRange(args.get("--time-range"));
     fr.finalOnly = args.has("--final-only");
     fr.only = only;
     auto m = runFrames(session, fr, out, [&](int frame, const std::vector<std::string>& reran) {
@@ -105,7 +110,7 @@ int runRun(const std::vector<std::string>& argv) {
 VOXLAB_REGISTER_COMMAND("run",
                         "voxlab run --technique T [--scene S] [--until STAGE] [--set name=value]... "
                         "[--size WxH] [--camera N] [--look-from X,Y,Z --look-at X,Y,Z] [--final-only] [--only technique/stage/output[@level]]... "
-                        "[--frames N [--animate NAME=FROM:TO]...] --out DIR",
+                        "[--frames N [--time-range FROM:TO] [--animate NAME=FROM:TO]...] --out DIR",
                         "run a technique headless and write every stage output and a manifest", &runRun);
 
 }  // namespace voxlab

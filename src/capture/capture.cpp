@@ -213,6 +213,11 @@ DisplayImage displayImage(const CapturedOutput& out, int level) {
   img.width = cols * d.size.x + (cols - 1) * gap;
   img.height = rows * d.size.y + (rows - 1) * gap;
   img.rgb.assign(size_t(img.width) * img.height * 3, slices > 1 ? 40 : 0);
+  // A texel equal to the one mapped before it takes that one's colour: volumes are mostly runs of
+  // empty texels, and the mapping (a pure function of the values) costs a pow per channel.
+  const size_t texelBytes = sizeof(float) * size_t(d.channels);
+  const float* previous = nullptr;
+  uint8_t previousRgb[3] = {0, 0, 0};
   for (int s = 0; s < shown; ++s) {
     int z = shown == slices ? s : int((long(s) * slices) / shown);
     int ox = (s % cols) * (d.size.x + gap), oy = (s / cols) * (d.size.y + gap);
@@ -220,7 +225,15 @@ DisplayImage displayImage(const CapturedOutput& out, int level) {
       for (int x = 0; x < d.size.x; ++x) {
         size_t t = (size_t(z) * d.size.y + y) * d.size.x + x;
         int py = oy + (d.size.y - 1 - y);  // GL rows are bottom-up; images are top-down
-        mapping.map(&d.values[t * d.channels], d.channels, 1.0f, lo, hi, &img.rgb[(size_t(py) * img.width + ox + x) * 3]);
+        const float* texel = &d.values[t * d.channels];
+        uint8_t* rgb = &img.rgb[(size_t(py) * img.width + ox + x) * 3];
+        if (previous && std::memcmp(texel, previous, texelBytes) == 0) {
+          std::memcpy(rgb, previousRgb, 3);
+          continue;
+        }
+        mapping.map(texel, d.channels, 1.0f, lo, hi, rgb);
+        previous = texel;
+        std::memcpy(previousRgb, rgb, 3);
       }
   }
   return img;

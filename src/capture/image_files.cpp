@@ -142,10 +142,16 @@ static void appendChunk(std::string& out, const char* type, const unsigned char*
   appendBigEndian(out, uint32_t(crc));
 }
 
-std::string encodePng(int width, int height, int channels, const uint8_t* data) {
+namespace {
+
+void checkPngShape(int width, int height, int channels) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
     throw Error(std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels) +
                 " is not an image PNG can hold");
+}
+
+// The image's rows, each "Sub"-filtered behind its filter byte, deflated: an IDAT's (or fdAT's) data.
+std::vector<unsigned char> deflatedRows(int width, int height, int channels, const uint8_t* data) {
   const size_t stride = size_t(width) * channels;
   std::vector<unsigned char> filtered((stride + 1) * size_t(height));
   for (int y = 0; y < height; ++y) {
@@ -158,18 +164,73 @@ std::string encodePng(int width, int height, int channels, const uint8_t* data) 
   std::vector<unsigned char> packed(packedSize);
   if (compress2(packed.data(), &packedSize, filtered.data(), uLong(filtered.size()), Z_BEST_SPEED) != Z_OK)
     throw Error("zlib could not compress the image");
+  packed.resize(packedSize);
+  return packed;
+}
+
+void putBigEndian(unsigned char* at, uint32_t v) {
+  for (int i = 0; i < 4; ++i) at[i] = uint8_t(v >> (24 - 8 * i));
+}
+
+std::string pngSignatureAndHeader(int width, int height, int channels) {
   static const unsigned char kColourType[5] = {0, 0, 4, 2, 6};  // by channel count: grey, grey+alpha, RGB, RGBA
   unsigned char header[13];
-  for (int i = 0; i < 4; ++i) {
-    header[i] = uint8_t(uint32_t(width) >> (24 - 8 * i));
-    header[4 + i] = uint8_t(uint32_t(height) >> (24 - 8 * i));
-  }
+  putBigEndian(header, uint32_t(width));
+  putBigEndian(header + 4, uint32_t(height));
   header[8] = 8;  // bits per channel
   header[9] = kColourType[channels];
   header[10] = header[11] = header[12] = 0;  // deflate, adaptive filtering, no interlace
   std::string file("\x89PNG\r\n\x1a\n", 8);
   appendChunk(file, "IHDR", header, sizeof header);
-  appendChunk(file, "IDAT", packed.data(), packedSize);
+  return file;
+}
+
+}  // namespace
+
+std::string encodePng(int width, int height, int channels, const uint8_t* data) {
+  checkPngShape(width, height, channels);
+  const std::vector<unsigned char> packed = deflatedRows(width, height, channels, data);
+  std::string file = pngSignatureAndHeader(width, height, channels);
+  appendChunk(file, "IDAT", packed.data(), packed.size());
+  appendChunk(file, "IEND", nullptr, 0);
+  return file;
+}
+
+std::string encodeAnimatedPng(int width, int height, int channels, const std::vector<const uint8_t*>& frames,
+                              int frameMs) {
+  checkPngShape(width, height, channels);
+  if (frames.empty()) throw Error("an animated PNG needs at least one frame");
+  if (frameMs < 1 || frameMs > 65535) throw Error("a frame lasts 1..65535 ms, got " + std::to_string(frameMs));
+  std::string file = pngSignatureAndHeader(width, height, channels);
+  unsigned char control[8];
+  putBigEndian(control, uint32_t(frames.size()));
+  putBigEndian(control + 4, 0);  // plays: 0 = forever
+  appendChunk(file, "acTL", control, sizeof control);
+  uint32_t sequence = 0;  // fcTL and fdAT chunks share one sequence
+  for (size_t k = 0; k < frames.size(); ++k) {
+    unsigned char frame[26];
+    putBigEndian(frame, sequence++);
+    putBigEndian(frame + 4, uint32_t(width));
+    putBigEndian(frame + 8, uint32_t(height));
+    putBigEndian(frame + 12, 0);  // x offset
+    putBigEndian(frame + 16, 0);  // y offset
+    frame[20] = uint8_t(frameMs >> 8);  // delay numerator ...
+    frame[21] = uint8_t(frameMs & 0xff);
+    frame[22] = uint8_t(1000 >> 8);  // ... over 1000: milliseconds
+    frame[23] = uint8_t(1000 & 0xff);
+    frame[24] = 0;  // dispose: none (the next frame covers the whole image)
+    frame[25] = 0;  // blend: source (replace)
+    appendChunk(file, "fcTL", frame, sizeof frame);
+    const std::vector<unsigned char> packed = deflatedRows(width, height, channels, frames[k]);
+    if (k == 0) {  // the default image: what a viewer without APNG support shows
+      appendChunk(file, "IDAT", packed.data(), packed.size());
+    } else {
+      std::vector<unsigned char> data(4 + packed.size());
+      putBigEndian(data.data(), sequence++);
+      std::copy(packed.begin(), packed.end(), data.begin() + 4);
+      appendChunk(file, "fdAT", data.data(), data.size());
+    }
+  }
   appendChunk(file, "IEND", nullptr, 0);
   return file;
 }

@@ -42,6 +42,11 @@ void toHalfBits(const float* in, uint16_t* out, size_t count);
 void writePngFile(const std::string& path, int width, int height, int channels, const uint8_t* data);
 // The bytes of that PNG file (for a page that embeds the image); throws Error on a bad size.
 std::string encodePng(int width, int height, int channels, const uint8_t* data);
+// An animated PNG (APNG: acTL, then per frame an fcTL and its pixels, the first frame as the IDAT
+// every PNG reader shows, the others as fdAT) of frames of one size, each shown 'frameMs', looping
+// forever. Throws Error on a bad size, no frames or a delay outside 1..65535 ms.
+std::string encodeAnimatedPng(int width, int height, int channels, const std::vector<const uint8_t*>& frames,
+                              int frameMs);
 // Reads EXR (any channels; R,G,B,A or Y first) or an 8-bit format stb reads. Throws Error.
 ImageFileData readImageFile(const std::string& path);
 

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "gpu/gl_debug.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
 
 namespace voxlab {
 
@@ -45,7 +46,7 @@ void StepCursor::propagate() {
   for (int j = 0; j < stageCount(); ++j) {
     if (records_[j].state == StageState::Done) {
       for (const auto& res : technique_->decl(j).reads) {
-        if (res == kViewResource) continue;
+        if (isSceneInput(res)) continue;
         int w = technique_->writerOf(res, j);
         if (w >= 0 && records_[w].state != StageState::Done) {
           markStale(j);
@@ -89,7 +90,7 @@ void StepCursor::invalidate(int stage) {
 void StepCursor::markReadersStale(int stage) {
   for (int j = stage + 1; j < stageCount(); ++j)
     for (const auto& res : technique_->decl(j).reads)
-      if (res != kViewResource && technique_->writerOf(res, j) == stage) markStale(j);
+      if (!isSceneInput(res) && technique_->writerOf(res, j) == stage) markStale(j);
   propagate();
 }
 

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "graph/scene_inputs.h"
 #include "graph/reference_mode.h"
 #include "graph/resource_budget.h"
 
@@ -74,7 +75,7 @@ void Technique::validate() const {
     for (const auto& o : decls_[i].outputs)
       if (!outs.insert(o.name).second) throw Error(id_ + "/" + id + ": output '" + o.name + "' declared twice");
     for (const auto& r : decls_[i].reads)
-      if (r != kViewResource && writerOf(r, i) < 0)
+      if (!isSceneInput(r) && writerOf(r, i) < 0)
         throw Error(id_ + "/" + id + " reads '" + r + "' but no earlier stage writes it");
     // A probe names parameters of its own stage; a light-space probe names its image.
     for (const auto& p : decls_[i].probes) {

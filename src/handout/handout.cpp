@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "capture/capture.h"
+#include "capture/image_files.h"
 #include "core/error.h"
 #include "handout/step_picture.h"
 #include "lesson/lesson_check.h"
@@ -26,6 +27,10 @@ std::string markdownToHtml(const std::string& markdown) {
 }
 
 namespace {
+
+// How long each frame of a step's animation shows: four frames a second, slow enough to follow
+// what moves and what flickers.
+constexpr int kHandoutFrameMs = 250;
 
 const char* kStyle = R"(
 body { font-family: sans-serif; max-width: 56em; margin: 2em auto; padding: 0 1em; line-height: 1.5; color: #222; }
@@ -139,6 +144,24 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
       throw Error(lesson.path + ":" + std::to_string(step.line) + ": the sweep " + step.sweep + " has failed runs (" +
                   folder + "/sweep.json)");
   }
+  // The steps' frames as animated PNGs, at kLessonFramesSize (a renderer of their own, so the
+  // page's renderer is closed first as for a sweep).
+  std::vector<std::string> animations(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const LessonStep& step = lesson.steps[size_t(i)];
+    if (step.frameCount <= 0) continue;
+    if (progress) progress(i, n, stem + ": step " + std::to_string(i + 1) + " " + std::to_string(step.frameCount) + " frames");
+    renderer.release();
+    StepRenderer framesRenderer(kLessonFramesSize, kLessonFramesSize);
+    const std::vector<DisplayImage> images = framesRenderer.renderFrames(lesson, step);
+    std::vector<const uint8_t*> pixels;
+    for (const DisplayImage& image : images) pixels.push_back(image.rgb.data());
+    char name[40];
+    std::snprintf(name, sizeof name, "step-%02d-frames.png", i + 1);
+    animations[size_t(i)] = stem + "/" + name;
+    writeText((fs::path(dir) / animations[size_t(i)]).string(),
+              encodeAnimatedPng(images[0].width, images[0].height, 3, pixels, kHandoutFrameMs));
+  }
   DisplayImage thumb;  // the closing step's picture: the technique at its best, as the lesson ends
   for (int i = 0; i < n; ++i) {
     const LessonStep& step = lesson.steps[i];
@@ -168,6 +191,23 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
             std::to_string(step.camera) + "; parameters: " + params + ".";
     if (!pic.notes.empty()) html += " " + htmlEscape(pic.notes) + ".";
     html += "</p>\n<pre class=\"run\"><code>" + htmlEscape(pic.command) + "</code></pre>\n</figcaption>\n</figure>\n";
+    if (step.frameCount > 0) {
+      std::string moving;
+      for (const ParamAnimation& a : step.frameAnimations) {
+        char range[96];
+        std::snprintf(range, sizeof range, " from %g to %g", a.from, a.to);
+        moving += (moving.empty() ? "" : ", ") + ("<code>" + htmlEscape(a.name) + "</code>" + range);
+      }
+      std::string run = pic.command + " --frames " + std::to_string(step.frameCount);
+      for (const std::string& a : step.frameAnimate) run += " --animate " + a;
+      html += "<figure class=\"frames\">\n<img class=\"animation\" src=\"" + htmlEscape(animations[size_t(i)]) +
+              "\" alt=\"" + std::to_string(step.frameCount) + " frames of " + htmlEscape(pic.address) + "\">\n" +
+              "<figcaption>\n<p>" + std::to_string(step.frameCount) + " frames (an animated PNG, " +
+              std::to_string(kHandoutFrameMs) + " ms each, looping) while " + moving + ", at " +
+              std::to_string(kLessonFramesSize) + "x" + std::to_string(kLessonFramesSize) +
+              "; each frame re-ran only the stages its change invalidates.</p>\n<pre class=\"run\"><code>" +
+              htmlEscape(run) + "</code></pre>\n</figcaption>\n</figure>\n";
+    }
     if (!step.sweep.empty())
       html += sweepSection(step, sweeps[size_t(i)], stem + "/sweep-" + std::to_string(i + 1) + "/sweep.html");
     html += "</section>\n";

@@ -53,7 +53,23 @@ StepPicture StepRenderer::render(const Lesson& lesson, const LessonStep& step) {
   }
 }
 
-StepPicture StepRenderer::renderStep(const LessonStep& step) {
+std::vector<DisplayImage> StepRenderer::renderFrames(const Lesson& lesson, const LessonStep& step) {
+  std::vector<DisplayImage> images;
+  try {
+    const ParamSet params = createTechnique(step.technique)->defaultParams();
+    for (int k = 0; k < step.frameCount; ++k) {
+      const FrameValues frame = animatedFrame(params, step.frameAnimations, k, step.frameCount);
+      images.push_back(renderStep(step, &frame).image);
+    }
+  } catch (const Error& e) {
+    overlay_.reset();
+    session_.reset();
+    throw Error(lesson.path + ":" + std::to_string(step.line) + ": frames: " + e.what());
+  }
+  return images;
+}
+
+StepPicture StepRenderer::renderStep(const LessonStep& step, const FrameValues* frame) {
   std::vector<std::string> sets;
   for (const auto& [n, v] : step.sets) sets.push_back(n + "=" + v);
   if (!session_ || technique_ != step.technique || scene_ != step.scene) {
@@ -75,6 +91,8 @@ StepPicture StepRenderer::renderStep(const LessonStep& step) {
   const Technique& t = cursor.technique();
   ParamSet params = t.defaultParams();
   for (const auto& [n, v] : step.sets) params.setText(n, v);
+  if (frame)
+    for (const auto& [n, v] : frame->params) params.set(n, v);
   cursor.setParams(params);
   cursor.useSceneCamera(step.camera);
 

@@ -14,6 +14,7 @@
 #include "graph/blackboard.h"
 #include "inspect/scene_overlay.h"
 #include "lesson/lesson.h"
+#include "run/frames.h"
 
 namespace voxlab {
 
@@ -38,12 +39,15 @@ class StepRenderer {
   // Renders one step of 'lesson'. Throws Error "lesson.md:LINE: what failed" for a step that
   // cannot be rendered (a level the output does not have, a stage without outputs, ...).
   StepPicture render(const Lesson& lesson, const LessonStep& step);
+  // The pictures of a step's frames ("frames"): the step's picture at every frame's parameter
+  // values (run/frames.h animatedFrame), each re-running only what the frame's change invalidates.
+  std::vector<DisplayImage> renderFrames(const Lesson& lesson, const LessonStep& step);
   // Closes the session and its GL context (the next render opens them again): before something
   // else, such as a sweep, opens contexts of its own.
   void release();
 
  private:
-  StepPicture renderStep(const LessonStep& step);
+  StepPicture renderStep(const LessonStep& step, const FrameValues* frame = nullptr);
   int width_, height_;
   std::unique_ptr<HeadlessSession> session_;
   std::unique_ptr<SceneOverlay> overlay_;

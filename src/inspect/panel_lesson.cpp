@@ -1,6 +1,6 @@
 // Lesson tab: the step's narrative (Markdown headings and paragraphs), previous / next; and what a
 // lesson step does to the viewer (technique, scene, parameters, camera, stage, overlay, iterations,
-// the reference beside the image).
+// the reference beside the image, the frames it plays on the Frames tab's timeline).
 #include <cstdio>
 
 #include "core/error.h"
@@ -49,6 +49,20 @@ void Viewer::applyLessonStep(int i) {
     compare.key.clear();
   } else if (compare.setByLesson) {
     compare.on = compare.setByLesson = false;
+  }
+  // "frames": the timeline takes the step's animations and plays them once from frame 0.
+  frames.playing = frames.scriptWaits = false;
+  frames.running = frames.pauseAt = frames.frame = -1;  // no frame shown: the stage list marks nothing
+  frames.reran.clear();
+  if (s.frameCount > 0) {
+    frames.animations = s.frameAnimations;
+    frames.count = s.frameCount;
+    frames.looping = false;
+    frames.stageMs.clear();
+    frames.playing = true;
+    selectStage(cursor->technique().stageIndex(s.stage));
+    showFrame(0);
+    return;
   }
   if (s.iterations > 0) {
     // Stop the stage after that many iterations: run what comes before, then step it.

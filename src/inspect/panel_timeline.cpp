@@ -57,8 +57,12 @@ void Viewer::drawLeftPanel() {
       std::snprintf(state, sizeof state, "partial %d/%d", r.iterationsRun, r.iterationsTotal);
     else
       std::snprintf(state, sizeof state, "%s", running ? "(queued)" : stageStateName(r.state));
+    // The stages the shown frame of the Frames tab re-ran: marked and drawn in the frame colour.
+    const bool reran = frameReran(i);
+    if (reran) col = kFrameRerunColour;
     char label[160];
-    std::snprintf(label, sizeof label, "%d. %-14s %s##stage%d", i + 1, t.stage(i).id(), state, i);
+    std::snprintf(label, sizeof label, "%d. %-14s %s%s##stage%d", i + 1, t.stage(i).id(), state,
+                  reran ? "  re-ran" : "", i);
     ImGui::PushStyleColor(ImGuiCol_Text, col);
     if (ImGui::Selectable(label, selected == i)) selectStage(i);
     ImGui::PopStyleColor();
@@ -87,6 +91,9 @@ void Viewer::drawLeftPanel() {
       ImGui::TextDisabled("%d iterations", iterations);
   }
   ImGui::TextDisabled("keys: Left/Right stage, R run, A all, I iteration, F5 reload");
+  if (frames.frame >= 0)
+    ImGui::TextColored(kFrameRerunColour, "frame %d of %d: %zu stages re-ran (Frames tab)", frames.frame + 1,
+                       frames.count, frames.reran.size());
   if (runs.target >= 0) ImGui::TextColored(kWarningColour, "running through stage %d ...", runs.target + 1);
 
   drawParameters();

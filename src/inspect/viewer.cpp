@@ -143,6 +143,15 @@ void Viewer::switchTechnique(const std::string& id) {
   runs.target = runs.lastRequest = runs.iterateStage = -1;
   pendingCamera.reset();
   timeHistory.assign(cursor->stageCount(), {});
+  // The timeline keeps the animations the new technique declares too, and starts over.
+  auto& animated = frames.animations;
+  animated.erase(std::remove_if(animated.begin(), animated.end(),
+                                [&](const ParamAnimation& a) { return !cursor->params().has(a.name); }),
+                 animated.end());
+  frames.frame = frames.running = frames.pauseAt = -1;
+  frames.playing = false;
+  frames.reran.clear();
+  frames.stageMs.clear();
   overlay.volume.clear();
   overlay.level = -1;
   ++generation;
@@ -520,6 +529,7 @@ int Viewer::loop() {
     if (script.active) stepScript();
     if (quit) break;
     if (runPendingStage()) frameHeavy = true;
+    updateFrames();
     applyPendingCamera();
     if (wantUiScale != uiScale) {
       applyUiScale(wantUiScale);

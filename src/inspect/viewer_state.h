@@ -44,6 +44,7 @@
 #include "lesson/lesson.h"
 #include "platform/glfw_window.h"
 #include "reference/image_metrics.h"
+#include "run/frames.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -216,6 +217,27 @@ struct LessonSweepPlot {
   void stop();
 };
 
+// The frames timeline (panel_frames.cpp): the technique played as frames while parameters move, as
+// `voxlab run --frames N --animate ...` runs them (run/frames.h: the same frame values and the same
+// stale-stage rule), one frame's stages after the other's through the run queue. The stage list
+// highlights the stages the shown frame re-ran; the Frames tab plots each frame's stage times.
+struct FramesTimeline {
+  std::vector<ParamAnimation> animations;
+  int count = 16;
+  int frame = -1;        // the frame whose values are applied (-1: none yet)
+  int running = -1;      // the frame whose stages are still queued (-1: none)
+  bool playing = false, looping = false;
+  int pauseAt = -1;      // while playing: pause once this frame has run (-1: at the end)
+  // A script waits for the playing to stop (frames-play, frames-wait); otherwise only for the
+  // frame being run, so a script that steps through a lesson does not play every frame of it.
+  bool scriptWaits = false;
+  std::vector<int> queued;  // the stages the running frame re-runs
+  std::vector<int> reran;   // the stages the shown frame re-ran
+  std::map<int, std::vector<float>> stageMs;  // per frame that ran: CPU ms per stage (0: not re-run)
+  char animateText[160] = {0};
+  std::string error;     // the last animation text refused
+};
+
 class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o);
@@ -273,6 +295,13 @@ class Viewer {
   // before it); by default one more than now.
   void stepIteration(int count = -1);
   void applyLessonStep(int i);
+  // --- frames (panel_frames.cpp) ---
+  // Applies frame k's parameter values (clamped to the frames) and queues the stages they make
+  // stale, through the final stage. False + status without animations or when the values are refused.
+  bool showFrame(int k);
+  void updateFrames();  // per loop: a frame whose stages have run is recorded; playing moves on
+  void drawFrames();    // the Frames tab
+  bool frameReran(int stage) const;  // the shown frame re-ran this stage
   // Rebuilds programs whose files changed. fromWatch: the periodic file check, which stays quiet
   // when nothing changed.
   void reloadShaders(bool fromWatch = false);
@@ -348,7 +377,8 @@ class Viewer {
 
   // --- script (script_runner.cpp) ---
   bool scriptBusy() const {
-    return runs.target >= 0 || runs.iterateStage >= 0 || pendingCamera || !pendingScreenshot.empty() || script.waitFrames > 0;
+    return runs.target >= 0 || runs.iterateStage >= 0 || frames.running >= 0 || (frames.playing && frames.scriptWaits) ||
+           pendingCamera || !pendingScreenshot.empty() || script.waitFrames > 0;
   }
   void stepScript();
   void execute(const ScriptAction& a);
@@ -395,6 +425,7 @@ class Viewer {
   CompareState compare;
   PresenterState presenter;
 
+  FramesTimeline frames;
   Lesson lesson;
   int lessonStep = -1;
   LessonSweepPlot lessonSweep;
@@ -436,5 +467,6 @@ bool registerDetailsTab(const DetailsTab& tab);
 // Small helpers the panels share (viewer.cpp); formatBytes comes from graph/resource_budget.h.
 inline const ImVec4 kWarningColour{0.95f, 0.75f, 0.3f, 1};
 inline const ImVec4 kErrorColour{1, 0.4f, 0.4f, 1};
+inline const ImVec4 kFrameRerunColour{0.4f, 0.8f, 1.0f, 1};  // a stage the shown frame re-ran
 
 }  // namespace voxlab

@@ -87,6 +87,18 @@ void validateStep(LessonStep& step, const std::string& where, bool checkScenes) 
     if (step.iterations < 1 || step.iterations > n)
       fail("iterations must be 1.." + std::to_string(n) + " for " + step.stage + ", got " + std::to_string(step.iterations));
   }
+  if (step.frameCount != 0) {
+    if (step.frameCount < kLessonMinFrames || step.frameCount > kLessonMaxFrames)
+      fail("frames: 'count' must be " + std::to_string(kLessonMinFrames) + ".." + std::to_string(kLessonMaxFrames) +
+           ", got " + std::to_string(step.frameCount));
+    for (const std::string& text : step.frameAnimate) {
+      try {
+        step.frameAnimations.push_back(parseAnimation(params, text));
+      } catch (const Error& e) {
+        fail(std::string("frames: ") + e.what());
+      }
+    }
+  }
   if (!step.sweep.empty()) {
     try {
       validateSweep(lessonSweepRequest(step), "sweep");
@@ -159,14 +171,15 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         narrative.clear();
         static const char* known[] = {"technique", "scene", "stage",      "output",  "level",
                                       "camera",    "set",   "iterations", "overlay", "bounds",
-                                      "slice",     "axis",  "beside",     "sweep",   "sweep_set"};
+                                      "slice",     "axis",  "beside",     "sweep",   "sweep_set",
+                                      "frames"};
         for (auto it = j.begin(); it != j.end(); ++it) {
           bool ok = false;
           for (const char* k : known) ok = ok || it.key() == k;
           if (!ok)
             throw Error(where + ": unknown key '" + it.key() +
                         "'; valid keys: technique, scene, stage, output, level, camera, set, iterations, overlay, "
-                        "bounds, slice, axis, beside, sweep, sweep_set");
+                        "bounds, slice, axis, beside, sweep, sweep_set, frames");
         }
         auto str = [&](const char* key, std::string& out) {
           if (!j.contains(key)) return;
@@ -230,6 +243,24 @@ Lesson parseLesson(const std::string& text, const std::string& path, bool checkS
         assignments("sweep_set", step.sweepSets);
         if (!step.sweepSets.empty() && step.sweep.empty())
           throw Error(where + ": 'sweep_set' needs a 'sweep' in the same step");
+        if (j.contains("frames")) {
+          const json& f = j["frames"];
+          const std::string form = "'frames' must be {\"count\": N, \"animate\": [\"NAME=FROM:TO\", ...]}";
+          if (!f.is_object()) throw Error(where + ": " + form);
+          for (auto it = f.begin(); it != f.end(); ++it)
+            if (it.key() != "count" && it.key() != "animate")
+              throw Error(where + ": frames: unknown key '" + it.key() + "'; valid keys: count, animate");
+          if (!f.contains("count") || !f["count"].is_number_integer())
+            throw Error(where + ": frames: 'count' must be an integer; " + form);
+          step.frameCount = f["count"].get<int>();
+          if (step.frameCount == 0) step.frameCount = -1;  // validateStep names the valid range
+          if (!f.contains("animate") || !f["animate"].is_array() || f["animate"].empty())
+            throw Error(where + ": frames: 'animate' must be a non-empty list of \"NAME=FROM:TO\"; " + form);
+          for (const json& a : f["animate"]) {
+            if (!a.is_string()) throw Error(where + ": frames: every 'animate' entry must be a string \"NAME=FROM:TO\"");
+            step.frameAnimate.push_back(a.get<std::string>());
+          }
+        }
         validateStep(step, where, checkScenes);
         lesson.steps.push_back(std::move(step));
       } else {

@@ -22,13 +22,18 @@
 // (run/sweep.h): the viewer plots its error and time beside the view, with the value the view
 // shows marked, and the handout embeds its slider page. A lesson's sweep runs small
 // (kLessonSweepSize, with the step's "set" and "sweep_set", an object of name: value held for the
-// sweep's runs only, e.g. a coarser grid) so handouts and lesson checks stay fast. Validation runs against the technique registry: an unknown technique, stage,
+// sweep's runs only, e.g. a coarser grid) so handouts and lesson checks stay fast; "frames":
+// {"count": N, "animate": ["NAME=FROM:TO", ...]} plays the step as N frames while those parameters
+// move linearly (run/frames.h, as `voxlab run --frames N --animate ...`): the viewer's timeline plays
+// them, highlighting the stages each frame re-runs, and the handout embeds the frames of the step's
+// output as an animated PNG (kLessonFramesSize). Validation runs against the technique registry: an unknown technique, stage,
 // output or parameter, or a bad value, is an Error naming "file:line".
 #pragma once
 #include <map>
 #include <string>
 #include <vector>
 
+#include "run/frames.h"
 #include "run/sweep.h"
 
 namespace voxlab {
@@ -53,7 +58,17 @@ struct LessonStep {
   std::string referenceImage;   // ... and its file (tests/golden/reference/<scene>/<mode>.exr, absolute)
   std::string sweep;            // "NAME=V1,V2,...": the step's sweep; "" = none
   std::vector<std::pair<std::string, std::string>> sweepSets;  // "sweep_set": for the sweep's runs only
+  int frameCount = 0;                        // "frames": > 0 plays the step as this many frames
+  std::vector<std::string> frameAnimate;     // ... its "animate" texts, as written
+  std::vector<ParamAnimation> frameAnimations;  // ... while these parameters move (validated)
 };
+
+// The frames a lesson step may play: at least two (a change) and at most 64 (a few seconds of
+// animation; each frame re-runs stages, so the handout and the viewer stay quick).
+constexpr int kLessonMinFrames = 2, kLessonMaxFrames = 64;
+
+// The image size of a lesson step's frames in its handout: the animated PNG holds every frame.
+constexpr int kLessonFramesSize = 128;
 
 // The image size of a lesson step's sweep runs: a quarter of the references' 256x256 per side,
 // enough for the plots' trend at about a second per run.

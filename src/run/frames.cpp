@@ -7,6 +7,8 @@
 
 #include "capture/capture.h"
 #include "core/error.h"
+#include "graph/scene_inputs.h"
+#include "scene/animation.h"
 #include "run/session.h"
 
 namespace voxlab {
@@ -36,6 +38,36 @@ ParamAnimation parseAnimation(const ParamSet& params, const std::string& text) {
   return a;
 }
 
+std::pair<double, double> parseTimeRange(const std::string& text) {
+  const size_t colon = text.find(':');
+  auto number = [&](const std::string& s, const char* which) {
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) || v < 0.0)
+      throw Error(std::string("--time-range ") + which + " '" + s + "' is not a number of seconds >= 0");
+    return v;
+  };
+  if (colon == std::string::npos) throw Error("--time-range '" + text + "': expected FROM:TO in seconds, e.g. 0:2.5");
+  const double from = number(text.substr(0, colon), "FROM"), to = number(text.substr(colon + 1), "TO");
+  if (to < from) throw Error("--time-range '" + text + "': TO is before FROM");
+  return {from, to};
+}
+
+ScenePoseChange poseSessionScene(HeadlessSession& session, const SceneAnimation& animation, double time) {
+  StepCursor& cursor = session.cursor();
+  // The session made its scene (not const) for this cursor alone: it is posed in place.
+  Scene& scene = const_cast<Scene&>(cursor.scene());
+  const ScenePoseChange change = poseScene(scene, animation, float(time));
+  if (change.geometry) {
+    uploadPosedVertices(cursor.gpuScene(), scene, animation);
+    invalidateSceneInput(cursor, kSceneGeometryInput);
+  }
+  if (change.lights) invalidateSceneInput(cursor, kSceneLightsInput);
+  // A scene camera the run looks through follows its node; a --look-from camera stays.
+  if (change.cameras && !session.request().lookFrom) cursor.setCamera(scene.cameras.at(size_t(session.request().camera)));
+  return change;
+}
+
 namespace {
 
 // Mean of the first three channels of level 0, and the mean absolute difference from 'previous'
@@ -48,6 +80,8 @@ double meanValue(const LevelData& L) {
   return sum / std::max<double>(1.0, double(L.values.size() / size_t(L.channels) * size_t(c)));
 }
 
+}  // namespace
+
 double meanAbsoluteChange(const LevelData& a, const LevelData& b) {
   double sum = 0.0;
   size_t n = 0;
@@ -57,7 +91,23 @@ double meanAbsoluteChange(const LevelData& a, const LevelData& b) {
   return n ? sum / double(n) : 0.0;
 }
 
-}  // namespace
+FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames) {
+  const double s = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
+  FrameValues values;
+  for (const ParamAnimation& a : animations) {
+    double v = a.from + (a.to - a.from) * s;
+    if (params.desc(a.name).type == ParamType::Int) v = std::round(v);
+    values.params.emplace_back(a.name, v);
+  }
+  return values;
+}
+
+std::vector<int> staleStages(const StepCursor& cursor, int until) {
+  std::vector<int> stale;
+  for (int i = 0; i <= until; ++i)
+    if (cursor.record(i).state != StageState::Done) stale.push_back(i);
+  return stale;
+}
 
 json runFrames(HeadlessSession& session, const FramesRequest& request, const std::string& dir,
                const std::function<void(int, const std::vector<std::string>&)>& progress) {
@@ -66,8 +116,21 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   const Technique& t = cursor.technique();
   const int until = session.untilStage();
   // The temporal metrics follow the technique's final output when the run reaches it.
-  const int finalStage = t.stageIndex(t.finalStage());
-  const OutputDesc* finalDesc = finalStage <= until ? t.findOutput(t.finalStage(), t.finalOutput()).second : nullptr;
+  const std::string measuredStage = request.measure ? request.measure->stage : t.finalStage();
+  const std::string measuredOutput = request.measure ? request.measure->output : t.finalOutput();
+  const int finalStage = t.stageIndex(measuredStage);
+  const OutputDesc* finalDesc = finalStage <= until ? t.findOutput(measuredStage, measuredOutput).second : nullptr;
+
+  // The scene's animation plays over the frames (a still scene has none to play). It is read from
+  // the scene's file again (the session keeps the scene, not its animation), and the session's
+  // scene is posed in place: the session made it, not const, for this cursor alone.
+  const Scene& scene = cursor.scene();
+  SceneAnimation animation;
+  loadScene(scene.path, animation);
+  if (request.timeRange && !animation.animated())
+    throw Error("--time-range: scene '" + scene.name + "' has no animation (its glTF file has no node animations)");
+  const std::pair<double, double> times =
+      request.timeRange ? *request.timeRange : std::pair<double, double>(0.0, double(animation.duration));
 
   json m = session.manifestHeader();
   json frames = json::array(), energy = json::array(), flicker = json::array();
@@ -75,16 +138,21 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   double flickerSum = 0.0;
   for (int k = 0; k < request.frames; ++k) {
     const double s = request.frames > 1 ? double(k) / double(request.frames - 1) : 0.0;
-    json values = json::object();
-    for (const ParamAnimation& a : request.animations) {
-      double v = a.from + (a.to - a.from) * s;
-      if (cursor.params().desc(a.name).type == ParamType::Int) v = std::round(v);
-      cursor.setParam(a.name, v);
-      values[a.name] = v;
+    json changed = json::array();
+    double time = 0.0;
+    if (animation.animated()) {
+      time = times.first + (times.second - times.first) * s;
+      const ScenePoseChange change = poseSessionScene(session, animation, time);
+      if (change.geometry) changed.push_back("geometry");
+      if (change.lights) changed.push_back("lights");
+      if (change.cameras) changed.push_back("camera");
     }
-    std::vector<int> stale;
-    for (int i = 0; i <= until; ++i)
-      if (cursor.record(i).state != StageState::Done) stale.push_back(i);
+    json values = json::object();
+    for (const auto& [name, v] : animatedFrame(cursor.params(), request.animations, k, request.frames).params) {
+      cursor.setParam(name, v);
+      values[name] = v;
+    }
+    const std::vector<int> stale = staleStages(cursor, until);
     session.run();
     json reran = json::array();
     std::vector<std::string> reranIds;
@@ -100,6 +168,10 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
     session.writeOutputs(frameDir, request.finalOnly, request.only);
     json frame = {{"frame", k}, {"dir", std::string("frames/") + name}, {"parameters", values},
                   {"stages_run", reran}, {"cpu_ms", cpu}};
+    if (animation.animated()) {
+      frame["time"] = time;
+      frame["scene_changed"] = changed;
+    }
     if (finalDesc) {
       CapturedOutput cap = captureOutput(cursor.board(), *finalDesc);
       const LevelData& L = cap.levels.at(0);
@@ -119,15 +191,18 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   json animated = json::array();
   for (const ParamAnimation& a : request.animations) animated.push_back({{"name", a.name}, {"from", a.from}, {"to", a.to}});
   m["animate"] = animated;
+  if (animation.animated())
+    m["animation"] = {{"names", animation.names}, {"duration", animation.duration},
+                      {"time_range", {times.first, times.second}}};
   if (finalDesc) {
     double energySum = 0.0;
     for (const auto& e : energy) energySum += e.get<double>();
-    m["temporal"] = {{"output", t.id() + "/" + t.finalStage() + "/" + t.finalOutput()},
+    m["temporal"] = {{"output", t.id() + "/" + measuredStage + "/" + measuredOutput},
                      {"energy", energy},
                      {"mean_energy", energySum / double(energy.size())},
                      {"flicker", flicker},
                      {"mean_flicker", flicker.empty() ? 0.0 : flickerSum / double(flicker.size())},
-                     {"measure", "flicker: mean |I_k - I_(k-1)| over pixels and colour channels of the final output; "
+                     {"measure", "flicker: mean |I_k - I_(k-1)| over pixels and colour channels of the output; "
                                  "energy: its mean"}};
   } else {
     m["temporal"] = {{"skipped", "the run stops before the final output (--until)"}};

@@ -325,6 +325,54 @@ void JsonChecker::checkJson(const Json& root) {
     }
   }
 
+  // Animations: the samplers and channels the loader reads (accessor types, counts and key
+  // times are checked when the loader reads them).
+  if (auto anims = root.find("animations"); anims != root.end()) {
+    for (size_t a = 0; a < anims->size(); ++a) {
+      const Json& anim = (*anims)[a];
+      const std::string where = "animations[" + std::to_string(a) + "]";
+      for (const char* req : {"channels", "samplers"})
+        if (!anim.contains(req)) fail(where + " has no '" + req + "'");
+      checkField(anim, where, FieldSpec{"channels", Kind::ObjArr});
+      checkField(anim, where, FieldSpec{"samplers", Kind::ObjArr});
+      checkField(anim, where, FieldSpec{"name", Kind::Str});
+      const Json& samplers = anim["samplers"];
+      for (size_t s = 0; s < samplers.size(); ++s) {
+        const std::string sw = where + ".samplers[" + std::to_string(s) + "]";
+        for (const char* req : {"input", "output"}) {
+          if (!samplers[s].contains(req)) fail(sw + " has no '" + req + "'");
+          checkField(samplers[s], sw, FieldSpec{req, Kind::Ref, "accessors"});
+        }
+        checkField(samplers[s], sw, FieldSpec{"interpolation", Kind::Str});
+        if (auto in = samplers[s].find("interpolation"); in != samplers[s].end()) {
+          const std::string mode = in->get<std::string>();
+          if (mode != "LINEAR" && mode != "STEP" && mode != "CUBICSPLINE")
+            fail(sw + ".interpolation '" + oneLine(mode, 40) + "' is unknown; valid: LINEAR, STEP, CUBICSPLINE");
+        }
+      }
+      const Json& channels = anim["channels"];
+      for (size_t c = 0; c < channels.size(); ++c) {
+        const std::string cw = where + ".channels[" + std::to_string(c) + "]";
+        const Json& channel = channels[c];
+        auto sampler = channel.find("sampler");
+        if (sampler == channel.end()) fail(cw + " has no 'sampler'");
+        if (!isNonNegativeInt(*sampler))
+          fail(cw + ".sampler must be a non-negative integer index, got " + oneLine(sampler->dump(), 40));
+        if (sampler->get<uint64_t>() >= samplers.size())
+          fail(cw + ".sampler = " + sampler->dump() + " is out of range (the animation has " +
+               std::to_string(samplers.size()) + " samplers)");
+        auto target = channel.find("target");
+        if (target == channel.end() || !target->is_object()) fail(cw + ".target must be an object");
+        checkField(*target, cw + ".target", FieldSpec{"node", Kind::Ref, "nodes"});
+        auto path = target->find("path");
+        if (path == target->end() || !path->is_string()) fail(cw + ".target.path must be a string");
+        const std::string p = path->get<std::string>();
+        if (p != "translation" && p != "rotation" && p != "scale" && p != "weights")
+          fail(cw + ".target.path '" + oneLine(p, 40) + "' is unknown; valid: translation, rotation, scale, weights");
+      }
+    }
+  }
+
   // KHR_lights_punctual: light definitions and node references.
   size_t lightCount = 0;
   if (auto ext = root.find("extensions"); ext != root.end()) {

@@ -5,8 +5,9 @@
 //     range, node cycles, external files present) - tinygltf is lenient about several of these
 //     and its own messages span several lines (scene/gltf_json_check.cpp);
 //  2. tinygltf parses the file, decodes buffers and images;
-//  3. the node hierarchy is walked and every triangle primitive is read through range-checked
-//     accessors into the world-space arrays.
+//  3. the animations are read (samplers checked against their accessors), the node hierarchy is
+//     walked and every triangle primitive is read through range-checked accessors into the
+//     world-space arrays; an animated scene keeps what it needs to be posed again (animation.h).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,6 +24,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/animation.h"
 #include "scene/gltf_json_check.h"
 #include "scene/scene.h"
 
@@ -45,6 +47,7 @@ class Loader {
  public:
   explicit Loader(std::string path) : path_(std::move(path)) {}
   Scene load();
+  SceneAnimation& animation() { return animation_; }
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
@@ -58,8 +61,10 @@ class Loader {
   void parseWithTinygltf();
   // Pass 3
   void buildScene(Scene& scene);
+  void readAnimations(Scene& scene);
+  void extendBoundsOverAnimation(Scene& scene);
   void addNode(Scene& scene, int nodeIndex, const glm::mat4& world);
-  void addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm::mat4& world);
+  void addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm::mat4& world, int placement);
   std::vector<float> readAccessor(int accessorIndex, int wantType, const std::string& what);
   std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what);
   uint32_t materialFor(Scene& scene, int gltfMaterial);
@@ -80,6 +85,8 @@ class Loader {
   int defaultMaterial_ = -1;
   std::vector<int> textureMap_;  // glTF image -> scene texture
   size_t skippedPrimitives_ = 0;
+  std::vector<bool> animatedNodes_;  // per glTF node: a channel targets it
+  SceneAnimation animation_;  // read in pass 3, handed out by load()
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -489,7 +496,7 @@ glm::mat4 localMatrix(const tinygltf::Node& node) {
   return t * r * s;
 }
 
-void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm::mat4& world) {
+void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm::mat4& world, int placement) {
   const tinygltf::Primitive& prim = model_.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
   std::string label = meshLabel(meshIndex, primIndex);
   int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
@@ -606,6 +613,24 @@ void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm:
     }
   }
 
+  // A moving node's vertices are kept in its own space too, to be posed again at other times.
+  if (animation_.placements[size_t(placement)].moves) {
+    MovingVertices m;
+    m.placement = placement;
+    m.first = base;
+    m.count = uint32_t(vertexCount);
+    m.localPositions.resize(vertexCount);
+    m.localNormals.resize(vertexCount);
+    const glm::mat3 toLocalNormal = glm::transpose(linear);  // inverse of the normal matrix, up to scale
+    for (size_t v = 0; v < vertexCount; ++v) {
+      m.localPositions[v] = glm::vec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]);
+      glm::vec3 n = invertible ? toLocalNormal * scene.normals[base + v] : scene.normals[base + v];
+      const float len = glm::length(n);
+      m.localNormals[v] = len > 1e-20f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+    }
+    animation_.moving.push_back(std::move(m));
+  }
+
   uint32_t material = materialFor(scene, prim.material);
   std::vector<uint32_t>& out = trianglesByMaterial_[material];
   for (uint32_t i : tris) out.push_back(base + i);
@@ -613,8 +638,9 @@ void Loader::addPrimitive(Scene& scene, int meshIndex, int primIndex, const glm:
 
 void Loader::addNode(Scene& scene, int rootIndex, const glm::mat4& rootParent) {
   // Explicit stack: depth is bounded by the node count (cycles were rejected in pass 1).
-  struct Item { int node; glm::mat4 parent; };
-  std::vector<Item> stack{{rootIndex, rootParent}};
+  struct Item { int node; glm::mat4 parent; int parentPlacement; };
+  std::vector<Item> stack{{rootIndex, rootParent, -1}};
+  SceneAnimation& anim = animation_;
   size_t visits = 0;
   const size_t maxVisits = std::max<size_t>(1, model_.nodes.size()) * 64 + 1024;
   while (!stack.empty()) {
@@ -627,11 +653,18 @@ void Loader::addNode(Scene& scene, int rootIndex, const glm::mat4& rootParent) {
     }
     const tinygltf::Node& node = model_.nodes[size_t(item.node)];
     glm::mat4 world = item.parent * localMatrix(node);
+    NodePlacement placement;
+    placement.node = item.node;
+    placement.parent = item.parentPlacement;
+    placement.moves = (item.parentPlacement >= 0 && anim.placements[size_t(item.parentPlacement)].moves) ||
+                      animatedNodes_[size_t(item.node)];
+    anim.placements.push_back(placement);
+    const int placementIndex = int(anim.placements.size() - 1);
 
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= model_.meshes.size()) fail("node " + std::to_string(item.node) + " mesh is out of range");
       const tinygltf::Mesh& mesh = model_.meshes[size_t(node.mesh)];
-      for (size_t p = 0; p < mesh.primitives.size(); ++p) addPrimitive(scene, node.mesh, int(p), world);
+      for (size_t p = 0; p < mesh.primitives.size(); ++p) addPrimitive(scene, node.mesh, int(p), world, placementIndex);
     }
     glm::vec3 origin = glm::vec3(world * glm::vec4(0, 0, 0, 1));
     glm::vec3 minusZ = glm::mat3(world) * glm::vec3(0, 0, -1);
@@ -649,6 +682,7 @@ void Loader::addNode(Scene& scene, int rootIndex, const glm::mat4& rootParent) {
         if (src.perspective.znear > 0.0) cam.znear = float(src.perspective.znear);
         cam.zfar = src.perspective.zfar > 0.0 ? float(src.perspective.zfar) : 100.0f;
         scene.cameras.push_back(cam);
+        anim.cameraPlacement.push_back(placementIndex);
       }
     }
     auto lp = node.extensions.find("KHR_lights_punctual");
@@ -668,10 +702,130 @@ void Loader::addNode(Scene& scene, int rootIndex, const glm::mat4& rootParent) {
         l.innerConeAngle = float(src.spot.innerConeAngle);
         l.outerConeAngle = float(src.spot.outerConeAngle);
         scene.lights.push_back(l);
+        anim.lightPlacement.push_back(placementIndex);
       }
     }
     // Push children in reverse so they are visited in file order.
-    for (size_t c = node.children.size(); c-- > 0;) stack.push_back({node.children[c], world});
+    for (size_t c = node.children.size(); c-- > 0;) stack.push_back({node.children[c], world, placementIndex});
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pass 3: animations
+
+void Loader::readAnimations(Scene& scene) {
+  SceneAnimation& anim = animation_;
+  for (const tinygltf::Node& node : model_.nodes) {
+    NodeRest rest;
+    if (node.matrix.size() == 16) {
+      rest.hasMatrix = true;
+      rest.matrix = localMatrix(node);
+    }
+    if (node.translation.size() == 3)
+      rest.translation = glm::vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2]));
+    if (node.rotation.size() == 4) {
+      glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]));
+      const float len = glm::length(q);
+      if (len > 0.0f) rest.rotation = q / len;
+    }
+    if (node.scale.size() == 3) rest.scale = glm::vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2]));
+    anim.nodes.push_back(rest);
+  }
+  size_t weightChannels = 0;
+  for (size_t a = 0; a < model_.animations.size(); ++a) {
+    const tinygltf::Animation& src = model_.animations[a];
+    anim.names.push_back(src.name.empty() ? "animation-" + std::to_string(a) : src.name);
+    for (size_t c = 0; c < src.channels.size(); ++c) {
+      const tinygltf::AnimationChannel& ch = src.channels[c];
+      const std::string where = "animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "]";
+      // Pass 1 checked the sampler index, the node and the path names.
+      if (ch.target_path == "weights") {
+        ++weightChannels;  // morph targets: voxlab has none
+        continue;
+      }
+      if (ch.sampler < 0 || size_t(ch.sampler) >= src.samplers.size())
+        fail(where + ".sampler " + std::to_string(ch.sampler) + " is out of range");
+      if (ch.target_node < 0 || size_t(ch.target_node) >= model_.nodes.size())
+        fail(where + " targets no node in range (node " + std::to_string(ch.target_node) + ")");
+      AnimationChannel channel;
+      channel.node = ch.target_node;
+      channel.path = ch.target_path == "rotation" ? AnimationPath::Rotation
+                     : ch.target_path == "scale"  ? AnimationPath::Scale
+                                                  : AnimationPath::Translation;
+      const tinygltf::AnimationSampler& ss = src.samplers[size_t(ch.sampler)];
+      const std::string sw = "animations[" + std::to_string(a) + "].samplers[" + std::to_string(ch.sampler) + "]";
+      AnimationSampler sampler;
+      sampler.interpolation = ss.interpolation == "STEP"          ? Interpolation::Step
+                              : ss.interpolation == "CUBICSPLINE" ? Interpolation::CubicSpline
+                                                                  : Interpolation::Linear;
+      std::vector<float> times = readAccessor(ss.input, TINYGLTF_TYPE_SCALAR, sw + " input");
+      if (times.empty()) fail(sw + " input has no key times");
+      for (size_t k = 0; k < times.size(); ++k) {
+        if (!std::isfinite(times[k])) fail(sw + " input time " + std::to_string(k) + " is not finite");
+        if (k > 0 && !(times[k] > times[k - 1]))
+          fail(sw + " input times are not increasing (time " + std::to_string(k) + " = " + std::to_string(times[k]) +
+               " after " + std::to_string(times[k - 1]) + ")");
+      }
+      const bool rotation = channel.path == AnimationPath::Rotation;
+      const int outputType = rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
+      std::vector<float> values =
+          readAccessor(ss.output, outputType, sw + " output (for " + animationPathName(channel.path) + ")");
+      const int components = rotation ? 4 : 3;
+      const size_t perKey = sampler.interpolation == Interpolation::CubicSpline ? 3 : 1;
+      const size_t count = values.size() / size_t(components);
+      if (count != times.size() * perKey)
+        fail(sw + " output has " + std::to_string(count) + " values for " + std::to_string(times.size()) +
+             " key times; " + interpolationName(sampler.interpolation) + " needs " + std::to_string(perKey) +
+             " per key time (" + std::to_string(times.size() * perKey) + ")");
+      for (size_t i = 0; i < count; ++i) {
+        glm::vec4 v(0.0f);
+        for (int k = 0; k < components; ++k) {
+          v[k] = values[i * size_t(components) + size_t(k)];
+          if (!std::isfinite(v[k])) fail(sw + " output value " + std::to_string(i) + " is not finite");
+        }
+        sampler.values.push_back(v);
+      }
+      sampler.times = std::move(times);
+      anim.duration = std::max(anim.duration, sampler.times.back());
+      channel.sampler = int(anim.samplers.size());
+      anim.samplers.push_back(std::move(sampler));
+      anim.channels.push_back(channel);
+    }
+  }
+  animatedNodes_.assign(model_.nodes.size(), false);
+  for (const AnimationChannel& c : anim.channels) animatedNodes_[size_t(c.node)] = true;
+  if (weightChannels)
+    log::warn(scene.name + ": " + std::to_string(weightChannels) +
+              " animation channel(s) of morph target weights skipped (voxlab has no morph targets)");
+}
+
+// The bounds of an animated scene hold its moving vertices at every key time and at three
+// points between consecutive keys (a cubic spline may overshoot its keys in between).
+void Loader::extendBoundsOverAnimation(Scene& scene) {
+  const SceneAnimation& anim = animation_;
+  if (!anim.movesGeometry()) return;
+  std::vector<float> times{0.0f};
+  for (const AnimationSampler& s : anim.samplers)
+    for (size_t k = 0; k < s.times.size(); ++k) {
+      times.push_back(s.times[k]);
+      if (k + 1 < s.times.size())
+        for (int q = 1; q < 4; ++q) times.push_back(s.times[k] + (s.times[k + 1] - s.times[k]) * float(q) / 4.0f);
+    }
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  // Bounded work: at most 1024 poses, and at most 2^24 vertex transforms in all.
+  size_t movingVertices = 0;
+  for (const MovingVertices& m : anim.moving) movingVertices += m.count;
+  const size_t poses = std::clamp<size_t>((size_t(1) << 24) / std::max<size_t>(1, movingVertices), 2, 1024);
+  const size_t stride = std::max<size_t>(1, (times.size() + poses - 1) / poses);
+  for (size_t i = 0; i < times.size(); i += stride) {
+    const float t = std::clamp(times[i], 0.0f, anim.duration);
+    const std::vector<glm::mat4> world = anim.worldMatrices(t);
+    for (const MovingVertices& m : anim.moving)
+      for (const glm::vec3& p : m.localPositions) {
+        const glm::vec3 w = glm::vec3(world[size_t(m.placement)] * glm::vec4(p, 1.0f));
+        if (std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z)) scene.bounds.extend(w);
+      }
   }
 }
 
@@ -697,6 +851,7 @@ void Loader::buildScene(Scene& scene) {
     for (size_t i = 0; i < model_.nodes.size(); ++i)
       if (!isChild[i]) roots.push_back(int(i));
   }
+  readAnimations(scene);
   for (int r : roots) addNode(scene, r, glm::mat4(1.0f));
 
   // Sort triangles into one contiguous draw range per material (materials in first-use order).
@@ -717,6 +872,7 @@ void Loader::buildScene(Scene& scene) {
     fail("contains no triangles" + why);
   }
   for (uint32_t i : scene.indices) scene.bounds.extend(scene.positions[i]);
+  extendBoundsOverAnimation(scene);
   if (scene.materials.empty()) {
     Material m;
     m.name = "default";
@@ -725,10 +881,12 @@ void Loader::buildScene(Scene& scene) {
   if (scene.cameras.empty()) {
     scene.cameras.push_back(frameBounds(scene.bounds, Camera{}.yfov));
     scene.cameras.back().name = kFramingCameraName;
+    animation_.cameraPlacement.push_back(-1);
     log::warn(scene.name + ": " + kFramingCameraName + "; added a camera on the +z side looking along -z at the bounds' centre, the whole scene in view (--look-from/--look-at or the viewer to change it)");
   }
   if (scene.lights.empty()) {
     scene.lights.push_back(defaultSun());
+    animation_.lightPlacement.push_back(-1);
     log::warn(scene.name + ": " + kDefaultSunName + "; added a white sun from elevation 60, azimuth 30 degrees, 5 W/m^2 (set light.0.* to change it)");
   }
 }
@@ -782,14 +940,23 @@ Scene Loader::load() {
   scene.path = path_;
   scene.name = std::filesystem::path(path_).stem().string();
   buildScene(scene);
+  poseScene(scene, animation_, 0.0f);
   return scene;
 }
 
 }  // namespace
 
 Scene loadScene(const std::string& path) {
+  SceneAnimation unused;
+  return loadScene(path, unused);
+}
+
+Scene loadScene(const std::string& path, SceneAnimation& animation) {
   try {
-    return Loader(path).load();
+    Loader loader(path);
+    Scene scene = loader.load();
+    animation = std::move(loader.animation());
+    return scene;
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {

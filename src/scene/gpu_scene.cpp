@@ -2,6 +2,7 @@
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
+#include "scene/animation.h"
 
 namespace voxlab {
 
@@ -93,6 +94,26 @@ void GpuScene::draw(GLuint program) const {
     bindMaterialTextures(d.material);
     glDrawElements(GL_TRIANGLES, GLsizei(d.indexCount), GL_UNSIGNED_INT,
                    reinterpret_cast<const void*>(uintptr_t(d.firstIndex) * 4));
+  }
+}
+
+}  // namespace voxlab
+
+namespace voxlab {
+
+void uploadPosedVertices(const GpuScene& gpuScene, const Scene& scene, const SceneAnimation& animation) {
+  // The vertex buffer's storage is immutable (no client updates): each moving range goes through
+  // a staging buffer and a GPU copy into place.
+  for (const MovingVertices& m : animation.moving) {
+    if (m.count == 0) continue;
+    std::vector<Vertex> verts(m.count);
+    for (uint32_t i = 0; i < m.count; ++i) {
+      const size_t v = m.first + i;
+      verts[i] = {scene.positions[v], scene.normals[v], v < scene.uvs.size() ? scene.uvs[v] : glm::vec2(0)};
+    }
+    Buffer staging("scene.posed-vertices", verts.size() * sizeof(Vertex), verts.data(), 0);
+    glCopyNamedBufferSubData(staging.id(), gpuScene.vertices().id(), 0, GLintptr(m.first * sizeof(Vertex)),
+                             GLsizeiptr(verts.size() * sizeof(Vertex)));
   }
 }
 

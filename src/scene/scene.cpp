@@ -1,6 +1,7 @@
 // Scene helpers that do not depend on the glTF parser: cameras, draw-range lookups and the
 // mapping from a scene name ("cornell-box") to a file in scenes/.
 #include "scene/scene.h"
+#include "scene/animation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -136,6 +137,74 @@ std::string resolveScenePath(const std::string& nameOrPath) {
                 " (or a path to a .gltf/.glb file)");
   }
   throw Error("scene file '" + nameOrPath + "' does not exist; valid scene names: " + valid);
+}
+
+}  // namespace voxlab
+
+namespace voxlab {
+
+namespace {
+
+// Origin and -z / +y axes of a placement's world matrix: where a light or camera on it stands and looks.
+struct NodeFrame {
+  glm::vec3 origin, minusZ, plusY;
+};
+NodeFrame frameOf(const glm::mat4& world) {
+  return {glm::vec3(world * glm::vec4(0, 0, 0, 1)), glm::mat3(world) * glm::vec3(0, 0, -1),
+          glm::mat3(world) * glm::vec3(0, 1, 0)};
+}
+
+}  // namespace
+
+ScenePoseChange poseScene(Scene& scene, const SceneAnimation& anim, float t) {
+  ScenePoseChange change;
+  if (!anim.animated()) return change;
+  t = std::clamp(t, 0.0f, anim.duration);
+  const std::vector<glm::mat4> world = anim.worldMatrices(t);
+  for (const MovingVertices& m : anim.moving) {
+    const glm::mat4& w = world[size_t(m.placement)];
+    const glm::mat3 linear(w);
+    const float det = glm::determinant(linear);
+    const glm::mat3 normalMatrix = std::abs(det) > 1e-20f ? glm::transpose(glm::inverse(linear)) : glm::mat3(1.0f);
+    for (uint32_t i = 0; i < m.count; ++i) {
+      glm::vec3 p = glm::vec3(w * glm::vec4(m.localPositions[i], 1.0f));
+      glm::vec3 n = normalMatrix * m.localNormals[i];
+      const float len = glm::length(n);
+      n = len > 1e-20f ? n / len : m.localNormals[i];
+      // A position that is not finite (a degenerate key) keeps the last good one.
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+      glm::vec3& position = scene.positions[m.first + i];
+      glm::vec3& normal = scene.normals[m.first + i];
+      if (position != p || normal != n) change.geometry = true;
+      position = p;
+      normal = n;
+    }
+  }
+  for (size_t l = 0; l < scene.lights.size() && l < anim.lightPlacement.size(); ++l) {
+    const int p = anim.lightPlacement[l];
+    if (p < 0 || !anim.placements[size_t(p)].moves) continue;
+    const NodeFrame f = frameOf(world[size_t(p)]);
+    Light& light = scene.lights[l];
+    const glm::vec3 direction = glm::length(f.minusZ) > 0.0f ? glm::normalize(f.minusZ) : light.direction;
+    if (light.position != f.origin || light.direction != direction) change.lights = true;
+    light.position = f.origin;
+    light.direction = direction;
+  }
+  for (size_t c = 0; c < scene.cameras.size() && c < anim.cameraPlacement.size(); ++c) {
+    const int p = anim.cameraPlacement[c];
+    if (p < 0 || !anim.placements[size_t(p)].moves) continue;
+    const NodeFrame f = frameOf(world[size_t(p)]);
+    if (glm::length(f.minusZ) <= 0.0f) continue;
+    Camera& camera = scene.cameras[c];
+    const glm::vec3 forward = glm::normalize(f.minusZ);
+    glm::vec3 up = f.plusY - glm::dot(f.plusY, forward) * forward;
+    up = glm::length(up) > 1e-12f ? glm::normalize(up) : camera.up;
+    if (camera.position != f.origin || camera.forward != forward || camera.up != up) change.cameras = true;
+    camera.position = f.origin;
+    camera.forward = forward;
+    camera.up = up;
+  }
+  return change;
 }
 
 }  // namespace voxlab

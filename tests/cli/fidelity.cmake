@@ -21,3 +21,9 @@ add_test(NAME fidelity.suite
           ${CMAKE_BINARY_DIR}/fidelity-out/suite)
 set_tests_properties(fidelity.suite PROPERTIES
   ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}" SKIP_RETURN_CODE 77 TIMEOUT 1500 COST 1000)
+
+# fidelity --frames: the animated scene over two frames against the path tracer's animation at
+# the same size; writes the flicker table (fidelity.md, fidelity.json).
+voxlab_cli_case_output(fidelity_frames 0 "^$"
+  "fidelity --frames 2 --scene cornell-box-moving --technique lrsm --size 16x16 --reference-spp 2 --out @OUT@"
+  "1 techniques x 1 animated scenes, 2 frames each" "@OUT@/fidelity.md;@OUT@/fidelity.json" 0 "" "")

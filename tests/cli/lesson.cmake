@@ -15,3 +15,11 @@ voxlab_cli_case(lesson_sweep_unknown_param 2
 voxlab_cli_case(lesson_sweep_value_out_of_range 2
   "bad-sweep-value\\.md:3: sweep cone\\.aperture=30,500: parameter cone\\.aperture='500' is not valid; valid: 5\\.\\.120"
   "lesson --check @ROOT@/tests/cli/lesson/bad-sweep-value.md --no-render")
+
+# A step's frames too: the count and every animation, one line naming the step.
+voxlab_cli_case(lesson_frames_out_of_range 2
+  "bad-frames-param\\.md:3: frames: parameter light\\.0\\.elevation=200 is out of range; valid: -90\\.\\.90"
+  "lesson --check @ROOT@/tests/cli/lesson/bad-frames-param.md --no-render")
+voxlab_cli_case(lesson_frames_count 2
+  "bad-frames-count\\.md:3: frames: 'count' must be 2\\.\\.64, got 100"
+  "lesson --check @ROOT@/tests/cli/lesson/bad-frames-count.md --no-render")

@@ -26,6 +26,12 @@ voxlab_cli_case(run_bad_camera 2 "camera 7 does not exist in cornell-box; valid:
   "run --technique vct-grid --camera 7 --out @OUT@")
 voxlab_cli_case(unknown_command 2 "unknown command 'frobnicate'; valid commands: .*run" "frobnicate")
 voxlab_cli_case(bench_unknown_technique 2 "unknown technique 'nope'" "bench --technique nope --process-runs 0")
+# bench --frames: a moving object (the scene's animation) re-runs voxelization first; a light
+# move starts at the light stage (voxelize and the G-buffer do not read the light).
+voxlab_cli_case_output(bench_frames 0 "^$"
+  "bench --technique vct-grid --scene cornell-box-moving --set voxel.resolution=16 --size 16x16 --runs 1 --process-runs 0 --frames 2"
+  "[|] light move [|] light.0.azimuth turned by 2 degrees a frame [|] light, shadow-map, inject.*[|] moving object [|] the scene's animation played over the frames [|] voxelize, shadow-map"
+  "" 0 "" "")
 voxlab_cli_case(run_only_bad_address 2 "output address 'mipmap/radiance' is not technique/stage/output"
   "run --technique vct-grid --only mipmap/radiance --out @OUT@")
 voxlab_cli_case(run_only_unknown_output 2 "vct-grid/mipmap has no output 'glow'; valid outputs: radiance, opacity"
@@ -69,6 +75,12 @@ voxlab_cli_case(run_animate_out_of_range 2 "light.0.elevation=120 is out of rang
   "run --technique vct-grid --frames 2 --animate light.0.elevation=0:120 --out @OUT@")
 voxlab_cli_case(run_frames_out_of_range 2 "--frames.*1..1000"
   "run --technique vct-grid --frames 0 --out @OUT@")
+voxlab_cli_case(run_time_range_without_frames 2 "--time-range needs --frames N"
+  "run --technique vct-grid --scene cornell-box-moving --time-range 0:1 --out @OUT@")
+voxlab_cli_case(run_time_range_bad_form 2 "--time-range '1': expected FROM:TO in seconds"
+  "run --technique vct-grid --scene cornell-box-moving --frames 2 --time-range 1 --out @OUT@")
+voxlab_cli_case(run_time_range_still_scene 2 "--time-range: scene 'cornell-box' has no animation"
+  "run --technique vct-grid --frames 2 --time-range 0:1 --size 16x16 --out @OUT@")
 add_test(NAME cli.run_frames
   COMMAND python3 ${CMAKE_SOURCE_DIR}/tests/cli/frames/frames_check.py $<TARGET_FILE:voxlab> ${CMAKE_BINARY_DIR}/cli-out/run_frames)
 set_tests_properties(cli.run_frames PROPERTIES ENVIRONMENT "VOXLAB_ROOT=${CMAKE_SOURCE_DIR}")

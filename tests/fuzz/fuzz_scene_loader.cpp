@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "scene/animation.h"
 #include "scene/scene.h"
 
 namespace {
@@ -37,7 +38,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
   }
   try {
-    voxlab::Scene scene = voxlab::loadScene(path);
+    voxlab::SceneAnimation animation;
+    voxlab::Scene scene = voxlab::loadScene(path, animation);
     // Touch what the renderers read so that inconsistent arrays show up as reports here.
     for (const voxlab::DrawRange& d : scene.draws) {
       if (d.material >= scene.materials.size()) std::abort();
@@ -45,6 +47,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     for (uint32_t i : scene.indices)
       if (i >= scene.positions.size()) std::abort();
+    // An animated scene is posed again halfway and past its end, as the frame loop does.
+    if (animation.animated()) {
+      voxlab::poseScene(scene, animation, 0.5f * animation.duration);
+      voxlab::poseScene(scene, animation, animation.duration + 1.0f);
+      for (const voxlab::MovingVertices& m : animation.moving)
+        if (uint64_t(m.first) + m.count > scene.positions.size()) std::abort();
+    }
   } catch (const voxlab::Error&) {
     // A clean one-line rejection: what the loader promises for bad files.
   }

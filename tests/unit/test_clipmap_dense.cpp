@@ -293,7 +293,7 @@ TEST(ClipmapDense, OneLevelAndItsMipsEqualTheDenseGrid) {
 
 // The scene's direct light: the cells are the same (occupancy exact), but the two injections
 // light them differently (vct-grid at the voxel centre with the fragment's normal and the shadow
-// map read half a voxel off the surface; clipmap at the centre's projection onto each triangle,
+// map read half a voxel off the surface; clipmap at each triangle's point nearest the centre,
 // averaged over (triangle, cell) pairs), so radiance is compared by a measured bound.
 TEST(ClipmapDense, DirectLightOccupiesTheSameCells) {
   const Captured dense = run("vct-grid", "isotropic", "direct-light");
@@ -320,7 +320,7 @@ TEST(ClipmapDense, DirectLightOccupiesTheSameCells) {
   EXPECT_GT(occupied, 1500u);  // measured 1913
   EXPECT_EQ(occupancyDiffer, 0u);
   EXPECT_GT(lit, 500u);  // measured 1007 cells with light in both (990 with RGBA8 voxels)
-  // Measured 0.967 (0.961 with RGBA8 voxels): the shading points differ by up to half a voxel (the spot's falloff and the
+  // Measured 0.968: the shading points differ by up to half a voxel (the spot's falloff and the
   // shadow boundary move with them) and the means run over fragments in one, (triangle, cell)
   // pairs in the other. A light lost in one of them, or a cell lit at the wrong place, moves the
   // ratio far outside 0.9..1.1.

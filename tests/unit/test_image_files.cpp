@@ -13,6 +13,8 @@
 #include <random>
 #include <vector>
 
+#include <zlib.h>
+
 #include "capture/capture.h"
 #include "capture/image_files.h"
 #include "capture/output_handler.h"
@@ -20,6 +22,70 @@
 
 namespace voxlab {
 namespace {
+
+// An animated PNG: its chunks in the order APNG requires (acTL before the first IDAT, fcTL before
+// each frame's pixels, one sequence over fcTL and fdAT from 0), its first frame the image another
+// decoder (stb) reads, and every later frame's fdAT inflating to that frame's filtered rows.
+TEST(ImageFiles, AnimatedPngHoldsEveryFrameInSequence) {
+  const int w = 5, h = 3, c = 3;
+  std::vector<std::vector<uint8_t>> frames(3, std::vector<uint8_t>(size_t(w * h * c)));
+  for (size_t k = 0; k < frames.size(); ++k)
+    for (size_t i = 0; i < frames[k].size(); ++i) frames[k][i] = uint8_t(i * 7 + k * 50);
+  const std::string file = encodeAnimatedPng(w, h, c, {frames[0].data(), frames[1].data(), frames[2].data()}, 125);
+  auto be32 = [&](size_t at) {
+    return uint32_t(uint8_t(file[at])) << 24 | uint32_t(uint8_t(file[at + 1])) << 16 |
+           uint32_t(uint8_t(file[at + 2])) << 8 | uint32_t(uint8_t(file[at + 3]));
+  };
+  std::vector<std::string> types;
+  std::vector<uint32_t> sequence;
+  std::vector<std::string> fdats;
+  for (size_t at = 8; at < file.size();) {
+    const uint32_t size = be32(at);
+    const std::string type = file.substr(at + 4, 4);
+    types.push_back(type);
+    ASSERT_EQ(be32(at + 8 + size), uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(file.data() + at + 4), 4 + size)))
+        << type;
+    if (type == "acTL") {
+      EXPECT_EQ(be32(at + 8), 3u);  // frames
+      EXPECT_EQ(be32(at + 12), 0u);  // plays forever
+    }
+    if (type == "fcTL") {
+      sequence.push_back(be32(at + 8));
+      EXPECT_EQ(be32(at + 12), uint32_t(w));
+      EXPECT_EQ(be32(at + 16), uint32_t(h));
+      EXPECT_EQ((uint8_t(file[at + 28]) << 8) | uint8_t(file[at + 29]), 125);   // delay numerator
+      EXPECT_EQ((uint8_t(file[at + 30]) << 8) | uint8_t(file[at + 31]), 1000);  // over 1000: ms
+    }
+    if (type == "fdAT") {
+      sequence.push_back(be32(at + 8));
+      fdats.push_back(file.substr(at + 12, size - 4));
+    }
+    at += 12 + size;
+  }
+  EXPECT_EQ(types, (std::vector<std::string>{"IHDR", "acTL", "fcTL", "IDAT", "fcTL", "fdAT", "fcTL", "fdAT", "IEND"}));
+  EXPECT_EQ(sequence, (std::vector<uint32_t>{0, 1, 2, 3, 4}));
+  int rw = 0, rh = 0, rc = 0;
+  unsigned char* first = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(file.data()), int(file.size()), &rw, &rh, &rc, 3);
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(std::vector<uint8_t>(first, first + w * h * c), frames[0]);
+  stbi_image_free(first);
+  ASSERT_EQ(fdats.size(), 2u);
+  for (size_t k = 1; k < 3; ++k) {
+    std::vector<unsigned char> rows(size_t((w * c + 1) * h));
+    uLongf size = uLongf(rows.size());
+    ASSERT_EQ(uncompress(rows.data(), &size, reinterpret_cast<const Bytef*>(fdats[k - 1].data()), uLong(fdats[k - 1].size())), Z_OK);
+    for (int y = 0; y < h; ++y) {  // undo the Sub filter
+      const unsigned char* row = &rows[size_t(y * (w * c + 1))];
+      ASSERT_EQ(row[0], 1);
+      for (int i = 0; i < w * c; ++i) {
+        const uint8_t left = i >= c ? frames[k][size_t(y * w * c + i - c)] : 0;
+        EXPECT_EQ(uint8_t(row[1 + i] + left), frames[k][size_t(y * w * c + i)]) << "frame " << k;
+      }
+    }
+  }
+  EXPECT_THROW(encodeAnimatedPng(w, h, c, {}, 125), Error);
+  EXPECT_THROW(encodeAnimatedPng(w, h, c, {frames[0].data()}, 0), Error);
+}
 
 TEST(ImageFiles, PngRoundTripsEveryChannelCountThroughAnotherDecoder) {
   std::mt19937 rng(7);

@@ -161,6 +161,44 @@ TEST(Lesson, StepSweepIsValidatedAndCarriesTheStepsState) {
   EXPECT_NE(e.find("voxel.resolution"), std::string::npos) << e;
 }
 
+// A step's frames: its count and animations validated with the step, each problem one line naming
+// the step's line and what would be valid.
+TEST(Lesson, StepFramesAreValidatedInOneLine) {
+  auto parse = [](const std::string& json) { return parseLesson("# x\n\n```voxlab-step\n" + json + "\n```\n", "l.md"); };
+  auto bad = [&](const std::string& frames) {
+    return errorOf([&] { parse("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"frames\":" + frames + "}"); });
+  };
+  const Lesson lesson = parse("{\"technique\":\"vct-grid\",\"stage\":\"composite\",\"frames\":{\"count\":4,"
+                              "\"animate\":[\"light.0.elevation=90:60\",\"cone.aperture=30:60\"]}}");
+  ASSERT_EQ(lesson.steps.size(), 1u);
+  EXPECT_EQ(lesson.steps[0].frameCount, 4);
+  ASSERT_EQ(lesson.steps[0].frameAnimations.size(), 2u);
+  EXPECT_EQ(lesson.steps[0].frameAnimations[0].name, "light.0.elevation");
+  EXPECT_EQ(lesson.steps[0].frameAnimations[0].from, 90.0);
+  EXPECT_EQ(lesson.steps[0].frameAnimations[1].to, 60.0);
+  // The values the viewer and `voxlab run --frames` give frame 2 of 4: a third of the way back.
+  const FrameValues f = animatedFrame(createTechnique("vct-grid")->defaultParams(), lesson.steps[0].frameAnimations, 1, 4);
+  ASSERT_EQ(f.params.size(), 2u);
+  EXPECT_DOUBLE_EQ(f.params[0].second, 80.0);
+  EXPECT_DOUBLE_EQ(f.params[1].second, 40.0);
+  EXPECT_EQ(bad("3"), "l.md:3: 'frames' must be {\"count\": N, \"animate\": [\"NAME=FROM:TO\", ...]}");
+  EXPECT_EQ(bad("{\"count\":4,\"animate\":[\"cone.aperture=30:60\"],\"loop\":true}"),
+            "l.md:3: frames: unknown key 'loop'; valid keys: count, animate");
+  EXPECT_EQ(bad("{\"count\":1,\"animate\":[\"cone.aperture=30:60\"]}").rfind("l.md:3: frames: 'count' must be 2..64, got 1", 0), 0u);
+  EXPECT_EQ(bad("{\"count\":0,\"animate\":[\"cone.aperture=30:60\"]}").rfind("l.md:3: frames: 'count' must be 2..64", 0), 0u);
+  EXPECT_NE(bad("{\"count\":4}").find("l.md:3: frames: 'animate' must be a non-empty list"), std::string::npos);
+  EXPECT_NE(bad("{\"count\":4,\"animate\":[3]}").find("l.md:3: frames: every 'animate' entry must be a string"),
+            std::string::npos);
+  std::string e = bad("{\"count\":4,\"animate\":[\"cone.nope=1:2\"]}");
+  EXPECT_EQ(e.rfind("l.md:3: frames: unknown parameter 'cone.nope'", 0), 0u) << e;
+  e = bad("{\"count\":4,\"animate\":[\"cone.aperture=30\"]}");
+  EXPECT_NE(e.find("l.md:3: frames: --animate 'cone.aperture=30': expected NAME=FROM:TO"), std::string::npos) << e;
+  e = bad("{\"count\":4,\"animate\":[\"light.0.elevation=0:200\"]}");
+  EXPECT_EQ(e.rfind("l.md:3: frames: ", 0), 0u) << e;
+  EXPECT_NE(e.find("light.0.elevation"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
 TEST(Script, ParsesVerbsCommentsAndEnvironment) {
   setenv("VOXLAB_TEST_DIR", "/tmp/x", 1);
   auto a = parseScript("# comment\nstage mipmap\n\nlevel 2 # trailing\nscreenshot ${VOXLAB_TEST_DIR}/a.png\n", "s.txt");

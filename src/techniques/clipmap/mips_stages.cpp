@@ -1,6 +1,7 @@
 // The stages that read the updated levels: mips of the coarsest level and the covered-cell
 // comparison (see clipmap.cpp for the overview).
 #include "techniques/clipmap/stages.h"
+#include "graph/scene_inputs.h"
 #include "techniques/clipmap/stage_helpers.h"
 
 #include <algorithm>
@@ -105,6 +106,7 @@ static TextureDesc compareDesc(const ParamSet& p) {
 }
 
 void CoveredCompareStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // voxelizes the scene's triangles
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
   for (const auto& p : injectParams()) b.param(p);

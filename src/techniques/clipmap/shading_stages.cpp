@@ -25,8 +25,9 @@ namespace voxlab::clipmap {
 // fronts it sees (resolve.comp.glsl), so the surface a cone starts from, seen from behind or
 // edge-on, does not block it, and the offset need not clear the surface's cell. Measured at
 // 128x128 (indirect energy against the reference, Cornell box / sponza / skylight room / two rooms
-// / corridor / spheres room): offset 1: 1.21 / 0.82 / 0.87 / 0.84 / 0.45 / 0.90; 0.25: 1.05 / 0.83
-// / 0.83 / 0.93 / 0.53 / 0.85; 0: 0.94 / 0.80 / 0.77 / 0.97 / 0.55 / 0.83.
+// / corridor / spheres room, light injected at each triangle's point nearest the cell centre):
+// offset 1: 1.29 / 0.86 / 0.87 / 0.84 / 0.52 / 0.90; 0.25: 1.17 / 0.84 / 0.82 / 0.93 / 0.60 / 0.85;
+// 0: 1.05 / 0.82 / 0.76 / 0.97 / 0.63 / 0.83 (the skylight room drops below 0.8).
 static ConeDefaults coneDefaults() {
   ConeDefaults d;
   d.aperture = 60.0;

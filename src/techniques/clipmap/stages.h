@@ -106,10 +106,12 @@ struct TriangleOrder {
   std::vector<TriangleRun> runs;
 };
 TriangleOrder triangleOrder(const Scene& scene);
-// A stage's copy of the scene's triangle order (CPU), computed once per scene.
+// A stage's copy of the scene's triangle order (CPU), computed once per scene (and again after
+// forget(): an animation moved the scene's triangles).
 class TriangleOrderCache {
  public:
   const TriangleOrder& get(const Scene& scene);
+  void forget() { scene_ = nullptr; }
 
  private:
   TriangleOrder order_;
@@ -177,7 +179,10 @@ class UpdateStage : public Stage {
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override;
   void execute(StageContext& ctx) override;
-  void forgetHeldResults() override { held_.reset(); }  // the next run is a full build
+  void forgetHeldResults() override {  // the next run is a full build, of triangles read again
+    held_.reset();
+    order_.forget();
+  }
 
  private:
   // The origins the atlas holds after the last execution, and what they were built from: a later
@@ -213,6 +218,7 @@ class CoveredCompareStage : public Stage {
   }
   void declare(StageBuilder& b) const override;
   void execute(StageContext& ctx) override;
+  void forgetHeldResults() override { order_.forget(); }
 
  private:
   TriangleOrderCache order_;

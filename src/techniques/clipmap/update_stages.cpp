@@ -1,6 +1,7 @@
 // The stages that place and update the clip levels: anchor and update (see clipmap.cpp for the
 // overview).
 #include "techniques/clipmap/stages.h"
+#include "graph/scene_inputs.h"
 #include "techniques/clipmap/stage_helpers.h"
 
 #include <algorithm>
@@ -152,6 +153,7 @@ void AnchorStage::execute(StageContext& ctx) {
 // --- Update ---------------------------------------------------------------------------------------
 
 void UpdateStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // voxelizes the scene's triangles into the moved slabs
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
   for (const auto& p : injectParams()) b.param(p);

@@ -61,7 +61,11 @@ void AtrousFilterStage::declare(StageBuilder& b) const {
 int AtrousFilterStage::passes(const ParamSet& params) const {
   const int fixed = params.getInt("filter.passes");
   if (fixed >= 0) return fixed;
-  return atrousPassesFor(params.getFloat("filter.samples"), params.getInt(config_.raysParam), kMaxPasses);
+  return atrousPassesFor(params.getFloat("filter.samples"), raysPerPixel(params), kMaxPasses);
+}
+
+int AtrousFilterStage::raysPerPixel(const ParamSet& params) const {
+  return config_.raysParam.empty() ? config_.raysPerPixel : params.getInt(config_.raysParam);
 }
 
 int AtrousFilterStage::iterations(const ParamSet& params) const { return std::max(passes(params), 1); }
@@ -73,7 +77,7 @@ void AtrousFilterStage::execute(StageContext& ctx) {
   Texture& scratch = ctx.board.ensureTexture("filter.scratch", imageDesc(size.x, size.y, GL_RGBA32F));
   const int total = passes(ctx.params);
   ctx.stats["passes"] = total;
-  ctx.stats["kernel_rays"] = atrousEffectivePixels(total) * ctx.params.getInt(config_.raysParam);
+  ctx.stats["kernel_rays"] = atrousEffectivePixels(total) * raysPerPixel(ctx.params);
   if (total == 0) {
     glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, size.x,
                        size.y, 1);

@@ -1,5 +1,6 @@
 // The edge-aware a-trous wavelet filter of Dammertz et al. 2010, written once for the techniques
-// that estimate indirect light from a few random rays per pixel (near-field, voxel-path-tracing):
+// that estimate indirect light from a few random rays per pixel (near-field, voxel-path-tracing)
+// or from a pattern that varies over a tile of pixels (lrsm's interleaved step phases):
 // passes of the 5-tap B3 spline with holes 1, 2, 4, ... traced pixels, each tap weighted by
 // edge-stopping functions of the G-buffer (distance from the centre's plane: depth along its
 // normal; normal difference), normalised by the weights. The number of passes follows the number
@@ -24,6 +25,7 @@ struct AtrousFilterConfig {
   std::string output = "indirect-filtered";    // the filtered image
   std::string referenceMode = "indirect";      // what the filtered image approximates (OutputDesc::referenceMode)
   std::string raysParam;                       // the integer parameter holding the rays per pixel ("rays.count")
+  int raysPerPixel = 1;                        // the rays per pixel where raysParam is empty (a fixed count)
   TracedImages traced = kTracedRays;           // the resolution the source is traced at
   std::vector<ParamDesc> sharedParams;         // parameters depthScale reads, declared by other stages too
   // Metres: the depth scale of the edge-stopping function (a neighbour this far off the centre's
@@ -52,6 +54,7 @@ class AtrousFilterStage : public Stage {
   int iterations(const ParamSet& params) const override;
   void execute(StageContext& ctx) override;
   int passes(const ParamSet& params) const;
+  int raysPerPixel(const ParamSet& params) const;
 
  private:
   AtrousFilterConfig config_;

@@ -1,4 +1,5 @@
 #include "techniques/common/gbuffer_stage.h"
+#include "graph/scene_inputs.h"
 
 #include <utility>
 
@@ -16,6 +17,7 @@ static TextureDesc screenDesc(const ViewState& view, GLenum format) {
 }
 
 void GBufferStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // rasterizes the scene's triangles
   b.readView();
   b.output("position", OutputKind::Image2D, Semantic::Scalar, "world position of the visible surface (xyz), w = 1 where covered");
   b.output("normal", OutputKind::Image2D, Semantic::Normal, "unit normal facing the camera");

@@ -1,4 +1,5 @@
 #include "techniques/common/light_stage.h"
+#include "graph/scene_inputs.h"
 
 #include <cmath>
 #include <cstring>
@@ -55,6 +56,7 @@ Light lightSource(Blackboard& board) {
 }
 
 void LightStage::declare(StageBuilder& b) const {
+  b.read(kSceneLightsInput);  // the scene's first light, before the light.0.* parameters
   const char* scene = "";  // "scene" (the default) is named by rangeText
   b.param(ParamDesc::fromScene(kLightAzimuth, 0.0, 360.0,
                                std::string("direction the light comes from, about +y from +z toward +x (sun, spot)") + scene, "degrees").groundTruth());

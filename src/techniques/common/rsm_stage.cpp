@@ -1,4 +1,5 @@
 #include "techniques/common/rsm_stage.h"
+#include "graph/scene_inputs.h"
 
 #include <cstring>
 #include <utility>
@@ -21,6 +22,7 @@ static TextureDesc rsmDesc(int size, GLenum format) {
 }
 
 void RsmStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // rasterizes the scene's triangles from the light
   b.param(ParamDesc::integer("rsm.resolution", 512, 64, 4096, "reflective shadow map width and height", "px").pow2());
   b.read("light");
   b.output("rsm-position", OutputKind::Image2D, Semantic::Scalar,

@@ -1,4 +1,5 @@
 #include "techniques/common/shadow_map_stage.h"
+#include "graph/scene_inputs.h"
 
 #include <algorithm>
 #include <array>
@@ -49,6 +50,7 @@ static TextureDesc shadowMapDesc(int size) {
 }
 
 void ShadowMapStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // rasterizes the scene's triangles from the light
   b.param(ParamDesc::integer("shadow.resolution", 1024, 128, 4096, "shadow map width and height", "px").pow2());
   // 1.5 texels: the 3x3 PCF's taps lie up to 1.5 texels beside the receiver. Measured with
   // vct-grid's direct image against the reference tracer (512^2): Cornell box rmse 0.0129 /

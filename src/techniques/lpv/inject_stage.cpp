@@ -52,9 +52,10 @@ static ParamDesc vplDistanceParam() {
 
 void InjectStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
-  b.param(ParamDesc::real("inject.vpl-shift", 0.0, 0.0, 1.0,
-                          "move each VPL this far along its normal before it is stored (K&D: 0.5, against "
-                          "self-illumination; the thesis: 0); point VPLs stay put", "cells"));
+  b.param(ParamDesc::real("inject.vpl-shift", 0.5, 0.0, 1.0,
+                          "move each VPL this far along its normal before it is binned (K&D: 0.5, so a surface's "
+                          "light starts on its own side; the thesis: 0); per fragment by default, a whole cell's "
+                          "VPL with inject.lighting=per-cell; point VPLs stay put", "cells"));
   b.param(resolutionParam());
   b.param(injectSourceParam());
   b.param(injectLightingParam());
@@ -108,6 +109,8 @@ static float sumFragmentLobes(StageContext& ctx, int c, const gpu::LpvGrid& grid
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_SCRATCH, largest.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
+  const float shift = ctx.params.getFloat("inject.vpl-shift");
+  setUniform(program, "u_shift", shift);
   setUniform(program, "u_pass", 0);
   setUniform(program, "u_unitsPerWatt", 1.0f);
   glUseProgram(program);
@@ -124,6 +127,9 @@ static float sumFragmentLobes(StageContext& ctx, int c, const gpu::LpvGrid& grid
     std::memcpy(&v, &records[i * sizeof v], sizeof v);
     most = std::max(most, v.fragmentCount);
   }
+  // Shifted fragments land in a neighbour (a shift of at most one cell): a cell can then also hold
+  // those of any of the 26 cells around it.
+  if (shift > 0.0f) most *= 27;
   const float units = biggest > 0.0f ? float(double(1u << 30) / (double(biggest) * most)) : 1.0f;
   setUniform(program, "u_pass", 1);
   setUniform(program, "u_unitsPerWatt", units);
@@ -173,7 +179,7 @@ void InjectStage::execute(StageContext& ctx) {
     glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
     glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
     for (int ch = 0; ch < 3; ++ch) glBindImageTexture(ch, out[ch]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    const int passes = ctx.params.getFloat("inject.vpl-shift") > 0.0f ? 2 : 1;
+    const int passes = ctx.params.getFloat("inject.vpl-shift") > 0.0f && !perFragment ? 2 : 1;
     for (int pass = 0; pass < passes; ++pass) {
       setUniform(program, "u_pass", pass);
       dispatchCompute({res, res, res}, {4, 4, 4});

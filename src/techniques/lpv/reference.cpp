@@ -292,11 +292,13 @@ Injected injectPerCell(const std::vector<gpu::LpvVoxel>& voxels, const gpu::LpvG
 }
 
 Injected injectPerFragment(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin, float fragVoxel,
-                           int fragRes, const gpu::LpvGrid& grid, const ShadowedLight& l, float areaUnits) {
+                           int fragRes, const gpu::LpvGrid& grid, const ShadowedLight& l, float areaUnits,
+                           float shift) {
   const int res = int(grid.centreRes.w);
   Injected out;
   out.sh.assign(size_t(res) * res * res, {glm::dvec4(0.0), glm::dvec4(0.0), glm::dvec4(0.0)});
   out.marginal.assign(out.sh.size(), 0.0);
+  out.fragments.assign(out.sh.size(), 0u);
   auto voxelIndex = [&](uint32_t pos) {
     return (size_t((pos >> 20) & 1023u) * fragRes + ((pos >> 10) & 1023u)) * fragRes + (pos & 1023u);
   };
@@ -306,11 +308,11 @@ Injected injectPerFragment(const std::vector<FragmentRecord>& fragments, glm::ve
   for (const auto& f : fragments) {
     glm::vec3 vox(float(f.position & 1023u), float((f.position >> 10) & 1023u), float((f.position >> 20) & 1023u));
     glm::vec3 p = fragOrigin + (vox + 0.5f) * fragVoxel;
-    glm::vec3 u = (p - glm::vec3(grid.originCell)) / grid.originCell.w;
-    glm::ivec3 c(std::floor(u.x), std::floor(u.y), std::floor(u.z));
-    if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, glm::ivec3(res)))) continue;
     glm::ivec3 k = snormComponents(f.normal);
     glm::vec3 n = glm::normalize(glm::vec3(k) / 127.0f);
+    glm::vec3 u = (p - glm::vec3(grid.originCell)) / grid.originCell.w + shift * n;
+    glm::ivec3 c(std::floor(u.x), std::floor(u.y), std::floor(u.z));
+    if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, glm::ivec3(res)))) continue;
     float cosine = glm::dot(n, directionToLight(l.light, p));
     if (!(cosine > 0.0f)) continue;
     glm::dvec3 albedo(double(f.albedo & 255u), double((f.albedo >> 8) & 255u), double((f.albedo >> 16) & 255u));
@@ -321,6 +323,7 @@ Injected injectPerFragment(const std::vector<FragmentRecord>& fragments, glm::ve
     double visibility = shadowVisibility(l, p + n * behind, n, &unsure);
     glm::dvec3 full = albedo * glm::dvec3(lightIrradiance(l.light, p)) * double(cosine) * area / kPi;
     const size_t cell = (size_t(c.z) * res + c.y) * res + c.x;
+    ++out.fragments[cell];
     for (int ch = 0; ch < 3; ++ch) out.sh[cell][ch] += full[ch] * visibility * lobeD(n);
     if (unsure) {
       out.marginal[cell] += std::max({full.x, full.y, full.z}) * double(kLobe1);

@@ -111,14 +111,17 @@ struct Injected {
   std::vector<std::array<glm::dvec4, 3>> sh;
   std::vector<double> marginal;
   size_t marginalCells = 0;
+  std::vector<uint32_t> fragments;  // per fragment: the lit fragments summed into each cell
 };
 // inject.lighting=per-cell: each occupied cell lit once through its most light-facing normal.
 Injected injectPerCell(const std::vector<gpu::LpvVoxel>& voxels, const gpu::LpvGrid& grid, const ShadowedLight& l,
                        float fragmentArea, float areaUnits);
-// inject.lighting=per-fragment: every fragment lit at its voxel, summed into its cell (exact sums:
-// the GPU's fixed-point rounding is the caller's to bound).
+// inject.lighting=per-fragment: every fragment lit at its voxel, summed into the cell its voxel
+// centre lands in after moving 'shift' cells along its normal (inject.vpl-shift; exact sums: the
+// GPU's fixed-point rounding is the caller's to bound).
 Injected injectPerFragment(const std::vector<FragmentRecord>& fragments, glm::vec3 fragOrigin, float fragVoxel,
-                           int fragRes, const gpu::LpvGrid& grid, const ShadowedLight& l, float areaUnits);
+                           int fragRes, const gpu::LpvGrid& grid, const ShadowedLight& l, float areaUnits,
+                           float shift);
 
 // Trilinear SH at a point given in cell units (cell centres at i + 0.5), clamped to the edge texels.
 std::array<SH, 3> sampleTrilinear(const ShField& f, glm::vec3 cellPos);

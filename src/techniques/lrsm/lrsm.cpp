@@ -26,7 +26,9 @@
 //                        Eq. 1 with, per sample, the lit surface's coverage x radiance from the
 //                        layers (Algorithm 1's terms and Eq. 3's Jacobian) and alpha the larger
 //                        of the occlusion mips' and the lit coverage
-//  10. composite         direct (shadow map; the shadow cone as a variant) + indirect diffuse, tonemapped
+//  10. filter            the shared edge-aware a-trous filter (2 passes) over the gathered light:
+//                        it averages the 4 x 4 tile of step phases that cone.interleave spreads
+//  11. composite         direct (shadow map; the shadow cone as a variant) + indirect diffuse, tonemapped
 //
 // Details
 //   - Every decision the paper leaves open is listed, with its constant, in lrsm.h (layers,
@@ -57,6 +59,7 @@
 //   variance shadow maps (2008); Donnelly and Lauritzen, variance shadow maps (2006); Crassin
 //   et al., cone-traced soft shadows (2011).
 #include "graph/technique.h"
+#include "techniques/common/atrous_filter_stage.h"
 #include "techniques/common/gbuffer_stage.h"
 #include "techniques/common/rsm_stage.h"
 #include "techniques/common/light_stage.h"
@@ -81,6 +84,7 @@ static std::unique_ptr<Technique> makeLrsm() {
   t->add<lrsm::LrsmMipsStage>();
   t->add<GBufferStage>();
   t->add<lrsm::ConeGatherStage>();
+  t->add<AtrousFilterStage>(lrsm::filterConfig());
   t->add<CompositeStage>(lrsm::compositeTerms());
   t->setFinalOutput("composite", "final");
   return t;

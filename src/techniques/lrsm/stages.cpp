@@ -364,6 +364,9 @@ void ConeGatherStage::declare(StageBuilder& b) const {
                              "where the coarse one would reach the plane, and lit surfaces whose mean point lies less than "
                              "2 voxels above it are skipped (its own voxels shaded every cone near the surface, in stripes "
                              "where a face crosses voxel columns; the other faces of a box, lit at grazing angles, blotched it)"));
+  b.param(ParamDesc::boolean("cone.interleave", true,
+                              "each pixel of a 4 x 4 tile starts its diffuse cones' samples at its own 1/16 of the first "
+                              "step (the filter stage averages the tile); off: every pixel at cone.start"));
   b.param(ParamDesc::real("cone.start", 1.5, 0.0, 8.0, "distance of the first sample from the surface", "voxels"));
   b.param(ParamDesc::real("cone.lod-bias", 0.0, -2.0, 2.0, "added to the voxel mip log2(diameter / voxel)"));
   b.param(ParamDesc::integer("cone.max-steps", 32, 1, LRSM_MAX_STEPS,
@@ -427,7 +430,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   auto traceTex = [](GLenum format) {
     return [format](const ParamSet& p, const ViewState& v) { return texDesc(traceSize(p, v), format); };
   };
-  b.texture("indirect-diffuse", traceTex(GL_RGBA16F));
+  b.texture("indirect-diffuse", traceTex(GL_RGBA32F));
   b.texture("indirect-specular", traceTex(GL_RGBA16F));
   b.texture("soft-shadow", traceTex(GL_R16F));
   b.buffer("gather-records", [](const ParamSet&, const ViewState&) { return kGatherRecordsBytes; });
@@ -442,7 +445,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   const int s = kTracedCones.scale(ctx.params);
   const glm::ivec3 traced = traceSize(ctx.params, ctx.view);
   const int tw = traced.x, th = traced.y;
-  Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc(traced, GL_RGBA16F));
+  Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc(traced, GL_RGBA32F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", texDesc(traced, GL_RGBA16F));
   Texture& shadow = ctx.board.ensureTexture("soft-shadow", texDesc(traced, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
@@ -481,6 +484,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_twoLobes", ctx.params.getBool("lrsm.two-lobes") ? 1 : 0);
   setUniform(program, "u_footprintBias", ctx.params.getFloat("lrsm.footprint-bias"));
   setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
+  setUniform(program, "u_interleave", ctx.params.getBool("cone.interleave") ? 1 : 0);
   setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
   setUniform(program, "u_shadowLodBias", ctx.params.getFloat("cone.shadow-lod-bias"));
   setUniform(program, "u_maxSteps", ctx.params.getInt("cone.max-steps"));
@@ -510,7 +514,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_GATHER, records.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_GATHER_COUNT, recordCount.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_CONE_RESULTS, cones.id());
-  glBindImageTexture(0, diffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(0, diffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   dispatchCompute({tw, th, 1}, {8, 8, 1});
@@ -540,6 +544,24 @@ void ConeGatherStage::execute(StageContext& ctx) {
   ctx.stats["paper_layout_total_mb"] = m.total() / 1e6;
 }
 
+// The shared a-trous filter over the gathered light: cone.interleave gives each pixel of a 4 x 4
+// tile its own step phase, and the filter's kernel averages 16 of them per pixel (filter.samples
+// 1024 at 16 per pixel: 2 passes, holes 1 and 2, 13 x 13 traced pixels) on the receiver's surface.
+AtrousFilterConfig filterConfig() {
+  AtrousFilterConfig c;
+  c.source = "indirect-diffuse";
+  c.output = "indirect-filtered";
+  c.referenceMode = "indirect-1";
+  c.raysPerPixel = 16;
+  c.traced = kTracedCones;
+  c.sharedParams = {voxelResolutionParam()};
+  // One voxel: the G-buffer's neighbours on one flat face lie on its plane to well within it.
+  c.depthScale = [](const ParamSet& p, const Scene& scene) {
+    return VoxelSpace::fromScene(scene, p.getInt("voxel.resolution")).voxelSize;
+  };
+  return c;
+}
+
 // --- Composite ----------------------------------------------------------------------------------------
 
 CompositeTerms compositeTerms() {
@@ -554,7 +576,7 @@ CompositeTerms compositeTerms() {
                                 "half of the light through: the ceiling of skylight-room lit 16.8x)"),
               compositeExposureParam(),
               ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect term (1 = physical)")};
-  t.indirect = {{"indirect-diffuse", "composite.indirect"}};
+  t.indirect = {{"indirect-filtered", "composite.indirect"}};
   t.visibility = CompositeVisibility{"composite.shadow", "cone", "soft-shadow"};
   t.traced = kTracedCones;
   t.planeDistance = [](const ParamSet& p, const Scene& scene) {

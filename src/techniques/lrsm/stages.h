@@ -2,6 +2,7 @@
 #pragma once
 #include "graph/output.h"
 #include "graph/stage.h"
+#include "techniques/common/atrous_filter_stage.h"
 #include "techniques/common/composite_stage.h"
 #include "techniques/lrsm/lrsm.h"
 
@@ -90,5 +91,6 @@ class ConeGatherStage : public Stage {
 
 // The terms of this technique's composite (techniques/common/composite_stage.h).
 CompositeTerms compositeTerms();
+AtrousFilterConfig filterConfig();
 
 }  // namespace voxlab::lrsm

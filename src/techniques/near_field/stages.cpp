@@ -1,4 +1,5 @@
 #include "techniques/near_field/stages.h"
+#include "graph/scene_inputs.h"
 
 #include <algorithm>
 #include <cmath>
@@ -218,6 +219,7 @@ void HierarchyStage::execute(StageContext& ctx) {
 // --- Rays ----------------------------------------------------------------------------------------
 
 void RaysStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // its CPU checks walk the scene's triangles
   b.param(voxelResolutionParam());
   b.param(kTracedRays.resolutionParam());
   b.param(ParamDesc::integer("rays.count", 8, 1, 256, "rays per pixel, one per iteration", "rays"));

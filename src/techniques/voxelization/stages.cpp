@@ -1,4 +1,5 @@
 #include "techniques/voxelization/stages.h"
+#include "graph/scene_inputs.h"
 
 #include <algorithm>
 #include <cstring>
@@ -28,6 +29,7 @@ void checkPackableResolution(int resolution) {
 // --- 1. classify ----------------------------------------------------------------------------------
 
 void ClassifyStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // classifies the scene's triangles
   b.param(voxelResolutionParam());
   b.param(methodParam());
   b.param(hybridCutoffParam());
@@ -61,6 +63,7 @@ void ClassifyStage::execute(StageContext& ctx) {
 // --- 2. voxelize ----------------------------------------------------------------------------------
 
 void VoxelizeStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // rasterizes the scene's triangles
   b.param(voxelResolutionParam());
   b.param(methodParam());
   b.read("triangle-info");
@@ -148,6 +151,7 @@ void OccupancyStage::execute(StageContext& ctx) {
 // --- 4. compare -----------------------------------------------------------------------------------
 
 void CompareStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // voxelizes the scene's triangles on the CPU
   b.param(voxelResolutionParam());
   b.read("occupancy");
   b.output("reference", OutputKind::Volume3D, Semantic::Occupancy,

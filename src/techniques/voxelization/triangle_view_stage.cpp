@@ -15,6 +15,7 @@
 
 #include "gpu/resources.h"
 #include "techniques/common/voxel_space.h"
+#include "graph/scene_inputs.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/voxelization/stages.h"
 
@@ -62,6 +63,7 @@ bool squareOverlaps(const glm::vec2 t[3], glm::vec2 c) {
 }  // namespace
 
 void TriangleViewStage::declare(StageBuilder& b) const {
+  b.read(kSceneGeometryInput);  // draws the scene's triangles in voxel space
   b.param(voxelResolutionParam());
   b.param(ParamDesc::integer("inspect.triangle", 0, 0, 16777215,
                              "index of the triangle shown by triangle-view (clamped to the scene's triangles)"));

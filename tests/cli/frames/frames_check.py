@@ -54,4 +54,18 @@ if m["frames"][1]["stages_run"]:
     fail("a frame with no change re-ran %s" % [s["stage"] for s in m["frames"][1]["stages_run"]])
 if m["temporal"]["flicker"] != [0.0]:
     fail("a frame with no change must not flicker: %s" % m["temporal"]["flicker"])
-print("frames: the light's frames re-ran %s; flicker %s" % (ran[1], flicker))
+
+# An animated scene (a box flying through the Cornell box, its glTF animation) over three frames
+# of its first second: each later frame re-voxelizes (the geometry moved) and does not re-run the
+# light stage (the light did not move).
+common[common.index("cornell-box")] = "cornell-box-moving"
+m = run(os.path.join(out, "moving"), "--frames", "3", "--time-range", "0:1")
+moved = [[s["stage"] for s in f["stages_run"]] for f in m["frames"]]
+if [f["time"] for f in m["frames"]] != [0.0, 0.5, 1.0]:
+    fail("the frames must span --time-range 0:1: %s" % [f.get("time") for f in m["frames"]])
+for k in (1, 2):
+    if m["frames"][k]["scene_changed"] != ["geometry"]:
+        fail("frame %d: the box moved, the manifest says %s" % (k, m["frames"][k]["scene_changed"]))
+    if "voxelize" not in moved[k] or "gbuffer" not in moved[k] or "light" in moved[k]:
+        fail("frame %d: a moving object re-runs voxelize and the G-buffer, not the light: %s" % (k, moved[k]))
+print("frames: the light's frames re-ran %s; flicker %s; the moving box's %s" % (ran[1], flicker, moved[1]))

@@ -6,7 +6,10 @@
 # (naturalWidth > 0) and how many step sections and index rows the page has; --dump-dom prints the
 # resulting DOM. Every image must have loaded, the handout must have as many sections as the
 # lesson file has ```voxlab-step blocks, the index one row per lesson. A control page with one
-# missing picture must report it (so the check can fail).
+# missing picture must report it (so the check can fail). A step with "frames" adds an animated
+# PNG: animation_check.js decodes each with Chromium's own decoder and counts those that play (an
+# animation of two frames or more whose first and last frames differ); every one must, and a
+# control page whose animation is swapped for a still picture must report it.
 # Exit 77 (skip) only when chromium is not installed (scripts/setup.sh installs it).
 set -e
 exe="$1"; root="$2"; out="$3"
@@ -14,10 +17,11 @@ command -v chromium >/dev/null 2>&1 || { echo "chromium is not installed (script
 rm -rf "$out"; mkdir -p "$out"
 "$exe" handout --all --size 96x96 --out "$out/handouts" >"$out/handout.log" 2>&1 || { cat "$out/handout.log"; exit 1; }
 cat "$out/handout.log"
+cp "$root/tests/cli/handout/animation_check.js" "$out/handouts/"
 
 # The page as the browser sees it, plus the reporting script, next to the original (same relative links).
 instrument() {  # page.html -> page.check.html
-  sed 's#</body>#<script>\
+  sed 's#</body>#<script src="animation_check.js"></script><script>\
 window.addEventListener("load", function () {\
   var imgs = Array.prototype.slice.call(document.images);\
   var loaded = imgs.filter(function (i) { return i.complete \&\& i.naturalWidth > 0; }).length;\
@@ -28,10 +32,12 @@ window.addEventListener("load", function () {\
 });\
 </script></body>#' "$1" > "${1%.html}.check.html"
 }
-browse() {  # page.check.html -> the check line
+browse() {  # page.check.html -> the check line and the animation line
   chromium --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --user-data-dir="$out/profile" \
-    --allow-file-access-from-files --virtual-time-budget=20000 --dump-dom "file://$1" 2>"$out/chromium.log" |
-    sed -n 's#.*<pre id="voxlab-check">\([^<]*\)</pre>.*#\1#p'
+    --allow-file-access-from-files --virtual-time-budget=20000 --dump-dom "file://$1" 2>"$out/chromium.log" \
+    >"$out/dom.html"
+  echo "$(sed -n 's#.*<pre id="voxlab-check">\([^<]*\)</pre>.*#\1#p' "$out/dom.html")" \
+    "$(sed -n 's#.*<pre id="voxlab-anim">\([^<]*\)</pre>.*#\1#p' "$out/dom.html")"
 }
 expect() {  # what got want
   if [ "$2" != "$3" ]; then echo "FAIL $1: got '$2', want '$3'"; cat "$out/chromium.log"; exit 1; fi
@@ -41,7 +47,7 @@ expect() {  # what got want
 lessons=$(ls "$root"/lessons/*.md | grep -v '/README\.md$')
 count=$(echo "$lessons" | wc -l)
 instrument "$out/handouts/index.html"
-expect index "$(browse "$out/handouts/index.check.html")" "images=$count loaded=$count sections=0 rows=$count"
+expect index "$(browse "$out/handouts/index.check.html")" "images=$count loaded=$count sections=0 rows=$count animations=0 playing=0"
 
 # Every handout is checked (each costs about a second of Chromium).
 for lesson in $lessons; do
@@ -49,8 +55,12 @@ for lesson in $lessons; do
   # The step count from the file itself (its ```voxlab-step fences), not from voxlab's parser.
   steps=$(grep -c '^```voxlab-step' "$lesson")
   [ "$steps" -gt 0 ] || { echo "could not count the steps of $lesson"; exit 1; }
+  # The animations from the file too: a step block's "frames" key (one per step at most).
+  animations=$(grep -c '"frames"' "$lesson" || true)
+  images=$((steps + animations))
   instrument "$out/handouts/$stem.html"
-  expect "$stem" "$(browse "$out/handouts/$stem.check.html")" "images=$steps loaded=$steps sections=$steps rows=0"
+  expect "$stem" "$(browse "$out/handouts/$stem.check.html")" \
+    "images=$images loaded=$images sections=$steps rows=0 animations=$animations playing=$animations"
 done
 
 first=$(echo "$lessons" | head -n 1)
@@ -59,5 +69,19 @@ steps=$(grep -c '^```voxlab-step' "$first")
 # Control: the same handout with its second picture missing must report one image not loaded.
 sed 's#src="'"$stem"'/step-02.png"#src="'"$stem"'/no-such-picture.png"#' "$out/handouts/$stem.html" > "$out/handouts/control.html"
 instrument "$out/handouts/control.html"
-expect control "$(browse "$out/handouts/control.check.html")" "images=$steps loaded=$((steps - 1)) sections=$steps rows=0"
+expect control "$(browse "$out/handouts/control.check.html")" \
+  "images=$steps loaded=$((steps - 1)) sections=$steps rows=0 animations=0 playing=0"
+# Control: a handout with animations, the first one swapped for its step's still picture, must
+# report one animation that does not play.
+animated=$(grep -l '"frames"' $lessons | head -n 1)
+if [ -n "$animated" ]; then
+  stem=$(basename "$animated" .md)
+  steps=$(grep -c '^```voxlab-step' "$animated")
+  animations=$(grep -c '"frames"' "$animated")
+  first=$(grep -o "$stem/step-[0-9]*-frames.png" "$out/handouts/$stem.html" | head -n 1)
+  sed "s#src=\"$first\"#src=\"${first%-frames.png}.png\"#" "$out/handouts/$stem.html" > "$out/handouts/control-animation.html"
+  instrument "$out/handouts/control-animation.html"
+  expect control-animation "$(browse "$out/handouts/control-animation.check.html")" \
+    "images=$((steps + animations)) loaded=$((steps + animations)) sections=$steps rows=0 animations=$animations playing=$((animations - 1))"
+fi
 echo "handouts load in chromium"
