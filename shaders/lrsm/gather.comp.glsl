@@ -19,6 +19,7 @@ layout(binding = 6) uniform sampler2D u_albedo;
 layout(rgba32f, binding = 0) uniform writeonly image2D u_diffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_specular;
 layout(r16f, binding = 2) uniform writeonly image2D u_shadow;
+uniform int u_traceShadow;  // 0: the soft-shadow image is not wanted (outputs on demand)
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCount { uint coneSampleCount; };
 layout(std430, binding = LRSM_BINDING_GATHER) writeonly buffer Gather { LrsmGatherRecord gather[]; };
@@ -282,7 +283,7 @@ void main() {
   if (pos.w == 0.0) {
     imageStore(u_diffuse, px, vec4(0.0));
     imageStore(u_specular, px, vec4(0.0));
-    imageStore(u_shadow, px, vec4(1.0));
+    if (u_traceShadow == 1) imageStore(u_shadow, px, vec4(1.0));
     return;
   }
   bool record = px == u_probePixel;
@@ -319,13 +320,15 @@ void main() {
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
   const float shadowEnd = min(shadowConeEnd(dist, u_shadowTanHalf, u_shadowLodBias, u_voxelSize), far);
-  vec4 shadow = dot(n, toLight) > 0.0 ? traceCone(p, n, toLight, u_shadowTanHalf, u_shadowLodBias, false, shadowEnd, 7, record, 0.0)
+  // Without the soft-shadow image (outputs on demand) only the probed pixel traces it, for its record.
+  const bool shadowCone = dot(n, toLight) > 0.0 && (u_traceShadow == 1 || record);
+  vec4 shadow = shadowCone ? traceCone(p, n, toLight, u_shadowTanHalf, u_shadowLodBias, false, shadowEnd, 7, record, 0.0)
                                       : vec4(0.0, 0.0, 0.0, 1.0);
   if (record && dot(n, toLight) <= 0.0) coneResults[7] = LrsmConeResult(vec4(toLight, 0.0), vec4(0.0, 0.0, 0.0, 1.0), vec4(7.0, 0.0, 0.0, 0.0));
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
   vec3 diffuse = albedo / PI * E;
   imageStore(u_diffuse, px, vec4(diffuse, 1.0));
   imageStore(u_specular, px, vec4(spec.rgb, 1.0));
-  imageStore(u_shadow, px, vec4(1.0 - shadow.a));
+  if (u_traceShadow == 1) imageStore(u_shadow, px, vec4(1.0 - shadow.a));
   if (record) coneResults[LRSM_MAX_CONES] = LrsmConeResult(vec4(n, PI), vec4(diffuse, 0.0), vec4(float(LRSM_MAX_CONES), 0.0, 0.0, 3.0));
 }

@@ -381,7 +381,8 @@ void main() {
   ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, 0.0,
                               u_coneCount, record, true, true);
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
-  if (u_traceShadow == 0) return;  // the soft-shadow image is not wanted (outputs on demand)
+  // Without the soft-shadow image (outputs on demand) only the probed pixel traces it, for its record.
+  if (u_traceShadow == 0 && !record) return;
   vec3 toLight; float dist;
   lightDirection(surface.position, toLight, dist);
   float shadowVis = 0.0;
@@ -394,5 +395,5 @@ void main() {
                               u_coneCount + 1, record, false, false);
     shadowVis = 1.0 - sh.blocked;
   }
-  imageStore(u_softShadow, px, vec4(shadowVis));
+  if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(shadowVis));
 }

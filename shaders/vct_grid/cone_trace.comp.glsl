@@ -64,7 +64,8 @@ void main() {
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
   uint specularSamples = g_samples - diffuseSamples;
 
-  if (u_traceShadow != 0) {
+  // Without the soft-shadow image (outputs on demand) only the probed pixel traces it, for its record.
+  if (u_traceShadow != 0 || record) {
     vec3 toLight; float dist;
     lightDirection(pos.xyz, toLight, dist);
     float shadowVis = 0.0;
@@ -73,7 +74,7 @@ void main() {
       ConeResult sh = traceCone(origin, toLight, u_shadowAperture, start, min(end, u_maxDistance), 1e30, u_coneCount + 1, record);
       shadowVis = 1.0 - sh.blocked;
     }
-    imageStore(u_softShadow, px, vec4(shadowVis));
+    if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(shadowVis));
   }
   atomicAdd(coneTraceCounts[0], diffuseSamples);
   atomicAdd(coneTraceCounts[1], specularSamples);

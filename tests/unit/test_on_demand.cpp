@@ -128,5 +128,37 @@ TEST(OnDemandCursor, UnknownOutputIsRefusedInOneLine) {
   }
 }
 
+// A demand that grows re-runs only the stage that left the newly wanted output out (and keeps
+// what it already has): after a --final-only run of vct-grid, asking for the soft-shadow image
+// re-runs the cone trace alone; the voxels, mips and G-buffer are not computed again.
+TEST(OnDemandCursor, GrowingDemandRerunsOnlyTheStageThatLeftItOut) {
+  RunRequest request;
+  request.technique = "vct-grid";
+  request.width = request.height = 32;
+  request.sets = {"voxel.resolution=32"};
+  HeadlessSession& s = testing_support::freshSession(request);
+  StepCursor& cursor = s.cursor();
+  const Technique& t = cursor.technique();
+  s.demand(/*finalOnly=*/true);
+  s.run();
+  const int coneTrace = t.stageIndex("cone-trace");
+  ASSERT_FALSE(cursor.outputComputed(coneTrace, "soft-shadow"));
+  EXPECT_FALSE(cursor.board().hasTexture("soft-shadow"));
+  std::vector<double> before;
+  for (int i = 0; i < t.stageCount(); ++i) before.push_back(cursor.record(i).cpuMs);
+
+  cursor.demandOutputs({{"cone-trace", "soft-shadow"}});
+  s.run();
+  EXPECT_TRUE(cursor.outputComputed(coneTrace, "soft-shadow"));
+  EXPECT_TRUE(cursor.board().hasTexture("soft-shadow"));
+  for (int i = 0; i < coneTrace; ++i)  // a stage that did not run again keeps its record's time
+    EXPECT_EQ(cursor.record(i).cpuMs, before[size_t(i)]) << t.stage(i).id() << " ran again";
+  EXPECT_NE(cursor.record(coneTrace).cpuMs, before[size_t(coneTrace)]) << "the cone trace did not run again";
+  const CapturedOutput shadow = testing_support::capture(s, "cone-trace", "soft-shadow");
+  double lit = 0;
+  for (float v : shadow.levels[0].values) lit += v;
+  EXPECT_GT(lit, 0.0) << "the soft-shadow image is empty";
+}
+
 }  // namespace
 }  // namespace voxlab

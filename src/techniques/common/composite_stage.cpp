@@ -147,7 +147,8 @@ void CompositeStage::execute(StageContext& ctx) {
   const char* gbuffer[] = {"position", "normal", "albedo", "emission"};
   for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(1 + i), ctx.board.texture(gbuffer[i]).id());
   glBindTextureUnit(5, ctx.board.texture("shadow-map").id());
-  glBindTextureUnit(6, terms_.visibility ? ctx.board.texture(terms_.visibility->image).id() : 0);
+  // The traced visibility image exists only when it is the chosen visibility (outputs on demand).
+  glBindTextureUnit(6, tracedVisibility ? ctx.board.texture(terms_.visibility->image).id() : 0);
   for (int i = 0; i < termCount; ++i)
     glBindTextureUnit(GLuint(7 + i), ctx.board.texture(terms_.indirect[size_t(i)].image).id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());

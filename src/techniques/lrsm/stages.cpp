@@ -400,7 +400,8 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR,
            "radiance I gathered by the 10-degree cone along the mirror direction").alongside = true;
   b.output("soft-shadow", OutputKind::Image2D, Semantic::Fraction,
-           "transmittance of the shadow cone toward the light through the occlusion mips (1 = lit)");
+           "transmittance of the shadow cone toward the light through the occlusion mips (1 = lit)")
+      .onDemand = true;
   coneSamplesOutput(b, "every sphere sample of the probed pixel's cones: centre + diameter, accumulated I + opacity, "
                        "cone / distance / voxel mip / alpha");
   BufferLayout g;
@@ -447,7 +448,8 @@ void ConeGatherStage::execute(StageContext& ctx) {
   const int tw = traced.x, th = traced.y;
   Texture& diffuse = ctx.board.ensureTexture("indirect-diffuse", texDesc(traced, GL_RGBA32F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", texDesc(traced, GL_RGBA16F));
-  Texture& shadow = ctx.board.ensureTexture("soft-shadow", texDesc(traced, GL_R16F));
+  const bool traceShadow = ctx.wants("soft-shadow");
+  Texture* shadow = traceShadow ? &ctx.board.ensureTexture("soft-shadow", texDesc(traced, GL_R16F)) : nullptr;
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
   Buffer& sampleCount = ctx.board.ensureBuffer("cone-samples.count", 4);
   Buffer& records = ctx.board.ensureBuffer("gather-records", kGatherRecordsBytes);
@@ -493,6 +495,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   setUniform(program, "u_shadowTanHalf", std::tan(0.5f * ctx.params.getFloat("cone.shadow-aperture") * kDegrees));
   setUniform(program, "u_traceScale", s);
   setUniform(program, "u_traceSpecular", ctx.params.getBool("cone.specular") ? 1 : 0);
+  setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
   setUniform(program, "u_cameraPos", ctx.view.position);
   for (int k = 0; k < kDiffuseCones; ++k) {
     const std::string name = "u_diffuseCones[" + std::to_string(k) + "]";
@@ -516,7 +519,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LRSM_BINDING_CONE_RESULTS, cones.id());
   glBindImageTexture(0, diffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glBindImageTexture(2, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(2, shadow ? shadow->id() : 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);  // none: never written
   dispatchCompute({tw, th, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 
