@@ -1033,7 +1033,9 @@ TEST(LpvGpu, VplShiftMovesLightAlongTheNormalAndKeepsIt) {
   const std::pair<const char*, const char*> cases[] = {{"inject.lighting=per-fragment", "0.5"},
                                                        {"inject.lighting=per-fragment", "1"},
                                                        {"inject.lighting=per-cell", "0.5"}};
-  for (const auto& [lighting, amount] : cases) {
+  for (const auto& entry : cases) {
+    const char* lighting = entry.first;  // named: a lambda may not capture a structured binding (C++17, Clang)
+    const char* amount = entry.second;
     auto with = [&](const char* shift) {
       auto sets = base;
       sets.push_back(lighting);
