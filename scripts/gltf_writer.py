@@ -54,6 +54,21 @@ def newell_normal(points):
     return normalize(n)
 
 
+def flat_shaded_arrays(polygons):
+    """Flat-shaded vertex arrays of CCW-front polygons: flat positions and normals (3 floats per
+    vertex, each polygon's own vertices with its Newell normal) and triangle-fan indices."""
+    positions, normals, indices = [], [], []
+    for poly in polygons:
+        n = newell_normal(poly)
+        base = len(positions) // 3
+        for p in poly:
+            positions.extend(float(c) for c in p)
+            normals.extend(n)
+        for k in range(1, len(poly) - 1):
+            indices.extend([base, base + k, base + k + 1])
+    return positions, normals, indices
+
+
 def oriented(points, facing):
     """Returns the polygon wound so that its front (CCW) normal points along 'facing'."""
     if dot(newell_normal(points), facing) < 0.0:
@@ -125,15 +140,7 @@ class GltfBuilder:
 
     def add_polygon_mesh(self, name, material, polygons):
         """polygons: list of CCW-front polygons (3 or 4 points), flat shaded."""
-        positions, normals, indices = [], [], []
-        for poly in polygons:
-            n = newell_normal(poly)
-            base = len(positions) // 3
-            for p in poly:
-                positions.extend(float(c) for c in p)
-                normals.extend(n)
-            for k in range(1, len(poly) - 1):
-                indices.extend([base, base + k, base + k + 1])
+        positions, normals, indices = flat_shaded_arrays(polygons)
         vcount = len(positions) // 3
         pos = self.add_accessor(positions, "VEC3", 5126, vcount, with_bounds=True, target=34962)
         nrm = self.add_accessor(normals, "VEC3", 5126, vcount, target=34962)

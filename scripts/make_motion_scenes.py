@@ -20,7 +20,7 @@ import math
 import os
 import struct
 
-from gltf_writer import axis_box_polygons, newell_normal, r6, write_json
+from gltf_writer import axis_box_polygons, flat_shaded_arrays, r6, write_json
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 SCENES = os.path.join(ROOT, "scenes")
@@ -84,15 +84,7 @@ def cornell_box_moving():
     # A 10 cm box centred on its node's origin, flat shaded, a light yellow diffuse material.
     h = 0.05
     polygons = axis_box_polygons([-h, -h, -h], [h, h, h])
-    positions, normals, indices = [], [], []
-    for poly in polygons:
-        n = newell_normal(poly)
-        base = len(positions) // 3
-        for p in poly:
-            positions.extend(float(c) for c in p)
-            normals.extend(n)
-        for k in range(1, len(poly) - 1):
-            indices.extend([base, base + k, base + k + 1])
+    positions, normals, indices = flat_shaded_arrays(polygons)
     pos = extra.accessor(positions, "VEC3", target=34962, with_bounds=True)
     nrm = extra.accessor(normals, "VEC3", target=34962)
     idx = extra.accessor(indices, "SCALAR", 5123, target=34963)

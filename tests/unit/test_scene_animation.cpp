@@ -179,48 +179,36 @@ TEST(SceneAnimation, ALightOnAnAnimatedNodeTurnsWithIt) {
   EXPECT_NEAR(scene.lights[0].position.y, 2.0f, kExact) << "turning in place";
 }
 
-void expectRejected(const std::string& path, const std::string& expected) {
-  try {
-    SceneAnimation animation;
-    loadScene(path, animation);
-    ADD_FAILURE() << path << " loaded; expected an error containing '" << expected << "'";
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find(fs::path(path).filename().string()), std::string::npos) << what;
-    EXPECT_NE(what.find(expected), std::string::npos) << what;
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-  }
-}
 
 TEST(SceneAnimation, MalformedAnimationsAreOneLineErrors) {
   AnimatedFile badSampler;
   badSampler.sampler = 3;
-  expectRejected(writeAnimated("bad-sampler.gltf", badSampler), "channels[0].sampler = 3 is out of range");
+  testing_support::expectSceneRejected(writeAnimated("bad-sampler.gltf", badSampler), "channels[0].sampler = 3 is out of range");
 
   AnimatedFile countMismatch;
   countMismatch.values = {0, 0, 0, 1, 0, 0, 2, 0, 0};  // three values for two key times
-  expectRejected(writeAnimated("count-mismatch.gltf", countMismatch), "output has 3 values for 2 key times");
+  testing_support::expectSceneRejected(writeAnimated("count-mismatch.gltf", countMismatch), "output has 3 values for 2 key times");
 
   AnimatedFile cubicCount;
   cubicCount.interpolation = "CUBICSPLINE";  // needs in-tangent, value, out-tangent per key: 6
-  expectRejected(writeAnimated("cubic-count.gltf", cubicCount), "CUBICSPLINE needs 3 per key time");
+  testing_support::expectSceneRejected(writeAnimated("cubic-count.gltf", cubicCount), "CUBICSPLINE needs 3 per key time");
 
   AnimatedFile unknownPath;
   unknownPath.path = "colour";
-  expectRejected(writeAnimated("unknown-path.gltf", unknownPath), "target.path 'colour' is unknown");
+  testing_support::expectSceneRejected(writeAnimated("unknown-path.gltf", unknownPath), "target.path 'colour' is unknown");
 
   AnimatedFile unknownMode;
   unknownMode.interpolation = "BEZIER";
-  expectRejected(writeAnimated("unknown-interpolation.gltf", unknownMode), "interpolation 'BEZIER' is unknown");
+  testing_support::expectSceneRejected(writeAnimated("unknown-interpolation.gltf", unknownMode), "interpolation 'BEZIER' is unknown");
 
   AnimatedFile notIncreasing;
   notIncreasing.times = {0.0f, 1.0f, 1.0f};
   notIncreasing.values = {0, 0, 0, 1, 0, 0, 2, 0, 0};
-  expectRejected(writeAnimated("times-not-increasing.gltf", notIncreasing), "input times are not increasing");
+  testing_support::expectSceneRejected(writeAnimated("times-not-increasing.gltf", notIncreasing), "input times are not increasing");
 
   AnimatedFile wrongType;
   wrongType.path = "rotation";  // a rotation needs VEC4 quaternions
-  expectRejected(writeAnimated("wrong-output-type.gltf", wrongType), "has type VEC3, expected VEC4");
+  testing_support::expectSceneRejected(writeAnimated("wrong-output-type.gltf", wrongType), "has type VEC3, expected VEC4");
 }
 
 // --- frames ----------------------------------------------------------------------------------------

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/paths.h"
 #include "scene/scene.h"
+#include "test_support.h"
 
 namespace voxlab {
 namespace {
@@ -43,18 +44,6 @@ std::string triangleScene(const std::string& count, int viewLength = 36, int buf
          R"(}],"buffers":[{"byteLength":)" + std::to_string(bufferLength) + R"(,"uri":")" + kTriangleData + R"("}]})";
 }
 
-// Loading must throw Error with one line naming the file and containing 'expected'.
-void expectRejected(const std::string& path, const std::string& expected) {
-  try {
-    loadScene(path);
-    ADD_FAILURE() << path << " loaded; expected an error containing '" << expected << "'";
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find(fs::path(path).filename().string()), std::string::npos) << what;
-    EXPECT_NE(what.find(expected), std::string::npos) << what;
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-  }
-}
 
 TEST(SceneHardening, ValidTriangleLoads) {
   // The template itself is valid, so the rejections below are caused by the one change each makes.
@@ -63,27 +52,27 @@ TEST(SceneHardening, ValidTriangleLoads) {
 }
 
 TEST(SceneHardening, AccessorClaiming3e9Elements) {
-  expectRejected(writeScene("count-3e9.gltf", triangleScene("3000000000")), "too large");
+  testing_support::expectSceneRejected(writeScene("count-3e9.gltf", triangleScene("3000000000")), "too large");
 }
 
 TEST(SceneHardening, AccessorClaiming2e9ElementsOfASmallView) {
   // Below the 2^31 count limit: refused by the view check before 24 GB would be allocated.
-  expectRejected(writeScene("count-2e9.gltf", triangleScene("2000000000")), "out of range");
+  testing_support::expectSceneRejected(writeScene("count-2e9.gltf", triangleScene("2000000000")), "out of range");
 }
 
 TEST(SceneHardening, BufferShorterThanItsViews) {
-  expectRejected(writeScene("short-buffer.gltf", triangleScene("3", 4096, 4096)), "buffer");
+  testing_support::expectSceneRejected(writeScene("short-buffer.gltf", triangleScene("3", 4096, 4096)), "buffer");
 }
 
 TEST(SceneHardening, AccessorWithoutDataIsBounded) {
   std::string text = triangleScene("100000000");
   const std::string view = R"("bufferView":0,)";
   text.erase(text.find(view), view.size());
-  expectRejected(writeScene("no-view.gltf", text), "implied zeros");
+  testing_support::expectSceneRejected(writeScene("no-view.gltf", text), "implied zeros");
 }
 
 TEST(SceneHardening, InstancingIsBounded) {
-  expectRejected(projectPath("tests/data/fuzz/instanced-implied-zeros-12x2e20.gltf"), "flattened scene would have more than");
+  testing_support::expectSceneRejected(projectPath("tests/data/fuzz/instanced-implied-zeros-12x2e20.gltf"), "flattened scene would have more than");
 }
 
 TEST(SceneHardening, DeepNodeChainLoads) {
@@ -100,7 +89,7 @@ TEST(SceneHardening, DeepJsonNestingIsRejected) {
   std::string text = triangleScene("3");
   const std::string deep = std::string(100000, '[') + std::string(100000, ']');
   text.insert(text.size() - 1, R"(,"extras":)" + deep);
-  expectRejected(writeScene("deep-json.gltf", text), "nest");
+  testing_support::expectSceneRejected(writeScene("deep-json.gltf", text), "nest");
 }
 
 TEST(SceneHardening, ImageClaimingAHugeSize) {
@@ -124,7 +113,7 @@ TEST(SceneHardening, ImageClaimingAHugeSize) {
   const size_t meshAt = text.find(R"({"attributes")");
   text.insert(meshAt + 1, R"("material":0,)");
   text.insert(text.size() - 1, R"(,"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])");
-  expectRejected(writeScene("huge-image.gltf", text), "image");
+  testing_support::expectSceneRejected(writeScene("huge-image.gltf", text), "image");
 }
 
 // Every file the fuzzer found (tests/data/fuzz/, docs/testing.md#fuzzing-the-scene-loader):

@@ -8,6 +8,9 @@
 
 #include <glm/gtx/string_cast.hpp>
 
+#include "core/error.h"
+#include "scene/scene.h"
+
 namespace voxlab::testing_support {
 
 namespace {
@@ -39,6 +42,18 @@ HeadlessSession& session(const RunRequest& r) {
     return *fresh;
   }
   return *slot;
+}
+
+void expectSceneRejected(const std::string& path, const std::string& expected) {
+  try {
+    loadScene(path);
+    ADD_FAILURE() << path << " loaded; expected an error containing '" << expected << "'";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(std::filesystem::path(path).filename().string()), std::string::npos) << what;
+    EXPECT_NE(what.find(expected), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
 }
 
 CapturedOutput capture(HeadlessSession& s, const std::string& stage, const std::string& output) {

@@ -15,6 +15,8 @@ HeadlessSession& session(const RunRequest& request);
 // A new session for 'request' that has not run yet (for tests that set a demand or parameters
 // first); the cached sessions are dropped, as session() does, since a process holds one context.
 HeadlessSession& freshSession(const RunRequest& request);
+// Loading 'path' must throw Error in one line naming the file and containing 'expected'.
+void expectSceneRejected(const std::string& path, const std::string& expected);
 // Captures an output of a session's technique ("stage", "output").
 CapturedOutput capture(HeadlessSession& s, const std::string& stage, const std::string& output);
 
