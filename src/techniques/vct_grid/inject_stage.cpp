@@ -305,7 +305,10 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
   if (anisotropic && k < dirs[0]->levels()) {
-    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"}, gridFormatDefines(ctx.params));
+    // Level 0 is built from the voxels, the others from the level below: two programs, so that
+    // neither runs the other's fetches (llvmpipe runs both sides of a branch).
+    const std::string fromVoxels = k == 0 ? "#define VOXLAB_MIP_FROM_VOXELS\n" : "";
+    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"}, gridFormatDefines(ctx.params) + fromVoxels);
     glUseProgram(aniso);
     glBindTextureUnit(0, src.id());
     for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
@@ -314,7 +317,6 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     Texture& opacityNeg = ctx.board.texture(kDirectionalOpacity[1]);
     glBindTextureUnit(8, opacityPos.id());
     glBindTextureUnit(9, opacityNeg.id());
-    setUniform(aniso, "u_fromIsotropic", k == 0 ? 1 : 0);
     setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
     setUniform(aniso, "u_writeOpacity", writeOpacity ? 1 : 0);
     setUniform(aniso, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
