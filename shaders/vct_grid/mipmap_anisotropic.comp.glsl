@@ -27,7 +27,8 @@
 #define VOXLAB_GRID_FORMAT rgba8
 #endif
 #include "common/facing.glsl"
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(local_size_x = 64) in;  // one invocation per listed texel (vct_grid/mip_blocks.glsl)
+#include "vct_grid/mip_blocks.glsl"
 layout(binding = 0) uniform sampler3D u_isotropic;  // level 0 voxels
 // The directional volumes, read at u_sourceLevel (+x -x +y -y +z -z).
 layout(binding = 1) uniform sampler3D u_dir0;
@@ -126,8 +127,8 @@ void fetchChild(int k) {
 }
 
 void main() {
-  ivec3 v = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(v, imageSize(u_target0)))) return;
+  ivec3 v;
+  if (!listedTexel(v)) return;
   g_base = 2 * v;
   fetchChild(0); fetchChild(1); fetchChild(2); fetchChild(3);
   fetchChild(4); fetchChild(5); fetchChild(6); fetchChild(7);

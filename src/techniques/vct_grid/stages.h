@@ -30,7 +30,9 @@ float gridMaxRadiance(const ParamSet& p);         // 1 or kHdrMaxRadiance
 // and with mipmap.mode=anisotropic level k of 'dirs' (built from level 0 of 'src' when k = 0,
 // each leaf seen per direction as its facing code in kVoxelFacing says) and, when
 // 'writeOpacity', level k of the directional opacity volumes (kDirectionalOpacity; a bounce's
-// grid has the mip stage's geometry, so it reads them).
+// grid has the mip stage's geometry, so it reads them). Level 0 of 'src' must be empty outside the
+// voxel fragments' voxels: each level visits only the texels with a fragment's voxel under them
+// (shaders/vct_grid/mip_blocks.glsl) and leaves the others as cleared.
 void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k, bool writeOpacity);
 // The inject stage's R32UI volume: per voxel, the facing code of its fragments' normals
 // (shaders/common/facing.glsl): per travel direction, how much of its surfaces' fronts is seen.
