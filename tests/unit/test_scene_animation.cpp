@@ -229,9 +229,13 @@ TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   HeadlessSession& session = testing_support::session(r);
   StepCursor& c = session.cursor();
   const Technique& t = c.technique();
-  SceneAnimation animation;
-  loadScene(c.scene().path, animation);
+  // The session read the animation with its scene: the same as loading the file again.
+  const SceneAnimation& animation = session.animation();
   ASSERT_TRUE(animation.movesGeometry());
+  SceneAnimation fromFile;
+  loadScene(c.scene().path, fromFile);
+  EXPECT_EQ(animation.duration, fromFile.duration);
+  EXPECT_EQ(animation.moving.size(), fromFile.moving.size());
   const int voxelize = t.stageIndex("voxelize"), light = t.stageIndex("light");
   const int gbuffer = t.stageIndex("gbuffer");
   auto staleStages = [&] {
@@ -244,11 +248,15 @@ TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   ASSERT_TRUE(staleStages().empty());
 
   // Held frame: the time it is posed at already.
-  EXPECT_FALSE(poseSessionScene(session, animation, 0.0).any());
+  EXPECT_FALSE(poseSessionScene(session, 0.0).any());
   EXPECT_TRUE(staleStages().empty()) << "a frame where nothing moved re-runs nothing";
 
   // The box moves: every geometry reader is stale, the light stage is not.
-  EXPECT_TRUE(poseSessionScene(session, animation, 0.5).geometry);
+  // Only the cursor's own scene can be posed through it (a copy would leave the GPU copy behind).
+  Scene copy = c.scene();
+  EXPECT_THROW(poseCursorScene(c, copy, animation, 0.5, -1), Error);
+  EXPECT_TRUE(staleStages().empty()) << "a refused pose changes nothing";
+  EXPECT_TRUE(poseSessionScene(session, 0.5).geometry);
   const std::vector<int> afterMove = staleStages();
   for (int i = 0; i < t.stageCount(); ++i)
     if (reads(t, i, kSceneGeometryInput)) EXPECT_NE(c.record(i).state, StageState::Done) << t.stage(i).id();
