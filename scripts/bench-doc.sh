@@ -43,6 +43,9 @@ mkdir -p "$work" "$frame_work"
 if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
   load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
   started="$(date -u '+%Y-%m-%d %H:%M UTC')"
+  # The source the binary was built from, read before measuring (edits made meanwhile do not count).
+  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   t0="$(date +%s.%N)"
   techniques="$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')"
   for t in $techniques; do
@@ -58,8 +61,6 @@ if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
   done
   t1="$(date +%s.%N)"
   load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
-  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   # What the table's header says about this measurement; TABLE_ONLY=1 re-renders from it.
   WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
   LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
@@ -145,6 +146,9 @@ fi
 if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
   load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
   started="$(date -u '+%Y-%m-%d %H:%M UTC')"
+  # The source the binary was built from, read before measuring (edits made meanwhile do not count).
+  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   t0="$(date +%s.%N)"
   techniques="$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')"
   for t in $techniques; do
@@ -154,8 +158,6 @@ if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
   done
   t1="$(date +%s.%N)"
   load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
-  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
   LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
   THREADS="${LP_NUM_THREADS:-unset (llvmpipe: one per core)}" \

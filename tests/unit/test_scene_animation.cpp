@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "graph/scene_inputs.h"
+#include "graph/technique.h"
 #include "run/frames.h"
 #include "scene/animation.h"
 #include "scene/scene.h"
@@ -221,6 +222,22 @@ bool reads(const Technique& t, int stage, const std::string& input) {
 // The frame loop makes stale exactly what a change invalidates, from the declarations: a moving
 // object re-runs the stages reading the scene's geometry and what reads their results, a light
 // move those reading the light, a held frame nothing.
+TEST(SceneAnimation, AFramesSceneTimeSpansTheTimeRange) {
+  const ParamSet params = createTechnique("vct-grid")->defaultParams();
+  const std::vector<ParamAnimation> none;
+  // Frame k of N: FROM + (TO - FROM) k / (N - 1), in double (exact for these binary fractions).
+  EXPECT_EQ(animatedFrame(params, none, 0, 3, std::make_pair(0.5, 1.5)).sceneTime, 0.5);
+  EXPECT_EQ(animatedFrame(params, none, 1, 3, std::make_pair(0.5, 1.5)).sceneTime, 1.0);
+  EXPECT_EQ(animatedFrame(params, none, 2, 3, std::make_pair(0.5, 1.5)).sceneTime, 1.5);
+  EXPECT_EQ(animatedFrame(params, none, 0, 1, std::make_pair(0.5, 1.5)).sceneTime, 0.5) << "one frame holds FROM";
+  EXPECT_FALSE(animatedFrame(params, none, 1, 3).sceneTime.has_value()) << "a still scene has no time";
+  // Parameters and scene time move together.
+  const FrameValues both = animatedFrame(params, {{"light.0.elevation", 90.0, 60.0}}, 1, 3, std::make_pair(0.0, 2.0));
+  ASSERT_EQ(both.params.size(), 1u);
+  EXPECT_EQ(both.params[0].second, 75.0);
+  EXPECT_EQ(both.sceneTime, 1.0);
+}
+
 TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   RunRequest r;
   r.technique = "vct-grid";
