@@ -56,6 +56,11 @@
 //     directly can hold both faces of a slab (a sun-lit roof's top and its underside): each side
 //     sees only its own. With level 0's region over vct-grid's volume, levels 0-3 equal its mips
 //     texel for texel, isotropic and six faces (tests/unit/test_clipmap_dense.cpp).
+//   - Where a sample reads a level coarser than its cone asks for (the finer levels do not reach
+//     it: far from the camera), a wall is one coarse cell whose trilinear opacity peaks up to half
+//     a cell in front of it, and a cone crossing it between samples leaked through; the tracer
+//     also reads each directional face clipmap.front-hold cells (0.5) back along the cone and
+//     keeps the more opaque, so a front the cone reached stays opaque behind it.
 //   - Guard texels on every side of every block make trilinear filtering across the physical seam
 //     correct; a level serves a sample only when its footprint lies inside the level's region.
 //   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same
