@@ -45,8 +45,8 @@
 //     whose bounds can reach a box of the pass (mayReach: runs first, then each triangle), so a
 //     move pays for the slabs' triangles, not a pass over the scene.
 //   - The fixed-point sums have clipmap.fixed-point-bits b fraction bits (default 14): a cell holds
-//     2^(32-b) fragments before they can overflow; cells that reach it are counted and reported
-//     (accumulator_overflow_cells and one warning line), never silently wrapped.
+//     light adding up to 2^(32-b) before a sum overflows; every addition that wraps a sum is
+//     counted and reported (accumulator_overflows and one warning line), never silent.
 //   - The cone model is vct-grid's (clipmap.faces=anisotropic, the default): each of a cell's six
 //     directional faces shows a cone travelling that way only the fronts of the surfaces it sees
 //     (common/facing.glsl: the mean light of the fragments whose fronts it sees, covering their
