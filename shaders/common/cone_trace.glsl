@@ -24,8 +24,15 @@ layout(binding = 10) uniform sampler3D u_dirZ;
 // of the surfaces' fronts only (vct_grid/mipmap_anisotropic.comp.glsl).
 layout(binding = 11) uniform sampler3D u_opacityPos;
 layout(binding = 12) uniform sampler3D u_opacityNeg;
-uniform int u_anisotropic;
-uniform int u_classicDirectional;  // 1: the directional volumes hold whole voxels (mipmap.fronts=false)
+// Which volumes a sample reads, fixed per program by the stage's defines (vct_grid/stages.h,
+// coneVolumeDefines): llvmpipe runs both sides of every branch, so with these as uniforms every
+// sample also paid for the lookups of the modes not chosen. Without defines: the defaults.
+#ifndef CONE_ANISOTROPIC
+#define CONE_ANISOTROPIC 1           // mipmap.mode=anisotropic
+#endif
+#ifndef CONE_CLASSIC_DIRECTIONAL
+#define CONE_CLASSIC_DIRECTIONAL 0   // 1: the directional volumes hold whole voxels (mipmap.fronts=false)
+#endif
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
@@ -71,7 +78,7 @@ const float kSeesNothing = 0.25;
 // volume of +x or of -x: the cone's direction), so what a phase does not need must not be in its
 // code at all; each phase gives the same result as the general expression for its lods.
 vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out float solid) {
-  if (u_anisotropic == 0) {
+  if (CONE_ANISOTROPIC == 0) {
     g_fetches += 1u;
     vec4 s = textureLod(u_radiance, uvw, lod);
     solid = s.a;
@@ -89,7 +96,7 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out 
   vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
   vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
   vec4 sz = directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
-  if (u_classicDirectional != 0) {
+  if (CONE_CLASSIC_DIRECTIONAL != 0) {
     // Crassin's classic blend: the three premultiplied values weighted by dir^2; opacity is theirs.
     if (wantSolid) g_fetches -= 2u;  // no solid-opacity lookups
     vec4 classic = w.x * sx + w.y * sy + w.z * sz;
