@@ -37,8 +37,9 @@ uniform float u_stepScale;     // step length as a fraction of the sample diamet
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
 
-// What this invocation's cones cost: samples taken and volume lookups (one textureLod each, a
-// quadrilinear fetch of up to 16 texels), for the stage's statistics.
+// What this invocation's cones cost: samples taken and volume lookups (a fetch of up to 16 texels:
+// one textureLod, or for a directional volume one per level read, two but in the fade of phase 1),
+// for the stage's statistics.
 uint g_samples = 0u;
 uint g_fetches = 0u;
 
@@ -92,10 +93,11 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out 
   }
   g_fetches += (phase == 1 ? 4u : 3u) + (wantSolid ? 2u : 0u);
   vec3 w = anisotropicWeights(dir);
-  float l = max(lod - 1.0, 0.0);
-  vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
-  vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
-  vec4 sz = directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
+  // In the fade (lod < 1) the directional lod is 0: one level, one texture read per volume.
+  float l = phase == 1 ? 0.0 : max(lod - 1.0, 0.0);
+  vec4 sx = phase == 1 ? directionalLevel(u_dirX, uvw, 0, dir.x < 0.0) : directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
+  vec4 sy = phase == 1 ? directionalLevel(u_dirY, uvw, 0, dir.y < 0.0) : directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
+  vec4 sz = phase == 1 ? directionalLevel(u_dirZ, uvw, 0, dir.z < 0.0) : directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
   if (CONE_CLASSIC_DIRECTIONAL != 0) {
     // Crassin's classic blend: the three premultiplied values weighted by dir^2; opacity is theirs.
     if (wantSolid) g_fetches -= 2u;  // no solid-opacity lookups
