@@ -58,6 +58,9 @@ void declareGatheredGridReads(StageBuilder& b);         // reads every bounce's 
 inline const char* const kPackedDirectionalPrefix = "radiance-dir-packed-";
 void declarePackedDirectional(StageBuilder& b);
 void bindRadianceGrid(StageContext& ctx, int bounce);
+// The defines of a program that includes common/cone_trace.glsl: which volumes a sample reads
+// (mipmap.mode, mipmap.fronts), fixed per program rather than uniforms.
+std::string coneVolumeDefines(const ParamSet& p);
 TextureDesc packedDirectionalDesc(int edge, GLenum format);  // n x n x 2n, the volumes' levels
 // Copies two directional volumes of edge n (full mip chains) into 'packed' (n x n x 2n, as many
 // levels): level by level, 'positive' at z 0..n-1 and 'negative' at z n..2n-1 of that level.
