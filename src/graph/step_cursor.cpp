@@ -193,11 +193,25 @@ bool StepCursor::ranForLess(int stage, const std::optional<std::set<std::string>
 }
 
 bool StepCursor::outputComputed(int stage, const std::string& output) const {
+  const StageState s = records_.at(stage).state;
+  return (s == StageState::Done || s == StageState::Partial) && outputHeld(stage, output);
+}
+
+bool StepCursor::outputHeld(int stage, const std::string& output) const {
   const StageRecord& r = records_.at(stage);
-  if (r.state != StageState::Done && r.state != StageState::Partial) return false;
+  if (r.state == StageState::NotRun) return false;
   if (!r.wanted || r.wanted->count(output)) return true;
   const OutputDesc* o = findDeclaredOutput(technique_->decl(stage), output);
   return o && !o->onDemand;
+}
+
+int StepCursor::nextToRun(int last) const {
+  const std::vector<StagePlan> p = plan();
+  for (int i = 0; i <= std::min(last, stageCount() - 1); ++i) {
+    if (!p[i].needed) continue;
+    if (records_[i].state != StageState::Done || ranForLess(i, p[i].wanted)) return i;
+  }
+  return -1;
 }
 
 void StepCursor::runNeeded(int last, const std::vector<StagePlan>& p) {
@@ -214,11 +228,11 @@ void StepCursor::runThrough(int last) {
   runNeeded(std::min(last, stageCount() - 1), plan());
 }
 
-int StepCursor::runIteration(int stage) {
+int StepCursor::runIteration(int stage, bool everyOutput) {
   if (!scene_) throw Error("no scene loaded");
   if (std::string excess = resourceBudgetExcess(); !excess.empty()) throw Error(excess);
-  // The stepped stage is wanted whole, with everything it reads.
-  const std::vector<StagePlan> p = plan(stage);
+  // The stepped stage is wanted whole (or for what the demand wants of it), with everything it reads.
+  const std::vector<StagePlan> p = plan(everyOutput ? stage : -1);
   if (stage > 0) runNeeded(stage - 1, p);
   if (records_.at(stage).state == StageState::Done && ranForLess(stage, p[stage].wanted)) markStale(stage);
   int next = records_.at(stage).state == StageState::Partial ? records_[stage].iterationsRun : 0;

@@ -76,8 +76,11 @@ class StepCursor {
   void runThrough(int last);
   void runAll() { runThrough(stageCount() - 1); }
   // Runs the next iteration of an iterative stage (the first one when it is not Partial), after
-  // running any earlier stage that is not Done. Returns the iteration that ran (0-based).
-  int runIteration(int stage);
+  // running any earlier stage the demand needs that is not Done. Returns the iteration that ran
+  // (0-based). everyOutput: the stepped stage computes every output (a stage stepped on purpose:
+  // lesson steps, the tests); otherwise what the demand wants of it (the viewer's stage-by-stage
+  // progress).
+  int runIteration(int stage, bool everyOutput = true);
   int iterations(int stage) const { return technique_->stage(stage).iterations(params_); }
 
   // Outputs on demand. By default a run computes every output. With a demand (stage id, output
@@ -93,6 +96,13 @@ class StepCursor {
   // Whether 'output' of 'stage' holds data of the last run: the stage ran (Done or Partial) and
   // the output was wanted then or is not computed on demand.
   bool outputComputed(int stage, const std::string& output) const;
+  // The same, or the stage is Stale and its last run computed the output: the data is there but
+  // out of date (what the viewer shows as "stale").
+  bool outputHeld(int stage, const std::string& output) const;
+  // The first stage of 0..last the current demand needs that is not Done for what it wants (not
+  // run, Stale, Partial, or Done for fewer outputs than the demand now wants); -1 when none. A
+  // runThrough(last) runs exactly these, in order; the viewer runs them one per frame.
+  int nextToRun(int last) const;
 
   Blackboard& board() { return board_; }
   ShaderLibrary& shaders() { return shaders_; }

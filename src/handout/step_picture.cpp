@@ -131,6 +131,12 @@ StepPicture StepRenderer::renderStep(const LessonStep& step, const FrameValues* 
                   ", which runs after the step's stage " + step.stage);
   }
 
+  // What the viewer demands for the step (its view, its overlay volume, the final image, the probe
+  // records): outputs on demand nothing shown needs are left out, as the viewer leaves them.
+  std::vector<std::pair<std::string, std::string>> shown{{step.stage, step.output}};
+  if (!volume.empty()) shown.push_back({volume.substr(0, volume.find('/')), volume.substr(volume.find('/') + 1)});
+  cursor.demandOutputs(viewerDemand(t, shown));
+
   StepPicture pic;
   if (step.iterations > 0) {  // stop the stage after that many iterations: earlier stages, then step it
     if (stage > 0) cursor.runThrough(stage - 1);

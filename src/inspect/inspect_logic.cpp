@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "core/error.h"
@@ -268,6 +269,24 @@ ViewContent viewContent(const std::vector<uint8_t>& rgba, const uint8_t backgrou
 }
 
 // --- Reproduction ----------------------------------------------------------------------------------
+
+std::vector<std::pair<std::string, std::string>> viewerDemand(const Technique& technique,
+                                                              const std::vector<std::pair<std::string, std::string>>& shown) {
+  std::set<std::pair<int, std::string>> wanted;
+  auto add = [&](const std::string& stage, const std::string& output) {
+    auto [index, desc] = technique.findOutput(stage, output);  // throws naming the valid ones
+    wanted.insert({index, desc->name});
+  };
+  add(technique.finalStage(), technique.finalOutput());
+  for (const auto& [stage, output] : shown) add(stage, output);
+  for (int i = 0; i < technique.stageCount(); ++i)
+    if (!technique.decl(i).probes.empty())
+      for (const auto& o : technique.decl(i).outputs)
+        if (o.probeRecord) wanted.insert({i, o.name});
+  std::vector<std::pair<std::string, std::string>> demand;
+  for (const auto& [index, output] : wanted) demand.push_back({technique.stage(index).id(), output});
+  return demand;
+}
 
 std::string reproduceCommand(const std::string& technique, const std::string& scene, const ParamSet& params,
                              const ParamSet& defaults, int width, int height, int camera,

@@ -1,5 +1,5 @@
 // The viewer's logic that needs no window: display mapping of captured levels (with channel,
-// exposure and volume slices), the `voxlab run` command
+// exposure and volume slices), what the viewer demands of a run, the `voxlab run` command
 // line that reproduces a viewer state, and the viewer's script format. Unit-tested in
 // tests/unit/test_lesson.cpp; the viewer's panels and visualisers only draw what these return.
 #pragma once
@@ -11,6 +11,7 @@
 
 #include "capture/capture.h"
 #include "graph/param.h"
+#include "graph/technique.h"
 #include "scene/scene.h"
 
 namespace voxlab {
@@ -105,6 +106,17 @@ struct ViewContent {
   double fraction() const { return pixels ? double(content) / double(pixels) : 0.0; }
 };
 ViewContent viewContent(const std::vector<uint8_t>& rgba, const uint8_t background[3], const uint8_t frame[3]);
+
+// --- Outputs on demand ------------------------------------------------------------------------------
+
+// What the viewer (and a lesson step's picture) asks a run to compute (StepCursor::demandOutputs):
+// the technique's final output, the outputs shown ('shown': stage id, output name; the view, the
+// compare view's other image, the overlaid volume) and every probe record of a stage that declares
+// a probe (the Probe tab's records). In the technique's order, each once. An output declared
+// onDemand that is not shown is not computed; a stage neither the final image nor a shown output
+// depends on does not run.
+std::vector<std::pair<std::string, std::string>> viewerDemand(const Technique& technique,
+                                                              const std::vector<std::pair<std::string, std::string>>& shown);
 
 // --- Reproduction ----------------------------------------------------------------------------------
 

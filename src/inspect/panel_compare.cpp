@@ -62,6 +62,9 @@ std::optional<CapturedOutput> Viewer::compareOther(std::string& label, std::stri
         size_t slash = compare.other.find('/');
         auto [stage, desc] = cursor->technique().findOutput(compare.other.substr(0, slash), compare.other.substr(slash + 1));
         if (cursor->record(stage).state == StageState::NotRun) throw Error(compare.other + " has not run yet");
+        if (!cursor->outputHeld(stage, desc->name))  // an output on demand: the demand now holds it
+          throw Error(runQueuedThrough(stage) ? "computing " + compare.other + " ..."
+                                              : compare.other + " was not computed by the last run: press Run to here (R)");
         label = compare.other;
         return captureOutput(cursor->board(), *desc);
       }

@@ -137,6 +137,8 @@ const std::vector<ProbeRecords>& Viewer::probeRecords() {
       r.out.desc = o;
       if (cursor->record(i).state == StageState::NotRun) {
         r.error = std::string("stage ") + t.stage(i).id() + " has not run yet";
+      } else if (!cursor->outputHeld(i, o.name)) {
+        r.error = std::string(t.stage(i).id()) + "/" + o.name + " was not computed by the last run";
       } else {
         try {
           r.out = captureOutput(cursor->board(), o);

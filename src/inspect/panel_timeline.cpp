@@ -46,15 +46,19 @@ void Viewer::drawLeftPanel() {
   // Stage timeline.
   ImGui::Separator();
   ImGui::TextUnformatted("Stages");
+  // Outputs on demand: a stage neither the final image nor anything shown depends on does not run.
+  const std::vector<StagePlan> plan = cursor->plan();
   for (int i = 0; i < t.stageCount(); ++i) {
     const StageRecord& r = cursor->record(i);
     ImVec4 col = r.state == StageState::Done    ? ImVec4(0.4f, 0.9f, 0.4f, 1)
                  : r.state == StageState::Stale ? kWarningColour
                                                 : ImVec4(0.6f, 0.6f, 0.6f, 1);
-    bool running = (runs.target >= i && r.state != StageState::Done) || runs.iterateStage == i;
+    bool running = (runs.target >= i && plan[size_t(i)].needed && r.state != StageState::Done) || runs.iterateStage == i;
     char state[48];
     if (r.state == StageState::Partial)
       std::snprintf(state, sizeof state, "partial %d/%d", r.iterationsRun, r.iterationsTotal);
+    else if (!running && r.state == StageState::NotRun && !plan[size_t(i)].needed)
+      std::snprintf(state, sizeof state, "not needed");
     else
       std::snprintf(state, sizeof state, "%s", running ? "(queued)" : stageStateName(r.state));
     // The stages the shown frame of the Frames tab re-ran: marked and drawn in the frame colour.
@@ -182,12 +186,29 @@ VOXLAB_REGISTER_SCRIPT_VERBS(timeline, 10,
      viewer.stepIteration();
    }},
   {"expect-iterations", 2, 2, "expect-iterations STAGE N (N of STAGE's iterations have run)", expectIterations},
-  {"expect-state", 2, 2, "expect-state STAGE done|stale|not-run",
+  {"expect-state", 2, 2,
+   "expect-state STAGE done|stale|not-run|not-needed (not-needed: not run, and neither the final image nor anything "
+   "shown depends on it)",
    [](Viewer& viewer, const ScriptCall& call) {
      const int i = viewer.cursor->technique().stageIndex(call.arg(0));
-     const std::string want = call.arg(1) == "not-run" ? "not run" : call.arg(1);
-     const std::string got = stageStateName(viewer.cursor->record(i).state);
-     if (got != want) call.fail("stage " + call.arg(0) + " is " + got + ", expected " + want);
+     const bool notRun = viewer.cursor->record(i).state == StageState::NotRun;
+     std::string got = stageStateName(viewer.cursor->record(i).state);
+     if (notRun && !viewer.cursor->plan()[size_t(i)].needed) got = "not needed";
+     const std::string want = call.arg(1) == "not-run" ? "not run" : call.arg(1) == "not-needed" ? "not needed" : call.arg(1);
+     if (got != want && !(want == "not run" && notRun)) call.fail("stage " + call.arg(0) + " is " + got + ", expected " + want);
+   }},
+  {"expect-computed", 3, 3,
+   "expect-computed STAGE OUTPUT yes|no (the last run of STAGE computed OUTPUT: an output on demand is computed only "
+   "while something shown needs it)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const int i = viewer.cursor->technique().stageIndex(call.arg(0));
+     viewer.cursor->technique().findOutput(call.arg(0), call.arg(1));  // throws naming the valid ones
+     const bool want = call.arg(2) == "yes";
+     if (!want && call.arg(2) != "no") call.badArgument("expected yes or no, not '" + call.arg(2) + "'");
+     const bool got = viewer.cursor->outputComputed(i, call.arg(1));
+     if (got != want)
+       call.fail(call.arg(0) + "/" + call.arg(1) + (got ? " was computed" : " was not computed") + " by the last run of " +
+                 call.arg(0) + " (" + stageStateName(viewer.cursor->record(i).state) + ")");
    }},
   {"expect-stat", 4, 4, "expect-stat STAGE NAME =|<|>|<=|>= VALUE (a statistic of the stage's last run)", expectStat},
   {"auto-rerun", 1, 1, "auto-rerun on|off (re-run stale stages after a change, as the checkbox)",

@@ -312,6 +312,25 @@ void saveView(Viewer& viewer, const ScriptCall& call) {
   std::printf("saved view %s\n", call.arg(0).c_str());
 }
 
+// The shown output's statistics (as the Inspect tab lists them): more than MIN_FRACTION of the
+// shown level's texels are non-empty; a buffer must hold at least one record.
+void expectShownNonempty(Viewer& viewer, const ScriptCall& call) {
+  const CapturedOutput& cap = requireShownCapture(viewer, call);
+  const double atLeast = call.floatArg(0);
+  const std::string address = std::string(viewer.cursor->technique().stage(viewer.selected).id()) + "/" + cap.desc.name;
+  double fraction = 0.0;
+  if (cap.desc.kind == OutputKind::Buffer) {
+    fraction = cap.recordCount > 0 ? 1.0 : 0.0;
+  } else {
+    const int level = std::clamp(viewer.view.level, 0, int(cap.levels.size()) - 1);
+    const auto& stats = viewer.capStats.at("levels").at(size_t(level));
+    fraction = stats.at("non_empty").get<double>() / double(std::max<size_t>(cap.levels[size_t(level)].texelCount(), 1));
+  }
+  std::printf("shown %s: non-empty fraction %.4f\n", address.c_str(), fraction);
+  if (!(fraction > atLeast))
+    call.fail(address + ": " + std::to_string(fraction) + " of it is non-empty, expected more than " + call.arg(0));
+}
+
 }  // namespace
 
 VOXLAB_REGISTER_SCRIPT_VERBS(view, 30,
@@ -354,6 +373,10 @@ VOXLAB_REGISTER_SCRIPT_VERBS(view, 30,
      std::printf("output %s (%s, %s): visualiser %s\n", cap.desc.name.c_str(), kindName(cap.desc.kind),
                  semanticName(cap.desc.semantic), got.c_str());
    }},
+  {"expect-shown-nonempty", 1, 1,
+   "expect-shown-nonempty MIN_FRACTION (the shown output is captured and more than MIN_FRACTION of its shown level is "
+   "non-empty, as its statistics count; a buffer: it holds records)",
+   expectShownNonempty},
   {"save-view", 1, 1,
    "save-view PATH.png (what the view shows: the image with its overlay, or the 3D view; as Save view PNG)", saveView});
 

@@ -124,9 +124,12 @@ OverlayContent overlayContent(StepCursor& cursor, const std::string& volume, int
   const Technique& t = cursor.technique();
   size_t slash = volume.find('/');
   auto [stage, desc] = t.findOutput(volume.substr(0, slash), volume.substr(slash + 1));
-  (void)stage;
   if (auto placed = cursor.board().placementOf(desc->resourceName())) r.box = placed;
   if (!voxels) return r;
+  if (!cursor.outputHeld(stage, desc->name)) {  // an output on demand the run has not computed (yet)
+    r.message = volume + " is not computed yet; showing nothing";
+    return r;
+  }
   CapturedOutput c = captureOutput(cursor.board(), *desc);
   if (c.levels.empty()) return r;
   if (level < 0) {  // the finest level with at most 32 texels per axis: blocks large enough to see

@@ -367,27 +367,75 @@ std::string Viewer::commandLine() const {
 
 // --- Per frame -----------------------------------------------------------------------------------
 
+std::vector<std::pair<std::string, std::string>> Viewer::shownOutputs() const {
+  const Technique& t = cursor->technique();
+  std::vector<std::pair<std::string, std::string>> shown;
+  const auto& outs = t.decl(selected).outputs;
+  if (!outs.empty()) shown.push_back({t.stage(selected).id(), outs[size_t(std::clamp(outputIndex, 0, int(outs.size()) - 1))].name});
+  // "stage/output" of the compare view's other image and of the overlaid volume, when they name
+  // an output of this technique (a name kept from another technique is not shown).
+  auto addAddress = [&](const std::string& address) {
+    const size_t slash = address.find('/');
+    if (slash == std::string::npos) return;
+    try {
+      t.findOutput(address.substr(0, slash), address.substr(slash + 1));
+      shown.push_back({address.substr(0, slash), address.substr(slash + 1)});
+    } catch (const Error&) {
+    }
+  };
+  if (compare.on && compare.source == CompareState::Source::Output) addAddress(compare.other);
+  if (overlay.options.voxels) addAddress(overlay.volume);
+  return shown;
+}
+
+void Viewer::updateDemand() {
+  const Technique& t = cursor->technique();
+  std::vector<std::pair<std::string, std::string>> wanted = viewerDemand(t, shownOutputs());
+  if (wanted != demand.outputs || cursor->demandsEverything()) {
+    cursor->demandOutputs(wanted);
+    demand.outputs = std::move(wanted);
+    demand.refused = false;
+  }
+  if (demand.refused) return;  // the last run of this demand stopped on an error; Run tries again
+  // A demanded output of a stage the runs have reached that is not computed (its stage was not
+  // needed before, or ran without it: an output on demand) is computed now, re-running only what it
+  // needs. Not while a stage is partial (a lesson stopped it after some iterations on purpose), nor
+  // for a stale stage (a change with auto re-run off waits for Run).
+  int firstPartial = cursor->stageCount();
+  for (int i = 0; i < cursor->stageCount() && firstPartial == cursor->stageCount(); ++i)
+    if (cursor->record(i).state == StageState::Partial) firstPartial = i;
+  for (const auto& [stageId, output] : demand.outputs) {
+    const int stage = t.stageIndex(stageId);
+    if (stage > runs.lastRequest || stage >= firstPartial || cursor->record(stage).state == StageState::Stale) continue;
+    if (cursor->outputComputed(stage, output)) continue;
+    // Re-running a stage makes its readers stale: with auto re-run on, the run goes on through
+    // what was asked before, so the final image does not stay stale behind a view opened.
+    requestRun(runs.autoRerun ? std::max(stage, runs.lastRequest) : stage);
+  }
+}
+
 bool Viewer::runPendingStage() {
   // One stage (or one iteration) per frame, so the window stays live while a technique runs.
   const int target = runs.iterateStage >= 0 ? runs.iterateStage : runs.target;
   if (target < 0) return false;
-  // The first stage that is not Done: before the iterated stage, or up to the run target.
-  int next = -1;
-  for (int i = 0; i < target + (runs.iterateStage >= 0 ? 0 : 1) && next < 0; ++i)
-    if (cursor->record(i).state != StageState::Done) next = i;
+  // The first stage the demand needs that is not Done for what it wants: before the iterated
+  // stage, or up to the run target. Stages nothing shown depends on are left alone.
+  const int next = cursor->nextToRun(runs.iterateStage >= 0 ? target - 1 : target);
   if (next < 0 && runs.iterateStage < 0) {
     runs.lastRequest = std::max(runs.lastRequest, runs.target);
     runs.target = -1;
+    demand.refused = false;
     return false;
   }
   const int ran = next >= 0 ? next : target;
   try {
     if (next >= 0 && cursor->iterations(next) > 1) {
-      cursor->runIteration(next);  // iterative stages one iteration per frame: the timeline shows progress
+      // Iterative stages one iteration per frame (the timeline shows progress), for what is shown.
+      cursor->runIteration(next, /*everyOutput=*/false);
     } else if (next >= 0) {
-      cursor->runThrough(next);  // earlier stages are Done, so this runs exactly one stage
+      cursor->runThrough(next);  // earlier needed stages are Done, so this runs exactly one stage
     } else {
-      int k = cursor->runIteration(target);
+      int k = cursor->runIteration(target, /*everyOutput=*/false);
       if (k + 1 >= runs.iterateTo || cursor->record(target).state == StageState::Done) runs.iterateStage = -1;
       status = std::string(cursor->technique().stage(target).id()) + ": iteration " + std::to_string(k + 1) + " of " +
                 std::to_string(cursor->record(target).iterationsTotal);
@@ -395,6 +443,7 @@ bool Viewer::runPendingStage() {
   } catch (const ShaderError& e) {
     shaderError = e.what();
     runs.target = runs.iterateStage = -1;
+    demand.refused = true;
     if (script.active) throw;
   } catch (const Error& e) {
     // A run refused before it allocated (the resource budget, e.g. a lesson's parameters) or a
@@ -403,6 +452,7 @@ bool Viewer::runPendingStage() {
     // checks that the viewer still draws).
     status = e.what();
     runs.target = runs.iterateStage = -1;
+    demand.refused = true;
     if (script.active && !soak.active) throw;
     if (soak.active) std::printf("soak: the run stopped with: %s (the viewer keeps its state)\n", status.c_str());
     ++generation;
@@ -427,7 +477,8 @@ void Viewer::refreshCapture() {
     return;
   }
   outputIndex = std::clamp(outputIndex, 0, int(outs.size()) - 1);
-  long key[4] = {long(cursor.get() != nullptr ? generation : 0), selected, outputIndex, 0};
+  const bool queued = runQueuedThrough(selected);
+  long key[4] = {long(cursor.get() != nullptr ? generation : 0), selected, outputIndex, long(queued)};
   if (std::equal(key, key + 4, capKey)) return;
   std::copy(key, key + 4, capKey);
   frameHeavy = true;
@@ -436,8 +487,15 @@ void Viewer::refreshCapture() {
   cap.desc = outs[outputIndex];
   capStats = capRecords = nlohmann::json();
   capError.clear();
-  if (r.state == StageState::NotRun) {
-    capError = "not run yet: press Run to here (R)";
+  // Outputs on demand: an output the last run did not compute is not shown from older data.
+  if (!cursor->outputHeld(selected, cap.desc.name)) {
+    const std::string address = std::string(cursor->technique().stage(selected).id()) + "/" + cap.desc.name;
+    if (queued)
+      capError = "computing " + address + " ...";
+    else if (r.state == StageState::NotRun)
+      capError = "not run yet: press Run to here (R)";
+    else
+      capError = address + " was not computed by the last run (an output on demand): press Run to here (R)";
     return;
   }
   try {
@@ -539,6 +597,7 @@ int Viewer::loop() {
     for (std::string path : std::exchange(droppedFiles, {})) dropFile(path);
     if (script.active) stepScript();
     if (quit) break;
+    updateDemand();
     if (runPendingStage()) frameHeavy = true;
     updateFrames();
     applyPendingCamera();

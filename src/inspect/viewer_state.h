@@ -93,6 +93,15 @@ struct RunQueue {
   bool autoRerun = true;  // re-run stale stages after a change
 };
 
+// Outputs on demand (viewer.cpp): the runs compute the final image's dependencies and what is
+// shown (inspect_logic.h viewerDemand), not every output.
+struct DemandState {
+  std::vector<std::pair<std::string, std::string>> outputs;  // (stage id, output) last given to the cursor
+  // A run under this demand stopped on an error: missing outputs are not queued again until the
+  // demand changes or a run completes.
+  bool refused = false;
+};
+
 // The shown output's 2D image as the view panel draws it (panel_view.cpp), rebuilt when the data or
 // the view settings change.
 struct View2DState {
@@ -336,6 +345,14 @@ class Viewer {
   const std::vector<ProbeRecords>& probeRecords();
 
   // --- per frame ---
+  // Outputs on demand: the outputs shown now (the view's, the compare view's other image, the
+  // overlaid volume), as (stage id, output) pairs.
+  std::vector<std::pair<std::string, std::string>> shownOutputs() const;
+  // Gives the cursor the demand of what is shown (when it changed) and queues the run of a
+  // demanded output that is missing from a stage the runs have reached.
+  void updateDemand();
+  // Whether a queued run reaches 'stage' (the view says "computing" rather than showing old data).
+  bool runQueuedThrough(int stage) const { return runs.target >= stage || runs.iterateStage == stage; }
   bool runPendingStage();  // runs at most one stage; true when one ran
   void refreshCapture();
   void drawUi();
@@ -419,6 +436,7 @@ class Viewer {
   int cameraIndex = 0;       // scene camera in use (-1 after an orbit or fly)
   std::optional<Camera> pendingCamera;
   RunQueue runs;
+  DemandState demand;
   std::vector<std::deque<std::pair<float, float>>> timeHistory;  // per stage: (cpu, gpu) ms of recent runs
   bool watchShaders = true;  // rebuild programs when their files change on disk
   double lastShaderCheck = 0.0;

@@ -165,7 +165,7 @@ std::function<bool(CapturedOutput&, std::string&)> contextVolumeLookup(StepCurso
     for (int i = selected - 1; i >= 0; --i) {
       if (cursor.record(i).state == StageState::NotRun) continue;
       for (const auto& o : t.decl(i).outputs)
-        if (o.kind == OutputKind::Volume3D) {
+        if (o.kind == OutputKind::Volume3D && cursor.outputHeld(i, o.name)) {
           try {
             out = captureOutput(cursor.board(), o);
           } catch (const Error&) {
@@ -187,7 +187,7 @@ std::function<bool(const char*, CapturedOutput&)> contextOutputLookup(StepCursor
       for (int i = selected; i >= 0; --i) {
         if (cursor.record(i).state == StageState::NotRun) continue;
         for (const auto& o : t.decl(i).outputs)
-          if (byName ? o.name == what : std::strcmp(o.semantic.name(), what) == 0) {
+          if ((byName ? o.name == what : std::strcmp(o.semantic.name(), what) == 0) && cursor.outputHeld(i, o.name)) {
             try {
               out = captureOutput(cursor.board(), o);
               return true;

@@ -2,7 +2,7 @@
 # tests/viewer/run_viewer_test.sh; skipped only when xvfb-run is missing), plus command-line
 # cases for bad scripts and lessons, which fail before any window opens.
 foreach(script walk_stages every_lesson probe probe_lrsm probe_lpv probe_chain_vct_grid probe_chain_svo probe_chain_lrsm
-               probe_chain_lpv probe_chain_near_field probe_chain_clipmap lesson lesson_near_field lesson_volumetric lesson_light scene_error view3d camera_overlay presenter presenter_taps presenter_probe light clipmap_fly clipmap_sponza_fly bounces
+               probe_chain_lpv probe_chain_near_field probe_chain_clipmap on_demand lesson lesson_near_field lesson_volumetric lesson_light scene_error view3d camera_overlay presenter presenter_taps presenter_probe light clipmap_fly clipmap_sponza_fly bounces
                budget_gl_log soak lesson_sweep frames)
   add_test(NAME viewer.${script}
     COMMAND ${CMAKE_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:voxlab>

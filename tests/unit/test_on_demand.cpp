@@ -11,19 +11,20 @@
 
 #include "core/error.h"
 #include "graph/technique.h"
+#include "inspect/inspect_logic.h"
 #include "test_support.h"
 
 namespace voxlab {
 namespace {
 
-// The resources the final output depends on, from the declarations alone (written here apart
-// from StepCursor::plan, so that the two are checked against each other): the final output's
-// resource, then, from the last stage back, everything a stage reads when it writes one of them.
-std::set<std::string> finalDependencies(const Technique& t, const ParamSet& params) {
+// The resources the given outputs depend on, from the declarations alone (written here apart from
+// StepCursor::plan, so that the two are checked against each other): the outputs' resources, then,
+// from the last stage back, everything a stage reads when it writes one of them.
+std::set<std::string> dependenciesOf(const Technique& t, const ParamSet& params,
+                                     const std::vector<std::pair<std::string, std::string>>& outputs) {
   std::set<std::string> needed;
-  auto [finalStage, finalDesc] = t.findOutput(t.finalStage(), t.finalOutput());
-  needed.insert(finalDesc->resourceName());
-  for (int i = finalStage; i >= 0; --i) {
+  for (const auto& [stage, output] : outputs) needed.insert(t.findOutput(stage, output).second->resourceName());
+  for (int i = t.stageCount() - 1; i >= 0; --i) {
     const StageDecl& d = t.decl(i);
     bool writesNeeded = false;
     for (const auto& o : d.outputs) writesNeeded |= needed.count(o.resourceName()) != 0;
@@ -36,6 +37,18 @@ std::set<std::string> finalDependencies(const Technique& t, const ParamSet& para
     }
   }
   return needed;
+}
+
+std::set<std::string> finalDependencies(const Technique& t, const ParamSet& params) {
+  return dependenciesOf(t, params, {{t.finalStage(), t.finalOutput()}});
+}
+
+bool writesAny(const StageDecl& d, const std::set<std::string>& resources) {
+  for (const auto& o : d.outputs)
+    if (resources.count(o.resourceName())) return true;
+  for (const auto& w : d.writes)
+    if (resources.count(w)) return true;
+  return false;
 }
 
 bool onBoard(Blackboard& board, const std::string& resource) {
@@ -103,14 +116,78 @@ TEST_P(OnDemand, FinalOnlyComputesOnlyWhatTheFinalImageUses) {
   RecordProperty("outputs_alongside_or_placeholder", alongside);
 }
 
+// The viewer's demand (inspect_logic.h viewerDemand): the final image, what is shown and the probe
+// records. Shown here: the technique's first output declared onDemand that the final image does
+// not use, and the first output of a stage the final image does not need (where it has them), as
+// a user opening those two views. The run computes exactly what the demand depends on: every stage
+// that writes something it needs runs, every other stage stays not run, and no output outside it
+// is computed or allocated (save the other outputs of a stage that runs, unless declared onDemand,
+// and placeholders).
+class ViewerDemand : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ViewerDemand, ComputesTheFinalImageAndTheShownOutputsOnly) {
+  RunRequest request;
+  request.technique = GetParam();
+  request.scene = "cornell-box";
+  request.width = request.height = 64;
+  HeadlessSession& s = testing_support::freshSession(request);
+  StepCursor& cursor = s.cursor();
+  const Technique& t = cursor.technique();
+  const std::set<std::string> forFinal = finalDependencies(t, cursor.params());
+
+  std::vector<std::pair<std::string, std::string>> shown;
+  for (int i = 0; i < t.stageCount() && shown.empty(); ++i)
+    for (const auto& o : t.decl(i).outputs)
+      if (o.onDemand && !forFinal.count(o.resourceName())) {
+        shown.push_back({t.stage(i).id(), o.name});
+        break;
+      }
+  for (int i = 0; i < t.stageCount(); ++i)
+    if (!t.decl(i).outputs.empty() && !writesAny(t.decl(i), forFinal)) {
+      shown.push_back({t.stage(i).id(), t.decl(i).outputs[0].name});
+      break;
+    }
+  const auto demand = viewerDemand(t, shown);
+  const std::set<std::string> needed = dependenciesOf(t, cursor.params(), demand);
+  for (const auto& r : forFinal) EXPECT_TRUE(needed.count(r)) << t.id() << ": the viewer's demand leaves out " << r;
+  for (const auto& [stage, output] : shown)
+    EXPECT_TRUE(std::find(demand.begin(), demand.end(), std::make_pair(stage, output)) != demand.end()) << stage << "/" << output;
+
+  cursor.demandOutputs(demand);
+  s.run();
+  for (int i = 0; i < t.stageCount(); ++i) {
+    const std::string stage = t.id() + "/" + t.stage(i).id();
+    const bool ran = cursor.record(i).state != StageState::NotRun;
+    EXPECT_EQ(ran, writesAny(t.decl(i), needed)) << stage << (ran ? " ran, but nothing demanded needs it"
+                                                                   : " did not run, but a demanded output needs it");
+    for (const auto& o : t.decl(i).outputs) {
+      const std::string address = stage + "/" + o.name;
+      if (needed.count(o.resourceName())) {
+        EXPECT_TRUE(cursor.outputComputed(i, o.name)) << address << " is demanded or needed but was not computed";
+        continue;
+      }
+      // A stage that runs writes its outputs, save those it computes on demand; placeholders are
+      // not computed outputs.
+      if (isPlaceholderUnder(o, cursor.params()) || o.alongside || (ran && !o.onDemand)) continue;
+      EXPECT_FALSE(onBoard(cursor.board(), o.resourceName())) << address << " was allocated; nothing demanded needs it";
+      EXPECT_FALSE(cursor.outputComputed(i, o.name)) << address;
+    }
+  }
+  for (const auto& [stage, output] : shown)  // a shown output is on the board, to be captured
+    EXPECT_TRUE(onBoard(cursor.board(), t.findOutput(stage, output).second->resourceName())) << stage << "/" << output;
+  RecordProperty("shown", int(shown.size()));
+}
+
 std::vector<std::string> everyTechnique() { return techniqueIds(); }
 
-INSTANTIATE_TEST_SUITE_P(EveryTechnique, OnDemand, ::testing::ValuesIn(everyTechnique()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string name = info.param;
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
+auto techniqueTestName = [](const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
+};
+
+INSTANTIATE_TEST_SUITE_P(EveryTechnique, OnDemand, ::testing::ValuesIn(everyTechnique()), techniqueTestName);
+INSTANTIATE_TEST_SUITE_P(EveryTechnique, ViewerDemand, ::testing::ValuesIn(everyTechnique()), techniqueTestName);
 
 // An output that does not exist is named in one line, before anything runs.
 TEST(OnDemandCursor, UnknownOutputIsRefusedInOneLine) {
