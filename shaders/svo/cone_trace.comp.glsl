@@ -7,17 +7,17 @@
 // Ambient occlusion can use its own constellation (Basgier's 3, 5 or 8 cones) and weights each
 // sample's opacity by the falloff f(r) = 1 / (1 + lambda r), r in voxels (lambda 0: vct-grid's
 // plain range cut). For the probed pixel every sample and every level of its descent is recorded.
-// With anisotropic mips (u_anisotropic) a node above the voxels is read from its three directional
+// With anisotropic mips (SVO_ANISOTROPIC) a node above the voxels is read from its three directional
 // bricks facing the cone, weighted dir^2, the two levels of a sample blended per direction before
 // the three are combined, as vct-grid's sampleVolume does (common/cone_trace.glsl): with
-// mipmap.fronts (u_fronts, the default) the bricks hold the fronts only and combine by optical
+// mipmap.fronts (SVO_FRONTS, the default) the bricks hold the fronts only and combine by optical
 // depth (seenFronts, common/facing.glsl), and two more bricks hold the voxels' solid
 // opacity, which ambient occlusion and the shadow cone accumulate (ConeResult.blocked); without
 // it, Crassin's classic weighted sum, whose opacity is also the solid one. The voxels stay
 // isotropic, so between the voxel level and the one above a sample blends the leaf with the
 // directional value, as vct-grid fades its voxels into directional level 1.
 // A voxel without a brick (empty, or no node: bricks are only on non-empty nodes) is read as the
-// dense grid reads it, from the eight voxels around the sample (u_voxelHalo, voxelLevelSample).
+// dense grid reads it, from the eight voxels around the sample (SVO_VOXEL_HALO, voxelLevelSample).
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/packing.glsl"
@@ -41,7 +41,7 @@ layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDesc
 layout(std430, binding = SVO_BINDING_DESCENT_COUNT) buffer DescentCount { uint descentCount; };
 layout(binding = 0) uniform sampler3D u_brickPool;
 layout(binding = 4) uniform sampler3D u_directionalPool;  // six parts stacked along z: +x -x +y -y +z -z
-// (u_fronts) the solid opacity travelling +x +y +z and -x -y -z (rgb), two parts, the same bricks
+// (SVO_FRONTS) the solid opacity travelling +x +y +z and -x -y -z (rgb), two parts, the same bricks
 layout(binding = 5) uniform sampler3D u_opacityPool;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
@@ -51,11 +51,17 @@ uniform int u_traceShadow;  // 0: the soft-shadow image is not wanted (outputs o
 
 uniform int u_depth;
 uniform ivec3 u_bricksPerAxis;
-uniform int u_dilated;            // 1: empty neighbours have nodes, so an absent node is exactly 0
-uniform int u_layoutTile;         // 1: Layout T, the brick of a level-l node holds level l + 1
-uniform int u_anisotropic;        // 1: nodes above the voxels are read from their directional bricks
-uniform int u_fronts;             // 1: the directional bricks hold fronts only, solid opacity apart (mipmap.fronts)
-uniform int u_voxelHalo;          // 1: a voxel without a brick is read as the dense grid's blend (voxelLevelSample)
+// The switches of a run, fixed per program by the stage's defines (svo/stages.cpp,
+// coneTraceDefines), not uniforms: llvmpipe runs both sides of every branch, so as uniforms every
+// sample also paid for the reads of the modes not chosen.
+#if !defined(SVO_DILATED) || !defined(SVO_LAYOUT_TILE) || !defined(SVO_ANISOTROPIC) || !defined(SVO_FRONTS) || !defined(SVO_VOXEL_HALO)
+#error "svo/cone_trace.comp.glsl needs the defines of coneTraceDefines (svo/stages.cpp)"
+#endif
+// SVO_DILATED 1: empty neighbours have nodes, so an absent node is exactly 0
+// SVO_LAYOUT_TILE 1: Layout T, the brick of a level-l node holds level l + 1
+// SVO_ANISOTROPIC 1: nodes above the voxels are read from their directional bricks
+// SVO_FRONTS 1: the directional bricks hold fronts only, solid opacity apart (mipmap.fronts)
+// SVO_VOXEL_HALO 1: a voxel without a brick is read as the dense grid's blend (voxelLevelSample)
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
 uniform vec4 u_aoCones[VOXLAB_MAX_CONES];
@@ -88,7 +94,7 @@ vec4 brickSample(uint node, int level, uvec3 voxel, vec3 v) {
 }
 
 // What a node above the voxels shows a cone travelling along 'dir': its directional bricks facing
-// the cone, one per axis, and (u_fronts) the solid opacity per axis.
+// the cone, one per axis, and (SVO_FRONTS) the solid opacity per axis.
 struct Seen {
   vec4 x, y, z;
   vec3 solid;
@@ -104,7 +110,7 @@ Seen mixSeen(Seen a, Seen b, float w) {
 // the fronts rule a sample's opacity is its solid opacity: everything is read.
 bool g_wantFronts = true;
 bool g_wantSolid = true;
-// Whether the current cone reads a voxel without a brick as the dense grid's blend (u_voxelHalo):
+// Whether the current cone reads a voxel without a brick as the dense grid's blend (SVO_VOXEL_HALO):
 // every cone but the soft-shadow one (set per cone by traceCone, the same for every lane).
 bool g_halo = true;
 
@@ -118,7 +124,7 @@ Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
   vec3 texel = 3.0 * vec3(svoBrickCoords(b, uvec2(u_directionalPerAxis.xy))) + 0.5 + 2.0 * nodePosition(level, voxel, v);
   float part = 3.0 * float(u_directionalPerAxis.z);
   Seen s = kSeenNothing;
-  if (g_wantFronts || u_fronts == 0) {
+  if (g_wantFronts || SVO_FRONTS == 0) {
     s.x = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.x < 0.0 ? 1.0 : 0.0))) / size, 0.0);
     s.y = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.y < 0.0 ? 3.0 : 2.0))) / size, 0.0);
     s.z = textureLod(u_directionalPool, (texel + vec3(0.0, 0.0, part * (dir.z < 0.0 ? 5.0 : 4.0))) / size, 0.0);
@@ -128,7 +134,7 @@ Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
     s.z.rgb *= brickScales[8u * b + (dir.z < 0.0 ? 6u : 5u)];
 #endif
   }
-  if (u_fronts == 1 && g_wantSolid) {
+  if (SVO_FRONTS == 1 && g_wantSolid) {
     vec3 opacitySize = vec3(textureSize(u_opacityPool, 0));
     vec3 pos = textureLod(u_opacityPool, texel / opacitySize, 0.0).rgb;
     vec3 neg = textureLod(u_opacityPool, (texel + vec3(0.0, 0.0, part)) / opacitySize, 0.0).rgb;
@@ -141,7 +147,7 @@ Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
 // voxels as solid cubes (vct-grid's sampleVolume at lod >= 1).
 vec4 combineSeen(Seen s, vec3 dir, out float solid) {
   vec3 w = anisotropicWeights(dir);
-  if (u_fronts == 0) {
+  if (SVO_FRONTS == 0) {
     vec4 classic = w.x * s.x + w.y * s.y + w.z * s.z;
     solid = classic.a;
     return classic;
@@ -200,7 +206,7 @@ vec4 voxelLevelSample(vec3 v, uint from, int level, uvec3 voxel) {
 // opacity except with the fronts rule). Layout T: level l is read from the bricks of level l - 1
 // (the descent ends one level higher and the root's brick is the coarsest level, 1).
 vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex, out float solid) {
-  const int shift = u_layoutTile;
+  const int shift = SVO_LAYOUT_TILE;
   levelStar = max(levelStar, float(shift));
   int fine = int(svoFineLevel(levelStar, float(u_depth)));
   float w = svoFineWeight(levelStar, float(u_depth));
@@ -225,7 +231,7 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex,
       uint k = atomicAdd(descentCount, 1u);
       float ignored;
       vec4 value = node == SVO_ABSENT                       ? vec4(0.0)
-                   : u_anisotropic == 1 && l < u_depth ? combineSeen(directionalSample(node, l, voxel, v, dir), dir, ignored)
+                   : SVO_ANISOTROPIC == 1 && l < u_depth ? combineSeen(directionalSample(node, l, voxel, v, dir), dir, ignored)
                                                         : brickSample(node, l, voxel, v);
       if (k < SVO_MAX_DESCENT_STEPS)
         descent[k] = SvoDescentStep(sampleIndex, uint(l), node, packVoxel10(voxel >> uint(u_depth - l)),
@@ -238,14 +244,14 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex,
   // Without dilation an absent fine node next to a filled one is not exactly empty: the coarse
   // level alone is used there (the note's fallback for source error P2); with it, it is 0.
   // At the voxel level a voxel without a brick is read as the dense grid reads it (svo.voxel-halo).
-  const bool denseVoxels = u_voxelHalo == 1 && g_halo && fine == u_depth;
+  const bool denseVoxels = SVO_VOXEL_HALO == 1 && g_halo && fine == u_depth;
   const bool fineFallback = fineNode == SVO_ABSENT && !denseVoxels;
-  const float fineWeight = fineFallback && u_dilated == 0 ? 0.0 : w;
+  const float fineWeight = fineFallback && SVO_DILATED == 0 ? 0.0 : w;
   // A level of weight 0 is not read: the coarse one while a cone is no wider than the voxels
   // (lod 0: the fine level's weight is 1, as vct-grid reads its voxels alone there), most of a
   // narrow shadow cone's samples. Every pixel's cone takes the same steps, so the lanes agree.
   const bool readCoarse = coarseNode != SVO_ABSENT && fineWeight < 1.0;
-  if (u_anisotropic == 1 && fine < u_depth) {
+  if (SVO_ANISOTROPIC == 1 && fine < u_depth) {
     // Both levels directional: blended per direction, then combined.
     Seen coarse = !readCoarse ? kSeenNothing : directionalSample(coarseNode, fine - 1, voxel, v, dir);
     Seen fineSeen = fineNode == SVO_ABSENT ? kSeenNothing : directionalSample(fineNode, fine, voxel, v, dir);
@@ -254,9 +260,9 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex,
   vec4 coarse = vec4(0.0);
   float coarseSolid = 0.0;
   if (readCoarse) {
-    if (u_anisotropic == 1) coarse = combineSeen(directionalSample(coarseNode, fine - 1, voxel, v, dir), dir, coarseSolid);
+    if (SVO_ANISOTROPIC == 1) coarse = combineSeen(directionalSample(coarseNode, fine - 1, voxel, v, dir), dir, coarseSolid);
     else coarse = brickSample(coarseNode, fine - 1, voxel, v);
-    if (u_anisotropic == 0) coarseSolid = coarse.a;
+    if (SVO_ANISOTROPIC == 0) coarseSolid = coarse.a;
   }
   vec4 fineValue = vec4(0.0);
   if (fineNode == SVO_ABSENT && denseVoxels) fineValue = voxelLevelSample(v, deepest, deepestLevel, voxel);
