@@ -5,6 +5,9 @@
 # shared machine, the 87 mutations about 7 minutes after it; see docs/testing.md).
 #
 #   scripts/mutation-check.sh [--only NAME[,NAME...]] [--list FILE] [--work DIR]
+#   scripts/mutation-check.sh --check-finds    (only checks that every mutation still applies:
+#                                               its find text occurs exactly once in its file; CTest
+#                                               runs this as source.mutations_apply)
 #
 # The copy lives in DIR (default build-mutation/ in the repository, ignored by git): DIR/tree is
 # the repository's tracked and untracked-but-not-ignored files, DIR/build its own build. Shader
@@ -21,16 +24,20 @@ args = sys.argv[2:]
 listFile = os.path.join(root, "tests", "mutations", "mutations.txt")
 work = os.path.join(root, "build-mutation")
 only = None
+checkFinds = False
 i = 0
 while i < len(args):
     a = args[i]
-    if a in ("--only", "--list", "--work") and i + 1 < len(args):
+    if a == "--check-finds":
+        checkFinds = True
+        i += 1
+    elif a in ("--only", "--list", "--work") and i + 1 < len(args):
         if a == "--only": only = set(args[i + 1].split(","))
         if a == "--list": listFile = os.path.abspath(args[i + 1])
         if a == "--work": work = os.path.abspath(args[i + 1])
         i += 2
     else:
-        sys.stderr.write("mutation-check: unknown argument '%s'; valid: --only NAMES, --list FILE, --work DIR\n" % a)
+        sys.stderr.write("mutation-check: unknown argument '%s'; valid: --only NAMES, --list FILE, --work DIR, --check-finds\n" % a)
         sys.exit(2)
 
 def parse(path):
@@ -56,6 +63,17 @@ def parse(path):
     return blocks
 
 mutations = parse(listFile)
+if checkFinds:
+    stale = []
+    for m in mutations:
+        path = os.path.join(root, m["file"])
+        count = open(path, encoding="utf-8").read().count(m["find"]) if os.path.exists(path) else -1
+        if count != 1:
+            stale.append("%s: its find text occurs %s in %s (want exactly once)" % (
+                m["name"], "no file" if count < 0 else "%d times" % count, m["file"]))
+    for line in stale: print("mutation-check: " + line)
+    print("mutation-check: %d of %d mutations apply" % (len(mutations) - len(stale), len(mutations)))
+    sys.exit(1 if stale else 0)
 if only:
     unknown = only - {m["name"] for m in mutations}
     if unknown:
