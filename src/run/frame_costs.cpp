@@ -93,7 +93,7 @@ std::vector<FrameChangeCost> timeFrameChanges(HeadlessSession& session, int fram
                          {}, {}, {}, {}, {}};
     for (int k = 0; k < frames; ++k) {
       if (animated) poseSessionScene(session, animation, animation.duration * double(k + 1) / double(frames));
-      else invalidateSceneInput(cursor, kSceneGeometryInput);
+      else invalidateAllGeometry(cursor);
       timeFrame(session, cost);
     }
     if (animated) poseSessionScene(session, animation, 0.0);

@@ -60,7 +60,7 @@ ScenePoseChange poseSessionScene(HeadlessSession& session, const SceneAnimation&
   const ScenePoseChange change = poseScene(scene, animation, float(time));
   if (change.geometry) {
     uploadPosedVertices(cursor.gpuScene(), scene, animation);
-    invalidateSceneInput(cursor, kSceneGeometryInput);
+    invalidateMovedGeometry(cursor);  // the still nodes' triangles stay where they were
   }
   if (change.lights) invalidateSceneInput(cursor, kSceneLightsInput);
   // A scene camera the run looks through follows its node; a --look-from camera stays.
