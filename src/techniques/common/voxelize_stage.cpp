@@ -111,7 +111,7 @@ void VoxelizeStage::declare(StageBuilder& b) const {
   b.output("fragments", OutputKind::Buffer, Semantic::Points,
            "voxel fragments: packed voxel coordinates, albedo, normal, emission")
       .layout = voxelFragmentLayout("fragments.count");
-  declareFragmentPool(b);
+  declareFragmentPool(b, "fragments", kMergedFragmentsStart);
 }
 
 void VoxelizeStage::execute(StageContext& ctx) {
@@ -124,6 +124,11 @@ void VoxelizeStage::execute(StageContext& ctx) {
   FragmentList list;
   list.prefix = &ctx.board.buffer("fragments.static");
   list.prefixCount = statics[0];
+  // The still triangles' records and a share of the whole scene's estimate for the moving ones
+  // (the list grows and the passes run again when that is too small).
+  const size_t movingGuess =
+      moving ? estimateFragments(ctx.scene, space) * moving / std::max<size_t>(1, ctx.scene.triangleCount()) : 0;
+  list.firstCapacity = std::max(kMergedFragmentsStart, size_t(statics[0]) + movingGuess + 1);
   const PartResult r = voxelizePart(ctx, space, TrianglePart::Dynamic, moving, list, VoxelizeScratch());
 
   ctx.stats["fragments"] = r.records;
@@ -148,9 +153,9 @@ void TriangleAxesStage::declare(StageBuilder& b) const {
 
 void TriangleAxesStage::execute(StageContext& ctx) { renderTriangleAxes(ctx, "triangle-axes"); }
 
-void declareFragmentPool(StageBuilder& b, const std::string& records) {
-  b.buffer(records, [](const ParamSet& p, const ViewState&) {
-    return fragmentPoolStart(p.getInt("voxel.resolution")) * sizeof(gpu::VoxelFragment);
+void declareFragmentPool(StageBuilder& b, const std::string& records, size_t startRecords) {
+  b.buffer(records, [startRecords](const ParamSet& p, const ViewState&) {
+    return (startRecords ? startRecords : fragmentPoolStart(p.getInt("voxel.resolution"))) * sizeof(gpu::VoxelFragment);
   }, /*pool=*/true);
 }
 
@@ -172,8 +177,11 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
   Buffer& counter = ctx.board.ensureBuffer(list.count, 4);
   Buffer& axisCounts = ctx.board.ensureBuffer(scratch.axisCounts, 16);
   // A guess; grown below if too small.
-  capacity = std::max<size_t>(initialFragmentCapacity(ctx.board, ctx.scene, resolution, list.records),
-                              size_t(list.prefixCount) + 1);
+  capacity = list.firstCapacity ? list.firstCapacity
+                                : initialFragmentCapacity(ctx.board, ctx.scene, resolution, list.records);
+  capacity = std::max<size_t>(capacity, size_t(list.prefixCount) + 1);
+  if (ctx.board.hasBuffer(list.records))  // a list already larger is kept as it is
+    capacity = std::max(capacity, ctx.board.buffer(list.records).size() / sizeof(gpu::VoxelFragment));
   uint32_t produced = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {
     Buffer& fragments = ctx.board.ensureBuffer(list.records, capacity * sizeof(gpu::VoxelFragment));

@@ -79,6 +79,8 @@ struct FragmentList {
   std::string count = "fragments.count";
   const Buffer* prefix = nullptr;  // null: the list starts empty
   uint32_t prefixCount = 0;        // records of 'prefix' copied
+  // Records to allocate before the passes; 0 = initialFragmentCapacity's guess.
+  size_t firstCapacity = 0;
 };
 
 // Fills a voxel fragment list (by default "fragments", counter "fragments.count"; per-axis
@@ -106,7 +108,13 @@ TextureDesc triangleAxesDesc(const ViewState& view);
 // Declares the fragment pool 'records' (its starting size; it grows to what the scene produces)
 // for the resource budget: every stage that fills one through fillFragmentList calls this in
 // declare().
-void declareFragmentPool(StageBuilder& b, const std::string& records = "fragments");
+// 'startRecords' = 0: fragmentPoolStart(voxel.resolution).
+void declareFragmentPool(StageBuilder& b, const std::string& records = "fragments", size_t startRecords = 0);
+
+// The smallest list the merging voxelize stage allocates (records): it sizes "fragments" to the
+// still triangles' records plus a guess for the moving ones, so the static copy does not double
+// the memory a still scene's fragments take.
+inline constexpr size_t kMergedFragmentsStart = size_t(1) << 16;
 
 // Parameter shared by every stage that needs the voxel grid size.
 ParamDesc voxelResolutionParam();
