@@ -15,6 +15,14 @@
 #
 # Defaults: SCENE=cornell-box, RUNS=3 timed runs of all stages per technique, PROCESS_RUNS=3 whole
 # processes, SIZE=512x512. The bench files go to WORK=build/bench-doc/<scene>/<technique>/.
+#
+# Then the per-frame table between <!-- frame-table:begin --> and <!-- frame-table:end -->: per
+# technique `voxlab bench --frames FRAMES` on FRAME_SCENE (default cornell-box-moving, which has a
+# moving object) at FRAME_SIZE (default 128x128, FRAMES 4: a few minutes for all techniques), the
+# median per-frame CPU ms of a light move, a camera move and a moving object with the stages each
+# re-ran, beside the per-frame GPU figures the technique's sources publish. Files go to
+# FRAME_WORK=build/bench-doc/frames-<scene>/<technique>/.
+#   PART=frames scripts/bench-doc.sh            (the per-frame table only; PART=bench: the timing table only)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 voxlab="$(realpath "${1:-$root/build/voxlab}")"
@@ -24,11 +32,20 @@ process_runs="${PROCESS_RUNS:-3}"
 size="${SIZE:-512x512}"
 doc="${DOC:-$root/docs/performance.md}"
 work="${WORK:-$root/build/bench-doc/$scene}"
-mkdir -p "$work"
+part="${PART:-all}"
+frame_scene="${FRAME_SCENE:-cornell-box-moving}"
+frame_size="${FRAME_SIZE:-128x128}"
+frames="${FRAMES:-4}"
+frame_work="${FRAME_WORK:-$root/build/bench-doc/frames-$frame_scene}"
+case "$part" in all|bench|frames) ;; *) echo "bench-doc: PART must be all, bench or frames, not '$part'" >&2; exit 2;; esac
+mkdir -p "$work" "$frame_work"
 
-if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
+if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
   load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
   started="$(date -u '+%Y-%m-%d %H:%M UTC')"
+  # The source the binary was built from, read before measuring (edits made meanwhile do not count).
+  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   t0="$(date +%s.%N)"
   techniques="$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')"
   for t in $techniques; do
@@ -44,8 +61,6 @@ if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
   done
   t1="$(date +%s.%N)"
   load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
-  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   # What the table's header says about this measurement; TABLE_ONLY=1 re-renders from it.
   WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
   LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
@@ -55,6 +70,7 @@ if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
     "TECHNIQUES", "THREADS", "SETTINGS"]; print(json.dumps({k: os.environ[k] for k in keys}))' >"$work/run.json"
 fi
 
+if [[ "$part" != frames ]]; then
 python3 - "$doc" "$work" <<'PY'
 import json, os, sys
 doc, work = sys.argv[1], sys.argv[2]
@@ -119,6 +135,101 @@ if begin in text and end in text:
     _, tail = rest.split(end, 1)
     open(doc, "w").write(head + begin + "\n" + table + end + tail)
     print(f"bench-doc: updated {doc}", file=sys.stderr)
+else:
+    print(table)
+    print(f"bench-doc: {doc} has no {begin} ... {end}; printed the table instead", file=sys.stderr)
+PY
+fi
+
+[[ "$part" == bench ]] && exit 0
+
+if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
+  load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
+  started="$(date -u '+%Y-%m-%d %H:%M UTC')"
+  # The source the binary was built from, read before measuring (edits made meanwhile do not count).
+  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
+  t0="$(date +%s.%N)"
+  techniques="$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')"
+  for t in $techniques; do
+    "$voxlab" bench --technique "$t" --scene "$frame_scene" --size "$frame_size" --runs 1 --process-runs 0 \
+      --frames "$frames" --out "$frame_work/$t" >/dev/null
+    echo "bench-doc: $t frames done" >&2
+  done
+  t1="$(date +%s.%N)"
+  load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
+  WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
+  LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
+  THREADS="${LP_NUM_THREADS:-unset (llvmpipe: one per core)}" \
+  SETTINGS="--scene $frame_scene --size $frame_size --runs 1 --process-runs 0 --frames $frames" \
+  python3 -c 'import json, os; keys = ["WALL_S", "STARTED", "COMMIT", "LOAD_BEFORE", "LOAD_AFTER", "CORES",
+    "TECHNIQUES", "THREADS", "SETTINGS"]; print(json.dumps({k: os.environ[k] for k in keys}))' >"$frame_work/run.json"
+fi
+
+python3 - "$doc" "$frame_work" <<'PY'
+import json, os, sys
+doc, work = sys.argv[1], sys.argv[2]
+e = json.load(open(os.path.join(work, "run.json")))
+# What the sources publish per frame or per pass on their GPUs (the "Published GPU figures" table
+# below the markers): quoted, and where a source gives passes only, their sum says so.
+published = {
+    "vct-grid": "Gomes 4.6 (GTX 750 Ti, Sponza, 256^3): passes 10.60 in all (voxelize 2.05, inject 1.76, "
+                "occlusion fix 1.88, mipmap 0.71, cone trace 4.20); a light move re-runs inject to cone trace, 8.55",
+    "svo": "Gomes 4.6 (same): SVO creation 64.72, mipmap 3.86, cone trace 51.74 (120.32 in all)",
+    "lpv": "Gomes Table 4 (GTX 750 Ti, Sponza): 28.91 per frame (voxelization 12.28 of it; injection 0.11, "
+           "propagation 1.79)",
+    "lrsm": "SRS14 Tables 2-3 (GTX 770, Sponza): 58.5 per frame (voxelization 5.3, LRSM construction 3.1)",
+    "near-field": "Gomes Table 5 (GTX 750 Ti, Sibenik): 7 fps, about 143 per frame (indirect lighting 40.46)",
+    "clipmap": "compix VoxelConeTracingGI (GTX 1080, 1100x600): 8.3 per frame, one level updated per frame",
+    "volumetric": "Gomes Table 2 (GTX 750 Ti, 1024x768): density 0.21, march 0.49 (half) / 1.80 (full), "
+                  "blur + upsample 1.09 / 1.14",
+}
+def ms(v):
+    return f"{v:.1f}" if v < 100 else f"{v:.0f}"
+loads = [float(x) for x in e["LOAD_BEFORE"].split()[:1] + e["LOAD_AFTER"].split()[:1]]
+if max(loads) > 1.5:
+    load_note = (f"**The machine was shared** (other work ran beside the measurement): every time is an upper "
+                 f"bound, at a load average up to {max(loads):.1f}; a run at a load average below about 1.5 replaces "
+                 "this table.")
+else:
+    load_note = "The machine was quiet."
+first = None
+rows = []
+for t in e["TECHNIQUES"].split():
+    b = json.load(open(os.path.join(work, t, "bench.json")))
+    first = first or b
+    changes = {c["change"]: c for c in b["frame_changes"]}
+    def cell(name):
+        c = changes.get(name)
+        return ms(c["frame_cpu_ms_median"]) if c else "-"
+    def stages(name):
+        c = changes.get(name)
+        return ", ".join(c["stages"]) if c and c["stages"] else "none"
+    rows.append(f"| {t} | {ms(b['total_cpu_ms_median'])} | {cell('light move')} | {cell('camera move')} | "
+                f"{cell('moving object')} | {stages('light move')} | {stages('camera move')} | "
+                f"{stages('moving object')} | {published.get(t, '-')} |")
+lines = [
+    f"Measured {e['STARTED']} at {e['COMMIT']}: `voxlab bench {e['SETTINGS']}` for every technique of "
+    f"`voxlab list`, {e['WALL_S']} s in all. {first['gl_renderer']}; {e['CORES']} cores, LP_NUM_THREADS "
+    f"{e['THREADS']}. Load average (1, 5, 15 min) {e['LOAD_BEFORE']} before and {e['LOAD_AFTER']} after. "
+    + load_note,
+    "",
+    "Per-frame CPU ms on this machine, the median over the frames of the re-run stages' summed times "
+    "(the full run, every stage once, beside them); the published figures are GPU ms on the sources' "
+    "hardware and scenes, for scale only.",
+    "",
+    "| technique | full run ms | light move ms | camera move ms | moving object ms | light move re-runs "
+    "| camera move re-runs | moving object re-runs | published GPU ms (source) |",
+    "|---|---:|---:|---:|---:|---|---|---|---|",
+] + rows
+table = "\n".join(lines) + "\n"
+begin, end = "<!-- frame-table:begin -->", "<!-- frame-table:end -->"
+text = open(doc).read() if os.path.exists(doc) else ""
+if begin in text and end in text:
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    open(doc, "w").write(head + begin + "\n" + table + end + tail)
+    print(f"bench-doc: updated {doc} (frame table)", file=sys.stderr)
 else:
     print(table)
     print(f"bench-doc: {doc} has no {begin} ... {end}; printed the table instead", file=sys.stderr)

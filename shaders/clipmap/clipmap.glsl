@@ -47,13 +47,12 @@ uint accumulatorIndex(int level, ivec3 phys) {
 
 // Fixed-point scale of the accumulated radiance: integer sums are order-independent, so a cell
 // built in a slab gets the bits it gets in a full build. u_fixedScale = 2^b with b =
-// clipmap.fixed-point-bits (default 14); each fragment adds at most u_maxRadiance 2^b to a 32-bit
-// sum, so a cell holds u_maxFragments = 2^(32 - b) / u_maxRadiance fragments before its sums can
-// overflow (counted by the resolve passes, reported by the stages).
-// Radiance a fragment may add: 1 with the RGBA8 atlas, 64 with RGBA16F (clipmap.format), so the
-// fragments a cell holds are 2^(32 - b) / u_maxRadiance.
+// clipmap.fixed-point-bits (default 14); each fragment adds its light times 2^b to a 32-bit sum,
+// so a cell's sum overflows when its fragments' light adds up to 2^(32 - b) (4 W/(m^2 sr) per
+// fragment over 4,096 fragments at b = 14); the voxelizer counts the additions that wrap it
+// (addLight), the stages report them.
+// Radiance a fragment may add: 1 with the RGBA8 atlas, 64 with RGBA16F (clipmap.format).
 uniform float u_fixedScale;
-uniform uint u_maxFragments;
 uniform float u_maxRadiance;
 
 // The image format of the atlas and of the textures copied from it (mips, the unrolled levels):

@@ -88,13 +88,37 @@ vec4 sampleHierarchy(int face, int k, vec3 p) {
   return textureLod(u_mips, vec3(x / (float(u_faces) * n), u.yz), float(m));
 }
 
-// One directional face at level 'level' >= 1: its two levels blended.
-vec4 sampleFace(int face, float level, vec3 p) {
+uniform float u_frontHold;  // cells: how far behind its surface a front keeps its opacity (0 = off)
+
+// Directional face 'face' (1 + d, d = the travel direction) of clip level k at p, where the level
+// was raised above the cone's own because the finer levels do not reach p (the sample is smaller
+// than the cell): a surface is one cell of the coarse level, and trilinear filtering spreads its
+// opacity as a hat one cell either side of the cell's centre, which may lie half a cell in front
+// of the surface. A cone that crosses the surface between two of its samples then sees only part
+// of the surface's opacity and goes on behind it (into the void outside a room: light lost). So
+// the face is also read u_frontHold cells back along the travel direction, and the more opaque of
+// the two is kept: a front the cone has reached stays opaque for that far behind its cell centre.
+// Before a front nothing changes (the read behind is further from the front than p).
+vec4 sampleHoldingFronts(int face, int k, vec3 p, bool hold) {
+  vec4 s = sampleHierarchy(face, k, p);
+  if (!hold || u_frontHold <= 0.0 || k >= u_clipLevels) return s;
+  int d = face - 1;
+  vec3 back = vec3(0.0);
+  back[d >> 1] = (d & 1) == 0 ? -1.0 : 1.0;
+  vec3 q = p + back * (u_frontHold * levelVoxel(k));
+  if (!footprintInside(q, k)) return s;
+  vec4 behind = sampleLevel(face, k, q);
+  return behind.a > s.a ? behind : s;
+}
+
+// One directional face at level 'level' >= 1: its two levels blended ('hold': the level was
+// raised above the cone's own, see sampleHoldingFronts).
+vec4 sampleFace(int face, float level, vec3 p, bool hold) {
   int top = u_clipLevels - 1 + u_mipLevels;
   int k0 = min(int(floor(level)), top);
   float f = level - float(k0);
-  vec4 s = sampleHierarchy(face, k0, p);
-  if (f > 0.0 && k0 < top) s = mix(s, sampleHierarchy(face, k0 + 1, p), f);
+  vec4 s = sampleHoldingFronts(face, k0, p, hold);
+  if (f > 0.0 && k0 < top) s = mix(s, sampleHoldingFronts(face, k0 + 1, p, hold), f);
   return s;
 }
 
@@ -104,7 +128,7 @@ vec4 sampleFace(int face, float level, vec3 p) {
 // 0, and from level 1 up the three faces facing the cone (the fronts each direction sees,
 // resolve.comp.glsl) blended by their optical depths (common/facing.glsl, seenFronts), faded in
 // between levels 0 and 1.
-vec4 sampleAt(vec3 p, float level, vec3 dir) {
+vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold) {
   int last = u_clipLevels - 1;
   if (u_faces == 1) {
     if (level > float(last) && u_mipLevels > 0) {
@@ -119,8 +143,9 @@ vec4 sampleAt(vec3 p, float level, vec3 dir) {
   }
   if (level <= 0.0) return sampleLevel(0, 0, p);
   float directional = max(level, 1.0);
-  vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p),
-                      sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p), sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p));
+  vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p, hold),
+                      sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p, hold),
+                      sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p, hold));
   if (level >= 1.0) return a;
   return mix(sampleLevel(0, 0, p), a, level);
 }
@@ -140,9 +165,10 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
     vec3 p = origin + dir * t;
     int kmin = finestLevel(p);
     if (kmin < 0) { left = true; break; }  // outside the coarsest region: the cone ends
-    float level = min(max(max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0), minimumLevel(p, kmin)), top);
+    float own = max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0);  // the level the cone's width asks for
+    float level = min(max(own, minimumLevel(p, kmin)), top);
     if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
-    vec4 s = sampleAt(p, level, dir);
+    vec4 s = sampleAt(p, level, dir, level > own);
     float stepLength = diameter * u_stepScale;
     float texelSize = u_voxelSize0 * exp2(level);
     float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);

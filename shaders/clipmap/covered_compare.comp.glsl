@@ -24,8 +24,6 @@ void main() {
     ivec3 phys = toroidalAddress(cell);
     uint i = accumulatorIndex(k, phys);
     uint count = accum[i];
-    // Sums that may have overflowed (as resolve.comp.glsl): counted after the levels' counters.
-    if (count >= u_maxFragments) atomicAdd(counters[5 * u_clipLevels], 1u);
     if (count > 0u) direct = vec4(vec3(uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count) / u_fixedScale, 1.0);
     difference = abs(direct - imageLoad(u_atlas, atlasTexel(0, k, phys)));
   }

@@ -23,9 +23,6 @@ void main() {
   ivec3 phys = toroidalAddress(cell);
   uint i = accumulatorIndex(u_level, phys);
   uint count = accum[i];
-  // More fragments than the fixed-point sums hold (each adds up to u_fixedScale to a
-  // 32-bit sum): counted after the last level's counters, reported by the stage.
-  if (count >= u_maxFragments) atomicAdd(counters[5 * u_clipLevels], 1u);
   vec4 value = vec4(0.0);
   if (count > 0u) {
     // Integer division first: the same sums give the same texel on every run.

@@ -70,6 +70,16 @@ vec3 nearestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   return dAB <= dBC && dAB <= dCA ? onAB : (dBC <= dCA ? onBC : onCA);
 }
 
+// Adds a fragment's fixed-point light to a cell's 32-bit sum. A sum of non-negative terms wraps
+// past 2^32 floor(total / 2^32) times whatever the order, and exactly the additions that carry
+// see the sum before them above 2^32 - 1 - value: they are counted after the levels' counters
+// (reported by the stages), so a real overflow is never silent and a crowded cell whose light fits
+// is not reported.
+void addLight(uint index, uint value) {
+  uint before = atomicAdd(accum[index], value);
+  if (before > 0xFFFFFFFFu - value) atomicAdd(counters[5 * u_clipLevels], 1u);
+}
+
 void voxelizeEntry(uint t, int e) {
   const int level = u_entryLevel[e];
   uint i0 = sceneVertexIndex(t, 0), i1 = sceneVertexIndex(t, 1), i2 = sceneVertexIndex(t, 2);
@@ -141,12 +151,16 @@ void voxelizeEntry(uint t, int e) {
           vec3 emission = materialEmissionLod(voxelSampleUv(l0, l1, l2, t0, t1, t2, local), lod);
           radiance = albedo / PI * lightIrradiance(p) * cosine * shadowVisibility(u_shadowMap, p, normal) + emission;
         }
-        uvec3 fixedPoint = uvec3(clamp(radiance, 0.0, u_maxRadiance) * u_fixedScale + 0.5);
+        // One fragment's light alone may pass 2^32 (b > 26 with HDR cells): it saturates, counted
+        // as an overflow too.
+        vec3 scaled = clamp(radiance, 0.0, u_maxRadiance) * u_fixedScale + 0.5;
+        if (any(greaterThanEqual(scaled, vec3(4294967296.0)))) atomicAdd(counters[5 * u_clipLevels], 1u);
+        uvec3 fixedPoint = uvec3(min(scaled, vec3(4294967040.0)));
         uint i = accumulatorIndex(level, toroidalAddress(cell));
         atomicAdd(accum[i], 1u);
-        atomicAdd(accum[i + 1u], fixedPoint.r);
-        atomicAdd(accum[i + 2u], fixedPoint.g);
-        atomicAdd(accum[i + 3u], fixedPoint.b);
+        addLight(i + 1u, fixedPoint.r);
+        addLight(i + 2u, fixedPoint.g);
+        addLight(i + 3u, fixedPoint.b);
         if (u_cellWords > 4u) {
           // Six faces: the facing code, and the light of the fragment for every direction that
           // sees its front (resolve.comp.glsl shows each direction the fronts it sees).
@@ -155,9 +169,9 @@ void voxelizeEntry(uint t, int e) {
             if (frontSteps(facingNormal, d) == 0u) continue;
             uint j = i + clipDirectionWord(d);
             atomicAdd(accum[j], 1u);
-            atomicAdd(accum[j + 1u], fixedPoint.r);
-            atomicAdd(accum[j + 2u], fixedPoint.g);
-            atomicAdd(accum[j + 3u], fixedPoint.b);
+            addLight(j + 1u, fixedPoint.r);
+            addLight(j + 2u, fixedPoint.g);
+            addLight(j + 3u, fixedPoint.b);
           }
         }
         atomicAdd(counters[5 * level + 1], 1u);

@@ -54,10 +54,10 @@ void main() {
     vec3 toLight; float dist;
     lightDirection(pos.xyz, toLight, dist);
     ShadowTest shadow = shadowTest(u_shadowMap, pos.xyz, n);
-    float visibility = u_tracedVisibility == 1
-                           ? upsampleAlongSurface(u_visibility, u_position, u_normal, px, pos.xyz, n, u_traceScale,
-                                                  u_planeDistance).r
-                           : shadow.visibility;
+    // Every traced image (the visibility, the traced terms) is upsampled with the same taps.
+    UpsampleTaps taps = upsampleTaps(u_position, u_normal, (size + u_traceScale - 1) / u_traceScale, px, pos.xyz, n,
+                                     u_traceScale, u_planeDistance);
+    float visibility = u_tracedVisibility == 1 ? upsampleWith(u_visibility, taps, u_traceScale, px).r : shadow.visibility;
     vec3 irradiance = lightIrradiance(pos.xyz);
     float cosine = max(dot(n, toLight), 0.0);
     vec3 reflected = albedo / PI * irradiance * cosine * visibility;
@@ -75,8 +75,7 @@ void main() {
     }
     for (int i = 0; i < COMPOSITE_MAX_TERMS; ++i)
       if (i < u_termCount) {
-        vec3 term = upsampleAlongSurface(u_terms[i], u_position, u_normal, px, pos.xyz, n, u_termScale[i],
-                                         u_planeDistance).rgb;
+        vec3 term = upsampleWith(u_terms[i], taps, u_termScale[i], px).rgb;
         combined += u_termWeight[i] * term;
         if (probed) {
           chain[PROBE_CHAIN_TERMS + 2 * i] = vec4(term, u_termWeight[i]);

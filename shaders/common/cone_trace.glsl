@@ -24,14 +24,22 @@ layout(binding = 10) uniform sampler3D u_dirZ;
 // of the surfaces' fronts only (vct_grid/mipmap_anisotropic.comp.glsl).
 layout(binding = 11) uniform sampler3D u_opacityPos;
 layout(binding = 12) uniform sampler3D u_opacityNeg;
-uniform int u_anisotropic;
-uniform int u_classicDirectional;  // 1: the directional volumes hold whole voxels (mipmap.fronts=false)
+// Which volumes a sample reads, fixed per program by the stage's defines (vct_grid/stages.h,
+// coneVolumeDefines): llvmpipe runs both sides of every branch, so with these as uniforms every
+// sample also paid for the lookups of the modes not chosen. Without defines: the defaults.
+#ifndef CONE_ANISOTROPIC
+#define CONE_ANISOTROPIC 1           // mipmap.mode=anisotropic
+#endif
+#ifndef CONE_CLASSIC_DIRECTIONAL
+#define CONE_CLASSIC_DIRECTIONAL 0   // 1: the directional volumes hold whole voxels (mipmap.fronts=false)
+#endif
 uniform float u_stepScale;     // step length as a fraction of the sample diameter
 uniform float u_lodBias;       // added to log2(diameter / voxel size); -1 = filter support equals the diameter
 uniform int u_maxSteps;
 
-// What this invocation's cones cost: samples taken and volume lookups (one textureLod each, a
-// quadrilinear fetch of up to 16 texels), for the stage's statistics.
+// What this invocation's cones cost: samples taken and volume lookups (a fetch of up to 16 texels:
+// one textureLod, or for a directional volume one per level read, two but in the fade of phase 1),
+// for the stage's statistics.
 uint g_samples = 0u;
 uint g_fetches = 0u;
 
@@ -70,8 +78,8 @@ const float kSeesNothing = 0.25;
 // llvmpipe evaluates both sides of a condition that differs between the pixels of a SIMD row (the
 // volume of +x or of -x: the cone's direction), so what a phase does not need must not be in its
 // code at all; each phase gives the same result as the general expression for its lods.
-vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, out float solid) {
-  if (u_anisotropic == 0) {
+vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out float solid) {
+  if (CONE_ANISOTROPIC == 0) {
     g_fetches += 1u;
     vec4 s = textureLod(u_radiance, uvw, lod);
     solid = s.a;
@@ -83,15 +91,16 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, out float solid) {
     solid = s.a;
     return s;
   }
-  g_fetches += phase == 1 ? 6u : 5u;
+  g_fetches += (phase == 1 ? 4u : 3u) + (wantSolid ? 2u : 0u);
   vec3 w = anisotropicWeights(dir);
-  float l = max(lod - 1.0, 0.0);
-  vec4 sx = directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
-  vec4 sy = directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
-  vec4 sz = directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
-  if (u_classicDirectional != 0) {
+  // In the fade (lod < 1) the directional lod is 0: one level, one texture read per volume.
+  float l = phase == 1 ? 0.0 : max(lod - 1.0, 0.0);
+  vec4 sx = phase == 1 ? directionalLevel(u_dirX, uvw, 0, dir.x < 0.0) : directionalLookup(u_dirX, uvw, l, dir.x < 0.0);
+  vec4 sy = phase == 1 ? directionalLevel(u_dirY, uvw, 0, dir.y < 0.0) : directionalLookup(u_dirY, uvw, l, dir.y < 0.0);
+  vec4 sz = phase == 1 ? directionalLevel(u_dirZ, uvw, 0, dir.z < 0.0) : directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
+  if (CONE_CLASSIC_DIRECTIONAL != 0) {
     // Crassin's classic blend: the three premultiplied values weighted by dir^2; opacity is theirs.
-    g_fetches -= 2u;  // no solid-opacity lookups
+    if (wantSolid) g_fetches -= 2u;  // no solid-opacity lookups
     vec4 classic = w.x * sx + w.y * sy + w.z * sz;
     solid = classic.a;
     if (phase == 2) return classic;
@@ -104,8 +113,12 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, out float solid) {
   // What blocks a ray whichever way its surfaces face (ambient occlusion, cone-traced shadows): the
   // voxels as solid cubes, their directional opacity blended as the opacities were before the
   // volumes kept the fronts apart (the sign differs between pixels: both signs, one lookup each).
-  vec3 blocking = mix(textureLod(u_opacityPos, uvw, l).rgb, textureLod(u_opacityNeg, uvw, l).rgb, lessThan(dir, vec3(0.0)));
-  solid = dot(w, blocking);
+  // Not wanted (the cone is past its occlusion range and only gathers radiance): not read at all.
+  solid = 0.0;
+  if (wantSolid) {
+    vec3 blocking = mix(textureLod(u_opacityPos, uvw, l).rgb, textureLod(u_opacityNeg, uvw, l).rgb, lessThan(dir, vec3(0.0)));
+    solid = dot(w, blocking);
+  }
   if (phase == 2) return a;
   vec4 iso = textureLod(u_radiance, uvw, 0.0);
   solid = mix(iso.a, solid, lod);
@@ -119,7 +132,7 @@ layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCoun
 struct ConeResult {
   vec3 radiance;    // premultiplied accumulated radiance
   float opacity;    // accumulated opacity of the fronts the radiance comes from
-  float blocked;    // accumulated opacity of the voxels as solid cubes (shadows)
+  float blocked;    // accumulated opacity of the voxels as solid cubes (shadows), up to markDistance
   float blockedAt;  // 'blocked' when the cone passed 'markDistance' (ambient occlusion)
 };
 
@@ -137,7 +150,7 @@ float coneLod(float tanHalf, float t) {
 }
 
 // One sample of the march (phase: see sampleVolume); sets m.done where the cone ends.
-void coneStep(inout ConeMarch m, int phase) {
+void coneStep(inout ConeMarch m, int phase, bool wantSolid) {
   // Done when the radiance is gathered and, up to markDistance, the occlusion too.
   bool gathered = m.r.opacity >= 0.99 && (m.r.blocked >= 0.99 || m.marked);
   if (m.step >= u_maxSteps || gathered || m.t >= m.maxDistance) { m.done = true; return; }
@@ -151,7 +164,7 @@ void coneStep(inout ConeMarch m, int phase) {
   if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { m.done = true; m.escaped = true; return; }
   if (!m.marked && m.t > m.markDistance) { m.r.blockedAt = m.r.blocked; m.marked = true; }
   float solid;
-  vec4 s = sampleVolume(uvw, lod, m.dir, phase, solid);
+  vec4 s = sampleVolume(uvw, lod, m.dir, phase, wantSolid, solid);
   g_samples += 1u;
   float stepLength = diameter * u_stepScale;
   // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
@@ -160,7 +173,7 @@ void coneStep(inout ConeMarch m, int phase) {
   vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
   m.r.radiance += (1.0 - m.r.opacity) * c;
   m.r.opacity += (1.0 - m.r.opacity) * a;
-  m.r.blocked += (1.0 - m.r.blocked) * (1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize));
+  if (wantSolid) m.r.blocked += (1.0 - m.r.blocked) * (1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize));
   if (m.record) {
     uint k = atomicAdd(coneSampleCount, 1u);
     if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
@@ -171,8 +184,12 @@ void coneStep(inout ConeMarch m, int phase) {
 }
 
 // Marches the cone front to back until it is opaque (0.99), leaves the volume, or reaches
-// maxDistance; blockedAt is the solid opacity when it passed markDistance. The march runs in three
-// loops, one per phase of sampleVolume (the lod only grows along a cone).
+// maxDistance; blockedAt is the solid opacity when it passed markDistance. Beyond markDistance the
+// solid opacity is not read (two of a directional sample's five lookups), so a cone that gathers
+// radiance only (specular, a bounce) passes markDistance 0 and ends once its radiance is gathered.
+// The march runs in loops by phase of sampleVolume (the lod only grows along a cone) and, within a
+// phase, before and after markDistance: every pixel's cone takes the same steps (t depends on the
+// aperture and the start only), so a loop's lookups are those all its pixels need.
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
                      float markDistance, int coneIndex, bool record) {
   ConeMarch m;
@@ -189,9 +206,11 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   m.escaped = false;
   m.record = record;
   m.r = ConeResult(vec3(0.0), 0.0, 0.0, 0.0);
-  while (!m.done && coneLod(m.tanHalf, m.t) <= 0.0) coneStep(m, 0);
-  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1);
-  while (!m.done) coneStep(m, 2);
+  while (!m.done && coneLod(m.tanHalf, m.t) <= 0.0) coneStep(m, 0, true);
+  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0 && m.t <= markDistance) coneStep(m, 1, true);
+  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1, false);
+  while (!m.done && m.t <= markDistance) coneStep(m, 2, true);
+  while (!m.done) coneStep(m, 2, false);
   if (!m.marked) m.r.blockedAt = m.r.blocked;
   // The sky through the transmittance left, if the cone escaped (common/sky.glsl).
   m.r.radiance += coneSky(m.escaped, m.t >= m.maxDistance, m.origin + m.dir * m.t, m.r.opacity);

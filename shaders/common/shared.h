@@ -29,6 +29,8 @@ using uint = uint32_t;
 #define VOXLAB_BINDING_COVERAGE_LEVELS 11 // SSBO: uvec4[] per pyramid level: first bit, width, height, unused
 #define VOXLAB_BINDING_CONE_TRACE_COUNTS 12  // SSBO: uint[5] of a cone-trace pass: samples (diffuse, specular, shadow), volume fetches, pixels shaded
 #define VOXLAB_BINDING_PROBE_CHAIN 13     // SSBO: vec4[PROBE_CHAIN_SLOTS], the composite's record of the probed pixel
+#define VOXLAB_BINDING_MIP_BLOCKS 14      // SSBO: uint[] packed texels of a mip level that can be non-empty (vct-grid)
+#define VOXLAB_BINDING_MIP_BLOCK_COUNT 15 // SSBO: uint, how many a pass appended
 
 #define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
 

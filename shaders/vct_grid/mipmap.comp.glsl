@@ -15,14 +15,15 @@
 #ifndef VOXLAB_GRID_FORMAT
 #define VOXLAB_GRID_FORMAT rgba8
 #endif
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(local_size_x = 64) in;  // one invocation per listed texel (vct_grid/mip_blocks.glsl)
+#include "vct_grid/mip_blocks.glsl"
 layout(binding = 0) uniform sampler3D u_source;   // the same texture, read at level u_sourceLevel
 layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_target;
 uniform int u_sourceLevel;
 uniform int u_opacityRule;
 void main() {
-  ivec3 v = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(v, imageSize(u_target)))) return;
+  ivec3 v;
+  if (!listedTexel(v)) return;
   vec4 child[8];
   vec4 sum = vec4(0.0);
   for (int i = 0; i < 8; ++i) {

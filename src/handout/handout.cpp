@@ -198,8 +198,7 @@ HandoutPage writeHandout(const Lesson& lesson, const std::string& dir, StepRende
         std::snprintf(range, sizeof range, " from %g to %g", a.from, a.to);
         moving += (moving.empty() ? "" : ", ") + ("<code>" + htmlEscape(a.name) + "</code>" + range);
       }
-      std::string run = pic.command + " --frames " + std::to_string(step.frameCount);
-      for (const std::string& a : step.frameAnimate) run += " --animate " + a;
+      const std::string& run = pic.framesCommand;
       html += "<figure class=\"frames\">\n<img class=\"animation\" src=\"" + htmlEscape(animations[size_t(i)]) +
               "\" alt=\"" + std::to_string(step.frameCount) + " frames of " + htmlEscape(pic.address) + "\">\n" +
               "<figcaption>\n<p>" + std::to_string(step.frameCount) + " frames (an animated PNG, " +

@@ -44,7 +44,9 @@ void StepRenderer::release() {
 
 StepPicture StepRenderer::render(const Lesson& lesson, const LessonStep& step) {
   try {
-    return renderStep(step);
+    if (step.frameCount <= 0) return renderStep(step);
+    const FrameValues last = stepFrame(step, step.frameCount - 1);
+    return renderStep(step, &last);
   } catch (const Error& e) {
     // A failed step may leave the session half-run; start the next one afresh.
     overlay_.reset();
@@ -56,9 +58,8 @@ StepPicture StepRenderer::render(const Lesson& lesson, const LessonStep& step) {
 std::vector<DisplayImage> StepRenderer::renderFrames(const Lesson& lesson, const LessonStep& step) {
   std::vector<DisplayImage> images;
   try {
-    const ParamSet params = createTechnique(step.technique)->defaultParams();
     for (int k = 0; k < step.frameCount; ++k) {
-      const FrameValues frame = animatedFrame(params, step.frameAnimations, k, step.frameCount);
+      const FrameValues frame = stepFrame(step, k);
       images.push_back(renderStep(step, &frame).image);
     }
   } catch (const Error& e) {
@@ -69,7 +70,15 @@ std::vector<DisplayImage> StepRenderer::renderFrames(const Lesson& lesson, const
   return images;
 }
 
-StepPicture StepRenderer::renderStep(const LessonStep& step, const FrameValues* frame) {
+FrameValues StepRenderer::stepFrame(const LessonStep& step, int k) {
+  HeadlessSession& session = sessionFor(step);
+  const SceneAnimation& animation = session.animation();
+  const std::optional<std::pair<double, double>> sceneTimes =
+      animation.animated() ? std::optional<std::pair<double, double>>({0.0, double(animation.duration)}) : std::nullopt;
+  return animatedFrame(session.cursor().technique().defaultParams(), step.frameAnimations, k, step.frameCount, sceneTimes);
+}
+
+HeadlessSession& StepRenderer::sessionFor(const LessonStep& step) {
   std::vector<std::string> sets;
   for (const auto& [n, v] : step.sets) sets.push_back(n + "=" + v);
   if (!session_ || technique_ != step.technique || scene_ != step.scene) {
@@ -86,14 +95,24 @@ StepPicture StepRenderer::renderStep(const LessonStep& step, const FrameValues* 
     technique_ = step.technique;
     scene_ = step.scene;
   }
-  // The step's state is absolute, as the viewer applies it: defaults plus the step's "set".
-  StepCursor& cursor = session_->cursor();
+  return *session_;
+}
+
+StepPicture StepRenderer::renderStep(const LessonStep& step, const FrameValues* frame) {
+  HeadlessSession& session = sessionFor(step);
+  // The step's state is absolute, as the viewer applies it: defaults plus the step's "set", an
+  // animated scene at the frame's time (at rest without frames), the step's camera.
+  StepCursor& cursor = session.cursor();
   const Technique& t = cursor.technique();
   ParamSet params = t.defaultParams();
   for (const auto& [n, v] : step.sets) params.setText(n, v);
+  const ParamSet stepParams = params;
   if (frame)
     for (const auto& [n, v] : frame->params) params.set(n, v);
   cursor.setParams(params);
+  if (session.animation().animated())
+    poseCursorScene(cursor, session.scene(), session.animation(), frame && frame->sceneTime ? *frame->sceneTime : 0.0,
+                    step.camera);
   cursor.useSceneCamera(step.camera);
 
   const int stage = t.stageIndex(step.stage);
@@ -189,6 +208,19 @@ StepPicture StepRenderer::renderStep(const LessonStep& step, const FrameValues* 
       pic.changed.push_back(name + "=" + d.format(params.value(name)));
   std::string until = stage == t.stageCount() - 1 ? "" : step.stage;
   pic.command = reproduceCommand(t.id(), step.scene, params, defaults, width_, height_, step.camera, until, "out");
+  if (frame) {
+    pic.framesCommand = reproduceCommand(t.id(), step.scene, stepParams, defaults, width_, height_, step.camera, until,
+                                         "out") + " --frames " + std::to_string(step.frameCount);
+    for (const std::string& a : step.frameAnimate) pic.framesCommand += " --animate " + a;
+    std::string n = "the last of the step's " + std::to_string(step.frameCount) +
+                    " frames, where the viewer stops playing them";
+    if (frame->sceneTime) {
+      char time[64];
+      std::snprintf(time, sizeof time, " (the scene's animation at %.3g s)", *frame->sceneTime);
+      n += time;
+    }
+    pic.notes = n + (pic.notes.empty() ? "" : "; " + pic.notes);
+  }
   return pic;
 }
 

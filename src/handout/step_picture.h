@@ -29,6 +29,9 @@ struct StepPicture {
   std::string address;                // technique/stage/output@level
   std::vector<std::string> changed;   // "name=value" for parameters that differ from the defaults
   std::string command;                // the `voxlab run` line that reproduces the state
+  // A step with frames: the `voxlab run --frames N --animate ...` line that plays them (from the
+  // step's own parameters; the picture itself is the last frame, where the viewer stops).
+  std::string framesCommand;
   std::string notes;                  // iterations, overlays: what the run line does not say
 };
 
@@ -37,10 +40,13 @@ class StepRenderer {
   StepRenderer(int width, int height);
   ~StepRenderer();
   // Renders one step of 'lesson'. Throws Error "lesson.md:LINE: what failed" for a step that
-  // cannot be rendered (a level the output does not have, a stage without outputs, ...).
+  // cannot be rendered (a level the output does not have, a stage without outputs, ...). A step
+  // with frames is pictured at its last frame: the viewer plays the frames once and stops there.
   StepPicture render(const Lesson& lesson, const LessonStep& step);
   // The pictures of a step's frames ("frames"): the step's picture at every frame's parameter
-  // values (run/frames.h animatedFrame), each re-running only what the frame's change invalidates.
+  // values and, on an animated scene, scene time over its whole animation (run/frames.h
+  // animatedFrame, as the viewer's timeline), each re-running only what the frame's change
+  // invalidates.
   std::vector<DisplayImage> renderFrames(const Lesson& lesson, const LessonStep& step);
   // Closes the session and its GL context (the next render opens them again): before something
   // else, such as a sweep, opens contexts of its own.
@@ -48,6 +54,10 @@ class StepRenderer {
 
  private:
   StepPicture renderStep(const LessonStep& step, const FrameValues* frame = nullptr);
+  // The session for the step's technique and scene (opened again when either differs).
+  HeadlessSession& sessionFor(const LessonStep& step);
+  // Frame k of the step's frames.
+  FrameValues stepFrame(const LessonStep& step, int k);
   int width_, height_;
   std::unique_ptr<HeadlessSession> session_;
   std::unique_ptr<SceneOverlay> overlay_;

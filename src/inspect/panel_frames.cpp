@@ -1,10 +1,12 @@
-// Frames tab: the technique played as frames while parameters move (the timeline: play, pause,
-// scrub, step a frame, loop), the animations and their values at the shown frame, and each frame's
-// stage times as a plot. Frame k's values and the stages it re-runs come from run/frames.h, as
-// `voxlab run --frames` gives them; the stage list (panel_timeline.cpp) highlights what the shown
-// frame re-ran.
+// Frames tab: the technique played as frames while parameters move and an animated scene plays its
+// own glTF animation (the timeline: play, pause, scrub, step a frame, loop), the animations and
+// their values at the shown frame, the scene's time, and each frame's stage times as a plot. Frame
+// k's values, its scene time and the stages it re-runs come from run/frames.h, as `voxlab run
+// --frames` gives them; the stage list (panel_timeline.cpp) highlights what the shown frame re-ran.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "core/error.h"
 #include "inspect/script_verbs.h"
@@ -12,17 +14,23 @@
 
 namespace voxlab {
 
+std::optional<std::pair<double, double>> Viewer::frameSceneTimes() const {
+  if (!sceneAnimation.animated()) return std::nullopt;
+  return frames.sceneTimes;
+}
+
 bool Viewer::showFrame(int k) {
-  if (frames.animations.empty()) {
-    status = "frames: nothing animates; add NAME=FROM:TO in the Frames tab";
+  if (!framesAnimate()) {
+    status = "frames: nothing animates; add NAME=FROM:TO in the Frames tab or load an animated scene";
     frames.playing = false;
     return false;
   }
   k = std::clamp(k, 0, frames.count - 1);
   ParamSet candidate = cursor->params();
+  FrameValues values;
   try {
-    for (const auto& [name, value] : animatedFrame(candidate, frames.animations, k, frames.count).params)
-      candidate.set(name, value);
+    values = animatedFrame(candidate, frames.animations, k, frames.count, frameSceneTimes());
+    for (const auto& [name, value] : values.params) candidate.set(name, value);
   } catch (const Error& e) {
     status = std::string("frames: ") + e.what();
     frames.playing = false;
@@ -32,6 +40,9 @@ bool Viewer::showFrame(int k) {
     frames.playing = false;
     return false;
   }
+  // The scene camera in use follows its node; an orbit or fly camera stays where the user put it.
+  if (values.sceneTime)
+    poseCursorScene(*cursor, *scene, sceneAnimation, *values.sceneTime, pendingCamera ? -1 : cameraIndex);
   const int last = cursor->stageCount() - 1;
   frames.queued = staleStages(*cursor, last);
   frames.frame = k;
@@ -138,7 +149,26 @@ void Viewer::drawFrames() {
     ImGui::PopStyleColor();
   }
   FrameValues shown;
-  if (f.frame >= 0 && !f.animations.empty()) shown = animatedFrame(cursor->params(), f.animations, f.frame, f.count);
+  if (f.frame >= 0 && framesAnimate())
+    shown = animatedFrame(cursor->params(), f.animations, f.frame, f.count, frameSceneTimes());
+  if (sceneAnimation.animated()) {
+    // The scene's own animation plays over the same frames, over the time range set here.
+    std::string names;
+    for (const std::string& n : sceneAnimation.names) names += (names.empty() ? "" : ", ") + n;
+    ImGui::Text("scene animation %s (%.2f s)", names.empty() ? "(unnamed)" : names.c_str(), sceneAnimation.duration);
+    float range[2] = {float(f.sceneTimes.first), float(f.sceneTimes.second)};
+    ImGui::SetNextItemWidth(160);
+    if (ImGui::InputFloat2("time range, s", range, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue)) {
+      range[0] = std::max(range[0], 0.0f);
+      range[1] = std::max(range[1], range[0]);
+      f.sceneTimes = {double(range[0]), double(range[1])};
+      f.stageMs.clear();
+    }
+    if (shown.sceneTime) {
+      ImGui::SameLine();
+      ImGui::Text("now %.3f s", *shown.sceneTime);
+    }
+  }
   for (size_t i = 0; i < f.animations.size(); ++i) {
     const ParamAnimation& a = f.animations[i];
     ImGui::PushID(int(i));
@@ -155,8 +185,8 @@ void Viewer::drawFrames() {
       ImGui::Text("%s: %g to %g", a.name.c_str(), a.from, a.to);
     ImGui::PopID();
   }
-  if (f.animations.empty()) {
-    ImGui::TextDisabled("nothing animates: type NAME=FROM:TO above (a number parameter)");
+  if (!framesAnimate()) {
+    ImGui::TextDisabled("nothing animates: type NAME=FROM:TO above (a number parameter), or load an animated scene");
     return;
   }
   ImGui::SetNextItemWidth(120);
@@ -198,7 +228,8 @@ VOXLAB_REGISTER_DETAILS_TAB(frames, "frames", "Frames", 45, nullptr, [](Viewer& 
 namespace {
 
 void requireAnimations(const Viewer& viewer, const ScriptCall& call) {
-  if (viewer.frames.animations.empty()) call.fail("nothing animates (frames-animate NAME=FROM:TO first)");
+  if (!viewer.framesAnimate())
+    call.fail("nothing animates (frames-animate NAME=FROM:TO first, or a scene with an animation)");
 }
 
 }  // namespace
@@ -208,11 +239,26 @@ VOXLAB_REGISTER_SCRIPT_VERBS(frames, 85,
    [](Viewer& viewer, const ScriptCall& call) {
      if (!addAnimation(viewer, call.arg(0))) call.fail(viewer.frames.error);
    }},
+  {"frames-clear", 0, 0, "frames-clear (remove every animated parameter, as the x buttons; a scene animation stays)",
+   [](Viewer& viewer, const ScriptCall&) {
+     viewer.frames.animations.clear();
+     viewer.frames.stageMs.clear();
+   }},
   {"frames-count", 1, 1, "frames-count N (the timeline's frame count, 2 or more)",
    [](Viewer& viewer, const ScriptCall& call) {
      const int n = call.intArg(0);
      if (n < 2) call.badArgument("a timeline has 2 frames or more, got " + call.arg(0));
      viewer.frames.count = n;
+     viewer.frames.stageMs.clear();
+   }},
+  {"frames-time-range", 1, 1, "frames-time-range FROM:TO (seconds of the scene's animation the frames span)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     if (!viewer.sceneAnimation.animated()) call.fail("scene '" + viewer.sceneName + "' has no animation");
+     try {
+       viewer.frames.sceneTimes = parseTimeRange(call.arg(0));
+     } catch (const Error& e) {
+       call.badArgument(e.what());
+     }
      viewer.frames.stageMs.clear();
    }},
   {"frames-loop", 1, 1, "frames-loop on|off (play from the first frame again after the last)",
@@ -254,10 +300,27 @@ VOXLAB_REGISTER_SCRIPT_VERBS(frames, 85,
      if (viewer.frames.frame != call.intArg(0))
        call.fail("the timeline shows frame " + std::to_string(viewer.frames.frame) + ", expected " + call.arg(0));
      std::printf("frame %d:", viewer.frames.frame);
-     for (const auto& [name, value] :
-          animatedFrame(viewer.cursor->params(), viewer.frames.animations, viewer.frames.frame, viewer.frames.count).params)
-       std::printf(" %s=%g", name.c_str(), value);
+     const FrameValues values = animatedFrame(viewer.cursor->params(), viewer.frames.animations, viewer.frames.frame,
+                                              viewer.frames.count, viewer.frameSceneTimes());
+     for (const auto& [name, value] : values.params) std::printf(" %s=%g", name.c_str(), value);
+     if (values.sceneTime) std::printf(" scene time %g s", *values.sceneTime);
      std::printf("\n");
+   }},
+  {"expect-scene-time", 1, 1, "expect-scene-time SECONDS (the shown frame poses the scene at this time of its animation)",
+   [](Viewer& viewer, const ScriptCall& call) {
+     const std::optional<double> shown =
+         viewer.frames.frame < 0 ? std::nullopt
+                                 : animatedFrame(viewer.cursor->params(), viewer.frames.animations, viewer.frames.frame,
+                                                 viewer.frames.count, viewer.frameSceneTimes()).sceneTime;
+     if (!shown) call.fail("no frame of a scene animation is shown");
+     char* end = nullptr;
+     const double want = std::strtod(call.arg(0).c_str(), &end);
+     if (end == call.arg(0).c_str() || *end) call.badArgument("SECONDS must be a number, got " + call.arg(0));
+     // Frame times are FROM + (TO - FROM) k / (N - 1) in double: a script writes them to a few
+     // decimals (2/3 s as 0.6667), so half a millisecond tells frames apart and admits the rounding.
+     if (std::abs(*shown - want) > 5e-4)
+       call.fail("frame " + std::to_string(viewer.frames.frame) + " poses the scene at " + std::to_string(*shown) +
+                 " s, expected " + call.arg(0));
    }},
   {"expect-reran", 2, 2, "expect-reran STAGE yes|no (the shown frame re-ran STAGE: highlighted in the stage list)",
    [](Viewer& viewer, const ScriptCall& call) {

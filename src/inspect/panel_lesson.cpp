@@ -20,6 +20,9 @@ void Viewer::applyLessonStep(int i) {
   ParamSet p = cursor->technique().defaultParams();
   for (const auto& [n, v] : s.sets) p.setText(n, v);
   cursor->setParams(p);
+  // An animated scene starts at rest (a frames step plays it from there), as the handout pictures it.
+  frames.sceneTimes = {0.0, double(sceneAnimation.duration)};
+  if (sceneAnimation.animated()) poseCursorScene(*cursor, *scene, sceneAnimation, 0.0, s.camera);
   if (s.camera != cameraIndex || pendingCamera) {
     cursor->useSceneCamera(s.camera);
     pendingCamera.reset();

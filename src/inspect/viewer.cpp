@@ -81,7 +81,8 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
     script.actions = parseScript(readTextFile(o.script), o.script);
     script.active = true;
   }
-  auto loaded = std::make_shared<Scene>(loadScene(resolveScenePath(o.scene)));
+  SceneAnimation loadedAnimation;
+  auto loaded = std::make_shared<Scene>(loadScene(resolveScenePath(o.scene), loadedAnimation));
 
   window = std::make_unique<GlfwWindow>(o.windowWidth, o.windowHeight, "voxlab");
   shaders = std::make_unique<ShaderLibrary>();
@@ -104,6 +105,8 @@ Viewer::Viewer(const ViewerOptions& o) : opt(o) {
   if (o.present) setPresenting(true);
 
   scene = loaded;
+  sceneAnimation = std::move(loadedAnimation);
+  frames.sceneTimes = {0.0, double(sceneAnimation.duration)};
   sceneName = o.scene;
   std::snprintf(scenePath, sizeof scenePath, "%s", o.scene.c_str());
   switchTechnique(o.technique);
@@ -159,8 +162,16 @@ void Viewer::switchTechnique(const std::string& id) {
 
 bool Viewer::loadSceneNamed(const std::string& name) {
   try {
-    auto loaded = std::make_shared<Scene>(loadScene(resolveScenePath(name)));
+    SceneAnimation loadedAnimation;
+    auto loaded = std::make_shared<Scene>(loadScene(resolveScenePath(name), loadedAnimation));
     scene = loaded;
+    sceneAnimation = std::move(loadedAnimation);
+    // The timeline starts over on the new scene, over its whole animation.
+    frames.sceneTimes = {0.0, double(sceneAnimation.duration)};
+    frames.frame = frames.running = frames.pauseAt = -1;
+    frames.playing = false;
+    frames.reran.clear();
+    frames.stageMs.clear();
     sceneName = name;
     cursor->setScene(scene);
     // Parameters that default to the scene's value (the light) start from the new scene's.

@@ -217,12 +217,16 @@ struct LessonSweepPlot {
   void stop();
 };
 
-// The frames timeline (panel_frames.cpp): the technique played as frames while parameters move, as
-// `voxlab run --frames N --animate ...` runs them (run/frames.h: the same frame values and the same
-// stale-stage rule), one frame's stages after the other's through the run queue. The stage list
-// highlights the stages the shown frame re-ran; the Frames tab plots each frame's stage times.
+// The frames timeline (panel_frames.cpp): the technique played as frames while parameters move and
+// an animated scene plays its own animation, as `voxlab run --frames N [--time-range FROM:TO]
+// --animate ...` runs them (run/frames.h: the same frame values and the same stale-stage rule), one
+// frame's stages after the other's through the run queue. The stage list highlights the stages the
+// shown frame re-ran; the Frames tab plots each frame's stage times.
 struct FramesTimeline {
   std::vector<ParamAnimation> animations;
+  // Seconds of the scene's animation the frames span (a new scene: 0 to its duration); unused on a
+  // still scene.
+  std::pair<double, double> sceneTimes{0.0, 0.0};
   int count = 16;
   int frame = -1;        // the frame whose values are applied (-1: none yet)
   int running = -1;      // the frame whose stages are still queued (-1: none)
@@ -296,9 +300,14 @@ class Viewer {
   void stepIteration(int count = -1);
   void applyLessonStep(int i);
   // --- frames (panel_frames.cpp) ---
-  // Applies frame k's parameter values (clamped to the frames) and queues the stages they make
-  // stale, through the final stage. False + status without animations or when the values are refused.
+  // Applies frame k's parameter values and scene time (clamped to the frames) and queues the stages
+  // they make stale, through the final stage. False + status when nothing animates or the values
+  // are refused.
   bool showFrame(int k);
+  // The scene times the frames span, unset on a still scene (then only parameters animate).
+  std::optional<std::pair<double, double>> frameSceneTimes() const;
+  // The timeline has something to play: an animated parameter or an animated scene.
+  bool framesAnimate() const { return !frames.animations.empty() || sceneAnimation.animated(); }
   void updateFrames();  // per loop: a frame whose stages have run is recorded; playing moves on
   void drawFrames();    // the Frames tab
   bool frameReran(int stage) const;  // the shown frame re-ran this stage
@@ -395,7 +404,10 @@ class Viewer {
   std::unique_ptr<GlfwWindow> window;
   std::unique_ptr<ShaderLibrary> shaders;
   std::unique_ptr<StepCursor> cursor;
-  std::shared_ptr<const Scene> scene;
+  // The viewer loaded the scene and alone holds it non-const: the Frames tab poses an animated
+  // scene in place (run/frames.h poseCursorScene), with the animation read in the same load.
+  std::shared_ptr<Scene> scene;
+  SceneAnimation sceneAnimation;
   std::string sceneName;
   std::string sceneError, shaderError, status;
   char scenePath[512] = {0};

@@ -85,19 +85,18 @@ std::vector<FrameChangeCost> timeFrameChanges(HeadlessSession& session, int fram
 
   // Moving object: the scene's own animation, or the geometry marked moved.
   {
-    SceneAnimation animation;
-    loadScene(cursor.scene().path, animation);
+    const SceneAnimation& animation = session.animation();
     const bool animated = animation.movesGeometry();
     FrameChangeCost cost{"moving object",
                          animated ? "the scene's animation played over the frames"
                                   : "the scene's geometry marked moved each frame (a still scene)",
                          {}, {}, {}, {}, {}};
     for (int k = 0; k < frames; ++k) {
-      if (animated) poseSessionScene(session, animation, animation.duration * double(k + 1) / double(frames));
+      if (animated) poseSessionScene(session, animation.duration * double(k + 1) / double(frames));
       else invalidateAllGeometry(cursor);
       timeFrame(session, cost);
     }
-    if (animated) poseSessionScene(session, animation, 0.0);
+    if (animated) poseSessionScene(session, 0.0);
     session.run();
     sortStages(session, cost);
     costs.push_back(cost);

@@ -53,19 +53,23 @@ std::pair<double, double> parseTimeRange(const std::string& text) {
   return {from, to};
 }
 
-ScenePoseChange poseSessionScene(HeadlessSession& session, const SceneAnimation& animation, double time) {
-  StepCursor& cursor = session.cursor();
-  // The session made its scene (not const) for this cursor alone: it is posed in place.
-  Scene& scene = const_cast<Scene&>(cursor.scene());
+ScenePoseChange poseCursorScene(StepCursor& cursor, Scene& scene, const SceneAnimation& animation, double time,
+                                int followCamera) {
+  if (!cursor.hasScene() || &cursor.scene() != &scene)
+    throw Error("posing a scene the step cursor does not render (its owner must pose the cursor's own scene)");
   const ScenePoseChange change = poseScene(scene, animation, float(time));
   if (change.geometry) {
     uploadPosedVertices(cursor.gpuScene(), scene, animation);
     invalidateMovedGeometry(cursor);  // the still nodes' triangles stay where they were
   }
   if (change.lights) invalidateSceneInput(cursor, kSceneLightsInput);
-  // A scene camera the run looks through follows its node; a --look-from camera stays.
-  if (change.cameras && !session.request().lookFrom) cursor.setCamera(scene.cameras.at(size_t(session.request().camera)));
+  if (change.cameras && followCamera >= 0) cursor.setCamera(scene.cameras.at(size_t(followCamera)));
   return change;
+}
+
+ScenePoseChange poseSessionScene(HeadlessSession& session, double time) {
+  return poseCursorScene(session.cursor(), session.scene(), session.animation(), time,
+                         session.request().lookFrom ? -1 : session.request().camera);
 }
 
 namespace {
@@ -91,9 +95,11 @@ double meanAbsoluteChange(const LevelData& a, const LevelData& b) {
   return n ? sum / double(n) : 0.0;
 }
 
-FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames) {
+FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames,
+                          const std::optional<std::pair<double, double>>& sceneTimes) {
   const double s = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
   FrameValues values;
+  if (sceneTimes) values.sceneTime = sceneTimes->first + (sceneTimes->second - sceneTimes->first) * s;
   for (const ParamAnimation& a : animations) {
     double v = a.from + (a.to - a.from) * s;
     if (params.desc(a.name).type == ParamType::Int) v = std::round(v);
@@ -121,34 +127,32 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
   const int finalStage = t.stageIndex(measuredStage);
   const OutputDesc* finalDesc = finalStage <= until ? t.findOutput(measuredStage, measuredOutput).second : nullptr;
 
-  // The scene's animation plays over the frames (a still scene has none to play). It is read from
-  // the scene's file again (the session keeps the scene, not its animation), and the session's
-  // scene is posed in place: the session made it, not const, for this cursor alone.
-  const Scene& scene = cursor.scene();
-  SceneAnimation animation;
-  loadScene(scene.path, animation);
+  // The scene's animation plays over the frames (a still scene has none to play): the session read
+  // it with the scene and poses its scene in place.
+  const SceneAnimation& animation = session.animation();
   if (request.timeRange && !animation.animated())
-    throw Error("--time-range: scene '" + scene.name + "' has no animation (its glTF file has no node animations)");
+    throw Error("--time-range: scene '" + cursor.scene().name + "' has no animation (its glTF file has no node animations)");
   const std::pair<double, double> times =
       request.timeRange ? *request.timeRange : std::pair<double, double>(0.0, double(animation.duration));
+  const std::optional<std::pair<double, double>> sceneTimes =
+      animation.animated() ? std::optional<std::pair<double, double>>(times) : std::nullopt;
 
   json m = session.manifestHeader();
   json frames = json::array(), energy = json::array(), flicker = json::array();
   LevelData previous;
   double flickerSum = 0.0;
   for (int k = 0; k < request.frames; ++k) {
-    const double s = request.frames > 1 ? double(k) / double(request.frames - 1) : 0.0;
+    const FrameValues frameValues = animatedFrame(cursor.params(), request.animations, k, request.frames, sceneTimes);
     json changed = json::array();
-    double time = 0.0;
-    if (animation.animated()) {
-      time = times.first + (times.second - times.first) * s;
-      const ScenePoseChange change = poseSessionScene(session, animation, time);
+    const double time = frameValues.sceneTime.value_or(0.0);
+    if (frameValues.sceneTime) {
+      const ScenePoseChange change = poseSessionScene(session, time);
       if (change.geometry) changed.push_back("geometry");
       if (change.lights) changed.push_back("lights");
       if (change.cameras) changed.push_back("camera");
     }
     json values = json::object();
-    for (const auto& [name, v] : animatedFrame(cursor.params(), request.animations, k, request.frames).params) {
+    for (const auto& [name, v] : frameValues.params) {
       cursor.setParam(name, v);
       values[name] = v;
     }

@@ -42,16 +42,19 @@ struct ParamAnimation {
 // that is not a parameter, a choice or switch, a value out of the parameter's range).
 ParamAnimation parseAnimation(const ParamSet& params, const std::string& text);
 
-// What frame k of an animation sets: every animated parameter's value. The frame loop here and the
-// viewer's timeline step frames only through animatedFrame, so another source of animation (scene
-// time) is one more field here and one more source in that function.
+// What frame k of an animation sets: every animated parameter's value and the time the scene is
+// posed at. The frame loop here, the viewer's timeline and the handout's frames step frames only
+// through animatedFrame.
 struct FrameValues {
   std::vector<std::pair<std::string, double>> params;  // name, value (in the animations' order)
+  std::optional<double> sceneTime;  // seconds of the scene's animation; unset for a still scene
 };
 
 // Frame 'frame' of 'frames' (0-based): FROM + (TO - FROM) k / (N - 1) per animation, rounded for an
-// integer parameter of 'params' (N = 1 holds FROM).
-FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames);
+// integer parameter of 'params' (N = 1 holds FROM), and the same fraction of 'sceneTimes' (FROM, TO
+// in seconds) when the scene plays its animation.
+FrameValues animatedFrame(const ParamSet& params, const std::vector<ParamAnimation>& animations, int frame, int frames,
+                          const std::optional<std::pair<double, double>>& sceneTimes = std::nullopt);
 
 // The stages up to 'until' that are not Done: what the next run re-runs once a frame's values are set.
 std::vector<int> staleStages(const StepCursor& cursor, int until);
@@ -74,11 +77,18 @@ struct FramesRequest {
   std::optional<OutputAddress> measure;
 };
 
-// Poses the session's scene at 'time' (seconds) of 'animation' (read from the same file with
-// loadScene(path, animation)) and makes stale what moved, from the declarations: the readers of
-// the scene's geometry when vertices moved (their GPU copy updated), of its lights when a light
-// moved, of the view when the scene camera the run looks through moved. Returns what changed.
-ScenePoseChange poseSessionScene(HeadlessSession& session, const SceneAnimation& animation, double time);
+// Poses 'scene', the scene 'cursor' renders (its owner's non-const handle on it), at 'time'
+// (seconds) of 'animation' (read in the same load) and makes stale what moved, from the
+// declarations: the readers of the scene's geometry when vertices moved (their GPU copy updated),
+// of its lights when a light moved, of the view when scene camera 'followCamera' moved (it becomes
+// the cursor's camera; -1: a free camera, which stays). Returns what changed. Throws Error when
+// 'scene' is not the cursor's scene.
+ScenePoseChange poseCursorScene(StepCursor& cursor, Scene& scene, const SceneAnimation& animation, double time,
+                                int followCamera);
+
+// poseCursorScene on the session's scene and animation, following the request's scene camera
+// unless it looks from --look-from.
+ScenePoseChange poseSessionScene(HeadlessSession& session, double time);
 
 // Runs the frames and writes DIR/frames/NNNN/ and DIR/manifest.json; returns that manifest.
 // 'progress' (optional) is told after every frame (1-based) and the stages it re-ran.

@@ -42,21 +42,21 @@ HeadlessSession::HeadlessSession(const RunRequest& request) : request_(request) 
   ParamSet params = technique->defaultParams();
   for (const auto& s : request.sets) params.setAssignment(s);
   const auto loadStart = std::chrono::steady_clock::now();
-  auto scene = std::make_shared<Scene>(loadScene(resolveScenePath(request.scene)));
+  scene_ = std::make_shared<Scene>(loadScene(resolveScenePath(request.scene), animation_));
   sceneLoadMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loadStart).count();
-  int cameras = int(scene->cameras.size());
+  int cameras = int(scene_->cameras.size());
   if (request.camera < 0 || request.camera >= cameras)
-    throw Error("camera " + std::to_string(request.camera) + " does not exist in " + scene->name +
+    throw Error("camera " + std::to_string(request.camera) + " does not exist in " + scene_->name +
                 "; valid: 0.." + std::to_string(cameras - 1));
 
-  requestCamera(*scene, request);  // validates --look-from/--look-at
+  requestCamera(*scene_, request);  // validates --look-from/--look-at
 
   context_ = createOffscreenContext();
   shaders_ = std::make_unique<ShaderLibrary>();
   cursor_ = std::make_unique<StepCursor>(std::move(technique), *shaders_);
-  cursor_->setScene(scene);
+  cursor_->setScene(scene_);
   cursor_->setParams(params);
-  cursor_->setCamera(requestCamera(*scene, request));
+  cursor_->setCamera(requestCamera(*scene_, request));
   cursor_->setViewSize(request.width, request.height);
 }
 

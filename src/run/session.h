@@ -12,6 +12,7 @@
 #include "graph/output.h"
 #include "graph/step_cursor.h"
 #include "platform/gl_context.h"
+#include "scene/animation.h"
 
 namespace voxlab {
 
@@ -40,6 +41,10 @@ class HeadlessSession {
   ~HeadlessSession();
 
   StepCursor& cursor() { return *cursor_; }
+  // The scene the cursor renders, which the session loaded and alone holds non-const (posing an
+  // animated scene moves it in place), and the animation read from its file in the same load.
+  Scene& scene() { return *scene_; }
+  const SceneAnimation& animation() const { return animation_; }
   const RunRequest& request() const { return request_; }
   double sceneLoadMs() const { return sceneLoadMs_; }  // wall time of loadScene()
   int untilStage() const { return untilStage_; }  // index of the last stage to run
@@ -58,6 +63,8 @@ class HeadlessSession {
  private:
   RunRequest request_;
   double sceneLoadMs_ = 0.0;
+  std::shared_ptr<Scene> scene_;
+  SceneAnimation animation_;
   std::unique_ptr<GLContext> context_;
   std::unique_ptr<ShaderLibrary> shaders_;
   std::unique_ptr<StepCursor> cursor_;

@@ -3,17 +3,16 @@
 # voxels: 2e9 cells), and a path that ends far away (one move of 1e6 m at 0.1 mm voxels: 1e10 cells).
 voxlab_cli_case(clipmap_far_camera_refused 2 "clipmap: a level origin .* lies beyond 2.30 cells of the world origin; move the camera .or the path. closer, or raise clipmap.voxel-size" "run --technique clipmap --look-from 2e7,0.27,0 --look-at 2e7,0.27,1 --set clipmap.voxel-size=0.01 --final-only --out @OUT@")
 voxlab_cli_case(clipmap_far_path_refused 2 "clipmap: a level origin .* lies beyond 2.30 cells of the world origin" "run --technique clipmap --set clipmap.voxel-size=0.0001 --set clipmap.path-moves=1 --set clipmap.path-step.x=1e6 --final-only --out @OUT@")
-# Accumulator overflow is detected and reported, never silent: each fragment adds up to M 2^b to a
-# cell's 32-bit fixed-point sums (b = clipmap.fixed-point-bits; M = 64 with the default RGBA16F
-# cells, 1 with RGBA8), so a cell that receives 2^(32-b) / M fragments or more may have
-# overflowed; the resolve passes count such cells, and the update stage says so in one line (and
-# the statistic accumulator_overflow_cells). At b = 24 a cell of the default atlas holds 4
-# fragments: on the Cornell box with 2 levels of 8^3 (a fast run), 2 level-1 cells receive more
-# (measured 2026-12-02: 40 triangle/cell pairs at level 1). The same run at the default b = 14
-# (4,096 fragments a cell) prints nothing: the check is not always on.
+# Accumulator overflow is detected and reported, never silent: each fragment adds its light times
+# 2^b to a cell's 32-bit fixed-point sums (b = clipmap.fixed-point-bits), and the voxelizer counts
+# every addition that wraps a sum (the update stage says so in one line and in the statistic
+# accumulator_overflows). Only real wraps count: a crowded cell whose light fits is not reported
+# (Sponza's default run used to warn about its 2 cells of 4,096 fragments or more, whose sums were
+# far from 2^32). On the Cornell box with 2 levels of 8^3 (a fast run), b = 30 leaves 4 W/(m^2 sr)
+# per sum, which the cells by the lamp pass: 14 wraps (measured 2026-12-06); b = 26 and below, none.
 voxlab_cli_case_output(clipmap_accumulator_overflow_reported 0
-  "^voxlab warning: clipmap/update: [1-9][0-9]* cells received 4 fragments or more, so their fixed-point sums may have overflowed .clipmap.fixed-point-bits=24.; lower clipmap.fixed-point-bits, or clipmap.voxel-size so that fewer triangles share a cell$"
-  "run --technique clipmap --set clipmap.fixed-point-bits=24 --set clipmap.resolution=8 --set clipmap.levels=2 --size 32x32 --final-only --out @OUT@"
+  "^voxlab warning: clipmap/update: [1-9][0-9]* fixed-point light sums overflowed 32 bits .clipmap.fixed-point-bits=30.; lower clipmap.fixed-point-bits, or clipmap.voxel-size so that fewer triangles share a cell$"
+  "run --technique clipmap --set clipmap.fixed-point-bits=30 --set clipmap.resolution=8 --set clipmap.levels=2 --size 32x32 --final-only --out @OUT@"
   "" "@OUT@/manifest.json" 0 "" "")
 voxlab_cli_case_output(clipmap_accumulator_no_overflow_at_default 0 "^$"
   "run --technique clipmap --set clipmap.resolution=8 --set clipmap.levels=2 --size 32x32 --final-only --out @OUT@"

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "graph/scene_inputs.h"
+#include "graph/technique.h"
 #include "run/frames.h"
 #include "scene/animation.h"
 #include "scene/scene.h"
@@ -221,6 +222,22 @@ bool reads(const Technique& t, int stage, const std::string& input) {
 // The frame loop makes stale exactly what a change invalidates, from the declarations: a moving
 // object re-runs the stages reading the scene's geometry and what reads their results, a light
 // move those reading the light, a held frame nothing.
+TEST(SceneAnimation, AFramesSceneTimeSpansTheTimeRange) {
+  const ParamSet params = createTechnique("vct-grid")->defaultParams();
+  const std::vector<ParamAnimation> none;
+  // Frame k of N: FROM + (TO - FROM) k / (N - 1), in double (exact for these binary fractions).
+  EXPECT_EQ(animatedFrame(params, none, 0, 3, std::make_pair(0.5, 1.5)).sceneTime, 0.5);
+  EXPECT_EQ(animatedFrame(params, none, 1, 3, std::make_pair(0.5, 1.5)).sceneTime, 1.0);
+  EXPECT_EQ(animatedFrame(params, none, 2, 3, std::make_pair(0.5, 1.5)).sceneTime, 1.5);
+  EXPECT_EQ(animatedFrame(params, none, 0, 1, std::make_pair(0.5, 1.5)).sceneTime, 0.5) << "one frame holds FROM";
+  EXPECT_FALSE(animatedFrame(params, none, 1, 3).sceneTime.has_value()) << "a still scene has no time";
+  // Parameters and scene time move together.
+  const FrameValues both = animatedFrame(params, {{"light.0.elevation", 90.0, 60.0}}, 1, 3, std::make_pair(0.0, 2.0));
+  ASSERT_EQ(both.params.size(), 1u);
+  EXPECT_EQ(both.params[0].second, 75.0);
+  EXPECT_EQ(both.sceneTime, 1.0);
+}
+
 TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   RunRequest r;
   r.technique = "vct-grid";
@@ -229,9 +246,13 @@ TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   HeadlessSession& session = testing_support::session(r);
   StepCursor& c = session.cursor();
   const Technique& t = c.technique();
-  SceneAnimation animation;
-  loadScene(c.scene().path, animation);
+  // The session read the animation with its scene: the same as loading the file again.
+  const SceneAnimation& animation = session.animation();
   ASSERT_TRUE(animation.movesGeometry());
+  SceneAnimation fromFile;
+  loadScene(c.scene().path, fromFile);
+  EXPECT_EQ(animation.duration, fromFile.duration);
+  EXPECT_EQ(animation.moving.size(), fromFile.moving.size());
   const int voxelize = t.stageIndex("voxelize"), light = t.stageIndex("light");
   const int gbuffer = t.stageIndex("gbuffer");
   auto staleStages = [&] {
@@ -244,11 +265,15 @@ TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   ASSERT_TRUE(staleStages().empty());
 
   // Held frame: the time it is posed at already.
-  EXPECT_FALSE(poseSessionScene(session, animation, 0.0).any());
+  EXPECT_FALSE(poseSessionScene(session, 0.0).any());
   EXPECT_TRUE(staleStages().empty()) << "a frame where nothing moved re-runs nothing";
 
   // The box moves: every geometry reader is stale, the light stage is not.
-  EXPECT_TRUE(poseSessionScene(session, animation, 0.5).geometry);
+  // Only the cursor's own scene can be posed through it (a copy would leave the GPU copy behind).
+  Scene copy = c.scene();
+  EXPECT_THROW(poseCursorScene(c, copy, animation, 0.5, -1), Error);
+  EXPECT_TRUE(staleStages().empty()) << "a refused pose changes nothing";
+  EXPECT_TRUE(poseSessionScene(session, 0.5).geometry);
   const std::vector<int> afterMove = staleStages();
   for (int i = 0; i < t.stageCount(); ++i)
     if (reads(t, i, kSceneGeometryInput)) EXPECT_NE(c.record(i).state, StageState::Done) << t.stage(i).id();
@@ -314,7 +339,7 @@ TEST(SceneAnimation, StaticAndDynamicVoxelsMergedEqualVoxelizingEveryTriangle) {
       HeadlessSession& s = testing_support::freshSession(request("vct-grid"));
       s.run();
       for (double t : times) {
-        poseSessionScene(s, animation, t);
+        poseSessionScene(s, t);
         s.run();
         const StageStats& stats = s.cursor().record(s.cursor().technique().stageIndex("voxelize")).stats;
         EXPECT_GT(stats.at("fragments_dynamic"), 0.0) << "the moving block has voxels at t = " << t;
@@ -326,7 +351,7 @@ TEST(SceneAnimation, StaticAndDynamicVoxelsMergedEqualVoxelizingEveryTriangle) {
     HeadlessSession& whole = testing_support::freshSession(request("voxelization"));
     whole.run();
     for (size_t k = 0; k < times.size(); ++k) {
-      poseSessionScene(whole, animation, times[k]);
+      poseSessionScene(whole, times[k]);
       whole.run();
       const std::vector<std::string> once = sortedRecords(testing_support::capture(whole, "voxelize", "fragments"));
       EXPECT_EQ(merged[k].size(), once.size()) << "t = " << times[k];
@@ -351,7 +376,7 @@ TEST(SceneAnimation, AMovingObjectReVoxelizesOnlyItsTrianglesAndACameraMoveNone)
   session.run();
   ASSERT_TRUE(staleStageIds(c).empty());
 
-  EXPECT_TRUE(poseSessionScene(session, animation, 0.5 * animation.duration).geometry);
+  EXPECT_TRUE(poseSessionScene(session, 0.5 * animation.duration).geometry);
   const std::vector<std::string> moved = {"voxelize", "triangle-axes", "shadow-map", "inject", "occlusion-fix",
                                           "mipmap", "bounce", "gbuffer", "cone-trace", "composite"};
   EXPECT_EQ(staleStageIds(c), moved) << "every stage but voxelize-static and light";

@@ -45,8 +45,8 @@
 //     whose bounds can reach a box of the pass (mayReach: runs first, then each triangle), so a
 //     move pays for the slabs' triangles, not a pass over the scene.
 //   - The fixed-point sums have clipmap.fixed-point-bits b fraction bits (default 14): a cell holds
-//     2^(32-b) fragments before they can overflow; cells that reach it are counted and reported
-//     (accumulator_overflow_cells and one warning line), never silently wrapped.
+//     light adding up to 2^(32-b) before a sum overflows; every addition that wraps a sum is
+//     counted and reported (accumulator_overflows and one warning line), never silent.
 //   - The cone model is vct-grid's (clipmap.faces=anisotropic, the default): each of a cell's six
 //     directional faces shows a cone travelling that way only the fronts of the surfaces it sees
 //     (common/facing.glsl: the mean light of the fragments whose fronts it sees, covering their
@@ -56,6 +56,11 @@
 //     directly can hold both faces of a slab (a sun-lit roof's top and its underside): each side
 //     sees only its own. With level 0's region over vct-grid's volume, levels 0-3 equal its mips
 //     texel for texel, isotropic and six faces (tests/unit/test_clipmap_dense.cpp).
+//   - Where a sample reads a level coarser than its cone asks for (the finer levels do not reach
+//     it: far from the camera), a wall is one coarse cell whose trilinear opacity peaks up to half
+//     a cell in front of it, and a cone crossing it between samples leaked through; the tracer
+//     also reads each directional face clipmap.front-hold cells (0.5) back along the cone and
+//     keeps the more opaque, so a front the cone reached stays opaque behind it.
 //   - Guard texels on every side of every block make trilinear filtering across the physical seam
 //     correct; a level serves a sample only when its footprint lies inside the level's region.
 //   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same

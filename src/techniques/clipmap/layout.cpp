@@ -14,7 +14,7 @@
 namespace voxlab::clipmap {
 
 static constexpr int64_t kMaxCell = int64_t(1) << 30;  // shaders hold cells in int32
-// The per-level counters, then one more: cells whose fragments overflowed the fixed-point sums.
+// The per-level counters, then one more: fixed-point light sums that wrapped past 2^32.
 size_t countersBytes(int levels) { return size_t(4 * (kCountersPerLevel * levels + 1)); }
 
 // --- Parameters and layout ------------------------------------------------------------------------
@@ -47,8 +47,8 @@ std::vector<ParamDesc> injectParams() {
 
 ParamDesc fixedPointParam() {
   return ParamDesc::integer("clipmap.fixed-point-bits", 14, 8, 30,
-                            "fraction bits b of the fixed-point radiance sums: steps of 2^-b; a cell holds 2^(32-b) "
-                            "fragments before its 32-bit sums can overflow (such cells are counted and reported)",
+                            "fraction bits b of the fixed-point radiance sums: steps of 2^-b; a cell's 32-bit sums "
+                            "overflow when its fragments' light adds up to 2^(32-b) (every wrap is counted and reported)",
                             "bits");
 }
 
@@ -71,26 +71,24 @@ static int maxRadianceLog2(const ParamSet& params) { return atlasFormat(params) 
 static uint32_t cellWords(const ParamSet& params) { return facesOf(params) == 7 ? 32u : 4u; }
 
 // The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_accumulatorLevels,
-// u_fixedScale, u_maxFragments, u_maxRadiance).
+// u_fixedScale, u_maxRadiance).
 void setAccumulatorUniforms(GLuint program, const ParamSet& params, int accumulatorLevels) {
   setUniform(program, "u_cellWords", unsigned(cellWords(params)));
   setUniform(program, "u_accumulatorLevels", accumulatorLevels);
   const int bits = params.getInt("clipmap.fixed-point-bits");
   const int radianceBits = maxRadianceLog2(params);
   setUniform(program, "u_fixedScale", float(std::ldexp(1.0, bits)));
-  setUniform(program, "u_maxFragments", unsigned(uint64_t(1) << std::max(32 - bits - radianceBits, 0)));
   setUniform(program, "u_maxRadiance", float(std::ldexp(1.0, radianceBits)));
 }
 
-// One line on stderr and a statistic when cells may have overflowed their fixed-point sums.
-void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells) {
-  ctx.stats["accumulator_overflow_cells"] = cells;
-  if (cells == 0) return;
+// One line on stderr and a statistic when fixed-point light sums wrapped past 2^32 (or one
+// fragment's light alone passed it).
+void reportOverflow(StageContext& ctx, const char* stage, uint32_t wraps) {
+  ctx.stats["accumulator_overflows"] = wraps;
+  if (wraps == 0) return;
   const int bits = ctx.params.getInt("clipmap.fixed-point-bits");
-  const int fragmentBits = std::max(32 - bits - maxRadianceLog2(ctx.params), 0);  // u_maxFragments
-  log::warn(std::string("clipmap/") + stage + ": " + std::to_string(cells) + " cells received " +
-            std::to_string(uint64_t(1) << fragmentBits) + " fragments or more, so their fixed-point sums may have " +
-            "overflowed (clipmap.fixed-point-bits=" + std::to_string(bits) + "); lower clipmap.fixed-point-bits, or " +
+  log::warn(std::string("clipmap/") + stage + ": " + std::to_string(wraps) + " fixed-point light sums overflowed " +
+            "32 bits (clipmap.fixed-point-bits=" + std::to_string(bits) + "); lower clipmap.fixed-point-bits, or " +
             "clipmap.voxel-size so that fewer triangles share a cell");
 }
 

@@ -17,7 +17,7 @@ namespace voxlab::clipmap {
 // --- Cone tracing ---------------------------------------------------------------------------------
 
 // Distances in the coarsest level's edge, the start offset in voxels of the finest level there;
-// no soft-shadow cone. The start offset is a quarter voxel, not vct-grid's 1.75: the levels are
+// no soft-shadow cone. The start offset is an eighth of a voxel, not vct-grid's 1.75: the levels are
 // centred on the camera, so a surface a metre away lies in a level of coarse voxels (7 cm on the
 // Cornell box, an eighth of the box) and every voxel of offset moves the cones that far off it; at
 // 1.75, plus the first step of one voxel along the cone, cones from the boxes' camera-facing faces
@@ -27,12 +27,16 @@ namespace voxlab::clipmap {
 // 128x128 (indirect energy against the reference, Cornell box / sponza / skylight room / two rooms
 // / corridor / spheres room, light injected at each triangle's point nearest the cell centre):
 // offset 1: 1.29 / 0.86 / 0.87 / 0.84 / 0.52 / 0.90; 0.25: 1.17 / 0.84 / 0.82 / 0.93 / 0.60 / 0.85;
-// 0: 1.05 / 0.82 / 0.76 / 0.97 / 0.63 / 0.83 (the skylight room drops below 0.8).
+// 0: 1.05 / 0.82 / 0.76 / 0.97 / 0.63 / 0.83 (the skylight room drops below 0.8). With the fronts
+// held half a cell (clipmap.front-hold), walls in coarse cells stop the cones that leaked through
+// them, which lifts the over-lit top of the Cornell box too: 0.25: 1.28 / 0.83 / 0.87 / 0.93 / 0.67
+// / 0.85; 0.125: 1.18 / 0.81 / 0.85 / 0.97 / 0.68 / 0.85; 0: 1.11 / 0.81 / 0.83 / 1.04 / 0.70 /
+// 0.84 (the two rooms' SSIM drops from 0.76 to 0.70).
 static ConeDefaults coneDefaults() {
   ConeDefaults d;
   d.aperture = 60.0;
   d.apertureHelp = "full opening angle of each diffuse cone";
-  d.startOffset = 0.25;
+  d.startOffset = 0.125;
   d.startOffsetHelp = "cones start this far from the surface along its normal, in voxels of the finest level there";
   d.lodBiasHelp = "level = log2(diameter / s_0) + bias, at least the finest level holding the sample";
   d.maxDistance = 0.5;
@@ -55,10 +59,26 @@ static ParamDesc levelBandParam() {
                          "cells");
 }
 
+// How far behind its surface a front keeps its opacity, in cells of the level read, where a
+// sample's level is raised above the cone's own because the finer levels do not reach it
+// (shaders/clipmap/cone_trace.comp.glsl, sampleHoldingFronts). Measured at 128x128 (indirect
+// energy against the reference, Cornell box / sponza / skylight room / two rooms / corridor /
+// spheres room, start offset 0.125): 0 (off): 1.11 / 0.82 / 0.79 / 0.95 / 0.62 / 0.84;
+// 0.5: 1.18 / 0.81 / 0.85 / 0.97 / 0.68 / 0.85; 1: 1.21 / 0.79 / 0.98 / 1.27 / 0.68 / 0.84, the
+// light of the lit room through the two rooms' 4 cm wall (their SSIM drops from 0.76 to 0.54).
+static ParamDesc frontHoldParam() {
+  return ParamDesc::real("clipmap.front-hold", 0.5, 0.0, 1.0,
+                         "where a sample reads a level coarser than its cone asks for (the finer levels do not reach "
+                         "it), each directional face is also read this many cells back along the cone and the more "
+                         "opaque kept, so a surface the cone crosses between samples still stops it (0 = off)",
+                         "cells");
+}
+
 void ConeTraceStage::declare(StageBuilder& b) const {
   for (const auto& p : layoutParams()) b.param(p);
   for (const auto& p : pathParams()) b.param(p);
   b.param(levelBandParam());
+  b.param(frontHoldParam());
   b.param(kTracedCones.resolutionParam());
   declareConeParams(b, coneDefaults());
   declareSky(b);
@@ -111,6 +131,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
   setUniform(program, "u_faces", facesOf(ctx.params));
   setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
+  setUniform(program, "u_frontHold", ctx.params.getFloat("clipmap.front-hold"));
   setUniform(program, "u_mipLevels", mipCount(layout.n));
   const glm::ivec3 traced = indirect.desc().size;
   // The start offset is in voxels of the finest level holding the surface (the shader scales it).

@@ -12,14 +12,14 @@ namespace voxlab::clipmap {
 
 inline constexpr int kMaxLevels = 8;        // CLIPMAP_MAX_LEVELS in shaders/clipmap/clipmap.glsl
 inline constexpr int kCountersPerLevel = 5; // cleared, pairs, resolved, filtered, guards
-// The per-level counters, then one more: cells whose fragments overflowed the fixed-point sums.
+// The per-level counters, then one more: fixed-point light sums that wrapped past 2^32.
 size_t countersBytes(int levels);
 // The accumulators' uniforms of shaders/clipmap/clipmap.glsl (u_cellWords, u_accumulatorLevels,
-// u_fixedScale, u_maxFragments, u_maxRadiance), for accumulators of 'accumulatorLevels' levels:
+// u_fixedScale, u_maxRadiance), for accumulators of 'accumulatorLevels' levels:
 // 1 where the levels take turns (update), clipmap.levels where one pass fills them all.
 void setAccumulatorUniforms(GLuint program, const ParamSet& params, int accumulatorLevels);
-// One line on stderr and a statistic when cells may have overflowed their fixed-point sums.
-void reportOverflow(StageContext& ctx, const char* stage, uint32_t cells);
+// One line on stderr and a statistic when fixed-point light sums overflowed (the count of wraps).
+void reportOverflow(StageContext& ctx, const char* stage, uint32_t wraps);
 size_t accumulatorBytes(const ParamSet& p, int accumulatorLevels);
 // The uniforms every clipmap shader shares (shaders/clipmap/clipmap.glsl).
 void setClipUniforms(GLuint program, const Layout& layout, const std::vector<Cell>& origins);

@@ -116,6 +116,11 @@ static const char* const kBounceSums[4] = {"bounce-sum-r", "bounce-sum-g", "boun
 static int bounces(const ParamSet& p) { return p.getInt("bounces"); }
 static bool anisotropic(const ParamSet& p) { return p.getChoice("mipmap.mode") == "anisotropic"; }
 
+std::string coneVolumeDefines(const ParamSet& p) {
+  return std::string("#define CONE_ANISOTROPIC ") + (anisotropic(p) ? "1" : "0") + "\n#define CONE_CLASSIC_DIRECTIONAL " +
+         (p.getBool("mipmap.fronts") ? "0" : "1") + "\n";
+}
+
 // A bounce's grid is real when that bounce is gathered, else one empty texel.
 static TextureDesc bounceGridDesc(const ParamSet& p, int bounce) {
   return radianceGridDesc(bounce <= bounces(p) ? p.getInt("voxel.resolution") : 1, 0, gridFormat(p));
@@ -218,7 +223,7 @@ void BounceStage::execute(StageContext& ctx) {
   auto cones = diffuseCones(ctx.params.getInt("bounce.cone-count"), aperture, "ring", "cosine");
   std::vector<glm::vec4> packed;
   for (const auto& c : cones) packed.push_back(glm::vec4(c.direction, c.weight));
-  GLuint gather = ctx.shaders.program({"vct_grid/bounce_gather.comp.glsl"});
+  GLuint gather = ctx.shaders.program({"vct_grid/bounce_gather.comp.glsl"}, coneVolumeDefines(ctx.params));
   space.setUniforms(gather);
   glProgramUniform4fv(gather, glGetUniformLocation(gather, "u_cones"), GLsizei(packed.size()), &packed[0].x);
   setUniform(gather, "u_coneCount", int(cones.size()));
@@ -228,8 +233,6 @@ void BounceStage::execute(StageContext& ctx) {
   setUniform(gather, "u_stepScale", kStepScale);
   setUniform(gather, "u_lodBias", kLodBias);
   setUniform(gather, "u_maxSteps", 512);
-  setUniform(gather, "u_anisotropic", anisotropic(ctx.params) ? 1 : 0);
-  setUniform(gather, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
   setUniform(gather, "u_fragmentCount", unsigned(count));
   setUniform(gather, "u_maxRadiance", gridMaxRadiance(ctx.params));
   setSkyUniforms(gather, ctx.params, ctx.scene);

@@ -210,6 +210,59 @@ int directionalSize(const ParamSet& p) {
   return p.getChoice("mipmap.mode") == "anisotropic" ? std::max(p.getInt("voxel.resolution") / 2, 1) : 1;
 }
 
+// The mip passes visit only the texels that can be non-empty (shaders/vct_grid/mip_blocks.glsl):
+// per level a list of them, in two halves of one buffer (a level's list is built from the one
+// below, the fragment list's voxels for the first), each as long as the first level's list can be.
+static const char* const kMipBlocks = "mip-blocks";
+static const char* const kMipBlockCount = "mip-blocks.count";
+static const char* const kMipBlocksOccupied = "mip-blocks.occupied";  // r32ui, a bit per listed texel
+static uint32_t mipBlocksPerList(int res, uint32_t fragments) {
+  const uint32_t half = uint32_t(std::max(res / 2, 1));
+  return std::min(fragments, half * half * half);
+}
+static size_t mipBlocksBytes(int res, uint32_t fragments) { return 2 * size_t(mipBlocksPerList(res, fragments)) * 4; }
+static TextureDesc mipBlocksOccupiedDesc(int res) {
+  TextureDesc d;
+  d.target = GL_TEXTURE_3D;
+  d.format = GL_R32UI;
+  d.size = glm::ivec3(std::max(res / 2, 1));
+  d.levels = 0;
+  d.minFilter = d.magFilter = GL_NEAREST;
+  return d;
+}
+
+// Lists the texels of level k + 1 of 'grid' (level k of the directional volumes) that have an
+// occupied child, in half k % 2 of the list buffer; returns how many and where they start.
+static std::pair<uint32_t, uint32_t> listMipBlocks(StageContext& ctx, int res, int k) {
+  const uint32_t fragments = voxelFragmentCount(ctx.board);
+  const uint32_t perList = std::max(mipBlocksPerList(res, fragments), mipBlocksPerList(res, uint32_t(fragmentPoolStart(res))));
+  Buffer& blocks = ctx.board.ensureBuffer(kMipBlocks, 2 * size_t(perList) * 4);
+  Buffer& appended = ctx.board.ensureBuffer(kMipBlockCount, 32);
+  Texture& occupied = ctx.board.ensureTexture(kMipBlocksOccupied, mipBlocksOccupiedDesc(res));
+  const uint32_t zero = 0;
+  if (k == 0)
+    for (int level = 0; level < occupied.levels(); ++level)
+      glClearTexImage(occupied.id(), level, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (k >= occupied.levels()) return {0, 0};
+  // Slot k % 2 of the count buffer counts list k; the other still holds the length of list k - 1.
+  // (Slots 16 bytes apart: a storage buffer range starts at a multiple of 16 on llvmpipe.)
+  const uint32_t sourceCount = k == 0 ? fragments : readCounter(appended, size_t((k + 1) % 2) * 16);
+  glNamedBufferSubData(appended.id(), GLintptr((k % 2) * 16), 4, &zero);
+  GLuint program = ctx.shaders.program({"vct_grid/mip_blocks.comp.glsl"}, k == 0 ? "#define VOXLAB_BLOCKS_FROM_FRAGMENTS\n" : "");
+  setUniform(program, "u_sourceCount", sourceCount);
+  setUniform(program, "u_sourceOffset", unsigned(((k + 1) % 2) * perList));
+  setUniform(program, "u_targetOffset", unsigned((k % 2) * perList));
+  glUseProgram(program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MIP_BLOCKS, blocks.id());
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MIP_BLOCK_COUNT, appended.id(), GLintptr((k % 2) * 16), 4);
+  glBindImageTexture(0, occupied.id(), k, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  dispatchCompute({int(sourceCount), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  return {readCounter(appended, size_t(k % 2) * 16), unsigned((k % 2) * perList)};
+}
+
 void MipmapStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(voxelFormatParam());
@@ -242,6 +295,16 @@ void MipmapStage::declare(StageBuilder& b) const {
     b.texture(name, [](const ParamSet& p, const ViewState&) {
       return radianceGridDesc(directionalSize(p), 0, gridFormat(p));
     });
+  b.read("fragments");
+  b.read("fragments.count");
+  b.write(kMipBlocks);
+  b.buffer(kMipBlocks, [](const ParamSet& p, const ViewState&) {
+    return mipBlocksBytes(p.getInt("voxel.resolution"), uint32_t(fragmentPoolStart(p.getInt("voxel.resolution"))));
+  }, /*pool=*/true);
+  b.write(kMipBlockCount);
+  b.buffer(kMipBlockCount, [](const ParamSet&, const ViewState&) { return size_t(32); });
+  b.write(kMipBlocksOccupied);
+  b.texture(kMipBlocksOccupied, [](const ParamSet& p, const ViewState&) { return mipBlocksOccupiedDesc(p.getInt("voxel.resolution")); });
 }
 
 // One iteration per level: iteration k builds level k+1 of the grid from level k (and, with
@@ -288,24 +351,34 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     for (int d = 0; d < 6; ++d)
       for (int level = 0; level < dirs[d]->levels(); ++level)
         glClearTexImage(dirs[d]->id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+    // The anisotropic pass writes alpha 1 into every opacity texel it visits; those it skips (no
+    // occupied voxel under them, mip_blocks.glsl) get that alpha from the clear.
+    const uint8_t noOpacity[4] = {0, 0, 0, uint8_t(anisotropic ? 255 : 0)};
     if (writeOpacity)
       for (const char* name : kDirectionalOpacity)
         for (int level = 0; level < ctx.board.texture(name).levels(); ++level)
-          glClearTexImage(ctx.board.texture(name).id(), level, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+          glClearTexImage(ctx.board.texture(name).id(), level, GL_RGBA, GL_UNSIGNED_BYTE, noOpacity);
   }
 
+  const auto [blockCount, blockOffset] = listMipBlocks(ctx, res, k);
   if (k + 1 < grid.levels()) {
     GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"}, gridFormatDefines(ctx.params));
     glUseProgram(program);
     glBindTextureUnit(0, grid.id());
     setUniform(program, "u_sourceLevel", k);
     setUniform(program, "u_opacityRule", ctx.params.getChoice("mipmap.mode") == "max-opacity" ? 1 : 0);
+    setUniform(program, "u_blockOffset", blockOffset);
+    setUniform(program, "u_blockCount", blockCount);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MIP_BLOCKS, ctx.board.buffer(kMipBlocks).id());
     glBindImageTexture(0, grid.id(), k + 1, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
-    dispatchCompute(grid.levelSize(k + 1), {4, 4, 4});
+    dispatchCompute({int(blockCount), 1, 1}, {64, 1, 1});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
   if (anisotropic && k < dirs[0]->levels()) {
-    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"}, gridFormatDefines(ctx.params));
+    // Level 0 is built from the voxels, the others from the level below: two programs, so that
+    // neither runs the other's fetches (llvmpipe runs both sides of a branch).
+    const std::string fromVoxels = k == 0 ? "#define VOXLAB_MIP_FROM_VOXELS\n" : "";
+    GLuint aniso = ctx.shaders.program({"vct_grid/mipmap_anisotropic.comp.glsl"}, gridFormatDefines(ctx.params) + fromVoxels);
     glUseProgram(aniso);
     glBindTextureUnit(0, src.id());
     for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
@@ -314,7 +387,6 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     Texture& opacityNeg = ctx.board.texture(kDirectionalOpacity[1]);
     glBindTextureUnit(8, opacityPos.id());
     glBindTextureUnit(9, opacityNeg.id());
-    setUniform(aniso, "u_fromIsotropic", k == 0 ? 1 : 0);
     setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
     setUniform(aniso, "u_writeOpacity", writeOpacity ? 1 : 0);
     setUniform(aniso, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
@@ -322,7 +394,10 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     // Level k of the opacity volumes: written only with u_writeOpacity (a bounce's re-mip reads them).
     glBindImageTexture(6, opacityPos.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glBindImageTexture(7, opacityNeg.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    dispatchCompute(dirs[0]->levelSize(k), {4, 4, 4});
+    setUniform(aniso, "u_blockOffset", blockOffset);
+    setUniform(aniso, "u_blockCount", blockCount);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MIP_BLOCKS, ctx.board.buffer(kMipBlocks).id());
+    dispatchCompute({int(blockCount), 1, 1}, {64, 1, 1});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
 }

@@ -82,15 +82,13 @@ void ConeTraceStage::execute(StageContext& ctx) {
     for (Texture* t : {&indirect, &specular, &ao, &shadow}) glClearTexImage(t->id(), 0, GL_RGBA, GL_FLOAT, none);
   }
 
-  GLuint program = ctx.shaders.program({"vct_grid/cone_trace.comp.glsl"});
+  GLuint program = ctx.shaders.program({"vct_grid/cone_trace.comp.glsl"}, coneVolumeDefines(ctx.params));
   space.setUniforms(program);
   const glm::ivec2 probe = setConeUniforms(program, ctx.params, ctx.view, space, glm::ivec2(traced), kTracedCones.scale(ctx.params));
   const int probeX = probe.x, probeY = probe.y;
   const size_t coneCount = size_t(ctx.params.getInt("cone.count"));
 
-  setUniform(program, "u_anisotropic", ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0);
   setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
-  setUniform(program, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   bindRadianceGrid(ctx, ctx.params.getInt("bounces"));

@@ -30,7 +30,9 @@ float gridMaxRadiance(const ParamSet& p);         // 1 or kHdrMaxRadiance
 // and with mipmap.mode=anisotropic level k of 'dirs' (built from level 0 of 'src' when k = 0,
 // each leaf seen per direction as its facing code in kVoxelFacing says) and, when
 // 'writeOpacity', level k of the directional opacity volumes (kDirectionalOpacity; a bounce's
-// grid has the mip stage's geometry, so it reads them).
+// grid has the mip stage's geometry, so it reads them). Level 0 of 'src' must be empty outside the
+// voxel fragments' voxels: each level visits only the texels with a fragment's voxel under them
+// (shaders/vct_grid/mip_blocks.glsl) and leaves the others as cleared.
 void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* const dirs[6], int k, bool writeOpacity);
 // The inject stage's R32UI volume: per voxel, the facing code of its fragments' normals
 // (shaders/common/facing.glsl): per travel direction, how much of its surfaces' fronts is seen.
@@ -56,6 +58,9 @@ void declareGatheredGridReads(StageBuilder& b);         // reads every bounce's 
 inline const char* const kPackedDirectionalPrefix = "radiance-dir-packed-";
 void declarePackedDirectional(StageBuilder& b);
 void bindRadianceGrid(StageContext& ctx, int bounce);
+// The defines of a program that includes common/cone_trace.glsl: which volumes a sample reads
+// (mipmap.mode, mipmap.fronts), fixed per program rather than uniforms.
+std::string coneVolumeDefines(const ParamSet& p);
 TextureDesc packedDirectionalDesc(int edge, GLenum format);  // n x n x 2n, the volumes' levels
 // Copies two directional volumes of edge n (full mip chains) into 'packed' (n x n x 2n, as many
 // levels): level by level, 'positive' at z 0..n-1 and 'negative' at z n..2n-1 of that level.

@@ -17,7 +17,8 @@
 //                     fixed-point sums with integer atomics; or the RGBA8 compare-and-swap average)
 //   4. occlusion-fix  alpha = 1 in every non-empty voxel
 //   5. mipmap         own compute pass per level: average of the 8 children (isotropic), and the
-//                     six directional volumes (anisotropic, the default) the cones read
+//                     six directional volumes (anisotropic, the default) the cones read; each
+//                     level visits only the texels with a voxel fragment under them
 //   6. bounce         bounces >= 2: each voxel fragment gathers the previous bounce's grid with a
 //                     few diffuse cones, adds albedo x that to the injected radiance, re-mips
 //                     (bounce#k, one iteration per bounce; nothing at the default bounces=1)
