@@ -3,7 +3,9 @@
 // (from positions, in voxel units), the area of the triangle projected along it in voxels^2, and
 // the class: small triangles go to the triangle-parallel compute pass (listed in triangleList and
 // flagged with bit 31 of triangleInfo), large ones to the fragment-parallel raster pass
-// (Rauwendaal & Bailey 2013; seed 002 chapter 3).
+// (Rauwendaal & Bailey 2013; seed 002 chapter 3). A triangle outside the part of the scene being
+// voxelized (bit 30 of triangleInfo, set by the stage: static triangles when it voxelizes the
+// moving ones, or the reverse) is neither counted nor classified, so neither pass voxelizes it.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/scene_triangles.glsl"
@@ -26,6 +28,7 @@ uniform uint u_chunkColumns;  // voxel columns one compute invocation visits at 
 void main() {
   uint t = gl_GlobalInvocationID.x;
   if (t >= u_triangleCount) return;
+  if ((triangleInfo[t] & 0x40000000u) != 0u) return;  // another part of the scene
   vec3 v0 = worldToVoxel(scenePosition(sceneVertexIndex(t, 0)));
   vec3 v1 = worldToVoxel(scenePosition(sceneVertexIndex(t, 1)));
   vec3 v2 = worldToVoxel(scenePosition(sceneVertexIndex(t, 2)));

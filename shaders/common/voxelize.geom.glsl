@@ -22,9 +22,10 @@ out VoxelData {
 
 layout(std430, binding = VOXLAB_BINDING_AXIS_COUNTS) buffer AxisCounts { uint axisCount[4]; };
 uniform int u_conservative;
-#ifdef VOXLAB_SKIP_SMALL_TRIANGLES
+#if defined(VOXLAB_SKIP_SMALL_TRIANGLES) || defined(VOXLAB_SKIP_OTHER_PART)
 // Hybrid voxelization (shaders/voxelization/): triangles classified small are voxelized by the
-// triangle-parallel compute pass instead, so the raster pass skips them.
+// triangle-parallel compute pass instead, so the raster pass skips them. When one part of the
+// scene is voxelized (its static or its moving triangles), the others carry bit 30 and are skipped.
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) readonly buffer TriangleInfo { uint triangleInfo[]; };
 uniform int u_firstTriangle;  // set by GpuScene::draw: the draw range's first triangle
 #endif
@@ -40,6 +41,9 @@ void main() {
   if (max(an.x, max(an.y, an.z)) <= 0.0) return;  // degenerate triangle: no area, no voxels
 #ifdef VOXLAB_SKIP_SMALL_TRIANGLES
   if ((triangleInfo[u_firstTriangle + gl_PrimitiveIDIn] & 0x80000000u) != 0u) return;
+#endif
+#ifdef VOXLAB_SKIP_OTHER_PART
+  if ((triangleInfo[u_firstTriangle + gl_PrimitiveIDIn] & 0x40000000u) != 0u) return;
 #endif
   int axis = (an.x >= an.y && an.x >= an.z) ? 0 : (an.y >= an.z ? 1 : 2);
   atomicAdd(axisCount[axis], 1u);

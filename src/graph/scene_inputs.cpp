@@ -19,4 +19,12 @@ int invalidateSceneInput(StepCursor& cursor, const std::string& input) {
   return readers;
 }
 
+int invalidateMovedGeometry(StepCursor& cursor) {
+  return invalidateSceneInput(cursor, kSceneGeometryInput) + invalidateSceneInput(cursor, kSceneDynamicGeometryInput);
+}
+
+int invalidateAllGeometry(StepCursor& cursor) {
+  return invalidateMovedGeometry(cursor) + invalidateSceneInput(cursor, kSceneStaticGeometryInput);
+}
+
 }  // namespace voxlab

@@ -22,6 +22,7 @@ void timeFrame(HeadlessSession& session, FrameChangeCost& cost) {
   session.run();
   double cpu = 0.0, gpu = 0.0;
   for (int i : stale) {
+    if (cursor.record(i).state != StageState::Done) continue;  // not needed by the run: it did not run
     const std::string id = cursor.technique().stage(i).id();
     if (std::find(cost.stages.begin(), cost.stages.end(), id) == cost.stages.end()) cost.stages.push_back(id);
     cost.cpuMs[id].push_back(cursor.record(i).cpuMs);
@@ -92,7 +93,7 @@ std::vector<FrameChangeCost> timeFrameChanges(HeadlessSession& session, int fram
                          {}, {}, {}, {}, {}};
     for (int k = 0; k < frames; ++k) {
       if (animated) poseSessionScene(session, animation.duration * double(k + 1) / double(frames));
-      else invalidateSceneInput(cursor, kSceneGeometryInput);
+      else invalidateAllGeometry(cursor);
       timeFrame(session, cost);
     }
     if (animated) poseSessionScene(session, 0.0);

@@ -60,7 +60,7 @@ ScenePoseChange poseCursorScene(StepCursor& cursor, Scene& scene, const SceneAni
   const ScenePoseChange change = poseScene(scene, animation, float(time));
   if (change.geometry) {
     uploadPosedVertices(cursor.gpuScene(), scene, animation);
-    invalidateSceneInput(cursor, kSceneGeometryInput);
+    invalidateMovedGeometry(cursor);  // the still nodes' triangles stay where they were
   }
   if (change.lights) invalidateSceneInput(cursor, kSceneLightsInput);
   if (change.cameras && followCamera >= 0) cursor.setCamera(scene.cameras.at(size_t(followCamera)));
@@ -162,6 +162,9 @@ json runFrames(HeadlessSession& session, const FramesRequest& request, const std
     std::vector<std::string> reranIds;
     double cpu = 0.0;
     for (int i : stale) {
+      // A stale stage the run did not need (none of its outputs demanded, e.g. under --final-only)
+      // stays stale: it did not run.
+      if (cursor.record(i).state != StageState::Done) continue;
       reran.push_back({{"stage", t.stage(i).id()}, {"cpu_ms", cursor.record(i).cpuMs}, {"gpu_ms", cursor.record(i).gpuMs}});
       reranIds.push_back(t.stage(i).id());
       cpu += cursor.record(i).cpuMs;

@@ -940,6 +940,7 @@ Scene Loader::load() {
   scene.path = path_;
   scene.name = std::filesystem::path(path_).stem().string();
   buildScene(scene);
+  for (const MovingVertices& m : animation_.moving) scene.movingVertices.push_back({m.first, m.count});
   poseScene(scene, animation_, 0.0f);
   return scene;
 }

@@ -62,6 +62,20 @@ Camera frameBounds(const Bounds& bounds, float yfov) {
   return cam;
 }
 
+bool Scene::triangleMoves(size_t triangle) const {
+  const uint32_t v = indices[triangle * 3];
+  for (const VertexRange& r : movingVertices)
+    if (v >= r.first && v - r.first < r.count) return true;
+  return false;
+}
+
+size_t Scene::movingTriangleCount() const {
+  if (movingVertices.empty()) return 0;
+  size_t moving = 0;
+  for (size_t t = 0; t < triangleCount(); ++t) moving += triangleMoves(t) ? 1 : 0;
+  return moving;
+}
+
 uint32_t Scene::triangleMaterial(size_t triangle) const {
   // Draw ranges are sorted by firstIndex and contiguous; binary search the containing one.
   size_t first = triangle * 3;

@@ -104,6 +104,12 @@ struct DrawRange {
   uint32_t material = 0;
 };
 
+// Vertices [first, first + count) of the scene.
+struct VertexRange {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
 struct Scene {
   std::string name;  // file stem, e.g. "cornell-box"
   std::string path;  // file it was loaded from
@@ -122,9 +128,17 @@ struct Scene {
   // parameter and of `voxlab reference --sky`. From the glTF scene's extras "sky_radiance"
   // (a number >= 0); 0, no sky, when absent.
   float skyRadiance = 0.0f;
+  // The vertices placed by nodes that an animation moves (the node or one above it is animated;
+  // SceneAnimation::moving holds what posing them needs). Empty for a still scene. The scene's
+  // static part is every triangle outside them, its dynamic part every triangle inside.
+  std::vector<VertexRange> movingVertices;
 
   size_t triangleCount() const { return indices.size() / 3; }
   uint32_t triangleMaterial(size_t triangle) const;  // via draws
+  // Whether an animation moves 'triangle' (its vertices lie in movingVertices: a primitive's
+  // triangles use only that primitive's vertices, all placed by one node).
+  bool triangleMoves(size_t triangle) const;
+  size_t movingTriangleCount() const;
 };
 
 // Loads a glTF 2.0 file (.gltf or .glb). Throws voxlab::Error with one line naming the file and

@@ -1,7 +1,7 @@
 # voxlab run/list/bench: bad arguments give one line naming what is wrong and what is valid, exit 2.
 voxlab_cli_case(run_unknown_technique 2 "unknown technique 'vct-nope'; valid techniques: .*vct-grid"
   "run --technique vct-nope --out @OUT@")
-voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize, light, shadow-map, inject, occlusion-fix, mipmap, bounce, gbuffer, cone-trace, composite"
+voxlab_cli_case(run_unknown_stage 2 "no stage 'shade'; valid stages: voxelize-static, voxelize, triangle-axes, light, shadow-map, inject, occlusion-fix, mipmap, bounce, gbuffer, cone-trace, composite"
   "run --technique vct-grid --until shade --out @OUT@")
 voxlab_cli_case(run_bounces_out_of_range 2 "bounces=.4. is not valid; valid: 1..3"
   "run --technique vct-grid --set bounces=4 --out @OUT@")
@@ -26,11 +26,12 @@ voxlab_cli_case(run_bad_camera 2 "camera 7 does not exist in cornell-box; valid:
   "run --technique vct-grid --camera 7 --out @OUT@")
 voxlab_cli_case(unknown_command 2 "unknown command 'frobnicate'; valid commands: .*run" "frobnicate")
 voxlab_cli_case(bench_unknown_technique 2 "unknown technique 'nope'" "bench --technique nope --process-runs 0")
-# bench --frames: a moving object (the scene's animation) re-runs voxelization first; a light
-# move starts at the light stage (voxelize and the G-buffer do not read the light).
+# bench --frames: a moving object (the scene's animation) re-runs the moving triangles'
+# voxelization first, never the still ones' (voxelize-static); a light move starts at the light
+# stage (voxelize and the G-buffer do not read the light); a camera move voxelizes nothing.
 voxlab_cli_case_output(bench_frames 0 "^$"
   "bench --technique vct-grid --scene cornell-box-moving --set voxel.resolution=16 --size 16x16 --runs 1 --process-runs 0 --frames 2"
-  "[|] light move [|] light.0.azimuth turned by 2 degrees a frame [|] light, shadow-map, inject.*[|] moving object [|] the scene's animation played over the frames [|] voxelize, shadow-map"
+  "[|] light move [|] light.0.azimuth turned by 2 degrees a frame [|] light, shadow-map, inject.*[|] camera move [|] [^|]* [|] triangle-axes, gbuffer, cone-trace, composite [|].*[|] moving object [|] the scene's animation played over the frames [|] voxelize, triangle-axes, shadow-map"
   "" 0 "" "")
 voxlab_cli_case(run_only_bad_address 2 "output address 'mipmap/radiance' is not technique/stage/output"
   "run --technique vct-grid --only mipmap/radiance --out @OUT@")

@@ -292,5 +292,103 @@ TEST(SceneAnimation, AFrameReRunsOnlyWhatItsChangeInvalidates) {
   session.run();
 }
 
+// --- the static and dynamic voxelization ------------------------------------------------------------
+
+// The records of a fragment list, each 'stride' bytes, sorted: the list's content without the order
+// its atomic appends happened to take.
+std::vector<std::string> sortedRecords(const CapturedOutput& fragments) {
+  const size_t stride = fragments.desc.layout.stride;
+  std::vector<std::string> records;
+  for (uint32_t i = 0; i < fragments.recordCount; ++i)
+    records.emplace_back(reinterpret_cast<const char*>(&fragments.records[size_t(i) * stride]), stride);
+  std::sort(records.begin(), records.end());
+  return records;
+}
+
+std::vector<std::string> staleStageIds(const StepCursor& c) {
+  std::vector<std::string> ids;
+  for (int i = 0; i < c.technique().stageCount(); ++i)
+    if (c.record(i).state != StageState::Done) ids.push_back(c.technique().stage(i).id());
+  return ids;
+}
+
+// The static triangles voxelized once and the moving ones appended each frame give exactly the
+// fragments of voxelizing every triangle at once (the voxelization technique's voxelize stage, one
+// pass over the whole scene), record for record, at two times of the animation and with both exact
+// methods (the compute pass, and the raster pass, which skips the other part in its geometry shader).
+TEST(SceneAnimation, StaticAndDynamicVoxelsMergedEqualVoxelizingEveryTriangle) {
+  SceneAnimation animation;
+  const Scene still = loadScene(resolveScenePath("cornell-box-moving"), animation);
+  ASSERT_TRUE(animation.movesGeometry());
+  ASSERT_GT(still.movingTriangleCount(), 0u);
+  ASSERT_LT(still.movingTriangleCount(), still.triangleCount()) << "the scene has still triangles too";
+  const std::vector<double> times = {0.3 * animation.duration, 0.8 * animation.duration};
+  for (const char* method : {"triangle-parallel", "fragment-parallel"}) {
+    SCOPED_TRACE(method);
+    auto request = [&](const char* technique) {
+      RunRequest r;
+      r.technique = technique;
+      r.scene = "cornell-box-moving";
+      r.until = "voxelize";
+      r.width = r.height = 32;
+      r.sets = {"voxel.resolution=64", std::string("voxelize.method=") + method};
+      return r;
+    };
+    std::vector<std::vector<std::string>> merged;
+    {
+      HeadlessSession& s = testing_support::freshSession(request("vct-grid"));
+      s.run();
+      for (double t : times) {
+        poseSessionScene(s, t);
+        s.run();
+        const StageStats& stats = s.cursor().record(s.cursor().technique().stageIndex("voxelize")).stats;
+        EXPECT_GT(stats.at("fragments_dynamic"), 0.0) << "the moving block has voxels at t = " << t;
+        EXPECT_GT(stats.at("fragments_static"), 0.0);
+        merged.push_back(sortedRecords(testing_support::capture(s, "voxelize", "fragments")));
+      }
+    }
+    EXPECT_NE(merged[0], merged[1]) << "the block moved between the two times";
+    HeadlessSession& whole = testing_support::freshSession(request("voxelization"));
+    whole.run();
+    for (size_t k = 0; k < times.size(); ++k) {
+      poseSessionScene(whole, times[k]);
+      whole.run();
+      const std::vector<std::string> once = sortedRecords(testing_support::capture(whole, "voxelize", "fragments"));
+      EXPECT_EQ(merged[k].size(), once.size()) << "t = " << times[k];
+      EXPECT_TRUE(merged[k] == once) << "t = " << times[k] << ": the merged list differs from one pass over every triangle";
+    }
+  }
+}
+
+// A frame where only the animated block moved re-runs the moving triangles' voxelization and what
+// reads it (and the stages drawing every triangle), never the still triangles' voxelization; a
+// camera move re-runs no voxelization at all.
+TEST(SceneAnimation, AMovingObjectReVoxelizesOnlyItsTrianglesAndACameraMoveNone) {
+  RunRequest r;
+  r.technique = "vct-grid";
+  r.scene = "cornell-box-moving";
+  r.width = r.height = 32;
+  r.sets = {"voxel.resolution=32"};
+  HeadlessSession& session = testing_support::freshSession(r);
+  StepCursor& c = session.cursor();
+  SceneAnimation animation;
+  loadScene(c.scene().path, animation);
+  session.run();
+  ASSERT_TRUE(staleStageIds(c).empty());
+
+  EXPECT_TRUE(poseSessionScene(session, 0.5 * animation.duration).geometry);
+  const std::vector<std::string> moved = {"voxelize", "triangle-axes", "shadow-map", "inject", "occlusion-fix",
+                                          "mipmap", "bounce", "gbuffer", "cone-trace", "composite"};
+  EXPECT_EQ(staleStageIds(c), moved) << "every stage but voxelize-static and light";
+  session.run();
+
+  Camera stepped = c.camera();
+  stepped.position += glm::vec3(0.05f, 0.0f, 0.0f);
+  c.setCamera(stepped);
+  const std::vector<std::string> looked = {"triangle-axes", "gbuffer", "cone-trace", "composite"};
+  EXPECT_EQ(staleStageIds(c), looked) << "only the stages drawing from the camera";
+  session.run();
+}
+
 }  // namespace
 }  // namespace voxlab

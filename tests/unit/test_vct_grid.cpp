@@ -130,7 +130,7 @@ TEST(VctGridVoxelize, TrianglesPerAxisMatchCpuPlaneNormals) {
     glm::vec3 n = glm::abs(glm::cross(b - a, c - a));
     counts[(n.x >= n.y && n.x >= n.z) ? 0 : (n.y >= n.z ? 1 : 2)] += 1;
   }
-  const auto& stats = s.cursor().record(0).stats;
+  const auto& stats = s.cursor().record(s.cursor().technique().stageIndex("voxelize")).stats;
   EXPECT_EQ(stats.at("triangles_axis_x"), counts[0]);
   EXPECT_EQ(stats.at("triangles_axis_y"), counts[1]);
   EXPECT_EQ(stats.at("triangles_axis_z"), counts[2]);

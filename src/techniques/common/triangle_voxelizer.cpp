@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "common/shared.h"
@@ -31,17 +32,38 @@ ParamDesc hybridCutoffParam() {
 
 VoxelizeMethod voxelizeMethodOf(const ParamSet& params) { return VoxelizeMethod(params.getInt("voxelize.method")); }
 
-void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, float cutoff) {
+VoxelizeScratch VoxelizeScratch::prefixed(const std::string& prefix) {
+  return {prefix + ".triangle-info", prefix + ".triangle-list", prefix + ".triangle-classes", prefix + ".axis-counts"};
+}
+
+void VoxelizeScratch::declareWrites(StageBuilder& b) const {
+  b.write(triangleInfo);
+  b.write(triangleList);
+  b.write(triangleClasses);
+  b.write(axisCounts);
+}
+
+bool partHolds(const Scene& scene, TrianglePart part, size_t triangle) {
+  return part == TrianglePart::All || scene.triangleMoves(triangle) == (part == TrianglePart::Dynamic);
+}
+
+// Bit 30 of a triangle's info: outside the part being voxelized (classify.comp.glsl skips it,
+// voxelize.geom.glsl too when VOXLAB_SKIP_OTHER_PART is defined).
+constexpr uint32_t kOtherPartBit = 0x40000000u;
+
+void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, float cutoff,
+                       TrianglePart part, const VoxelizeScratch& scratch) {
   const size_t triangles = ctx.scene.triangleCount();
-  // Material index per triangle (bits 0-23); the shader adds the class bit.
+  // Material index per triangle (bits 0-23) and the other-part bit; the shader adds the class bit.
   std::vector<uint32_t> info(std::max<size_t>(triangles, 1), 0u);
   for (const DrawRange& d : ctx.scene.draws)
-    for (uint32_t t = d.firstIndex / 3; t < (d.firstIndex + d.indexCount) / 3; ++t) info[t] = d.material;
-  Buffer& infoBuffer = ctx.board.ensureBuffer("triangle-info", info.size() * 4);
+    for (uint32_t t = d.firstIndex / 3; t < (d.firstIndex + d.indexCount) / 3; ++t)
+      info[t] = d.material | (partHolds(ctx.scene, part, t) ? 0u : kOtherPartBit);
+  Buffer& infoBuffer = ctx.board.ensureBuffer(scratch.triangleInfo, info.size() * 4);
   infoBuffer.upload(info.data(), info.size() * 4);
   // Two lists (classify.comp.glsl): every compute triangle, then those with more than one chunk.
-  Buffer& list = ctx.board.ensureBuffer("triangle-list", info.size() * 8);
-  Buffer& counts = ctx.board.ensureBuffer("triangle-classes", 32);
+  Buffer& list = ctx.board.ensureBuffer(scratch.triangleList, info.size() * 8);
+  Buffer& counts = ctx.board.ensureBuffer(scratch.triangleClasses, 32);
   const uint32_t zero[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   counts.upload(zero, 32);
 
@@ -62,9 +84,9 @@ void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMetho
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-TriangleClasses readTriangleClasses(StageContext& ctx) {
+TriangleClasses readTriangleClasses(StageContext& ctx, const VoxelizeScratch& scratch) {
   uint32_t c[8];
-  auto bytes = ctx.board.buffer("triangle-classes").download(32);
+  auto bytes = ctx.board.buffer(scratch.triangleClasses).download(32);
   std::memcpy(c, bytes.data(), 32);
   TriangleClasses k;
   k.axis[0] = c[0];
@@ -89,20 +111,22 @@ bool methodComputes(VoxelizeMethod method, const TriangleClasses& classes) {
   return (method == VoxelizeMethod::TriangleParallel || method == VoxelizeMethod::Hybrid) && classes.compute > 0;
 }
 
-void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity) {
+void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity,
+                             TrianglePart part, const VoxelizeScratch& scratch) {
+  std::string defines = method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "";
+  if (part != TrianglePart::All) defines += "#define VOXLAB_SKIP_OTHER_PART 1\n";
   GLuint program = ctx.shaders.program(
-      {"common/world.vert.glsl", "common/voxelize.geom.glsl", "common/voxelize.frag.glsl"},
-      method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "");
+      {"common/world.vert.glsl", "common/voxelize.geom.glsl", "common/voxelize.frag.glsl"}, defines);
   space.setUniforms(program);
   setUniform(program, "u_conservative", method == VoxelizeMethod::Plain ? 0 : 1);
   setUniform(program, "u_capacity", capacity);
-  if (ctx.board.hasBuffer("triangle-info"))
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
+  if (ctx.board.hasBuffer(scratch.triangleInfo))
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer(scratch.triangleInfo).id());
   rasterizeVoxelFragments(ctx, program, space.resolution);
 }
 
 void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const TriangleClasses& classes,
-                              uint32_t capacity) {
+                              uint32_t capacity, const VoxelizeScratch& scratch) {
   GLuint program = ctx.shaders.program({"common/triangle_parallel.comp.glsl"});
   space.setUniforms(program);
   setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
@@ -111,8 +135,8 @@ void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const 
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer("triangle-info").id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer("triangle-list").id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer(scratch.triangleInfo).id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer(scratch.triangleList).id());
   ctx.gpuScene.bindCoverage();
   const GLint materialLoc = glGetUniformLocation(program, "u_materialIndex");
   // Chunk 0 of every compute triangle, one dispatch per draw range (one material, its textures).
@@ -147,14 +171,15 @@ void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const 
 }
 
 uint32_t voxelizeTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method,
-                           const TriangleClasses& classes, uint32_t capacity) {
+                           const TriangleClasses& classes, uint32_t capacity, TrianglePart part,
+                           const VoxelizeScratch& scratch, const std::string& countResource) {
   const bool raster = methodRasterizes(method, classes), compute = methodComputes(method, classes);
   uint32_t afterRaster = 0;
   if (raster) {
-    voxelizeTrianglesRaster(ctx, space, method, capacity);
-    afterRaster = readCounter(ctx.board.buffer("fragments.count"));
+    voxelizeTrianglesRaster(ctx, space, method, capacity, part, scratch);
+    afterRaster = readCounter(ctx.board.buffer(countResource));
   }
-  if (compute) voxelizeTrianglesCompute(ctx, space, classes, capacity);
+  if (compute) voxelizeTrianglesCompute(ctx, space, classes, capacity, scratch);
   return afterRaster;
 }
 

@@ -4,6 +4,7 @@
 // voxelization technique's classify/voxelize stages both call these.
 #pragma once
 #include <cstdint>
+#include <string>
 
 #include "graph/stage.h"
 #include "techniques/common/voxel_space.h"
@@ -37,28 +38,50 @@ struct TriangleClasses {
   }
 };
 
-// Classifies every triangle for 'method' (plain and fragment-parallel: all raster;
-// triangle-parallel: all compute; hybrid: by projected area against voxelize.hybrid-cutoff).
-// Writes the board's "triangle-info" (material | class bit per triangle), "triangle-list" and
-// "triangle-classes" (the counters); declare them as written by the calling stage.
-void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, float cutoff);
+// The board buffers one voxelization works in. Each board resource has one writer, so a stage
+// that voxelizes a part of the scene next to another stage doing the rest names its own.
+struct VoxelizeScratch {
+  std::string triangleInfo = "triangle-info";        // material | class bit | other-part bit per triangle
+  std::string triangleList = "triangle-list";        // the triangles the compute pass visits
+  std::string triangleClasses = "triangle-classes";  // the classification's counters
+  std::string axisCounts = "voxelize.axis-counts";   // triangles per projection axis (raster pass)
+  // The four named "<prefix>.triangle-info", "<prefix>.triangle-list", ...
+  static VoxelizeScratch prefixed(const std::string& prefix);
+  void declareWrites(StageBuilder& b) const;  // declares the four as written by the stage
+};
+
+// Which triangles of the scene a voxelization covers: all, those no animation moves, or those
+// it moves (Scene::triangleMoves).
+enum class TrianglePart { All, Static, Dynamic };
+// Whether 'part' holds 'triangle' of 'scene'.
+bool partHolds(const Scene& scene, TrianglePart part, size_t triangle);
+
+// Classifies every triangle of 'part' for 'method' (plain and fragment-parallel: all raster;
+// triangle-parallel: all compute; hybrid: by projected area against voxelize.hybrid-cutoff);
+// triangles outside it are left to neither pass. Writes the board's "triangle-info" (material |
+// class bit | other-part bit per triangle), "triangle-list" and "triangle-classes" (the
+// counters); declare them as written by the calling stage.
+void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, float cutoff,
+                       TrianglePart part = TrianglePart::All, const VoxelizeScratch& scratch = {});
 // Reads the counters back (one readback).
-TriangleClasses readTriangleClasses(StageContext& ctx);
+TriangleClasses readTriangleClasses(StageContext& ctx, const VoxelizeScratch& scratch = {});
 
 // The triangle-parallel pass over the triangles classified 'compute', appending to the fragment
 // list bound by fillFragmentList (call it inside its passes with the list's capacity). One
 // dispatch per draw range, so each sees one material and samples its textures.
 void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const TriangleClasses& classes,
-                              uint32_t capacity);
+                              uint32_t capacity, const VoxelizeScratch& scratch = {});
 
 // The fragment-parallel raster pass for 'method' (fragment-parallel, plain, or hybrid: the large
-// triangles), appending to the list bound by fillFragmentList.
-void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity);
+// triangles) over the triangles of 'part', appending to the list bound by fillFragmentList.
+void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity,
+                             TrianglePart part = TrianglePart::All, const VoxelizeScratch& scratch = {});
 
-// Both passes as 'method' needs them; returns the fragments the raster pass appended (0 when it
-// did not run).
+// Both passes as 'method' needs them, over the triangles of 'part' (as classified); returns the
+// count of the fragment list 'countResource' after the raster pass (0 when it did not run).
 uint32_t voxelizeTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method,
-                           const TriangleClasses& classes, uint32_t capacity);
+                           const TriangleClasses& classes, uint32_t capacity, TrianglePart part = TrianglePart::All,
+                           const VoxelizeScratch& scratch = {}, const std::string& countResource = "fragments.count");
 bool methodRasterizes(VoxelizeMethod method, const TriangleClasses& classes);
 bool methodComputes(VoxelizeMethod method, const TriangleClasses& classes);
 

@@ -42,11 +42,10 @@ size_t estimateFragments(const Scene& scene, const VoxelSpace& space) {
 
 size_t fragmentPoolStart(int resolution) { return std::max<size_t>(size_t(resolution) * resolution * 12, 1 << 16); }
 
-size_t initialFragmentCapacity(Blackboard& board, const Scene& scene, int resolution) {
+size_t initialFragmentCapacity(Blackboard& board, const Scene& scene, int resolution, const std::string& list) {
   size_t capacity = fragmentPoolStart(resolution);
   capacity = std::max(capacity, estimateFragments(scene, VoxelSpace::fromScene(scene, resolution)));
-  if (board.hasBuffer("fragments"))
-    capacity = std::max(capacity, board.buffer("fragments").size() / sizeof(gpu::VoxelFragment));
+  if (board.hasBuffer(list)) capacity = std::max(capacity, board.buffer(list).size() / sizeof(gpu::VoxelFragment));
   return capacity;
 }
 

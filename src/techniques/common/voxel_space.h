@@ -2,6 +2,7 @@
 // scene/voxel_space.h): its record count, the capacity to allocate before a pass, its layout.
 #pragma once
 #include <cstdint>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -18,10 +19,11 @@ class Blackboard;
 // the list's capacity (the counter keeps counting past it when the list overflows).
 uint32_t voxelFragmentCount(Blackboard& board);
 
-// Records to allocate for the fragment list before a voxelization pass: the larger of a guess of
-// 12 per resolution^2 (at least 65536), estimateFragments() and the list's current size, so that
-// the passes rarely have to run twice.
-size_t initialFragmentCapacity(Blackboard& board, const Scene& scene, int resolution);
+// Records to allocate for the fragment list 'list' before a voxelization pass: the larger of a
+// guess of 12 per resolution^2 (at least 65536), estimateFragments() and the list's current size,
+// so that the passes rarely have to run twice.
+size_t initialFragmentCapacity(Blackboard& board, const Scene& scene, int resolution,
+                               const std::string& list = "fragments");
 // An estimate of the fragments a conservative voxelization of 'scene' produces (from each
 // triangle's projected area and perimeter in voxels); it errs on the large side.
 size_t estimateFragments(const Scene& scene, const VoxelSpace& space);

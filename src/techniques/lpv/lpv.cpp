@@ -10,7 +10,8 @@
 //   that the defaults here follow; the thesis' variants are parameters a lesson can switch to.
 //
 // Overview (the stages, in order)
-//   1. voxelize    triangles -> voxel fragment list (the shared stage of src/techniques/common)
+//   1. voxelize    triangles -> voxel fragment list (the shared stages of src/techniques/common:
+//                  voxelize-static once, voxelize per frame of moving triangles, triangle-axes)
 //      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   2. shadow-map  depth from the light (shared)
 //   3. place       fine and coarse grid boxes: the coarse one on the scene, the fine one ahead of the
@@ -243,7 +244,7 @@ static std::unique_ptr<Technique> makeLpv() {
   auto t = std::make_unique<Technique>(
       "lpv", "Light propagation volumes with voxel VPLs",
       "Lit voxels become VPLs in L1 SH grids; light spreads cell by cell, blocked by the voxels; surfaces read it back.");
-  t->add<VoxelizeStage>();
+  addVoxelizeStages(*t);
   t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<lpv::PlaceStage>();

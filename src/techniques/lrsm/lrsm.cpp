@@ -13,7 +13,8 @@
 //   glossy, with far less memory than a radiance voxel grid.
 //
 // Overview (the stages, in order)
-//   1. voxelize          triangles -> conservative voxel fragment list (shared)
+//   1. voxelize          triangles -> conservative voxel fragment list (shared: voxelize-static,
+//                        voxelize, triangle-axes)
 //   2. occlusion-voxels  fragments -> R8 3D texture, 1 byte per voxel (plain stores)
 //   3. occlusion-mips    isotropic mips, mean of 8 children; one level per iteration
 //   4. shadow-map        depth from the light and the light's parameters (shared)
@@ -74,7 +75,7 @@ static std::unique_ptr<Technique> makeLrsm() {
       "lrsm", "Layered reflective shadow maps",
       "Binary occlusion voxels with isotropic mips; a per-light layered RSM with depth moments; cone sphere samples "
       "take alpha from the voxels and radiance from the layers (Gaussian depth visibility).");
-  t->add<VoxelizeStage>();
+  addVoxelizeStages(*t);
   t->add<lrsm::OcclusionVoxelsStage>();
   t->add<lrsm::OcclusionMipsStage>();
   t->add<LightStage>();

@@ -9,7 +9,8 @@
 //   arriving along the ray.
 //
 // Overview (the stages, in order)
-//   1. voxelize        triangles -> conservative voxel fragment list (shared with vct-grid)
+//   1. voxelize        triangles -> conservative voxel fragment list (shared with vct-grid:
+//                      voxelize-static, voxelize, triangle-axes)
 //   2. binary-voxels   fragments -> RGBA32UI columns, one bit per slice (imageAtomicOr; shared)
 //   3. bitmask-tables  OR[k], XOR[k] (129 entries) on the CPU; ray masks XOR[i]^XOR[j+1] on the GPU
 //   4. hierarchy       2D OR mips, all 128 slices kept, one level per iteration
@@ -109,7 +110,7 @@ static std::unique_ptr<Technique> makeNearField() {
   auto t = std::make_unique<Technique>(
       "near-field", "Near-field GI on binary voxels",
       "Binary voxel columns, a 2D OR mip hierarchy, short cosine rays and a reflective shadow map lookup.");
-  t->add<VoxelizeStage>();
+  addVoxelizeStages(*t);
   t->add<BinaryVoxelsStage>();
   t->add<nearfield::BitmaskTablesStage>();
   t->add<nearfield::HierarchyStage>();

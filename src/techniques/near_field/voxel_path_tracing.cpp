@@ -52,7 +52,7 @@ static std::unique_ptr<Technique> makeVoxelPathTracing() {
   auto t = std::make_unique<Technique>(
       "voxel-path-tracing", "Voxel path tracing on binary voxels",
       "Diffuse paths of several bounces through the binary voxel hierarchy, lit where the RSM sees their vertices.");
-  t->add<VoxelizeStage>();
+  addVoxelizeStages(*t);
   t->add<BinaryVoxelsStage>();
   t->add<nearfield::VoxelAttributesStage>();
   t->add<nearfield::BitmaskTablesStage>();

@@ -16,7 +16,8 @@
 //   voxels live differs. Empty space costs no nodes below the level where it becomes empty.
 //
 // Overview (the stages, in order)
-//   1. voxelize        shared (techniques/common): triangles -> voxel fragment list
+//   1. voxelize        shared (techniques/common: voxelize-static, voxelize, triangle-axes):
+//                      triangles -> voxel fragment list
 //   2. shadow-map      shared: depth from the light, the light's uniform buffer
 //   3. svo-build       one level per iteration: flag (per fragment, atomicOr) -> dilate (optional,
 //                      the 26 neighbours) -> count -> size the node pool from the count ->
@@ -218,7 +219,7 @@ static std::unique_ptr<Technique> makeSvo() {
       "svo", "Voxel cone tracing on a sparse voxel octree",
       "Build an octree level by level from the voxel fragments, light and filter it bottom up, then trace "
       "cones (GI and ambient occlusion) that descend it per sample.");
-  t->add<VoxelizeStage>();
+  addVoxelizeStages(*t);
   t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<svo::BuildStage>();

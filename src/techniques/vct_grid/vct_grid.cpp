@@ -6,7 +6,11 @@
 //   and every pixel gathers indirect light by marching a few wide cones through the mip levels.
 //
 // Overview (the stages, in order)
-//   1. voxelize       triangles -> voxel fragment list (dominant axis, conservative raster)
+//   1. voxelize-static  the triangles no animation moves -> their voxel fragment list, once
+//      voxelize       that list + the moving triangles' fragments -> the voxel fragment list
+//                     (dominant axis, conservative; only this re-runs when an animated node moves)
+//      triangle-axes  the triangles coloured by projection axis, from the camera (shared,
+//                     common/voxelize_stage: the three voxelization stages)
 //      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   2. shadow-map     depth from the light; the light's parameters as a uniform buffer
 //   3. inject         Lambert direct light + emission per fragment, averaged per voxel (exact
@@ -55,7 +59,7 @@ static std::unique_ptr<Technique> makeVctGrid() {
   auto t = std::make_unique<Technique>(
       "vct-grid", "Voxel cone tracing on a dense grid",
       "Voxelize, inject direct light, prefilter into mips, then gather indirect light with cones.");
-  t->add<VoxelizeStage>();
+  addVoxelizeStages(*t);
   t->add<LightStage>();
   t->add<ShadowMapStage>();
   t->add<vct::InjectStage>();
