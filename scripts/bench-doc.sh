@@ -71,8 +71,9 @@ if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
 fi
 
 if [[ "$part" != frames ]]; then
-python3 - "$doc" "$work" <<'PY'
+PYTHONPATH="$root/scripts" python3 - "$doc" "$work" <<'PY'
 import json, os, sys
+from doc_markers import update_doc
 doc, work = sys.argv[1], sys.argv[2]
 e = json.load(open(os.path.join(work, "run.json")))
 benches = []
@@ -128,16 +129,8 @@ for b in benches:
                      f"{ms(s['cpu_ms_first'])} |")
 table = "\n".join(lines) + "\n"
 
-begin, end = "<!-- bench-table:begin -->", "<!-- bench-table:end -->"
-text = open(doc).read() if os.path.exists(doc) else ""
-if begin in text and end in text:
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    open(doc, "w").write(head + begin + "\n" + table + end + tail)
+if update_doc(doc, "bench-table", table, "bench-doc"):
     print(f"bench-doc: updated {doc}", file=sys.stderr)
-else:
-    print(table)
-    print(f"bench-doc: {doc} has no {begin} ... {end}; printed the table instead", file=sys.stderr)
 PY
 fi
 
@@ -166,8 +159,9 @@ if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
     "TECHNIQUES", "THREADS", "SETTINGS"]; print(json.dumps({k: os.environ[k] for k in keys}))' >"$frame_work/run.json"
 fi
 
-python3 - "$doc" "$frame_work" <<'PY'
+PYTHONPATH="$root/scripts" python3 - "$doc" "$frame_work" <<'PY'
 import json, os, sys
+from doc_markers import update_doc
 doc, work = sys.argv[1], sys.argv[2]
 e = json.load(open(os.path.join(work, "run.json")))
 # What the sources publish per frame or per pass on their GPUs (the "Published GPU figures" table
@@ -223,14 +217,6 @@ lines = [
     "|---|---:|---:|---:|---:|---|---|---|---|",
 ] + rows
 table = "\n".join(lines) + "\n"
-begin, end = "<!-- frame-table:begin -->", "<!-- frame-table:end -->"
-text = open(doc).read() if os.path.exists(doc) else ""
-if begin in text and end in text:
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    open(doc, "w").write(head + begin + "\n" + table + end + tail)
+if update_doc(doc, "frame-table", table, "bench-doc"):
     print(f"bench-doc: updated {doc} (frame table)", file=sys.stderr)
-else:
-    print(table)
-    print(f"bench-doc: {doc} has no {begin} ... {end}; printed the table instead", file=sys.stderr)
 PY

@@ -17,18 +17,17 @@ out="$root/build/fidelity"
 "$voxlab" fidelity --out "$out" ${FIDELITY_ARGS:-}
 # shellcheck disable=SC2086
 "$voxlab" fidelity --frames 16 --out "$out/frames" ${FIDELITY_ARGS:-}
-python3 - "$root/docs/fidelity.md" "$out/fidelity.md" "$out/fidelity.json" "$out/frames/fidelity.md" <<'PY'
+PYTHONPATH="$root/scripts" python3 - "$root/docs/fidelity.md" "$out/fidelity.md" "$out/fidelity.json" "$out/frames/fidelity.md" <<'PY'
 import json, sys
+from doc_markers import paste_between_markers
 doc_path, tables_path, report_path, frames_path = sys.argv[1:5]
 doc, tables, report = open(doc_path).read(), open(tables_path).read(), json.load(open(report_path))
 
 def paste(doc, marker, body):
-    begin, end = f"<!-- {marker}:begin -->", f"<!-- {marker}:end -->"
-    if begin not in doc or end not in doc:
-        sys.exit(f"{doc_path} has no {begin} ... {end}")
-    head, rest = doc.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    return head + begin + "\n" + body + "\n" + end + tail
+    pasted = paste_between_markers(doc, marker, body + "\n")
+    if pasted is None:
+        sys.exit(f"{doc_path} has no <!-- {marker}:begin --> ... <!-- {marker}:end -->")
+    return pasted
 
 body = tables.split("\n", 1)[1].strip()  # without the page's own heading
 doc = paste(doc, "fidelity-table", body + "\n\nWhole run: %.0f s." % report["wall_s"])
