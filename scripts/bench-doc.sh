@@ -40,14 +40,32 @@ frame_work="${FRAME_WORK:-$root/build/bench-doc/frames-$frame_scene}"
 case "$part" in all|bench|frames) ;; *) echo "bench-doc: PART must be all, bench or frames, not '$part'" >&2; exit 2;; esac
 mkdir -p "$work" "$frame_work"
 
-if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
+# Before a measurement: the load, the time, the source the binary was built from (read before
+# measuring: edits made meanwhile do not count) and the techniques `voxlab list` names.
+start_measurement() {
   load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
   started="$(date -u '+%Y-%m-%d %H:%M UTC')"
-  # The source the binary was built from, read before measuring (edits made meanwhile do not count).
   commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
   git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
   t0="$(date +%s.%N)"
   techniques="$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')"
+}
+
+# After it: what the table's header says about the measurement, written to FILE (TABLE_ONLY=1
+# re-renders the tables from these files).   record_measurement FILE SETTINGS
+record_measurement() {
+  local t1 load_after
+  t1="$(date +%s.%N)"
+  load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
+  WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
+  LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
+  THREADS="${LP_NUM_THREADS:-unset (llvmpipe: one per core)}" SETTINGS="$2" \
+  python3 -c 'import json, os; keys = ["WALL_S", "STARTED", "COMMIT", "LOAD_BEFORE", "LOAD_AFTER", "CORES",
+    "TECHNIQUES", "THREADS", "SETTINGS"]; print(json.dumps({k: os.environ[k] for k in keys}))' >"$1"
+}
+
+if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
+  start_measurement
   for t in $techniques; do
     "$voxlab" bench --technique "$t" --scene "$scene" --size "$size" --runs "$runs" \
       --process-runs "$process_runs" --out "$work/$t" >/dev/null
@@ -59,15 +77,7 @@ if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
       >"$work/$t/whole-run.json"
     echo "bench-doc: $t done" >&2
   done
-  t1="$(date +%s.%N)"
-  load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
-  # What the table's header says about this measurement; TABLE_ONLY=1 re-renders from it.
-  WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
-  LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
-  THREADS="${LP_NUM_THREADS:-unset (llvmpipe: one per core)}" \
-  SETTINGS="--scene $scene --size $size --runs $runs --process-runs $process_runs" \
-  python3 -c 'import json, os; keys = ["WALL_S", "STARTED", "COMMIT", "LOAD_BEFORE", "LOAD_AFTER", "CORES",
-    "TECHNIQUES", "THREADS", "SETTINGS"]; print(json.dumps({k: os.environ[k] for k in keys}))' >"$work/run.json"
+  record_measurement "$work/run.json" "--scene $scene --size $size --runs $runs --process-runs $process_runs"
 fi
 
 if [[ "$part" != frames ]]; then
@@ -137,26 +147,14 @@ fi
 [[ "$part" == bench ]] && exit 0
 
 if [[ "${TABLE_ONLY:-0}" != 1 ]]; then
-  load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
-  started="$(date -u '+%Y-%m-%d %H:%M UTC')"
-  # The source the binary was built from, read before measuring (edits made meanwhile do not count).
-  commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-  git -C "$root" diff --quiet HEAD -- src shaders 2>/dev/null || commit="$commit with local changes"
-  t0="$(date +%s.%N)"
-  techniques="$("$voxlab" list --json | python3 -c 'import json,sys; print(" ".join(t["id"] for t in json.load(sys.stdin)["techniques"]))')"
+  start_measurement
   for t in $techniques; do
     "$voxlab" bench --technique "$t" --scene "$frame_scene" --size "$frame_size" --runs 1 --process-runs 0 \
       --frames "$frames" --out "$frame_work/$t" >/dev/null
     echo "bench-doc: $t frames done" >&2
   done
-  t1="$(date +%s.%N)"
-  load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
-  WALL_S="$(python3 -c "print(f'{$t1 - $t0:.0f}')")" STARTED="$started" COMMIT="$commit" \
-  LOAD_BEFORE="$load_before" LOAD_AFTER="$load_after" CORES="$(nproc)" TECHNIQUES="$techniques" \
-  THREADS="${LP_NUM_THREADS:-unset (llvmpipe: one per core)}" \
-  SETTINGS="--scene $frame_scene --size $frame_size --runs 1 --process-runs 0 --frames $frames" \
-  python3 -c 'import json, os; keys = ["WALL_S", "STARTED", "COMMIT", "LOAD_BEFORE", "LOAD_AFTER", "CORES",
-    "TECHNIQUES", "THREADS", "SETTINGS"]; print(json.dumps({k: os.environ[k] for k in keys}))' >"$frame_work/run.json"
+  record_measurement "$frame_work/run.json" \
+    "--scene $frame_scene --size $frame_size --runs 1 --process-runs 0 --frames $frames"
 fi
 
 PYTHONPATH="$root/scripts" python3 - "$doc" "$frame_work" <<'PY'

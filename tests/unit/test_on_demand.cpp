@@ -55,14 +55,19 @@ bool onBoard(Blackboard& board, const std::string& resource) {
   return board.hasTexture(resource) || board.hasBuffer(resource);
 }
 
+// A fresh run of technique on the Cornell box at 64x64, nothing computed yet.
+HeadlessSession& smallCornellSession(const std::string& technique) {
+  RunRequest request;
+  request.technique = technique;
+  request.scene = "cornell-box";
+  request.width = request.height = 64;
+  return testing_support::freshSession(request);
+}
+
 class OnDemand : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(OnDemand, FinalOnlyComputesOnlyWhatTheFinalImageUses) {
-  RunRequest request;
-  request.technique = GetParam();
-  request.scene = "cornell-box";
-  request.width = request.height = 64;
-  HeadlessSession& s = testing_support::freshSession(request);
+  HeadlessSession& s = smallCornellSession(GetParam());
   StepCursor& cursor = s.cursor();
   const Technique& t = cursor.technique();
   const std::set<std::string> needed = finalDependencies(t, cursor.params());
@@ -126,11 +131,7 @@ TEST_P(OnDemand, FinalOnlyComputesOnlyWhatTheFinalImageUses) {
 class ViewerDemand : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ViewerDemand, ComputesTheFinalImageAndTheShownOutputsOnly) {
-  RunRequest request;
-  request.technique = GetParam();
-  request.scene = "cornell-box";
-  request.width = request.height = 64;
-  HeadlessSession& s = testing_support::freshSession(request);
+  HeadlessSession& s = smallCornellSession(GetParam());
   StepCursor& cursor = s.cursor();
   const Technique& t = cursor.technique();
   const std::set<std::string> forFinal = finalDependencies(t, cursor.params());
