@@ -33,9 +33,18 @@ window.addEventListener("load", function () {\
 </script></body>#' "$1" > "${1%.html}.check.html"
 }
 browse() {  # page.check.html -> the check line and the animation line
-  chromium --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --user-data-dir="$out/profile" \
-    --allow-file-access-from-files --virtual-time-budget=20000 --dump-dom "file://$1" 2>"$out/chromium.log" \
-    >"$out/dom.html"
+  # The animation line is written when the browser's image decoder has finished, which runs outside
+  # Chromium's virtual time: on a loaded machine the DOM can be dumped before it (seen once: the
+  # motion lesson's page in a full CI run at a load average near 2 per core, which passed the run
+  # before). A page dumped without it is loaded again, up to three times; a page that never writes
+  # it still fails below.
+  local attempt
+  for attempt in 1 2 3; do
+    chromium --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --user-data-dir="$out/profile" \
+      --allow-file-access-from-files --virtual-time-budget=20000 --dump-dom "file://$1" 2>"$out/chromium.log" \
+      >"$out/dom.html"
+    grep -q '<pre id="voxlab-anim">' "$out/dom.html" && break
+  done
   echo "$(sed -n 's#.*<pre id="voxlab-check">\([^<]*\)</pre>.*#\1#p' "$out/dom.html")" \
     "$(sed -n 's#.*<pre id="voxlab-anim">\([^<]*\)</pre>.*#\1#p' "$out/dom.html")"
 }
