@@ -135,6 +135,49 @@ TEST(ClipmapMath, SnappingAndNestingInvariants) {
       }
 }
 
+// Levels led ahead of the camera (clipmap.look-ahead) along a direction with every component up
+// to 1/4 of the extent: level k is centred within 2 voxels of a + lead N s_k, origins stay even,
+// and the margin between level k-1 and level k shrinks by at most ceil(|lead_i| N / 2) coarse
+// cells, so level k-1 stays inside level k (its covered block the whole projection) down to
+// N = 8. A lead of 3/4 leaves levels sticking out (checked last), so the nesting check is not
+// vacuous.
+TEST(ClipmapMath, LedLevelsStillNest) {
+  const std::vector<glm::dvec3> leads = {{0.25, 0.0, 0.0}, {0.0, -0.25, 0.0}, {0.14, -0.1, 0.17}, {-0.25, 0.25, -0.25}};
+  for (int levels : {3, 5})
+    for (int n : {8, 16, 32})
+      for (const glm::dvec3& lead : leads)
+        for (const glm::dvec3& a : testAnchors()) {
+          Layout layout{levels, n, 0.0625};
+          auto o = snapOrigins(layout, a, lead);
+          for (int k = 0; k < levels; ++k)
+            for (int i = 0; i < 3; ++i) {
+              const int64_t ok = o[size_t(k)][i];
+              EXPECT_EQ(modPos(ok, 2), 0) << "origins are even";
+              const double centre = a[i] + lead[i] * n * layout.voxelSize(k);
+              const int64_t cell = int64_t(std::floor(centre / layout.voxelSize(k)));
+              EXPECT_GE(cell, ok + n / 2);
+              EXPECT_LT(cell, ok + n / 2 + 2);
+              if (k + 1 < levels) {
+                const int64_t next = o[size_t(k + 1)][i];
+                const int64_t margin = n / 4 - 1 - int64_t(std::ceil(std::abs(lead[i]) * n / 2));
+                EXPECT_GE(ok / 2 - next, margin);
+                EXPECT_GE(next + n - (ok + n) / 2, margin);
+              }
+            }
+          for (int k = 1; k < levels; ++k) EXPECT_EQ(coveredBlock(o, k, n).volume(), int64_t(n / 2) * (n / 2) * (n / 2));
+        }
+  Layout small{5, 8, 0.0625};
+  int stickingOut = 0;
+  for (const glm::dvec3& a : testAnchors()) {
+    auto tooFar = snapOrigins(small, a, glm::dvec3(0.75, 0.0, 0.0));
+    for (int k = 1; k < small.levels; ++k) stickingOut += coveredBlock(tooFar, k, 8).volume() < 4 * 4 * 4 ? 1 : 0;
+  }
+  EXPECT_GT(stickingOut, 0) << "a lead of 3/4 at N = 8 leaves some level sticking out of the next";
+  Layout layout{5, 32, 0.0625};
+  // No lead is the camera-centred snapping.
+  EXPECT_EQ(snapOrigins(layout, glm::dvec3(1.3, -2.0, 7.1), glm::dvec3(0.0)), snapOrigins(layout, glm::dvec3(1.3, -2.0, 7.1)));
+}
+
 std::set<std::tuple<int64_t, int64_t, int64_t>> cellsOf(const std::vector<Box>& boxes, bool& disjoint) {
   std::set<std::tuple<int64_t, int64_t, int64_t>> s;
   disjoint = true;
@@ -683,7 +726,9 @@ TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
 // with K moves of D are those of a run from P + K D with no moves, bit for bit (the clip levels
 // are equal bit for bit, the view matrix is rebuilt as lookAtRH builds it, and each pixel's
 // result depends only on those).
-TEST(ClipmapGpu, PathImagesEqualScratch) {
+// A run along a path of camera moves gives, bit for bit, the images of a run started at its end;
+// 'extra' adds parameters to both runs.
+void expectPathImagesEqualScratch(const std::vector<std::string>& extra) {
   const glm::vec3 start(69.0f / 256.0f, 77.0f / 256.0f, -64.0f / 256.0f);  // in front of the box
   const glm::vec3 step(2.0f / 64.0f, -1.0f / 64.0f, 5.0f / 64.0f);
   const int moves = 3;
@@ -694,14 +739,14 @@ TEST(ClipmapGpu, PathImagesEqualScratch) {
                                                         {"composite", "final"}};
   std::vector<LevelData> moved;
   {
-    auto& s = session(clipRequest(start,
-                                  {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
-                                   "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)},
-                                  "composite"));
+    std::vector<std::string> path = {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
+                                     "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)};
+    path.insert(path.end(), extra.begin(), extra.end());
+    auto& s = session(clipRequest(start, path, "composite"));
     for (const auto& [stage, output] : images) moved.push_back(capture(s, stage, output).levels[0]);
   }
   const glm::vec3 end = glm::vec3(glm::dvec3(start) + double(moves) * glm::dvec3(step));
-  auto& scratch = session(clipRequest(end, {}, "composite"));
+  auto& scratch = session(clipRequest(end, extra, "composite"));
   size_t covered = 0;
   for (size_t i = 0; i < std::size(images); ++i) {
     const LevelData b = capture(scratch, images[i].first, images[i].second).levels[0];
@@ -717,6 +762,12 @@ TEST(ClipmapGpu, PathImagesEqualScratch) {
   // The camera at P + K D sees the box (a camera left at P sees other pixels: the test can fail).
   EXPECT_GT(covered, size_t(32 * 32 / 2));
 }
+
+TEST(ClipmapGpu, PathImagesEqualScratch) { expectPathImagesEqualScratch({}); }
+
+// With the levels led ahead of the camera the lead is the same at every move (the path keeps the
+// orientation), so the moves still expose exactly the slabs a fresh build at the end holds.
+TEST(ClipmapGpu, PathImagesEqualScratchLookingAhead) { expectPathImagesEqualScratch({"clipmap.look-ahead=0.25"}); }
 
 // The cells of box 'r' (cells of edge 1 / cellsPerMetre of the world lattice) that a triangle
 // meets: the CPU reference voxelizer's double-precision half-open test.

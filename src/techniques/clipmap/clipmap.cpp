@@ -10,8 +10,9 @@
 // Overview (the stages, in order)
 //      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   1. shadow-map  depth from the light (shared)
-//   2. anchor      per level o_k = 2 floor(a / s_{k+1}) - N/2 around the anchor a (the camera plus
-//                  the path's moves); per move the planner's disjoint slabs and counts
+//   2. anchor      per level o_k = 2 floor(a_k / s_{k+1}) - N/2 around the anchor a_k (the camera plus
+//                  the path's moves, plus clipmap.look-ahead N s_k along the view direction);
+//                  per move the planner's disjoint slabs and counts
 //   3. update      iterative, one camera move per iteration (update#0 = the full build): level by
 //                  level, clear the accumulators of the cells to voxelize, voxelize + inject them
 //                  (shadow-mapped Lambert, fixed-point atomics), resolve into the atlas (RGBA16F

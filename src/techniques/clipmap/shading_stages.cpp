@@ -107,7 +107,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
 
 void ConeTraceStage::execute(StageContext& ctx) {
   const Layout layout = layoutOf(ctx.params, ctx.scene);
-  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view);
   const auto& origins = path.back().origins;
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
