@@ -535,6 +535,9 @@ RunRequest clipRequest(glm::vec3 from, std::vector<std::string> sets, const std:
   r.width = r.height = 32;
   r.lookFrom = from;
   r.lookAt = from + glm::vec3(0.0f, 0.0f, 1.0f);
+  // Levels centred on the camera, as the CPU models these tests replan with (snapOrigins without a
+  // lead); a test that leads them sets clipmap.look-ahead itself (later sets win).
+  sets.insert(sets.begin(), "clipmap.look-ahead=0");
   sets.push_back("clipmap.resolution=16");
   sets.push_back("clipmap.levels=4");
   // Cornell: 1/64 m, level 3 spans 2 m, the box (0.56 m) lies in levels 1-3.
@@ -1354,12 +1357,13 @@ static std::pair<double, double> boxFrontAndReference(HeadlessSession& s, float 
   return {sum / n, refSum / n};
 }
 
-// The same faces against the path tracer. Measured (128x128, deterministic): 0.613 of the
-// reference on the tall box's front and 0.748 on the short box's with the default eighth-voxel
-// start offset (the coarse level-3 voxels blur the walls' light away from them; 0.597 and 0.534
-// with the former quarter-voxel start and no front hold), 0.065 and 0.024 with
-// cone.start-offset=1.75 (the black faces). The bound 0.3 lies far from both, so the defaults
-// pass and the black faces fail it.
+// The same faces against the path tracer. Measured (128x128, deterministic): 0.929 of the
+// reference on the tall box's front and 0.666 on the short box's at the defaults (levels led an
+// eighth of their extent ahead of the camera, which puts the boxes in finer levels; faces read at
+// level 0 too; a 3/8-voxel start; 0.613 and 0.748 with centred levels and an eighth-voxel start),
+// 0.065 and 0.024 with cone.start-offset=1.75 and centred levels (the black faces: the boxes in
+// level 3's 7 cm voxels). The bound 0.3 lies far from both, so the defaults pass and the black
+// faces fail it.
 constexpr double kBoxFrontBound = 0.3;
 TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   RunRequest r;
@@ -1367,7 +1371,7 @@ TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   r.scene = "cornell-box";
   r.width = r.height = 128;
   RunRequest far = r;
-  far.sets = {"cone.start-offset=1.75"};
+  far.sets = {"cone.start-offset=1.75", "clipmap.look-ahead=0"};
   for (float side : {-1.0f, 1.0f}) {
     const auto [mean, reference] = boxFrontAndReference(session(r), side);
     const auto [farMean, farReference] = boxFrontAndReference(session(far), side);
@@ -1382,16 +1386,17 @@ TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   }
 }
 
-// The boxes' camera-facing faces face away from the spot, so all their light is indirect. The clip
-// levels are centred on the camera 0.8 m in front of the box, so the boxes lie in level 3 (7 cm
+// The boxes' camera-facing faces face away from the spot, so all their light is indirect. With
+// the clip levels centred on the camera 0.8 m in front of the box, the boxes lie in level 3 (7 cm
 // voxels). With cones starting 1.75 of those voxels off the face, plus a first step of one voxel,
 // the cones of the short box's front began outside the box's open side and those of the tall box's
 // front close to it: measured 0.019 (short) and 0.060 (tall) of vct-grid's mean indirect radiance
 // there (vct-grid's 128^3 grid starts its cones a centimetre off the face). With the one-voxel
 // offset and isotropic RGBA8 cells: 0.377 and 0.401 against vct-grid's RGBA8 voxels. With the
-// defaults now (HDR cells, six faces showing the fronts, an eighth-voxel offset, fronts held half
-// a cell): 0.660 (tall) and 0.443 (short) against vct-grid's defaults (0.643 and 0.317 with a
-// quarter-voxel offset and no hold; the coarse voxels still blur the walls' light). The
+// defaults now (HDR cells, six faces showing the fronts, also at level 0, levels led an eighth of
+// their extent ahead of the camera, a 3/8-voxel offset, fronts held half a cell): 1.001 (tall)
+// and 0.395 (short) against vct-grid's defaults (0.660 and 0.443 with centred levels, isotropic
+// level 0 and an eighth-voxel offset; 0.643 and 0.317 with a quarter-voxel offset and no hold). The
 // bound 0.25 sits below both and far above the far start's; the runs are deterministic, the
 // measured ratios do not vary between runs.
 TEST(ClipmapPhysics, CameraFacingBoxFacesGatherIndirectLight) {

@@ -32,7 +32,7 @@ std::vector<ParamDesc> layoutParams() {
                         "isotropic: one value per cell; anisotropic: also six directional values, each showing a cone "
                         "travelling that way the fronts of the surfaces it sees, filtered between levels front to back "
                         "(the under operator)"),
-      ParamDesc::real("clipmap.look-ahead", 0.0, 0.0, 0.25,
+      ParamDesc::real("clipmap.look-ahead", 0.125, 0.0, 0.25,
                       "how far each level's centre lies ahead of the camera along the view direction, as a fraction of "
                       "the level's extent N s_k (up to 1/4, which keeps every level inside the next)",
                       "extents"),
