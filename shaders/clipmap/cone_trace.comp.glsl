@@ -124,10 +124,11 @@ vec4 sampleFace(int face, float level, vec3 p, bool hold) {
 
 // What a cone travelling along 'dir' sees at p at level 'level' (>= k_min(p)). The cone model is
 // vct-grid's (common/cone_trace.glsl, sampleVolume): one face, the isotropic values, quadrilinear
-// through the levels and the coarsest level's mips; with six faces, the isotropic values at level
-// 0, and from level 1 up the three faces facing the cone (the fronts each direction sees,
-// resolve.comp.glsl) blended by their optical depths (common/facing.glsl, seenFronts), faded in
-// between levels 0 and 1.
+// through the levels and the coarsest level's mips; with six faces, at every level the three faces
+// facing the cone (the fronts each direction sees, resolve.comp.glsl) blended by their optical
+// depths (common/facing.glsl, seenFronts). Level 0 reads its faces too: its isotropic values show
+// a cone the light of the surface it starts from (a lit floor next to the camera, level 0, lit
+// itself: 7 to 31 times the reference's indirect light in the two rooms' bottom strip).
 vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold) {
   int last = u_clipLevels - 1;
   if (u_faces == 1) {
@@ -141,13 +142,11 @@ vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold) {
     if (f > 0.0 && k0 < last) s = mix(s, sampleLevel(0, k0 + 1, p), f);
     return s;
   }
-  if (level <= 0.0) return sampleLevel(0, 0, p);
-  float directional = max(level, 1.0);
+  float directional = max(level, 0.0);
   vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p, hold),
                       sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p, hold),
                       sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p, hold));
-  if (level >= 1.0) return a;
-  return mix(sampleLevel(0, 0, p), a, level);
+  return a;
 }
 
 struct ConeResult { vec3 radiance; float opacity; float opacityAt; };

@@ -135,6 +135,49 @@ TEST(ClipmapMath, SnappingAndNestingInvariants) {
       }
 }
 
+// Levels led ahead of the camera (clipmap.look-ahead) along a direction with every component up
+// to 1/4 of the extent: level k is centred within 2 voxels of a + lead N s_k, origins stay even,
+// and the margin between level k-1 and level k shrinks by at most ceil(|lead_i| N / 2) coarse
+// cells, so level k-1 stays inside level k (its covered block the whole projection) down to
+// N = 8. A lead of 3/4 leaves levels sticking out (checked last), so the nesting check is not
+// vacuous.
+TEST(ClipmapMath, LedLevelsStillNest) {
+  const std::vector<glm::dvec3> leads = {{0.25, 0.0, 0.0}, {0.0, -0.25, 0.0}, {0.14, -0.1, 0.17}, {-0.25, 0.25, -0.25}};
+  for (int levels : {3, 5})
+    for (int n : {8, 16, 32})
+      for (const glm::dvec3& lead : leads)
+        for (const glm::dvec3& a : testAnchors()) {
+          Layout layout{levels, n, 0.0625};
+          auto o = snapOrigins(layout, a, lead);
+          for (int k = 0; k < levels; ++k)
+            for (int i = 0; i < 3; ++i) {
+              const int64_t ok = o[size_t(k)][i];
+              EXPECT_EQ(modPos(ok, 2), 0) << "origins are even";
+              const double centre = a[i] + lead[i] * n * layout.voxelSize(k);
+              const int64_t cell = int64_t(std::floor(centre / layout.voxelSize(k)));
+              EXPECT_GE(cell, ok + n / 2);
+              EXPECT_LT(cell, ok + n / 2 + 2);
+              if (k + 1 < levels) {
+                const int64_t next = o[size_t(k + 1)][i];
+                const int64_t margin = n / 4 - 1 - int64_t(std::ceil(std::abs(lead[i]) * n / 2));
+                EXPECT_GE(ok / 2 - next, margin);
+                EXPECT_GE(next + n - (ok + n) / 2, margin);
+              }
+            }
+          for (int k = 1; k < levels; ++k) EXPECT_EQ(coveredBlock(o, k, n).volume(), int64_t(n / 2) * (n / 2) * (n / 2));
+        }
+  Layout small{5, 8, 0.0625};
+  int stickingOut = 0;
+  for (const glm::dvec3& a : testAnchors()) {
+    auto tooFar = snapOrigins(small, a, glm::dvec3(0.75, 0.0, 0.0));
+    for (int k = 1; k < small.levels; ++k) stickingOut += coveredBlock(tooFar, k, 8).volume() < 4 * 4 * 4 ? 1 : 0;
+  }
+  EXPECT_GT(stickingOut, 0) << "a lead of 3/4 at N = 8 leaves some level sticking out of the next";
+  Layout layout{5, 32, 0.0625};
+  // No lead is the camera-centred snapping.
+  EXPECT_EQ(snapOrigins(layout, glm::dvec3(1.3, -2.0, 7.1), glm::dvec3(0.0)), snapOrigins(layout, glm::dvec3(1.3, -2.0, 7.1)));
+}
+
 std::set<std::tuple<int64_t, int64_t, int64_t>> cellsOf(const std::vector<Box>& boxes, bool& disjoint) {
   std::set<std::tuple<int64_t, int64_t, int64_t>> s;
   disjoint = true;
@@ -492,6 +535,9 @@ RunRequest clipRequest(glm::vec3 from, std::vector<std::string> sets, const std:
   r.width = r.height = 32;
   r.lookFrom = from;
   r.lookAt = from + glm::vec3(0.0f, 0.0f, 1.0f);
+  // Levels centred on the camera, as the CPU models these tests replan with (snapOrigins without a
+  // lead); a test that leads them sets clipmap.look-ahead itself (later sets win).
+  sets.insert(sets.begin(), "clipmap.look-ahead=0");
   sets.push_back("clipmap.resolution=16");
   sets.push_back("clipmap.levels=4");
   // Cornell: 1/64 m, level 3 spans 2 m, the box (0.56 m) lies in levels 1-3.
@@ -683,7 +729,9 @@ TEST(ClipmapGpu, AnisotropicFacesAndPriorityEqualScratch) {
 // with K moves of D are those of a run from P + K D with no moves, bit for bit (the clip levels
 // are equal bit for bit, the view matrix is rebuilt as lookAtRH builds it, and each pixel's
 // result depends only on those).
-TEST(ClipmapGpu, PathImagesEqualScratch) {
+// A run along a path of camera moves gives, bit for bit, the images of a run started at its end;
+// 'extra' adds parameters to both runs.
+void expectPathImagesEqualScratch(const std::vector<std::string>& extra) {
   const glm::vec3 start(69.0f / 256.0f, 77.0f / 256.0f, -64.0f / 256.0f);  // in front of the box
   const glm::vec3 step(2.0f / 64.0f, -1.0f / 64.0f, 5.0f / 64.0f);
   const int moves = 3;
@@ -694,14 +742,14 @@ TEST(ClipmapGpu, PathImagesEqualScratch) {
                                                         {"composite", "final"}};
   std::vector<LevelData> moved;
   {
-    auto& s = session(clipRequest(start,
-                                  {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
-                                   "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)},
-                                  "composite"));
+    std::vector<std::string> path = {"clipmap.path-step.x=" + exact(step.x), "clipmap.path-step.y=" + exact(step.y),
+                                     "clipmap.path-step.z=" + exact(step.z), "clipmap.path-moves=" + std::to_string(moves)};
+    path.insert(path.end(), extra.begin(), extra.end());
+    auto& s = session(clipRequest(start, path, "composite"));
     for (const auto& [stage, output] : images) moved.push_back(capture(s, stage, output).levels[0]);
   }
   const glm::vec3 end = glm::vec3(glm::dvec3(start) + double(moves) * glm::dvec3(step));
-  auto& scratch = session(clipRequest(end, {}, "composite"));
+  auto& scratch = session(clipRequest(end, extra, "composite"));
   size_t covered = 0;
   for (size_t i = 0; i < std::size(images); ++i) {
     const LevelData b = capture(scratch, images[i].first, images[i].second).levels[0];
@@ -717,6 +765,12 @@ TEST(ClipmapGpu, PathImagesEqualScratch) {
   // The camera at P + K D sees the box (a camera left at P sees other pixels: the test can fail).
   EXPECT_GT(covered, size_t(32 * 32 / 2));
 }
+
+TEST(ClipmapGpu, PathImagesEqualScratch) { expectPathImagesEqualScratch({}); }
+
+// With the levels led ahead of the camera the lead is the same at every move (the path keeps the
+// orientation), so the moves still expose exactly the slabs a fresh build at the end holds.
+TEST(ClipmapGpu, PathImagesEqualScratchLookingAhead) { expectPathImagesEqualScratch({"clipmap.look-ahead=0.25"}); }
 
 // The cells of box 'r' (cells of edge 1 / cellsPerMetre of the world lattice) that a triangle
 // meets: the CPU reference voxelizer's double-precision half-open test.
@@ -1303,12 +1357,13 @@ static std::pair<double, double> boxFrontAndReference(HeadlessSession& s, float 
   return {sum / n, refSum / n};
 }
 
-// The same faces against the path tracer. Measured (128x128, deterministic): 0.613 of the
-// reference on the tall box's front and 0.748 on the short box's with the default eighth-voxel
-// start offset (the coarse level-3 voxels blur the walls' light away from them; 0.597 and 0.534
-// with the former quarter-voxel start and no front hold), 0.065 and 0.024 with
-// cone.start-offset=1.75 (the black faces). The bound 0.3 lies far from both, so the defaults
-// pass and the black faces fail it.
+// The same faces against the path tracer. Measured (128x128, deterministic): 0.929 of the
+// reference on the tall box's front and 0.666 on the short box's at the defaults (levels led an
+// eighth of their extent ahead of the camera, which puts the boxes in finer levels; faces read at
+// level 0 too; a 3/8-voxel start; 0.613 and 0.748 with centred levels and an eighth-voxel start),
+// 0.065 and 0.024 with cone.start-offset=1.75 and centred levels (the black faces: the boxes in
+// level 3's 7 cm voxels). The bound 0.3 lies far from both, so the defaults pass and the black
+// faces fail it.
 constexpr double kBoxFrontBound = 0.3;
 TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   RunRequest r;
@@ -1316,7 +1371,7 @@ TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   r.scene = "cornell-box";
   r.width = r.height = 128;
   RunRequest far = r;
-  far.sets = {"cone.start-offset=1.75"};
+  far.sets = {"cone.start-offset=1.75", "clipmap.look-ahead=0"};
   for (float side : {-1.0f, 1.0f}) {
     const auto [mean, reference] = boxFrontAndReference(session(r), side);
     const auto [farMean, farReference] = boxFrontAndReference(session(far), side);
@@ -1331,16 +1386,17 @@ TEST(ClipmapPhysics, CameraFacingBoxFacesAgainstTheReference) {
   }
 }
 
-// The boxes' camera-facing faces face away from the spot, so all their light is indirect. The clip
-// levels are centred on the camera 0.8 m in front of the box, so the boxes lie in level 3 (7 cm
+// The boxes' camera-facing faces face away from the spot, so all their light is indirect. With
+// the clip levels centred on the camera 0.8 m in front of the box, the boxes lie in level 3 (7 cm
 // voxels). With cones starting 1.75 of those voxels off the face, plus a first step of one voxel,
 // the cones of the short box's front began outside the box's open side and those of the tall box's
 // front close to it: measured 0.019 (short) and 0.060 (tall) of vct-grid's mean indirect radiance
 // there (vct-grid's 128^3 grid starts its cones a centimetre off the face). With the one-voxel
 // offset and isotropic RGBA8 cells: 0.377 and 0.401 against vct-grid's RGBA8 voxels. With the
-// defaults now (HDR cells, six faces showing the fronts, an eighth-voxel offset, fronts held half
-// a cell): 0.660 (tall) and 0.443 (short) against vct-grid's defaults (0.643 and 0.317 with a
-// quarter-voxel offset and no hold; the coarse voxels still blur the walls' light). The
+// defaults now (HDR cells, six faces showing the fronts, also at level 0, levels led an eighth of
+// their extent ahead of the camera, a 3/8-voxel offset, fronts held half a cell): 1.001 (tall)
+// and 0.395 (short) against vct-grid's defaults (0.660 and 0.443 with centred levels, isotropic
+// level 0 and an eighth-voxel offset; 0.643 and 0.317 with a quarter-voxel offset and no hold). The
 // bound 0.25 sits below both and far above the far start's; the runs are deterministic, the
 // measured ratios do not vary between runs.
 TEST(ClipmapPhysics, CameraFacingBoxFacesGatherIndirectLight) {

@@ -10,8 +10,9 @@
 // Overview (the stages, in order)
 //      light       the scene's first light after the light.0.* parameters (shared, common/light_stage)
 //   1. shadow-map  depth from the light (shared)
-//   2. anchor      per level o_k = 2 floor(a / s_{k+1}) - N/2 around the anchor a (the camera plus
-//                  the path's moves); per move the planner's disjoint slabs and counts
+//   2. anchor      per level o_k = 2 floor(a_k / s_{k+1}) - N/2 around the anchor a_k (the camera plus
+//                  the path's moves, plus clipmap.look-ahead N s_k along the view direction);
+//                  per move the planner's disjoint slabs and counts
 //   3. update      iterative, one camera move per iteration (update#0 = the full build): level by
 //                  level, clear the accumulators of the cells to voxelize, voxelize + inject them
 //                  (shadow-mapped Lambert, fixed-point atomics), resolve into the atlas (RGBA16F
@@ -52,10 +53,12 @@
 //     (common/facing.glsl: the mean light of the fragments whose fronts it sees, covering their
 //     largest front weight), coarser cells composite their children front to back per direction
 //     (common/anisotropic_mip.glsl), and a sample blends the three faces facing the cone by their
-//     optical depths (seenFronts), fading in from the isotropic level 0. A coarse cell voxelized
-//     directly can hold both faces of a slab (a sun-lit roof's top and its underside): each side
-//     sees only its own. With level 0's region over vct-grid's volume, levels 0-3 equal its mips
-//     texel for texel, isotropic and six faces (tests/unit/test_clipmap_dense.cpp).
+//     optical depths (seenFronts), at level 0 too (vct-grid reads its isotropic level 0 there: an
+//     isotropic cell shows a cone the light of the surface it leaves, and the floor beside the two
+//     rooms' camera lit itself). A coarse cell voxelized directly can hold both faces of a slab (a
+//     sun-lit roof's top and its underside): each side sees only its own. With level 0's region
+//     over vct-grid's volume, levels 0-3 equal its mips texel for texel, isotropic and six faces,
+//     and the cones take the same samples (tests/unit/test_clipmap_dense.cpp).
 //   - Where a sample reads a level coarser than its cone asks for (the finer levels do not reach
 //     it: far from the camera), a wall is one coarse cell whose trilinear opacity peaks up to half
 //     a cell in front of it, and a cone crossing it between samples leaked through; the tracer

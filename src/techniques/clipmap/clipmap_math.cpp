@@ -56,10 +56,15 @@ Cell cellAtTexel(const glm::ivec3& texel, const Cell& origin, int n) {
 }
 
 std::vector<Cell> snapOrigins(const Layout& layout, const glm::dvec3& anchor) {
+  return snapOrigins(layout, anchor, glm::dvec3(0.0));
+}
+
+std::vector<Cell> snapOrigins(const Layout& layout, const glm::dvec3& anchor, const glm::dvec3& lead) {
   std::vector<Cell> origins(size_t(layout.levels));
   for (int k = 0; k < layout.levels; ++k) {
     const double next = layout.voxelSize(k + 1);
-    for (int i = 0; i < 3; ++i) origins[size_t(k)][i] = 2 * int64_t(std::floor(anchor[i] / next)) - layout.n / 2;
+    const glm::dvec3 centre = anchor + lead * (double(layout.n) * layout.voxelSize(k));
+    for (int i = 0; i < 3; ++i) origins[size_t(k)][i] = 2 * int64_t(std::floor(centre[i] / next)) - layout.n / 2;
   }
   return origins;
 }

@@ -52,6 +52,12 @@ struct Layout {
 // o_k = 2 floor(a / s_{k+1}) - N/2 per axis, snapped to the next level's voxel, so every origin
 // is even, level k lies inside level k+1 and the anchor lies within [o_k + N/2, o_k + N/2 + 2).
 std::vector<Cell> snapOrigins(const Layout& layout, const glm::dvec3& anchor);
+// The same with each level led ahead of the anchor: level k is snapped around a + lead N s_k
+// (lead in units of the level's extent, e.g. a quarter of the view direction). Consecutive
+// centres then differ by lead N s_{k-1}, |lead_i| N / 2 coarse cells, which the margin of N/4 - 1
+// coarse cells absorbs while every component of lead is at most 1/4 (for N >= 8): level k-1 stays
+// inside level k.
+std::vector<Cell> snapOrigins(const Layout& layout, const glm::dvec3& anchor, const glm::dvec3& lead);
 
 // The region of a level with origin o: [o, o + N)^3.
 Box region(const Cell& origin, int n);

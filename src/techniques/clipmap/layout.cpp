@@ -32,6 +32,10 @@ std::vector<ParamDesc> layoutParams() {
                         "isotropic: one value per cell; anisotropic: also six directional values, each showing a cone "
                         "travelling that way the fronts of the surfaces it sees, filtered between levels front to back "
                         "(the under operator)"),
+      ParamDesc::real("clipmap.look-ahead", 0.125, 0.0, 0.25,
+                      "how far each level's centre lies ahead of the camera along the view direction, as a fraction of "
+                      "the level's extent N s_k (up to 1/4, which keeps every level inside the next)",
+                      "extents"),
   };
 }
 
@@ -143,17 +147,21 @@ size_t accumulatorBytes(const ParamSet& p, int accumulatorLevels) {
   return 4 * size_t(cellWords(p)) * size_t(accumulatorLevels) * n * n * n;
 }
 
-std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera) {
+std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const ViewState& view) {
   const Layout layout = layoutOf(params, scene);
+  const glm::vec3 camera = view.position;
+  // lookAtRH's third row is minus the view direction; the path keeps the orientation.
+  const glm::dvec3 forward = -glm::dvec3(view.view[0][2], view.view[1][2], view.view[2][2]);
+  const glm::dvec3 lead = params.value("clipmap.look-ahead") * forward;
   const glm::dvec3 step(params.value("clipmap.path-step.x"), params.value("clipmap.path-step.y"),
                         params.value("clipmap.path-step.z"));
   const int moves = params.getInt("clipmap.path-moves");
   const Policy policy = params.getChoice("clipmap.policy") == "priority" ? Policy::Priority : Policy::All;
   std::vector<PathState> path;
-  PathState s{snapOrigins(layout, glm::dvec3(camera)), std::vector<int>(size_t(layout.levels), 0)};
+  PathState s{snapOrigins(layout, glm::dvec3(camera), lead), std::vector<int>(size_t(layout.levels), 0)};
   path.push_back(s);
   for (int j = 1; j <= moves; ++j) {
-    auto target = snapOrigins(layout, glm::dvec3(camera) + double(j) * step);
+    auto target = snapOrigins(layout, glm::dvec3(camera) + double(j) * step, lead);
     for (int k = 0; k < layout.levels; ++k) {
       if (levelScheduled(policy, k, layout.levels, j - 1)) {
         s.origins[size_t(k)] = target[size_t(k)];

@@ -54,7 +54,7 @@ void MipsStage::declare(StageBuilder& b) const {
 
 void MipsStage::execute(StageContext& ctx) {
   const Layout layout = layoutOf(ctx.params, ctx.scene);
-  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view);
   const auto& origins = path.back().origins;
   Texture& atlas = ctx.board.texture("clip-atlas");
   Texture& mips = ctx.board.ensureTexture("clip-mips", mipsDesc(ctx.params));
@@ -150,7 +150,7 @@ void CoveredCompareStage::execute(StageContext& ctx) {
     return;
   }
   const Layout layout = layoutOf(ctx.params, ctx.scene);
-  const auto origins = cameraPath(ctx.params, ctx.scene, ctx.view.position).back().origins;
+  const auto origins = cameraPath(ctx.params, ctx.scene, ctx.view).back().origins;
   std::vector<uint32_t> zero(countersBytes(layout.levels) / 4, 0);
   counters.upload(zero.data(), zero.size() * 4);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());

@@ -17,8 +17,8 @@ namespace voxlab::clipmap {
 // --- Cone tracing ---------------------------------------------------------------------------------
 
 // Distances in the coarsest level's edge, the start offset in voxels of the finest level there;
-// no soft-shadow cone. The start offset is an eighth of a voxel, not vct-grid's 1.75: the levels are
-// centred on the camera, so a surface a metre away lies in a level of coarse voxels (7 cm on the
+// no soft-shadow cone. The start offset is 3/8 of a voxel, not vct-grid's 1.75: the levels are
+// around the camera, so a surface a metre away lies in a level of coarse voxels (7 cm on the
 // Cornell box, an eighth of the box) and every voxel of offset moves the cones that far off it; at
 // 1.75, plus the first step of one voxel along the cone, cones from the boxes' camera-facing faces
 // began outside the box's open side and gathered almost nothing. The faces show a cone only the
@@ -31,12 +31,16 @@ namespace voxlab::clipmap {
 // held half a cell (clipmap.front-hold), walls in coarse cells stop the cones that leaked through
 // them, which lifts the over-lit top of the Cornell box too: 0.25: 1.28 / 0.83 / 0.87 / 0.93 / 0.67
 // / 0.85; 0.125: 1.18 / 0.81 / 0.85 / 0.97 / 0.68 / 0.85; 0: 1.11 / 0.81 / 0.83 / 1.04 / 0.70 /
-// 0.84 (the two rooms' SSIM drops from 0.76 to 0.70).
+// 0.84 (the two rooms' SSIM drops from 0.76 to 0.70). With level 0 reading its faces and the
+// levels led an eighth of their extent ahead of the camera (256x256): 0.125: 0.95 / 0.77 / 0.85 /
+// 0.88 / 0.70 / 0.82 (sponza below 0.8); 0.25: 0.98 / 0.80 / 0.87 / 0.86 / 0.68 / 0.82; 0.375:
+// 1.02 / 0.82 / 0.88 / 0.83 / 0.66 / 0.83, the default, the farthest of the three from the band's
+// edge at 0.8.
 static ConeDefaults coneDefaults() {
   ConeDefaults d;
   d.aperture = 60.0;
   d.apertureHelp = "full opening angle of each diffuse cone";
-  d.startOffset = 0.125;
+  d.startOffset = 0.375;
   d.startOffsetHelp = "cones start this far from the surface along its normal, in voxels of the finest level there";
   d.lodBiasHelp = "level = log2(diameter / s_0) + bias, at least the finest level holding the sample";
   d.maxDistance = 0.5;
@@ -107,7 +111,7 @@ void ConeTraceStage::declare(StageBuilder& b) const {
 
 void ConeTraceStage::execute(StageContext& ctx) {
   const Layout layout = layoutOf(ctx.params, ctx.scene);
-  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view);
   const auto& origins = path.back().origins;
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
   Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));

@@ -71,13 +71,14 @@ std::string atlasFormatDefines(const ParamSet& params);
 int mipCount(int n);
 
 // The anchor along the camera path: move j (0 = the start) puts it at the camera position plus
-// j * clipmap.path-step; the origins of each move follow the update policy (a level not
-// scheduled keeps its origin). Shared by the anchor and update stages, so both see one path.
+// j * clipmap.path-step, each level's centre led clipmap.look-ahead of its extent along the view
+// direction; the origins of each move follow the update policy (a level not scheduled keeps its
+// origin). Shared by the anchor and update stages, so both see one path.
 struct PathState {
   std::vector<Cell> origins;
   std::vector<int> lag;  // moves since each level was last updated
 };
-std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const glm::vec3& camera);
+std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const ViewState& view);
 // The camera at the end of the path: the view given (the path's start P, --look-from or the
 // viewer's camera) moved to P + clipmap.path-moves * clipmap.path-step with its orientation kept.
 // The translation is recomputed from the rotation rows as glm::lookAtRH does (-dot(row, eye)),
@@ -146,7 +147,7 @@ class AnchorStage : public Stage {
   const char* title() const override { return "Snap the clip levels to the camera"; }
   const char* summary() const override {
     return "Per level, snap the origin to the next level's voxel around the anchor (the camera plus the path's "
-           "moves) and plan each move: the disjoint slabs of newly exposed cells, the cells whose coverage by the "
+           "moves, led clipmap.look-ahead of the level's extent along the view direction) and plan each move: the disjoint slabs of newly exposed cells, the cells whose coverage by the "
            "finer level changed, the covered blocks to refilter.";
   }
   void declare(StageBuilder& b) const override;

@@ -112,7 +112,7 @@ void AnchorStage::declare(StageBuilder& b) const {
 
 void AnchorStage::execute(StageContext& ctx) {
   const Layout layout = layoutOf(ctx.params, ctx.scene);
-  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view);
   std::vector<LevelRecord> levels;
   const PathState& last = path.back();
   for (int k = 0; k < layout.levels; ++k) {
@@ -216,7 +216,7 @@ void UpdateStage::execute(StageContext& ctx) {
   const auto start = std::chrono::steady_clock::now();
   const Layout layout = layoutOf(ctx.params, ctx.scene);
   const int n = layout.n, faces = facesOf(ctx.params);
-  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view.position);
+  const auto path = cameraPath(ctx.params, ctx.scene, ctx.view);
   Texture& atlas = ctx.board.ensureTexture("clip-atlas", atlasDesc(ctx.params));
   Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params, 1));
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
