@@ -18,6 +18,7 @@ in VoxelData {
   flat int axis;
   flat vec3 tri0, tri1, tri2;
   flat vec2 uv0, uv1, uv2;
+  flat vec3 faceNormal;
 } fin;
 
 layout(binding = VOXLAB_BINDING_FRAGMENT_COUNT, offset = 0) uniform atomic_uint u_fragmentCount;
@@ -28,16 +29,37 @@ uniform int u_conservative;
 vec3 fromProjected(vec3 s, int axis) { return axis == 0 ? s.zxy : (axis == 1 ? s.yzx : s); }
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
 
+// With VOXLAB_RECORDS_AS_COMPUTE (the hybrid's raster pass) a record is the one the
+// triangle-parallel pass would write for the voxel: the plane normal turned to the vertex normals'
+// side, albedo and emission at the voxel centre's projection onto the triangle, at the mip level
+// whose texel is about one voxel; so the hybrid's fragments do not depend on how a triangle was
+// routed. Otherwise the interpolated vertex normal and the pixel centre's uv.
+float recordLod() {
+  vec2 du = fin.uv1 - fin.uv0, dv = fin.uv2 - fin.uv0;
+  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
+  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / length(cross(fin.tri1 - fin.tri0, fin.tri2 - fin.tri0));
+  return max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
+}
+
 void appendVoxel(ivec3 voxel) {
   if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(u_resolution)))) return;
   uint index = atomicCounterIncrement(u_fragmentCount);
   if (index >= u_capacity) return;  // the stage sees the count, grows the list and runs again
+#ifdef VOXLAB_RECORDS_AS_COMPUTE
+  vec2 uv = voxelSampleUv(fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2, voxel);
+  float lod = recordLod();
+  vec4 albedo = materialAlbedoLod(uv, lod);
+  vec3 emission = materialEmissionLod(uv, lod);
+  vec3 normal = fin.faceNormal;
+#else
   vec4 albedo = materialAlbedo(fin.uv);
   vec3 emission = materialEmission(fin.uv);
+  vec3 normal = normalize(fin.normal);
+#endif
   VoxelFragment f;
   f.position = packVoxel10(uvec3(voxel));
   f.albedo = packUnorm4x8(vec4(albedo.rgb, 1.0));
-  f.normal = packSnorm4x8(vec4(normalize(fin.normal), 0.0));
+  f.normal = packSnorm4x8(vec4(normal, 0.0));
   f.emission = packUnorm4x8(vec4(clamp(emission, 0.0, 1.0), 1.0));
   fragments[index] = f;
 }

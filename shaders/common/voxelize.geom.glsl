@@ -18,6 +18,9 @@ out VoxelData {
   flat int axis;             // 0 = x, 1 = y, 2 = z: the projection axis
   flat vec3 tri0, tri1, tri2;  // triangle in voxel coordinates (not swizzled)
   flat vec2 uv0, uv1, uv2;     // its texture coordinates (alphaMode MASK coverage)
+  // The plane normal turned to the vertex normals' side, computed as triangle_parallel.comp.glsl
+  // does (positions relative to floor(tri0)), for records the same as that pass's.
+  flat vec3 faceNormal;
 } vout;
 
 layout(std430, binding = VOXLAB_BINDING_AXIS_COUNTS) buffer AxisCounts { uint axisCount[4]; };
@@ -76,6 +79,11 @@ void main() {
       outPos[i] = abs(q.z) > 1e-12 ? q.xy / q.z : p[i];
     }
   }
+  vec3 origin = floor(v[0]);
+  vec3 local[3] = vec3[3](v[0] - origin, v[1] - origin, v[2] - origin);
+  vec3 localNormal = cross(local[1] - local[0], local[2] - local[0]);
+  vec3 vertexNormals = vin[0].normal + vin[1].normal + vin[2].normal;
+  vec3 faceNormal = normalize(localNormal) * (dot(localNormal, vertexNormals) < 0.0 ? -1.0 : 1.0);
   // Depth of any point of the (grown) triangle from the plane through s[0] with normal ns.
   vec3 ns = toProjected(n, axis);
   for (int i = 0; i < 3; ++i) {
@@ -99,6 +107,7 @@ void main() {
     vout.uv0 = vin[0].uv;
     vout.uv1 = vin[1].uv;
     vout.uv2 = vin[2].uv;
+    vout.faceNormal = faceNormal;
     EmitVertex();
   }
   EndPrimitive();

@@ -81,14 +81,16 @@ void GpuScene::bindMaterialTextures(uint32_t material) const {
   glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
 }
 
-void GpuScene::draw(GLuint program) const {
+void GpuScene::draw(GLuint program) const { draw(program, scene_.draws); }
+
+void GpuScene::draw(GLuint program, const std::vector<DrawRange>& ranges) const {
   glUseProgram(program);
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, materials_.id());
   bindCoverage();
   GLint loc = glGetUniformLocation(program, "u_materialIndex");
   GLint firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
-  for (const auto& d : scene_.draws) {
+  for (const auto& d : ranges) {
     glProgramUniform1i(program, loc, int(d.material));
     if (firstLoc >= 0) glProgramUniform1i(program, firstLoc, int(d.firstIndex / 3));
     bindMaterialTextures(d.material);

@@ -19,6 +19,9 @@ class GpuScene {
   // "u_materialIndex" (and "u_firstTriangle", the range's first triangle, where the program has
   // it), binds that material's textures and draws its triangles.
   void draw(GLuint program) const;
+  // The same for the given ranges of the index buffer instead of the scene's (each a run of
+  // triangles of one material, e.g. those a pass keeps out of a larger range).
+  void draw(GLuint program, const std::vector<DrawRange>& ranges) const;
   const Buffer& materials() const { return materials_; }
   // The alpha coverage pyramids of MASK materials (scene/alpha_coverage.h) and their GPU copies
   // (bound by draw(); compute passes bind them with bindCoverage()).

@@ -83,10 +83,11 @@ void expectConservativeCoversReferenceWith(const std::string& scene, int resolut
   EXPECT_EQ(extra, 0u) << scene << ": " << extra << " voxels beyond the reference";
 }
 
-// Both conservative passes of the shared voxelize stage: the raster one (fragment-parallel, the
-// geometry shader) and vct-grid's default, the compute one (triangle-parallel).
+// The conservative passes of the shared voxelize stage: the raster one (fragment-parallel, the
+// geometry shader), the compute one (triangle-parallel) and vct-grid's default, the hybrid, which
+// splits the scene between them by projected area.
 void expectConservativeCoversReference(const std::string& scene, int resolution) {
-  for (const char* method : {"fragment-parallel", "triangle-parallel"}) {
+  for (const char* method : {"fragment-parallel", "triangle-parallel", "hybrid"}) {
     SCOPED_TRACE(method);
     expectConservativeCoversReferenceWith(scene, resolution, method);
   }

@@ -20,13 +20,12 @@ ParamDesc voxelizeMethodParam(VoxelizeMethod defaultMethod) {
 }
 
 ParamDesc hybridCutoffParam() {
-  // Default from the llvmpipe sweep in docs/performance.md: the compute pass was the faster one on
-  // every scene, huge triangles included, so every triangle goes to it (1e6 voxels^2 exceeds any
-  // triangle's projected area at 512^3). On a GPU a few voxels^2 would be the place to start.
-  return ParamDesc::real("voxelize.hybrid-cutoff", 1.0e6, 0.0, 1.0e6,
+  // Default from the llvmpipe sweep in docs/performance.md: a wall of the Cornell box (thousands of
+  // voxels^2) rasterizes 2x faster than one compute invocation loops over its columns, while the
+  // compute pass wins on small triangles; 1024 voxels^2 sits between the two on the suite.
+  return ParamDesc::real("voxelize.hybrid-cutoff", 1024.0, 0.0, 1.0e6,
                          "hybrid: triangles whose area projected along the dominant axis is below this go to the "
-                         "triangle-parallel pass, the rest are rasterized (default: all to compute, measured "
-                         "fastest on llvmpipe)",
+                         "triangle-parallel pass, the rest are rasterized",
                          "voxels^2");
 }
 
@@ -50,6 +49,8 @@ bool partHolds(const Scene& scene, TrianglePart part, size_t triangle) {
 // Bit 30 of a triangle's info: outside the part being voxelized (classify.comp.glsl skips it,
 // voxelize.geom.glsl too when VOXLAB_SKIP_OTHER_PART is defined).
 constexpr uint32_t kOtherPartBit = 0x40000000u;
+// Bit 31: the classification sent the triangle to the compute pass (classify.comp.glsl).
+constexpr uint32_t kComputeClassBit = 0x80000000u;
 
 void classifyTriangles(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, float cutoff,
                        TrianglePart part, const VoxelizeScratch& scratch) {
@@ -111,9 +112,40 @@ bool methodComputes(VoxelizeMethod method, const TriangleClasses& classes) {
   return (method == VoxelizeMethod::TriangleParallel || method == VoxelizeMethod::Hybrid) && classes.compute > 0;
 }
 
+// The runs of consecutive triangles, within each draw range, that the raster pass keeps: the
+// class bit (compute) and the other-part bit of the classified triangle info, read back.
+static std::vector<DrawRange> rasterizedRuns(StageContext& ctx, const VoxelizeScratch& scratch, bool skipSmall,
+                                             bool skipOther) {
+  const size_t triangles = ctx.scene.triangleCount();
+  std::vector<uint32_t> info(triangles, 0u);
+  if (triangles > 0) {
+    auto bytes = ctx.board.buffer(scratch.triangleInfo).download(triangles * 4);
+    std::memcpy(info.data(), bytes.data(), triangles * 4);
+  }
+  const uint32_t dropped = (skipSmall ? kComputeClassBit : 0u) | (skipOther ? kOtherPartBit : 0u);
+  std::vector<DrawRange> runs;
+  for (const DrawRange& d : ctx.scene.draws) {
+    const uint32_t first = d.firstIndex / 3, end = (d.firstIndex + d.indexCount) / 3;
+    for (uint32_t t = first; t < end;) {
+      if (info[t] & dropped) {
+        ++t;
+        continue;
+      }
+      uint32_t runEnd = t + 1;
+      while (runEnd < end && !(info[runEnd] & dropped)) ++runEnd;
+      runs.push_back({t * 3, (runEnd - t) * 3, d.material});
+      t = runEnd;
+    }
+  }
+  return runs;
+}
+
 void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, VoxelizeMethod method, uint32_t capacity,
                              TrianglePart part, const VoxelizeScratch& scratch) {
-  std::string defines = method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n" : "";
+  // The hybrid's raster pass skips the compute pass's triangles and writes the records that pass
+  // would (voxelize.frag.glsl), so routing changes no fragment.
+  std::string defines =
+      method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n#define VOXLAB_RECORDS_AS_COMPUTE 1\n" : "";
   if (part != TrianglePart::All) defines += "#define VOXLAB_SKIP_OTHER_PART 1\n";
   GLuint program = ctx.shaders.program(
       {"common/world.vert.glsl", "common/voxelize.geom.glsl", "common/voxelize.frag.glsl"}, defines);
@@ -122,6 +154,16 @@ void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, Voxeliz
   setUniform(program, "u_capacity", capacity);
   if (ctx.board.hasBuffer(scratch.triangleInfo))
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer(scratch.triangleInfo).id());
+  // Where the geometry shader would drop triangles (the hybrid's small ones, the other part's),
+  // only the runs of triangles it keeps are drawn: the vertex and geometry stages run on one
+  // thread on llvmpipe, so drawing all of Sponza to keep its few large triangles cost more than
+  // voxelizing those in the compute pass.
+  const bool skipSmall = method == VoxelizeMethod::Hybrid, skipOther = part != TrianglePart::All;
+  if ((skipSmall || skipOther) && ctx.board.hasBuffer(scratch.triangleInfo)) {
+    const std::vector<DrawRange> kept = rasterizedRuns(ctx, scratch, skipSmall, skipOther);
+    rasterizeVoxelFragments(ctx, program, space.resolution, &kept);
+    return;
+  }
   rasterizeVoxelFragments(ctx, program, space.resolution);
 }
 

@@ -14,8 +14,8 @@ namespace voxlab {
 // The voxelize.method choices, in ParamDesc order.
 enum class VoxelizeMethod { FragmentParallel = 0, Plain = 1, TriangleParallel = 2, Hybrid = 3 };
 
-// "voxelize.method" with the given default (vct-grid defaults to the faster exact method on
-// llvmpipe, triangle-parallel; the voxelization technique to fragment-parallel).
+// "voxelize.method" with the given default (the shared voxelize stages default to hybrid, the
+// faster routing on llvmpipe; the voxelization technique to fragment-parallel).
 ParamDesc voxelizeMethodParam(VoxelizeMethod defaultMethod);
 ParamDesc hybridCutoffParam();
 VoxelizeMethod voxelizeMethodOf(const ParamSet& params);

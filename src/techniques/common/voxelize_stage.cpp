@@ -32,9 +32,10 @@ const VoxelizeScratch& staticScratch() {
 
 void declareVoxelizeParams(StageBuilder& b) {
   b.param(voxelResolutionParam());
-  // The exact methods give the same voxels; triangle-parallel was measured 10x faster than the
-  // geometry-shader raster pass on Sponza at 128^3 with llvmpipe (docs/performance.md).
-  b.param(voxelizeMethodParam(VoxelizeMethod::TriangleParallel));
+  // The exact methods give the same voxels. By triangle size (docs/performance.md): the compute
+  // pass was measured 10x faster than the raster pass on Sponza's small triangles at 128^3 with
+  // llvmpipe, the raster pass 2x faster on the Cornell box's walls.
+  b.param(voxelizeMethodParam(VoxelizeMethod::Hybrid));
   b.param(hybridCutoffParam());
 }
 
@@ -202,7 +203,7 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
   return produced;
 }
 
-void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution) {
+void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution, const std::vector<DrawRange>* ranges) {
   GLuint fbo = 0;
   glCreateFramebuffers(1, &fbo);
   glObjectLabel(GL_FRAMEBUFFER, fbo, -1, "voxelize.fbo");
@@ -213,7 +214,10 @@ void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution) 
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  ctx.gpuScene.draw(program);
+  if (ranges)
+    ctx.gpuScene.draw(program, *ranges);
+  else
+    ctx.gpuScene.draw(program);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glDeleteFramebuffers(1, &fbo);

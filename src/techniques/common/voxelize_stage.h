@@ -94,8 +94,10 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
 
 // The fragment-parallel pass: draws the scene with 'program' (common/world.vert +
 // common/voxelize.geom/.frag) over a resolution^2 framebuffer without attachments, then makes
-// its appends visible. Call inside fillFragmentList's passes.
-void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution);
+// its appends visible. Call inside fillFragmentList's passes. With 'ranges' it draws only those
+// runs of triangles (GpuScene::draw), not the whole scene.
+void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution,
+                             const std::vector<DrawRange>* ranges = nullptr);
 
 // The value of a 32-bit counter at byte 'offset' of 'buffer' (reads it back).
 uint32_t readCounter(const Buffer& buffer, size_t offset = 0);
