@@ -355,9 +355,15 @@ void writeLevelExr(const LevelData& d, const std::string& path, const std::strin
   // volume level is 32 MiB as floats), which was most of a run's writing time.
   const bool half = halfKeepsEveryValue(textureFormat);
   const int width = d.size.x, height = d.size.y * d.size.z;
+  // Large volume levels (the SVO's brick pools, 128^3 RGBA grids) without deflate: it was most of
+  // their writing time, and they are the longest jobs of a whole run's file writing (svo on the
+  // Cornell box: 0.3 to 0.4 s of CPU saved, the run folder 50 -> 70 MB). Images keep the smaller files.
+  const size_t kLargeVolumeValues = size_t(4) << 20;
+  const ExrCompression compression =
+      d.size.z > 1 && d.values.size() >= kLargeVolumeValues ? ExrCompression::Rle : ExrCompression::Zip;
   if (!half) {
     std::vector<float> rows = flipSliceRows(d.values, d.size, d.channels);
-    writeExrFile(path, width, height, d.channels, attributes, ExrPixels::Float, rows.data());
+    writeExrFile(path, width, height, d.channels, attributes, ExrPixels::Float, rows.data(), compression);
     return;
   }
   // Flipped and converted in one pass: a 128^3 RGBA level is 32 MiB as floats, 16 as halves.
@@ -369,7 +375,7 @@ void writeLevelExr(const LevelData& d, const std::string& path, const std::strin
       uint16_t* to = &halves[(size_t(z) * d.size.y + (d.size.y - 1 - y)) * rowValues];
       toHalfBits(from, to, rowValues);
     }
-  writeExrFile(path, width, height, d.channels, attributes, ExrPixels::Half, halves.get());
+  writeExrFile(path, width, height, d.channels, attributes, ExrPixels::Half, halves.get(), compression);
 }
 
 LevelData readLevelExr(const std::string& path) {

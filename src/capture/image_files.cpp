@@ -59,10 +59,11 @@ static bool hasExtension(const std::string& path, const char* ext) {
 }
 
 void writeExrFile(const std::string& path, int width, int height, int channels,
-                  const std::vector<ImageFileAttribute>& attributes, ExrPixels type, const void* pixels) {
+                  const std::vector<ImageFileAttribute>& attributes, ExrPixels type, const void* pixels,
+                  ExrCompression compression) {
   try {
     Imf::Header header(width, height);
-    header.compression() = Imf::ZIP_COMPRESSION;
+    header.compression() = compression == ExrCompression::Rle ? Imf::RLE_COMPRESSION : Imf::ZIP_COMPRESSION;
     header.zipCompressionLevel() = 1;  // lossless either way; level 1 writes a run's files in half the time
     auto names = channelNames(channels);
     const bool half = type == ExrPixels::Half;
