@@ -33,7 +33,8 @@ struct ImageFileData {
 enum class ExrCompression { Zip, Rle };
 // Writes 1..4 channels as EXR (ZIP compression, or RLE where asked), channels Y / R,G / R,G,B / R,G,B,A, float or
 // half. Throws Error naming the path.
-void writeExrFile(const std::string& path, const ImageFileData& image, bool half = false);
+void writeExrFile(const std::string& path, const ImageFileData& image, bool half = false,
+                  ExrCompression compression = ExrCompression::Zip);
 // The same from values already laid out: width x height pixels, top row first, 'channels'
 // interleaved, as 32-bit floats or as the bits of half floats (toHalfBits).
 enum class ExrPixels { Float, Half };
