@@ -1,6 +1,7 @@
 #include "capture/capture.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -18,8 +19,45 @@ using nlohmann::json;
 
 // --- Readback ------------------------------------------------------------------------------------
 
+// The float the driver gives for each byte value of an 8-bit unorm texture, asked of the driver
+// once (a texture holding the bytes 0..255, read back as floats), so that a level read back as
+// bytes and mapped through it has exactly the values of a level read back as floats.
+static const std::array<float, 256>& unormByteValues() {
+  static const std::array<float, 256> values = [] {
+    std::array<uint8_t, 256> bytes;
+    for (int k = 0; k < 256; ++k) bytes[k] = uint8_t(k);
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &id);
+    glTextureStorage2D(id, 1, GL_RGBA8, 64, 1);
+    glTextureSubImage2D(id, 0, 0, 0, 64, 1, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    std::array<float, 256> v;
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(id, 0, GL_RGBA, GL_FLOAT, GLsizei(sizeof v), v.data());
+    glDeleteTextures(1, &id);
+    return v;
+  }();
+  return values;
+}
+
 static LevelData readTextureLevel(const Texture& tex, int level) {
   FormatInfo fi = formatInfo(tex.desc().format);
+  const GLenum internal = tex.desc().format;
+  // 8-bit unorm levels (the SVO's brick pools: 22 M values) read back as bytes and mapped through
+  // the driver's own byte -> float values: llvmpipe's conversion to floats took 34 ns a texel.
+  if (internal == GL_R8 || internal == GL_RG8 || internal == GL_RGBA8) {
+    const std::array<float, 256>& byteValue = unormByteValues();
+    LevelData d;
+    d.size = tex.levelSize(level);
+    d.channels = fi.channels;
+    const size_t n = d.texelCount() * d.channels;
+    std::vector<uint8_t> bytes(n);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glGetTextureImage(tex.id(), level, fi.readFormat, GL_UNSIGNED_BYTE, GLsizei(n), bytes.data());
+    d.values.resize(n);
+    for (size_t i = 0; i < n; ++i) d.values[i] = byteValue[bytes[i]];
+    return d;
+  }
   LevelData d;
   d.size = tex.levelSize(level);
   d.channels = fi.channels;
