@@ -59,10 +59,11 @@ static bool hasExtension(const std::string& path, const char* ext) {
 }
 
 void writeExrFile(const std::string& path, int width, int height, int channels,
-                  const std::vector<ImageFileAttribute>& attributes, ExrPixels type, const void* pixels) {
+                  const std::vector<ImageFileAttribute>& attributes, ExrPixels type, const void* pixels,
+                  ExrCompression compression) {
   try {
     Imf::Header header(width, height);
-    header.compression() = Imf::ZIP_COMPRESSION;
+    header.compression() = compression == ExrCompression::Rle ? Imf::RLE_COMPRESSION : Imf::ZIP_COMPRESSION;
     header.zipCompressionLevel() = 1;  // lossless either way; level 1 writes a run's files in half the time
     auto names = channelNames(channels);
     const bool half = type == ExrPixels::Half;
@@ -89,15 +90,17 @@ void writeExrFile(const std::string& path, int width, int height, int channels,
   }
 }
 
-void writeExrFile(const std::string& path, const ImageFileData& img, bool half) {
+void writeExrFile(const std::string& path, const ImageFileData& img, bool half, ExrCompression compression) {
   if (!half) {
-    writeExrFile(path, img.width, img.height, img.channels, img.attributes, ExrPixels::Float, img.pixels.data());
+    writeExrFile(path, img.width, img.height, img.channels, img.attributes, ExrPixels::Float, img.pixels.data(),
+                 compression);
     return;
   }
   // OpenEXR converts pixel types only when reading: a HALF channel needs half values.
   std::vector<uint16_t> halves(img.pixels.size());
   toHalfBits(img.pixels.data(), halves.data(), halves.size());
-  writeExrFile(path, img.width, img.height, img.channels, img.attributes, ExrPixels::Half, halves.data());
+  writeExrFile(path, img.width, img.height, img.channels, img.attributes, ExrPixels::Half, halves.data(),
+               compression);
 }
 
 #if defined(__x86_64__) || defined(__i386__)

@@ -37,7 +37,7 @@ std::string stdErrPathFor(const std::string& path) {
 }
 
 void writeImage(const std::string& path, const Image& img, const ImageAttributes& attributes,
-                bool halfFloat) {
+                bool halfFloat, ExrCompression compression) {
   if (img.width <= 0 || img.height <= 0 || img.rgb.size() != img.pixelCount() * 3)
     throw Error("cannot write '" + path + "': image has no pixels or a wrong pixel count");
   std::string ext = lowerExtension(path);
@@ -51,7 +51,7 @@ void writeImage(const std::string& path, const Image& img, const ImageAttributes
     file.channels = 3;
     file.pixels = img.rgb;
     for (const auto& a : attributes) file.attributes.push_back({a.name, a.value, a.isInt});
-    writeExrFile(path, file, halfFloat);
+    writeExrFile(path, file, halfFloat, compression);
     return;
   }
   if (ext != ".png")

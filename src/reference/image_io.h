@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "capture/image_files.h"
 #include "reference/image.h"
 
 namespace voxlab::reference {
@@ -21,8 +22,9 @@ using ImageAttributes = std::vector<ImageAttribute>;
 // when the extension is .png/.jpg (values clamped to [0,1] and encoded with the sRGB curve).
 // Throws voxlab::Error naming the path when the file cannot be written. halfFloat: EXR pixels as
 // 16-bit half floats (relative rounding error <= 2^-11, range up to 65504) instead of 32-bit float.
+// compression: the EXR's (ZIP, or RLE for pixels that deflate barely shrinks).
 void writeImage(const std::string& path, const Image& img, const ImageAttributes& attributes = {},
-                bool halfFloat = false);
+                bool halfFloat = false, ExrCompression compression = ExrCompression::Zip);
 // Writes an EXR; the same as writeImage but insists on a .exr extension.
 void writeExr(const std::string& path, const Image& img, const ImageAttributes& attributes = {},
               bool halfFloat = false);

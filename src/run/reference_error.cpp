@@ -128,8 +128,10 @@ json compareWithReference(const CapturedOutput& out, const std::string& scene, i
       {"voxlab:reference", r["reference"].get<std::string>(), false},
       {"voxlab:content", "luminance of |output - reference| through the voxlab error colour ramp", false}};
   json files = json::array();
+  // The error map's EXR as RLE: its 32-bit colours of a noisy difference deflate barely (2.1 MB ZIP,
+  // 2.3 MB RLE at 512x512), and RLE writes it in a sixth of the time (55 -> 9 ms).
   for (const char* ext : {".error.png", ".error.exr"}) {
-    reference::writeImage(dir + "/" + prefix + ext, err, errAttrs);
+    reference::writeImage(dir + "/" + prefix + ext, err, errAttrs, false, ExrCompression::Rle);
     files.push_back(prefix + ext);
   }
   if (!attr("voxlab:spp").empty()) r["spp"] = std::stoi(attr("voxlab:spp"));

@@ -13,6 +13,8 @@
 #include <random>
 #include <vector>
 
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <zlib.h>
 
 #include "capture/capture.h"
@@ -166,20 +168,22 @@ TEST(ImageFiles, HalfBitsRoundToNearestEvenLikeTheFormatsDefinition) {
 
 // A run writes textures of 8-bit and 16-bit float formats as half floats: an 8-bit texture's
 // values read back as exactly its k/255, a 16-bit float's exactly; a 32-bit float texture stays
-// 32-bit (its values here have 17 significant bits).
+// 32-bit (its values here have 17 significant bits). Small levels are deflated (ZIP); a volume
+// level of 4 Mi values or more (128 x 128 x 64 RGBA) is written RLE, and keeps its values as well.
 TEST(ImageFiles, LevelFilesKeepEveryValueOfTheirTextureFormat) {
   std::mt19937 rng(3);
   const std::string dir = ::testing::TempDir() + "voxlab-volume-files";
   std::filesystem::create_directories(dir);
+  for (const glm::ivec3 size : {glm::ivec3(5, 3, 4), glm::ivec3(128, 128, 64)})
   for (const char* format : {"rgba8", "rgba16f", "r32f"}) {
     CapturedOutput out;
     out.desc.kind = OutputKind::Volume3D;
     out.desc.semantic = Semantic::Color;
     out.format = format;
     LevelData level;
-    level.size = {5, 3, 4};
+    level.size = size;
     level.channels = std::string(format) == "r32f" ? 1 : 4;
-    level.values.resize(size_t(5) * 3 * 4 * level.channels);
+    level.values.resize(size_t(size.x) * size.y * size.z * level.channels);
     for (float& v : level.values)
       v = std::string(format) == "rgba8" ? float(rng() % 256) * (1.0f / 255.0f)  // as llvmpipe reads bytes back
                                          : std::ldexp(float(rng() % 100000) / 100000.0f, int(rng() % 20) - 10);
@@ -201,6 +205,10 @@ TEST(ImageFiles, LevelFilesKeepEveryValueOfTheirTextureFormat) {
     for (size_t i = 0; i < level.values.size(); ++i) wrong += back.values[i] != level.values[i];
     EXPECT_EQ(wrong, 0u) << format;
     EXPECT_EQ(readImageFile(dir + "/v-" + std::string(format) + ".exr").attribute("voxlab:format"), format);
+    const bool large = level.values.size() >= (size_t(4) << 20);
+    Imf::InputFile file((dir + "/v-" + std::string(format) + ".exr").c_str());
+    EXPECT_EQ(file.header().compression(), large ? Imf::RLE_COMPRESSION : Imf::ZIP_COMPRESSION)
+        << format << " " << level.values.size() << " values";
   }
   std::filesystem::remove_all(dir);
 }

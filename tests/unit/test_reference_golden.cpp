@@ -11,6 +11,9 @@
 #include <map>
 #include <string>
 
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+
 #include "run/reference_error.h"
 #include "core/paths.h"
 #include "reference/image_io.h"
@@ -277,6 +280,11 @@ TEST(ReferenceGoldenRunComparison, IdenticalDownsampledAndSkipped) {
   EXPECT_EQ(same["files"].size(), 2u);
   EXPECT_TRUE(fileExists(dir + "/s.o.error.png"));
   EXPECT_TRUE(fileExists(dir + "/s.o.error.exr"));
+  // The error map's EXR is RLE (its noisy 32-bit colours barely deflate) and reads back whole.
+  EXPECT_EQ(Imf::InputFile((dir + "/s.o.error.exr").c_str()).header().compression(), Imf::RLE_COMPRESSION);
+  reference::Image errorMap = reference::readExr(dir + "/s.o.error.exr");
+  EXPECT_EQ(errorMap.width, full.img.width);
+  EXPECT_EQ(errorMap.height, full.img.height);
 
   nlohmann::json half = compareWithReference(captureOf(full.img, 2, "full"), "cornell-box", 0, dir, "h.o");
   ASSERT_FALSE(half.contains("skipped")) << half.dump();
