@@ -3,12 +3,10 @@
 #include <chrono>
 
 #include <algorithm>
-#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <future>
 #include <memory>
-#include <mutex>
 #include <thread>
 
 #include "run/reference_error.h"
@@ -124,16 +122,9 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
   double totalCpu = 0, totalGpu = 0;
   // Outputs are read back here, on the GL thread, in declaration order; encoding and writing their
   // files and comparing them with the references (CPU only) run on worker threads, at most one
-  // per core at a time, and their manifest entries are collected in the same order. The next
-  // output is read back as soon as any job ends (not the oldest: a brick pool's job takes ten
-  // times an image's, and waiting on it left a core idle).
+  // per core at a time, and their manifest entries are collected in the same order.
   std::vector<std::pair<size_t, std::future<json>>> pending;
-  struct WorkerSlots {
-    std::mutex mutex;
-    std::condition_variable freed;
-    size_t busy = 0;
-  };
-  auto slots = std::make_shared<WorkerSlots>();
+  size_t waited = 0;
   const size_t workers = std::max(1u, std::thread::hardware_concurrency());
   // The references are of the scene's own light and sky: a run that changes the scene's
   // physics (parameters declared groundTruth()) is not compared with them.
@@ -182,19 +173,8 @@ json HeadlessSession::writeOutputs(const std::string& dir, bool finalOnly, const
       const bool compare = !request_.lookFrom;
       std::string sceneName = cursor_->scene().name;
       int camera = request_.camera;
-      {
-        std::unique_lock<std::mutex> lock(slots->mutex);
-        slots->freed.wait(lock, [&] { return slots->busy < workers; });
-        ++slots->busy;
-      }
+      while (pending.size() - waited >= workers) pending[waited++].second.wait();
       pending.emplace_back(size_t(i), std::async(std::launch::async, [=, name = o.name, help = o.help]() {
-        struct SlotRelease {  // on every way out, a throw included
-          WorkerSlots& slots;
-          ~SlotRelease() {
-            { std::lock_guard<std::mutex> lock(slots.mutex); --slots.busy; }
-            slots.freed.notify_one();
-          }
-        } release{*slots};
         json e = writeOutputFiles(*cap, dir, prefix);
         e["name"] = name;
         e["address"] = address;
