@@ -19,6 +19,7 @@
 
 layout(local_size_x = 64) in;
 #include "common/material.glsl"
+#include "common/triangle_normal.glsl"
 #include "common/lights.glsl"
 #include "common/tri_box.glsl"
 #include "common/facing.glsl"
@@ -101,7 +102,7 @@ void voxelizeEntry(uint t, int e) {
   vec3 n = vec3(dn);
   int axis = dominantAxis(n);
   vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
-  vec3 normal = normalize(n) * (dot(n, vertexNormals) < 0.0 ? -1.0 : 1.0);
+  vec3 normal = facingPlaneNormal(n, vertexNormals);
   // Which way the fronts face, from the normal as a voxel fragment carries it (8-bit snorm, as
   // vct-grid's voxelizers store it): the same surface gets vct-grid's facing code.
   vec3 facingNormal = normalize(unpackSnorm4x8(packSnorm4x8(vec4(normal, 0.0))).xyz);
@@ -112,10 +113,7 @@ void voxelizeEntry(uint t, int e) {
   vec3 l0 = vec3(d0), l1 = vec3(d1), l2 = vec3(d2);
   vec2 t0 = sceneUv(i0), t1 = sceneUv(i1), t2 = sceneUv(i2);
   uint coverageLevel = masked ? coverageLevelFor(alpha, l0, l1, l2, t0, t1, t2) : 0u;
-  vec2 du = t1 - t0, dv = t2 - t0;
-  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
-  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / max(length(cross(l1 - l0, l2 - l0)), 1e-20);
-  float lod = max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
+  float lod = voxelTextureLod(l0, l1, l2, t0, t1, t2);
 
   // Columns along the dominant axis; in each, the cells the plane can reach (a superset: the
   // exact test decides).

@@ -24,3 +24,12 @@ bool materialCutAway(vec2 uv) {
   vec4 alpha = materials[u_materialIndex].alpha;
   return alpha.y > 0.5 && materialAlbedo(uv).a < alpha.x;
 }
+// The albedo texture's mip level whose texel is about one voxel over a triangle (p: its corners
+// in voxels, t: their texture coordinates): log2 of texels per voxel along one side (a triangle
+// whose area rounds to 0 takes the coarsest level).
+float voxelTextureLod(vec3 p0, vec3 p1, vec3 p2, vec2 t0, vec2 t1, vec2 t2) {
+  vec2 du = t1 - t0, dv = t2 - t0;
+  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
+  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / max(length(cross(p1 - p0, p2 - p0)), 1e-20);
+  return max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
+}

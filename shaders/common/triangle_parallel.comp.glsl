@@ -29,6 +29,7 @@
 
 layout(local_size_x = 64) in;
 #include "common/material.glsl"
+#include "common/triangle_normal.glsl"
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_INFO) readonly buffer TriangleInfo { uint triangleInfo[]; };
 layout(std430, binding = VOXLAB_BINDING_TRIANGLE_LIST) readonly buffer TriangleList { uint triangleList[]; };
 layout(binding = VOXLAB_BINDING_FRAGMENT_COUNT, offset = 0) uniform atomic_uint u_fragmentCount;
@@ -110,7 +111,7 @@ void main() {
   if (max(abs(n.x), max(abs(n.y), abs(n.z))) <= 0.0) return;
   int axis = dominantAxis(n);
   vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
-  vec3 normal = normalize(n) * (dot(n, vertexNormals) < 0.0 ? -1.0 : 1.0);
+  vec3 normal = facingPlaneNormal(n, vertexNormals);
 
   // Plane test: the box's critical corner c (largest n.p) and its opposite (smallest) must lie on
   // different sides. c is on an upper face when n has a positive component, its opposite when n has
@@ -132,10 +133,7 @@ void main() {
   bool masked = coverageMasked(alpha);
   vec2 t0 = sceneUv(i0), t1 = sceneUv(i1), t2 = sceneUv(i2);
   uint level = masked ? coverageLevelFor(alpha, w0, w1, w2, t0, t1, t2) : 0u;
-  vec2 du = t1 - t0, dv = t2 - t0;
-  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
-  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / length(cross(w1 - w0, w2 - w0));
-  float lod = max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
+  float lod = voxelTextureLod(w0, w1, w2, t0, t1, t2);
 
   // Columns along the dominant axis: the plane's depth over a column spans at most
   // |dz/da| + |dz/db| <= 2 voxels, so only a few voxels per column are candidates.

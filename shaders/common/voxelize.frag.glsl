@@ -34,12 +34,6 @@ vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.z
 // side, albedo and emission at the voxel centre's projection onto the triangle, at the mip level
 // whose texel is about one voxel; so the hybrid's fragments do not depend on how a triangle was
 // routed. Otherwise the interpolated vertex normal and the pixel centre's uv.
-float recordLod() {
-  vec2 du = fin.uv1 - fin.uv0, dv = fin.uv2 - fin.uv0;
-  vec2 texels = vec2(textureSize(u_albedoTexture, 0));
-  float texelRatio = abs(du.x * dv.y - du.y * dv.x) * texels.x * texels.y / length(cross(fin.tri1 - fin.tri0, fin.tri2 - fin.tri0));
-  return max(0.5 * log2(max(texelRatio, 1e-8)), 0.0);
-}
 
 void appendVoxel(ivec3 voxel) {
   if (any(lessThan(voxel, ivec3(0))) || any(greaterThanEqual(voxel, ivec3(u_resolution)))) return;
@@ -47,7 +41,7 @@ void appendVoxel(ivec3 voxel) {
   if (index >= u_capacity) return;  // the stage sees the count, grows the list and runs again
 #ifdef VOXLAB_RECORDS_AS_COMPUTE
   vec2 uv = voxelSampleUv(fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2, voxel);
-  float lod = recordLod();
+  float lod = voxelTextureLod(fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2);
   vec4 albedo = materialAlbedoLod(uv, lod);
   vec3 emission = materialEmissionLod(uv, lod);
   vec3 normal = fin.faceNormal;

@@ -6,6 +6,7 @@
 // triangle's half-pixel-grown bounding box and decides the exact voxels.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
+#include "common/triangle_normal.glsl"
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
@@ -83,7 +84,7 @@ void main() {
   vec3 local[3] = vec3[3](v[0] - origin, v[1] - origin, v[2] - origin);
   vec3 localNormal = cross(local[1] - local[0], local[2] - local[0]);
   vec3 vertexNormals = vin[0].normal + vin[1].normal + vin[2].normal;
-  vec3 faceNormal = normalize(localNormal) * (dot(localNormal, vertexNormals) < 0.0 ? -1.0 : 1.0);
+  vec3 faceNormal = facingPlaneNormal(localNormal, vertexNormals);
   // Depth of any point of the (grown) triangle from the plane through s[0] with normal ns.
   vec3 ns = toProjected(n, axis);
   for (int i = 0; i < 3; ++i) {
