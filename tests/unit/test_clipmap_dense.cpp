@@ -105,10 +105,10 @@ RunRequest request(const std::string& technique, const std::string& faces, const
   r.width = r.height = 32;
   r.lookFrom = kCamera;
   r.lookAt = kLookAt;
-  // The techniques' default start offsets differ (clipmap's levels put surfaces in coarse voxels):
-  // the same cones need the same one.
+  // The techniques' default cone sets and start offsets differ (clipmap's levels put surfaces in
+  // coarse voxels; its cones are wider and more): the same cones need the same settings.
   r.sets = {"inject.mode=" + inject, "inject.uniform-radiance=0.5", "cone.resolution=full", "cone.aperture=45",
-            "cone.start-offset=1.75"};
+            "cone.count=6", "cone.start-offset=1.75"};
   if (technique == "vct-grid") {
     // Both keep HDR voxels by default (voxel.format, clipmap.format: rgba16f).
     r.sets.insert(r.sets.end(), {"voxel.resolution=32", "voxelize.method=triangle-parallel",

@@ -12,7 +12,7 @@ namespace voxlab {
 static constexpr float kRadiansPerDegree = 3.14159265358979f / 180.0f;
 
 void declareConeParams(StageBuilder& b, const ConeDefaults& d) {
-  b.param(ParamDesc::integer("cone.count", 6, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
+  b.param(ParamDesc::integer("cone.count", d.count, 1, VOXLAB_MAX_CONES, "number of diffuse cones", "cones"));
   b.param(ParamDesc::real("cone.aperture", d.aperture, 5.0, 120.0, d.apertureHelp, "degrees"));
   b.param(ParamDesc::choice("cone.layout", {"ring", "fibonacci"}, 0,
                             "ring: one cone on the normal and the rest around it; fibonacci: a cosine-distributed spiral"));

@@ -20,6 +20,7 @@ namespace voxlab {
 // The defaults are those of cones in one voxel volume (vct-grid, svo: 45-degree cones that
 // may run past the volume's diagonal); a technique with other units (clipmap) overrides them.
 struct ConeDefaults {
+  int count = 6;           // diffuse cones
   double aperture = 45.0;  // degrees, full angle
   std::string apertureHelp = "full opening angle of each diffuse cone (ring layout: the outer cones are tilted by as much; "
                              "at 60 their lower edges graze the surface, which then occludes and lights itself)";
