@@ -536,7 +536,9 @@ RunRequest clipRequest(glm::vec3 from, std::vector<std::string> sets, const std:
   r.lookFrom = from;
   r.lookAt = from + glm::vec3(0.0f, 0.0f, 1.0f);
   // Levels centred on the camera, as the CPU models these tests replan with (snapOrigins without a
-  // lead); a test that leads them sets clipmap.look-ahead itself (later sets win).
+  // lead), and the atlas as voxelized and filtered, which the CPU models rebuild (no unreached
+  // cells filled); a test that leads them or fills sets the parameter itself (later sets win).
+  sets.insert(sets.begin(), "clipmap.fill-unreached=off");
   sets.insert(sets.begin(), "clipmap.look-ahead=0");
   sets.push_back("clipmap.resolution=16");
   sets.push_back("clipmap.levels=4");
@@ -648,6 +650,16 @@ TEST(ClipmapGpu, PathOfSmallMovesEqualsScratch) {
   for (int k = 0; k < 4; ++k) written += counters[size_t(5 * k + 2)];
   EXPECT_LT(written, 16u * 16u * 16u / 4u) << "direct texels written by one small move";
   EXPECT_GT(written, 0u);
+}
+
+// With the fill of unreached cells, in a closed corridor (everything outside it filled): the cells
+// an earlier move filled are searched again as empty and emptied where the moved camera's space
+// reaches them, so three moves along the corridor end with the atlas of a build from scratch,
+// bit for bit.
+TEST(ClipmapGpu, PathWithTheFillEqualsScratch) {
+  const glm::vec3 start(204.0f / 256.0f, 308.0f / 256.0f, 6.0f);
+  expectPathEqualsScratch(start, {0.0f, 0.0f, -0.3125f}, 3, "corridor, filled", {"clipmap.fill-unreached=on"},
+                          "corridor", "0.125");
 }
 
 // bench's timed runs (timeStages) start from scratch and carry the timings the update stage takes
@@ -848,8 +860,9 @@ double corridorMeanLight(const std::string& voxelSize, int n) {
   r.width = r.height = 32;
   r.lookFrom = glm::vec3(0.8f, 1.2f, 6.0f);
   r.lookAt = glm::vec3(0.8f, 1.2f, 5.0f);
+  // The cells as voxelized: the space outside the corridor, filled, would count as occupied.
   r.sets = {"clipmap.levels=1", "clipmap.resolution=" + std::to_string(n), "clipmap.voxel-size=" + voxelSize,
-            "clipmap.faces=isotropic"};
+            "clipmap.faces=isotropic", "clipmap.fill-unreached=off"};
   auto& s = session(r);
   const LevelData cells = capture(s, "mips", "clip-logical").levels[0];
   double light = 0.0, opacity = 0.0;
@@ -1225,12 +1238,12 @@ TEST(ClipmapGpu, SamplesOutsideTheCoarsestRegionContributeNothing) {
 }
 
 // The opacity each diffuse cone of the probed pixel has gathered at its end (its last sample).
-static std::map<int, float> coneOpacities(const std::string& frontHold) {
+static std::map<int, float> coneOpacities(const std::string& frontHold, const std::string& fill = "off") {
   RunRequest r;
   r.technique = "clipmap";
   r.scene = "corridor";
   r.width = r.height = 128;
-  r.sets = {"probe.x=0.5", "probe.y=0.5", "clipmap.front-hold=" + frontHold};
+  r.sets = {"probe.x=0.5", "probe.y=0.5", "clipmap.front-hold=" + frontHold, "clipmap.fill-unreached=" + fill};
   auto& s = session(r);
   const CapturedOutput c = capture(s, "cone-trace", "cone-samples");
   std::vector<gpu::ConeSample> v(std::min<size_t>(c.recordCount, c.records.size() / sizeof(gpu::ConeSample)));
@@ -1248,7 +1261,8 @@ static std::map<int, float> coneOpacities(const std::string& frontHold) {
 // into the void outside the corridor, the cone towards the x = 0 wall with an opacity of only 0.56
 // (the end wall's indirect light was 0.47 of the reference). Holding a front's opacity half a cell
 // behind it (clipmap.front-hold=0.5) brings the least opaque of the five to 0.74 (deterministic
-// runs, both measured here: 0.562 without, 0.742 with); the bound 0.65 lies between.
+// runs, both measured here with nine cones: 0.561 without, 0.796 with); the bound 0.65 lies between. Measured
+// without the fill of unreached cells, which stops them too (next test).
 TEST(ClipmapPhysics, CoarseWallsStopTheConesThatCrossThem) {
   const auto without = coneOpacities("0"), with = coneOpacities("0.5");
   float leastWithout = 1.0f, leastWith = 1.0f;
@@ -1261,6 +1275,25 @@ TEST(ClipmapPhysics, CoarseWallsStopTheConesThatCrossThem) {
               leastWithout, leastWith);
   EXPECT_LT(leastWithout, 0.65f);
   EXPECT_GT(leastWith, 0.65f);
+}
+
+// The corridor is closed, so every cone from its end wall ends on a wall: its opacity should reach
+// 1. With the space outside the corridor empty, the cone along the wall's normal runs 12 m down
+// the corridor seeing its walls edge-on (measured opacity 0.03) and the tilted ones leave through
+// the walls they graze (0.74 to 0.97 with the hold): the end wall got 0.56 to 0.69 of the
+// reference's light. With the cells the camera's space does not reach filled (clipmap.fill-
+// unreached, the default) every cone ends opaque (measured 1.000 for all nine, deterministic);
+// the bound 0.98 fails if the fill stops short of any side of the corridor, and the normal cone's
+// 0.5 if the coarse levels (where that cone reads) are left empty.
+TEST(ClipmapPhysics, ConesEndOnTheWallsOfAClosedCorridor) {
+  const auto empty = coneOpacities("0.5", "off"), filled = coneOpacities("0.5", "on");
+  ASSERT_TRUE(empty.count(0) && filled.count(0));
+  std::printf("end wall, normal cone opacity: %.3f empty outside, %.3f filled\n", empty.at(0), filled.at(0));
+  EXPECT_LT(empty.at(0), 0.5f);
+  for (const auto& [cone, opacity] : filled) {
+    if (cone > 8) continue;  // the specular cone
+    EXPECT_GT(opacity, 0.98f) << "cone " << cone;
+  }
 }
 
 // One bounce against the path tracer (indirect-1) on the Cornell box, camera 0, at the snapshot

@@ -117,7 +117,9 @@ RunRequest request(const std::string& technique, const std::string& faces, const
   } else {
     // One level: its 1 m edge is vct-grid's volume's, so the distances are vct-grid's fractions.
     const bool one = levels == 1;
+    // The clip levels as voxelized, without the fill of unreached cells (vct-grid has none).
     r.sets.insert(r.sets.end(), {"clipmap.resolution=32", "clipmap.levels=" + std::to_string(levels),
+                                 "clipmap.fill-unreached=off",
                                  "clipmap.voxel-size=0.03125", "clipmap.faces=" + faces, "clipmap.look-ahead=0",
                                  one ? "cone.max-distance=0.5" : "cone.max-distance=0.0625",
                                  one ? "ao.range=0.25" : "ao.range=0.03125"});

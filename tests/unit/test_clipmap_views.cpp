@@ -39,7 +39,7 @@ RunRequest request(int moves) {
   r.lookAt = kInside + glm::vec3(0.0f, 0.0f, 1.0f);
   // 1/64 m cells; a move of (3, -2, 5) level-0 cells moves every level's origin (levels 0-1 by
   // whole snaps) and puts the seams inside the regions.
-  r.sets = {"clipmap.resolution=16", "clipmap.levels=4", "clipmap.voxel-size=0.015625", "clipmap.path-step.x=0.046875",
+  r.sets = {"clipmap.fill-unreached=off", "clipmap.resolution=16", "clipmap.levels=4", "clipmap.voxel-size=0.015625", "clipmap.path-step.x=0.046875",
             "clipmap.path-step.y=-0.03125", "clipmap.path-step.z=0.078125",
             "clipmap.path-moves=" + std::to_string(moves), "clipmap.look-ahead=0"};  // centred, as the checks model
   return r;

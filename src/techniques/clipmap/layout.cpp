@@ -158,10 +158,12 @@ std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, co
   const int moves = params.getInt("clipmap.path-moves");
   const Policy policy = params.getChoice("clipmap.policy") == "priority" ? Policy::Priority : Policy::All;
   std::vector<PathState> path;
-  PathState s{snapOrigins(layout, glm::dvec3(camera), lead), std::vector<int>(size_t(layout.levels), 0)};
+  PathState s{snapOrigins(layout, glm::dvec3(camera), lead), std::vector<int>(size_t(layout.levels), 0),
+              glm::dvec3(camera)};
   path.push_back(s);
   for (int j = 1; j <= moves; ++j) {
-    auto target = snapOrigins(layout, glm::dvec3(camera) + double(j) * step, lead);
+    s.camera = glm::dvec3(camera) + double(j) * step;
+    auto target = snapOrigins(layout, s.camera, lead);
     for (int k = 0; k < layout.levels; ++k) {
       if (levelScheduled(policy, k, layout.levels, j - 1)) {
         s.origins[size_t(k)] = target[size_t(k)];

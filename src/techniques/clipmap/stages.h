@@ -77,6 +77,7 @@ int mipCount(int n);
 struct PathState {
   std::vector<Cell> origins;
   std::vector<int> lag;  // moves since each level was last updated
+  glm::dvec3 camera{0.0};  // the camera at this move (metres)
 };
 std::vector<PathState> cameraPath(const ParamSet& params, const Scene& scene, const ViewState& view);
 // The camera at the end of the path: the view given (the path's start P, --look-from or the
@@ -191,6 +192,7 @@ class UpdateStage : public Stage {
   struct Held {
     std::vector<Cell> origins;
     std::vector<uint8_t> key;
+    std::vector<std::vector<uint8_t>> filled;  // per level, by physical texel: cells the fill wrote
   };
   std::optional<Held> held_;
   TriangleOrderCache order_;

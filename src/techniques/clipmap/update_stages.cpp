@@ -3,6 +3,7 @@
 #include "techniques/clipmap/stages.h"
 #include "graph/scene_inputs.h"
 #include "techniques/clipmap/stage_helpers.h"
+#include "techniques/clipmap/unreached_cells.h"
 
 #include <algorithm>
 #include <chrono>
@@ -152,6 +153,112 @@ void AnchorStage::execute(StageContext& ctx) {
 
 // --- Update ---------------------------------------------------------------------------------------
 
+static bool fillUnreachedOn(const ParamSet& p) { return p.getChoice("clipmap.fill-unreached") == "on"; }
+
+// A word per cell of one level while the fill is on; one word (unused) while it is off.
+static size_t fillBytes(const ParamSet& p) {
+  const size_t n = size_t(p.getInt("clipmap.resolution"));
+  return fillUnreachedOn(p) ? n * n * n * sizeof(uint32_t) : sizeof(uint32_t);
+}
+
+// Level k's part of the fill of unreached cells (unreached_cells.h, fill.comp.glsl): reads the
+// level's isotropic face back, finds the cells no path of empty cells from the camera reaches
+// (level 0 from the camera's cell, coarser levels from what their finer level reached) and has
+// the fill shader write them. 'filled' holds the level's filled cells by physical texel across
+// moves (a held cell the fill wrote is empty to the search, and emptied where the camera's space
+// now reaches it); 'open' takes the finer level's open faces per cell and receives this level's.
+// Returns the number of cells filled.
+static int64_t fillUnreachedCells(StageContext& ctx, Texture& atlas, const Layout& layout,
+                                  const std::vector<Cell>& origins, int k, const LevelPlan& plan,
+                                  const std::vector<Box>& direct, const glm::dvec3& camera, int faces,
+                                  std::vector<uint8_t>& filled, std::vector<uint8_t>& open) {
+  const int n = layout.n, b = n + 2;
+  std::vector<float> isotropic(size_t(b) * size_t(b) * size_t(b) * 4);
+  glGetTextureSubImage(atlas.id(), 0, 0, k * b, 0, b, b, b, GL_RGBA, GL_FLOAT,
+                       GLsizei(isotropic.size() * sizeof(float)), isotropic.data());
+  const Cell origin = origins[size_t(k)];
+  const size_t count = size_t(n) * size_t(n) * size_t(n);
+  auto logicalIndex = [n](glm::ivec3 i) { return (size_t(i.z) * size_t(n) + size_t(i.y)) * size_t(n) + size_t(i.x); };
+  auto cellOf = [n](size_t i) {
+    return glm::ivec3(int(i % size_t(n)), int((i / size_t(n)) % size_t(n)), int(i / (size_t(n) * size_t(n))));
+  };
+  auto physIndex = [&](glm::ivec3 i) { return logicalIndex(toroidal(origin + Cell(i), n)); };
+  auto alphaAt = [&](glm::ivec3 i) {
+    const glm::ivec3 p = toroidal(origin + Cell(i), n) + glm::ivec3(1);
+    return isotropic[((size_t(p.z) * size_t(b) + size_t(p.y)) * size_t(b) + size_t(p.x)) * 4 + 3];
+  };
+  if (filled.size() != count || plan.full) filled.assign(count, 0);
+
+  UnreachedInput input;
+  input.n = n;
+  input.occupied.assign(count, 0);
+  std::vector<uint8_t> rewritten(count, 0);
+  for (size_t i = 0; i < count; ++i) {
+    const glm::ivec3 c = cellOf(i);
+    const Cell world = origin + Cell(c);
+    bool fresh = plan.full || plan.covered.contains(world);
+    for (const Box& box : direct) fresh = fresh || box.contains(world);
+    rewritten[i] = fresh;
+    if (fresh) filled[physIndex(c)] = 0;  // the voxelizer or the filter wrote it this move
+    input.occupied[i] = alphaAt(c) > 0.0f && !filled[physIndex(c)];
+  }
+  if (k == 0) {
+    input.seed = glm::ivec3(glm::floor(camera / layout.voxelSize(0)) - glm::dvec3(origin));
+  } else if (open.size() == count) {
+    input.inherited.assign(count, 0);
+    input.openFaces.assign(count, 0);
+    const Cell finer = origins[size_t(k - 1)];
+    for (size_t i = 0; i < count; ++i) {
+      const Cell world = origin + Cell(cellOf(i));
+      if (!plan.covered.contains(world)) continue;
+      for (int child = 0; child < 8; ++child) {
+        const glm::ivec3 offset(child & 1, (child >> 1) & 1, child >> 2);
+        const glm::ivec3 f = glm::ivec3(Cell(2) * world + Cell(offset) - finer);
+        if (glm::any(glm::lessThan(f, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(f, glm::ivec3(n)))) continue;
+        const uint8_t childOpen = open[logicalIndex(f)];
+        if (!childOpen) continue;
+        input.inherited[i] = 1;
+        // The child touches its parent's faces on the sides of its offset: the camera's space
+        // leaves the parent through such a face where it leaves the child through it.
+        for (int axis = 0; axis < 3; ++axis)
+          input.openFaces[i] |= uint8_t(childOpen & (1u << (2 * axis + (offset[axis] == 1 ? 0 : 1))));
+      }
+    }
+  }
+  const UnreachedCells found = findUnreachedCells(input);
+
+  std::vector<uint32_t> words(count, 0);
+  bool any = false;
+  for (size_t i = 0; i < count; ++i) {
+    const size_t p = physIndex(cellOf(i));
+    if (found.source[i] >= 0) {
+      const uint32_t out = found.sourceStep[i] >= 0 ? uint32_t(found.sourceStep[i]) : 7u;
+      words[i] = 2u + 8u * uint32_t(found.source[i]) + out;
+      filled[p] = 1;
+      any = true;
+    } else if (filled[p] && !rewritten[i]) {
+      words[i] = 1u;  // filled by an earlier move, reached (or next to a wall) now
+      filled[p] = 0;
+      any = true;
+    }
+  }
+  if (any) {
+    Buffer& fill = ctx.board.ensureBuffer("clip-fill", fillBytes(ctx.params));
+    fill.upload(words.data(), count * sizeof(uint32_t));
+    GLuint program = ctx.shaders.program({"clipmap/fill.comp.glsl"}, atlasFormatDefines(ctx.params));
+    setClipUniforms(program, layout, origins);
+    setUniform(program, "u_level", k);
+    setUniform(program, "u_faces", faces);
+    glUseProgram(program);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, fill.id());  // CLIPMAP_BINDING_FILL
+    glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
+    dispatchCompute(glm::ivec3(n), {4, 4, 4});
+    glMemoryBarrier(kAllShaderWrites);
+  }
+  open = found.open;
+  return found.filled;
+}
+
 void UpdateStage::declare(StageBuilder& b) const {
   b.read(kSceneGeometryInput);  // voxelizes the scene's triangles into the moved slabs
   for (const auto& p : layoutParams()) b.param(p);
@@ -159,6 +266,10 @@ void UpdateStage::declare(StageBuilder& b) const {
   for (const auto& p : injectParams()) b.param(p);
   b.param(fixedPointParam());
   b.param(atlasFormatParam());
+  b.param(ParamDesc::choice("clipmap.fill-unreached", {"on", "off"}, 0,
+                            "on: cells no path of empty cells from the camera reaches (behind the walls of a closed room, "
+                            "inside closed objects) are filled, opaque, with the light of the nearest surface, so a cone "
+                            "running along a wall stops as the wall would stop its rays"));
   b.readView();
   b.read("clip-levels");
   b.read("shadow-map");
@@ -198,6 +309,9 @@ void UpdateStage::declare(StageBuilder& b) const {
   // One level's accumulators: the levels take turns (each is cleared, voxelized and resolved
   // before the next).
   b.buffer("clip-accumulators", [](const ParamSet& p, const ViewState&) { return accumulatorBytes(p, 1); });
+  // What the fill writes into one level: a word per cell (fill.comp.glsl).
+  b.write("clip-fill");
+  b.buffer("clip-fill", [](const ParamSet& p, const ViewState&) { return fillBytes(p); });
   b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
   // Sized from the triangles a pass dispatches (4 B each).
   b.buffer("clip-triangle-visit", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
@@ -221,6 +335,7 @@ void UpdateStage::execute(StageContext& ctx) {
   Buffer& accum = ctx.board.ensureBuffer("clip-accumulators", accumulatorBytes(ctx.params, 1));
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
   ctx.board.ensureBuffer("clip-triangle-visit", 4);  // grown by voxelizeEntries
+  ctx.board.ensureBuffer("clip-fill", fillBytes(ctx.params));
 
   // What the held texels were built from: the same atlas, layout, scene, injection and light.
   std::vector<uint8_t> key;
@@ -235,14 +350,17 @@ void UpdateStage::execute(StageContext& ctx) {
   appendBytes(key, ctx.params.getInt("inject.mode"));
   appendBytes(key, ctx.params.getFloat("inject.uniform-radiance"));
   appendBytes(key, ctx.params.getInt("clipmap.fixed-point-bits"));
+  const bool fill = fillUnreachedOn(ctx.params);
+  appendBytes(key, fill);
   auto light = ctx.board.buffer("light").download();
   key.insert(key.end(), light.begin(), light.end());
 
   std::vector<Cell> before;
-  if (ctx.iteration > 0)
-    before = path[size_t(ctx.iteration - 1)].origins;
-  else if (held_ && held_->key == key)
-    before = held_->origins;
+  std::vector<std::vector<uint8_t>> filled(size_t(layout.levels));
+  if (ctx.iteration > 0 || (held_ && held_->key == key)) {
+    before = ctx.iteration > 0 ? path[size_t(ctx.iteration - 1)].origins : held_->origins;
+    if (held_) filled = held_->filled;
+  }
   held_.reset();
   const std::vector<Cell>& after = path[size_t(ctx.iteration)].origins;
   const auto plans = planMove(layout, before, after);
@@ -283,7 +401,8 @@ void UpdateStage::execute(StageContext& ctx) {
   // covered block is filtered from level k-1, which is complete by then; a level's direct cells
   // and its covered block are disjoint, so the order of the levels changes no texel.
   int passes = 0, runsReached = 0, trianglesDispatched = 0;
-  double phaseMs[4] = {0.0, 0.0, 0.0, 0.0};  // clear, voxelize, resolve, filter
+  double phaseMs[5] = {0.0, 0.0, 0.0, 0.0, 0.0};  // clear, voxelize, resolve, filter, fill
+  std::vector<uint8_t> open;  // the finer level's open faces per cell (logical), for the fill
   auto lap = [](std::chrono::steady_clock::time_point& t) {
     glFinish();
     const auto now = std::chrono::steady_clock::now();
@@ -335,10 +454,18 @@ void UpdateStage::execute(StageContext& ctx) {
       glMemoryBarrier(kAllShaderWrites);
     }
     phase(3);
+    // 5. Fill the level's unreached cells (after the filter: the covered block holds the finer
+    // level's filled cells).
+    if (fill) {
+      const int64_t count = fillUnreachedCells(ctx, atlas, layout, after, k, plans[size_t(k)], boxes[size_t(k)],
+                                               path[size_t(ctx.iteration)].camera, faces, filled[size_t(k)], open);
+      ctx.stats["level" + std::to_string(k) + "_filled"] = double(count);
+    }
+    phase(4);
     ctx.stats["level" + std::to_string(k) + "_ms"] = levelMs;
   }
 
-  // 5. Guard texels of every block.
+  // 6. Guard texels of every block.
   auto t = std::chrono::steady_clock::now();
   GLuint guards = ctx.shaders.program({"clipmap/guards.comp.glsl"}, atlasFormatDefines(ctx.params));
   setClipUniforms(guards, layout, after);
@@ -348,11 +475,11 @@ void UpdateStage::execute(StageContext& ctx) {
   glMemoryBarrier(kAllShaderWrites);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
   const double guardsMs = lap(t);
-  const char* phaseNames[4] = {"clear_ms", "voxelize_ms", "resolve_ms", "filter_ms"};
-  for (int i = 0; i < 4; ++i) ctx.stats[phaseNames[i]] = phaseMs[i];
+  const char* phaseNames[5] = {"clear_ms", "voxelize_ms", "resolve_ms", "filter_ms", "fill_ms"};
+  for (int i = 0; i < 5; ++i) ctx.stats[phaseNames[i]] = phaseMs[i];
   ctx.stats["guards_ms"] = guardsMs;
 
-  held_ = Held{after, key};
+  held_ = Held{after, key, fill ? filled : std::vector<std::vector<uint8_t>>(size_t(layout.levels))};
   {
     std::vector<PlanRecord> move;
     for (int k = 0; k < layout.levels; ++k) move.push_back(planRecord(uint32_t(ctx.iteration), k, plans[size_t(k)]));
