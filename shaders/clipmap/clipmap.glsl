@@ -9,6 +9,7 @@
 #define CLIPMAP_BINDING_ACCUM 12     // SSBO: u_cellWords uints per cell and level (see accumulatorIndex)
 #define CLIPMAP_BINDING_COUNTERS 13  // SSBO: uint[5] per level: cleared, pairs, resolved, filtered, guards
 #define CLIPMAP_BINDING_FILL 14      // SSBO: uint per cell of one level, what fill.comp.glsl writes there
+#define CLIPMAP_BINDING_FILLED 15    // SSBO: uint per physical texel of the finer level, 1 where filled
 uniform int u_clipN;                                   // N, a power of two
 uniform int u_clipLevels;                              // L
 uniform ivec3 u_clipOrigin[CLIPMAP_MAX_LEVELS];        // o_k, level-k cells

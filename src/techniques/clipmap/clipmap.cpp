@@ -17,8 +17,9 @@
 //                  level, clear the accumulators of the cells to voxelize, voxelize + inject them
 //                  (shadow-mapped Lambert, fixed-point atomics), resolve into the atlas (RGBA16F
 //                  by default), refilter the covered block from the finer level (isotropic mean;
-//                  six faces by the under operator); then refresh the guard texels (timed per
-//                  level and phase)
+//                  six faces by the under operator), fill the cells the camera's space does not
+//                  reach (clipmap.fill-unreached); then refresh the guard texels (timed per level
+//                  and phase)
 //   4. mips        the coarsest level unrolled into logical order, every face mipped down to 4^3;
 //                  every level unrolled for display (clip-logical)
 //   5. covered-compare  (clipmap.compare-covered) covered cells voxelized directly beside their
@@ -64,6 +65,19 @@
 //     a cell in front of it, and a cone crossing it between samples leaked through; the tracer
 //     also reads each directional face clipmap.front-hold cells (0.5) back along the cone and
 //     keeps the more opaque, so a front the cone reached stays opaque behind it.
+//   - Cells no path of empty cells from the camera reaches (behind the walls of a closed room,
+//     inside closed objects) are filled, opaque, with the light of the wall next to them as the
+//     camera's space sees it (clipmap.fill-unreached, unreached_cells.h, fill.comp.glsl). Empty,
+//     they let a cone whose footprint reaches past a wall go on as if the wall were not there: in
+//     a closed corridor the cone along the end wall's normal ran its length seeing the walls
+//     edge-on (opacity 0.03) and the others left through the walls they graze. Level 0 is searched
+//     from the camera's cell, each coarser level from the faces through which its finer level's
+//     reached cells leave a covered cell (a corridor inside one coarse cell does not open the space
+//     around it). The layer next to a wall stays empty, and a coarser cell holding a surface is
+//     filtered from the surface alone, so a cone leaving the wall does not read its own light
+//     below its horizon. Searched on the CPU after each level's filter, redone on
+//     every move (a held filled cell is empty to the search), so a path still equals a build from
+//     scratch.
 //   - Guard texels on every side of every block make trilinear filtering across the physical seam
 //     correct; a level serves a sample only when its footprint lies inside the level's region.
 //   - clipmap.voxel-size defaults to a power-of-two fraction of the scene's extent (the same

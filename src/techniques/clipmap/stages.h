@@ -176,7 +176,8 @@ class UpdateStage : public Stage {
   const char* summary() const override {
     return "Iteration 0 builds every level around the start; each further iteration moves the camera one path "
            "step and only clears, voxelizes and lights the cells the move exposed (toroidal addresses: nothing "
-           "else moves), refilters the covered blocks from the finer level and refreshes the guard texels.";
+           "else moves), refilters the covered blocks from the finer level, fills the cells the camera's space does "
+           "not reach (behind closed walls) and refreshes the guard texels.";
   }
   void declare(StageBuilder& b) const override;
   int iterations(const ParamSet& params) const override;

@@ -312,6 +312,9 @@ void UpdateStage::declare(StageBuilder& b) const {
   // What the fill writes into one level: a word per cell (fill.comp.glsl).
   b.write("clip-fill");
   b.buffer("clip-fill", [](const ParamSet& p, const ViewState&) { return fillBytes(p); });
+  // The finer level's filled cells for the filter: a word per physical texel.
+  b.write("clip-filled");
+  b.buffer("clip-filled", [](const ParamSet& p, const ViewState&) { return fillBytes(p); });
   b.buffer("clip-counters", [](const ParamSet& p, const ViewState&) { return countersBytes(p.getInt("clipmap.levels")); });
   // Sized from the triangles a pass dispatches (4 B each).
   b.buffer("clip-triangle-visit", [](const ParamSet&, const ViewState&) { return size_t(4); }, /*pool=*/true);
@@ -336,6 +339,7 @@ void UpdateStage::execute(StageContext& ctx) {
   Buffer& counters = ctx.board.ensureBuffer("clip-counters", countersBytes(layout.levels));
   ctx.board.ensureBuffer("clip-triangle-visit", 4);  // grown by voxelizeEntries
   ctx.board.ensureBuffer("clip-fill", fillBytes(ctx.params));
+  ctx.board.ensureBuffer("clip-filled", fillBytes(ctx.params));
 
   // What the held texels were built from: the same atlas, layout, scene, injection and light.
   std::vector<uint8_t> key;
@@ -445,8 +449,17 @@ void UpdateStage::execute(StageContext& ctx) {
     for (const Box& box : boxes[size_t(k)]) dispatchBox(resolve, box);
     glMemoryBarrier(kAllShaderWrites);
     phase(2);
-    // 4. Refilter the level's covered block from the finer level.
+    // 4. Refilter the level's covered block from the finer level (its surfaces without the filled
+    // space behind them where a cell holds both).
     if (k > 0 && !plans[size_t(k)].covered.empty()) {
+      const bool readFilled = fill && filled[size_t(k - 1)].size() == size_t(n) * size_t(n) * size_t(n);
+      Buffer& mask = ctx.board.ensureBuffer("clip-filled", fillBytes(ctx.params));
+      if (readFilled) {
+        const std::vector<uint32_t> words(filled[size_t(k - 1)].begin(), filled[size_t(k - 1)].end());
+        mask.upload(words.data(), words.size() * sizeof(uint32_t));
+      }
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, mask.id());  // CLIPMAP_BINDING_FILLED
+      setUniform(filter, "u_readFilled", readFilled ? 1 : 0);
       glUseProgram(filter);
       glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
       setUniform(filter, "u_level", k);
