@@ -190,6 +190,10 @@ void coneStep(inout ConeMarch m, int phase, bool wantSolid) {
 // The march runs in loops by phase of sampleVolume (the lod only grows along a cone) and, within a
 // phase, before and after markDistance: every pixel's cone takes the same steps (t depends on the
 // aperture and the start only), so a loop's lookups are those all its pixels need.
+// Each loop tests its condition at the end of its body, the body guarded by the same test: llvmpipe
+// leaves a loop only at the end of an iteration in which no lane is left, so a loop written
+// 'while (c) body' runs one more body, every lane masked off and every lookup paid, after its last
+// sample; 'do { if (c) body } while (c)' does not (it pays a masked body only when no lane enters).
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
                      float markDistance, int coneIndex, bool record) {
   ConeMarch m;
@@ -206,11 +210,14 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   m.escaped = false;
   m.record = record;
   m.r = ConeResult(vec3(0.0), 0.0, 0.0, 0.0);
-  while (!m.done && coneLod(m.tanHalf, m.t) <= 0.0) coneStep(m, 0, true);
-  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0 && m.t <= markDistance) coneStep(m, 1, true);
-  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1, false);
-  while (!m.done && m.t <= markDistance) coneStep(m, 2, true);
-  while (!m.done) coneStep(m, 2, false);
+#define CONE_MARCH_WHILE(condition, phase, wantSolid) \
+  do { if (condition) coneStep(m, phase, wantSolid); } while (condition)
+  CONE_MARCH_WHILE(!m.done && coneLod(m.tanHalf, m.t) <= 0.0, 0, true);
+  CONE_MARCH_WHILE(!m.done && coneLod(m.tanHalf, m.t) < 1.0 && m.t <= markDistance, 1, true);
+  CONE_MARCH_WHILE(!m.done && coneLod(m.tanHalf, m.t) < 1.0, 1, false);
+  CONE_MARCH_WHILE(!m.done && m.t <= markDistance, 2, true);
+  CONE_MARCH_WHILE(!m.done, 2, false);
+#undef CONE_MARCH_WHILE
   if (!m.marked) m.r.blockedAt = m.r.blocked;
   // The sky through the transmittance left, if the cone escaped (common/sky.glsl).
   m.r.radiance += coneSky(m.escaped, m.t >= m.maxDistance, m.origin + m.dir * m.t, m.r.opacity);
