@@ -186,12 +186,20 @@ void coneStep(inout ConeMarch m, int phase, bool wantSolid) {
 // Marches the cone front to back until it is opaque (0.99), leaves the volume, or reaches
 // maxDistance; blockedAt is the solid opacity when it passed markDistance. Beyond markDistance the
 // solid opacity is not read (two of a directional sample's five lookups), so a cone that gathers
-// radiance only (specular, a bounce) passes markDistance 0 and ends once its radiance is gathered.
-// The march runs in loops by phase of sampleVolume (the lod only grows along a cone) and, within a
-// phase, before and after markDistance: every pixel's cone takes the same steps (t depends on the
+// radiance only (specular, a bounce: traceRadianceCone) ends once its radiance is gathered.
+// The march runs in loops by phase of sampleVolume (the lod only grows along a cone) and, from lod
+// 1 on, before and after markDistance: every pixel's cone takes the same steps (t depends on the
 // aperture and the start only), so a loop's lookups are those all its pixels need.
-ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
-                     float markDistance, int coneIndex, bool record) {
+// Each loop tests its condition at the end of its body, the body guarded by the same test: llvmpipe
+// leaves a loop only at the end of an iteration in which no lane is left, so a loop written
+// 'while (c) body' runs one more body, every lane masked off and every lookup paid, after its last
+// sample; 'do { if (c) body } while (c)' does not, but pays a masked body where no lane enters. So
+// there is no loop that is empty at the defaults: the fade (0 < lod < 1, a few samples, all within
+// ao.range at the defaults) reads the solid opacity wherever the cone gathers occlusion at all
+// (past markDistance it changes nothing the cone returns), and a radiance-only cone has no loop
+// before markDistance ('occlusion' is a constant at every call, so the compiler drops that loop).
+ConeResult marchCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
+                     float markDistance, bool occlusion, int coneIndex, bool record) {
   ConeMarch m;
   m.origin = origin;
   m.dir = dir;
@@ -206,13 +214,27 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
   m.escaped = false;
   m.record = record;
   m.r = ConeResult(vec3(0.0), 0.0, 0.0, 0.0);
-  while (!m.done && coneLod(m.tanHalf, m.t) <= 0.0) coneStep(m, 0, true);
-  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0 && m.t <= markDistance) coneStep(m, 1, true);
-  while (!m.done && coneLod(m.tanHalf, m.t) < 1.0) coneStep(m, 1, false);
-  while (!m.done && m.t <= markDistance) coneStep(m, 2, true);
-  while (!m.done) coneStep(m, 2, false);
+#define CONE_MARCH_WHILE(condition, phase, wantSolid) \
+  do { if (condition) coneStep(m, phase, wantSolid); } while (condition)
+  CONE_MARCH_WHILE(!m.done && coneLod(m.tanHalf, m.t) <= 0.0, 0, true);
+  CONE_MARCH_WHILE(!m.done && coneLod(m.tanHalf, m.t) < 1.0, 1, occlusion);
+  if (occlusion) CONE_MARCH_WHILE(!m.done && m.t <= markDistance, 2, true);
+  CONE_MARCH_WHILE(!m.done, 2, false);
+#undef CONE_MARCH_WHILE
   if (!m.marked) m.r.blockedAt = m.r.blocked;
   // The sky through the transmittance left, if the cone escaped (common/sky.glsl).
   m.r.radiance += coneSky(m.escaped, m.t >= m.maxDistance, m.origin + m.dir * m.t, m.r.opacity);
   return m.r;
+}
+
+// A cone that gathers radiance and, up to markDistance, occlusion (blockedAt; blocked all along).
+ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
+                     float markDistance, int coneIndex, bool record) {
+  return marchCone(origin, dir, aperture, startDistance, maxDistance, markDistance, true, coneIndex, record);
+}
+
+// A cone that gathers radiance only (its blocked and blockedAt are not to be read).
+ConeResult traceRadianceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
+                             int coneIndex, bool record) {
+  return marchCone(origin, dir, aperture, startDistance, maxDistance, 0.0, false, coneIndex, record);
 }

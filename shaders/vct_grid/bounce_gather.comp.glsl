@@ -39,7 +39,7 @@ void main() {
   vec3 incoming = vec3(0.0);
   for (int c = 0; c < u_coneCount; ++c) {
     vec3 d = normalize(u_cones[c].x * t + u_cones[c].y * b + u_cones[c].z * n);
-    ConeResult r = traceCone(origin, d, u_aperture, u_voxelSize, u_maxDistance, 0.0, c, false);
+    ConeResult r = traceRadianceCone(origin, d, u_aperture, u_voxelSize, u_maxDistance, c, false);
     incoming += u_cones[c].w * r.radiance;
   }
   vec3 reflected = clamp(albedo * incoming, 0.0, u_maxRadiance);

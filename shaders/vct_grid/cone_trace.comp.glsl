@@ -60,7 +60,7 @@ void main() {
 
   vec3 view = normalize(pos.xyz - u_cameraPos);
   vec3 r = reflect(view, n);
-  ConeResult spec = traceCone(origin, r, u_specularAperture, start, u_maxDistance, 0.0, u_coneCount, record);
+  ConeResult spec = traceRadianceCone(origin, r, u_specularAperture, start, u_maxDistance, u_coneCount, record);
   imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
   uint specularSamples = g_samples - diffuseSamples;
 
