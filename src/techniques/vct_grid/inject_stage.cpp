@@ -390,7 +390,10 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
   }
 
   const auto [blockCount, blockOffset] = listMipBlocks(ctx, res, k);
-  if (k + 1 < grid.levels()) {
+  // With anisotropic mips, level 1 of the grid comes out of the directional pass from the voxels,
+  // which fetches the same children (mipmap_anisotropic.comp.glsl).
+  const bool levelOneFromVoxels = anisotropic && k == 0 && k < dirs[0]->levels() && k + 1 < grid.levels();
+  if (k + 1 < grid.levels() && !levelOneFromVoxels) {
     GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"}, gridFormatDefines(ctx.params));
     glUseProgram(program);
     glBindTextureUnit(0, grid.id());
@@ -423,11 +426,13 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     // Level k of the opacity volumes: written only with u_writeOpacity (a bounce's re-mip reads them).
     glBindImageTexture(6, opacityPos.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glBindImageTexture(7, opacityNeg.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    if (levelOneFromVoxels) glBindImageTexture(8, grid.id(), 1, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
     setUniform(aniso, "u_blockOffset", blockOffset);
     setUniform(aniso, "u_blockCount", blockCount);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MIP_BLOCKS, ctx.board.buffer(kMipBlocks).id());
     dispatchCompute({int(blockCount), 1, 1}, {64, 1, 1});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    if (levelOneFromVoxels) glBindImageTexture(8, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
   }
 }
 
