@@ -143,15 +143,17 @@ void InjectStage::execute(StageContext& ctx) {
     return;
   }
 
-  // Exact sums: no voxel claimed, every slot zero (one per fragment: the list may have grown).
+  // Exact sums: no voxel claimed, every slot a fragment can claim zero.
   Texture& owner = ctx.board.ensureTexture(kVoxelOwner, voxelOwnerDesc(ctx.params));
   const uint32_t noOwner = 0xffffffffu;
   glClearTexImage(owner.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &noOwner);
-  Buffer& sums = ctx.board.ensureBuffer(kVoxelSums, std::max<size_t>(count, 1) * kVoxelSumsBytes);
+  // Both pools start at the size they declare and grow with the fragments.
+  const size_t slots = std::max<size_t>(fragmentPoolStart(res), count);
+  Buffer& sums = ctx.board.ensureBuffer(kVoxelSums, slots * kVoxelSumsBytes);
   const uint32_t emptySum = 0;
   glClearNamedBufferSubData(sums.id(), GL_R32UI, 0, GLsizeiptr(std::max<size_t>(count, 1) * kVoxelSumsBytes),
                             GL_RED_INTEGER, GL_UNSIGNED_INT, &emptySum);
-  Buffer& voxels = ctx.board.ensureBuffer(kVoxelList, 4 + size_t(count) * 4);
+  Buffer& voxels = ctx.board.ensureBuffer(kVoxelList, 4 + slots * 4);
   glClearNamedBufferSubData(voxels.id(), GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &emptySum);
   glUseProgram(program);
   glBindImageTexture(1, owner.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
