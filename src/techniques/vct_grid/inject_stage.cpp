@@ -139,6 +139,10 @@ void InjectStage::execute(StageContext& ctx) {
     glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
     glBindImageTexture(5, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
     glDeleteTextures(1, &view);
+    // The exact sums' scratch exists at the size it declares (one texel, one slot).
+    ctx.board.ensureTexture(kVoxelOwner, voxelOwnerDesc(ctx.params));
+    ctx.board.ensureBuffer(kVoxelSums, kVoxelSumsBytes);
+    ctx.board.ensureBuffer(kVoxelList, 4);
     ctx.stats["fragments_injected"] = count;
     return;
   }
