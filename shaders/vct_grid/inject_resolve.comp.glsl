@@ -1,9 +1,8 @@
 #version 450
-// Exact-sum averaging, second pass (inject.average=exact-sum): one invocation per voxel fragment;
-// the fragment that claimed its voxel (vct_grid/voxel_sums.glsl) divides the slot's fixed-point
-// sums by the fragment count and stores the mean radiance, alpha = min(count, 255) / 255 as in the
-// compare-and-swap mode, and the voxel's facing code. The others store nothing: each voxel is
-// written once.
+// Exact-sum averaging, second pass (inject.average=exact-sum): one invocation per occupied voxel
+// (the list of claimed slots, vct_grid/voxel_sums.glsl) divides the slot's fixed-point sums by the
+// fragment count and stores the mean radiance, alpha = min(count, 255) / 255 as in the
+// compare-and-swap mode, and the voxel's facing code: each voxel is written once.
 #include "common/shared.h"
 #include "common/packing.glsl"
 // The radiance grids' image format: rgba8 unless the stage builds the program with
