@@ -31,6 +31,8 @@ using uint = uint32_t;
 #define VOXLAB_BINDING_PROBE_CHAIN 13     // SSBO: vec4[PROBE_CHAIN_SLOTS], the composite's record of the probed pixel
 #define VOXLAB_BINDING_MIP_BLOCKS 14      // SSBO: uint[] packed texels of a mip level that can be non-empty (vct-grid)
 #define VOXLAB_BINDING_MIP_BLOCK_COUNT 15 // SSBO: uint, how many a pass appended
+#define VOXLAB_BINDING_VOXEL_SUMS 16      // SSBO: per voxel slot, the exact sums of its fragments (vct_grid/voxel_sums.glsl)
+#define VOXLAB_BINDING_VOXEL_LIST 17      // SSBO: uint count, then uint[] the slots of the occupied voxels (vct_grid/voxel_sums.glsl)
 
 #define VOXLAB_UNIFORM_LIGHT 0            // UBO: GpuLight of the scene's shadow-casting light
 

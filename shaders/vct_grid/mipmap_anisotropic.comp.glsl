@@ -6,7 +6,10 @@
 // face-on therefore stays opaque at every level, where the isotropic average halves its opacity
 // per level.
 // Level 1 of the hierarchy is built from the isotropic level-0 voxels (the program built with
-// "#define VOXLAB_MIP_FROM_VOXELS"); higher levels from the direction's own previous level.
+// "#define VOXLAB_MIP_FROM_VOXELS"); higher levels from the direction's own previous level. The
+// level-0 program also writes level 1 of the isotropic grid from the children it has fetched (the
+// average of mipmap.comp.glsl, added in the same order, so the same bits), which saves that pass
+// fetching them again.
 // Each direction keeps apart what a cone gathers radiance from and what blocks it:
 //  - the fronts (the volume's rgba): a leaf shows its radiance only to the directions that see
 //    its surfaces' fronts, with their coverage as alpha (common/facing.glsl, codes from
@@ -48,6 +51,9 @@ layout(VOXLAB_GRID_FORMAT, binding = 4) uniform writeonly image3D u_target4;
 layout(VOXLAB_GRID_FORMAT, binding = 5) uniform writeonly image3D u_target5;
 layout(rgba8, binding = 6) uniform writeonly image3D u_opacityPosTarget;
 layout(rgba8, binding = 7) uniform writeonly image3D u_opacityNegTarget;
+#ifdef VOXLAB_MIP_FROM_VOXELS
+layout(VOXLAB_GRID_FORMAT, binding = 8) uniform writeonly image3D u_isotropicTarget;  // level 1 of the grid
+#endif
 uniform int u_sourceLevel;
 uniform int u_writeOpacity;  // 0: the opacity volumes are already built (a bounce's grid, same geometry)
 uniform int u_classicDirectional;  // 1: mipmap.fronts=false, every voxel seen from all sides (Crassin's)
@@ -132,6 +138,12 @@ void main() {
   g_base = 2 * v;
   fetchChild(0); fetchChild(1); fetchChild(2); fetchChild(3);
   fetchChild(4); fetchChild(5); fetchChild(6); fetchChild(7);
+#ifdef VOXLAB_MIP_FROM_VOXELS
+  vec4 sum = vec4(0.0);
+  sum += g_voxel[0]; sum += g_voxel[1]; sum += g_voxel[2]; sum += g_voxel[3];
+  sum += g_voxel[4]; sum += g_voxel[5]; sum += g_voxel[6]; sum += g_voxel[7];
+  imageStore(u_isotropicTarget, v, sum * 0.125);
+#endif
   Seen s0 = reduce(0), s1 = reduce(1), s2 = reduce(2), s3 = reduce(3), s4 = reduce(4), s5 = reduce(5);
   imageStore(u_target0, v, s0.fronts);
   imageStore(u_target1, v, s1.fronts);

@@ -38,10 +38,14 @@ float gridMaxRadiance(const ParamSet& p) { return gridFormat(p) == GL_RGBA16F ? 
 
 static bool exactSums(const ParamSet& p) { return p.getChoice("inject.average") == "exact-sum"; }
 
-// Exact-sum averaging: per voxel three fixed-point channel sums and a fragment count, one R32UI
-// volume each (one texel each when inject.average is compare-and-swap).
-static const char* const kSumVolumes[4] = {"radiance-sum-r", "radiance-sum-g", "radiance-sum-b", "fragment-count"};
-static TextureDesc radianceSumsDesc(const ParamSet& p) {
+// Exact-sum averaging (shaders/vct_grid/voxel_sums.glsl): per voxel the slot its first fragment
+// claimed (an R32UI volume; one texel when inject.average is compare-and-swap), and per slot three
+// fixed-point channel sums, a fragment count and a facing code (a buffer of one slot per fragment).
+static const char* const kVoxelOwner = "voxel-owner";
+static const char* const kVoxelSums = "voxel-sums";
+static const char* const kVoxelList = "voxel-list";  // a count, then the occupied voxels' slots
+static constexpr size_t kVoxelSumsBytes = 5 * 4;  // VoxelSums: five uints
+static TextureDesc voxelOwnerDesc(const ParamSet& p) {
   TextureDesc d;
   d.target = GL_TEXTURE_3D;
   d.format = GL_R32UI;
@@ -73,10 +77,16 @@ void InjectStage::declare(StageBuilder& b) const {
   b.read("fragments.count");
   b.read("shadow-map");
   b.read("light");
-  for (const char* name : kSumVolumes) {
-    b.write(name);
-    b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceSumsDesc(p); });
-  }
+  b.write(kVoxelOwner);
+  b.texture(kVoxelOwner, [](const ParamSet& p, const ViewState&) { return voxelOwnerDesc(p); });
+  b.write(kVoxelSums);
+  b.buffer(kVoxelSums, [](const ParamSet& p, const ViewState&) {
+    return exactSums(p) ? fragmentPoolStart(p.getInt("voxel.resolution")) * kVoxelSumsBytes : kVoxelSumsBytes;
+  }, /*pool=*/true);
+  b.write(kVoxelList);
+  b.buffer(kVoxelList, [](const ParamSet& p, const ViewState&) {
+    return 4 + (exactSums(p) ? fragmentPoolStart(p.getInt("voxel.resolution")) * 4 : 0);
+  }, /*pool=*/true);
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
            "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255");
   b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
@@ -101,58 +111,73 @@ void InjectStage::execute(StageContext& ctx) {
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(grid.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
 
-  // An r32ui view of the RGBA8 grid: image atomics work on 32-bit integers only (compare-and-swap).
-  // Image unit 0 must hold an r32ui image even when the shader does not use it (exact sums):
-  // llvmpipe compiles a variant for the format bound there, and a float image left by an earlier
-  // stage makes LLVM fail on the compare-and-swap. RGBA16F cannot be viewed as r32ui: the first
-  // sum volume stands in.
-  GLuint view = 0;
-  if (format == GL_RGBA8) {
-    glGenTextures(1, &view);
-    glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
-    glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
-  }
-
-  uint32_t count = voxelFragmentCount(ctx.board);
-
-  GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"});
-  space.setUniforms(program);
-  setUniform(program, "u_fragmentCount", unsigned(count));
-  setUniform(program, "u_average", exact ? 0 : 1);
-  setUniform(program, "u_maxRadiance", gridMaxRadiance(ctx.params));
-  Texture* sums[4];
-  for (int c = 0; c < 4; ++c) {
-    sums[c] = &ctx.board.ensureTexture(kSumVolumes[c], radianceSumsDesc(ctx.params));
-    const uint32_t none = 0;
-    if (exact) glClearTexImage(sums[c]->id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
-  }
+  const uint32_t count = voxelFragmentCount(ctx.board);
   Texture& facing = ctx.board.ensureTexture(kVoxelFacing, voxelFacingDesc(ctx.params));
   const uint32_t noSurface = 0;
   glClearTexImage(facing.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &noSurface);
+  GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"},
+                                       exact ? "" : "#define VOXLAB_INJECT_COMPARE_AND_SWAP\n");
+  space.setUniforms(program);
+  setUniform(program, "u_fragmentCount", unsigned(count));
+  setUniform(program, "u_maxRadiance", gridMaxRadiance(ctx.params));
   setFragmentLightUniforms(program, ctx.params, space);
-  glUseProgram(program);
-  glBindImageTexture(5, facing.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
-  glBindImageTexture(0, view ? view : sums[0]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  dispatchCompute({int(count), 1, 1}, {64, 1, 1});
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  glBindImageTexture(5, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  if (view) glDeleteTextures(1, &view);
-  if (exact) {
-    GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
-    setUniform(resolve, "u_fragmentCount", unsigned(count));
-    glUseProgram(resolve);
-    for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, sums[c]->id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
-    glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
+
+  if (!exact) {
+    // An r32ui view of the RGBA8 grid: image atomics work on 32-bit integers only.
+    GLuint view = 0;
+    glGenTextures(1, &view);
+    glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
+    glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
+    glUseProgram(program);
+    glBindImageTexture(0, view, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(5, facing.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
     dispatchCompute({int(count), 1, 1}, {64, 1, 1});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
+    glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(5, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glDeleteTextures(1, &view);
+    // The exact sums' scratch exists at the size it declares (one texel, one slot).
+    ctx.board.ensureTexture(kVoxelOwner, voxelOwnerDesc(ctx.params));
+    ctx.board.ensureBuffer(kVoxelSums, kVoxelSumsBytes);
+    ctx.board.ensureBuffer(kVoxelList, 4);
+    ctx.stats["fragments_injected"] = count;
+    return;
   }
-  for (int c = 0; c < 4; ++c) glBindImageTexture(1 + c, 0, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+
+  // Exact sums: no voxel claimed, every slot a fragment can claim zero.
+  Texture& owner = ctx.board.ensureTexture(kVoxelOwner, voxelOwnerDesc(ctx.params));
+  const uint32_t noOwner = 0xffffffffu;
+  glClearTexImage(owner.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &noOwner);
+  // Both pools start at the size they declare and grow with the fragments.
+  const size_t slots = std::max<size_t>(fragmentPoolStart(res), count);
+  Buffer& sums = ctx.board.ensureBuffer(kVoxelSums, slots * kVoxelSumsBytes);
+  const uint32_t emptySum = 0;
+  glClearNamedBufferSubData(sums.id(), GL_R32UI, 0, GLsizeiptr(std::max<size_t>(count, 1) * kVoxelSumsBytes),
+                            GL_RED_INTEGER, GL_UNSIGNED_INT, &emptySum);
+  Buffer& voxels = ctx.board.ensureBuffer(kVoxelList, 4 + slots * 4);
+  glClearNamedBufferSubData(voxels.id(), GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &emptySum);
+  glUseProgram(program);
+  glBindImageTexture(1, owner.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_VOXEL_SUMS, sums.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_VOXEL_LIST, voxels.id());
+  dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  const uint32_t occupied = readCounter(voxels);
+
+  GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
+  setUniform(resolve, "u_voxelCount", unsigned(occupied));
+  glUseProgram(resolve);
+  glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
+  glBindImageTexture(5, facing.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32UI);
+  dispatchCompute({int(occupied), 1, 1}, {64, 1, 1});
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
+  glBindImageTexture(1, 0, 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+  glBindImageTexture(5, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32UI);
+  ctx.stats["voxels_occupied"] = occupied;
   ctx.stats["fragments_injected"] = count;
 }
 
@@ -162,6 +187,8 @@ void OcclusionFixStage::declare(StageBuilder& b) const {
   b.read("radiance-injected");
   b.read("fragments");
   b.read("fragments.count");
+  b.read(kVoxelSums);
+  b.read(kVoxelList);
   b.output("radiance-opaque", OutputKind::Volume3D, Semantic::Color,
            "radiance per voxel with alpha 1 in every occupied voxel");
   b.texture("radiance-opaque", [](const ParamSet& p, const ViewState&) {
@@ -175,15 +202,23 @@ void OcclusionFixStage::execute(StageContext& ctx) {
   Texture& dst = ctx.board.ensureTexture("radiance-opaque", radianceGridDesc(res, 1, gridFormat(ctx.params)));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(dst.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
-  // Only voxels that received fragments can be non-empty: visit those instead of the whole grid.
-  uint32_t count = voxelFragmentCount(ctx.board);
-  GLuint program = ctx.shaders.program({"vct_grid/occlusion_fix.comp.glsl"}, gridFormatDefines(ctx.params));
-  setUniform(program, "u_fragmentCount", unsigned(count));
+  // Only voxels that received fragments can be non-empty: visit those instead of the whole grid
+  // (with exact sums the inject stage's list of them, else the fragments).
+  const bool exact = exactSums(ctx.params);
+  const uint32_t items = exact ? readCounter(ctx.board.buffer(kVoxelList)) : voxelFragmentCount(ctx.board);
+  GLuint program = ctx.shaders.program({"vct_grid/occlusion_fix.comp.glsl"},
+                                       gridFormatDefines(ctx.params) + (exact ? "" : "#define VOXLAB_OCCLUSION_FROM_GRID\n"));
+  setUniform(program, "u_itemCount", unsigned(items));
   glUseProgram(program);
-  glBindTextureUnit(0, src.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
+  if (exact) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_VOXEL_SUMS, ctx.board.buffer(kVoxelSums).id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_VOXEL_LIST, ctx.board.buffer(kVoxelList).id());
+  } else {
+    glBindTextureUnit(0, src.id());
+  }
   glBindImageTexture(0, dst.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, dst.desc().format);
-  dispatchCompute({int(count), 1, 1}, {64, 1, 1});
+  dispatchCompute({int(items), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
@@ -361,7 +396,10 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
   }
 
   const auto [blockCount, blockOffset] = listMipBlocks(ctx, res, k);
-  if (k + 1 < grid.levels()) {
+  // With anisotropic mips, level 1 of the grid comes out of the directional pass from the voxels,
+  // which fetches the same children (mipmap_anisotropic.comp.glsl).
+  const bool levelOneFromVoxels = anisotropic && k == 0 && k < dirs[0]->levels() && k + 1 < grid.levels();
+  if (k + 1 < grid.levels() && !levelOneFromVoxels) {
     GLuint program = ctx.shaders.program({"vct_grid/mipmap.comp.glsl"}, gridFormatDefines(ctx.params));
     glUseProgram(program);
     glBindTextureUnit(0, grid.id());
@@ -394,11 +432,13 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     // Level k of the opacity volumes: written only with u_writeOpacity (a bounce's re-mip reads them).
     glBindImageTexture(6, opacityPos.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glBindImageTexture(7, opacityNeg.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    if (levelOneFromVoxels) glBindImageTexture(8, grid.id(), 1, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
     setUniform(aniso, "u_blockOffset", blockOffset);
     setUniform(aniso, "u_blockCount", blockCount);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MIP_BLOCKS, ctx.board.buffer(kMipBlocks).id());
     dispatchCompute({int(blockCount), 1, 1}, {64, 1, 1});
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    if (levelOneFromVoxels) glBindImageTexture(8, 0, 0, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
   }
 }
 
