@@ -159,11 +159,21 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
   bool marked = false;
   float top = float(u_clipLevels - 1 + u_mipLevels);
   bool left = false;  // the sample's footprint left the coarsest region
-  for (int step = 0; step < u_maxSteps && r.opacity < 0.99 && t < maxDistance; ++step) {
+  // The loop tests its condition at the end of its body: llvmpipe leaves a loop only after an
+  // iteration in which no lane is left, so a test at the top ran one more body, every lane masked
+  // off and every lookup paid, after each cone's last sample (vct-grid's march, docs/performance.md).
+  int step = 0;
+  bool going = u_maxSteps > 0 && t < maxDistance;
+  do {
+    if (!going) continue;
     float diameter = max(2.0 * tanHalf * t, u_voxelSize0);
     vec3 p = origin + dir * t;
     int kmin = finestLevel(p);
-    if (kmin < 0) { left = true; break; }  // outside the coarsest region: the cone ends
+    if (kmin < 0) {  // outside the coarsest region: the cone ends
+      left = true;
+      going = false;
+      continue;
+    }
     float own = max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0);  // the level the cone's width asks for
     float level = min(max(own, minimumLevel(p, kmin)), top);
     if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
@@ -181,7 +191,9 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
         coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, level, a));
     }
     t += stepLength;
-  }
+    ++step;
+    going = step < u_maxSteps && r.opacity < 0.99 && t < maxDistance;
+  } while (going);
   if (!marked) r.opacityAt = r.opacity;
   r.radiance += coneSky(left, t >= maxDistance, origin + dir * t, r.opacity);
   return r;
