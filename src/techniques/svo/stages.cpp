@@ -135,13 +135,15 @@ static std::string brickFormatDefines(const ParamSet& p) {
 // The cone trace's switches as defines (svo/cone_trace.comp.glsl): a parameter picks another
 // program, so the reads of the modes not chosen are not compiled in (on llvmpipe a branch on a
 // uniform still runs both sides).
-static std::string coneTraceDefines(const ParamSet& p) {
+// traceShadow: every pixel traces the soft-shadow cone (its image is wanted).
+static std::string coneTraceDefines(const ParamSet& p, bool traceShadow) {
   auto flag = [](const char* name, bool on) { return std::string("#define ") + name + (on ? " 1\n" : " 0\n"); };
   // With dilation every voxel next to a filled one has its brick: the halo reads would add 0.
   const bool voxelHalo = p.getBool("svo.voxel-halo") && !p.getBool("svo.dilate") && !tileLayout(p);
   return flag("SVO_DILATED", p.getBool("svo.dilate")) + flag("SVO_LAYOUT_TILE", tileLayout(p)) +
          flag("SVO_ANISOTROPIC", anisotropicBricks(p)) + flag("SVO_FRONTS", frontsBricks(p)) +
-         flag("SVO_VOXEL_HALO", voxelHalo) + (scaledBricks(p) ? "#define SVO_SCALED_BRICKS 1\n" : "");
+         flag("SVO_VOXEL_HALO", voxelHalo) + flag("SVO_AO_CONES", p.getChoice("ao.cones") != "diffuse") +
+         flag("SVO_SHADOW_CONE", traceShadow) + (scaledBricks(p) ? "#define SVO_SCALED_BRICKS 1\n" : "");
 }
 static ParamDesc filterParam() {
   return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
@@ -972,7 +974,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
-  const std::string defines = coneTraceDefines(ctx.params);
+  const std::string defines = coneTraceDefines(ctx.params, traceShadow);
   const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines);
   const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines + "#define SVO_RECORD_PROBE 1\n");
   glm::ivec2 probe(0);
@@ -980,7 +982,6 @@ void ConeTraceStage::execute(StageContext& ctx) {
     space.setUniforms(program);
     setUniform(program, "u_depth", depth);
     setUniform(program, "u_bricksPerAxis", brickAxis);
-    setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
     setUniform(program, "u_directionalPerAxis", directionalAxis);
     glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
     setUniform(program, "u_aoConeCount", aoCount);
