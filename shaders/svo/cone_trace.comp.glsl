@@ -429,35 +429,29 @@ void main() {
   vec3 view = normalize(surface.position - u_cameraPos);
   vec3 mirror = reflect(view, n);
   vec3 specular = vec3(0.0);
-#if SVO_AO_CONES == 0
-  // The diffuse cones and then the specular one (index u_coneCount) in one loop: the march's code
-  // (a copy per call, each loop of it with its own lookups) is compiled once for both.
-  for (int i = 0; i <= u_coneCount; ++i) {
-    const bool diffuse = i < u_coneCount;
-    vec4 cone = u_cones[min(i, VOXLAB_MAX_CONES - 1)];
-    ConeResult c = traceCone(origin, diffuse ? coneAxis(cone, t, b, n) : mirror,
-                             diffuse ? u_diffuseAperture : u_specularAperture, start, u_maxDistance,
-                             diffuse ? u_aoRange : 0.0, i, record, true, true);
-    if (diffuse) {
-      incoming += cone.w * c.radiance;
-      occlusion += cone.w * c.occlusion;
-    } else {
-      specular = c.radiance;
-    }
-  }
+#if SVO_AO_CONES == 1
+  const int aoCones = u_aoConeCount;
 #else
-  for (int i = 0; i < u_coneCount; ++i) {
-    ConeResult c = traceCone(origin, coneAxis(u_cones[i], t, b, n), u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record, true, true);
-    incoming += u_cones[i].w * c.radiance;
-  }
-  // Ambient occlusion from Basgier's constellation (ao.cones), traced after the diffuse cones.
-  for (int i = 0; i < u_aoConeCount; ++i) {
-    ConeResult c = traceCone(origin, coneAxis(u_aoCones[i], t, b, n), u_aoAperture, start, u_aoRange, u_aoRange,
-                             u_coneCount + 2 + i, record, false, true);
-    occlusion += u_aoCones[i].w * c.occlusion;
-  }
-  specular = traceCone(origin, mirror, u_specularAperture, start, u_maxDistance, 0.0, u_coneCount, record, true, true).radiance;
+  const int aoCones = 0;
 #endif
+  // The diffuse cones, then (SVO_AO_CONES) the ambient-occlusion ones, then the specular one, in
+  // one loop: the march's code (a copy per call, each loop of it with its own lookups) is compiled
+  // once for all of them.
+  for (int i = 0; i <= u_coneCount + aoCones; ++i) {
+    const bool diffuse = i < u_coneCount;
+    const bool ambient = !diffuse && i < u_coneCount + aoCones;
+    const bool specularCone = !diffuse && !ambient;
+    vec4 cone = diffuse ? u_cones[min(i, VOXLAB_MAX_CONES - 1)] : u_aoCones[clamp(i - u_coneCount, 0, VOXLAB_MAX_CONES - 1)];
+    ConeResult c = traceCone(origin, specularCone ? mirror : coneAxis(cone, t, b, n),
+                             diffuse ? u_diffuseAperture : ambient ? u_aoAperture : u_specularAperture, start,
+                             ambient ? u_aoRange : u_maxDistance, specularCone ? 0.0 : u_aoRange,
+                             diffuse ? i : ambient ? u_coneCount + 2 + (i - u_coneCount) : u_coneCount, record,
+                             !ambient, true);
+    if (diffuse) incoming += cone.w * c.radiance;
+    // Ambient occlusion from the diffuse cones, or from its own constellation (ao.cones).
+    if (SVO_AO_CONES == 0 ? diffuse : ambient) occlusion += cone.w * c.occlusion;
+    if (specularCone) specular = c.radiance;
+  }
   imageStore(u_indirectDiffuse, px, vec4(surface.albedo * incoming, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
   imageStore(u_indirectSpecular, px, vec4(specular, 1.0));

@@ -165,9 +165,10 @@
 //   - llvmpipe runs both sides of every branch, even where all lanes agree (docs/performance.md),
 //     so what a dispatch does not need is left out of its program: the cone trace marches in loops
 //     by phase (lod 0: the voxels alone; the fade into the voxels; above them) and before and after
-//     ao.range, each loop holding only its lookups (vct-grid's march does the same); ao.cones and the
-//     soft-shadow cone are defines; svo-bricks fills the tiles of voxels and the tiles above in two
-//     programs, and svo-mipmap's level above the voxels is its own program.
+//     ao.range, each loop holding only its lookups (vct-grid's march does the same); all cones but
+//     the soft-shadow one share one loop, and that cone is a define; svo-bricks fills the tiles of
+//     voxels and the tiles above in two programs, and svo-mipmap's level above the voxels is its own
+//     program.
 //   - Not built (yet): the CAS leaf mode.
 //
 // References
