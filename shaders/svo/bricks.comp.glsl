@@ -33,8 +33,15 @@
 // every brick stores its radiance divided by its own scale, the largest radiance channel of its 27
 // texels (brickScales, per brick number: the isotropic brick, then the six directions); a sample
 // filters within one brick only, so the scaled texels filter exactly. Opacity is not scaled.
+// Layout N's pass 1 runs in two dispatches, two programs (llvmpipe runs both sides of every
+// branch, so the code a dispatch never needs must not be in its program): SVO_VOXEL_TILES 1 for the
+// tiles of voxels (their parents at level D - 1, most of the tiles: no directional bricks), 0 for
+// the tiles above and the root (and for Layout T and pass 2, over every node).
 #ifndef VOXLAB_GRID_FORMAT
 #define VOXLAB_GRID_FORMAT rgba8
+#endif
+#ifndef SVO_VOXEL_TILES
+#error "svo/bricks.comp.glsl needs SVO_VOXEL_TILES (svo/stages.cpp)"
 #endif
 #include "common/packing.glsl"
 #include "svo/svo_shared.h"
@@ -55,7 +62,8 @@ layout(rgba8, binding = 2) uniform writeonly image3D u_opacityPool;
 uniform int u_anisotropic;
 uniform int u_fronts;  // 1: the solid-opacity bricks are built too
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
-uniform uint u_nodeCount;
+uniform uint u_firstNode;  // the dispatch's nodes: u_firstNode .. u_nodeEnd - 1
+uniform uint u_nodeEnd;
 uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
 uniform ivec3 u_bricksPerAxis;
 uniform int u_depth;
@@ -253,8 +261,8 @@ void gaussianBrick(uint n) {
 }
 
 void main() {
-  uint n = linearInvocation();
-  if (n >= u_nodeCount) return;
+  uint n = u_firstNode + linearInvocation();
+  if (n >= u_nodeEnd) return;
   if (u_pass == 2) {
     gaussianBrick(n);
     return;
@@ -267,6 +275,7 @@ void main() {
   // Pass 1 runs per tile: invocation n fills the bricks of node n's 8 children (and, for n = 0,
   // the root's). The children's 3x3x3 neighbourhoods lie among the children of the parent's own
   // 3x3x3 neighbourhood, so 26 neighbour lookups per tile replace 26 per node.
+#if SVO_VOXEL_TILES == 0
   if (n == 0u) {
     if (tagged) {
       brickIndex[0] = 1u;  // the root is the first tagged node: rank 0
@@ -288,6 +297,7 @@ void main() {
       brickIndex[0] = 0u;
     }
   }
+#endif
   uint first = nodes[n].word & SVO_CHILD_MASK;
   if (first == 0u) return;
   int parentLevel = int(nodes[n].level);
@@ -297,7 +307,7 @@ void main() {
   neighbourhoodChildren(n, pc, parentLevel, around);
   int cells = 2 * parentCells;
   // Voxel-level children: the rank of the first among the tagged voxels; the others follow.
-  const bool voxels = parentLevel + 1 == u_depth;
+  const bool voxels = SVO_VOXEL_TILES == 1;
   uint rank = 0u;
   if (voxels) {
     uint group = (first - u_leafStart) / 64u;

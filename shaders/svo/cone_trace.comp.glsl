@@ -47,14 +47,14 @@ layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
 layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
-uniform int u_traceShadow;  // 0: the soft-shadow image is not wanted (outputs on demand)
 
 uniform int u_depth;
 uniform ivec3 u_bricksPerAxis;
 // The switches of a run, fixed per program by the stage's defines (svo/stages.cpp,
 // coneTraceDefines), not uniforms: llvmpipe runs both sides of every branch, so as uniforms every
 // sample also paid for the reads of the modes not chosen.
-#if !defined(SVO_DILATED) || !defined(SVO_LAYOUT_TILE) || !defined(SVO_ANISOTROPIC) || !defined(SVO_FRONTS) || !defined(SVO_VOXEL_HALO)
+#if !defined(SVO_DILATED) || !defined(SVO_LAYOUT_TILE) || !defined(SVO_ANISOTROPIC) || !defined(SVO_FRONTS) || \
+    !defined(SVO_VOXEL_HALO) || !defined(SVO_AO_CONES) || !defined(SVO_SHADOW_CONE)
 #error "svo/cone_trace.comp.glsl needs the defines of coneTraceDefines (svo/stages.cpp)"
 #endif
 // SVO_DILATED 1: empty neighbours have nodes, so an absent node is exactly 0
@@ -62,6 +62,9 @@ uniform ivec3 u_bricksPerAxis;
 // SVO_ANISOTROPIC 1: nodes above the voxels are read from their directional bricks
 // SVO_FRONTS 1: the directional bricks hold fronts only, solid opacity apart (mipmap.fronts)
 // SVO_VOXEL_HALO 1: a voxel without a brick is read as the dense grid's blend (voxelLevelSample)
+// SVO_AO_CONES 1: ambient occlusion from its own constellation (ao.cones), not the diffuse cones
+// SVO_SHADOW_CONE 1: every pixel traces the soft-shadow cone (the image is wanted); 0: only the
+//   probed pixel's record does
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
 uniform vec4 u_aoCones[VOXLAB_MAX_CONES];
@@ -104,15 +107,22 @@ Seen mixSeen(Seen a, Seen b, float w) {
   return Seen(mix(a.x, b.x, w), mix(a.y, b.y, w), mix(a.z, b.z, w), mix(a.solid, b.solid, w));
 }
 
-// What the current sample must read with the fronts rule (set per cone and step by traceCone,
-// the same for every pixel of a dispatch row, so no lane pays for another's lookups): the fronts
-// (radiance), and the solid opacity (ambient occlusion up to its range, the shadow cone). Without
-// the fronts rule a sample's opacity is its solid opacity: everything is read.
+// What the current sample must read with the fronts rule: the fronts (radiance; set per cone by
+// traceCone), and the solid opacity (ambient occlusion up to its range, the shadow cone; set per
+// loop of the march, g_wantSolid). Both are constants where the compiler sees them, so what a cone
+// or a loop does not read is not in its code (llvmpipe runs both sides of a branch even where every
+// lane agrees). Without the fronts rule a sample's opacity is its solid opacity: everything is read.
 bool g_wantFronts = true;
 bool g_wantSolid = true;
 // Whether the current cone reads a voxel without a brick as the dense grid's blend (SVO_VOXEL_HALO):
 // every cone but the soft-shadow one (set per cone by traceCone, the same for every lane).
 bool g_halo = true;
+
+// The phases of a cone's samples (svoPhase): lod 0, where the fine level (the voxels) has weight 1;
+// the fade, where the fine level is the voxels and the coarse one above them; and above the voxels.
+const int kSvoPhaseVoxels = 0;
+const int kSvoPhaseFade = 1;
+const int kSvoPhaseAbove = 2;
 
 // The directional bricks of 'node' (above the voxels) at v. The +axis or -axis part of each axis is
 // a z offset (the same lookups for every pixel, whatever the sign: no divergent branch on
@@ -205,8 +215,12 @@ vec4 voxelLevelSample(vec3 v, uint from, int level, uvec3 voxel) {
 // the coarse one; 'solid' is the opacity of the voxels as solid cubes there (the sample's own
 // opacity except with the fronts rule). Layout T: level l is read from the bricks of level l - 1
 // (the descent ends one level higher and the root's brick is the coarsest level, 1).
-vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex, out float solid) {
+// 'phase' (a constant at every call, kSvoPhase*) says which levels the sample's lod reads, so that
+// the code of the others is left out; each phase gives the same values as the general expression.
+vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex, int phase, out float solid) {
   const int shift = SVO_LAYOUT_TILE;
+  // The fine level is the voxels in the first two phases (before Layout T's shift), above them in the last.
+  const bool fineIsVoxels = SVO_LAYOUT_TILE == 0 && phase != kSvoPhaseAbove;
   levelStar = max(levelStar, float(shift));
   int fine = int(svoFineLevel(levelStar, float(u_depth)));
   float w = svoFineWeight(levelStar, float(u_depth));
@@ -244,14 +258,15 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex,
   // Without dilation an absent fine node next to a filled one is not exactly empty: the coarse
   // level alone is used there (the note's fallback for source error P2); with it, it is 0.
   // At the voxel level a voxel without a brick is read as the dense grid reads it (svo.voxel-halo).
-  const bool denseVoxels = SVO_VOXEL_HALO == 1 && g_halo && fine == u_depth;
+  const bool denseVoxels = SVO_VOXEL_HALO == 1 && g_halo && fineIsVoxels;
   const bool fineFallback = fineNode == SVO_ABSENT && !denseVoxels;
   const float fineWeight = fineFallback && SVO_DILATED == 0 ? 0.0 : w;
   // A level of weight 0 is not read: the coarse one while a cone is no wider than the voxels
-  // (lod 0: the fine level's weight is 1, as vct-grid reads its voxels alone there), most of a
-  // narrow shadow cone's samples. Every pixel's cone takes the same steps, so the lanes agree.
-  const bool readCoarse = coarseNode != SVO_ABSENT && fineWeight < 1.0;
-  if (SVO_ANISOTROPIC == 1 && fine < u_depth) {
+  // (lod 0: the fine level's weight is 1, as vct-grid reads its voxels alone there), unless an
+  // absent fine node falls back to it. In that phase the compiler drops the coarse reads.
+  const bool coarseUnused = phase == kSvoPhaseVoxels && (SVO_DILATED == 1 || denseVoxels);
+  const bool readCoarse = !coarseUnused && coarseNode != SVO_ABSENT && fineWeight < 1.0;
+  if (SVO_ANISOTROPIC == 1 && !fineIsVoxels) {
     // Both levels directional: blended per direction, then combined.
     Seen coarse = !readCoarse ? kSeenNothing : directionalSample(coarseNode, fine - 1, voxel, v, dir);
     Seen fineSeen = fineNode == SVO_ABSENT ? kSeenNothing : directionalSample(fineNode, fine, voxel, v, dir);
@@ -264,11 +279,12 @@ vec4 svoSample(vec3 v, float levelStar, vec3 dir, bool record, uint sampleIndex,
     else coarse = brickSample(coarseNode, fine - 1, voxel, v);
     if (SVO_ANISOTROPIC == 0) coarseSolid = coarse.a;
   }
+  // The halo starts from the deepest node of the descent, which is the fine node where there is one:
+  // one call serves both cases (llvmpipe runs a call in a branch for every lane).
   vec4 fineValue = vec4(0.0);
-  if (fineNode == SVO_ABSENT && denseVoxels) fineValue = voxelLevelSample(v, deepest, deepestLevel, voxel);
-  else if (fineNode != SVO_ABSENT)
-    fineValue = denseVoxels && brickIndex[fineNode] == 0u ? voxelLevelSample(v, fineNode, fine, voxel)
-                                                           : brickSample(fineNode, fine, voxel, v);
+  const bool halo = denseVoxels && (fineNode == SVO_ABSENT || brickIndex[fineNode] == 0u);
+  if (halo) fineValue = voxelLevelSample(v, deepest, deepestLevel, voxel);
+  else if (fineNode != SVO_ABSENT) fineValue = brickSample(fineNode, fine, voxel, v);
   solid = mix(coarseSolid, fineValue.a, fineWeight);
   return mix(coarse, fineValue, fineWeight);
 }
@@ -280,50 +296,91 @@ struct ConeResult {
   float occlusion;  // 'blocked' with the AO falloff, accumulated up to markDistance
 };
 
+// A cone's march: where it is and what it has gathered.
+struct SvoMarch {
+  float t;
+  int step;
+  bool done;  // opaque enough, out of steps or distance, or left the volume
+  bool left;  // the sample lay wholly outside the volume
+  ConeResult r;
+};
+
+float svoConeDiameter(float tanHalf, float t) { return max(2.0 * tanHalf * t, u_voxelSize); }
+float svoConeLod(float diameter) { return max(log2(diameter / u_voxelSize) + u_lodBias, 0.0); }
+float svoLevelStar(float lod) { return clamp(float(u_depth) - lod, 0.0, float(u_depth)); }
+
+// The phase of a sample at distance t (svoSample): lod 0 (the voxels alone), the fine level the
+// voxels, or both levels above them. It only grows along a cone.
+int svoPhase(float tanHalf, float t) {
+  float lod = svoConeLod(svoConeDiameter(tanHalf, t));
+  if (lod <= 0.0) return kSvoPhaseVoxels;
+  return int(svoFineLevel(svoLevelStar(lod), float(u_depth))) == u_depth ? kSvoPhaseFade : kSvoPhaseAbove;
+}
+
+// One sample of the march (phase: svoSample; wantSolid: g_wantSolid, t <= markDistance), or the
+// end of the march (m.done).
+void svoConeStep(inout SvoMarch m, vec3 origin, vec3 dir, float tanHalf, float maxDistance, float markDistance,
+                 int coneIndex, bool record, bool wantRadiance, int phase, bool wantSolid) {
+  if (m.step >= u_maxSteps || m.t >= maxDistance) { m.done = true; return; }
+  if ((m.r.opacity >= 0.99 || !wantRadiance) && (m.r.blocked >= 0.99 || m.t > markDistance)) { m.done = true; return; }
+  g_wantSolid = wantSolid;
+  float diameter = svoConeDiameter(tanHalf, m.t);
+  float lod = svoConeLod(diameter);
+  float levelStar = svoLevelStar(lod);
+  vec3 p = origin + dir * m.t;
+  vec3 v = worldToVoxel(p);
+  float margin = 0.5 * diameter / u_voxelSize;
+  if (any(lessThan(v, vec3(-margin))) || any(greaterThan(v, vec3(float(u_resolution) + margin)))) {
+    m.left = true;
+    m.done = true;
+    return;
+  }
+  uint k = 0u;
+  if (record) k = atomicAdd(coneSampleCount, 1u);
+  float solid;
+  vec4 s = svoSample(v, levelStar, dir, record, k, phase, solid);
+  float stepLength = diameter * u_stepScale;
+  float texelSize = u_voxelSize * exp2(lod);
+  float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+  float aSolid = 1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize);
+  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
+  m.r.radiance += (1.0 - m.r.opacity) * c;
+  if (m.t <= markDistance) {
+    float falloff = 1.0 / (1.0 + u_aoFalloff * m.t / u_voxelSize);
+    m.r.occlusion += (1.0 - m.r.occlusion) * aSolid * falloff;
+  }
+  m.r.opacity += (1.0 - m.r.opacity) * a;
+  m.r.blocked += (1.0 - m.r.blocked) * aSolid;
+  if (record && k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
+    coneSamples[k] = ConeSample(vec4(p, diameter), vec4(m.r.radiance, m.r.opacity), vec4(float(coneIndex), m.t, lod, a));
+  m.t += stepLength;
+  m.step += 1;
+}
+
 // Marches the cone front to back until the radiance is gathered (opacity 0.99; unless
 // wantRadiance is false: the shadow and AO cones) and, up to markDistance, the occlusion too
 // (vct-grid's traceCone, common/cone_trace.glsl), or it leaves the volume, or reaches maxDistance.
-// With the fronts rule the solid opacity is read only up to markDistance (beyond it only
-// 'blocked' would use it, which no cone that asks for the radiance reads). halo: g_halo.
+// The march runs in loops by phase (svoPhase) and, within a phase, before and after markDistance,
+// as vct-grid's does: every pixel's cone takes the same steps (t depends on the aperture and the
+// start only), so each loop's code holds only the lookups its samples need. With the fronts rule
+// the solid opacity is read only up to markDistance (beyond it only 'blocked' would use it, which
+// no cone that asks for the radiance reads). halo: g_halo.
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance, float maxDistance,
                      float markDistance, int coneIndex, bool record, bool wantRadiance, bool halo) {
   g_wantFronts = wantRadiance;
   g_halo = halo;
   float tanHalf = tan(0.5 * aperture);
-  float t = startDistance;
-  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0, 0.0);
-  bool left = false;  // the sample lay wholly outside the volume
-  for (int step = 0; step < u_maxSteps && t < maxDistance; ++step) {
-    if ((r.opacity >= 0.99 || !wantRadiance) && (r.blocked >= 0.99 || t > markDistance)) break;
-    g_wantSolid = t <= markDistance;
-    float diameter = max(2.0 * tanHalf * t, u_voxelSize);
-    float lod = max(log2(diameter / u_voxelSize) + u_lodBias, 0.0);
-    float levelStar = clamp(float(u_depth) - lod, 0.0, float(u_depth));
-    vec3 p = origin + dir * t;
-    vec3 v = worldToVoxel(p);
-    float margin = 0.5 * diameter / u_voxelSize;
-    if (any(lessThan(v, vec3(-margin))) || any(greaterThan(v, vec3(float(u_resolution) + margin)))) { left = true; break; }
-    uint k = 0u;
-    if (record) k = atomicAdd(coneSampleCount, 1u);
-    float solid;
-    vec4 s = svoSample(v, levelStar, dir, record, k, solid);
-    float stepLength = diameter * u_stepScale;
-    float texelSize = u_voxelSize * exp2(lod);
-    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
-    float aSolid = 1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize);
-    vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
-    r.radiance += (1.0 - r.opacity) * c;
-    if (t <= markDistance) {
-      float falloff = 1.0 / (1.0 + u_aoFalloff * t / u_voxelSize);
-      r.occlusion += (1.0 - r.occlusion) * aSolid * falloff;
-    }
-    r.opacity += (1.0 - r.opacity) * a;
-    r.blocked += (1.0 - r.blocked) * aSolid;
-    if (record && k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
-      coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, lod, a));
-    t += stepLength;
-  }
-  r.radiance += coneSky(left, t >= maxDistance, origin + dir * t, r.opacity);  // common/sky.glsl
+  SvoMarch m = SvoMarch(startDistance, 0, false, false, ConeResult(vec3(0.0), 0.0, 0.0, 0.0));
+  while (!m.done && svoPhase(tanHalf, m.t) == kSvoPhaseVoxels)
+    svoConeStep(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, wantRadiance, kSvoPhaseVoxels, m.t <= markDistance);
+  while (!m.done && svoPhase(tanHalf, m.t) == kSvoPhaseFade)
+    svoConeStep(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, wantRadiance, kSvoPhaseFade, m.t <= markDistance);
+  while (!m.done && m.t <= markDistance)
+    svoConeStep(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, wantRadiance, kSvoPhaseAbove, true);
+  while (!m.done)
+    svoConeStep(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, wantRadiance, kSvoPhaseAbove, false);
+  ConeResult r = m.r;
+  r.radiance += coneSky(m.left, m.t >= maxDistance, origin + dir * m.t, r.opacity);  // common/sky.glsl
   return r;
 }
 
@@ -347,7 +404,9 @@ void main() {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
     imageStore(u_indirectSpecular, px, vec4(0.0));
     imageStore(u_ambientOcclusion, px, vec4(0.0));
-    if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(0.0));
+#if SVO_SHADOW_CONE == 1
+    imageStore(u_softShadow, px, vec4(0.0));
+#endif
     return;
   }
   vec3 n = surface.normal;
@@ -367,28 +426,39 @@ void main() {
   }
   vec3 incoming = vec3(0.0);
   float occlusion = 0.0;
-  for (int i = 0; i < u_coneCount; ++i) {
-    ConeResult c = traceCone(origin, coneAxis(u_cones[i], t, b, n), u_diffuseAperture, start, u_maxDistance, u_aoRange, i, record, true, true);
-    incoming += u_cones[i].w * c.radiance;
-    occlusion += u_cones[i].w * c.occlusion;
-  }
-  if (u_aoConeCount > 0) {
-    occlusion = 0.0;
-    for (int i = 0; i < u_aoConeCount; ++i) {
-      ConeResult c = traceCone(origin, coneAxis(u_aoCones[i], t, b, n), u_aoAperture, start, u_aoRange, u_aoRange,
-                               u_coneCount + 2 + i, record, false, true);
-      occlusion += u_aoCones[i].w * c.occlusion;
-    }
+  vec3 view = normalize(surface.position - u_cameraPos);
+  vec3 mirror = reflect(view, n);
+  vec3 specular = vec3(0.0);
+#if SVO_AO_CONES == 1
+  const int aoCones = u_aoConeCount;
+#else
+  const int aoCones = 0;
+#endif
+  // The diffuse cones, then (SVO_AO_CONES) the ambient-occlusion ones, then the specular one, in
+  // one loop: the march's code (a copy per call, each loop of it with its own lookups) is compiled
+  // once for all of them.
+  for (int i = 0; i <= u_coneCount + aoCones; ++i) {
+    const bool diffuse = i < u_coneCount;
+    const bool ambient = !diffuse && i < u_coneCount + aoCones;
+    const bool specularCone = !diffuse && !ambient;
+    vec4 cone = diffuse ? u_cones[min(i, VOXLAB_MAX_CONES - 1)] : u_aoCones[clamp(i - u_coneCount, 0, VOXLAB_MAX_CONES - 1)];
+    ConeResult c = traceCone(origin, specularCone ? mirror : coneAxis(cone, t, b, n),
+                             diffuse ? u_diffuseAperture : ambient ? u_aoAperture : u_specularAperture, start,
+                             ambient ? u_aoRange : u_maxDistance, specularCone ? 0.0 : u_aoRange,
+                             diffuse ? i : ambient ? u_coneCount + 2 + (i - u_coneCount) : u_coneCount, record,
+                             !ambient, true);
+    if (diffuse) incoming += cone.w * c.radiance;
+    // Ambient occlusion from the diffuse cones, or from its own constellation (ao.cones).
+    if (SVO_AO_CONES == 0 ? diffuse : ambient) occlusion += cone.w * c.occlusion;
+    if (specularCone) specular = c.radiance;
   }
   imageStore(u_indirectDiffuse, px, vec4(surface.albedo * incoming, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
-
-  vec3 view = normalize(surface.position - u_cameraPos);
-  ConeResult spec = traceCone(origin, reflect(view, n), u_specularAperture, start, u_maxDistance, 0.0,
-                              u_coneCount, record, true, true);
-  imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+  imageStore(u_indirectSpecular, px, vec4(specular, 1.0));
   // Without the soft-shadow image (outputs on demand) only the probed pixel traces it, for its record.
-  if (u_traceShadow == 0 && !record) return;
+#if SVO_SHADOW_CONE == 0
+  if (!record) return;
+#endif
   vec3 toLight; float dist;
   lightDirection(surface.position, toLight, dist);
   float shadowVis = 0.0;
@@ -401,5 +471,7 @@ void main() {
                               u_coneCount + 1, record, false, false);
     shadowVis = 1.0 - sh.blocked;
   }
-  if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(shadowVis));
+#if SVO_SHADOW_CONE == 1
+  imageStore(u_softShadow, px, vec4(shadowVis));
+#endif
 }

@@ -26,7 +26,12 @@ uniform uint u_start;
 uniform uint u_count;
 uniform int u_anisotropic;
 uniform int u_fronts;              // 1: the voxels show their fronts only, solid opacity kept apart
-uniform int u_childrenAreVoxels;  // 1: the level below is the voxel level (isotropic leaves)
+// SVO_CHILDREN_ARE_VOXELS 1: the level below is the voxel level (isotropic leaves). A define, two
+// programs: llvmpipe runs both sides of a branch on a uniform, and the level above the voxels,
+// which holds most of the nodes, then also paid for the gather of directional values.
+#ifndef SVO_CHILDREN_ARE_VOXELS
+#error "svo/mipmap.comp.glsl needs SVO_CHILDREN_ARE_VOXELS (svo/stages.cpp)"
+#endif
 
 uint tileOf(uint first) { return (first - 1u) / 8u; }
 
@@ -43,14 +48,14 @@ void main() {
   uint tile = tileOf(first);
   uint grandTile[8];  // the tiles of the children's own children (SVO_ABSENT: none)
   for (uint k = 0u; k < 8u; ++k) {
-    uint grandchild = u_childrenAreVoxels == 1 ? 0u : nodes[first + k].word & SVO_CHILD_MASK;
+    uint grandchild = SVO_CHILDREN_ARE_VOXELS == 1 ? 0u : nodes[first + k].word & SVO_CHILD_MASK;
     grandTile[k] = grandchild == 0u ? SVO_ABSENT : tileOf(grandchild);
   }
   vec3 solidPos = vec3(0.0), solidNeg = vec3(0.0);
   for (int d = 0; d < 6; ++d) {
     vec4 children[8], solid[8];
     for (uint k = 0u; k < 8u; ++k) {
-      if (u_childrenAreVoxels == 1) {
+      if (SVO_CHILDREN_ARE_VOXELS == 1) {
         vec4 voxel = values[first + k];
         children[k] = u_fronts == 1 ? facingLeaf(voxel, facing[first + k], d) : voxel;
         solid[k] = vec4(voxel.a);

@@ -135,13 +135,15 @@ static std::string brickFormatDefines(const ParamSet& p) {
 // The cone trace's switches as defines (svo/cone_trace.comp.glsl): a parameter picks another
 // program, so the reads of the modes not chosen are not compiled in (on llvmpipe a branch on a
 // uniform still runs both sides).
-static std::string coneTraceDefines(const ParamSet& p) {
+// traceShadow: every pixel traces the soft-shadow cone (its image is wanted).
+static std::string coneTraceDefines(const ParamSet& p, bool traceShadow) {
   auto flag = [](const char* name, bool on) { return std::string("#define ") + name + (on ? " 1\n" : " 0\n"); };
   // With dilation every voxel next to a filled one has its brick: the halo reads would add 0.
   const bool voxelHalo = p.getBool("svo.voxel-halo") && !p.getBool("svo.dilate") && !tileLayout(p);
   return flag("SVO_DILATED", p.getBool("svo.dilate")) + flag("SVO_LAYOUT_TILE", tileLayout(p)) +
          flag("SVO_ANISOTROPIC", anisotropicBricks(p)) + flag("SVO_FRONTS", frontsBricks(p)) +
-         flag("SVO_VOXEL_HALO", voxelHalo) + (scaledBricks(p) ? "#define SVO_SCALED_BRICKS 1\n" : "");
+         flag("SVO_VOXEL_HALO", voxelHalo) + flag("SVO_AO_CONES", p.getChoice("ao.cones") != "diffuse") +
+         flag("SVO_SHADOW_CONE", traceShadow) + (scaledBricks(p) ? "#define SVO_SCALED_BRICKS 1\n" : "");
 }
 static ParamDesc filterParam() {
   return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
@@ -564,12 +566,13 @@ void MipmapStage::execute(StageContext& ctx) {
     writeDense(0);
   }
   const int level = depth - 1 - k;
-  GLuint program = ctx.shaders.program({"svo/mipmap.comp.glsl"});
+  const bool childrenAreVoxels = level + 1 == depth;
+  GLuint program = ctx.shaders.program({"svo/mipmap.comp.glsl"}, childrenAreVoxels ? "#define SVO_CHILDREN_ARE_VOXELS 1\n"
+                                                                                   : "#define SVO_CHILDREN_ARE_VOXELS 0\n");
   setUniform(program, "u_start", unsigned(levels[level].start));
   setUniform(program, "u_count", unsigned(levels[level].count));
   setUniform(program, "u_anisotropic", anisotropic ? 1 : 0);
   setUniform(program, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
-  setUniform(program, "u_childrenAreVoxels", level + 1 == depth ? 1 : 0);
   glUseProgram(program);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, nodePool.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, values.id());
@@ -718,20 +721,24 @@ void BricksStage::execute(StageContext& ctx) {
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
   counters.upload(c.data(), c.size() * 4);
-  GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"}, brickFormatDefines(ctx.params));
-  setUniform(program, "u_nodeCount", unsigned(nodes));
-  setUniform(program, "u_brickCapacity", unsigned(capacity));
-  setUniform(program, "u_bricksPerAxis", axis);
-  setUniform(program, "u_depth", depth);
-  setUniform(program, "u_layoutTile", tile ? 1 : 0);
-  setUniform(program, "u_leafStart", unsigned(levels[depth].start));
-  setUniform(program, "u_tiles", unsigned(tiles));
-  setUniform(program, "u_anisotropic", anisotropic ? 1 : 0);
-  setUniform(program, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
-  setUniform(program, "u_directionalPerAxis", directionalAxis);
+  // Two programs (svo/bricks.comp.glsl): the tiles of voxels (Layout N's level D - 1), and every
+  // other node; each holds only the code its nodes need.
+  const GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"}, brickFormatDefines(ctx.params) + "#define SVO_VOXEL_TILES 0\n");
+  const GLuint voxelTiles = ctx.shaders.program({"svo/bricks.comp.glsl"}, brickFormatDefines(ctx.params) + "#define SVO_VOXEL_TILES 1\n");
   const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
-  setUniform(program, "u_gaussian", gaussian ? 1 : 0);
-  glUseProgram(program);
+  for (GLuint p : {program, voxelTiles}) {
+    setUniform(p, "u_brickCapacity", unsigned(capacity));
+    setUniform(p, "u_bricksPerAxis", axis);
+    setUniform(p, "u_depth", depth);
+    setUniform(p, "u_layoutTile", tile ? 1 : 0);
+    setUniform(p, "u_leafStart", unsigned(levels[depth].start));
+    setUniform(p, "u_tiles", unsigned(tiles));
+    setUniform(p, "u_anisotropic", anisotropic ? 1 : 0);
+    setUniform(p, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
+    setUniform(p, "u_directionalPerAxis", directionalAxis);
+    setUniform(p, "u_gaussian", gaussian ? 1 : 0);
+    setUniform(p, "u_pass", 1);
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_COUNTERS, counters.id());
@@ -743,11 +750,21 @@ void BricksStage::execute(StageContext& ctx) {
   glBindImageTexture(0, pool.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
   glBindImageTexture(1, directional.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, brickFormat(ctx.params));
   glBindImageTexture(2, opacity.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  setUniform(program, "u_pass", 1);
-  glUseProgram(program);
-  // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
-  // pool) have no children, so only the levels above them are dispatched.
-  dispatchCompute({int(tile ? nodes : levels[depth].start), 1, 1}, {64, 1, 1});
+  auto dispatchNodes = [&](GLuint p, uint32_t first, uint32_t end) {
+    if (end <= first) return;
+    setUniform(p, "u_firstNode", unsigned(first));
+    setUniform(p, "u_nodeEnd", unsigned(end));
+    glUseProgram(p);
+    dispatchCompute({int(end - first), 1, 1}, {64, 1, 1});
+  };
+  if (tile) {
+    dispatchNodes(program, 0, nodes);
+  } else {
+    // Layout N fills bricks per tile, from the tile's parent: the voxel-level nodes (most of the
+    // pool) have no children, so only the levels above them are dispatched.
+    dispatchNodes(program, 0, levels[depth - 1].start);
+    dispatchNodes(voxelTiles, levels[depth - 1].start, levels[depth].start);
+  }
   barrierAll();
   if (gaussian) {
     // Layout T, Gaussian: level by level from D - 2 up, each from the bricks just below it.
@@ -755,8 +772,7 @@ void BricksStage::execute(StageContext& ctx) {
     glBindTextureUnit(0, pool.id());
     for (int l = depth - 2; l >= 0; --l) {
       setUniform(program, "u_level", l);
-      glUseProgram(program);
-      dispatchCompute({int(nodes), 1, 1}, {64, 1, 1});
+      dispatchNodes(program, 0, nodes);
       barrierAll();
     }
   }
@@ -972,7 +988,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
-  const std::string defines = coneTraceDefines(ctx.params);
+  const std::string defines = coneTraceDefines(ctx.params, traceShadow);
   const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines);
   const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines + "#define SVO_RECORD_PROBE 1\n");
   glm::ivec2 probe(0);
@@ -980,7 +996,6 @@ void ConeTraceStage::execute(StageContext& ctx) {
     space.setUniforms(program);
     setUniform(program, "u_depth", depth);
     setUniform(program, "u_bricksPerAxis", brickAxis);
-    setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
     setUniform(program, "u_directionalPerAxis", directionalAxis);
     glProgramUniform4fv(program, glGetUniformLocation(program, "u_aoCones"), GLsizei(ao4.size()), &ao4[0].x);
     setUniform(program, "u_aoConeCount", aoCount);

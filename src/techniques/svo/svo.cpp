@@ -162,6 +162,13 @@
 //     branch that depends on the invocation masked in all of them, so a per-pixel "record" flag
 //     made every pixel pay for the recording (a brick sample per descent level): 3x the cone
 //     trace's time (docs/performance.md, svo).
+//   - llvmpipe runs both sides of every branch, even where all lanes agree (docs/performance.md),
+//     so what a dispatch does not need is left out of its program: the cone trace marches in loops
+//     by phase (lod 0: the voxels alone; the fade into the voxels; above them) and before and after
+//     ao.range, each loop holding only its lookups (vct-grid's march does the same); all cones but
+//     the soft-shadow one share one loop, and that cone is a define; svo-bricks fills the tiles of
+//     voxels and the tiles above in two programs, and svo-mipmap's level above the voxels is its own
+//     program.
 //   - Not built (yet): the CAS leaf mode.
 //
 // References
