@@ -268,8 +268,8 @@ void UpdateStage::declare(StageBuilder& b) const {
   b.param(atlasFormatParam());
   b.param(ParamDesc::choice("clipmap.fill-unreached", {"on", "off"}, 0,
                             "on: cells no path of empty cells from the camera reaches (behind the walls of a closed room, "
-                            "inside closed objects) are filled, opaque, with the light of the nearest surface, so a cone "
-                            "running along a wall stops as the wall would stop its rays"));
+                            "inside closed objects) are filled, opaque, with the light of the nearest wall as the camera's "
+                            "side sees it, so a cone running along a wall stops as the wall would stop its rays"));
   b.readView();
   b.read("clip-levels");
   b.read("shadow-map");
@@ -467,8 +467,8 @@ void UpdateStage::execute(StageContext& ctx) {
       glMemoryBarrier(kAllShaderWrites);
     }
     phase(3);
-    // 5. Fill the level's unreached cells (after the filter: the covered block holds the finer
-    // level's filled cells).
+    // 5. Fill the level's unreached cells (after the filter, which takes the finer level's
+    // filled cells only into covered cells that hold no surface).
     if (fill) {
       const int64_t count = fillUnreachedCells(ctx, atlas, layout, after, k, plans[size_t(k)], boxes[size_t(k)],
                                                path[size_t(ctx.iteration)].camera, faces, filled[size_t(k)], open);
