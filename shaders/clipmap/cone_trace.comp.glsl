@@ -13,6 +13,7 @@
 #include "common/sky.glsl"
 #include "common/anisotropic_mip.glsl"
 #include "common/facing.glsl"
+#include "common/step_opacity.glsl"
 // The cone table, apertures, distances and G-buffer samplers; u_startOffset is in voxels of the
 // level at the surface here (the tracer scales it).
 #include "common/cone_setup.glsl"
@@ -22,6 +23,7 @@ layout(binding = 0) uniform sampler3D u_atlas;
 layout(binding = 4) uniform sampler3D u_mips;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
+uniform int u_traceSpecular;  // 0: the specular image is not wanted (composite.specular = 0 and no view of it)
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
 layout(r16f, binding = 3) uniform writeonly image2D u_levelUsed;
 layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLES) writeonly buffer ConeSamples { ConeSample coneSamples[]; };
@@ -180,7 +182,7 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
     vec4 s = sampleAt(p, level, dir, level > own);
     float stepLength = diameter * u_stepScale;
     float texelSize = u_voxelSize0 * exp2(level);
-    float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+    float a = stepOpacity(s.a, stepLength / texelSize);
     vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
     r.radiance += (1.0 - r.opacity) * c;
     r.opacity += (1.0 - r.opacity) * a;
@@ -208,7 +210,7 @@ void main() {
   vec4 pos = texelFetch(u_position, g, 0);
   if (pos.w == 0.0) {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
-    imageStore(u_indirectSpecular, px, vec4(0.0));
+    if (u_traceSpecular != 0) imageStore(u_indirectSpecular, px, vec4(0.0));
     imageStore(u_ambientOcclusion, px, vec4(0.0));
     imageStore(u_levelUsed, px, vec4(-1.0));
     return;
@@ -230,10 +232,13 @@ void main() {
     incoming += u_cones[i].w * c.radiance;
     occlusion += u_cones[i].w * c.opacityAt;
   }
-  vec3 view = normalize(pos.xyz - u_cameraPos);
-  vec3 reflected = reflect(view, n);
-  ConeResult s = traceCone(origin, reflected, u_specularAperture, voxel, u_maxDistance, u_maxDistance, u_coneCount, record);
+  // Without the specular image (outputs on demand) only the probed pixel traces it, for its record.
+  if (u_traceSpecular != 0 || record) {
+    vec3 view = normalize(pos.xyz - u_cameraPos);
+    vec3 reflected = reflect(view, n);
+    ConeResult s = traceCone(origin, reflected, u_specularAperture, voxel, u_maxDistance, u_maxDistance, u_coneCount, record);
+    if (u_traceSpecular != 0) imageStore(u_indirectSpecular, px, vec4(s.radiance, 1.0));
+  }
   imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
-  imageStore(u_indirectSpecular, px, vec4(s.radiance, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
 }

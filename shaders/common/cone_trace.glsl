@@ -10,6 +10,7 @@
 #include "common/sky.glsl"
 #include "common/anisotropic_mip.glsl"
 #include "common/facing.glsl"
+#include "common/step_opacity.glsl"
 
 layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; anisotropic: level 0
 // Anisotropic levels 1.. (their level 0 is level 1 of the hierarchy), one volume per travel
@@ -169,11 +170,11 @@ void coneStep(inout ConeMarch m, int phase, bool wantSolid) {
   float stepLength = diameter * u_stepScale;
   // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
   float texelSize = u_voxelSize * exp2(lod);
-  float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
+  float a = stepOpacity(s.a, stepLength / texelSize);
   vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
   m.r.radiance += (1.0 - m.r.opacity) * c;
   m.r.opacity += (1.0 - m.r.opacity) * a;
-  if (wantSolid) m.r.blocked += (1.0 - m.r.blocked) * (1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize));
+  if (wantSolid) m.r.blocked += (1.0 - m.r.blocked) * stepOpacity(solid, stepLength / texelSize);
   if (m.record) {
     uint k = atomicAdd(coneSampleCount, 1u);
     if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))

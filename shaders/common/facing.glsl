@@ -54,9 +54,14 @@ const float kOpaqueTransmittance = 1e-30;
 // average its sun-lit outside face with its inside one. The radiance is the volumes' average
 // weighted by the fronts each sees. Every cone tracer with directional values uses it (vct-grid's
 // common/cone_trace.glsl, svo's bricks, clipmap's faces).
+// Where the optical depth is small, 1 - exp(-depth) is its series: llvmpipe's exp answers in steps
+// of 2^-24 just below 1, and a cone that sees an opaque wall with weight 1e-15 (a ring cone along a
+// tangent) got an opacity of 6e-8 for one of 1e-13, its radiance (its premultiplied colour over its
+// weight) times that ratio: pixels a million times too bright.
 vec4 seenFronts(vec3 w, vec4 sx, vec4 sy, vec4 sz) {
   vec3 fronts = vec3(sx.a, sy.a, sz.a);
-  float opacity = 1.0 - exp(dot(w, log(max(1.0 - fronts, kOpaqueTransmittance))));
+  float depth = -dot(w, log(max(1.0 - fronts, kOpaqueTransmittance)));
+  float opacity = depth < 1e-3 ? depth * (1.0 - 0.5 * depth) : 1.0 - exp(-depth);
   float weight = dot(w, fronts);
   vec3 radiance = weight > 0.0 ? (w.x * sx.rgb + w.y * sy.rgb + w.z * sz.rgb) / weight : vec3(0.0);
   return vec4(radiance * opacity, opacity);

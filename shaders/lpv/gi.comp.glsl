@@ -25,6 +25,7 @@ uniform float u_glossyTan;         // tan(half aperture)
 uniform float u_glossyDistance;    // metres
 uniform vec3 u_cameraPos;
 uniform int u_glossyOn;
+uniform int u_glossyWanted;  // 0: the glossy image is not wanted (composite.glossy = 0 and no view of it)
 uniform float u_lookupSign;
 uniform float u_lookupOffset;
 uniform float u_radianceScale;
@@ -84,11 +85,11 @@ void main() {
     float d = max(q.x, max(q.y, q.z));
     t = clamp((d - (0.5 * res - 0.5 - u_blendWidth)) / u_blendWidth, 0.0, 1.0);
     indirect = texelFetch(u_albedo, px, 0).rgb / PI * mix(ef, ec, t);
-    if (u_glossyOn == 1) glossy = glossyCone(pos.xyz, n);
+    if (u_glossyOn == 1 && u_glossyWanted == 1) glossy = glossyCone(pos.xyz, n);
   }
   imageStore(u_fine, px, vec4(ef, 1.0));
   imageStore(u_coarse, px, vec4(ec, 1.0));
   imageStore(u_blend, px, vec4(t));
   imageStore(u_indirect, px, vec4(indirect, 1.0));
-  imageStore(u_glossy, px, vec4(glossy, 1.0));
+  if (u_glossyWanted == 1) imageStore(u_glossy, px, vec4(glossy, 1.0));
 }

@@ -6,6 +6,7 @@
 #include "common/lights.glsl"
 #include "common/voxel_space.glsl"
 #include "common/sky.glsl"
+#include "common/step_opacity.glsl"
 #include "lrsm/lrsm_shared.h"
 #include "lrsm/lrsm_common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -245,7 +246,7 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radi
     }
     float a = textureLod(u_occlusion, uvw, mip).r;
     float stepLength = diameter * u_stepScale;
-    a = 1.0 - pow(max(1.0 - a, 0.0), stepLength / (u_voxelSize * exp2(mip)));
+    a = stepOpacity(a, stepLength / (u_voxelSize * exp2(mip)));
     g_record = record; g_cone = coneIndex; g_step = step; g_voxelMip = mip; g_alpha = a; g_transmittance = T;
     // coverage: the sample's own estimate of the lit surface it holds, weighted by the
     // transmittance in front of it; paper: Eq. 1 with L_i from Algorithm 1.

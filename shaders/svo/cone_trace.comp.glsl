@@ -26,6 +26,7 @@
 #include "common/sky.glsl"
 #include "common/anisotropic_mip.glsl"
 #include "common/facing.glsl"
+#include "common/step_opacity.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -64,6 +65,8 @@ uniform ivec3 u_bricksPerAxis;
 // SVO_VOXEL_HALO 1: a voxel without a brick is read as the dense grid's blend (voxelLevelSample)
 // SVO_AO_CONES 1: ambient occlusion from its own constellation (ao.cones), not the diffuse cones
 // SVO_SHADOW_CONE 1: every pixel traces the soft-shadow cone (the image is wanted); 0: only the
+//   probed pixel's record does
+// SVO_SPECULAR_CONE 1: every pixel traces the specular cone (the image is wanted); 0: only the
 //   probed pixel's record does
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform int u_aoConeCount;                 // 0: AO from the diffuse cones
@@ -341,8 +344,8 @@ void svoConeStep(inout SvoMarch m, vec3 origin, vec3 dir, float tanHalf, float m
   vec4 s = svoSample(v, levelStar, dir, record, k, phase, solid);
   float stepLength = diameter * u_stepScale;
   float texelSize = u_voxelSize * exp2(lod);
-  float a = 1.0 - pow(max(1.0 - s.a, 0.0), stepLength / texelSize);
-  float aSolid = 1.0 - pow(max(1.0 - solid, 0.0), stepLength / texelSize);
+  float a = stepOpacity(s.a, stepLength / texelSize);
+  float aSolid = stepOpacity(solid, stepLength / texelSize);
   vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
   m.r.radiance += (1.0 - m.r.opacity) * c;
   if (m.t <= markDistance) {
@@ -402,7 +405,9 @@ void main() {
   ConeSurface surface = coneSurface(px);
   if (!surface.valid) {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
+#if SVO_SPECULAR_CONE == 1
     imageStore(u_indirectSpecular, px, vec4(0.0));
+#endif
     imageStore(u_ambientOcclusion, px, vec4(0.0));
 #if SVO_SHADOW_CONE == 1
     imageStore(u_softShadow, px, vec4(0.0));
@@ -436,8 +441,10 @@ void main() {
 #endif
   // The diffuse cones, then (SVO_AO_CONES) the ambient-occlusion ones, then the specular one, in
   // one loop: the march's code (a copy per call, each loop of it with its own lookups) is compiled
-  // once for all of them.
-  for (int i = 0; i <= u_coneCount + aoCones; ++i) {
+  // once for all of them. Without the specular image (outputs on demand) only the probed pixel's
+  // record traces the specular cone.
+  const int specularCones = SVO_SPECULAR_CONE == 1 || record ? 1 : 0;
+  for (int i = 0; i < u_coneCount + aoCones + specularCones; ++i) {
     const bool diffuse = i < u_coneCount;
     const bool ambient = !diffuse && i < u_coneCount + aoCones;
     const bool specularCone = !diffuse && !ambient;
@@ -454,7 +461,9 @@ void main() {
   }
   imageStore(u_indirectDiffuse, px, vec4(surface.albedo * incoming, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
+#if SVO_SPECULAR_CONE == 1
   imageStore(u_indirectSpecular, px, vec4(specular, 1.0));
+#endif
   // Without the soft-shadow image (outputs on demand) only the probed pixel traces it, for its record.
 #if SVO_SHADOW_CONE == 0
   if (!record) return;

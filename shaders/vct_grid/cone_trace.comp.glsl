@@ -17,6 +17,7 @@ layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
 layout(r16f, binding = 2) uniform writeonly image2D u_ambientOcclusion;
 layout(r16f, binding = 3) uniform writeonly image2D u_softShadow;
 uniform int u_traceShadow;  // 0: the soft-shadow image is not wanted (outputs on demand)
+uniform int u_traceSpecular;  // 0: the specular image is not wanted (composite.specular = 0 and no view of it)
 
 // Totals over the pass: samples of the diffuse, specular and shadow cones, volume fetches, pixels
 // shaded (the background traces nothing).
@@ -33,7 +34,7 @@ void main() {
   vec4 pos = texelFetch(u_position, g, 0);
   if (pos.w == 0.0) {
     imageStore(u_indirectDiffuse, px, vec4(0.0));
-    imageStore(u_indirectSpecular, px, vec4(0.0));
+    if (u_traceSpecular != 0) imageStore(u_indirectSpecular, px, vec4(0.0));
     imageStore(u_ambientOcclusion, px, vec4(0.0));
     if (u_traceShadow != 0) imageStore(u_softShadow, px, vec4(0.0));
     return;
@@ -58,10 +59,13 @@ void main() {
   imageStore(u_indirectDiffuse, px, vec4(albedo * incoming, 1.0));
   imageStore(u_ambientOcclusion, px, vec4(1.0 - occlusion));
 
-  vec3 view = normalize(pos.xyz - u_cameraPos);
-  vec3 r = reflect(view, n);
-  ConeResult spec = traceRadianceCone(origin, r, u_specularAperture, start, u_maxDistance, u_coneCount, record);
-  imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+  // Without the specular image (outputs on demand) only the probed pixel traces it, for its record.
+  if (u_traceSpecular != 0 || record) {
+    vec3 view = normalize(pos.xyz - u_cameraPos);
+    vec3 r = reflect(view, n);
+    ConeResult spec = traceRadianceCone(origin, r, u_specularAperture, start, u_maxDistance, u_coneCount, record);
+    if (u_traceSpecular != 0) imageStore(u_indirectSpecular, px, vec4(spec.radiance, 1.0));
+  }
   uint specularSamples = g_samples - diffuseSamples;
 
   // Without the soft-shadow image (outputs on demand) only the probed pixel traces it, for its record.

@@ -27,8 +27,16 @@ bool conditionHolds(const std::string& c, const ParamSet& params, const std::str
     if (number.empty() || *end) throw Error(what + ": condition '" + c + "' is not param>=number");
     return params.value(c.substr(0, ge)) >= least;
   }
+  if (size_t gt = c.find('>'); gt != std::string::npos) {
+    const std::string number = c.substr(gt + 1);
+    char* end = nullptr;
+    const double bound = std::strtod(number.c_str(), &end);
+    if (number.empty() || *end) throw Error(what + ": condition '" + c + "' is not param>number");
+    return params.value(c.substr(0, gt)) > bound;
+  }
   const size_t eq = c.find('=');
-  if (eq == std::string::npos) throw Error(what + ": condition '" + c + "' is not param=value or param>=number");
+  if (eq == std::string::npos)
+    throw Error(what + ": condition '" + c + "' is not param=value, param>=number or param>number");
   const std::string name = c.substr(0, eq);
   return params.desc(name).format(params.value(name)) == c.substr(eq + 1);
 }

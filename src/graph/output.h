@@ -128,8 +128,8 @@ class ParamSet;
 // Whether 'desc' is only a placeholder under 'params' (OutputDesc::placeholderUnless); throws Error
 // on a condition that names no parameter of 'params' or is neither form.
 bool isPlaceholderUnder(const OutputDesc& desc, const ParamSet& params);
-// Whether "param=value" or "param>=number" holds under 'params' ("" holds); throws Error naming
-// 'what' (the output or read it conditions) on a condition of neither form.
+// Whether "param=value", "param>=number" or "param>number" holds under 'params' ("" holds); throws
+// Error naming 'what' (the output or read it conditions) on a condition of none of these forms.
 bool conditionHolds(const std::string& condition, const ParamSet& params, const std::string& what);
 
 // "technique/stage/output@level" (level optional, -1 = all levels).

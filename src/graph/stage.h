@@ -67,9 +67,10 @@ struct ResourceDecl {
 
 struct StageDecl {
   std::vector<std::string> reads;     // resources (and kViewResource) this stage reads
-  // Reads that happen only under a parameter condition ("param=value" or "param>=number", as
-  // OutputDesc::placeholderUnless): outputs on demand follow such a read only when it holds (the
-  // composite reads the soft-shadow image only when it is the chosen visibility).
+  // Reads that happen only under a parameter condition ("param=value", "param>=number" or
+  // "param>number", as conditionHolds reads them): outputs on demand follow such a read only when
+  // it holds (the composite reads the soft-shadow image only when it is the chosen visibility, and
+  // an indirect term only when its weight is above 0).
   std::map<std::string, std::string> readConditions;
   std::vector<std::string> writes;    // resources it writes that are not outputs
   std::vector<OutputDesc> outputs;    // resources it writes that can be inspected

@@ -238,5 +238,40 @@ TEST(OnDemandCursor, GrowingDemandRerunsOnlyTheStageThatLeftItOut) {
   EXPECT_GT(lit, 0.0) << "the soft-shadow image is empty";
 }
 
+// A composite term of weight 0 adds nothing, so it is no dependency of the final image: at the
+// defaults (composite.specular = 0, Lambertian materials) a --final-only run of vct-grid does not
+// trace the specular cone; with the weight above 0 it does, and the term brightens the image.
+TEST(OnDemandCursor, ACompositeTermOfWeightZeroIsNotComputed) {
+  auto finalOnly = [](const std::string& weight, bool& traced) {
+    RunRequest request;
+    request.technique = "vct-grid";
+    request.width = request.height = 32;
+    request.sets = {"voxel.resolution=32", "composite.specular=" + weight};
+    HeadlessSession& s = testing_support::freshSession(request);
+    s.demand(/*finalOnly=*/true);
+    s.run();
+    traced = s.cursor().outputComputed(s.cursor().technique().stageIndex("cone-trace"), "indirect-specular");
+    EXPECT_EQ(traced, s.cursor().board().hasTexture("indirect-specular")) << weight;
+    double sum = 0;
+    for (float v : testing_support::capture(s, "composite", "combined").levels[0].values) sum += v;
+    return sum;
+  };
+  bool tracedAtZero = true, tracedAbove = false;
+  const double zero = finalOnly("0", tracedAtZero);
+  const double above = finalOnly("0.5", tracedAbove);
+  EXPECT_FALSE(tracedAtZero);
+  EXPECT_TRUE(tracedAbove);
+  EXPECT_GT(above, zero) << "the specular term added nothing";
+
+  ParamSet params;
+  params.declare(ParamDesc::real("w", 0.0, 0.0, 1.0, "a weight"));
+  EXPECT_FALSE(conditionHolds("w>0", params, "test"));  // strict: the bound itself does not hold
+  EXPECT_TRUE(conditionHolds("w>=0", params, "test"));
+  params.set("w", 0.25);
+  EXPECT_TRUE(conditionHolds("w>0", params, "test"));
+  EXPECT_FALSE(conditionHolds("w>0.25", params, "test"));
+  EXPECT_THROW(conditionHolds("w>", params, "test"), Error);
+}
+
 }  // namespace
 }  // namespace voxlab

@@ -107,7 +107,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones")
       .referenceMode = "indirect-1";
-  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  // Traced only when something reads it (composite.specular above 0, a view, --only).
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone")
+      .onDemand = true;
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "cosine-weighted visible fraction within ao.range (1 = open)").alongside = true;
   b.output("level-used", OutputKind::Image2D, Semantic::Scalar,
@@ -125,7 +127,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const auto path = cameraPath(ctx.params, ctx.scene, ctx.view);
   const auto& origins = path.back().origins;
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  const bool traceSpecular = ctx.wants("indirect-specular");
+  // Without the specular cone its image unit is bound to the indirect image, never written there.
+  Texture& specular = traceSpecular ? ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F)) : indirect;
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   Texture& level = ctx.board.ensureTexture("level-used", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   Buffer& samples = ctx.board.ensureBuffer("cone-samples", coneSamplesBytes());
@@ -154,6 +158,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const glm::ivec2 probe = setConeUniforms(program, ctx.params, pathEndView(ctx.params, ctx.view), 1.0f, coarsestEdge,
                                            glm::ivec2(traced), kTracedCones.scale(ctx.params));
   setSkyUniforms(program, ctx.params, ctx.scene);
+  setUniform(program, "u_traceSpecular", traceSpecular ? 1 : 0);
   glUseProgram(program);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
   glBindTextureUnit(4, ctx.board.texture("clip-mips").id());
@@ -185,8 +190,7 @@ CompositeTerms compositeTerms() {
   for (const ParamDesc& p :
        {kTracedCones.resolutionParam(), compositeExposureParam(),
         ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"),
-        ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
-                        "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal incidence)")})
+        compositeSpecularParam()})
     t.params.push_back(p);
   t.indirect = {{"indirect-diffuse", "composite.indirect"}, {"indirect-specular", "composite.specular"}};
   t.traced = kTracedCones;

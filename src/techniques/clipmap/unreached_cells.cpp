@@ -15,8 +15,8 @@ UnreachedCells findUnreachedCells(const UnreachedInput& input) {
   out.source.assign(count, -1);
   out.sourceStep.assign(count, -1);
   out.open.assign(count, 0);
-  auto index = [n](glm::ivec3 c) { return (size_t(c.z) * size_t(n) + size_t(c.y)) * size_t(n) + size_t(c.x); };
-  auto cellOf = [n](size_t i) { return glm::ivec3(int(i % size_t(n)), int((i / size_t(n)) % size_t(n)), int(i / (size_t(n) * size_t(n)))); };
+  auto index = [n](glm::ivec3 c) { return logicalCellIndex(c, n); };
+  auto cellOf = [n](size_t i) { return logicalCell(i, n); };
   auto inside = [n](glm::ivec3 c) { return c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < n && c.y < n && c.z < n; };
   const std::array<glm::ivec3, 6> steps = {glm::ivec3(1, 0, 0), glm::ivec3(-1, 0, 0), glm::ivec3(0, 1, 0),
                                            glm::ivec3(0, -1, 0), glm::ivec3(0, 0, 1), glm::ivec3(0, 0, -1)};
@@ -65,7 +65,6 @@ UnreachedCells findUnreachedCells(const UnreachedInput& input) {
     }
   }
 
-  out.open.assign(count, 0);
   for (size_t i = 0; i < count; ++i)
     if (out.reached[i]) out.open[i] = input.occupied[i] ? (input.openFaces.empty() ? 0 : input.openFaces[i]) : 0x3F;
 

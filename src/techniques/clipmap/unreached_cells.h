@@ -7,6 +7,7 @@
 // filled texels); the unit tests check it cell by cell.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -15,7 +16,14 @@
 
 namespace voxlab::clipmap {
 
-// A level of N^3 cells in logical order: index (z * N + y) * N + x.
+// A level of N^3 cells in logical order: index (z * N + y) * N + x, and back.
+inline size_t logicalCellIndex(glm::ivec3 c, int n) {
+  return (size_t(c.z) * size_t(n) + size_t(c.y)) * size_t(n) + size_t(c.x);
+}
+inline glm::ivec3 logicalCell(size_t i, int n) {
+  return glm::ivec3(int(i % size_t(n)), int((i / size_t(n)) % size_t(n)), int(i / (size_t(n) * size_t(n))));
+}
+
 struct UnreachedInput {
   int n = 0;
   std::vector<uint8_t> occupied;  // 1: a surface's cell (what the voxelizer or the filter wrote)
@@ -36,8 +44,9 @@ struct UnreachedCells {
   // coarser level's openFaces are made of them.
   std::vector<uint8_t> open;
   // Per cell, the logical index of the surface cell whose light a filled cell takes: the nearest
-  // surface cell that borders a reached empty cell, by a breadth-first walk over the unreached
-  // cells (6-connected, ties to the first found in index order); -1 where the cell is not filled.
+  // surface cell that borders a reached empty cell or is itself inherited (the camera's space runs
+  // inside it), by a breadth-first walk over the unreached cells (6-connected, ties to the first
+  // found in index order); -1 where the cell is not filled.
   std::vector<int32_t> source;
   // Per filled cell, the step (+x -x +y -y +z -z) from its surface cell to that reached neighbour:
   // the way out of the wall into the camera's space; -1 elsewhere.

@@ -178,10 +178,8 @@ static int64_t fillUnreachedCells(StageContext& ctx, Texture& atlas, const Layou
                        GLsizei(isotropic.size() * sizeof(float)), isotropic.data());
   const Cell origin = origins[size_t(k)];
   const size_t count = size_t(n) * size_t(n) * size_t(n);
-  auto logicalIndex = [n](glm::ivec3 i) { return (size_t(i.z) * size_t(n) + size_t(i.y)) * size_t(n) + size_t(i.x); };
-  auto cellOf = [n](size_t i) {
-    return glm::ivec3(int(i % size_t(n)), int((i / size_t(n)) % size_t(n)), int(i / (size_t(n) * size_t(n))));
-  };
+  auto logicalIndex = [n](glm::ivec3 i) { return logicalCellIndex(i, n); };
+  auto cellOf = [n](size_t i) { return logicalCell(i, n); };
   auto physIndex = [&](glm::ivec3 i) { return logicalIndex(toroidal(origin + Cell(i), n)); };
   auto alphaAt = [&](glm::ivec3 i) {
     const glm::ivec3 p = toroidal(origin + Cell(i), n) + glm::ivec3(1);

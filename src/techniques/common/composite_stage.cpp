@@ -18,6 +18,13 @@ ParamDesc compositeExposureParam() {
   return ParamDesc::real("composite.exposure", 1.0, 0.01, 64.0, "scale applied before tonemapping");
 }
 
+ParamDesc compositeSpecularParam() {
+  return ParamDesc::real("composite.specular", 0.0, 0.0, 1.0,
+                         "weight of the indirect specular term: 0, the scenes' materials are Lambertian (as the "
+                         "reference's), so the specular cone is traced only when its image is shown; 0.04 is a "
+                         "dielectric's reflectance at normal incidence");
+}
+
 CompositeStage::CompositeStage(CompositeTerms terms) : terms_(std::move(terms)) {
   if (terms_.indirect.size() > size_t(kMaxCompositeTerms))
     throw Error("composite: " + std::to_string(terms_.indirect.size()) + " terms, at most " +
@@ -87,7 +94,8 @@ void CompositeStage::declare(StageBuilder& b) const {
                           "vertical position of the probed pixel (0 top, 1 bottom)"));
   b.probe(ProbeDesc::screen("probe.x", "probe.y"));  // a click on a camera image picks the explained pixel
   for (const char* gbuffer : {"position", "normal", "albedo", "emission"}) b.read(gbuffer);
-  for (const CompositeTerm& term : terms_.indirect) b.read(term.image);
+  // A term of weight 0 adds nothing: its image is not read, so outputs on demand leave it out.
+  for (const CompositeTerm& term : terms_.indirect) b.readWhen(term.image, term.weight + ">0");
   if (terms_.visibility) b.readWhen(terms_.visibility->image, terms_.visibility->param + "=" + terms_.visibility->tracedOption);
   b.read("shadow-map");
   b.read("light");
@@ -149,8 +157,11 @@ void CompositeStage::execute(StageContext& ctx) {
   glBindTextureUnit(5, ctx.board.texture("shadow-map").id());
   // The traced visibility image exists only when it is the chosen visibility (outputs on demand).
   glBindTextureUnit(6, tracedVisibility ? ctx.board.texture(terms_.visibility->image).id() : 0);
-  for (int i = 0; i < termCount; ++i)
-    glBindTextureUnit(GLuint(7 + i), ctx.board.texture(terms_.indirect[size_t(i)].image).id());
+  // A term of weight 0 whose image was not computed reads nothing (weight 0 times the unit's zeros).
+  for (int i = 0; i < termCount; ++i) {
+    const std::string& image = terms_.indirect[size_t(i)].image;
+    glBindTextureUnit(GLuint(7 + i), weights[i] > 0.0f || ctx.board.hasTexture(image) ? ctx.board.texture(image).id() : 0);
+  }
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   for (int i = 0; i < 3; ++i)
     glBindImageTexture(GLuint(i), images[i]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, kCompositeImages[i].second);

@@ -52,6 +52,8 @@ struct CompositeTerms {
 
 // composite.exposure: the scale applied before tonemapping.
 ParamDesc compositeExposureParam();
+// composite.specular: the weight of a cone tracer's specular term (0 by default: Lambertian materials).
+ParamDesc compositeSpecularParam();
 
 class CompositeStage : public Stage {
  public:

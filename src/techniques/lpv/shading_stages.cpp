@@ -175,8 +175,10 @@ void GiStage::declare(StageBuilder& b) const {
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo / pi * blended irradiance")
       .referenceMode = "indirect-1";
+  // Computed only when something reads it (composite.glossy above 0, a view, --only).
   b.output("glossy", OutputKind::Image2D, Semantic::RadianceHDR,
-           "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips");
+           "radiance gathered by one cone along the mirrored view direction through the reflection grid's mips")
+      .onDemand = true;
   BufferLayout boxes;
   boxes.stride = sizeof(gpu::LpvBox);
   boxes.fields = {{"lo-kind", FieldType::Vec4, 0, FieldRole::Other}, {"hi-cell", FieldType::Vec4, 16, FieldRole::Other}};
@@ -208,9 +210,12 @@ static std::array<gpu::LpvBox, 4> cascadeBoxes(const std::array<gpu::LpvGrid, kC
 
 void GiStage::execute(StageContext& ctx) {
   auto grids = readGrids(ctx.board);
-  Texture* images[5];
-  for (int i = 0; i < 5; ++i) images[i] = &ctx.board.ensureTexture(kGiImages[i].first, viewImageDesc(ctx.view, kGiImages[i].second));
-  Texture &fine = *images[0], &coarse = *images[1], &blend = *images[2], &indirect = *images[3], &glossy = *images[4];
+  const bool glossyWanted = ctx.wants("glossy");
+  Texture* images[5] = {};
+  for (int i = 0; i < 5; ++i)
+    if (i < 4 || glossyWanted)
+      images[i] = &ctx.board.ensureTexture(kGiImages[i].first, viewImageDesc(ctx.view, kGiImages[i].second));
+  Texture &fine = *images[0], &coarse = *images[1], &blend = *images[2], &indirect = *images[3];
   GLuint program = ctx.shaders.program({"lpv/gi.comp.glsl"});
   const float fineEdge = grids[0].originCell.w * grids[0].centreRes.w;
   const int reflRes = ctx.params.getInt("reflection.resolution");
@@ -220,6 +225,7 @@ void GiStage::execute(StageContext& ctx) {
   setUniform(program, "u_glossyDistance", ctx.params.getFloat("gi.glossy-distance") * fineEdge);
   setUniform(program, "u_cameraPos", ctx.view.position);
   setUniform(program, "u_glossyOn", ctx.params.getBool("gi.glossy") ? 1 : 0);
+  setUniform(program, "u_glossyWanted", glossyWanted ? 1 : 0);
   setUniform(program, "u_lookupSign", ctx.params.getChoice("gi.lookup-sign") == "minus-n" ? -1.0f : 1.0f);
   setUniform(program, "u_lookupOffset", ctx.params.getFloat("gi.lookup-offset"));
   setUniform(program, "u_radianceScale", ctx.params.getFloat("gi.radiance-scale"));
@@ -235,7 +241,8 @@ void GiStage::execute(StageContext& ctx) {
   glBindImageTexture(1, coarse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(2, blend.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glBindImageTexture(3, indirect.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(4, glossy.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  // Without the glossy image its unit is left empty; the shader does not write it then.
+  glBindImageTexture(4, glossyWanted ? images[4]->id() : 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindTextureUnit(9, ctx.board.texture("reflection").id());
   dispatchCompute({ctx.view.width, ctx.view.height, 1}, {8, 8, 1});
   barrier();

@@ -135,15 +135,15 @@ static std::string brickFormatDefines(const ParamSet& p) {
 // The cone trace's switches as defines (svo/cone_trace.comp.glsl): a parameter picks another
 // program, so the reads of the modes not chosen are not compiled in (on llvmpipe a branch on a
 // uniform still runs both sides).
-// traceShadow: every pixel traces the soft-shadow cone (its image is wanted).
-static std::string coneTraceDefines(const ParamSet& p, bool traceShadow) {
+// traceShadow, traceSpecular: every pixel traces the soft-shadow or specular cone (its image is wanted).
+static std::string coneTraceDefines(const ParamSet& p, bool traceShadow, bool traceSpecular) {
   auto flag = [](const char* name, bool on) { return std::string("#define ") + name + (on ? " 1\n" : " 0\n"); };
   // With dilation every voxel next to a filled one has its brick: the halo reads would add 0.
   const bool voxelHalo = p.getBool("svo.voxel-halo") && !p.getBool("svo.dilate") && !tileLayout(p);
   return flag("SVO_DILATED", p.getBool("svo.dilate")) + flag("SVO_LAYOUT_TILE", tileLayout(p)) +
          flag("SVO_ANISOTROPIC", anisotropicBricks(p)) + flag("SVO_FRONTS", frontsBricks(p)) +
          flag("SVO_VOXEL_HALO", voxelHalo) + flag("SVO_AO_CONES", p.getChoice("ao.cones") != "diffuse") +
-         flag("SVO_SHADOW_CONE", traceShadow) + (scaledBricks(p) ? "#define SVO_SCALED_BRICKS 1\n" : "");
+         flag("SVO_SHADOW_CONE", traceShadow) + flag("SVO_SPECULAR_CONE", traceSpecular) + (scaledBricks(p) ? "#define SVO_SCALED_BRICKS 1\n" : "");
 }
 static ParamDesc filterParam() {
   return ParamDesc::choice("svo.filter", {"box", "gaussian"}, 0,
@@ -917,7 +917,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones (at cone.resolution)")
       .referenceMode = "indirect-1";
-  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  // Traced only when something reads it (composite.specular above 0, a view, --only).
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone")
+      .onDemand = true;
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "weighted visible fraction within ao.range (1 = open)");
   // Traced only when something reads it (composite.shadow=soft-shadow-cone, a view, --only).
@@ -950,7 +952,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
   const int scale = kTracedCones.scale(ctx.params);
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  const bool traceSpecular = ctx.wants("indirect-specular");
+  // Without the specular cone its image unit is bound to the indirect image, never written there.
+  Texture& specular = traceSpecular ? ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F)) : indirect;
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   const bool traceShadow = ctx.wants("soft-shadow");
   // Without the shadow cone its image unit is bound to the ambient-occlusion image, never written.
@@ -988,7 +992,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   directionalAxis.z /= 6;
   // Two programs: every pixel without recording, and the probed pixel alone with its samples and
   // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
-  const std::string defines = coneTraceDefines(ctx.params, traceShadow);
+  const std::string defines = coneTraceDefines(ctx.params, traceShadow, traceSpecular);
   const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines);
   const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines + "#define SVO_RECORD_PROBE 1\n");
   glm::ivec2 probe(0);

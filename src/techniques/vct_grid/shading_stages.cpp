@@ -40,7 +40,9 @@ void ConeTraceStage::declare(StageBuilder& b) const {
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing indirect diffuse radiance: albedo * weighted sum of the diffuse cones (at cone.resolution)")
       .referenceMode = "indirect-1";
-  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone");
+  // Traced only when something reads it (composite.specular above 0, a view, --only).
+  b.output("indirect-specular", OutputKind::Image2D, Semantic::RadianceHDR, "radiance gathered by the specular cone")
+      .onDemand = true;
   b.output("ambient-occlusion", OutputKind::Image2D, Semantic::Fraction,
            "cosine-weighted visible fraction within ao.range (1 = open)").alongside = true;
   // Traced only when something reads it (composite.shadow=soft-shadow-cone, a view, --only): the
@@ -59,7 +61,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
   VoxelSpace space = VoxelSpace::fromScene(ctx.scene, res);
   Texture& indirect = ctx.board.ensureTexture("indirect-diffuse", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
-  Texture& specular = ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F));
+  const bool traceSpecular = ctx.wants("indirect-specular");
+  // Without the specular cone its image unit is bound to the indirect image, never written there.
+  Texture& specular = traceSpecular ? ctx.board.ensureTexture("indirect-specular", kTracedCones.desc(ctx.params, ctx.view, GL_RGBA16F)) : indirect;
   Texture& ao = ctx.board.ensureTexture("ambient-occlusion", kTracedCones.desc(ctx.params, ctx.view, GL_R16F));
   const bool traceShadow = ctx.wants("soft-shadow");
   // Without the shadow cone its image unit is bound to the ambient-occlusion image, never written.
@@ -89,6 +93,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const size_t coneCount = size_t(ctx.params.getInt("cone.count"));
 
   setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
+  setUniform(program, "u_traceSpecular", traceSpecular ? 1 : 0);
   setSkyUniforms(program, ctx.params, ctx.scene);
   glUseProgram(program);
   bindRadianceGrid(ctx, ctx.params.getInt("bounces"));
@@ -135,9 +140,7 @@ CompositeTerms compositeTerms() {
   t.combinedHelp = "direct + indirect diffuse + specular, linear radiance";
   t.params = {voxelResolutionParam(), kTracedCones.resolutionParam(), compositeExposureParam(),
               ParamDesc::real("composite.indirect", 1.0, 0.0, 4.0, "weight of the indirect diffuse term (1 = physical)"),
-              ParamDesc::real("composite.specular", 0.04, 0.0, 1.0,
-                              "weight of the indirect specular term (0.04 = a dielectric's reflectance at normal "
-                              "incidence)"),
+              compositeSpecularParam(),
               ParamDesc::choice("composite.shadow", {"shadow-map", "soft-shadow-cone"}, 0,
                                 "visibility of direct light: the shadow map, or the soft-shadow cone")};
   t.indirect = {{"indirect-diffuse", "composite.indirect"}, {"indirect-specular", "composite.specular"}};
