@@ -2,6 +2,7 @@
 # Regenerates the timing table of docs/performance.md: `voxlab bench` runs every registered
 # technique (`voxlab list --json`) at its defaults on one scene, and the bench.json files it writes
 # become the text between the markers <!-- bench-table:begin --> and <!-- bench-table:end -->:
+# per technique a frame (the stages the final image needs, `bench --final-only`: median and spread),
 # per technique and stage the median and the spread (fastest and slowest timed run) of the stage's
 # CPU wall time, the median GPU time, the GPU memory the run allocated, the wall time of whole
 # `voxlab run --final-only` processes and of one whole `voxlab run` writing every output (what a
@@ -69,6 +70,8 @@ if [[ "$part" != frames && "${TABLE_ONLY:-0}" != 1 ]]; then
   for t in $techniques; do
     "$voxlab" bench --technique "$t" --scene "$scene" --size "$size" --runs "$runs" \
       --process-runs "$process_runs" --out "$work/$t" >/dev/null
+    "$voxlab" bench --technique "$t" --scene "$scene" --size "$size" --runs "$runs" --process-runs 0 \
+      --final-only --out "$work/$t/final-only" >/dev/null
     rm -rf "$work/$t/run"
     w0="$(date +%s.%N)"
     "$voxlab" run --technique "$t" --scene "$scene" --size "$size" --out "$work/$t/run" >/dev/null
@@ -90,6 +93,8 @@ benches = []
 for t in e["TECHNIQUES"].split():
     b = json.load(open(os.path.join(work, t, "bench.json")))
     b["whole"] = json.load(open(os.path.join(work, t, "whole-run.json")))
+    final_only = os.path.join(work, t, "final-only", "bench.json")
+    b["final_only"] = json.load(open(final_only)) if os.path.exists(final_only) else None
     benches.append(b)
 first = benches[0]
 
@@ -110,18 +115,25 @@ lines = [
     f"{e['CORES']} cores, LP_NUM_THREADS {e['THREADS']}. Load average (1, 5, 15 min) "
     f"{e['LOAD_BEFORE']} before and {e['LOAD_AFTER']} after. " + load_note,
     "",
-    "| technique | all stages, median ms (min-max) | `run --final-only` process, median ms (min-max) "
+    "| technique | a frame: the final image's stages (`bench --final-only`), median ms (min-max) "
+    "| all stages, every output, median ms (min-max) | `run --final-only` process, median ms (min-max) "
     "| whole `run`, every output written: s (files) | GPU memory MiB |",
-    "|---|---:|---:|---:|---:|",
+    "|---|---:|---:|---:|---:|---:|",
 ]
+
+def totals(b):
+    return b["total_cpu_ms_median"], [sum(s["cpu_ms"][i] for s in b["stages"]) for i in range(b["runs"])]
 for b in benches:
-    total = b["total_cpu_ms_median"]
-    stage_totals = [sum(s["cpu_ms"][i] for s in b["stages"]) for i in range(b["runs"])]
+    total, stage_totals = totals(b)
+    frame = "not timed"
+    if b["final_only"]:
+        f_total, f_totals = totals(b["final_only"])
+        frame = f"{ms(f_total)} ({ms(min(f_totals))}-{ms(max(f_totals))})"
     process = "not timed"
     if "process_wall_ms_median" in b:
         process = (f"{b['process_wall_ms_median']:.0f} ({b['process_wall_ms_min']:.0f}-"
                    f"{b['process_wall_ms_max']:.0f})")
-    lines.append(f"| {b['technique']} | {ms(total)} ({ms(min(stage_totals))}-{ms(max(stage_totals))}) | "
+    lines.append(f"| {b['technique']} | {frame} | {ms(total)} ({ms(min(stage_totals))}-{ms(max(stage_totals))}) | "
                  f"{process} | {b['whole']['whole_run_s']:.2f} ({b['whole']['files']}) | {b['memory_total_mib']:.1f} |")
 lines += [
     "",
