@@ -1,6 +1,6 @@
 // The opacity of a cone's step: a texel's opacity belongs to a path one texel long, and a step of
 // 'ratio' texels sees 1 - (1 - alpha)^ratio. For small alpha the series ratio * alpha * (1 + (1 -
-// ratio) alpha / 2) (its next term is of order alpha^3, below 1e-9 of alpha here): llvmpipe's pow
+// ratio) alpha / 2) (its next term is of order alpha^3, below 1e-6 of alpha here): llvmpipe's pow
 // of a base just below 1 answers in steps of 2^-23, so a texel of opacity 1e-13 got 1.2e-7, and
 // the radiance of the step, its premultiplied colour times the ratio of the two, was a million
 // times too bright (svo's ring cones along a tangent, which see a wall with weight 1e-15).

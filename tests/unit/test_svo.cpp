@@ -920,7 +920,8 @@ TEST(SvoConeTrace, AnisotropicFinalImageCloseToVctGrid) {
 TEST(SvoConeTrace, EveryRingOfConesGathersTheLightOfTheDefaultRing) {
   const std::vector<std::pair<std::string, std::string>> tracers = {
       {"svo", "svo-cone-trace"}, {"vct-grid", "cone-trace"}, {"clipmap", "cone-trace"}};
-  for (const auto& [technique, stage] : tracers) {
+  for (const auto& tracer : tracers) {
+    const std::string technique = tracer.first, stage = tracer.second;  // (clang: no lambda capture of bindings)
     auto indirect = [&](const std::string& count) {
       std::vector<std::string> sets = {"cone.count=" + count, "cone.aperture=60"};
       const LevelData image = capture(session(request(technique, "cornell-box", sets, stage, 64)), stage,
