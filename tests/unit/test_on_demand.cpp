@@ -252,8 +252,9 @@ TEST(OnDemandCursor, ACompositeTermOfWeightZeroIsNotComputed) {
     s.run();
     traced = s.cursor().outputComputed(s.cursor().technique().stageIndex("cone-trace"), "indirect-specular");
     EXPECT_EQ(traced, s.cursor().board().hasTexture("indirect-specular")) << weight;
+    const CapturedOutput combined = testing_support::capture(s, "composite", "combined");
     double sum = 0;
-    for (float v : testing_support::capture(s, "composite", "combined").levels[0].values) sum += v;
+    for (float v : combined.levels[0].values) sum += v;
     return sum;
   };
   bool tracedAtZero = true, tracedAbove = false;
