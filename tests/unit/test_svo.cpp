@@ -941,11 +941,12 @@ TEST(SvoConeTrace, EveryRingOfConesGathersTheLightOfTheDefaultRing) {
                   technique.c_str(), count.c_str(), mean, ring.first, largest, ring.second);
       // Measured (64x64, voxel.resolution 128): means within 4 % of six cones' for all three (svo
       // 0.5 %), the largest value 0.31-0.71 against six cones' 0.40-0.64; svo with the opacity as
-      // 1 - exp: means 790-845 and values at half-float's largest, 65504. Allowed: a quarter either
-      // way, and twice six cones' largest value.
-      EXPECT_GT(mean, ring.first * 0.75) << technique << " " << count;
-      EXPECT_LT(mean, ring.first * 1.33) << technique << " " << count;
-      EXPECT_LT(largest, 2.0 * ring.second) << technique << " " << count;
+      // 1 - exp: means 790-845 and values at half-float's largest, 65504. The largest value is at
+      // most 1.12 times six cones' (clipmap 0.714 / 0.636, vct-grid 0.475 / 0.425). Allowed: a
+      // tenth either way for the mean, 1.25 times six cones' largest value.
+      EXPECT_GT(mean, ring.first * 0.9) << technique << " " << count;
+      EXPECT_LT(mean, ring.first * 1.1) << technique << " " << count;
+      EXPECT_LT(largest, 1.25 * ring.second) << technique << " " << count;
     }
   }
 }
