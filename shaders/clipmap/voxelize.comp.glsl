@@ -5,9 +5,9 @@
 // llvmpipe's 65535 iterations (at most 7 N^2 per entry: N^2 columns, up to 6 candidates each). Cells are those of the lattice anchored to the world:
 // cell c of level k covers [c, c+1) * s_k metres, and a vertex's cell coordinates are
 // p * (1 / s_k), the same numbers whatever the camera, the level's origin or the box. Each
-// (triangle, cell) pair is decided by the exact half-open separating-axis test of
-// common/tri_box.glsl in triangle-local double coordinates, so a cell gets the same triangles in
-// a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
+// (triangle, cell) pair is decided by the exact half-open triangle/cell test of
+// common/triangle_cells.glsl (vct-grid's voxelizers use it too) in triangle-local double
+// coordinates, so a cell gets the same triangles in a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
 // emission, evaluated at the point of the triangle nearest the cell centre) to the cell's
 // fixed-point accumulators with integer atomics: the sums do not depend on the order. With six
 // faces it also adds, per travel direction of a cone, the light of the fragments whose fronts
@@ -21,7 +21,7 @@ layout(local_size_x = 64) in;
 #include "common/material.glsl"
 #include "common/triangle_normal.glsl"
 #include "common/lights.glsl"
-#include "common/tri_box.glsl"
+#include "common/triangle_cells.glsl"
 #include "common/facing.glsl"
 layout(std430, binding = CLIPMAP_BINDING_ACCUM) buffer Accumulators { uint accum[]; };
 layout(std430, binding = CLIPMAP_BINDING_COUNTERS) buffer Counters { uint counters[]; };
@@ -114,6 +114,8 @@ void voxelizeEntry(uint t, int e) {
   vec2 t0 = sceneUv(i0), t1 = sceneUv(i1), t2 = sceneUv(i2);
   uint coverageLevel = masked ? coverageLevelFor(alpha, l0, l1, l2, t0, t1, t2) : 0u;
   float lod = voxelTextureLod(l0, l1, l2, t0, t1, t2);
+  // The exact test's setup, once per triangle (the loops below stay inside its bounding box).
+  TriangleCells cells = triangleCellsSetup(w0, w1, w2);
 
   // Columns along the dominant axis; in each, the cells the plane can reach (a superset: the
   // exact test decides).
@@ -130,8 +132,8 @@ void voxelizeEntry(uint t, int e) {
         ivec3 local = fromProjectedI(ivec3(a, b, k), axis);  // cell, triangle-local
         ivec3 cell = iorigin + local;
         if (all(greaterThanEqual(cell, skipLo)) && all(lessThan(cell, skipHi))) continue;
-        dvec3 centre = dvec3(local) + 0.5;
-        if (!triangleOverlapsCenteredBox(d0 - centre, d1 - centre, d2 - centre, dvec3(0.5))) continue;
+        if (!triangleMeetsCell(cells, vec3(cell))) continue;
+        vec3 centre = vec3(local) + 0.5;
         if (masked && !coverageAt(alpha, coverageLevel, l0, l1, l2, t0, t1, t2, local)) continue;
         vec3 radiance;
         if (u_mode == 1) {
@@ -141,7 +143,7 @@ void voxelizeEntry(uint t, int e) {
           // only a sliver of a surface, the centre's projection onto the plane lies off the
           // triangle (above the ceiling, beyond a corner), where the light and the shadow map
           // belong to another place; coarse cells hold more such slivers.
-          vec3 p = (origin + nearestOnTriangle(vec3(centre), l0, l1, l2)) * u_cellSize[level];
+          vec3 p = (origin + nearestOnTriangle(centre, l0, l1, l2)) * u_cellSize[level];
           vec3 toLight; float dist;
           lightDirection(p, toLight, dist);
           float cosine = max(dot(normal, toLight), 0.0);

@@ -6,7 +6,16 @@
 layout(std430, binding = VOXLAB_BINDING_COVERAGE_BITS) readonly buffer CoverageBits { uint coverageBits[]; };
 layout(std430, binding = VOXLAB_BINDING_COVERAGE_LEVELS) readonly buffer CoverageLevels { uvec4 coverageLevels[]; };
 
-bool coverageMasked(vec4 alpha) { return alpha.y > 0.5; }
+// A program built for one kind of material (common/material.glsl) knows it without reading.
+bool coverageMasked(vec4 alpha) {
+#if !defined(VOXLAB_MATERIAL_KIND)
+  return alpha.y > 0.5;
+#elif defined(VOXLAB_MATERIAL_ALPHA_MASK)
+  return true;
+#else
+  return false;
+#endif
+}
 
 uint coverageLevelFor(vec4 alpha, vec3 a, vec3 b, vec3 c, vec2 ua, vec2 ub, vec2 uc) {
   uint first = uint(alpha.z), count = uint(alpha.w);

@@ -1,14 +1,11 @@
 #version 450
 // Triangle-parallel voxelization (Schwarz & Seidel 2010; seed 002 section 3): one invocation per
-// listed triangle. Setup once per triangle: the plane's critical-point offsets and, for each of
-// the three projections (xy, yz, zx), the three 2D edge functions shifted to their critical box
-// corner. Then loop over the columns of the triangle's voxel bounding box projected along the
-// dominant axis; in each column only the voxels the plane can reach within that column (at most
-// 3 when the box is not touched exactly, 4 with touching faces) are tested. A voxel overlaps the
-// triangle when it passes the plane test and all nine edge tests; with the loop's bounding box
-// that is exactly the 13-axis separating axis test of the CPU reference, with the same half-open
-// cells [i, i+1)^3: a test whose critical corner lies on the cell's upper side (a direction with a
-// positive component) is strict, so a triangle only touching an upper face, edge or corner is out. Each overlapped voxel
+// listed triangle. Setup once per triangle (common/triangle_cells.glsl): the plane's critical-point
+// offsets and the three 2D edge functions of each projection. Then loop over the columns of the
+// triangle's voxel bounding box projected along the dominant axis; in each column only the voxels
+// the plane can reach within that column (at most 3 when the box is not touched exactly, 4 with
+// touching faces) are tested. With the loop's bounding box the tests are exactly the 13-axis
+// separating axis test of the CPU reference, with half-open cells. Each overlapped voxel
 // appends one VoxelFragment through the shared atomic counter.
 //
 // The columns are one flat loop split into chunks of u_chunkColumns: invocation (x, y) of the
@@ -26,6 +23,7 @@
 #include "common/packing.glsl"
 #include "common/scene_triangles.glsl"
 #include "common/alpha_coverage.glsl"
+#include "common/triangle_cells.glsl"
 
 layout(local_size_x = 64) in;
 #include "common/material.glsl"
@@ -44,33 +42,6 @@ uniform int u_directRange;
 uniform uint u_firstChunk;    // chunk of invocation y = 0
 uniform uint u_chunkColumns;  // voxel columns per invocation
 uniform uint u_capacity;   // records the fragment list holds
-
-// 2D edge functions of one projection: inside when dot(n[i], p) + d[i] >= 0 for the box corner p
-// with the smallest coordinates (d already moved to the critical corner, box edge 1 voxel); > 0
-// when n[i] has a positive component, as that critical corner lies on an upper face (half-open).
-// In double, like the CPU reference: float products of coordinates near 256 round by ~1e-5 voxel,
-// which decided near-touching voxels differently (docs/voxelization.md, "Ties on voxel faces").
-struct Edges2D { dvec2 n[3]; double d[3]; bool strict[3]; };
-
-Edges2D setupEdges(dvec2 a, dvec2 b, dvec2 c, double normalComponent) {
-  Edges2D e;
-  double orientation = normalComponent >= 0.0 ? 1.0 : -1.0;  // make the edge normals point inwards
-  dvec2 p[3] = dvec2[3](a, b, c);
-  for (int i = 0; i < 3; ++i) {
-    dvec2 edge = p[(i + 1) % 3] - p[i];
-    dvec2 n = dvec2(-edge.y, edge.x) * orientation;
-    e.n[i] = n;
-    e.d[i] = -dot(n, p[i]) + max(0.0, n.x) + max(0.0, n.y);
-    e.strict[i] = n.x > 0.0 || n.y > 0.0;
-  }
-  return e;
-}
-
-bool insideEdge(Edges2D e, int i, dvec2 p) {
-  double f = dot(e.n[i], p) + e.d[i];
-  return e.strict[i] ? f > 0.0 : f >= 0.0;
-}
-bool insideEdges(Edges2D e, dvec2 p) { return insideEdge(e, 0, p) && insideEdge(e, 1, p) && insideEdge(e, 2, p); }
 
 // Swizzle so that the projection axis becomes the third coordinate (as voxelize.geom.glsl does).
 vec3 toProjected(vec3 v, int axis) { return axis == 0 ? v.yzx : (axis == 1 ? v.zxy : v); }
@@ -113,20 +84,9 @@ void main() {
   vec3 vertexNormals = sceneNormal(i0) + sceneNormal(i1) + sceneNormal(i2);
   vec3 normal = facingPlaneNormal(n, vertexNormals);
 
-  // Plane test: the box's critical corner c (largest n.p) and its opposite (smallest) must lie on
-  // different sides. c is on an upper face when n has a positive component, its opposite when n has
-  // a negative one; touching such a corner's side is not enough (half-open cells).
-  // Triangle-local in double from the float voxel coordinates: exact (a float minus an integer
-  // needs at most 34 bits), where v1 and v2 above round once a vertex is far from the origin.
-  dvec3 dv0 = dvec3(w0) - dvec3(origin), dv1 = dvec3(w1) - dvec3(origin), dv2 = dvec3(w2) - dvec3(origin);
-  dvec3 dn = cross(dv1 - dv0, dv2 - dv0);
-  dvec3 c = dvec3(dn.x > 0.0 ? 1.0 : 0.0, dn.y > 0.0 ? 1.0 : 0.0, dn.z > 0.0 ? 1.0 : 0.0);
-  double d1 = dot(dn, c - dv0), d2 = dot(dn, (dvec3(1.0) - c) - dv0);
-  bool upperStrict = any(greaterThan(dn, dvec3(0.0))), lowerStrict = any(lessThan(dn, dvec3(0.0)));
-  // Edge tests of the three projections: xy (normal part z), yz (x), zx (y).
-  Edges2D exy = setupEdges(dv0.xy, dv1.xy, dv2.xy, dn.z);
-  Edges2D eyz = setupEdges(dv0.yz, dv1.yz, dv2.yz, dn.x);
-  Edges2D ezx = setupEdges(dv0.zx, dv1.zx, dv2.zx, dn.y);
+  // The plane and edge tests, set up once (common/triangle_cells.glsl); the column loop below
+  // stays inside the triangle's bounding box of cells.
+  TriangleCells cells = triangleCellsSetup(w0, w1, w2);
   // alphaMode MASK: a voxel also needs opaque texels near it (common/alpha_coverage.glsl; the
   // triangle in absolute voxel coordinates, as the raster pass and the CPU reference see it).
   vec4 alpha = materials[material].alpha;
@@ -160,12 +120,7 @@ void main() {
     float kHi = min(min(floor(zhi + 1e-3) + pOrigin.z, kMaxBox), kLo + 3.0);
     for (float k = kLo; k <= kHi; k += 1.0) {
       vec3 voxel = fromProjected(vec3(a, b, k), axis);
-      dvec3 p = dvec3(voxel - origin);  // box minimum corner, triangle-local (integers)
-      double np = dot(dn, p);
-      double above = np + d1, below = np + d2;  // n.(corner - v0) at the largest and the smallest corner
-      if (upperStrict ? above <= 0.0 : above < 0.0) continue;
-      if (lowerStrict ? below >= 0.0 : below > 0.0) continue;
-      if (!insideEdges(exy, p.xy) || !insideEdges(eyz, p.yz) || !insideEdges(ezx, p.zx)) continue;
+      if (!triangleMeetsCell(cells, voxel)) continue;
       if (masked && !coverageAt(alpha, level, w0, w1, w2, t0, t1, t2, ivec3(voxel))) continue;
       appendVoxel(ivec3(voxel), normal, voxelSampleUv(w0, w1, w2, t0, t1, t2, ivec3(voxel)), lod);
     }

@@ -1,14 +1,15 @@
 #version 450
 // Voxelization, per fragment: the fragment is one column of voxels along the projection axis.
 // Conservative mode tests each voxel of the column that the triangle's plane can reach within
-// this pixel (at most 3, because the projection axis is dominant) with the exact triangle/box
-// overlap test, and appends one voxel fragment per overlapping voxel. Plain mode appends the one
+// this pixel (at most 3, because the projection axis is dominant) with the exact triangle/cell
+// overlap test of the compute pass (common/triangle_cells.glsl, the same bits), and appends one
+// voxel fragment per overlapping voxel. Plain mode appends the one
 // voxel at the pixel centre's depth.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
 #include "common/material.glsl"
 #include "common/packing.glsl"
-#include "common/tri_box.glsl"
+#include "common/triangle_cells.glsl"
 #include "common/alpha_coverage.glsl"
 
 in VoxelData {
@@ -80,11 +81,12 @@ void main() {
   uint level = masked ? coverageLevelFor(alpha, fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2) : 0u;
   // Candidates: the cells whose depth range meets [zlo, zhi], widened by 1e-3 voxel for rounding
   // (a plane exactly on a cell boundary must reach the cell above it); at most 4. The exact test
-  // decides, with half-open cells (tri_box.glsl).
+  // decides, with half-open cells; its setup is the triangle's, once per pixel.
+  TriangleCells cells = triangleCellsSetup(fin.tri0, fin.tri1, fin.tri2);
   float kLo = floor(zlo - 1e-3), kHi = min(floor(zhi + 1e-3), kLo + 3.0);
   for (float z = kLo; z <= kHi; z += 1.0) {
     ivec3 voxel = ivec3(fromProjected(vec3(cell, z), fin.axis));
-    if (!triangleOverlapsBox(fin.tri0, fin.tri1, fin.tri2, vec3(voxel) + 0.5, vec3(0.5))) continue;
+    if (!triangleCellsBoxHolds(cells, voxel) || !triangleMeetsCell(cells, vec3(voxel))) continue;
     if (masked && !coverageAt(alpha, level, fin.tri0, fin.tri1, fin.tri2, fin.uv0, fin.uv1, fin.uv2, voxel)) continue;
     appendVoxel(voxel);
   }

@@ -81,16 +81,37 @@ void GpuScene::bindMaterialTextures(uint32_t material) const {
   glBindTextureUnit(VOXLAB_UNIT_EMISSIVE, m.emissiveTexture >= 0 ? textures_[m.emissiveTexture].id() : white_.id());
 }
 
+std::string GpuScene::materialKindDefines(uint32_t material) const {
+  const Material& m = scene_.materials[material];
+  std::string defines = "#define VOXLAB_MATERIAL_KIND 1\n";
+  if (m.baseColorTexture >= 0) defines += "#define VOXLAB_MATERIAL_ALBEDO_TEXTURE 1\n";
+  if (m.emissiveTexture >= 0) defines += "#define VOXLAB_MATERIAL_EMISSIVE_TEXTURE 1\n";
+  if (coverage_.masked(material)) defines += "#define VOXLAB_MATERIAL_ALPHA_MASK 1\n";
+  return defines;
+}
+
 void GpuScene::draw(GLuint program) const { draw(program, scene_.draws); }
 
 void GpuScene::draw(GLuint program, const std::vector<DrawRange>& ranges) const {
-  glUseProgram(program);
+  draw([program](const std::string&) { return program; }, ranges);
+}
+
+void GpuScene::draw(const ProgramForKind& programFor, const std::vector<DrawRange>& ranges) const {
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, materials_.id());
   bindCoverage();
-  GLint loc = glGetUniformLocation(program, "u_materialIndex");
-  GLint firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
+  GLuint program = 0;
+  GLint loc = -1, firstLoc = -1;
+  std::string kind;
   for (const auto& d : ranges) {
+    const std::string rangeKind = materialKindDefines(d.material);
+    if (program == 0 || rangeKind != kind) {
+      kind = rangeKind;
+      program = programFor(kind);
+      glUseProgram(program);
+      loc = glGetUniformLocation(program, "u_materialIndex");
+      firstLoc = glGetUniformLocation(program, "u_firstTriangle");  // optional: -1 when unused
+    }
     glProgramUniform1i(program, loc, int(d.material));
     if (firstLoc >= 0) glProgramUniform1i(program, firstLoc, int(d.firstIndex / 3));
     bindMaterialTextures(d.material);

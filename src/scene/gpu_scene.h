@@ -3,7 +3,9 @@
 // emissive textures, the alpha coverage of MASK materials. draw() issues one draw per material
 // range.
 #pragma once
+#include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gpu/resources.h"
@@ -22,6 +24,10 @@ class GpuScene {
   // The same for the given ranges of the index buffer instead of the scene's (each a run of
   // triangles of one material, e.g. those a pass keeps out of a larger range).
   void draw(GLuint program, const std::vector<DrawRange>& ranges) const;
+  // The same with a program per material kind (materialKindDefines): 'programFor' returns the
+  // program for a kind's defines, its own uniforms set; the ranges are drawn in their order.
+  using ProgramForKind = std::function<GLuint(const std::string& materialKindDefines)>;
+  void draw(const ProgramForKind& programFor, const std::vector<DrawRange>& ranges) const;
   const Buffer& materials() const { return materials_; }
   // The alpha coverage pyramids of MASK materials (scene/alpha_coverage.h) and their GPU copies
   // (bound by draw(); compute passes bind them with bindCoverage()).
@@ -29,6 +35,11 @@ class GpuScene {
   void bindCoverage() const;
   // Binds material 'material's base colour and emissive textures (white where it has none).
   void bindMaterialTextures(uint32_t material) const;
+  // The defines of a program built for material 'material's kind (shaders/common/material.glsl):
+  // which textures it has and whether it is alpha-masked. A pass that runs per draw range builds
+  // one program per kind, so a material without textures or mask runs none of their code
+  // (llvmpipe runs both sides of every branch); the results are those of the general program.
+  std::string materialKindDefines(uint32_t material) const;
   const Buffer& vertices() const { return vertices_; }
   const Buffer& indices() const { return indices_; }
   GLuint vertexArray() const { return vao_.id(); }

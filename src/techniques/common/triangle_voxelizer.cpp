@@ -147,11 +147,16 @@ void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, Voxeliz
   std::string defines =
       method == VoxelizeMethod::Hybrid ? "#define VOXLAB_SKIP_SMALL_TRIANGLES 1\n#define VOXLAB_RECORDS_AS_COMPUTE 1\n" : "";
   if (part != TrianglePart::All) defines += "#define VOXLAB_SKIP_OTHER_PART 1\n";
-  GLuint program = ctx.shaders.program(
-      {"common/world.vert.glsl", "common/voxelize.geom.glsl", "common/voxelize.frag.glsl"}, defines);
-  space.setUniforms(program);
-  setUniform(program, "u_conservative", method == VoxelizeMethod::Plain ? 0 : 1);
-  setUniform(program, "u_capacity", capacity);
+  // A program per material kind (GpuScene::materialKindDefines): a material without textures or
+  // alpha mask runs none of their code.
+  const auto programFor = [&](const std::string& kind) {
+    GLuint program = ctx.shaders.program(
+        {"common/world.vert.glsl", "common/voxelize.geom.glsl", "common/voxelize.frag.glsl"}, defines + kind);
+    space.setUniforms(program);
+    setUniform(program, "u_conservative", method == VoxelizeMethod::Plain ? 0 : 1);
+    setUniform(program, "u_capacity", capacity);
+    return program;
+  };
   if (ctx.board.hasBuffer(scratch.triangleInfo))
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer(scratch.triangleInfo).id());
   // Where the geometry shader would drop triangles (the hybrid's small ones, the other part's),
@@ -161,33 +166,38 @@ void voxelizeTrianglesRaster(StageContext& ctx, const VoxelSpace& space, Voxeliz
   const bool skipSmall = method == VoxelizeMethod::Hybrid, skipOther = part != TrianglePart::All;
   if ((skipSmall || skipOther) && ctx.board.hasBuffer(scratch.triangleInfo)) {
     const std::vector<DrawRange> kept = rasterizedRuns(ctx, scratch, skipSmall, skipOther);
-    rasterizeVoxelFragments(ctx, program, space.resolution, &kept);
+    rasterizeVoxelFragments(ctx, programFor, space.resolution, &kept);
     return;
   }
-  rasterizeVoxelFragments(ctx, program, space.resolution);
+  rasterizeVoxelFragments(ctx, programFor, space.resolution);
 }
 
 void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const TriangleClasses& classes,
                               uint32_t capacity, const VoxelizeScratch& scratch) {
-  GLuint program = ctx.shaders.program({"common/triangle_parallel.comp.glsl"});
-  space.setUniforms(program);
-  setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
-  setUniform(program, "u_capacity", capacity);
-  glUseProgram(program);
+  // A program per material kind (GpuScene::materialKindDefines), made current with the range's
+  // material and its textures.
+  const auto useMaterial = [&](uint32_t material) {
+    GLuint program = ctx.shaders.program({"common/triangle_parallel.comp.glsl"}, ctx.gpuScene.materialKindDefines(material));
+    space.setUniforms(program);
+    setUniform(program, "u_chunkColumns", unsigned(kChunkColumns));
+    setUniform(program, "u_capacity", capacity);
+    setUniform(program, "u_materialIndex", int(material));
+    glUseProgram(program);
+    ctx.gpuScene.bindMaterialTextures(material);
+    return program;
+  };
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_MATERIALS, ctx.gpuScene.materials().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_VERTICES, ctx.gpuScene.vertices().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_SCENE_INDICES, ctx.gpuScene.indices().id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_INFO, ctx.board.buffer(scratch.triangleInfo).id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_TRIANGLE_LIST, ctx.board.buffer(scratch.triangleList).id());
   ctx.gpuScene.bindCoverage();
-  const GLint materialLoc = glGetUniformLocation(program, "u_materialIndex");
   // Chunk 0 of every compute triangle, one dispatch per draw range (one material, its textures).
-  setUniform(program, "u_directRange", 1);
-  setUniform(program, "u_firstChunk", 0u);
   for (const DrawRange& d : ctx.scene.draws) {
     if (d.indexCount < 3) continue;
-    glProgramUniform1i(program, materialLoc, int(d.material));
-    ctx.gpuScene.bindMaterialTextures(d.material);
+    GLuint program = useMaterial(d.material);
+    setUniform(program, "u_directRange", 1);
+    setUniform(program, "u_firstChunk", 0u);
     setUniform(program, "u_listBase", unsigned(d.firstIndex / 3));
     setUniform(program, "u_listCount", unsigned(d.indexCount / 3));
     dispatchCompute({int(d.indexCount / 3), 1, 1}, {64, 1, 1});
@@ -196,16 +206,15 @@ void voxelizeTrianglesCompute(StageContext& ctx, const VoxelSpace& space, const 
   // per material present.
   const int chunks = classes.chunks();
   if (chunks > 1 && classes.multiChunk > 0) {
-    setUniform(program, "u_directRange", 0);
-    setUniform(program, "u_listBase", unsigned(ctx.scene.triangleCount()));
-    setUniform(program, "u_listCount", unsigned(classes.multiChunk));
-    setUniform(program, "u_firstChunk", 1u);
     std::vector<bool> done(ctx.scene.materials.size(), false);
     for (const DrawRange& d : ctx.scene.draws) {
       if (d.material >= done.size() || done[d.material]) continue;
       done[d.material] = true;
-      glProgramUniform1i(program, materialLoc, int(d.material));
-      ctx.gpuScene.bindMaterialTextures(d.material);
+      GLuint program = useMaterial(d.material);
+      setUniform(program, "u_directRange", 0);
+      setUniform(program, "u_listBase", unsigned(ctx.scene.triangleCount()));
+      setUniform(program, "u_listCount", unsigned(classes.multiChunk));
+      setUniform(program, "u_firstChunk", 1u);
       dispatchCompute({int(classes.multiChunk), chunks - 1, 1}, {64, 1, 1});
     }
   }

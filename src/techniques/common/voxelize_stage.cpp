@@ -203,7 +203,8 @@ uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function
   return produced;
 }
 
-void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution, const std::vector<DrawRange>* ranges) {
+void rasterizeVoxelFragments(StageContext& ctx, const GpuScene::ProgramForKind& programFor, int resolution,
+                             const std::vector<DrawRange>* ranges) {
   GLuint fbo = 0;
   glCreateFramebuffers(1, &fbo);
   glObjectLabel(GL_FRAMEBUFFER, fbo, -1, "voxelize.fbo");
@@ -214,10 +215,7 @@ void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution, 
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  if (ranges)
-    ctx.gpuScene.draw(program, *ranges);
-  else
-    ctx.gpuScene.draw(program);
+  ctx.gpuScene.draw(programFor, ranges ? *ranges : ctx.scene.draws);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glDeleteFramebuffers(1, &fbo);

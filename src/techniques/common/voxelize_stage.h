@@ -25,6 +25,7 @@
 #include <string>
 
 #include "graph/stage.h"
+#include "scene/gpu_scene.h"
 #include "techniques/common/triangle_voxelizer.h"
 
 namespace voxlab {
@@ -92,11 +93,12 @@ struct FragmentList {
 uint32_t fillFragmentList(StageContext& ctx, int resolution, const std::function<void(uint32_t capacity)>& passes,
                           size_t& capacity, const FragmentList& list = {}, const VoxelizeScratch& scratch = {});
 
-// The fragment-parallel pass: draws the scene with 'program' (common/world.vert +
-// common/voxelize.geom/.frag) over a resolution^2 framebuffer without attachments, then makes
-// its appends visible. Call inside fillFragmentList's passes. With 'ranges' it draws only those
-// runs of triangles (GpuScene::draw), not the whole scene.
-void rasterizeVoxelFragments(StageContext& ctx, GLuint program, int resolution,
+// The fragment-parallel pass: draws the scene with the program 'programFor' gives each material
+// kind (common/world.vert + common/voxelize.geom/.frag; GpuScene::draw) over a resolution^2
+// framebuffer without attachments, then makes its appends visible. Call inside
+// fillFragmentList's passes. With 'ranges' it draws only those runs of triangles, not the whole
+// scene.
+void rasterizeVoxelFragments(StageContext& ctx, const GpuScene::ProgramForKind& programFor, int resolution,
                              const std::vector<DrawRange>* ranges = nullptr);
 
 // The value of a 32-bit counter at byte 'offset' of 'buffer' (reads it back).

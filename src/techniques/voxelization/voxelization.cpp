@@ -29,10 +29,10 @@
 // Details
 //   - The fragment list packs voxel coordinates into 10 bits per axis, so a grid is at most
 //     1024^3; voxel.resolution stops at 512 and the stages refuse anything above 1024.
-//   - Both conservative methods decide each candidate voxel with the full 13-axis separating axis
-//     test (tri_box.glsl in the raster pass; the equivalent plane + 9 edge functions in the compute
-//     pass), so their voxel sets equal the CPU reference up to float rounding where a triangle
-//     exactly touches a voxel face. Every fragment of either is one (triangle, voxel) pair: a
+//   - Both conservative methods decide each candidate voxel with the plane and 9 edge functions
+//     of common/triangle_cells.glsl (set up once per triangle, in double), which inside the
+//     triangle's bounding box of cells equal the CPU reference's 13-axis separating axis test,
+//     half-open cells included: the voxel sets are the reference's. Every fragment of either is one (triangle, voxel) pair: a
 //     voxel lies in exactly one pixel column of a triangle's projection, so duplicates (fragments
 //     minus occupied voxels) count voxels shared by several triangles, not double work.
 //   - The compute pass samples albedo and emission from the material's textures at the voxel
