@@ -4,9 +4,20 @@
 
 layout(std140, binding = VOXLAB_UNIFORM_LIGHT) uniform LightBlock { GpuLight u_light; };
 
+// The light's type (VOXLAB_LIGHT_*). A program built for one type (lightKindDefines in
+// techniques/common/light_stage.h defines VOXLAB_LIGHT_KIND) has it as a constant, so the code of
+// the other types is compiled out (llvmpipe runs both sides of every branch).
+float lightType() {
+#ifdef VOXLAB_LIGHT_KIND
+  return VOXLAB_LIGHT_KIND;
+#else
+  return u_light.positionType.w;
+#endif
+}
+
 // Direction to the light (unit) and its distance (1e30 for directional lights).
 void lightDirection(vec3 p, out vec3 toLight, out float dist) {
-  if (u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL) {
+  if (lightType() == VOXLAB_LIGHT_DIRECTIONAL) {
     toLight = -u_light.directionRange.xyz;
     dist = 1e30;
     return;
@@ -20,7 +31,7 @@ void lightDirection(vec3 p, out vec3 toLight, out float dist) {
 vec3 lightIrradiance(vec3 p) {
   vec3 toLight; float dist;
   lightDirection(p, toLight, dist);
-  if (u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL) return u_light.radiance.rgb;
+  if (lightType() == VOXLAB_LIGHT_DIRECTIONAL) return u_light.radiance.rgb;
   float falloff = 1.0 / max(dist * dist, 1e-8);
   float range = u_light.directionRange.w;
   if (range > 0.0) {
@@ -28,7 +39,7 @@ vec3 lightIrradiance(vec3 p) {
     float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
     falloff *= w * w;
   }
-  if (u_light.positionType.w == VOXLAB_LIGHT_SPOT) {
+  if (lightType() == VOXLAB_LIGHT_SPOT) {
     float cosA = dot(u_light.directionRange.xyz, -toLight);
     float t = clamp((cosA - u_light.spot.y) / max(u_light.spot.x - u_light.spot.y, 1e-4), 0.0, 1.0);
     falloff *= t * t;
@@ -46,7 +57,7 @@ vec3 lightIrradiance(vec3 p) {
 // uses it). A spot's map covers its cone; outside it the caller decides.
 bool shadowMapDecides(inout vec3 uvz) {
   if (!(any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz, vec3(1.0))))) return true;
-  if (u_light.positionType.w != VOXLAB_LIGHT_DIRECTIONAL) return false;
+  if (lightType() != VOXLAB_LIGHT_DIRECTIONAL) return false;
   if (any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz.xy, vec2(1.0)))) return false;
   uvz.z = 1.0;
   return true;
@@ -56,7 +67,7 @@ bool shadowMapDecides(inout vec3 uvz) {
 // that sees p is the major axis of p - light (0..5: +x -x +y -y +z -z); -1 for spot and
 // directional lights, whose map is one view (shadowViewProj).
 int lightMapFace(vec3 p) {
-  if (u_light.positionType.w != VOXLAB_LIGHT_POINT) return -1;
+  if (lightType() != VOXLAB_LIGHT_POINT) return -1;
   vec3 d = p - u_light.positionType.xyz, a = abs(d);
   if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
   if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;

@@ -50,8 +50,12 @@ vec3 materialEmission(vec2 uv) {
 // alphaMode MASK: true where the surface is cut away (baseColor.a x texture alpha < alphaCutoff);
 // camera and light rasterization discard such fragments. Voxelization uses alpha_coverage.glsl.
 bool materialCutAway(vec2 uv) {
+#if defined(VOXLAB_MATERIAL_KIND) && !defined(VOXLAB_MATERIAL_ALPHA_MASK)
+  return false;  // with nothing to cut away, a depth-only pass runs no fragment code at all
+#else
   vec4 alpha = materials[u_materialIndex].alpha;
   return alpha.y > 0.5 && materialAlbedo(uv).a < alpha.x;
+#endif
 }
 // The albedo texture's mip level whose texel is about one voxel over a triangle (p: its corners
 // in voxels, t: their texture coordinates): log2 of texels per voxel along one side (a triangle

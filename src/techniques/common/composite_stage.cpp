@@ -7,6 +7,8 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/sky.h"
 
 namespace voxlab {
@@ -99,6 +101,7 @@ void CompositeStage::declare(StageBuilder& b) const {
   if (terms_.visibility) b.readWhen(terms_.visibility->image, terms_.visibility->param + "=" + terms_.visibility->tracedOption);
   b.read("shadow-map");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: the program is built for it (lightKindDefines)
   b.output("direct", OutputKind::Image2D, Semantic::RadianceHDR, "direct light plus emission").referenceMode = "direct";
   b.alongside({"direct"});
   b.output("combined", OutputKind::Image2D, Semantic::RadianceHDR, terms_.combinedHelp).referenceMode = "full";
@@ -122,7 +125,7 @@ void CompositeStage::execute(StageContext& ctx) {
   Texture* images[3];
   for (int i = 0; i < 3; ++i)
     images[i] = &ctx.board.ensureTexture(kCompositeImages[i].first, viewImageDesc(ctx.view, kCompositeImages[i].second));
-  GLuint program = ctx.shaders.program({"common/composite.comp.glsl"});
+  GLuint program = ctx.shaders.program({"common/composite.comp.glsl"}, lightKindDefines(ctx.scene));
   const int traceScale = terms_.traced ? terms_.traced->scale(ctx.params) : 1;
   const bool tracedVisibility =
       terms_.visibility && ctx.params.getChoice(terms_.visibility->param) == terms_.visibility->tracedOption;

@@ -49,14 +49,16 @@ void GBufferStage::execute(StageContext& ctx) {
   const float far = 1.0f;
   for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(fb.id(), GL_COLOR, i, zero);
   glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
-  GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/gbuffer.frag.glsl"});
-  setUniform(program, "u_viewProj", ctx.view.viewProjection());
-  setUniform(program, "u_cameraPos", ctx.view.position);
   glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
   glViewport(0, 0, ctx.view.width, ctx.view.height);
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  ctx.gpuScene.draw(program);
+  ctx.gpuScene.draw([&](const std::string& kind) {  // a program per material kind: no texture it lacks
+    GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/gbuffer.frag.glsl"}, kind);
+    setUniform(program, "u_viewProj", ctx.view.viewProjection());
+    setUniform(program, "u_cameraPos", ctx.view.position);
+    return program;
+  }, ctx.scene.draws);
   glDisable(GL_DEPTH_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   ctx.board.setRenderedCamera({ctx.view.position, ctx.view.view, ctx.view.projection});  // the overlays' camera

@@ -55,6 +55,13 @@ Light lightSource(Blackboard& board) {
   return l;
 }
 
+std::string lightKindDefines(const Scene& scene) {
+  const Light l = scene.lights.empty() ? defaultSun() : scene.lights[0];  // as LightStage takes it
+  const char* value = l.type == LightType::Point ? "VOXLAB_LIGHT_POINT"
+                      : l.type == LightType::Spot ? "VOXLAB_LIGHT_SPOT" : "VOXLAB_LIGHT_DIRECTIONAL";
+  return std::string("#define VOXLAB_LIGHT_KIND ") + value + "\n";
+}
+
 void LightStage::declare(StageBuilder& b) const {
   b.read(kSceneLightsInput);  // the scene's first light, before the light.0.* parameters
   const char* scene = "";  // "scene" (the default) is named by rangeText

@@ -8,6 +8,8 @@
 // change re-runs this stage and, through the read/write graph, the shadow map, the injection and
 // what follows them, never the voxelization (which does not read the light).
 #pragma once
+#include <string>
+
 #include "graph/stage.h"
 #include "scene/scene.h"
 
@@ -28,6 +30,11 @@ struct LightSourceRecord {
   float position[3] = {0, 0, 0}, direction[3] = {0, -1, 0}, color[3] = {1, 1, 1};
 };
 Light lightSource(Blackboard& board);  // the light the "light-source" resource holds
+// The defines of a program built for the type of the scene's light (the light.0.* parameters
+// never change it; shaders/common/lights.glsl, lightType()): "#define VOXLAB_LIGHT_KIND" and the
+// type's VOXLAB_LIGHT_* value, so that the code of the other types is compiled out. A stage that
+// uses it reads kSceneLightsInput.
+std::string lightKindDefines(const Scene& scene);
 
 class LightStage : public Stage {
  public:

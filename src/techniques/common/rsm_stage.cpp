@@ -7,6 +7,7 @@
 #include "common/shared.h"
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/shadow_map_stage.h"
 
 namespace voxlab {
@@ -25,6 +26,7 @@ void RsmStage::declare(StageBuilder& b) const {
   b.read(kSceneGeometryInput);  // rasterizes the scene's triangles from the light
   b.param(ParamDesc::integer("rsm.resolution", 512, 64, 4096, "reflective shadow map width and height", "px").pow2());
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: the program is built for it (lightKindDefines)
   b.output("rsm-position", OutputKind::Image2D, Semantic::Scalar,
            "world position seen from the light (xyz), w = texel footprint on the surface (m), 0 = empty");
   b.output("rsm-normal", OutputKind::Image2D, Semantic::Normal, "unit normal on the lit side, w = 1 where covered");
@@ -66,14 +68,17 @@ void RsmStage::execute(StageContext& ctx) {
   for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(fb.id(), GL_COLOR, i, zero);
   glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
   if (hasMap) {
-    GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/rsm.frag.glsl"});
     glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
     glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     forEachLightMapView(light, size, size, [&](const glm::mat4& viewProj) {
-      setUniform(program, "u_viewProj", viewProj);
-      ctx.gpuScene.draw(program);
+      ctx.gpuScene.draw([&](const std::string& kind) {  // a program per material kind
+        GLuint program =
+            ctx.shaders.program({"common/camera.vert.glsl", "common/rsm.frag.glsl"}, kind + lightKindDefines(ctx.scene));
+        setUniform(program, "u_viewProj", viewProj);
+        return program;
+      }, ctx.scene.draws);
     });
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -165,13 +165,16 @@ void ShadowMapStage::execute(StageContext& ctx) {
   const float far = 1.0f;
   glClearNamedFramebufferfv(fb.id(), GL_DEPTH, 0, &far);
   if (hasShadow) {
-    GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/depth_only.frag.glsl"});
     glBindFramebuffer(GL_FRAMEBUFFER, fb.id());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     forEachLightMapView(light, size, size, [&](const glm::mat4& viewProj) {
-      setUniform(program, "u_viewProj", viewProj);
-      ctx.gpuScene.draw(program);
+      // A program per material kind: a material without alpha mask has no fragment code to run.
+      ctx.gpuScene.draw([&](const std::string& kind) {
+        GLuint program = ctx.shaders.program({"common/camera.vert.glsl", "common/depth_only.frag.glsl"}, kind);
+        setUniform(program, "u_viewProj", viewProj);
+        return program;
+      }, ctx.scene.draws);
     });
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -470,7 +470,7 @@ void LeavesStage::execute(StageContext& ctx) {
   glClearNamedBufferData(sums.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   glClearNamedBufferData(values.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   const uint32_t fragments = voxelFragmentCount(ctx.board);
-  GLuint program = ctx.shaders.program({"svo/leaves.comp.glsl"});
+  GLuint program = ctx.shaders.program({"svo/leaves.comp.glsl"}, fragmentLightDefines(ctx.scene));
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(fragments));
   setUniform(program, "u_depth", depth);

@@ -116,7 +116,8 @@ void InjectStage::execute(StageContext& ctx) {
   const uint32_t noSurface = 0;
   glClearTexImage(facing.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &noSurface);
   GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"},
-                                       exact ? "" : "#define VOXLAB_INJECT_COMPARE_AND_SWAP\n");
+                                       fragmentLightDefines(ctx.scene) +
+                                           (exact ? "" : "#define VOXLAB_INJECT_COMPARE_AND_SWAP\n"));
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(count));
   setUniform(program, "u_maxRadiance", gridMaxRadiance(ctx.params));
