@@ -27,14 +27,18 @@ layout(std430, binding = LRSM_BINDING_GATHER) writeonly buffer Gather { LrsmGath
 layout(std430, binding = LRSM_BINDING_GATHER_COUNT) buffer GatherCount { uint gatherCount; };
 layout(std430, binding = LRSM_BINDING_CONE_RESULTS) writeonly buffer Cones { LrsmConeResult coneResults[]; };
 
-uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_smoothFalloff, u_maxSteps, u_traceScale;
+uniform int u_layerWidth, u_lrsmLevels, u_voxelLevels, u_maxSteps, u_traceScale;
 uniform int u_traceSpecular;  // 1: trace the specular cone
-uniform int u_estimator;      // LRSM_ESTIMATOR_*: what a sample adds to Eq. 1 (src/techniques/lrsm/lrsm.h)
-uniform int u_windowLayers;   // 1: every layer whose texels' interval meets the depth window, f = 1; 0: Eq. 15
-uniform int u_litOcclusion;  // 1: a sample's opacity is at least the lit surface's coverage (coverage estimator)
-uniform int u_horizon;  // 1: the receiver's plane bounds what its diffuse cones see (cone.horizon)
-uniform int u_visibility;     // 1: Eq. 12 (Gaussian depth visibility); 0: V = 1 (every texel of the column)
-uniform int u_twoLobes;       // 1: V from two Gaussians matched to four depth moments (lrsm.two-lobes)
+// The gather's choices, fixed per program (ConeGatherStage builds it with these defines): llvmpipe
+// runs both sides of a branch on a uniform, so as uniforms every sample also paid for the choices
+// not taken (the gather took 1.2 times as long at the defaults).
+const int kEstimator = LRSM_ESTIMATOR;            // LRSM_ESTIMATOR_*: what a sample adds to Eq. 1 (src/techniques/lrsm/lrsm.h)
+const int kWindowLayers = LRSM_WINDOW_LAYERS;     // 1: every layer whose texels' interval meets the depth window, f = 1; 0: Eq. 15
+const int kSmoothFalloff = LRSM_SMOOTH_FALLOFF;   // 1: Eq. 15's falloff smoothstepped (lrsm.falloff)
+const int kLitOcclusion = LRSM_LIT_OCCLUSION;     // 1: a sample's opacity is at least the lit surface's coverage (coverage estimator)
+const int kHorizon = LRSM_HORIZON;                // 1: the receiver's plane bounds what its diffuse cones see (cone.horizon)
+const int kVisibility = LRSM_VISIBILITY;          // 1: Eq. 12 (Gaussian depth visibility); 0: V = 1 (every texel of the column)
+const int kTwoLobes = LRSM_TWO_LOBES;             // 1: V from two Gaussians matched to four depth moments (lrsm.two-lobes)
 uniform float u_footprintBias;  // added to log2(d_circle): the LRSM level, blended between its two neighbours
 uniform float u_minVariance, u_stepScale, u_startVoxels, u_lodBias;
 uniform float u_shadowLodBias;  // the shadow cone's (cone.shadow-lod-bias)
@@ -132,13 +136,13 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
   float zc = lightDepth(xc);
   vec3 vc = normalize(p - xc);
   vec3 toLight = -ray;
-  bool coverage = u_estimator == LRSM_ESTIMATOR_COVERAGE;
+  bool coverage = kEstimator == LRSM_ESTIMATOR_COVERAGE;
   // Half-width of the depth window: the sphere's radius (Algorithm 1) or half the step (coverage).
   float halfWindow = coverage ? 0.5 * stepLength : rc;
   vec3 L = vec3(0.0);
   for (int d = 0; d < u_depthIntervals; ++d) {
-    float f = u_windowLayers == 1 ? (intervalMeets(d, zc - halfWindow, zc + halfWindow) ? 1.0 : 0.0)
-                                  : layerFalloff(d, zc, u_smoothFalloff == 1);
+    float f = kWindowLayers == 1 ? (intervalMeets(d, zc - halfWindow, zc + halfWindow) ? 1.0 : 0.0)
+                                  : layerFalloff(d, zc, kSmoothFalloff == 1);
     float lo, hi;
     layerRange(d, lo, hi);
     float zw = (zc - lo) / (hi - lo), rw = halfWindow / (hi - lo);
@@ -160,7 +164,7 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
           // two surfaces at different depths; each lobe is a surface of its own (its mean point,
           // horizon, V and Jacobian), sharing the layer's normal and radiance.
           vec3 means, weights, variances;
-          int lobes = coverage && u_visibility == 1 && u_twoLobes == 1
+          int lobes = coverage && kVisibility == 1 && kTwoLobes == 1
                           ? depthLobes(moments, u_minVariance, means, weights, variances)
                           : singleLobe(mu, sigma2, means, weights, variances);
           float sumN = 0.0, sumAdded = 0.0;
@@ -176,10 +180,10 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
             // A surface behind the receiver's plane, or in it, is below its horizon: it neither
             // lights nor shades the hemisphere (the receiver's own plane and the other faces of a
             // box, seen by the light at grazing angles, would).
-            if (coverage && u_horizon == 1 && dot(xs - p, pn) < LRSM_HORIZON_VOXELS * u_voxelSize) Nk = 0.0;
+            if (coverage && kHorizon == 1 && dot(xs - p, pn) < LRSM_HORIZON_VOXELS * u_voxelSize) Nk = 0.0;
             // Algorithm 1 culls back faces; the coverage estimator keeps them as occluders.
             if (coverage ? Nk == 0.0 : Nk <= 0.0) continue;
-            float Vk = weights[k] * (u_visibility == 0 ? 1.0 : gaussianVisibility(zw, rw, means[k], variances[k]));
+            float Vk = weights[k] * (kVisibility == 0 ? 1.0 : gaussianVisibility(zw, rw, means[k], variances[k]));
             // <n.l> of the layer's mean normal, floored: R carries <n.l>, so A*R / <n.l> stays
             // bounded as the surface turns edge-on to the light.
             float Jk = coverage ? solidAngleBound(zc, rc, zs, length(xc - p), length(xs - p)) /
@@ -237,7 +241,7 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radi
     float margin = 0.5 * diameter / (u_voxelSize * float(u_resolution));
     if (any(lessThan(uvw, vec3(-margin))) || any(greaterThan(uvw, vec3(1.0 + margin)))) { left = true; break; }
     float mip = clamp(log2(diameter / u_voxelSize) + lodBias, 0.0, float(u_voxelLevels - 1));
-    if (radiance && u_horizon == 1) {
+    if (radiance && kHorizon == 1) {
       // The receiver's own surface does not occlude its hemisphere: the filter stays above the
       // plane. A texel of edge s holding a surface voxel has its centre at most s/2 + 1 voxel from
       // the surface and the trilinear filter reaches one texel, so s <= (h - voxel) / 1.5.
@@ -252,11 +256,11 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radi
     // transmittance in front of it; paper: Eq. 1 with L_i from Algorithm 1.
     if (radiance) {
       vec2 lit;
-      if (u_estimator == LRSM_ESTIMATOR_COVERAGE) {
+      if (kEstimator == LRSM_ESTIMATOR_COVERAGE) {
         I += T * sampleLrsm(x, 0.5 * diameter, stepLength, p, n, lit);
         // Eq. 1's alpha_i: the voxels' opacity, or the lit surfaces' coverage where that is more
         // (a lit surface blocks what lies behind it; the isotropic mips of a thin wall let most through).
-        if (u_litOcclusion == 1) a = max(a, min(lit.x + lit.y, 1.0));
+        if (kLitOcclusion == 1) a = max(a, min(lit.x + lit.y, 1.0));
       } else if (a > 0.0) I += T * a * sampleLrsm(x, 0.5 * diameter, stepLength, p, n, lit);
     }
     T *= 1.0 - a;

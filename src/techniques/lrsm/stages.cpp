@@ -468,22 +468,26 @@ void ConeGatherStage::execute(StageContext& ctx) {
   const int probeX = std::min(int(ctx.params.getFloat("probe.x") * tw), tw - 1);
   const int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * th), th - 1);
 
-  GLuint program = ctx.shaders.program({"lrsm/gather.comp.glsl"});
+  // The gather's choices are program defines (gather.comp.glsl: llvmpipe runs both sides of a
+  // branch on a uniform).
+  const auto flag = [](const char* name, bool on) { return std::string("#define ") + name + (on ? " 1\n" : " 0\n"); };
+  const std::string choices =
+      std::string("#define LRSM_ESTIMATOR ") +
+      (ctx.params.getChoice("lrsm.estimator") == "paper" ? "LRSM_ESTIMATOR_PAPER\n" : "LRSM_ESTIMATOR_COVERAGE\n") +
+      flag("LRSM_WINDOW_LAYERS", ctx.params.getChoice("lrsm.layer-select") == "window") +
+      flag("LRSM_SMOOTH_FALLOFF", ctx.params.getChoice("lrsm.falloff") == "smoothstep") +
+      flag("LRSM_LIT_OCCLUSION", ctx.params.getBool("lrsm.lit-occlusion")) +
+      flag("LRSM_HORIZON", ctx.params.getBool("cone.horizon")) +
+      flag("LRSM_VISIBILITY", ctx.params.getBool("lrsm.visibility")) +
+      flag("LRSM_TWO_LOBES", ctx.params.getBool("lrsm.two-lobes"));
+  GLuint program = ctx.shaders.program({"lrsm/gather.comp.glsl"}, choices);
   space.setUniforms(program);
   setLayoutUniforms(program, L);
   setUniform(program, "u_layerWidth", w);
   setUniform(program, "u_lrsmLevels", rad.levels());
   setUniform(program, "u_voxelLevels", ctx.board.texture("occlusion").levels());
-  setUniform(program, "u_smoothFalloff", ctx.params.getChoice("lrsm.falloff") == "smoothstep" ? 1 : 0);
   setUniform(program, "u_minVariance", ctx.params.getFloat("lrsm.min-variance"));
   setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_estimator",
-             ctx.params.getChoice("lrsm.estimator") == "paper" ? LRSM_ESTIMATOR_PAPER : LRSM_ESTIMATOR_COVERAGE);
-  setUniform(program, "u_windowLayers", ctx.params.getChoice("lrsm.layer-select") == "window" ? 1 : 0);
-  setUniform(program, "u_litOcclusion", ctx.params.getBool("lrsm.lit-occlusion") ? 1 : 0);
-  setUniform(program, "u_horizon", ctx.params.getBool("cone.horizon") ? 1 : 0);
-  setUniform(program, "u_visibility", ctx.params.getBool("lrsm.visibility") ? 1 : 0);
-  setUniform(program, "u_twoLobes", ctx.params.getBool("lrsm.two-lobes") ? 1 : 0);
   setUniform(program, "u_footprintBias", ctx.params.getFloat("lrsm.footprint-bias"));
   setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
   setUniform(program, "u_interleave", ctx.params.getBool("cone.interleave") ? 1 : 0);
