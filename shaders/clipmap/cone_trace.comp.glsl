@@ -32,7 +32,10 @@ layout(std430, binding = VOXLAB_BINDING_CONE_SAMPLE_COUNT) buffer ConeSampleCoun
 uniform vec3 u_levelMin[CLIPMAP_MAX_LEVELS];      // world min corner of each region, o_k s_k
 uniform vec3 u_levelToroidal[CLIPMAP_MAX_LEVELS]; // T_k = o_k mod N
 uniform float u_voxelSize0;                        // s_0
-uniform int u_faces;                               // 1 (isotropic) or 7 (isotropic + six directions)
+// 1 (isotropic) or 7 (isotropic + six directions): fixed per program (the stage's define
+// CLIPMAP_FACES), so a sample runs one mode's lookups only (llvmpipe runs both sides of a branch on
+// a uniform).
+const int kFaces = CLIPMAP_FACES;
 uniform int u_mipLevels;                           // mips of the coarsest level beyond it
 uniform float u_stepScale;
 uniform float u_lodBias;
@@ -87,7 +90,7 @@ vec4 sampleHierarchy(int face, int k, vec3 p) {
   float n = float(u_clipN >> m);
   vec3 u = (p - u_levelMin[last]) / (levelVoxel(last) * float(u_clipN));
   float x = clamp(u.x * n, 0.5, n - 0.5) + float(face) * n;
-  return textureLod(u_mips, vec3(x / (float(u_faces) * n), u.yz), float(m));
+  return textureLod(u_mips, vec3(x / (float(kFaces) * n), u.yz), float(m));
 }
 
 uniform float u_frontHold;  // cells: how far behind its surface a front keeps its opacity (0 = off)
@@ -133,7 +136,7 @@ vec4 sampleFace(int face, float level, vec3 p, bool hold) {
 // itself: 7 to 31 times the reference's indirect light in the two rooms' bottom strip).
 vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold) {
   int last = u_clipLevels - 1;
-  if (u_faces == 1) {
+  if (kFaces == 1) {
     if (level > float(last) && u_mipLevels > 0) {
       vec3 u = (p - u_levelMin[last]) / levelVoxel(last);
       return textureLod(u_mips, u / float(u_clipN), level - float(last));

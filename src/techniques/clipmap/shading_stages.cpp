@@ -137,7 +137,8 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const uint32_t zero = 0;
   sampleCount.upload(&zero, 4);
 
-  GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"});
+  GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"},
+                                       "#define CLIPMAP_FACES " + std::to_string(facesOf(ctx.params)) + "\n");
   setClipUniforms(program, layout, origins);
   std::vector<glm::vec3> mins(kMaxLevels, glm::vec3(0.0f)), offsets(kMaxLevels, glm::vec3(0.0f));
   for (int k = 0; k < layout.levels; ++k) {
@@ -148,7 +149,6 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelToroidal"), kMaxLevels, &offsets[0].x);
   const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
   setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
-  setUniform(program, "u_faces", facesOf(ctx.params));
   setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
   setUniform(program, "u_frontHold", ctx.params.getFloat("clipmap.front-hold"));
   setUniform(program, "u_mipLevels", mipCount(layout.n));
