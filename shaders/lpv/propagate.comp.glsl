@@ -32,17 +32,19 @@ uniform int u_cascade;
 layout(std430, binding = LPV_BINDING_STATE_IN) readonly buffer StateIn { vec4 stateIn[]; };
 layout(std430, binding = LPV_BINDING_STATE_OUT) writeonly buffer StateOut { vec4 stateOut[]; };
 uniform int u_step;
-uniform int u_thesisScheme;        // 1: propagate everything so far; 0: only the last wavefront
 uniform float u_weightScale;       // 1/pi (flux-consistent) or fluxAmplifier/(4 pi) (thesis)
-uniform int u_clampFaces;
-uniform int u_clampConserves;      // 1: the clamped faces of a neighbour carry its unclamped flux
-uniform int u_occlusion;           // 0 two-sided, 1 thesis, 2 none, 3 front
 uniform float u_occlusionAmplifier;
-uniform int u_firstStepUnoccluded;
-uniform int u_reprojection;        // 0: lobe along the face's axis (K&D); 1: along the direction the light crossed it; 2: a beam along it
+// The propagation's choices, fixed per program (the stage's defines): llvmpipe runs both sides of a
+// branch on a uniform, so as uniforms every cell also paid for the modes not chosen.
+const int kThesisScheme = LPV_THESIS_SCHEME;                 // 1: propagate everything so far; 0: only the last wavefront
+const int kClampFaces = LPV_CLAMP_FACES;                     // 1: max(0, .) on each face's evaluation
+const int kClampConserves = LPV_CLAMP_CONSERVES;             // 1: the clamped faces of a neighbour carry its unclamped flux
+const int kOcclusion = LPV_OCCLUSION;                        // 0 two-sided, 1 thesis, 2 none, 3 front
+const int kFirstStepUnoccluded = LPV_FIRST_STEP_UNOCCLUDED;  // 1: step 0 ignores the voxels
+const int kReprojection = LPV_REPROJECTION;                  // 0: lobe along the face's axis (K&D); 1: along the direction the light crossed it; 2: a beam along it
 
 // Whether the voxels block at all in this step (the same for every cell).
-bool occlusionOn() { return u_occlusion != 2 && !(u_step == 0 && u_firstStepUnoccluded == 1); }
+bool occlusionOn() { return kOcclusion != 2 && !(u_step == 0 && kFirstStepUnoccluded == 1); }
 // The stored normal an occupied source cell blocks with: the one nearest the travel direction
 // (two-sided: nearest up to sign), empty channels skipped (none stored: the zero vector).
 vec3 blockNormal(uvec4 normals, vec3 travel) {
@@ -53,22 +55,22 @@ vec3 blockNormal(uvec4 normals, vec3 travel) {
     if (m == 0u) continue;
     vec3 n = decodeNormalMask(m);
     precise float t = (n.x * travel.x + n.y * travel.y) + n.z * travel.z;
-    if ((u_occlusion == 0 && t < 0.0) || u_occlusion == 3) { n = -n; t = -t; }
+    if ((kOcclusion == 0 && t < 0.0) || kOcclusion == 3) { n = -n; t = -t; }
     if (t > bestDot) { bestDot = t; best = n; }
   }
   // front: no stored surface faces the light (it leaves the fronts of all of them): nothing blocks.
-  if (u_occlusion == 3 && !(bestDot > 0.0)) best = vec3(0.0);
+  if (kOcclusion == 3 && !(bestDot > 0.0)) best = vec3(0.0);
   return best;
 }
 // Transmission along d: 1 - clamp(A <lobe(n), Y(d)>).
 float transmission(vec3 n, vec3 d) {
-  if (u_occlusion == 3 && n == vec3(0.0)) return 1.0;  // front: nothing faces the light
+  if (kOcclusion == 3 && n == vec3(0.0)) return 1.0;  // front: nothing faces the light
   precise float blocked = u_occlusionAmplifier * shEvaluate(shLobe(n), d);
   return 1.0 - min(max(blocked, 0.0), 1.0);
 }
 
 int cells() { return u_gridRes * u_gridRes * u_gridRes; }
-vec4 sourceAt(int ch, int index) { return stateIn[(u_thesisScheme == 1 ? ch : 3 + ch) * cells() + index]; }
+vec4 sourceAt(int ch, int index) { return stateIn[(kThesisScheme == 1 ? ch : 3 + ch) * cells() + index]; }
 
 // The three colour channels as named members: no array indexed in a loop, so llvmpipe keeps them
 // in registers.
@@ -80,14 +82,14 @@ struct ShRgb { vec4 r, g, b; };
 // crossed the face in (from the neighbour's centre to the face's centre).
 vec4 faceChannel(vec4 acc, vec4 src, vec3 d, float omega, float occ, float scale, ivec3 oj, out float e, out float f) {
   e = shEvaluateSparse(src, d);
-  if (u_clampFaces == 1) e = max(e, 0.0);
+  if (kClampFaces == 1) e = max(e, 0.0);
   precise float flux = (((e * omega) * occ) * u_weightScale) * scale;
   f = flux;
-  if (u_reprojection == 1) {
+  if (kReprojection == 1) {
     precise vec4 r = acc + flux * shLobe(d);
     return r;
   }
-  if (u_reprojection == 2) {
+  if (kReprojection == 2) {
     precise vec4 r = acc + flux * shBeam(d);
     return r;
   }
@@ -132,7 +134,7 @@ float conserveScale(vec4 src) {
   return clampedFlux > 0.0 ? max(signedFlux, 0.0) / clampedFlux : 0.0;
 }
 vec3 conserveScales(ShRgb src) {
-  if (u_clampConserves == 0 || u_clampFaces == 0) return vec3(1.0);
+  if (kClampConserves == 0 || kClampFaces == 0) return vec3(1.0);
   return vec3(conserveScale(src.r), conserveScale(src.g), conserveScale(src.b));
 }
 

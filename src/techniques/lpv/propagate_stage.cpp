@@ -232,9 +232,18 @@ void PropagateStage::execute(StageContext& ctx) {
   Buffer& probe = ctx.board.ensureBuffer("probe-cell", sizeof(gpu::LpvProbe));
   const int probeCascade = ctx.params.getInt("probe.cascade");
 
-  GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"});
+  // The propagation's choices are program defines (propagate.comp.glsl: llvmpipe runs both sides
+  // of a branch on a uniform).
+  const auto define = [](const char* name, int value) { return std::string("#define ") + name + " " + std::to_string(value) + "\n"; };
+  const std::string choices = define("LPV_THESIS_SCHEME", thesisScheme ? 1 : 0) +
+                              define("LPV_CLAMP_FACES", ctx.params.getBool("lpv.clamp-faces") ? 1 : 0) +
+                              define("LPV_CLAMP_CONSERVES", ctx.params.getBool("lpv.clamp-conserves") ? 1 : 0) +
+                              define("LPV_OCCLUSION", occlusion) +
+                              define("LPV_FIRST_STEP_UNOCCLUDED", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0) +
+                              define("LPV_REPROJECTION", ctx.params.getInt("lpv.reprojection"));
+  GLuint prop = ctx.shaders.program({"lpv/propagate.comp.glsl"}, choices);
   // The picked cell's record comes from the same shader built with the recording (one invocation).
-  GLuint recorder = ctx.shaders.program({"lpv/propagate.comp.glsl"}, "#define LPV_PROBE 1\n");
+  GLuint recorder = ctx.shaders.program({"lpv/propagate.comp.glsl"}, choices + "#define LPV_PROBE 1\n");
   if (k == 0) writeOcclusionView(ctx, occlusion);
   // Per cascade the lowest and highest cell holding injected light (none: lo > hi), found at step 0.
   std::array<glm::ivec4, 2 * kCascades> activeBoxes;
@@ -304,14 +313,8 @@ void PropagateStage::execute(StageContext& ctx) {
     auto bindCommon = [&](GLuint program) {
       setUniform(program, "u_gridRes", res);
       setUniform(program, "u_step", k);
-      setUniform(program, "u_thesisScheme", thesisScheme ? 1 : 0);
       setUniform(program, "u_weightScale", weightScale);
-      setUniform(program, "u_clampFaces", ctx.params.getBool("lpv.clamp-faces") ? 1 : 0);
-      setUniform(program, "u_clampConserves", ctx.params.getBool("lpv.clamp-conserves") ? 1 : 0);
-      setUniform(program, "u_occlusion", occlusion);
       setUniform(program, "u_occlusionAmplifier", ctx.params.getFloat("lpv.occlusion-amplifier"));
-      setUniform(program, "u_firstStepUnoccluded", ctx.params.getBool("lpv.first-step-unoccluded") ? 1 : 0);
-      setUniform(program, "u_reprojection", ctx.params.getInt("lpv.reprojection"));
       glUseProgram(program);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_IN, in.id());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LPV_BINDING_STATE_OUT, out.id());
