@@ -19,15 +19,19 @@ layout(binding = 2) uniform sampler2D u_normal;
 layout(binding = 3) uniform sampler2D u_albedo;
 layout(binding = 4) uniform sampler2D u_emission;
 layout(binding = 5) uniform sampler2D u_shadowMap;
-layout(binding = 6) uniform sampler2D u_visibility;  // traced, read when u_tracedVisibility = 1
+layout(binding = 6) uniform sampler2D u_visibility;  // traced, read when kTracedVisibility = 1
 layout(binding = 7) uniform sampler2D u_terms[COMPOSITE_MAX_TERMS];
 layout(rgba16f, binding = 0) uniform writeonly image2D u_direct;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_combined;
 layout(rgba8, binding = 2) uniform writeonly image2D u_final;
 uniform int u_traceScale;       // G-buffer pixels per traced pixel along each axis (1 or 2)
 uniform float u_planeDistance;  // metres: traced pixels farther than this from the pixel's plane get no weight
-uniform int u_tracedVisibility; // 0: the shadow map, 1: u_visibility's red channel
-uniform int u_termCount;
+// Which visibility and how many terms, fixed per program (CompositeStage's defines): the term
+// loop is unrolled to the technique's own terms, each slot a constant sampler, and the visibility
+// not chosen is not computed (llvmpipe runs both sides of a branch on a uniform, and every one of
+// the four term slots when the loop ran to COMPOSITE_MAX_TERMS).
+const int kTracedVisibility = COMPOSITE_TRACED_VISIBILITY;  // 0: the shadow map, 1: u_visibility's red channel
+const int kTermCount = COMPOSITE_TERMS;
 uniform float u_termWeight[COMPOSITE_MAX_TERMS];
 uniform int u_termScale[COMPOSITE_MAX_TERMS];  // G-buffer pixels per texel of each term: u_traceScale or 1
 uniform float u_exposure;
@@ -57,7 +61,7 @@ void main() {
     // Every traced image (the visibility, the traced terms) is upsampled with the same taps.
     UpsampleTaps taps = upsampleTaps(u_position, u_normal, (size + u_traceScale - 1) / u_traceScale, px, pos.xyz, n,
                                      u_traceScale, u_planeDistance);
-    float visibility = u_tracedVisibility == 1 ? upsampleWith(u_visibility, taps, u_traceScale, px).r : shadow.visibility;
+    float visibility = kTracedVisibility == 1 ? upsampleWith(u_visibility, taps, u_traceScale, px).r : shadow.visibility;
     vec3 irradiance = lightIrradiance(pos.xyz);
     float cosine = max(dot(n, toLight), 0.0);
     vec3 reflected = albedo / PI * irradiance * cosine * visibility;
@@ -73,15 +77,14 @@ void main() {
       chain[PROBE_CHAIN_SHADOW] = vec4(shadow.receiverDepth, shadow.mapDepth, shadow.litTaps, visibility);
       chain[PROBE_CHAIN_REFLECTED] = vec4(reflected, 0.0);
     }
-    for (int i = 0; i < COMPOSITE_MAX_TERMS; ++i)
-      if (i < u_termCount) {
-        vec3 term = upsampleWith(u_terms[i], taps, u_termScale[i], px).rgb;
-        combined += u_termWeight[i] * term;
-        if (probed) {
-          chain[PROBE_CHAIN_TERMS + 2 * i] = vec4(term, u_termWeight[i]);
-          chain[PROBE_CHAIN_TERMS + 2 * i + 1] = vec4(u_termWeight[i] * term, 0.0);
-        }
+    for (int i = 0; i < kTermCount; ++i) {
+      vec3 term = upsampleWith(u_terms[i], taps, u_termScale[i], px).rgb;
+      combined += u_termWeight[i] * term;
+      if (probed) {
+        chain[PROBE_CHAIN_TERMS + 2 * i] = vec4(term, u_termWeight[i]);
+        chain[PROBE_CHAIN_TERMS + 2 * i + 1] = vec4(u_termWeight[i] * term, 0.0);
       }
+    }
   }
   vec3 mapped = u_exposure * combined;
   vec3 tonemapped = mapped / (1.0 + mapped);

@@ -125,22 +125,24 @@ void CompositeStage::execute(StageContext& ctx) {
   Texture* images[3];
   for (int i = 0; i < 3; ++i)
     images[i] = &ctx.board.ensureTexture(kCompositeImages[i].first, viewImageDesc(ctx.view, kCompositeImages[i].second));
-  GLuint program = ctx.shaders.program({"common/composite.comp.glsl"}, lightKindDefines(ctx.scene));
   const int traceScale = terms_.traced ? terms_.traced->scale(ctx.params) : 1;
   const bool tracedVisibility =
       terms_.visibility && ctx.params.getChoice(terms_.visibility->param) == terms_.visibility->tracedOption;
+  const int termCount = int(terms_.indirect.size());
+  // The visibility and the term count are the program's defines (composite.comp.glsl).
+  GLuint program = ctx.shaders.program(
+      {"common/composite.comp.glsl"},
+      lightKindDefines(ctx.scene) + "#define COMPOSITE_TRACED_VISIBILITY " + (tracedVisibility ? "1" : "0") +
+          "\n#define COMPOSITE_TERMS " + std::to_string(termCount) + "\n");
   setUniform(program, "u_traceScale", traceScale);
   setUniform(program, "u_planeDistance", terms_.planeDistance ? terms_.planeDistance(ctx.params, ctx.scene) : 0.0f);
-  setUniform(program, "u_tracedVisibility", tracedVisibility ? 1 : 0);
   setUniform(program, "u_exposure", ctx.params.getFloat("composite.exposure"));
   float weights[kMaxCompositeTerms] = {};
   int scales[kMaxCompositeTerms] = {1, 1, 1, 1};
-  const int termCount = int(terms_.indirect.size());
   for (int i = 0; i < termCount; ++i) {
     weights[i] = ctx.params.getFloat(terms_.indirect[size_t(i)].weight);
     scales[i] = terms_.indirect[size_t(i)].traced ? traceScale : 1;
   }
-  setUniform(program, "u_termCount", termCount);
   // probe.y counts from the top of the image; GL rows count from the bottom.
   const int probeX = std::min(int(ctx.params.getFloat("probe.x") * float(ctx.view.width)), ctx.view.width - 1);
   const int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * float(ctx.view.height)), ctx.view.height - 1);
