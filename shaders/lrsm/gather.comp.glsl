@@ -94,7 +94,7 @@ vec2 lightUV(vec3 p) {
 // (t: the sample's distance from the receiver). 1 for a small sphere with zs near zc. A
 // directional light's footprint has the sphere's own cross-section at every depth: 1.
 float solidAngleBound(float zc, float rc, float zs, float t, float ds) {
-  if (u_light.positionType.w <= VOXLAB_LIGHT_DIRECTIONAL + 0.5) return 1.0;
+  if (lightType() <= VOXLAB_LIGHT_DIRECTIONAL + 0.5) return 1.0;
   float s = min(rc / max(zc, 1e-6), 1.0);
   // Omega / pi = 2 (1 - cos a), written without the cancellation of 1 - cos a at small a.
   float omegaOverPi = 2.0 * s * s / (1.0 + sqrt(1.0 - s * s));
@@ -122,7 +122,7 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
   vec2 uv = lightUV(xc);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
   // Two directions perpendicular to the light ray through xc; the projected radius is their mean.
-  bool radial = u_light.positionType.w > VOXLAB_LIGHT_DIRECTIONAL + 0.5;  // spot or point
+  bool radial = lightType() > VOXLAB_LIGHT_DIRECTIONAL + 0.5;  // spot or point
   vec3 ray = radial ? normalize(xc - u_light.positionType.xyz) : u_light.directionRange.xyz;
   vec3 e1 = normalize(cross(ray, abs(ray.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
   vec3 e2 = cross(ray, e1);
@@ -130,7 +130,7 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
   float dCircle = 2.0 * uvRadius * float(u_layerWidth);
   // A point light's faces are tiles of the layer: a level whose texels span a tile would blend
   // another face's surfaces into this one, so the level stops where a tile is 4 texels wide.
-  const float topLevel = u_light.positionType.w == VOXLAB_LIGHT_POINT
+  const float topLevel = lightType() == VOXLAB_LIGHT_POINT
                              ? max(floor(log2(float(u_layerWidth / 3))) - 2.0, 0.0) : float(u_lrsmLevels - 1);
   float level = clamp(log2(max(dCircle, 1.0)) + u_footprintBias, 0.0, min(topLevel, float(u_lrsmLevels - 1)));
   float zc = lightDepth(xc);

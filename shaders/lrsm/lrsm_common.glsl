@@ -7,7 +7,7 @@ uniform float u_delta;          // overlap width (m)
 
 // Light depth: planar along a directional light's direction, radial from a spot or point light.
 float lightDepth(vec3 p) {
-  if (u_light.positionType.w > VOXLAB_LIGHT_DIRECTIONAL + 0.5) return length(p - u_light.positionType.xyz);
+  if (lightType() > VOXLAB_LIGHT_DIRECTIONAL + 0.5) return length(p - u_light.positionType.xyz);
   return dot(p, u_light.directionRange.xyz);
 }
 

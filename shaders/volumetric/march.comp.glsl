@@ -58,7 +58,7 @@ float visibility(vec3 p) {
   vec4 clip = u_light.shadowViewProj * vec4(p, 1.0);
   if (clip.w <= 0.0) return 0.0;
   vec3 uvz = clip.xyz / clip.w * 0.5 + 0.5;
-  if (!shadowMapDecides(uvz)) return u_light.positionType.w == VOXLAB_LIGHT_DIRECTIONAL ? 1.0 : 0.0;
+  if (!shadowMapDecides(uvz)) return lightType() == VOXLAB_LIGHT_DIRECTIONAL ? 1.0 : 0.0;
   return texture(u_shadowMap, uvz.xy).r >= uvz.z - 1e-4 ? 1.0 : 0.0;
 }
 
@@ -147,7 +147,7 @@ void main() {
   // its part inside the cone (elsewhere nothing scatters towards the camera). The parts before and
   // after still attenuate: their optical depth is added at the first and after the last sample.
   float sa = t0, sb = t1;
-  bool clipped = u_clipToCone == 1 && u_light.positionType.w == VOXLAB_LIGHT_SPOT && len > 0.0;
+  bool clipped = u_clipToCone == 1 && lightType() == VOXLAB_LIGHT_SPOT && len > 0.0;
   bool sampled = len > 0.0;
   if (clipped) sampled = clipToSpotCone(u_cameraPos, dir, t0, t1, sa, sb);
   if (!sampled) sa = sb = t1;

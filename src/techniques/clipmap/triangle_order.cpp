@@ -9,6 +9,7 @@
 #include "gpu/shader_library.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
+#include "techniques/common/light_stage.h"
 
 namespace voxlab::clipmap {
 
@@ -143,7 +144,7 @@ int voxelizeEntries(StageContext& ctx, const Layout& layout, const std::vector<C
   Buffer& visitBuffer = ctx.board.ensureBuffer(visitList, 4 * visit.size());
   visitBuffer.upload(visit.data(), 4 * visit.size());
 
-  GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"});
+  GLuint vox = ctx.shaders.program({"clipmap/voxelize.comp.glsl"}, lightKindDefines(ctx.scene));
   setClipUniforms(vox, layout, origins);
   setUniform(vox, "u_mode", ctx.params.getChoice("inject.mode") == "uniform" ? 1 : 0);
   setUniform(vox, "u_uniformRadiance", glm::vec3(ctx.params.getFloat("inject.uniform-radiance")));

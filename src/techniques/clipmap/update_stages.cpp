@@ -1,7 +1,6 @@
 // The stages that place and update the clip levels: anchor and update (see clipmap.cpp for the
 // overview).
 #include "techniques/clipmap/stages.h"
-#include "graph/scene_inputs.h"
 #include "techniques/clipmap/stage_helpers.h"
 #include "techniques/clipmap/unreached_cells.h"
 
@@ -11,6 +10,7 @@
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 
@@ -272,6 +272,7 @@ void UpdateStage::declare(StageBuilder& b) const {
   b.read("clip-levels");
   b.read("shadow-map");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: the voxelizer is built for it (lightKindDefines)
   b.write("clip-accumulators");
   b.write("clip-triangle-visit");
   b.output("clip-atlas", OutputKind::Volume3D, kClipAtlas,

@@ -10,7 +10,9 @@
 
 #include "common/shared.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
 #include "scene/scene.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/lpv/sh.h"
@@ -67,6 +69,7 @@ void InjectStage::declare(StageBuilder& b) const {
   b.read("lpv-grids");
   b.read("shadow-map");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   for (int c = 0; c < kCascades; ++c) b.read(voxelBuffer(c));
   b.write("inject.unshifted");
   for (int c = 0; c < kCascades; ++c)
@@ -97,7 +100,7 @@ static float sumFragmentLobes(StageContext& ctx, int c, const gpu::LpvGrid& grid
   glClearNamedBufferData(sums.id(), GL_R32I, GL_RED_INTEGER, GL_INT, nullptr);
   const uint32_t zero = 0;
   largest.upload(&zero, 4);
-  GLuint program = ctx.shaders.program({"lpv/inject_fragments.comp.glsl"});
+  GLuint program = ctx.shaders.program({"lpv/inject_fragments.comp.glsl"}, lightKindDefines(ctx.scene));
   space.setUniforms(program);
   setGridUniforms(program, grid);
   setUniform(program, "u_fragmentCount", unsigned(count));
@@ -149,7 +152,7 @@ void InjectStage::execute(StageContext& ctx) {
   glm::vec3 probeWorld = glm::vec3(grids[0].originCell) +
                          (glm::vec3(probe - ctx.params.getInt("inject.vpl-distance") * vplNormal) + 0.5f) *
                              grids[0].originCell.w;
-  GLuint program = ctx.shaders.program({"lpv/inject.comp.glsl"});
+  GLuint program = ctx.shaders.program({"lpv/inject.comp.glsl"}, lightKindDefines(ctx.scene));
   for (int c = 0; c < kCascades; ++c) {
     Texture* out[3];
     for (int ch = 0; ch < 3; ++ch) out[ch] = &ctx.board.ensureTexture(shVolume("vpl", c, ch), shDesc(res));

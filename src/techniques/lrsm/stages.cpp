@@ -7,11 +7,13 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
 #include "lrsm/lrsm_shared.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "techniques/common/composite_stage.h"
 #include "techniques/common/cone_setup.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
@@ -195,6 +197,7 @@ void LayersStage::declare(StageBuilder& b) const {
   b.read("rsm-normal");
   b.read("rsm-radiance");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   b.output("rsm-depth", OutputKind::Image2D, Semantic::Scalar,
            "per RSM texel: x = light depth z (m; planar for a directional light, radial for a spot or point light), y = <n.l>, "
            "z = layer's warped depth z', 0 where empty").alongside = true;
@@ -240,7 +243,7 @@ void LayersStage::execute(StageContext& ctx) {
   Texture& dep = ctx.board.ensureTexture("layer-depth", texDesc(atlas, GL_RGBA16));
   const int w = atlas.y;
   const gpu::GpuLight light = readLight(ctx.board);
-  GLuint program = ctx.shaders.program({"lrsm/layers.comp.glsl"});
+  GLuint program = ctx.shaders.program({"lrsm/layers.comp.glsl"}, lightKindDefines(ctx.scene));
   setLayoutUniforms(program, L);
   setUniform(program, "u_layerWidth", w);
   glUseProgram(program);
@@ -393,6 +396,7 @@ void ConeGatherStage::declare(StageBuilder& b) const {
   b.read("normal");
   b.read("albedo");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   b.write("gather-records.count");
   b.output("indirect-diffuse", OutputKind::Image2D, Semantic::RadianceHDR,
            "outgoing one-bounce diffuse radiance: albedo / pi * sum_k w_k I_k (at cone.resolution)")
@@ -480,7 +484,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
       flag("LRSM_HORIZON", ctx.params.getBool("cone.horizon")) +
       flag("LRSM_VISIBILITY", ctx.params.getBool("lrsm.visibility")) +
       flag("LRSM_TWO_LOBES", ctx.params.getBool("lrsm.two-lobes"));
-  GLuint program = ctx.shaders.program({"lrsm/gather.comp.glsl"}, choices);
+  GLuint program = ctx.shaders.program({"lrsm/gather.comp.glsl"}, choices + lightKindDefines(ctx.scene));
   space.setUniforms(program);
   setLayoutUniforms(program, L);
   setUniform(program, "u_layerWidth", w);

@@ -1,5 +1,4 @@
 #include "techniques/near_field/stages.h"
-#include "graph/scene_inputs.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +9,10 @@
 #include "common/shared.h"
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
 #include "near_field/near_field_shared.h"
 #include "techniques/common/binary_voxels_stage.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
@@ -248,6 +249,7 @@ void RaysStage::declare(StageBuilder& b) const {
   b.read("rsm-normal");
   b.read("rsm-radiance");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   b.write("rays.counters");
   b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
            "near-field indirect radiance so far: (albedo / N) * sum of valid hits' reflected radiance (at rays.resolution)")
@@ -369,7 +371,7 @@ void RaysStage::execute(StageContext& ctx) {
   int probeX = std::min(int(ctx.params.getFloat("probe.x") * tw), tw - 1);
   int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * th), th - 1);
 
-  GLuint program = ctx.shaders.program({"near_field/rays.comp.glsl"});
+  GLuint program = ctx.shaders.program({"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene));
   setUniform(program, "u_rayIndex", ctx.iteration);
   setUniform(program, "u_rayCount", rayCount);
   setUniform(program, "u_traceScale", s);
@@ -566,6 +568,7 @@ void PathsStage::declare(StageBuilder& b) const {
   b.read("rsm-normal");
   b.read("rsm-radiance");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   b.write("paths.normal");
   b.write("paths.weight");
   b.output("indirect", OutputKind::Image2D, Semantic::RadianceHDR,
@@ -597,7 +600,7 @@ void PathsStage::execute(StageContext& ctx) {
     const float none[4] = {0, 0, 0, 0};
     glClearTexImage(indirect.id(), 0, GL_RGBA, GL_FLOAT, none);
   }
-  GLuint program = ctx.shaders.program({"near_field/paths.comp.glsl"});
+  GLuint program = ctx.shaders.program({"near_field/paths.comp.glsl"}, lightKindDefines(ctx.scene));
   setWalkUniforms(program, ctx.params, geo);
   setUniform(program, "u_path", ctx.iteration / bounces);
   setUniform(program, "u_pathCount", paths);

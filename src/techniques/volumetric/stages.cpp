@@ -10,7 +10,9 @@
 
 #include "core/error.h"
 #include "gpu/shader_library.h"
+#include "graph/scene_inputs.h"
 #include "scene/gpu_scene.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/voxel_space.h"
 #include "volumetric/volumetric_shared.h"
 
@@ -292,6 +294,7 @@ void MarchStage::declare(StageBuilder& b) const {
   b.read("particle-count");
   b.read("shadow-map");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   b.write("march.optical-depth");
   b.write("ray-samples.count");
   b.output("inscatter", OutputKind::Image2D, Semantic::RadianceHDR,
@@ -346,7 +349,7 @@ void MarchStage::execute(StageContext& ctx) {
   const int probeX = std::min(int(ctx.params.getFloat("probe.x") * low.x), low.x - 1);
   const int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * low.y), low.y - 1);
 
-  GLuint program = ctx.shaders.program({"volumetric/march.comp.glsl"});
+  GLuint program = ctx.shaders.program({"volumetric/march.comp.glsl"}, lightKindDefines(ctx.scene));
   space.setUniforms(program);
   setUniform(program, "u_sample", ctx.iteration);
   setUniform(program, "u_steps", ctx.params.getInt("march.steps"));
@@ -493,6 +496,7 @@ void ComposeStage::declare(StageBuilder& b) const {
   b.read("emission");
   b.read("shadow-map");
   b.read("light");
+  b.read(kSceneLightsInput);  // the light's type: programs are built for it (lightKindDefines)
   b.read("inscatter-full");
   b.read("transmittance-full");
   if (!surfaceInput_.empty()) b.read(surfaceInput_);
@@ -520,7 +524,7 @@ void ComposeStage::execute(StageContext& ctx) {
   Texture& combined = ctx.board.ensureTexture("volumetric-combined", imageDesc(size, GL_RGBA32F));
   Texture& final = ctx.board.ensureTexture("volumetric-final", imageDesc(size, GL_RGBA8));
   const std::string& source = ctx.params.getChoice("compose.surface");
-  GLuint program = ctx.shaders.program({"volumetric/compose.comp.glsl"});
+  GLuint program = ctx.shaders.program({"volumetric/compose.comp.glsl"}, lightKindDefines(ctx.scene));
   setUniform(program, "u_surfaceSource", source == "direct" ? 0 : source == "none" ? 1 : 2);
   setUniform(program, "u_skyRadiance", glm::vec3(ctx.scene.skyRadiance));
   setUniform(program, "u_exposure", ctx.params.getFloat("compose.exposure"));
