@@ -3,7 +3,7 @@
 // check at the end. Everything comes from the registries and declarations (techniques, stages,
 // outputs, ParamDescs, lessons/); nothing here names a technique.
 //
-//   soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS]
+//   soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH MAX_PROGRAM_GROWTH [ACTIONS]
 //
 // First a warm-up tour runs every technique once at its defaults (programs compiled, CPU buffers
 // at their sizes, the driver's caches filled), then the viewer is settled (default scene, first
@@ -15,7 +15,9 @@
 // a broken scene, open a lesson and step it. Each is printed with its number before it runs; after
 // each: no GL message of severity high or medium and the UI drew a frame since. At the end the
 // viewer is settled the same way and measured again: what grew beyond the bounds was kept by
-// actions that should have released it. Both measurements are taken in the same state, so the
+// actions that should have released it. Programs have a bound of their own: the shader library
+// keeps one per set of defines a session has used (a parameter that is a program define builds a
+// new one), a cache bounded by the combinations used, where other objects should come back. Both measurements are taken in the same state, so the
 // result does not depend on which technique the random actions happened to end in, nor on how
 // fast the machine was. The sequence depends only on the seed, and the end prints the `soak`
 // line (with ACTIONS) that replays it exactly.
@@ -202,9 +204,10 @@ void soakStart(Viewer& viewer, const ScriptCall& call) {
     soak.seed = std::stoull(call.arg(1));
     soak.maxRssGrowthMiB = std::stod(call.arg(2));
     soak.maxObjectGrowth = std::stoi(call.arg(3));
-    if (call.count() > 4) soak.actionLimit = std::stoi(call.arg(4));
+    soak.maxProgramGrowth = std::stoi(call.arg(4));
+    if (call.count() > 5) soak.actionLimit = std::stoi(call.arg(5));
   } catch (const std::exception&) {
-    call.badArgument("SECONDS, SEED, MAX_RSS_GROWTH_MIB, MAX_OBJECT_GROWTH and ACTIONS must be numbers");
+    call.badArgument("SECONDS, SEED, MAX_RSS_GROWTH_MIB, MAX_OBJECT_GROWTH, MAX_PROGRAM_GROWTH and ACTIONS must be numbers");
   }
   soak.rng.seed(soak.seed);
   soak.line = call.action().line;
@@ -246,8 +249,9 @@ void soakStep(Viewer& viewer, const ScriptCall& call) {
   const double elapsed = elapsedSince(soak.start);
   const bool done = soak.actionLimit > 0 ? soak.actions >= soak.actionLimit : elapsed >= soak.seconds;
   if (done) {
-    std::printf("soak: %d random actions in %.1f s (replay: soak 0 %llu %g %d %d)\n", soak.actions, elapsed,
-                (unsigned long long)soak.seed, soak.maxRssGrowthMiB, soak.maxObjectGrowth, soak.actions);
+    std::printf("soak: %d random actions in %.1f s (replay: soak 0 %llu %g %d %d %d)\n", soak.actions, elapsed,
+                (unsigned long long)soak.seed, soak.maxRssGrowthMiB, soak.maxObjectGrowth, soak.maxProgramGrowth,
+                soak.actions);
     std::fflush(stdout);
     insertActions(viewer, settledActions(call, "soak-finish"));
     return;
@@ -296,29 +300,34 @@ void soakFinish(Viewer& viewer, const ScriptCall& call) {
   soak.rssEnd = settledResidentBytes();
   soak.objectsEnd = liveGLObjects();
   const double growthMiB = (double(soak.rssEnd) - double(soak.rssBaseline)) / 1048576.0;
-  const int objectGrowth = soak.objectsEnd.total() - soak.objectsBaseline.total();
+  const int programGrowth = soak.objectsEnd.programs - soak.objectsBaseline.programs;
+  const int objectGrowth = soak.objectsEnd.total() - soak.objectsBaseline.total() - programGrowth;
   std::printf("soak: settled after %d actions: RSS %.1f MiB (growth %.1f MiB, bound %.1f), GL objects %d (%s; growth "
-              "%d, bound %d)\n",
+              "%d besides programs, bound %d; programs %d, bound %d)\n",
               soak.actions, double(soak.rssEnd) / 1048576.0, growthMiB, soak.maxRssGrowthMiB, soak.objectsEnd.total(),
-              soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth);
+              soak.objectsEnd.describe().c_str(), objectGrowth, soak.maxObjectGrowth, programGrowth,
+              soak.maxProgramGrowth);
   soak.active = false;
   if (growthMiB > soak.maxRssGrowthMiB)
     call.fail("resident memory grew by " + std::to_string(growthMiB) + " MiB over the soak (seed " +
                       std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxRssGrowthMiB));
   if (objectGrowth > soak.maxObjectGrowth)
-    call.fail("live GL objects grew by " + std::to_string(objectGrowth) + " over the soak (seed " +
+    call.fail("live GL objects other than programs grew by " + std::to_string(objectGrowth) + " over the soak (seed " +
                       std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxObjectGrowth));
+  if (programGrowth > soak.maxProgramGrowth)
+    call.fail("live GL programs grew by " + std::to_string(programGrowth) + " over the soak (seed " +
+                      std::to_string(soak.seed) + "), more than " + std::to_string(soak.maxProgramGrowth));
 }
 
 }  // namespace
 
 // soak, and the steps it inserts into the script (no usage: not for scripts to call).
 VOXLAB_REGISTER_SCRIPT_VERBS(soak, 160,
-  {"soak", 4, 5,
-   "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH [ACTIONS] (a warm-up tour of every technique, then random "
-   "valid actions from SEED for SECONDS, or exactly ACTIONS of them when given (a replay), GL and frame checks after "
-   "each; settled at the default state before and after, the resident memory and live GL objects may grow by at most "
-   "the bounds)",
+  {"soak", 5, 6,
+   "soak SECONDS SEED MAX_RSS_GROWTH_MIB MAX_OBJECT_GROWTH MAX_PROGRAM_GROWTH [ACTIONS] (a warm-up tour of every "
+   "technique, then random valid actions from SEED for SECONDS, or exactly ACTIONS of them when given (a replay), GL "
+   "and frame checks after each; settled at the default state before and after, the resident memory, the live GL "
+   "objects other than programs and the programs may grow by at most the bounds)",
    soakStart},
   {"soak-baseline", 0, 0, nullptr, soakBaseline},
   {"soak-step", 0, 0, nullptr, soakStep},

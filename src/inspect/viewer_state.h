@@ -184,7 +184,7 @@ struct SoakState {
   unsigned long long seed = 0;
   std::mt19937_64 rng;
   double seconds = 0.0, maxRssGrowthMiB = 0.0;
-  int maxObjectGrowth = 0, line = 0, actions = 0, frameAtAction = 0;
+  int maxObjectGrowth = 0, maxProgramGrowth = 0, line = 0, actions = 0, frameAtAction = 0;
   int actionLimit = 0;                         // > 0: exactly this many random actions (a replay)
   std::chrono::steady_clock::time_point start;
   bool baselineTaken = false;
