@@ -7,11 +7,12 @@
 // p * (1 / s_k), the same numbers whatever the camera, the level's origin or the box. Each
 // (triangle, cell) pair is decided by the exact half-open triangle/cell test of
 // common/triangle_cells.glsl (vct-grid's voxelizers use it too) in triangle-local double
-// coordinates, so a cell gets the same triangles in a slab as in a full build. Each pair adds its direct light (Lambert, shadow-mapped, plus
-// emission, evaluated at the point of the triangle nearest the cell centre) to the cell's
-// fixed-point accumulators with integer atomics: the sums do not depend on the order. With six
-// faces it also adds, per travel direction of a cone, the light of the fragments whose fronts
-// that direction sees, and ORs the fragment's facing code (common/facing.glsl).
+// coordinates, so a cell gets the same triangles in a slab as in a full build. Each pair adds its
+// direct light (Lambert, shadow-mapped, plus emission, evaluated at the point of the triangle
+// nearest the cell centre) to the cell's fixed-point accumulators with integer atomics: the sums do
+// not depend on the order. With six faces it also adds, per travel direction of a cone, the light
+// of the fragments whose fronts that direction sees, and ORs the fragment's facing code
+// (common/facing.glsl).
 #include "common/shared.h"
 #include "clipmap/clipmap.glsl"
 #include "common/scene_triangles.glsl"

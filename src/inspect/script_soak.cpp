@@ -17,9 +17,9 @@
 // viewer is settled the same way and measured again: what grew beyond the bounds was kept by
 // actions that should have released it. Programs have a bound of their own: the shader library
 // keeps one per set of defines a session has used (a parameter that is a program define builds a
-// new one), a cache bounded by the combinations used, where other objects should come back. Both measurements are taken in the same state, so the
-// result does not depend on which technique the random actions happened to end in, nor on how
-// fast the machine was. The sequence depends only on the seed, and the end prints the `soak`
+// new one), a cache bounded by the combinations used, where other objects should come back. Both
+// measurements are taken in the same state, so the result does not depend on which technique the
+// random actions happened to end in, nor on how fast the machine was. The sequence depends only on the seed, and the end prints the `soak`
 // line (with ACTIONS) that replays it exactly.
 #include <algorithm>
 #include <chrono>
