@@ -3,7 +3,6 @@
 
 #include "gpu/shader_library.h"
 #include "graph/scene_inputs.h"
-#include "techniques/common/light_stage.h"
 
 namespace voxlab {
 
@@ -17,10 +16,8 @@ void declareFragmentLightParams(StageBuilder& b) {
                           "axis-aligned surface passes up to half a voxel from the centre, and a centre behind the "
                           "surface is shadowed by the surface itself (0 = at the centre)",
                           "voxels"));
-  b.read(kSceneLightsInput);  // the light's type (fragmentLightDefines)
+  b.read(kSceneLightsInput);  // the light's type (lightKindDefines)
 }
-
-std::string fragmentLightDefines(const Scene& scene) { return lightKindDefines(scene); }
 
 void setFragmentLightUniforms(GLuint program, const ParamSet& p, const VoxelSpace& space) {
   setUniform(program, "u_mode", p.getInt("inject.mode"));

@@ -12,6 +12,7 @@
 #include "techniques/common/cone_layout.h"
 #include "techniques/common/cone_setup.h"
 #include "techniques/common/fragment_light.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
@@ -470,7 +471,7 @@ void LeavesStage::execute(StageContext& ctx) {
   glClearNamedBufferData(sums.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   glClearNamedBufferData(values.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   const uint32_t fragments = voxelFragmentCount(ctx.board);
-  GLuint program = ctx.shaders.program({"svo/leaves.comp.glsl"}, fragmentLightDefines(ctx.scene));
+  GLuint program = ctx.shaders.program({"svo/leaves.comp.glsl"}, lightKindDefines(ctx.scene));
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(fragments));
   setUniform(program, "u_depth", depth);

@@ -8,6 +8,7 @@
 #include "gpu/shader_library.h"
 #include "techniques/common/facing.h"
 #include "techniques/common/fragment_light.h"
+#include "techniques/common/light_stage.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
 #include "techniques/vct_grid/stages.h"
@@ -116,7 +117,7 @@ void InjectStage::execute(StageContext& ctx) {
   const uint32_t noSurface = 0;
   glClearTexImage(facing.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &noSurface);
   GLuint program = ctx.shaders.program({"vct_grid/inject.comp.glsl"},
-                                       fragmentLightDefines(ctx.scene) +
+                                       lightKindDefines(ctx.scene) +
                                            (exact ? "" : "#define VOXLAB_INJECT_COMPARE_AND_SWAP\n"));
   space.setUniforms(program);
   setUniform(program, "u_fragmentCount", unsigned(count));
