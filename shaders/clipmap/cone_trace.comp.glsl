@@ -80,12 +80,11 @@ vec4 sampleLevel(int face, int k, vec3 p) {
   return fetchFace(face, k, mod(u + u_levelToroidal[k], float(u_clipN)));
 }
 
-// Face 'face' of level k of the whole hierarchy at p: a clip level, or above L-1 mip k - (L-1) of
-// the coarsest level, whose faces lie side by side along x (its x is clamped to the face's edge
-// texels' centres, as clamp-to-edge does to y and z, so no lookup reads the next face).
-vec4 sampleHierarchy(int face, int k, vec3 p) {
+// Face 'face' of mip k - (L-1) of the coarsest level (k > L-1), whose faces lie side by side along
+// x (its x is clamped to the face's edge texels' centres, as clamp-to-edge does to y and z, so no
+// lookup reads the next face).
+vec4 sampleMip(int face, int k, vec3 p) {
   int last = u_clipLevels - 1;
-  if (k <= last) return sampleLevel(face, k, p);
   int m = min(k - last, u_mipLevels);
   float n = float(u_clipN >> m);
   vec3 u = (p - u_levelMin[last]) / (levelVoxel(last) * float(u_clipN));
@@ -93,7 +92,30 @@ vec4 sampleHierarchy(int face, int k, vec3 p) {
   return textureLod(u_mips, vec3(x / (float(kFaces) * n), u.yz), float(m));
 }
 
+// Face 'face' of level k of the whole hierarchy at p: a clip level, or above L-1 a mip of the
+// coarsest level.
+vec4 sampleHierarchy(int face, int k, vec3 p) {
+  return k <= u_clipLevels - 1 ? sampleLevel(face, k, p) : sampleMip(face, k, p);
+}
+
 uniform float u_frontHold;  // cells: how far behind its surface a front keeps its opacity (0 = off)
+
+// The march runs in three phases of the level the cone's width asks for ('own', which grows with
+// the distance): near (own <= L-1: clip levels only, raised by the finer levels' reach and holding
+// fronts), crossing (L-1 < own < L: the coarsest clip level and the first of its mips) and far
+// (own >= L: the mips alone, or the coarsest level when it has none). llvmpipe runs both sides of
+// every branch, so a sample that held the code of every level paid for reads it did not need
+// (every hierarchy lookup read the atlas and the mips, every face the read behind its front); a
+// phase's loop holds only its own reads. Each phase computes what the whole hierarchy would.
+const int kNear = 0, kCrossing = 1, kFar = 2;
+
+// Level k of the hierarchy as the phase may meet it: clip levels near, both kinds while crossing,
+// mips far (k > L-1 there unless the coarsest level has no mips).
+vec4 samplePhaseLevel(int face, int k, vec3 p, int phase) {
+  if (phase == kNear) return sampleLevel(face, min(k, u_clipLevels - 1), p);
+  if (phase == kFar && u_mipLevels > 0) return sampleMip(face, k, p);
+  return sampleHierarchy(face, k, p);
+}
 
 // Directional face 'face' (1 + d, d = the travel direction) of clip level k at p, where the level
 // was raised above the cone's own because the finer levels do not reach p (the sample is smaller
@@ -103,27 +125,29 @@ uniform float u_frontHold;  // cells: how far behind its surface a front keeps i
 // of the surface's opacity and goes on behind it (into the void outside a room: light lost). So
 // the face is also read u_frontHold cells back along the travel direction, and the more opaque of
 // the two is kept: a front the cone has reached stays opaque for that far behind its cell centre.
-// Before a front nothing changes (the read behind is further from the front than p).
-vec4 sampleHoldingFronts(int face, int k, vec3 p, bool hold) {
-  vec4 s = sampleHierarchy(face, k, p);
-  if (!hold || u_frontHold <= 0.0 || k >= u_clipLevels) return s;
+// Before a front nothing changes (the read behind is further from the front than p). Only the near
+// phase raises a level (beyond L-1 the cone's own level is coarser than any clip level).
+vec4 sampleHoldingFronts(int face, int k, vec3 p, bool hold, int phase) {
+  vec4 s = samplePhaseLevel(face, k, p, phase);
+  if (phase != kNear || !hold || u_frontHold <= 0.0) return s;
   int d = face - 1;
   vec3 back = vec3(0.0);
   back[d >> 1] = (d & 1) == 0 ? -1.0 : 1.0;
-  vec3 q = p + back * (u_frontHold * levelVoxel(k));
-  if (!footprintInside(q, k)) return s;
-  vec4 behind = sampleLevel(face, k, q);
+  int kc = min(k, u_clipLevels - 1);
+  vec3 q = p + back * (u_frontHold * levelVoxel(kc));
+  if (!footprintInside(q, kc)) return s;
+  vec4 behind = sampleLevel(face, kc, q);
   return behind.a > s.a ? behind : s;
 }
 
 // One directional face at level 'level' >= 1: its two levels blended ('hold': the level was
 // raised above the cone's own, see sampleHoldingFronts).
-vec4 sampleFace(int face, float level, vec3 p, bool hold) {
+vec4 sampleFace(int face, float level, vec3 p, bool hold, int phase) {
   int top = u_clipLevels - 1 + u_mipLevels;
   int k0 = min(int(floor(level)), top);
   float f = level - float(k0);
-  vec4 s = sampleHoldingFronts(face, k0, p, hold);
-  if (f > 0.0 && k0 < top) s = mix(s, sampleHoldingFronts(face, k0 + 1, p, hold), f);
+  vec4 s = sampleHoldingFronts(face, k0, p, hold, phase);
+  if (f > 0.0 && k0 < top) s = mix(s, sampleHoldingFronts(face, k0 + 1, p, hold, phase), f);
   return s;
 }
 
@@ -134,10 +158,10 @@ vec4 sampleFace(int face, float level, vec3 p, bool hold) {
 // depths (common/facing.glsl, seenFronts). Level 0 reads its faces too: its isotropic values show
 // a cone the light of the surface it starts from (a lit floor next to the camera, level 0, lit
 // itself: 7 to 31 times the reference's indirect light in the two rooms' bottom strip).
-vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold) {
+vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold, int phase) {
   int last = u_clipLevels - 1;
   if (kFaces == 1) {
-    if (level > float(last) && u_mipLevels > 0) {
+    if (phase != kNear && level > float(last) && u_mipLevels > 0) {
       vec3 u = (p - u_levelMin[last]) / levelVoxel(last);
       return textureLod(u_mips, u / float(u_clipN), level - float(last));
     }
@@ -148,60 +172,97 @@ vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold) {
     return s;
   }
   float directional = max(level, 0.0);
-  vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p, hold),
-                      sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p, hold),
-                      sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p, hold));
+  vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p, hold, phase),
+                      sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p, hold, phase),
+                      sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p, hold, phase));
   return a;
 }
 
 struct ConeResult { vec3 radiance; float opacity; float opacityAt; };
 
+// The march's state between samples.
+struct ConeMarch {
+  ConeResult r;
+  float t;
+  int step;
+  bool going;   // the cone goes on
+  bool left;    // the sample's footprint left the coarsest region
+  bool marked;  // r.opacityAt is set
+};
+
+// The level the cone's width asks for at distance t.
+float ownLevel(float tanHalf, float t) {
+  float diameter = max(2.0 * tanHalf * t, u_voxelSize0);
+  return max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0);
+}
+
+// Whether the phase holds a sample whose own level is 'own'.
+bool inPhase(int phase, float own) {
+  float last = float(u_clipLevels - 1);
+  float farFrom = u_mipLevels > 0 ? last + 1.0 : 1e30;
+  if (phase == kNear) return own <= last;
+  if (phase == kCrossing) return own > last && own < farFrom;
+  return own >= farFrom;
+}
+
+void marchSample(inout ConeMarch m, vec3 origin, vec3 dir, float tanHalf, float maxDistance,
+                 float markDistance, int coneIndex, bool record, int phase) {
+  float top = float(u_clipLevels - 1 + u_mipLevels);
+  float diameter = max(2.0 * tanHalf * m.t, u_voxelSize0);
+  vec3 p = origin + dir * m.t;
+  // Beyond L-1 the coarsest region decides alone (the regions nest).
+  int kmin = phase == kNear ? finestLevel(p) : (footprintInside(p, u_clipLevels - 1) ? u_clipLevels - 1 : -1);
+  if (kmin < 0) {  // outside the coarsest region: the cone ends
+    m.left = true;
+    m.going = false;
+    return;
+  }
+  float own = ownLevel(tanHalf, m.t);
+  float level = phase == kNear ? min(max(own, minimumLevel(p, kmin)), top) : min(own, top);
+  if (!m.marked && m.t > markDistance) { m.r.opacityAt = m.r.opacity; m.marked = true; }
+  vec4 s = sampleAt(p, level, dir, phase == kNear && level > own, phase);
+  float stepLength = diameter * u_stepScale;
+  float texelSize = u_voxelSize0 * exp2(level);
+  float a = stepOpacity(s.a, stepLength / texelSize);
+  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
+  m.r.radiance += (1.0 - m.r.opacity) * c;
+  m.r.opacity += (1.0 - m.r.opacity) * a;
+  if (record) {
+    uint k = atomicAdd(coneSampleCount, 1u);
+    // info.z: the level read (floor = finer level, fraction = weight of the next level).
+    if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
+      coneSamples[k] = ConeSample(vec4(p, diameter), vec4(m.r.radiance, m.r.opacity), vec4(float(coneIndex), m.t, level, a));
+  }
+  m.t += stepLength;
+  ++m.step;
+  m.going = m.step < u_maxSteps && m.r.opacity < 0.99 && m.t < maxDistance;
+}
+
 ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float maxDistance, float markDistance,
                      int coneIndex, bool record) {
   float tanHalf = tan(0.5 * aperture);
-  float t = start;
-  ConeResult r = ConeResult(vec3(0.0), 0.0, 0.0);
-  bool marked = false;
-  float top = float(u_clipLevels - 1 + u_mipLevels);
-  bool left = false;  // the sample's footprint left the coarsest region
-  // The loop tests its condition at the end of its body: llvmpipe leaves a loop only after an
+  ConeMarch m = ConeMarch(ConeResult(vec3(0.0), 0.0, 0.0), start, 0, u_maxSteps > 0 && start < maxDistance, false, false);
+  // Each loop tests its condition at the end of its body: llvmpipe leaves a loop only after an
   // iteration in which no lane is left, so a test at the top ran one more body, every lane masked
   // off and every lookup paid, after each cone's last sample (vct-grid's march, docs/performance.md).
-  int step = 0;
-  bool going = u_maxSteps > 0 && t < maxDistance;
+  bool here = m.going && inPhase(kNear, ownLevel(tanHalf, m.t));
   do {
-    if (!going) continue;
-    float diameter = max(2.0 * tanHalf * t, u_voxelSize0);
-    vec3 p = origin + dir * t;
-    int kmin = finestLevel(p);
-    if (kmin < 0) {  // outside the coarsest region: the cone ends
-      left = true;
-      going = false;
-      continue;
-    }
-    float own = max(log2(diameter / u_voxelSize0) + u_lodBias, 0.0);  // the level the cone's width asks for
-    float level = min(max(own, minimumLevel(p, kmin)), top);
-    if (!marked && t > markDistance) { r.opacityAt = r.opacity; marked = true; }
-    vec4 s = sampleAt(p, level, dir, level > own);
-    float stepLength = diameter * u_stepScale;
-    float texelSize = u_voxelSize0 * exp2(level);
-    float a = stepOpacity(s.a, stepLength / texelSize);
-    vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
-    r.radiance += (1.0 - r.opacity) * c;
-    r.opacity += (1.0 - r.opacity) * a;
-    if (record) {
-      uint k = atomicAdd(coneSampleCount, 1u);
-      // info.z: the level read (floor = finer level, fraction = weight of the next level).
-      if (k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
-        coneSamples[k] = ConeSample(vec4(p, diameter), vec4(r.radiance, r.opacity), vec4(float(coneIndex), t, level, a));
-    }
-    t += stepLength;
-    ++step;
-    going = step < u_maxSteps && r.opacity < 0.99 && t < maxDistance;
-  } while (going);
-  if (!marked) r.opacityAt = r.opacity;
-  r.radiance += coneSky(left, t >= maxDistance, origin + dir * t, r.opacity);
-  return r;
+    if (here) marchSample(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, kNear);
+    here = m.going && inPhase(kNear, ownLevel(tanHalf, m.t));
+  } while (here);
+  here = m.going && inPhase(kCrossing, ownLevel(tanHalf, m.t));
+  do {
+    if (here) marchSample(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, kCrossing);
+    here = m.going && inPhase(kCrossing, ownLevel(tanHalf, m.t));
+  } while (here);
+  here = m.going;
+  do {
+    if (here) marchSample(m, origin, dir, tanHalf, maxDistance, markDistance, coneIndex, record, kFar);
+    here = m.going;
+  } while (here);
+  if (!m.marked) m.r.opacityAt = m.r.opacity;
+  m.r.radiance += coneSky(m.left, m.t >= maxDistance, origin + dir * m.t, m.r.opacity);
+  return m.r;
 }
 
 void main() {
