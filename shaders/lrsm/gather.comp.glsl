@@ -110,6 +110,29 @@ bool intervalMeets(int d, float z0, float z1) {
   return z1 >= lo && z0 <= hi;
 }
 
+// The weight f of depth interval d's layers for a sample at light depth zc whose depth window is
+// zc +- halfWindow: 1 or 0 (every layer whose texels' interval meets the window) or Eq. 15.
+float layerWeight(int d, float zc, float halfWindow) {
+  return kWindowLayers == 1 ? (intervalMeets(d, zc - halfWindow, zc + halfWindow) ? 1.0 : 0.0)
+                            : layerFalloff(d, zc, kSmoothFalloff == 1);
+}
+
+// The probed pixel's records of depth interval d's layers where the sample reads none of them
+// (f = 0): what the loop over the layers read would record for them.
+void recordSkippedLayers(int d, vec3 xc, float rc, vec2 uv, float level, float zc, float halfWindow, float dCircle) {
+  float lo, hi;
+  layerRange(d, lo, hi);
+  float zw = (zc - lo) / (hi - lo), rw = halfWindow / (hi - lo);
+  for (int m = 0; m < u_normalIntervals; ++m) {
+    int l = d * u_normalIntervals + m;
+    uint k = atomicAdd(gatherCount, 1u);
+    if (k < uint(LRSM_MAX_GATHER_RECORDS))
+      gather[k] = LrsmGatherRecord(vec4(xc, rc), vec4(float(g_cone), float(g_step), g_voxelMip, g_alpha),
+                                   vec4(g_transmittance, uv, level), vec4(float(l), 0.0, 0.0, 0.0),
+                                   vec4(0.0, 0.0, 0.0, zw), vec4(0.0), vec4(vec3(0.0), rw), vec4(dCircle, zc, 1.0, 1.0));
+  }
+}
+
 // Algorithm 1 for the sphere (xc, rc) seen from the receiver p: what the sample adds to Eq. 1
 // before the transmittance (rgb) and the opacity it would carry (a) by the estimator chosen:
 //   coverage   sum_l A*R V <n.v> / <n.l>: the lit surface's radiance times the fraction of the
@@ -139,10 +162,23 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
   bool coverage = kEstimator == LRSM_ESTIMATOR_COVERAGE;
   // Half-width of the depth window: the sphere's radius (Algorithm 1) or half the step (coverage).
   float halfWindow = coverage ? 0.5 * stepLength : rc;
-  vec3 L = vec3(0.0);
+  // The layers a sample reads (f > 0) are a few of the depth intervals (at the defaults one of two,
+  // two where the window straddles their border): the loop below visits only the intervals from
+  // the first to the last that the sample reads. llvmpipe runs every iteration's reads for every
+  // lane, so a loop over all intervals paid the reads of the layers no lane of the row needed.
+  int dFirst = u_depthIntervals, dLast = -1;
   for (int d = 0; d < u_depthIntervals; ++d) {
-    float f = kWindowLayers == 1 ? (intervalMeets(d, zc - halfWindow, zc + halfWindow) ? 1.0 : 0.0)
-                                  : layerFalloff(d, zc, kSmoothFalloff == 1);
+    if (layerWeight(d, zc, halfWindow) > 0.0) {
+      dFirst = min(dFirst, d);
+      dLast = d;
+    }
+  }
+  // The probed pixel records every layer in order, those before and after the ones read too.
+  if (g_record)
+    for (int d = 0; d < dFirst; ++d) recordSkippedLayers(d, xc, rc, uv, level, zc, halfWindow, dCircle);
+  vec3 L = vec3(0.0);
+  for (int d = dFirst; d <= dLast; ++d) {
+    float f = layerWeight(d, zc, halfWindow);
     float lo, hi;
     layerRange(d, lo, hi);
     float zw = (zc - lo) / (hi - lo), rw = halfWindow / (hi - lo);
@@ -167,6 +203,9 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
           int lobes = coverage && kVisibility == 1 && kTwoLobes == 1
                           ? depthLobes(moments, u_minVariance, means, weights, variances)
                           : singleLobe(mu, sigma2, means, weights, variances);
+          // The layer's radiance, read once before the lobes (llvmpipe would read it in every
+          // lobe's iteration, masked or not); recorded only where a lobe adds light.
+          vec4 radiance = fetchLayer(u_lrsmRadiance, l, level, uv);
           float sumN = 0.0, sumAdded = 0.0;
           V = 0.0;
           for (int k = 0; k < lobes; ++k) {
@@ -196,7 +235,7 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
               litCoverage += Nk > 0.0 ? vec2(c, 0.0) : vec2(0.0, c);
             }
             if (Nk > 0.0 && Vk > 0.0) {
-              if (ar.a == 0.0) ar = fetchLayer(u_lrsmRadiance, l, level, uv);
+              ar = radiance;
               add += f * ar.rgb * Vk * Nk * Jk;
               sumAdded += Vk * Nk * Jk;
               sumN += Vk * Nk;
@@ -219,6 +258,8 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
       }
     }
   }
+  if (g_record)
+    for (int d = max(dLast + 1, dFirst); d < u_depthIntervals; ++d) recordSkippedLayers(d, xc, rc, uv, level, zc, halfWindow, dCircle);
   return L;
 }
 

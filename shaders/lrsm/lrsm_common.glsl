@@ -83,8 +83,12 @@ int depthLobes(vec4 moments, float minVariance, out vec3 means, out vec3 weights
   float skew = c3 / (var * sqrt(var));
   float kurtosis = max(c4 / (var * var), skew * skew + 1.0);  // no distribution lies below
   // The pair's kurtosis, skew^2 / (1 - lambda) + 1 + 4 lambda - 2 lambda^2, rises with lambda.
+  // The bisection's count is 0 where the single lobe was returned above: llvmpipe runs a returned
+  // lane's code masked, and only a loop that no lane is left in stops costing (most layers hold
+  // one surface, and their rows would pay 16 masked iterations).
   float lo = 0.0, hi = 1.0;
-  for (int i = 0; i < 16; ++i) {
+  int bisections = blend > 0.0 ? 16 : 0;
+  for (int i = 0; i < bisections; ++i) {
     float lambda = 0.5 * (lo + hi);
     float k = skew * skew / max(1.0 - lambda, 1e-6) + 1.0 + 4.0 * lambda - 2.0 * lambda * lambda;
     if (k < kurtosis) lo = lambda; else hi = lambda;
