@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
+#include <vector>
 
 #include "scene/alpha_coverage.h"
 #include "scene/voxel_space.h"
@@ -48,13 +50,13 @@ bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
   return true;
 }
 
-// Calls visit(key) for every (triangle, voxel) pair of the scene, triangle by triangle.
+// Calls visit(key) for every (triangle, voxel) pair of triangles first, first + stride, ...
 template <typename Visit>
-static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, Visit visit) {
+static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, const AlphaCoverage& coverage,
+                                 size_t first, size_t stride, Visit visit) {
   const int res = space.resolution;
   const glm::dvec3 half(0.5);
-  const AlphaCoverage coverage = AlphaCoverage::build(scene);
-  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+  for (size_t t = first; t < scene.triangleCount(); t += stride) {
     glm::vec3 f[3];
     glm::vec2 uv[3];
     for (int k = 0; k < 3; ++k) {
@@ -71,29 +73,68 @@ static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, Vi
     glm::dvec3 lo = glm::min(v[0], glm::min(v[1], v[2])), hi = glm::max(v[0], glm::max(v[1], v[2]));
     glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)), glm::ivec3(0), glm::ivec3(res - 1));
     glm::ivec3 b = glm::clamp(glm::ivec3(glm::floor(hi)), glm::ivec3(0), glm::ivec3(res - 1));
-    for (int z = a.z; z <= b.z; ++z)
-      for (int y = a.y; y <= b.y; ++y)
-        for (int x = a.x; x <= b.x; ++x) {
-          if (!triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(x, y, z) + half, half)) continue;
-          if (masked && !coverageAt(coverage, material, level, f[0], f[1], f[2], uv[0], uv[1], uv[2], {x, y, z}))
+    // Candidates: along the normal's dominant axis w, each column of the bounding box holds only
+    // the cells whose centre c satisfies |n.c - n.v0| <= r (the triangle's plane meets the closed
+    // cell), widened by one cell against rounding; the SAT test decides every candidate.
+    const glm::dvec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+    const glm::dvec3 an = glm::abs(n);
+    const int w = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+    const int axisU = (w + 1) % 3, axisV = (w + 2) % 3;
+    const double r = 0.5 * (an.x + an.y + an.z), planeD = glm::dot(n, v[0]);
+    for (int cu = a[axisU]; cu <= b[axisU]; ++cu)
+      for (int cv = a[axisV]; cv <= b[axisV]; ++cv) {
+        const double rest = planeD - n[axisU] * (cu + 0.5) - n[axisV] * (cv + 0.5);
+        const double c0 = (rest - r) / n[w], c1 = (rest + r) / n[w];
+        const int w0 = std::max(a[w], int(std::floor(std::min(c0, c1) - 0.5)) - 1);
+        const int w1 = std::min(b[w], int(std::ceil(std::max(c0, c1) - 0.5)) + 1);
+        for (int cw = w0; cw <= w1; ++cw) {
+          glm::ivec3 cell;
+          cell[w] = cw;
+          cell[axisU] = cu;
+          cell[axisV] = cv;
+          if (!triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(cell) + half, half)) continue;
+          if (masked && !coverageAt(coverage, material, level, f[0], f[1], f[2], uv[0], uv[1], uv[2], cell))
             continue;
-          visit(packVoxelKey(x, y, z));
+          visit(packVoxelKey(cell.x, cell.y, cell.z));
         }
+      }
   }
 }
 
+// Runs job(first, stride) for every worker: the triangles interleaved over two threads (the
+// machine's cores; the triangles of a scene differ in size, so interleaving balances them). The
+// result does not depend on the split: the pairs are summed or their keys sorted.
+constexpr size_t kWorkers = 2;
+template <typename Job>
+static void onWorkers(Job job) {
+  std::vector<std::thread> threads;
+  for (size_t w = 1; w < kWorkers; ++w) threads.emplace_back(job, w, kWorkers);
+  job(0, kWorkers);
+  for (std::thread& t : threads) t.join();
+}
+
 std::vector<uint32_t> referenceVoxelSet(const Scene& scene, const VoxelSpace& space) {
+  const AlphaCoverage coverage = AlphaCoverage::build(scene);
+  std::vector<uint32_t> perWorker[kWorkers];
+  onWorkers([&](size_t first, size_t stride) {
+    forEachReferencePair(scene, space, coverage, first, stride, [&](uint32_t key) { perWorker[first].push_back(key); });
+  });
   std::vector<uint32_t> keys;
-  forEachReferencePair(scene, space, [&](uint32_t key) { keys.push_back(key); });
+  for (const std::vector<uint32_t>& part : perWorker) keys.insert(keys.end(), part.begin(), part.end());
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
 }
 
 size_t referencePairCount(const Scene& scene, const VoxelSpace& space) {
-  size_t pairs = 0;
-  forEachReferencePair(scene, space, [&](uint32_t) { ++pairs; });
-  return pairs;
+  const AlphaCoverage coverage = AlphaCoverage::build(scene);
+  size_t pairs[kWorkers] = {};
+  onWorkers([&](size_t first, size_t stride) {
+    forEachReferencePair(scene, space, coverage, first, stride, [&](uint32_t) { ++pairs[first]; });
+  });
+  size_t sum = 0;
+  for (size_t p : pairs) sum += p;
+  return sum;
 }
 
 }  // namespace voxlab
