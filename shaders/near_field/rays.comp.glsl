@@ -6,7 +6,15 @@
 // cosine pdf cos/pi cancels; see src/techniques/near_field/near_field.cpp). A ray that reaches the
 // end of its radius without a hit, outside the scene's bounds, sees the sky (common/sky.glsl) and
 // adds it as a valid hit would; one that ends inside the bounds adds nothing (the far field).
+//
+// Two programs of this shader: the tracer (every pixel, nothing recorded) and, with
+// NF_RECORD_PROBE, the recorder, one invocation that walks the probed pixel's probed ray again and
+// writes its traversal steps and its probe record, nothing else. llvmpipe runs a branch that depends
+// on the invocation in every lane, masked, so recording behind a per-pixel flag made every pixel pay
+// for the recording's stores at each step (almost half of the stage).
+#ifdef NF_RECORD_PROBE
 #define NF_RECORD_STEPS
+#endif
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "near_field/traversal.glsl"
@@ -30,12 +38,23 @@ uniform float u_volumeEdge;
 uniform ivec2 u_probePixel;
 uniform int u_probeRay;
 
+#ifndef NF_RECORD_STEPS
+// The tracer's counters (traversal.glsl declares them with the recorder's steps).
+layout(std430, binding = NF_BINDING_RAY_COUNTERS) buffer Counters { uint counters[]; };
+#endif
+
 void main() {
+#ifdef NF_RECORD_PROBE
+  ivec2 px = u_probePixel;
+  const bool probing = true;
+  if (gl_GlobalInvocationID.xy != uvec2(0u) || u_rayIndex != u_probeRay) return;
+#else
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  const bool probing = false;
+#endif
   ivec2 traced = imageSize(u_indirect);
   if (any(greaterThanEqual(px, traced))) return;
   ivec2 g = min(px * u_traceScale, textureSize(u_position, 0) - 1);
-  bool probing = px == u_probePixel && u_rayIndex == u_probeRay;
   vec4 pos = texelFetch(u_position, g, 0);
   uint category = NF_CAT_NO_RECEIVER;
   vec4 hitOut = vec4(0.0);
@@ -82,6 +101,7 @@ void main() {
         rsmNormal = look.normal;
       }
     }
+#ifndef NF_RECORD_PROBE
     if (category == NF_CAT_VALID || escapedToSky) {
       vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
       vec4 sum = imageLoad(u_indirect, px);
@@ -91,10 +111,12 @@ void main() {
     imageStore(u_steps, px, imageLoad(u_steps, px) + uvec4(uint(w.steps)));
     atomicAdd(counters[1 + category], 1u);
     atomicAdd(counters[16 + min(w.steps, 255)], 1u);
+#endif
   }
+#ifndef NF_RECORD_PROBE
   imageStore(u_category, px, uvec4(category));
   imageStore(u_hitPosition, px, hitOut);
-  if (probing) {
+#else
     probe.receiver = vec4(pos.xyz, pos.w != 0.0 ? 1.0 : 0.0);
     probe.direction = vec4(dir, cosTheta);
     probe.origin = vec4(origin, radiusLeft);
@@ -105,5 +127,5 @@ void main() {
     probe.steps = vec4(float(w.steps), float(u_budget), facing, 0.0);
     probe.rsmPosition = rsmPosition;
     probe.rsmNormal = vec4(rsmNormal, float((u_normalCheck != 0 ? 1 : 0) + (u_planeTest != 0 ? 2 : 0)));
-  }
+#endif
 }

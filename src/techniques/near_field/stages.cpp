@@ -371,18 +371,23 @@ void RaysStage::execute(StageContext& ctx) {
   int probeX = std::min(int(ctx.params.getFloat("probe.x") * tw), tw - 1);
   int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * th), th - 1);
 
-  GLuint program = ctx.shaders.program({"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene));
-  setUniform(program, "u_rayIndex", ctx.iteration);
-  setUniform(program, "u_rayCount", rayCount);
-  setUniform(program, "u_traceScale", s);
-  setWalkUniforms(program, ctx.params, geo);
-  setUniform(program, "u_shift", ctx.params.getBool("rays.pixel-shift") ? 1 : 0);
-  setUniform(program, "u_radius", ctx.params.getFloat("rays.radius") * geo.edge);
-  setUniform(program, "u_spread", ctx.params.getFloat("rays.spread"));
-  setUniform(program, "u_probeRay", ctx.params.getInt("probe.ray"));
-  glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  glUseProgram(program);
+  // Two programs (rays.comp.glsl): the tracer, every pixel with nothing recorded, and the recorder,
+  // which walks the probed pixel's probed ray again and records its steps.
+  const GLuint tracer = ctx.shaders.program({"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene));
+  const GLuint recorder =
+      ctx.shaders.program({"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene) + "#define NF_RECORD_PROBE 1\n");
+  for (GLuint program : {tracer, recorder}) {
+    setUniform(program, "u_rayIndex", ctx.iteration);
+    setUniform(program, "u_rayCount", rayCount);
+    setUniform(program, "u_traceScale", s);
+    setWalkUniforms(program, ctx.params, geo);
+    setUniform(program, "u_shift", ctx.params.getBool("rays.pixel-shift") ? 1 : 0);
+    setUniform(program, "u_radius", ctx.params.getFloat("rays.radius") * geo.edge);
+    setUniform(program, "u_spread", ctx.params.getFloat("rays.spread"));
+    setUniform(program, "u_probeRay", ctx.params.getInt("probe.ray"));
+    glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
+    setSkyUniforms(program, ctx.params, ctx.scene);
+  }
   glBindTextureUnit(1, ctx.board.texture("position").id());
   glBindTextureUnit(2, ctx.board.texture("normal").id());
   glBindTextureUnit(3, ctx.board.texture("albedo").id());
@@ -399,7 +404,13 @@ void RaysStage::execute(StageContext& ctx) {
   glBindImageTexture(1, category.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
   glBindImageTexture(2, steps.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(3, hits.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glUseProgram(tracer);
   dispatchCompute({tw, th, 1}, {8, 8, 1});
+  const bool probedRay = ctx.iteration == ctx.params.getInt("probe.ray");
+  if (probedRay) {
+    glUseProgram(recorder);
+    dispatchCompute({1, 1, 1}, {8, 8, 1});
+  }
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 
   if (ctx.iteration == rayCount - 1) {
@@ -435,7 +446,7 @@ void RaysStage::execute(StageContext& ctx) {
     ctx.board.ensureBuffer("probe-dda.count", 4).upload(&zero, 4);
     ctx.board.ensureBuffer("probe-dda", 32 * kMaxDdaCells);
   }
-  if (ctx.iteration == ctx.params.getInt("probe.ray")) {
+  if (probedRay) {
     recordProbeDda(ctx, geo, probe);
     recordProbeSurface(ctx, geo, probe);
   }
