@@ -2,6 +2,12 @@
 // Cone gathering (src/techniques/lrsm/lrsm.h): per traced pixel, 6 diffuse cones, 1 specular
 // cone and 1 shadow cone march sphere samples; alpha_i comes from the isotropic occlusion mips,
 // L_i from the layered RSM by Algorithm 1, composited front to back with Eq. 1.
+//
+// Two programs of this shader: the gatherer (every traced pixel, nothing recorded) and, with
+// LRSM_RECORD_PROBE, the recorder, one invocation that gathers the probed pixel again and writes
+// its records (cone samples, Algorithm 1's layers, cone results), no image. llvmpipe runs a branch
+// that depends on the invocation in every lane, masked, so records behind a per-pixel flag cost
+// every pixel their stores at every sample and layer (about 15 % of the gather).
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/voxel_space.glsl"
@@ -321,18 +327,26 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radi
 }
 
 void main() {
+#ifdef LRSM_RECORD_PROBE
+  ivec2 px = u_probePixel;
+  const bool record = true;
+  if (gl_GlobalInvocationID.xy != uvec2(0u)) return;
+#else
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  const bool record = false;
+#endif
   ivec2 size = imageSize(u_diffuse);
   if (any(greaterThanEqual(px, size))) return;
   ivec2 g = min(px * u_traceScale, textureSize(u_position, 0) - 1);
   vec4 pos = texelFetch(u_position, g, 0);
   if (pos.w == 0.0) {
+#ifndef LRSM_RECORD_PROBE
     imageStore(u_diffuse, px, vec4(0.0));
     imageStore(u_specular, px, vec4(0.0));
     if (u_traceShadow == 1) imageStore(u_shadow, px, vec4(1.0));
+#endif
     return;
   }
-  bool record = px == u_probePixel;
   vec3 p = pos.xyz;
   vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
   vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
@@ -373,8 +387,10 @@ void main() {
   if (record && dot(n, toLight) <= 0.0) coneResults[7] = LrsmConeResult(vec4(toLight, 0.0), vec4(0.0, 0.0, 0.0, 1.0), vec4(7.0, 0.0, 0.0, 0.0));
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
   vec3 diffuse = albedo / PI * E;
+#ifndef LRSM_RECORD_PROBE
   imageStore(u_diffuse, px, vec4(diffuse, 1.0));
   imageStore(u_specular, px, vec4(spec.rgb, 1.0));
   if (u_traceShadow == 1) imageStore(u_shadow, px, vec4(1.0 - shadow.a));
+#endif
   if (record) coneResults[LRSM_MAX_CONES] = LrsmConeResult(vec4(n, PI), vec4(diffuse, 0.0), vec4(float(LRSM_MAX_CONES), 0.0, 0.0, 3.0));
 }

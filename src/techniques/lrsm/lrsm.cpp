@@ -45,7 +45,13 @@
 //     the lrsm-layer-* visualisers (src/techniques/lrsm/views/lrsm_layers.cpp) show tiles, mu, sigma.
 //   - Probe: for the probed pixel, every sphere sample (cone-samples) and, per sample and layer,
 //     the whole of Algorithm 1 (gather-records: in range, f, N, mu, sigma^2, V, A*R, contribution),
-//     and per cone its I and weight (cone-results).
+//     and per cone its I and weight (cone-results). They are written by a second program of the
+//     gather (LRSM_RECORD_PROBE, one invocation that gathers the probed pixel again): behind a
+//     per-pixel flag, llvmpipe made every pixel pay for the records' stores (about 15 %).
+//   - The gather pays only for the layers a sample reads: it loops over the depth intervals from
+//     the first to the last its window meets (llvmpipe runs a loop's body for every lane until
+//     none is left in it, and both sides of every branch), reads a layer's radiance once before
+//     its lobes, and runs the two-lobe fit's bisection only where a layer holds two surfaces.
 //   - Memory: the voxel grid, RSM and LRSM as the paper lays them out are in the cone-gather
 //     statistics (paper_layout_*_mb); what voxlab allocates is what `voxlab bench` lists per
 //     resource (the RSM here is RGBA32F position + RGBA16F normal/radiance + flux, not mipped).

@@ -484,34 +484,39 @@ void ConeGatherStage::execute(StageContext& ctx) {
       flag("LRSM_HORIZON", ctx.params.getBool("cone.horizon")) +
       flag("LRSM_VISIBILITY", ctx.params.getBool("lrsm.visibility")) +
       flag("LRSM_TWO_LOBES", ctx.params.getBool("lrsm.two-lobes"));
-  GLuint program = ctx.shaders.program({"lrsm/gather.comp.glsl"}, choices + lightKindDefines(ctx.scene));
-  space.setUniforms(program);
-  setLayoutUniforms(program, L);
-  setUniform(program, "u_layerWidth", w);
-  setUniform(program, "u_lrsmLevels", rad.levels());
-  setUniform(program, "u_voxelLevels", ctx.board.texture("occlusion").levels());
-  setUniform(program, "u_minVariance", ctx.params.getFloat("lrsm.min-variance"));
-  setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
-  setUniform(program, "u_footprintBias", ctx.params.getFloat("lrsm.footprint-bias"));
-  setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
-  setUniform(program, "u_interleave", ctx.params.getBool("cone.interleave") ? 1 : 0);
-  setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
-  setUniform(program, "u_shadowLodBias", ctx.params.getFloat("cone.shadow-lod-bias"));
-  setUniform(program, "u_maxSteps", ctx.params.getInt("cone.max-steps"));
-  setUniform(program, "u_diffuseTanHalf", std::tan(0.5f * kDiffuseAperture));
-  setUniform(program, "u_specularTanHalf", std::tan(0.5f * kSpecularAperture));
-  setUniform(program, "u_shadowTanHalf", std::tan(0.5f * ctx.params.getFloat("cone.shadow-aperture") * kDegrees));
-  setUniform(program, "u_traceScale", s);
-  setUniform(program, "u_traceSpecular", ctx.params.getBool("cone.specular") ? 1 : 0);
-  setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
-  setUniform(program, "u_cameraPos", ctx.view.position);
-  for (int k = 0; k < kDiffuseCones; ++k) {
-    const std::string name = "u_diffuseCones[" + std::to_string(k) + "]";
-    setUniform(program, name.c_str(), glm::vec4(diffuseSet[k].direction, diffuseSet[k].weight));
+  // Two programs (gather.comp.glsl): the gatherer, every pixel with nothing recorded, and the
+  // recorder, which gathers the probed pixel again and writes its records.
+  const GLuint gatherer = ctx.shaders.program({"lrsm/gather.comp.glsl"}, choices + lightKindDefines(ctx.scene));
+  const GLuint recorder = ctx.shaders.program({"lrsm/gather.comp.glsl"},
+                                              choices + lightKindDefines(ctx.scene) + "#define LRSM_RECORD_PROBE 1\n");
+  for (GLuint program : {gatherer, recorder}) {
+    space.setUniforms(program);
+    setLayoutUniforms(program, L);
+    setUniform(program, "u_layerWidth", w);
+    setUniform(program, "u_lrsmLevels", rad.levels());
+    setUniform(program, "u_voxelLevels", ctx.board.texture("occlusion").levels());
+    setUniform(program, "u_minVariance", ctx.params.getFloat("lrsm.min-variance"));
+    setUniform(program, "u_stepScale", ctx.params.getFloat("cone.step"));
+    setUniform(program, "u_footprintBias", ctx.params.getFloat("lrsm.footprint-bias"));
+    setUniform(program, "u_startVoxels", ctx.params.getFloat("cone.start"));
+    setUniform(program, "u_interleave", ctx.params.getBool("cone.interleave") ? 1 : 0);
+    setUniform(program, "u_lodBias", ctx.params.getFloat("cone.lod-bias"));
+    setUniform(program, "u_shadowLodBias", ctx.params.getFloat("cone.shadow-lod-bias"));
+    setUniform(program, "u_maxSteps", ctx.params.getInt("cone.max-steps"));
+    setUniform(program, "u_diffuseTanHalf", std::tan(0.5f * kDiffuseAperture));
+    setUniform(program, "u_specularTanHalf", std::tan(0.5f * kSpecularAperture));
+    setUniform(program, "u_shadowTanHalf", std::tan(0.5f * ctx.params.getFloat("cone.shadow-aperture") * kDegrees));
+    setUniform(program, "u_traceScale", s);
+    setUniform(program, "u_traceSpecular", ctx.params.getBool("cone.specular") ? 1 : 0);
+    setUniform(program, "u_traceShadow", traceShadow ? 1 : 0);
+    setUniform(program, "u_cameraPos", ctx.view.position);
+    for (int k = 0; k < kDiffuseCones; ++k) {
+      const std::string name = "u_diffuseCones[" + std::to_string(k) + "]";
+      setUniform(program, name.c_str(), glm::vec4(diffuseSet[k].direction, diffuseSet[k].weight));
   }
   glProgramUniform2i(program, glGetUniformLocation(program, "u_probePixel"), probeX, probeY);
   setSkyUniforms(program, ctx.params, ctx.scene);
-  glUseProgram(program);
+  }
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(0, ctx.board.texture("occlusion").id());
   glBindTextureUnit(1, rad.id());
@@ -528,7 +533,10 @@ void ConeGatherStage::execute(StageContext& ctx) {
   glBindImageTexture(0, diffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, shadow ? shadow->id() : 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);  // none: never written
+  glUseProgram(gatherer);
   dispatchCompute({tw, th, 1}, {8, 8, 1});
+  glUseProgram(recorder);
+  dispatchCompute({1, 1, 1}, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 
   uint32_t attempted = 0, conesSampled = 0;
