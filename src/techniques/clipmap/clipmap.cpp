@@ -65,6 +65,10 @@
 //     a cell in front of it, and a cone crossing it between samples leaked through; the tracer
 //     also reads each directional face clipmap.front-hold cells (0.5) back along the cone and
 //     keeps the more opaque, so a front the cone reached stays opaque behind it.
+//   - The march runs in three loops by the level the cone's width asks for (near: clip levels,
+//     raised and holding fronts; crossing the coarsest level; far: its mips alone), so a sample
+//     runs only its phase's reads: llvmpipe runs both sides of every branch, and one loop holding
+//     every level's reads cost about 25 % more (docs/performance.md).
 //   - Cells no path of empty cells from the camera reaches (behind the walls of a closed room,
 //     inside closed objects) are filled, opaque, with the light of the wall next to them as the
 //     camera's space sees it (clipmap.fill-unreached, unreached_cells.h, fill.comp.glsl). Empty,
