@@ -223,10 +223,7 @@ void marchSample(inout ConeMarch m, vec3 origin, vec3 dir, float tanHalf, float 
   vec4 s = sampleAt(p, level, dir, phase == kNear && level > own, phase);
   float stepLength = diameter * u_stepScale;
   float texelSize = u_voxelSize0 * exp2(level);
-  float a = stepOpacity(s.a, stepLength / texelSize);
-  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
-  m.r.radiance += (1.0 - m.r.opacity) * c;
-  m.r.opacity += (1.0 - m.r.opacity) * a;
+  float a = compositeSample(m.r.radiance, m.r.opacity, s, stepLength / texelSize);
   if (record) {
     uint k = atomicAdd(coneSampleCount, 1u);
     // info.z: the level read (floor = finer level, fraction = weight of the next level).

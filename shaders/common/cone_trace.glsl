@@ -170,10 +170,7 @@ void coneStep(inout ConeMarch m, int phase, bool wantSolid) {
   float stepLength = diameter * u_stepScale;
   // A texel's opacity belongs to a path as long as the texel; correct it to the step length.
   float texelSize = u_voxelSize * exp2(lod);
-  float a = stepOpacity(s.a, stepLength / texelSize);
-  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
-  m.r.radiance += (1.0 - m.r.opacity) * c;
-  m.r.opacity += (1.0 - m.r.opacity) * a;
+  float a = compositeSample(m.r.radiance, m.r.opacity, s, stepLength / texelSize);
   if (wantSolid) m.r.blocked += (1.0 - m.r.blocked) * stepOpacity(solid, stepLength / texelSize);
   if (m.record) {
     uint k = atomicAdd(coneSampleCount, 1u);

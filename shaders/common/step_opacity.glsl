@@ -10,4 +10,15 @@ float stepOpacity(float alpha, float ratio) {
   alpha = clamp(alpha, 0.0, 1.0);
   return alpha < 1e-3 ? ratio * alpha * (1.0 + 0.5 * (1.0 - ratio) * alpha) : 1.0 - pow(1.0 - alpha, ratio);
 }
+
+// A cone's sample s (a texel's premultiplied radiance and opacity) composited front to back into
+// what the cone has gathered (radiance, opacity), its opacity corrected to a step of 'ratio'
+// texels. Returns the corrected opacity.
+float compositeSample(inout vec3 radiance, inout float opacity, vec4 s, float ratio) {
+  float a = stepOpacity(s.a, ratio);
+  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
+  radiance += (1.0 - opacity) * c;
+  opacity += (1.0 - opacity) * a;
+  return a;
+}
 #endif

@@ -344,15 +344,12 @@ void svoConeStep(inout SvoMarch m, vec3 origin, vec3 dir, float tanHalf, float m
   vec4 s = svoSample(v, levelStar, dir, record, k, phase, solid);
   float stepLength = diameter * u_stepScale;
   float texelSize = u_voxelSize * exp2(lod);
-  float a = stepOpacity(s.a, stepLength / texelSize);
+  float a = compositeSample(m.r.radiance, m.r.opacity, s, stepLength / texelSize);
   float aSolid = stepOpacity(solid, stepLength / texelSize);
-  vec3 c = s.a > 0.0 ? s.rgb * (a / s.a) : vec3(0.0);
-  m.r.radiance += (1.0 - m.r.opacity) * c;
   if (m.t <= markDistance) {
     float falloff = 1.0 / (1.0 + u_aoFalloff * m.t / u_voxelSize);
     m.r.occlusion += (1.0 - m.r.occlusion) * aSolid * falloff;
   }
-  m.r.opacity += (1.0 - m.r.opacity) * a;
   m.r.blocked += (1.0 - m.r.blocked) * aSolid;
   if (record && k < uint(VOXLAB_MAX_CONES * VOXLAB_MAX_SAMPLES_PER_CONE))
     coneSamples[k] = ConeSample(vec4(p, diameter), vec4(m.r.radiance, m.r.opacity), vec4(float(coneIndex), m.t, lod, a));
