@@ -2,7 +2,9 @@
 // Exact-sum averaging, second pass (inject.average=exact-sum): one invocation per occupied voxel
 // (the list of claimed slots, vct_grid/voxel_sums.glsl) divides the slot's fixed-point sums by the
 // fragment count and stores the mean radiance, alpha = min(count, 255) / 255 as in the
-// compare-and-swap mode, and the voxel's facing code: each voxel is written once.
+// compare-and-swap mode, and the voxel's facing code: each voxel is written once. Built with
+// VOXLAB_RESOLVE_FACING_ONLY where nothing wants the averaged grid (the occlusion fix takes the
+// means from the slots), it writes the facing codes alone.
 #include "common/shared.h"
 #include "common/packing.glsl"
 // The radiance grids' image format: rgba8 unless the stage builds the program with
@@ -26,6 +28,8 @@ void main() {
   VoxelSums s = slots[slot];
   float count = float(s.count);
   vec3 sum = vec3(s.red, s.green, s.blue);
+#ifndef VOXLAB_RESOLVE_FACING_ONLY
   imageStore(u_radiance, voxel, vec4(sum / (count * kFixedPointScale), min(count, 255.0) / 255.0));
+#endif
   imageStore(u_facing, voxel, uvec4(s.facing));
 }

@@ -88,8 +88,11 @@ void InjectStage::declare(StageBuilder& b) const {
   b.buffer(kVoxelList, [](const ParamSet& p, const ViewState&) {
     return 4 + (exactSums(p) ? fragmentPoolStart(p.getInt("voxel.resolution")) * 4 : 0);
   }, /*pool=*/true);
+  // With exact sums the occlusion fix takes each voxel's mean from its slot, so nothing later reads
+  // this grid: it is written only where a view, a test or compare-and-swap averaging wants it.
   b.output("radiance-injected", OutputKind::Volume3D, Semantic::Color,
-           "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255");
+           "averaged outgoing radiance per voxel; alpha = min(fragments averaged, 255) / 255")
+      .onDemand = true;
   b.texture("radiance-injected", [](const ParamSet& p, const ViewState&) {
     return radianceGridDesc(p.getInt("voxel.resolution"), 1, gridFormat(p));
   });
@@ -108,9 +111,14 @@ void InjectStage::execute(StageContext& ctx) {
   if (!exact && format != GL_RGBA8)
     throw Error("inject.average=compare-and-swap needs voxel.format=rgba8 (its running average lives in the RGBA8 "
                 "voxel); use inject.average=exact-sum with voxel.format=rgba16f");
-  Texture& grid = ctx.board.ensureTexture("radiance-injected", radianceGridDesc(res, 1, format));
-  const uint8_t zero[4] = {0, 0, 0, 0};
-  glClearTexImage(grid.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  // Compare-and-swap averages in the grid itself (the occlusion fix reads it then).
+  const bool wantGrid = !exact || ctx.wants("radiance-injected");
+  Texture* grid = nullptr;
+  if (wantGrid) {
+    grid = &ctx.board.ensureTexture("radiance-injected", radianceGridDesc(res, 1, format));
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    glClearTexImage(grid->id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  }
 
   const uint32_t count = voxelFragmentCount(ctx.board);
   Texture& facing = ctx.board.ensureTexture(kVoxelFacing, voxelFacingDesc(ctx.params));
@@ -131,7 +139,7 @@ void InjectStage::execute(StageContext& ctx) {
     // An r32ui view of the RGBA8 grid: image atomics work on 32-bit integers only.
     GLuint view = 0;
     glGenTextures(1, &view);
-    glTextureView(view, GL_TEXTURE_3D, grid.id(), GL_R32UI, 0, 1, 0, 1);
+    glTextureView(view, GL_TEXTURE_3D, grid->id(), GL_R32UI, 0, 1, 0, 1);
     glObjectLabel(GL_TEXTURE, view, -1, "radiance-injected.r32ui-view");
     glUseProgram(program);
     glBindImageTexture(0, view, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
@@ -169,10 +177,12 @@ void InjectStage::execute(StageContext& ctx) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   const uint32_t occupied = readCounter(voxels);
 
-  GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"}, gridFormatDefines(ctx.params));
+  GLuint resolve = ctx.shaders.program({"vct_grid/inject_resolve.comp.glsl"},
+                                       gridFormatDefines(ctx.params) +
+                                           (wantGrid ? "" : "#define VOXLAB_RESOLVE_FACING_ONLY\n"));
   setUniform(resolve, "u_voxelCount", unsigned(occupied));
   glUseProgram(resolve);
-  glBindImageTexture(0, grid.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
+  if (grid) glBindImageTexture(0, grid->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format);
   glBindImageTexture(5, facing.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32UI);
   dispatchCompute({int(occupied), 1, 1}, {64, 1, 1});
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
@@ -186,7 +196,8 @@ void InjectStage::execute(StageContext& ctx) {
 void OcclusionFixStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
   b.param(voxelFormatParam());
-  b.read("radiance-injected");
+  // Compare-and-swap averaging only: with exact sums the voxels' means come from their slots.
+  b.readWhen("radiance-injected", "inject.average=compare-and-swap");
   b.read("fragments");
   b.read("fragments.count");
   b.read(kVoxelSums);
@@ -200,7 +211,6 @@ void OcclusionFixStage::declare(StageBuilder& b) const {
 
 void OcclusionFixStage::execute(StageContext& ctx) {
   const int res = ctx.params.getInt("voxel.resolution");
-  Texture& src = ctx.board.texture("radiance-injected");
   Texture& dst = ctx.board.ensureTexture("radiance-opaque", radianceGridDesc(res, 1, gridFormat(ctx.params)));
   const uint8_t zero[4] = {0, 0, 0, 0};
   glClearTexImage(dst.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
@@ -217,7 +227,7 @@ void OcclusionFixStage::execute(StageContext& ctx) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_VOXEL_SUMS, ctx.board.buffer(kVoxelSums).id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_VOXEL_LIST, ctx.board.buffer(kVoxelList).id());
   } else {
-    glBindTextureUnit(0, src.id());
+    glBindTextureUnit(0, ctx.board.texture("radiance-injected").id());
   }
   glBindImageTexture(0, dst.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, dst.desc().format);
   dispatchCompute({int(items), 1, 1}, {64, 1, 1});
