@@ -274,5 +274,32 @@ TEST(OnDemandCursor, ACompositeTermOfWeightZeroIsNotComputed) {
   EXPECT_THROW(conditionHolds("w>", params, "test"), Error);
 }
 
+// vct-grid's averaged grid (radiance-injected) is read after the inject stage only by the occlusion
+// fix under compare-and-swap averaging: there a --final-only run computes it; with exact sums (the
+// default) the fix takes each voxel's mean from its slot, and the run neither allocates nor writes
+// the grid. The final image is the same as a whole run's in both modes.
+TEST(OnDemandCursor, TheInjectedGridIsComputedOnlyWhereTheOcclusionFixReadsIt) {
+  for (const std::string average : {"exact-sum", "compare-and-swap"}) {
+    RunRequest request;
+    request.technique = "vct-grid";
+    request.width = request.height = 32;
+    request.sets = {"voxel.resolution=32", "voxel.format=rgba8", "inject.average=" + average};
+    HeadlessSession& s = testing_support::freshSession(request);
+    StepCursor& cursor = s.cursor();
+    s.demand(/*finalOnly=*/true);
+    s.run();
+    const bool wanted = average == "compare-and-swap";
+    EXPECT_EQ(cursor.outputComputed(cursor.technique().stageIndex("inject"), "radiance-injected"), wanted) << average;
+    EXPECT_EQ(cursor.board().hasTexture("radiance-injected"), wanted) << average;
+    const CapturedOutput finalOnly = testing_support::capture(s, "composite", "final");
+    cursor.demandEverything();
+    s.run();
+    EXPECT_TRUE(cursor.board().hasTexture("radiance-injected")) << average;
+    const CapturedOutput everything = testing_support::capture(s, "composite", "final");
+    // The same stages on the same data: measured identical in both modes.
+    EXPECT_EQ(finalOnly.levels[0].values, everything.levels[0].values) << average;
+  }
+}
+
 }  // namespace
 }  // namespace voxlab
