@@ -1,5 +1,5 @@
 #version 450
-// svo-bricks, one invocation per node. u_pass 1: every tagged node (non-empty, or dilated) takes
+// svo-bricks, one invocation per node. kPass 1: every tagged node (non-empty, or dilated) takes
 // the 3x3x3 brick (Layout N: node-centred, borders included) whose number is 1 + its rank among
 // the tagged nodes in pool order (brick 0 is the reserved all-zero brick), after checking the
 // pool's capacity. The rank needs no count of its own: svo-build gave each tagged node above the
@@ -12,12 +12,12 @@
 // cells count 0; cells beyond the volume are clamped to the edge, as vct-grid's CLAMP_TO_EDGE
 // sampling is). Trilinear filtering inside the brick then reproduces the dense grid's trilinear
 // sample exactly inside the node.
-// u_layoutTile = 1 (Layout T, Crassin/Gomes): a brick for every subdivided node (tagged, above the
+// kLayoutTile = 1 (Layout T, Crassin/Gomes): a brick for every subdivided node (tagged, above the
 // voxels) instead, numbered 1 + its tile; its texel t lies at the corner 2 * cell + t of its
 // children (child-level coordinates) and gets the mean of the 8 child-level cells sharing that
 // corner (clamped to the volume), so the brick of a level-l node holds level l + 1 and leaves have
-// none. u_pass 2 (Layout T, Gaussian) is below.
-// u_anisotropic = 1 (Layout N): every tagged node above the voxels also gets six directional
+// none. kPass 2 (Layout T, Gaussian) is below.
+// kAnisotropic = 1 (Layout N): every tagged node above the voxels also gets six directional
 // bricks in a second pool (u_directionalPool), one per travel direction d (+x -x +y -y +z -z),
 // with the same texel layout and border means as its isotropic brick but made of the same-level
 // cells' directional values (svo-mipmap): brick b of direction d lies at 3 * (b mod X, b / X mod
@@ -25,7 +25,7 @@
 // numbers are those of the isotropic bricks above the voxels (1 + the node's tile), so one brick
 // number addresses both pools. Trilinear filtering inside a directional brick then equals
 // vct-grid's trilinear sample of its directional volume of that level inside the node. With
-// u_fronts = 1 (mipmap.fronts) the same bricks of a third pool (u_opacityPool, RGBA8, two parts)
+// kFronts = 1 (mipmap.fronts) the same bricks of a third pool (u_opacityPool, RGBA8, two parts)
 // hold the nodes' solid opacity seen travelling +x, +y, +z and -x, -y, -z (rgb), as vct-grid's
 // opacity volumes.
 // The pools' image format: rgba8 unless the stage defines VOXLAB_GRID_FORMAT (voxel.format=rgba16f
@@ -43,6 +43,17 @@
 #ifndef SVO_VOXEL_TILES
 #error "svo/bricks.comp.glsl needs SVO_VOXEL_TILES (svo/stages.cpp)"
 #endif
+// The stage's choices, fixed per program by its defines (svo/stages.cpp, brickChoiceDefines): as
+// uniforms, every invocation also ran the code of the layout, pass and kernel not chosen, masked.
+#if !defined(SVO_BRICK_PASS) || !defined(SVO_LAYOUT_TILE) || !defined(SVO_ANISOTROPIC_BRICKS) || \
+    !defined(SVO_FRONTS_BRICKS) || !defined(SVO_GAUSSIAN)
+#error "svo/bricks.comp.glsl needs SVO_BRICK_PASS, SVO_LAYOUT_TILE, SVO_ANISOTROPIC_BRICKS, SVO_FRONTS_BRICKS and SVO_GAUSSIAN (svo/stages.cpp)"
+#endif
+const int kPass = SVO_BRICK_PASS;                 // 1: bricks from the values; 2: Layout T's Gaussian, one level
+const int kLayoutTile = SVO_LAYOUT_TILE;          // 1: Layout T (svo.layout=tile)
+const int kAnisotropic = SVO_ANISOTROPIC_BRICKS;  // 1: the directional bricks too (Layout N)
+const int kFronts = SVO_FRONTS_BRICKS;            // 1: the solid-opacity bricks are built too
+const int kGaussian = SVO_GAUSSIAN;               // Layout T only: 1 = Crassin/Gomes' 1/8-1/16-1/32-1/64 kernel above level D - 1
 #include "common/packing.glsl"
 #include "svo/svo_shared.h"
 
@@ -59,17 +70,12 @@ layout(std430, binding = SVO_BINDING_BRICK_SCALES) writeonly buffer BrickScales 
 layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_brickPool;
 layout(VOXLAB_GRID_FORMAT, binding = 1) uniform writeonly image3D u_directionalPool;
 layout(rgba8, binding = 2) uniform writeonly image3D u_opacityPool;
-uniform int u_anisotropic;
-uniform int u_fronts;  // 1: the solid-opacity bricks are built too
 uniform ivec3 u_directionalPerAxis;  // bricks per axis of one direction's part of the directional pool
 uniform uint u_firstNode;  // the dispatch's nodes: u_firstNode .. u_nodeEnd - 1
 uniform uint u_nodeEnd;
 uniform uint u_brickCapacity;  // bricks the pool holds, the zero brick included
 uniform ivec3 u_bricksPerAxis;
 uniform int u_depth;
-uniform int u_pass;
-uniform int u_layoutTile;
-uniform int u_gaussian;   // Layout T only: 1 = Crassin/Gomes' 1/8-1/16-1/32-1/64 kernel above level D - 1
 uniform int u_level;      // pass 2: the level whose bricks are filtered from the level below
 uniform uint u_leafStart; // first node of the voxel level (level D)
 uniform uint u_tiles;     // tiles svo-build allocated: the tagged nodes above the voxels
@@ -91,7 +97,7 @@ void scaleBrick(inout vec4 nb[27], uint b, uint part) {
 }
 
 bool hasBrick(uint n) {
-  return (nodes[n].word & SVO_TAG) != 0u && (u_layoutTile == 0 || int(nodes[n].level) < u_depth);
+  return (nodes[n].word & SVO_TAG) != 0u && (kLayoutTile == 0 || int(nodes[n].level) < u_depth);
 }
 
 // The first child of every node in the 3x3x3 neighbourhood of node n (at cell pc of level
@@ -165,7 +171,7 @@ uint childTile(uint around[27], ivec3 pc, ivec3 m, int childCells) {
 // The directional bricks of brick b (and with the fronts rule its two solid-opacity bricks), from
 // the tiles of the node's 3x3x3 same-level cells.
 void directionalBricks(uint b, uint tiles[27]) {
-  for (int d = 0; d < (u_fronts == 1 ? 8 : 6); ++d) {
+  for (int d = 0; d < (kFronts == 1 ? 8 : 6); ++d) {
     vec4 nb[27];
     for (int j = 0; j < 27; ++j)
       nb[j] = tiles[j] == SVO_ABSENT ? vec4(0.0) : directional[SVO_DIRECTIONAL_RECORD * tiles[j] + uint(d)];
@@ -200,7 +206,7 @@ void tileBrick(uint n) {
   for (int j = 0; j < 64; ++j)
     cellValue[j] = childValue(around, pc, 2 * pc - 1 + ivec3(j % 4, (j / 4) % 4, j / 16), childCells);
   // With the Gaussian kernel only the finest bricks hold corner means; pass 2 fills the others.
-  if (u_gaussian == 1 && level < u_depth - 1) return;
+  if (kGaussian == 1 && level < u_depth - 1) return;
   ivec3 origin = brickOrigin(brick);
   for (int t = 0; t < 27; ++t) {
     ivec3 tx = ivec3(t % 3, (t / 3) % 3, t / 9);
@@ -263,12 +269,12 @@ void gaussianBrick(uint n) {
 void main() {
   uint n = u_firstNode + linearInvocation();
   if (n >= u_nodeEnd) return;
-  if (u_pass == 2) {
+  if (kPass == 2) {
     gaussianBrick(n);
     return;
   }
   bool tagged = hasBrick(n);
-  if (u_layoutTile == 1) {
+  if (kLayoutTile == 1) {
     tileBrick(n);
     return;
   }
@@ -286,7 +292,7 @@ void main() {
         for (int t = 0; t < 27; ++t) root[t] = values[0];
         scaleBrick(root, 1u, 0u);
         for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), root[t]);
-        if (u_anisotropic == 1 && u_depth > 0) {
+        if (kAnisotropic == 1 && u_depth > 0) {
           // The root's cells beyond the volume are clamped to the root itself: tile 0 everywhere.
           uint rootTiles[27];
           for (int j = 0; j < 27; ++j) rootTiles[j] = 0u;
@@ -333,7 +339,7 @@ void main() {
     scaleBrick(nb, brick, 0u);
     ivec3 origin = brickOrigin(brick);
     for (int t = 0; t < 27; ++t) imageStore(u_brickPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
-    if (u_anisotropic == 1 && !voxels) {
+    if (kAnisotropic == 1 && !voxels) {
       uint tiles[27];
       for (int j = 0; j < 27; ++j) tiles[j] = childTile(around, pc, c + ivec3(j % 3, (j / 3) % 3, j / 9) - 1, cells);
       directionalBricks(brick, tiles);

@@ -722,23 +722,29 @@ void BricksStage::execute(StageContext& ctx) {
   Buffer& counters = ctx.board.ensureBuffer("svo-brick-counters", kCounterBytes);
   std::vector<uint32_t> c(SVO_COUNTER_WORDS, 0u);
   counters.upload(c.data(), c.size() * 4);
-  // Two programs (svo/bricks.comp.glsl): the tiles of voxels (Layout N's level D - 1), and every
-  // other node; each holds only the code its nodes need.
-  const GLuint program = ctx.shaders.program({"svo/bricks.comp.glsl"}, brickFormatDefines(ctx.params) + "#define SVO_VOXEL_TILES 0\n");
-  const GLuint voxelTiles = ctx.shaders.program({"svo/bricks.comp.glsl"}, brickFormatDefines(ctx.params) + "#define SVO_VOXEL_TILES 1\n");
+  // The programs (svo/bricks.comp.glsl), each holding only the code its nodes need: the tiles of
+  // voxels (Layout N's level D - 1), every other node, and Layout T's Gaussian pass; the layout,
+  // the directional and opacity bricks and the kernel are defines of all three.
   const bool gaussian = tile && ctx.params.getChoice("svo.filter") == "gaussian";
-  for (GLuint p : {program, voxelTiles}) {
+  const auto flag = [](const char* name, bool on) { return std::string("#define ") + name + (on ? " 1\n" : " 0\n"); };
+  const std::string choices = brickFormatDefines(ctx.params) + flag("SVO_LAYOUT_TILE", tile) +
+                              flag("SVO_ANISOTROPIC_BRICKS", anisotropic) +
+                              flag("SVO_FRONTS_BRICKS", frontsBricks(ctx.params)) + flag("SVO_GAUSSIAN", gaussian);
+  const GLuint program =
+      ctx.shaders.program({"svo/bricks.comp.glsl"}, choices + "#define SVO_BRICK_PASS 1\n#define SVO_VOXEL_TILES 0\n");
+  const GLuint voxelTiles =
+      ctx.shaders.program({"svo/bricks.comp.glsl"}, choices + "#define SVO_BRICK_PASS 1\n#define SVO_VOXEL_TILES 1\n");
+  const GLuint gaussianPass =
+      gaussian ? ctx.shaders.program({"svo/bricks.comp.glsl"}, choices + "#define SVO_BRICK_PASS 2\n#define SVO_VOXEL_TILES 0\n")
+               : 0;
+  for (GLuint p : {program, voxelTiles, gaussianPass}) {
+    if (p == 0) continue;
     setUniform(p, "u_brickCapacity", unsigned(capacity));
     setUniform(p, "u_bricksPerAxis", axis);
     setUniform(p, "u_depth", depth);
-    setUniform(p, "u_layoutTile", tile ? 1 : 0);
     setUniform(p, "u_leafStart", unsigned(levels[depth].start));
     setUniform(p, "u_tiles", unsigned(tiles));
-    setUniform(p, "u_anisotropic", anisotropic ? 1 : 0);
-    setUniform(p, "u_fronts", frontsBricks(ctx.params) ? 1 : 0);
     setUniform(p, "u_directionalPerAxis", directionalAxis);
-    setUniform(p, "u_gaussian", gaussian ? 1 : 0);
-    setUniform(p, "u_pass", 1);
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_VALUES, ctx.board.buffer("svo-values").id());
@@ -769,11 +775,10 @@ void BricksStage::execute(StageContext& ctx) {
   barrierAll();
   if (gaussian) {
     // Layout T, Gaussian: level by level from D - 2 up, each from the bricks just below it.
-    setUniform(program, "u_pass", 2);
     glBindTextureUnit(0, pool.id());
     for (int l = depth - 2; l >= 0; --l) {
-      setUniform(program, "u_level", l);
-      dispatchNodes(program, 0, nodes);
+      setUniform(gaussianPass, "u_level", l);
+      dispatchNodes(gaussianPass, 0, nodes);
       barrierAll();
     }
   }
