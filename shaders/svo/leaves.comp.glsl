@@ -1,5 +1,5 @@
 #version 450
-// svo-leaves. u_pass 0, one invocation per voxel fragment: light the fragment with vct-grid's
+// svo-leaves. Pass 0, one invocation per voxel fragment: light the fragment with vct-grid's
 // inject code (common/fragment_light.glsl: Lambert, the shadow map read inject.shadow-offset voxels
 // off the voxel centre along the fragment's normal, plus emission; or one uniform radiance),
 // clamped to what the bricks hold (u_maxRadiance: 1 with voxel.format=rgba8, 64 with rgba16f), and
@@ -7,7 +7,7 @@
 // compare-and-swap average, whose counter wraps and whose truncation biases the mean, source
 // error P8; the same 1/4096 steps as vct-grid's exact sums). Each fragment also ORs its normal's
 // facing code (common/facing.glsl) into its leaf's: the directional bricks show a leaf only to the
-// directions that see its surfaces' fronts (mipmap.fronts, svo/mipmap.comp.glsl). u_pass 1, one
+// directions that see its surfaces' fronts (mipmap.fronts, svo/mipmap.comp.glsl). Pass 1, one
 // invocation per leaf node: mean = sums / count, opacity 1.
 #include "common/shared.h"
 #include "common/voxel_space.glsl"
@@ -30,7 +30,12 @@ uniform uint u_fragmentCount;
 uniform uint u_start;  // the leaf level's nodes (pass 1)
 uniform uint u_count;
 uniform int u_depth;
-uniform int u_pass;
+// The pass, fixed per program (svo/stages.cpp builds one per pass): as a uniform, the leaves' pass
+// also ran the fragments' lighting, masked, in every invocation.
+#ifndef SVO_LEAVES_PASS
+#error "svo/leaves.comp.glsl needs SVO_LEAVES_PASS (svo/stages.cpp)"
+#endif
+const int kPass = SVO_LEAVES_PASS;
 uniform float u_maxRadiance;
 // Radiance units per integer step, as vct-grid's exact sums: up to 16384 fragments of radiance 64
 // per leaf fit in 32 bits.
@@ -39,7 +44,7 @@ const float kFixedPoint = 4096.0;
 
 void main() {
   uint i = linearInvocation();
-  if (u_pass == 1) {
+  if (kPass == 1) {
     if (i >= u_count) return;
     uvec4 s = sums[u_start + i];
     values[u_start + i] = s.w == 0u ? vec4(0.0) : vec4(vec3(s.xyz) / (kFixedPoint * float(s.w)), 1.0);

@@ -1,11 +1,12 @@
 #version 450
-// The per-node passes of one level [u_start, u_start + u_count) of svo-build:
-//  u_pass 0 (dilate):   every non-empty node tags its 26 same-level neighbours (svo.dilate=1), so
+// The per-node passes of one level [u_start, u_start + u_count) of svo-build, a program per pass
+// (SVO_LEVEL_PASS; as a uniform, every pass also ran the dilation's neighbour walks, masked):
+//  pass 0 (dilate):   every non-empty node tags its 26 same-level neighbours (svo.dilate=1), so
 //                       the level below also holds the empty cells next to occupied ones;
-//  u_pass 1 (count):    count the level's non-empty and tagged nodes (sizes the next level), and
+//  pass 1 (count):    count the level's non-empty and tagged nodes (sizes the next level), and
 //                       the tagged nodes of each work group of 64 (the CPU turns these into
 //                       exclusive prefix sums);
-//  u_pass 2 (allocate): every tagged node takes the 2x2x2 tile whose number is its rank among the
+//  pass 2 (allocate): every tagged node takes the 2x2x2 tile whose number is its rank among the
 //                       level's tagged nodes (group prefix + the tagged nodes before it in its
 //                       group): a deterministic scan instead of an atomicAdd, so the pool is the
 //                       same on every run and thread count (and there is no read-then-increment
@@ -28,7 +29,10 @@ uniform uint u_capacity;  // nodes the pool holds
 uniform uint u_tilesBefore;  // tiles allocated by the levels above
 uniform int u_depth;
 uniform int u_level;
-uniform int u_pass;
+#ifndef SVO_LEVEL_PASS
+#error "svo/level_pass.comp.glsl needs SVO_LEVEL_PASS (svo/stages.cpp)"
+#endif
+const int kPass = SVO_LEVEL_PASS;
 #include "svo/octree.glsl"
 
 void main() {
@@ -36,7 +40,7 @@ void main() {
   if (i >= u_count) return;
   uint n = u_start + i;
   uint word = nodes[n].word;
-  if (u_pass == 0) {
+  if (kPass == 0) {
     if ((word & SVO_NON_EMPTY) == 0u) return;
     ivec3 c = ivec3(unpackVoxel10(nodes[n].coords));
     int cells = 1 << u_level;
@@ -47,7 +51,7 @@ void main() {
       uint other = svoNeighbour(n, uvec3(c), uvec3(m));
       if (other != SVO_ABSENT) atomicOr(nodes[other].word, SVO_TAG);
     }
-  } else if (u_pass == 1) {
+  } else if (kPass == 1) {
     if ((word & SVO_NON_EMPTY) != 0u) atomicAdd(counters[SVO_COUNTER_NON_EMPTY], 1u);
     if ((word & SVO_TAG) != 0u) {
       atomicAdd(counters[SVO_COUNTER_TAGGED], 1u);

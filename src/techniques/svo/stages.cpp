@@ -309,13 +309,19 @@ void BuildStage::execute(StageContext& ctx) {
   if (fragments) dispatchCompute({int(fragments), 1, 1}, {64, 1, 1});
   barrierAll();
 
-  GLuint pass = ctx.shaders.program({"svo/level_pass.comp.glsl"});
-  setUniform(pass, "u_start", unsigned(current.start));
-  setUniform(pass, "u_count", unsigned(current.count));
-  setUniform(pass, "u_depth", depth);
-  setUniform(pass, "u_level", level);
+  // A program per pass (svo/level_pass.comp.glsl): dilate, count, allocate.
+  GLuint passes[3];
+  for (int which = 0; which < 3; ++which) {
+    const GLuint pass =
+        ctx.shaders.program({"svo/level_pass.comp.glsl"}, "#define SVO_LEVEL_PASS " + std::to_string(which) + "\n");
+    setUniform(pass, "u_start", unsigned(current.start));
+    setUniform(pass, "u_count", unsigned(current.count));
+    setUniform(pass, "u_depth", depth);
+    setUniform(pass, "u_level", level);
+    passes[which] = pass;
+  }
   auto runPass = [&](int which, uint32_t capacity) {
-    setUniform(pass, "u_pass", which);
+    const GLuint pass = passes[which];
     setUniform(pass, "u_capacity", unsigned(capacity));
     bindAll(pass);
     dispatchCompute({int(current.count), 1, 1}, {64, 1, 1});
@@ -337,7 +343,7 @@ void BuildStage::execute(StageContext& ctx) {
     const uint32_t needed = used + 8u * levels[level].tagged;
     const uint32_t capacity = fraction >= 1.0 ? needed : std::max(used, uint32_t(std::floor(needed * fraction)));
     pool = &ensureNodePool(ctx.board, used, capacity);
-    setUniform(pass, "u_tilesBefore", unsigned((used - 1) / 8));
+    setUniform(passes[2], "u_tilesBefore", unsigned((used - 1) / 8));
     runPass(2, capacity);
     const uint32_t tiles = (used - 1) / 8 + levels[level].tagged;
     counters.upload(&tiles, 4, SVO_COUNTER_TILES * 4);
@@ -471,15 +477,19 @@ void LeavesStage::execute(StageContext& ctx) {
   glClearNamedBufferData(sums.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   glClearNamedBufferData(values.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   const uint32_t fragments = voxelFragmentCount(ctx.board);
-  GLuint program = ctx.shaders.program({"svo/leaves.comp.glsl"}, lightKindDefines(ctx.scene));
-  space.setUniforms(program);
-  setUniform(program, "u_fragmentCount", unsigned(fragments));
-  setUniform(program, "u_depth", depth);
-  setUniform(program, "u_start", unsigned(levels[depth].start));
-  setUniform(program, "u_count", unsigned(levels[depth].count));
-  setUniform(program, "u_maxRadiance", maxLeafRadiance(ctx.params));
-  setFragmentLightUniforms(program, ctx.params, space);
-  glUseProgram(program);
+  // A program per pass (svo/leaves.comp.glsl): the fragments' lighting, then the leaves' means.
+  const GLuint lighting =
+      ctx.shaders.program({"svo/leaves.comp.glsl"}, lightKindDefines(ctx.scene) + "#define SVO_LEAVES_PASS 0\n");
+  const GLuint means = ctx.shaders.program({"svo/leaves.comp.glsl"}, lightKindDefines(ctx.scene) + "#define SVO_LEAVES_PASS 1\n");
+  for (GLuint program : {lighting, means}) {
+    space.setUniforms(program);
+    setUniform(program, "u_fragmentCount", unsigned(fragments));
+    setUniform(program, "u_depth", depth);
+    setUniform(program, "u_start", unsigned(levels[depth].start));
+    setUniform(program, "u_count", unsigned(levels[depth].count));
+    setUniform(program, "u_maxRadiance", maxLeafRadiance(ctx.params));
+    setFragmentLightUniforms(program, ctx.params, space);
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, VOXLAB_BINDING_FRAGMENTS, ctx.board.buffer("fragments").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_NODES, ctx.board.buffer("svo-nodes").id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_LEAF_SUMS, sums.id());
@@ -487,11 +497,10 @@ void LeavesStage::execute(StageContext& ctx) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SVO_BINDING_LEAF_FACING, facing.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, VOXLAB_UNIFORM_LIGHT, ctx.board.buffer("light").id());
   glBindTextureUnit(2, ctx.board.texture("shadow-map").id());
-  setUniform(program, "u_pass", 0);
+  glUseProgram(lighting);
   if (fragments) dispatchCompute({int(fragments), 1, 1}, {64, 1, 1});
   barrierAll();
-  setUniform(program, "u_pass", 1);
-  glUseProgram(program);
+  glUseProgram(means);
   dispatchCompute({int(levels[depth].count), 1, 1}, {64, 1, 1});
   barrierAll();
   ctx.stats["fragments"] = fragments;
