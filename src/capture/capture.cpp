@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <memory>
 
 #include "capture/image_files.h"
@@ -475,13 +476,26 @@ void writeRecordFiles(const CapturedOutput& out, const std::string& dir, const s
 }
 
 void writeLevelFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix, json& files) {
+  std::vector<std::string> bases;
   for (size_t l = 0; l < out.levels.size(); ++l) {
-    std::string base = prefix + (out.levels.size() > 1 ? "@" + std::to_string(l) : "");
-    files.push_back(base + ".png");
-    writePng(displayImage(out, int(l)), dir + "/" + base + ".png");
-    files.push_back(base + ".exr");
-    writeLevelExr(out.levels[l], dir + "/" + base + ".exr", semanticName(out.desc.semantic), out.format);
+    bases.push_back(prefix + (out.levels.size() > 1 ? "@" + std::to_string(l) : ""));
+    files.push_back(bases.back() + ".png");
+    files.push_back(bases.back() + ".exr");
   }
+  // The EXR files (values) on a thread of their own while this one draws the PNG views: the two
+  // are independent, and a run that writes one output (--final-only) would otherwise encode them
+  // one after the other on one core.
+  std::future<void> values = std::async(std::launch::async, [&]() {
+    for (size_t l = 0; l < out.levels.size(); ++l)
+      writeLevelExr(out.levels[l], dir + "/" + bases[l] + ".exr", semanticName(out.desc.semantic), out.format);
+  });
+  try {
+    for (size_t l = 0; l < out.levels.size(); ++l) writePng(displayImage(out, int(l)), dir + "/" + bases[l] + ".png");
+  } catch (...) {
+    values.wait();
+    throw;
+  }
+  values.get();
 }
 
 json writeOutputFiles(const CapturedOutput& out, const std::string& dir, const std::string& prefix) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -175,21 +176,23 @@ void CompareStage::execute(StageContext& ctx) {
     glm::ivec3 v = unpackVoxelKey(k);
     reference[(size_t(v.z) * res + v.y) * res + v.x] = 255;
   }
-  std::vector<uint32_t> occupancy(n, 0);
+  // Both arrays are written whole below (read back, then one value per voxel): not zeroed first.
+  std::unique_ptr<uint32_t[]> occupancy(new uint32_t[n]);
   glGetTextureImage(ctx.board.texture("occupancy").id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                    GLsizei(n * 4), occupancy.data());
-  std::vector<float> difference(n, 0.0f);
+                    GLsizei(n * 4), occupancy.get());
+  std::unique_ptr<float[]> difference(new float[n]);
   size_t missed = 0, added = 0;
   for (size_t i = 0; i < n; ++i) {
     const bool ref = reference[i] != 0, gpu = occupancy[i] != 0;
-    if (ref && !gpu) { difference[i] = 1.0f; ++missed; }
-    if (gpu && !ref) { difference[i] = 2.0f; ++added; }
+    missed += ref && !gpu;
+    added += gpu && !ref;
+    difference[i] = ref == gpu ? 0.0f : (ref ? 1.0f : 2.0f);
   }
   Texture& refTex = ctx.board.ensureTexture("reference", volumeDesc(res, GL_R8));
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage3D(refTex.id(), 0, 0, 0, 0, res, res, res, GL_RED, GL_UNSIGNED_BYTE, reference.data());
   Texture& diffTex = ctx.board.ensureTexture("difference", volumeDesc(res, GL_R32F));
-  glTextureSubImage3D(diffTex.id(), 0, 0, 0, 0, res, res, res, GL_RED, GL_FLOAT, difference.data());
+  glTextureSubImage3D(diffTex.id(), 0, 0, 0, 0, res, res, res, GL_RED, GL_FLOAT, difference.get());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   ctx.stats["reference_voxels"] = double(keys.size());
   ctx.stats["missed_voxels"] = double(missed);
