@@ -117,15 +117,15 @@ void main() {
   imageStore(u_category, px, uvec4(category));
   imageStore(u_hitPosition, px, hitOut);
 #else
-    probe.receiver = vec4(pos.xyz, pos.w != 0.0 ? 1.0 : 0.0);
-    probe.direction = vec4(dir, cosTheta);
-    probe.origin = vec4(origin, radiusLeft);
-    probe.hitPoint = vec4(hit, w.tHit * max(radiusLeft, 0.0));
-    probe.result = uvec4(uvec3(max(w.voxel, ivec3(0))), w.end);
-    probe.rsmSample = vec4(rsmTexel, dist, epsilon);
-    probe.rsmRadiance = vec4(radiance, float(category));
-    probe.steps = vec4(float(w.steps), float(u_budget), facing, 0.0);
-    probe.rsmPosition = rsmPosition;
-    probe.rsmNormal = vec4(rsmNormal, float((u_normalCheck != 0 ? 1 : 0) + (u_planeTest != 0 ? 2 : 0)));
+  probe.receiver = vec4(pos.xyz, pos.w != 0.0 ? 1.0 : 0.0);
+  probe.direction = vec4(dir, cosTheta);
+  probe.origin = vec4(origin, radiusLeft);
+  probe.hitPoint = vec4(hit, w.tHit * max(radiusLeft, 0.0));
+  probe.result = uvec4(uvec3(max(w.voxel, ivec3(0))), w.end);
+  probe.rsmSample = vec4(rsmTexel, dist, epsilon);
+  probe.rsmRadiance = vec4(radiance, float(category));
+  probe.steps = vec4(float(w.steps), float(u_budget), facing, 0.0);
+  probe.rsmPosition = rsmPosition;
+  probe.rsmNormal = vec4(rsmNormal, float((u_normalCheck != 0 ? 1 : 0) + (u_planeTest != 0 ? 2 : 0)));
 #endif
 }
