@@ -3,16 +3,15 @@
 // cone and 1 shadow cone march sphere samples; alpha_i comes from the isotropic occlusion mips,
 // L_i from the layered RSM by Algorithm 1, composited front to back with Eq. 1.
 //
-// Two programs of this shader: the gatherer (every traced pixel, nothing recorded) and, with
-// LRSM_RECORD_PROBE, the recorder, one invocation that gathers the probed pixel again and writes
-// its records (cone samples, Algorithm 1's layers, cone results), no image. llvmpipe runs a branch
-// that depends on the invocation in every lane, masked, so records behind a per-pixel flag cost
+// The probed pixel's records (cone samples, Algorithm 1's layers, cone results) come from the
+// recorder (common/probe_recorder.glsl), which writes no image: behind a per-pixel flag they cost
 // every pixel their stores at every sample and layer (about 15 % of the gather).
 #include "common/shared.h"
 #include "common/lights.glsl"
 #include "common/voxel_space.glsl"
 #include "common/sky.glsl"
 #include "common/step_opacity.glsl"
+#include "common/probe_recorder.glsl"
 #include "lrsm/lrsm_shared.h"
 #include "lrsm/lrsm_common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -123,20 +122,34 @@ float layerWeight(int d, float zc, float halfWindow) {
                             : layerFalloff(d, zc, kSmoothFalloff == 1);
 }
 
+// Depth interval d's warped coordinates of the sample: z_c in the layer's range (z') and half the
+// depth window (r').
+void warpedWindow(int d, float zc, float halfWindow, out float zw, out float rw) {
+  float lo, hi;
+  layerRange(d, lo, hi);
+  zw = (zc - lo) / (hi - lo);
+  rw = halfWindow / (hi - lo);
+}
+
+// One layer's record of the probed pixel's sample (LrsmGatherRecord, lrsm_shared.h; its sample's
+// cone, step, voxel mip, alpha and transmittance from the march's globals).
+void recordLayer(vec3 xc, float rc, vec2 uv, float level, int l, float f, float N, vec4 moments, vec4 ar,
+                 vec4 contribution, vec3 footprint) {
+  uint k = atomicAdd(gatherCount, 1u);
+  if (k < uint(LRSM_MAX_GATHER_RECORDS))
+    gather[k] = LrsmGatherRecord(vec4(xc, rc), vec4(float(g_cone), float(g_step), g_voxelMip, g_alpha),
+                                 vec4(g_transmittance, uv, level), vec4(float(l), f > 0.0 ? 1.0 : 0.0, f, N), moments,
+                                 ar, contribution, vec4(footprint, 1.0));
+}
+
 // The probed pixel's records of depth interval d's layers where the sample reads none of them
 // (f = 0): what the loop over the layers read would record for them.
 void recordSkippedLayers(int d, vec3 xc, float rc, vec2 uv, float level, float zc, float halfWindow, float dCircle) {
-  float lo, hi;
-  layerRange(d, lo, hi);
-  float zw = (zc - lo) / (hi - lo), rw = halfWindow / (hi - lo);
-  for (int m = 0; m < u_normalIntervals; ++m) {
-    int l = d * u_normalIntervals + m;
-    uint k = atomicAdd(gatherCount, 1u);
-    if (k < uint(LRSM_MAX_GATHER_RECORDS))
-      gather[k] = LrsmGatherRecord(vec4(xc, rc), vec4(float(g_cone), float(g_step), g_voxelMip, g_alpha),
-                                   vec4(g_transmittance, uv, level), vec4(float(l), 0.0, 0.0, 0.0),
-                                   vec4(0.0, 0.0, 0.0, zw), vec4(0.0), vec4(vec3(0.0), rw), vec4(dCircle, zc, 1.0, 1.0));
-  }
+  float zw, rw;
+  warpedWindow(d, zc, halfWindow, zw, rw);
+  for (int m = 0; m < u_normalIntervals; ++m)
+    recordLayer(xc, rc, uv, level, d * u_normalIntervals + m, 0.0, 0.0, vec4(0.0, 0.0, 0.0, zw), vec4(0.0),
+                vec4(vec3(0.0), rw), vec3(dCircle, zc, 1.0));
 }
 
 // Algorithm 1 for the sphere (xc, rc) seen from the receiver p: what the sample adds to Eq. 1
@@ -187,7 +200,8 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
     float f = layerWeight(d, zc, halfWindow);
     float lo, hi;
     layerRange(d, lo, hi);
-    float zw = (zc - lo) / (hi - lo), rw = halfWindow / (hi - lo);
+    float zw, rw;
+    warpedWindow(d, zc, halfWindow, zw, rw);
     for (int m = 0; m < u_normalIntervals; ++m) {
       int l = d * u_normalIntervals + m;
       float N = 0.0, mu = 0.0, sigma2 = 0.0, V = 0.0, jacobian = 1.0;
@@ -255,13 +269,8 @@ vec3 sampleLrsm(vec3 xc, float rc, float stepLength, vec3 p, vec3 pn, out vec2 l
         }
       }
       L += add;
-      if (g_record) {
-        uint k = atomicAdd(gatherCount, 1u);
-        if (k < uint(LRSM_MAX_GATHER_RECORDS))
-          gather[k] = LrsmGatherRecord(vec4(xc, rc), vec4(float(g_cone), float(g_step), g_voxelMip, g_alpha),
-                                       vec4(g_transmittance, uv, level), vec4(float(l), f > 0.0 ? 1.0 : 0.0, f, N),
-                                       vec4(mu, sigma2, V, zw), ar, vec4(add, rw), vec4(dCircle, zc, jacobian, 1.0));
-      }
+      if (g_record)
+        recordLayer(xc, rc, uv, level, l, f, N, vec4(mu, sigma2, V, zw), ar, vec4(add, rw), vec3(dCircle, zc, jacobian));
     }
   }
   if (g_record)
@@ -327,20 +336,15 @@ vec4 traceCone(vec3 p, vec3 n, vec3 dir, float tanHalf, float lodBias, bool radi
 }
 
 void main() {
-#ifdef LRSM_RECORD_PROBE
-  ivec2 px = u_probePixel;
-  const bool record = true;
-  if (gl_GlobalInvocationID.xy != uvec2(0u)) return;
-#else
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  const bool record = false;
-#endif
+  const bool record = kRecordProbe;
+  ivec2 px;
+  if (!recorderPixel(u_probePixel, px)) return;
   ivec2 size = imageSize(u_diffuse);
   if (any(greaterThanEqual(px, size))) return;
   ivec2 g = min(px * u_traceScale, textureSize(u_position, 0) - 1);
   vec4 pos = texelFetch(u_position, g, 0);
   if (pos.w == 0.0) {
-#ifndef LRSM_RECORD_PROBE
+#ifndef VOXLAB_RECORD_PROBE
     imageStore(u_diffuse, px, vec4(0.0));
     imageStore(u_specular, px, vec4(0.0));
     if (u_traceShadow == 1) imageStore(u_shadow, px, vec4(1.0));
@@ -387,7 +391,7 @@ void main() {
   if (record && dot(n, toLight) <= 0.0) coneResults[7] = LrsmConeResult(vec4(toLight, 0.0), vec4(0.0, 0.0, 0.0, 1.0), vec4(7.0, 0.0, 0.0, 0.0));
   if (record) coneResults[7].info.zw = vec2(2.0 * atan(u_shadowTanHalf), 2.0);
   vec3 diffuse = albedo / PI * E;
-#ifndef LRSM_RECORD_PROBE
+#ifndef VOXLAB_RECORD_PROBE
   imageStore(u_diffuse, px, vec4(diffuse, 1.0));
   imageStore(u_specular, px, vec4(spec.rgb, 1.0));
   if (u_traceShadow == 1) imageStore(u_shadow, px, vec4(1.0 - shadow.a));

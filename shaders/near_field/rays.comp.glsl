@@ -7,12 +7,11 @@
 // end of its radius without a hit, outside the scene's bounds, sees the sky (common/sky.glsl) and
 // adds it as a valid hit would; one that ends inside the bounds adds nothing (the far field).
 //
-// Two programs of this shader: the tracer (every pixel, nothing recorded) and, with
-// NF_RECORD_PROBE, the recorder, one invocation that walks the probed pixel's probed ray again and
-// writes its traversal steps and its probe record, nothing else. llvmpipe runs a branch that depends
-// on the invocation in every lane, masked, so recording behind a per-pixel flag made every pixel pay
-// for the recording's stores at each step (almost half of the stage).
-#ifdef NF_RECORD_PROBE
+// The probed ray's traversal steps and probe record come from the recorder
+// (common/probe_recorder.glsl), in the dispatch of the probed ray, which writes nothing else:
+// recording behind a per-pixel flag made every pixel pay for its stores at each step (almost half
+// of the stage).
+#ifdef VOXLAB_RECORD_PROBE
 #define NF_RECORD_STEPS
 #endif
 #include "common/shared.h"
@@ -20,6 +19,7 @@
 #include "near_field/traversal.glsl"
 #include "near_field/ray_common.glsl"
 #include "common/sky.glsl"
+#include "common/probe_recorder.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1) uniform sampler2D u_position;    // G-buffer: xyz, w = 1 covered
@@ -44,14 +44,9 @@ layout(std430, binding = NF_BINDING_RAY_COUNTERS) buffer Counters { uint counter
 #endif
 
 void main() {
-#ifdef NF_RECORD_PROBE
-  ivec2 px = u_probePixel;
-  const bool probing = true;
-  if (gl_GlobalInvocationID.xy != uvec2(0u) || u_rayIndex != u_probeRay) return;
-#else
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  const bool probing = false;
-#endif
+  const bool probing = kRecordProbe;
+  ivec2 px;
+  if (!recorderPixel(u_probePixel, px) || (probing && u_rayIndex != u_probeRay)) return;
   ivec2 traced = imageSize(u_indirect);
   if (any(greaterThanEqual(px, traced))) return;
   ivec2 g = min(px * u_traceScale, textureSize(u_position, 0) - 1);
@@ -101,7 +96,7 @@ void main() {
         rsmNormal = look.normal;
       }
     }
-#ifndef NF_RECORD_PROBE
+#ifndef VOXLAB_RECORD_PROBE
     if (category == NF_CAT_VALID || escapedToSky) {
       vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
       vec4 sum = imageLoad(u_indirect, px);
@@ -113,7 +108,7 @@ void main() {
     atomicAdd(counters[16 + min(w.steps, 255)], 1u);
 #endif
   }
-#ifndef NF_RECORD_PROBE
+#ifndef VOXLAB_RECORD_PROBE
   imageStore(u_category, px, uvec4(category));
   imageStore(u_hitPosition, px, hitOut);
 #else

@@ -27,6 +27,7 @@
 #include "common/anisotropic_mip.glsl"
 #include "common/facing.glsl"
 #include "common/step_opacity.glsl"
+#include "common/probe_recorder.glsl"
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -385,19 +386,11 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float startDistance,
 }
 
 void main() {
-  // The probed pixel's records come from a second program (SVO_RECORD_PROBE), dispatched as one
-  // work group in which only the first invocation runs, tracing that pixel again (the same values)
-  // with record set. In the program for every pixel record is a compile-time false, so the
-  // recording code is not there: llvmpipe runs a branch that depends on the invocation masked in
-  // every invocation, and the cone trace took 3x as long with record = (px == the probed pixel).
-#ifdef SVO_RECORD_PROBE
-  const bool record = true;
-  if (gl_LocalInvocationIndex != 0u) return;
-  ivec2 px = u_probePixel;
-#else
-  const bool record = false;
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-#endif
+  // The probed pixel's records come from the recorder (common/probe_recorder.glsl): with
+  // record = (px == the probed pixel) the cone trace took 3x as long.
+  const bool record = kRecordProbe;
+  ivec2 px;
+  if (!recorderPixel(u_probePixel, px)) return;
   if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
   ConeSurface surface = coneSurface(px);
   if (!surface.valid) {

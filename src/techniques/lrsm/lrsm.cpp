@@ -46,7 +46,7 @@
 //   - Probe: for the probed pixel, every sphere sample (cone-samples) and, per sample and layer,
 //     the whole of Algorithm 1 (gather-records: in range, f, N, mu, sigma^2, V, A*R, contribution),
 //     and per cone its I and weight (cone-results). They are written by a second program of the
-//     gather (LRSM_RECORD_PROBE, one invocation that gathers the probed pixel again): behind a
+//     gather (the recorder, common/probe_recorder.glsl: one invocation that gathers the probed pixel again): behind a
 //     per-pixel flag, llvmpipe made every pixel pay for the records' stores (about 15 %).
 //   - The gather pays only for the layers a sample reads: it loops over the depth intervals from
 //     the first to the last its window meets (llvmpipe runs a loop's body for every lane until

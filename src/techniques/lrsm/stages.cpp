@@ -14,6 +14,7 @@
 #include "techniques/common/composite_stage.h"
 #include "techniques/common/cone_setup.h"
 #include "techniques/common/light_stage.h"
+#include "techniques/common/probe_recorder.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/voxel_space.h"
 #include "techniques/common/voxelize_stage.h"
@@ -484,11 +485,10 @@ void ConeGatherStage::execute(StageContext& ctx) {
       flag("LRSM_HORIZON", ctx.params.getBool("cone.horizon")) +
       flag("LRSM_VISIBILITY", ctx.params.getBool("lrsm.visibility")) +
       flag("LRSM_TWO_LOBES", ctx.params.getBool("lrsm.two-lobes"));
-  // Two programs (gather.comp.glsl): the gatherer, every pixel with nothing recorded, and the
-  // recorder, which gathers the probed pixel again and writes its records.
-  const GLuint gatherer = ctx.shaders.program({"lrsm/gather.comp.glsl"}, choices + lightKindDefines(ctx.scene));
-  const GLuint recorder = ctx.shaders.program({"lrsm/gather.comp.glsl"},
-                                              choices + lightKindDefines(ctx.scene) + "#define LRSM_RECORD_PROBE 1\n");
+  // The gatherer, every pixel with nothing recorded, and the recorder, which gathers the probed
+  // pixel again and writes its records (probe_recorder.h).
+  const auto [gatherer, recorder] =
+      tracerAndRecorder(ctx.shaders, {"lrsm/gather.comp.glsl"}, choices + lightKindDefines(ctx.scene));
   for (GLuint program : {gatherer, recorder}) {
     space.setUniforms(program);
     setLayoutUniforms(program, L);
@@ -535,8 +535,7 @@ void ConeGatherStage::execute(StageContext& ctx) {
   glBindImageTexture(2, shadow ? shadow->id() : 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);  // none: never written
   glUseProgram(gatherer);
   dispatchCompute({tw, th, 1}, {8, 8, 1});
-  glUseProgram(recorder);
-  dispatchCompute({1, 1, 1}, {8, 8, 1});
+  dispatchRecorder(recorder, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 
   uint32_t attempted = 0, conesSampled = 0;

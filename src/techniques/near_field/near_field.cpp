@@ -73,7 +73,7 @@
 //     the ray's set-up, hit and RSM lookup (probe-ray), and beside the walk the same segment
 //     walked cell by cell by the CPU's brute-force DDA over the level-0 grid (probe-dda, checked
 //     by near-field-dda: face neighbours in order, ending on the walk's hit). The walk is recorded
-//     by a second program of the rays shader (NF_RECORD_PROBE), one invocation that walks the
+//     by the recorder program of the rays shader (common/probe_recorder.glsl), one invocation that walks the
 //     probed ray again: recording behind a per-pixel flag made every pixel pay for its stores at
 //     every step on llvmpipe (nearly half of the rays stage, docs/performance.md).
 //   - Not reproduced: the texture-atlas voxelization (S1-S3 of the note: the fragment list is exact

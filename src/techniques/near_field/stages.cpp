@@ -13,6 +13,7 @@
 #include "near_field/near_field_shared.h"
 #include "techniques/common/binary_voxels_stage.h"
 #include "techniques/common/light_stage.h"
+#include "techniques/common/probe_recorder.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
@@ -371,11 +372,9 @@ void RaysStage::execute(StageContext& ctx) {
   int probeX = std::min(int(ctx.params.getFloat("probe.x") * tw), tw - 1);
   int probeY = std::min(int((1.0f - ctx.params.getFloat("probe.y")) * th), th - 1);
 
-  // Two programs (rays.comp.glsl): the tracer, every pixel with nothing recorded, and the recorder,
-  // which walks the probed pixel's probed ray again and records its steps.
-  const GLuint tracer = ctx.shaders.program({"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene));
-  const GLuint recorder =
-      ctx.shaders.program({"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene) + "#define NF_RECORD_PROBE 1\n");
+  // The tracer, every pixel with nothing recorded, and the recorder, which walks the probed pixel's
+  // probed ray again and records its steps (probe_recorder.h).
+  const auto [tracer, recorder] = tracerAndRecorder(ctx.shaders, {"near_field/rays.comp.glsl"}, lightKindDefines(ctx.scene));
   for (GLuint program : {tracer, recorder}) {
     setUniform(program, "u_rayIndex", ctx.iteration);
     setUniform(program, "u_rayCount", rayCount);
@@ -407,10 +406,7 @@ void RaysStage::execute(StageContext& ctx) {
   glUseProgram(tracer);
   dispatchCompute({tw, th, 1}, {8, 8, 1});
   const bool probedRay = ctx.iteration == ctx.params.getInt("probe.ray");
-  if (probedRay) {
-    glUseProgram(recorder);
-    dispatchCompute({1, 1, 1}, {8, 8, 1});
-  }
+  if (probedRay) dispatchRecorder(recorder, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 
   if (ctx.iteration == rayCount - 1) {

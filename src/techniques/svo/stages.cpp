@@ -13,6 +13,7 @@
 #include "techniques/common/cone_setup.h"
 #include "techniques/common/fragment_light.h"
 #include "techniques/common/light_stage.h"
+#include "techniques/common/probe_recorder.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/traced_image.h"
 #include "techniques/common/voxel_space.h"
@@ -1005,11 +1006,10 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const glm::ivec3 brickAxis = ctx.board.texture("svo-brick-pool").desc().size / 3;
   glm::ivec3 directionalAxis = ctx.board.texture("svo-directional-bricks").desc().size / 3;
   directionalAxis.z /= 6;
-  // Two programs: every pixel without recording, and the probed pixel alone with its samples and
-  // descents recorded (SVO_RECORD_PROBE; see main() in the shader).
-  const std::string defines = coneTraceDefines(ctx.params, traceShadow, traceSpecular);
-  const GLuint tracer = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines);
-  const GLuint recorder = ctx.shaders.program({"svo/cone_trace.comp.glsl"}, defines + "#define SVO_RECORD_PROBE 1\n");
+  // Every pixel without recording, and the probed pixel alone with its samples and descents
+  // recorded (probe_recorder.h).
+  const auto [tracer, recorder] = tracerAndRecorder(ctx.shaders, {"svo/cone_trace.comp.glsl"},
+                                                     coneTraceDefines(ctx.params, traceShadow, traceSpecular));
   glm::ivec2 probe(0);
   for (GLuint program : {tracer, recorder}) {
     space.setUniforms(program);
@@ -1046,8 +1046,7 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(3, shadow.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
   barrierAll();
-  glUseProgram(recorder);
-  dispatchCompute({1, 1, 1}, {8, 8, 1});
+  dispatchRecorder(recorder, {8, 8, 1});
   barrierAll();
   // Cap the recorded counts at the buffers' capacities (the shader counts on past them).
   auto cap = [](Buffer& count, uint32_t capacity) {

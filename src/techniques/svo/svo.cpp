@@ -158,7 +158,7 @@
 //     RGBA8 pool, level by level from D - 2 up); the finest bricks stay the corner means. With the
 //     node layout the kernel collapses to decimation (the note) and is not applied.
 //   - The probed pixel's cone samples and descents are recorded by a second program of the same
-//     shader (SVO_RECORD_PROBE, one invocation that traces that pixel again): llvmpipe runs a
+//     shader (the recorder, common/probe_recorder.glsl: one invocation that traces that pixel again): llvmpipe runs a
 //     branch that depends on the invocation masked in all of them, so a per-pixel "record" flag
 //     made every pixel pay for the recording (a brick sample per descent level): 3x the cone
 //     trace's time (docs/performance.md, svo).
