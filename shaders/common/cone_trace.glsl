@@ -20,11 +20,10 @@ layout(binding = 0) uniform sampler3D u_radiance;   // isotropic: every level; a
 layout(binding = 8) uniform sampler3D u_dirX;
 layout(binding = 9) uniform sampler3D u_dirY;
 layout(binding = 10) uniform sampler3D u_dirZ;
-// Anisotropic levels 1..: the opacity a cone travelling along +x, +y, +z sees (r, g, b of
-// u_opacityPos) or along -x, -y, -z (u_opacityNeg); the directional volumes' alpha is the coverage
+// Anisotropic levels 1..: the opacity of the voxels as solid cubes a cone travelling along x, y, z
+// sees (r, g, b), the same travelling either way; the directional volumes' alpha is the coverage
 // of the surfaces' fronts only (vct_grid/mipmap_anisotropic.comp.glsl).
-layout(binding = 11) uniform sampler3D u_opacityPos;
-layout(binding = 12) uniform sampler3D u_opacityNeg;
+layout(binding = 11) uniform sampler3D u_solidOpacity;
 // Which volumes a sample reads, fixed per program by the stage's defines (vct_grid/stages.h,
 // coneVolumeDefines): llvmpipe runs both sides of every branch, so with these as uniforms every
 // sample also paid for the lookups of the modes not chosen. Without defines: the defaults.
@@ -92,7 +91,7 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out 
     solid = s.a;
     return s;
   }
-  g_fetches += (phase == 1 ? 4u : 3u) + (wantSolid ? 2u : 0u);
+  g_fetches += (phase == 1 ? 4u : 3u) + (wantSolid ? 1u : 0u);
   vec3 w = anisotropicWeights(dir);
   // In the fade (lod < 1) the directional lod is 0: one level, one texture read per volume.
   float l = phase == 1 ? 0.0 : max(lod - 1.0, 0.0);
@@ -101,7 +100,7 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out 
   vec4 sz = phase == 1 ? directionalLevel(u_dirZ, uvw, 0, dir.z < 0.0) : directionalLookup(u_dirZ, uvw, l, dir.z < 0.0);
   if (CONE_CLASSIC_DIRECTIONAL != 0) {
     // Crassin's classic blend: the three premultiplied values weighted by dir^2; opacity is theirs.
-    if (wantSolid) g_fetches -= 2u;  // no solid-opacity lookups
+    if (wantSolid) g_fetches -= 1u;  // no solid-opacity lookup
     vec4 classic = w.x * sx + w.y * sy + w.z * sz;
     solid = classic.a;
     if (phase == 2) return classic;
@@ -112,14 +111,11 @@ vec4 sampleVolume(vec3 uvw, float lod, vec3 dir, int phase, bool wantSolid, out 
   // The volumes show only the fronts of the surfaces they see (common/facing.glsl, seenFronts).
   vec4 a = seenFronts(w, sx, sy, sz);
   // What blocks a ray whichever way its surfaces face (ambient occlusion, cone-traced shadows): the
-  // voxels as solid cubes, their directional opacity blended as the opacities were before the
-  // volumes kept the fronts apart (the sign differs between pixels: both signs, one lookup each).
+  // voxels as solid cubes, their opacity along each axis blended as the opacities were before the
+  // volumes kept the fronts apart (one lookup: the same whichever sign the cone travels).
   // Not wanted (the cone is past its occlusion range and only gathers radiance): not read at all.
   solid = 0.0;
-  if (wantSolid) {
-    vec3 blocking = mix(textureLod(u_opacityPos, uvw, l).rgb, textureLod(u_opacityNeg, uvw, l).rgb, lessThan(dir, vec3(0.0)));
-    solid = dot(w, blocking);
-  }
+  if (wantSolid) solid = dot(w, textureLod(u_solidOpacity, uvw, l).rgb);
   if (phase == 2) return a;
   vec4 iso = textureLod(u_radiance, uvw, 0.0);
   solid = mix(iso.a, solid, lod);

@@ -25,9 +25,9 @@
 // numbers are those of the isotropic bricks above the voxels (1 + the node's tile), so one brick
 // number addresses both pools. Trilinear filtering inside a directional brick then equals
 // vct-grid's trilinear sample of its directional volume of that level inside the node. With
-// kFronts = 1 (mipmap.fronts) the same bricks of a third pool (u_opacityPool, RGBA8, two parts)
-// hold the nodes' solid opacity seen travelling +x, +y, +z and -x, -y, -z (rgb), as vct-grid's
-// opacity volumes.
+// kFronts = 1 (mipmap.fronts) the same bricks of a third pool (u_opacityPool, RGBA8, one part)
+// hold the nodes' solid opacity seen along x, y, z (rgb, either way), as vct-grid's solid-opacity
+// volume.
 // The pools' image format: rgba8 unless the stage defines VOXLAB_GRID_FORMAT (voxel.format=rgba16f
 // with Layout T). With SVO_SCALED_BRICKS (voxel.format=rgba16f, Layout N) the pools stay RGBA8 and
 // every brick stores its radiance divided by its own scale, the largest radiance channel of its 27
@@ -168,17 +168,17 @@ uint childTile(uint around[27], ivec3 pc, ivec3 m, int childCells) {
   return grandchild == 0u ? SVO_ABSENT : (grandchild - 1u) / 8u;
 }
 
-// The directional bricks of brick b (and with the fronts rule its two solid-opacity bricks), from
+// The directional bricks of brick b (and with the fronts rule its solid-opacity brick), from
 // the tiles of the node's 3x3x3 same-level cells.
 void directionalBricks(uint b, uint tiles[27]) {
-  for (int d = 0; d < (kFronts == 1 ? 8 : 6); ++d) {
+  for (int d = 0; d < (kFronts == 1 ? 7 : 6); ++d) {
     vec4 nb[27];
     for (int j = 0; j < 27; ++j)
       nb[j] = tiles[j] == SVO_ABSENT ? vec4(0.0) : directional[SVO_DIRECTIONAL_RECORD * tiles[j] + uint(d)];
     borderMeans(nb);
     if (d < 6) scaleBrick(nb, b, uint(1 + d));
-    if (d >= 6) {
-      ivec3 origin = directionalOrigin(b, d - 6);
+    if (d == 6) {
+      ivec3 origin = directionalOrigin(b, 0);
       for (int t = 0; t < 27; ++t) imageStore(u_opacityPool, origin + ivec3(t % 3, (t / 3) % 3, t / 9), nb[t]);
       continue;
     }

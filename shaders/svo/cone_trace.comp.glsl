@@ -43,7 +43,7 @@ layout(std430, binding = SVO_BINDING_DESCENT) writeonly buffer Descent { SvoDesc
 layout(std430, binding = SVO_BINDING_DESCENT_COUNT) buffer DescentCount { uint descentCount; };
 layout(binding = 0) uniform sampler3D u_brickPool;
 layout(binding = 4) uniform sampler3D u_directionalPool;  // six parts stacked along z: +x -x +y -y +z -z
-// (SVO_FRONTS) the solid opacity travelling +x +y +z and -x -y -z (rgb), two parts, the same bricks
+// (SVO_FRONTS) the solid opacity along x, y, z (rgb, the same either way), the same bricks
 layout(binding = 5) uniform sampler3D u_opacityPool;
 layout(rgba16f, binding = 0) uniform writeonly image2D u_indirectDiffuse;
 layout(rgba16f, binding = 1) uniform writeonly image2D u_indirectSpecular;
@@ -130,7 +130,7 @@ const int kSvoPhaseAbove = 2;
 
 // The directional bricks of 'node' (above the voxels) at v. The +axis or -axis part of each axis is
 // a z offset (the same lookups for every pixel, whatever the sign: no divergent branch on
-// llvmpipe); the solid opacity of both signs is read and the cone's picked per axis.
+// llvmpipe); the solid opacity is one brick, the same travelling either way along an axis.
 Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
   uint b = brickIndex[node];
   if (b == 0u) return kSeenNothing;
@@ -149,10 +149,7 @@ Seen directionalSample(uint node, int level, uvec3 voxel, vec3 v, vec3 dir) {
 #endif
   }
   if (SVO_FRONTS == 1 && g_wantSolid) {
-    vec3 opacitySize = vec3(textureSize(u_opacityPool, 0));
-    vec3 pos = textureLod(u_opacityPool, texel / opacitySize, 0.0).rgb;
-    vec3 neg = textureLod(u_opacityPool, (texel + vec3(0.0, 0.0, part)) / opacitySize, 0.0).rgb;
-    s.solid = mix(pos, neg, lessThan(dir, vec3(0.0)));
+    s.solid = textureLod(u_opacityPool, texel / vec3(textureSize(u_opacityPool, 0)), 0.0).rgb;
   }
   return s;
 }

@@ -8,9 +8,11 @@
 // level 1 from the voxels and every higher level from the level below in the same way.
 // With u_fronts = 1 (mipmap.fronts, the default, vct-grid's rule) a voxel shows its radiance only
 // to the directions that see its surfaces' fronts, with their coverage as alpha (facingLeaf of its
-// facing code, common/facing.glsl), and each node also keeps its solid opacity per direction (the
-// voxels as opaque cubes, composited the same way: records 6 and 7), which ambient occlusion and
-// shadows read; u_fronts = 0 is Crassin's classic rule, every voxel seen from all sides.
+// facing code, common/facing.glsl), and each node also keeps its solid opacity per axis (the
+// voxels as opaque cubes, composited the same way: record 6), which ambient occlusion and shadows
+// read; u_fronts = 0 is Crassin's classic rule, every voxel seen from all sides. One record serves
+// both directions of an axis: opacity alone composited front to back, a0 + (1 - a0) a1 =
+// 1 - (1 - a0)(1 - a1), does not depend on which child is in front (kept: +x, +y, +z's order).
 #include "svo/svo_shared.h"
 
 layout(local_size_x = 64) in;
@@ -51,7 +53,7 @@ void main() {
     uint grandchild = SVO_CHILDREN_ARE_VOXELS == 1 ? 0u : nodes[first + k].word & SVO_CHILD_MASK;
     grandTile[k] = grandchild == 0u ? SVO_ABSENT : tileOf(grandchild);
   }
-  vec3 solidPos = vec3(0.0), solidNeg = vec3(0.0);
+  vec3 solidAxes = vec3(0.0);
   for (int d = 0; d < 6; ++d) {
     vec4 children[8], solid[8];
     for (uint k = 0u; k < 8u; ++k) {
@@ -64,14 +66,12 @@ void main() {
       } else {
         uint record = SVO_DIRECTIONAL_RECORD * grandTile[k];
         children[k] = directional[record + uint(d)];
-        solid[k] = vec4(directional[record + 6u + uint(d & 1)][d >> 1]);
+        solid[k] = vec4(directional[record + 6u][d >> 1]);
       }
     }
     directional[SVO_DIRECTIONAL_RECORD * tile + uint(d)] = anisotropicReduce(children, d);
-    if (u_fronts == 0) continue;
-    float a = anisotropicReduce(solid, d).a;
-    if ((d & 1) == 0) solidPos[d >> 1] = a; else solidNeg[d >> 1] = a;
+    if (u_fronts == 0 || (d & 1) == 1) continue;
+    solidAxes[d >> 1] = anisotropicReduce(solid, d).a;
   }
-  directional[SVO_DIRECTIONAL_RECORD * tile + 6u] = vec4(solidPos, 1.0);
-  directional[SVO_DIRECTIONAL_RECORD * tile + 7u] = vec4(solidNeg, 1.0);
+  directional[SVO_DIRECTIONAL_RECORD * tile + 6u] = vec4(solidAxes, 1.0);
 }

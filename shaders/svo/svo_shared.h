@@ -85,10 +85,10 @@ struct SvoPickedNode {
 #define SVO_BINDING_PICKED 21       // SvoPickedNode: the picked node
 // vec4[SVO_DIRECTIONAL_RECORD] per node with children (indexed by its tile, (first child - 1) / 8):
 // the node as seen by a cone travelling along +x, -x, +y, -y, +z, -z (anisotropic mips,
-// common/anisotropic_mip.glsl), then its solid opacity seen travelling +x, +y, +z (rgb of record 6)
-// and -x, -y, -z (record 7; mipmap.fronts, where the six hold the surfaces' fronts only)
+// common/anisotropic_mip.glsl), then its solid opacity seen along x, y, z (rgb of record 6, the
+// same travelling either way; mipmap.fronts, where the six hold the surfaces' fronts only)
 #define SVO_BINDING_DIRECTIONAL_VALUES 22
-SVO_CONST uint SVO_DIRECTIONAL_RECORD = 8u;
+SVO_CONST uint SVO_DIRECTIONAL_RECORD = 7u;
 // uint per node: its leaf's facing code, the OR of its fragments' (common/facing.glsl)
 #define SVO_BINDING_LEAF_FACING 23
 // float[8] per brick number (HDR bricks of Layout N, SVO_SCALED_BRICKS): the scale of its isotropic

@@ -17,8 +17,11 @@
 //    back by that coverage, so a cone travelling up sees the underside of a ceiling slab, never
 //    its sun-lit top, and the volume that sees a slab edge-on holds neither face: averaging both
 //    there let the sun-lit outside of a closed room leak in;
-//  - the solid opacity (u_opacityPos/Neg, one channel per axis: +x +y +z and -x -y -z): a voxel
-//    is a cube, opaque from every direction; ambient occlusion and cone-traced shadows read it.
+//  - the solid opacity (u_solidOpacity, one channel per axis: x, y, z): a voxel is a cube, opaque
+//    from every direction; ambient occlusion and cone-traced shadows read it. One volume serves
+//    both directions of an axis: opacity alone composited front to back, a0 + (1 - a0) a1 =
+//    1 - (1 - a0)(1 - a1), does not depend on which child is in front (stored: the smaller
+//    coordinate in front, as +x, +y, +z composite).
 // The cone sampler combines both (common/cone_trace.glsl, sampleVolume).
 // Cost on llvmpipe: every child index below is a constant and each direction is written out (no
 // loop over directions, no array indexed by a variable, no branch on a uniform): llvmpipe runs
@@ -41,16 +44,14 @@ layout(binding = 4) uniform sampler3D u_dir3;
 layout(binding = 5) uniform sampler3D u_dir4;
 layout(binding = 6) uniform sampler3D u_dir5;
 layout(binding = 7) uniform usampler3D u_facing;  // level 0: the voxels' facing codes
-layout(binding = 8) uniform sampler3D u_opacityPos;  // opacity seen travelling +x, +y, +z (rgb)
-layout(binding = 9) uniform sampler3D u_opacityNeg;  // travelling -x, -y, -z
+layout(binding = 8) uniform sampler3D u_solidOpacity;  // opacity seen along x, y, z (rgb), either way
 layout(VOXLAB_GRID_FORMAT, binding = 0) uniform writeonly image3D u_target0;
 layout(VOXLAB_GRID_FORMAT, binding = 1) uniform writeonly image3D u_target1;
 layout(VOXLAB_GRID_FORMAT, binding = 2) uniform writeonly image3D u_target2;
 layout(VOXLAB_GRID_FORMAT, binding = 3) uniform writeonly image3D u_target3;
 layout(VOXLAB_GRID_FORMAT, binding = 4) uniform writeonly image3D u_target4;
 layout(VOXLAB_GRID_FORMAT, binding = 5) uniform writeonly image3D u_target5;
-layout(rgba8, binding = 6) uniform writeonly image3D u_opacityPosTarget;
-layout(rgba8, binding = 7) uniform writeonly image3D u_opacityNegTarget;
+layout(rgba8, binding = 6) uniform writeonly image3D u_solidOpacityTarget;
 #ifdef VOXLAB_MIP_FROM_VOXELS
 layout(VOXLAB_GRID_FORMAT, binding = 8) uniform writeonly image3D u_isotropicTarget;  // level 1 of the grid
 #endif
@@ -67,7 +68,7 @@ struct Seen { vec4 fronts; float opacity; };
 // opacities above), not once per direction.
 vec4 g_voxel[8];
 uint g_code[8];
-vec3 g_opacityPos[8], g_opacityNeg[8];
+vec3 g_solidOpacity[8];
 ivec3 g_base;
 
 ivec3 childAt(int k) { return g_base + ivec3(k & 1, (k >> 1) & 1, k >> 2); }
@@ -79,7 +80,7 @@ Seen child(int d, int k) {
   return Seen(u_classicDirectional != 0 ? voxel : facingLeaf(voxel, g_code[k], d), voxel.a);
 #else
   const ivec3 v = childAt(k);
-  const float a = ((d & 1) == 0 ? g_opacityPos[k] : g_opacityNeg[k])[d >> 1];
+  const float a = g_solidOpacity[k][d >> 1];
   switch (d) {
     case 0: return Seen(texelFetch(u_dir0, v, u_sourceLevel), a);
     case 1: return Seen(texelFetch(u_dir1, v, u_sourceLevel), a);
@@ -127,8 +128,7 @@ void fetchChild(int k) {
   g_voxel[k] = texelFetch(u_isotropic, c, 0);
   g_code[k] = u_classicDirectional != 0 ? 0u : texelFetch(u_facing, c, 0).r;
 #else
-  g_opacityPos[k] = texelFetch(u_opacityPos, c, u_sourceLevel).rgb;
-  g_opacityNeg[k] = texelFetch(u_opacityNeg, c, u_sourceLevel).rgb;
+  g_solidOpacity[k] = texelFetch(u_solidOpacity, c, u_sourceLevel).rgb;
 #endif
 }
 
@@ -152,7 +152,7 @@ void main() {
   imageStore(u_target4, v, s4.fronts);
   imageStore(u_target5, v, s5.fronts);
   if (u_writeOpacity != 0) {
-    imageStore(u_opacityPosTarget, v, vec4(s0.opacity, s2.opacity, s4.opacity, 1.0));
-    imageStore(u_opacityNegTarget, v, vec4(s1.opacity, s3.opacity, s5.opacity, 1.0));
+    // +x, +y, +z composite the smaller coordinate in front; -x, -y, -z give the same opacity.
+    imageStore(u_solidOpacityTarget, v, vec4(s0.opacity, s2.opacity, s4.opacity, 1.0));
   }
 }

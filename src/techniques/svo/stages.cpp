@@ -101,7 +101,7 @@ static size_t directionalValueBytes(uint32_t nodes) {
 static ParamDesc frontsParam() {
   return ParamDesc::boolean("mipmap.fronts", true,
                             "directional bricks show a voxel's light only to the directions that see its surfaces' "
-                            "fronts, its opacity kept apart as a solid cube's in two more RGBA8 bricks per node (vct-grid's "
+                            "fronts, its opacity kept apart as a solid cube's in one more RGBA8 brick per node (vct-grid's "
                             "rule; false: Crassin's classic reduction, every voxel seen from all sides)");
 }
 // The fronts rule is in use: directional bricks whose alpha is the fronts' coverage, and the solid
@@ -530,13 +530,14 @@ void MipmapStage::declare(StageBuilder& b) const {
       .onDemand = true;  // a view for the viewer and the tests: nothing later reads it
   BufferLayout directional;
   directional.stride = SVO_DIRECTIONAL_RECORD * 16;
-  const char* names[SVO_DIRECTIONAL_RECORD] = {"+x", "-x", "+y", "-y", "+z", "-z", "solid +x+y+z", "solid -x-y-z"};
+  const char* names[SVO_DIRECTIONAL_RECORD] = {"+x", "-x", "+y", "-y", "+z", "-z", "solid x y z"};
   for (uint32_t d = 0; d < SVO_DIRECTIONAL_RECORD; ++d)
     directional.fields.push_back({names[d], FieldType::Vec4, 16 * d, FieldRole::Color});
   b.output("svo-directional-values", OutputKind::Buffer, Semantic::Color,
            "per node with children, in the order of their tiles: the node as seen by a cone travelling along +x, -x, "
            "+y, -y, +z, -z (anisotropic mips; with mipmap.fronts the fronts only), then its solid opacity seen "
-           "travelling +x, +y, +z and -x, -y, -z (rgb; mipmap.fronts); one empty record with mipmap.mode=isotropic")
+           "along x, y, z (rgb, the same travelling either way; mipmap.fronts); one empty record with "
+           "mipmap.mode=isotropic")
       .layout = directional;
   b.buffer("svo-values", [](const ParamSet&, const ViewState&) { return perNodeStart(16); }, /*pool=*/true);
   b.buffer("svo-directional-values", [](const ParamSet&, const ViewState&) { return directionalValueBytes(1); },
@@ -625,14 +626,11 @@ static TextureDesc directionalPoolDesc(uint32_t bricks, const ParamSet& p) {
   d.size.z *= 6;
   return d;
 }
-// The solid-opacity bricks (mipmap.fronts) of the same bricks: two parts stacked along z, the
-// opacity seen travelling +x, +y, +z and -x, -y, -z (rgb). Opacity lies in [0, 1]: RGBA8, as
-// vct-grid's opacity volumes (and llvmpipe filters RGBA8 faster than half floats).
-static TextureDesc opacityPoolDesc(uint32_t bricks) {
-  TextureDesc d = brickPoolDesc(bricks, GL_RGBA8);
-  d.size.z *= 2;
-  return d;
-}
+// The solid-opacity bricks (mipmap.fronts) of the same bricks, laid out as one part of the
+// directional pool: the opacity seen along x, y, z (rgb, the same travelling either way). Opacity
+// lies in [0, 1]: RGBA8, as vct-grid's solid-opacity volume (and llvmpipe filters RGBA8 faster than
+// half floats).
+static TextureDesc opacityPoolDesc(uint32_t bricks) { return brickPoolDesc(bricks, GL_RGBA8); }
 
 void BricksStage::declare(StageBuilder& b) const {
   b.param(voxelResolutionParam());
@@ -663,9 +661,9 @@ void BricksStage::declare(StageBuilder& b) const {
            "travelling that way (with mipmap.fronts the fronts only), borders = means of the nodes sharing the texel "
            "(one empty brick when isotropic)");
   b.output("svo-opacity-bricks", OutputKind::Volume3D, Semantic::Color,
-           "the solid-opacity bricks (mipmap.fronts): two parts stacked along z, the opacity of the voxels as cubes "
-           "seen travelling +x, +y, +z and -x, -y, -z (rgb), laid out as the directional bricks (one empty brick "
-           "without the fronts rule)");
+           "the solid-opacity bricks (mipmap.fronts): the opacity of the voxels as cubes seen along x, y, z (rgb, the "
+           "same travelling either way), laid out as one part of the directional bricks (one empty brick without "
+           "the fronts rule)");
   b.texture("svo-brick-pool", [](const ParamSet& p, const ViewState&) { return brickPoolDesc(2, brickFormat(p)); },
             /*pool=*/true);
   b.texture("svo-directional-bricks", [](const ParamSet& p, const ViewState&) { return directionalPoolDesc(1, p); },

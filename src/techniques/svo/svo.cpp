@@ -10,7 +10,7 @@
 //   mips, Crassin et al. 2011, with vct-grid's fronts rule: a direction sees a voxel's light only
 //   where it sees its surfaces' fronts, and the voxels' solid opacity is kept apart for ambient
 //   occlusion and shadows): each node above the voxels has six more bricks, one per direction, and
-//   two of solid opacity (RGBA8); a cone sample descends from the root to the level of its diameter and
+//   one of solid opacity (RGBA8); a cone sample descends from the root to the level of its diameter and
 //   blends two levels (quadrilinear), reading the directional bricks that face the cone and
 //   combining them as vct-grid's cone tracer does. The cone model is vct-grid's; only where the
 //   voxels live differs. Empty space costs no nodes below the level where it becomes empty.
@@ -43,8 +43,8 @@
 //                      (svo.layout=tile: one per subdivided node, at its children's corners); with
 //                      anisotropic mips six more per tagged node above the voxels, in a second pool
 //                      (svo-directional-bricks), made the same way from the directional values,
-//                      and with mipmap.fronts two of solid opacity along +x+y+z and -x-y-z in a
-//                      third, RGBA8 (svo-opacity-bricks, as vct-grid's opacity volumes)
+//                      and with mipmap.fronts one of solid opacity along x, y, z in a third,
+//                      RGBA8 (svo-opacity-bricks, as vct-grid's solid-opacity volume)
 //      svo-pick        the node under a click on svo-structure (volume probe pick.x/y/z/level):
 //                      box, children, neighbour links, the brick's 27 texels
 //   7. gbuffer         shared
@@ -107,8 +107,8 @@
 //     directional value with the leaf, as vct-grid fades its voxels into directional level 1.
 //   - The fronts rule (mipmap.fronts, the default, vct-grid's): a leaf's facing code says, per
 //     travel direction, how much of its surfaces' fronts a cone sees; the directional values hold
-//     only that (premultiplied radiance and coverage), and two more records per node the solid
-//     opacity (the voxels as cubes) along +x+y+z and -x-y-z. A cone blends each direction's two
+//     only that (premultiplied radiance and coverage), and one more record per node the solid
+//     opacity (the voxels as cubes) along x, y, z, the same either way. A cone blends each direction's two
 //     levels, then combines the three by optical depth (common/facing.glsl, seenFronts,
 //     the code vct-grid's sampler calls); AO and the shadow cone accumulate the solid opacity.
 //     Crassin's classic rule (every voxel seen from all sides) let the sun-lit top of

@@ -54,7 +54,7 @@ std::string bounceDirectionalName(int bounce, int direction) {
 
 void declareGatheredGridReads(StageBuilder& b) {
   b.param(bouncesParam());
-  for (const char* name : kDirectionalOpacity) b.read(name);
+  b.read(kSolidOpacity);
   for (int k = 1; k <= kMaxBounces; ++k) {
     b.read(bounceGridName(k));
     for (int d = 0; d < 6; ++d) b.read(bounceDirectionalName(k, d));
@@ -105,7 +105,7 @@ void bindRadianceGrid(StageContext& ctx, int bounce) {
                         ctx.board.texture(bounceDirectionalName(bounce, 2 * a + 1)), packed);
     glBindTextureUnit(8 + a, packed.id());
   }
-  for (int sign = 0; sign < 2; ++sign) glBindTextureUnit(11 + sign, ctx.board.texture(kDirectionalOpacity[sign]).id());
+  glBindTextureUnit(11, ctx.board.texture(kSolidOpacity).id());
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
@@ -157,7 +157,7 @@ void BounceStage::declare(StageBuilder& b) const {
   b.read("fragments.count");
   b.read("radiance-opaque");
   b.read(kVoxelFacing);
-  for (const char* name : kDirectionalOpacity) b.read(name);
+  b.read(kSolidOpacity);
   b.read("radiance");
   for (const char* name : kDirectionalVolumes) b.read(name);
   for (const char* name : kBounceSums) {

@@ -234,7 +234,6 @@ void OcclusionFixStage::execute(StageContext& ctx) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
-const char* const kDirectionalOpacity[2] = {"opacity-dir+", "opacity-dir-"};
 const char* const kDirectionalVolumes[6] = {"radiance-dir+x", "radiance-dir-x", "radiance-dir+y",
                                            "radiance-dir-y", "radiance-dir+z", "radiance-dir-z"};
 
@@ -327,17 +326,15 @@ void MipmapStage::declare(StageBuilder& b) const {
              "anisotropic levels 1.. as seen by a cone travelling along " + std::string(name).substr(prefix.size()) +
                  " (one voxel, empty, when mipmap.mode is isotropic)")
         .placeholderUnless = "mipmap.mode=anisotropic";
-  for (int sign = 0; sign < 2; ++sign)
-    b.output(kDirectionalOpacity[sign], OutputKind::Volume3D, Semantic::Color,
-             std::string("anisotropic levels 1..: opacity seen by a cone travelling along ") +
-                 (sign == 0 ? "+x, +y, +z" : "-x, -y, -z") + " in red, green, blue (the directional volumes' alpha is "
-                 "the coverage of the surfaces' fronts only)")
-        .placeholderUnless = "mipmap.mode=anisotropic";
+  b.output(kSolidOpacity, OutputKind::Volume3D, Semantic::Color,
+           "anisotropic levels 1..: the opacity of the voxels as solid cubes seen by a cone travelling along x, y, z "
+           "in red, green, blue, either way (opacity alone composited front to back does not depend on the order; "
+           "the directional volumes' alpha is the coverage of the surfaces' fronts only)")
+      .placeholderUnless = "mipmap.mode=anisotropic";
   b.texture("radiance", [](const ParamSet& p, const ViewState&) {
     return radianceGridDesc(p.getInt("voxel.resolution"), 0, gridFormat(p));
   });
-  for (const char* name : kDirectionalOpacity)
-    b.texture(name, [](const ParamSet& p, const ViewState&) { return radianceGridDesc(directionalSize(p), 0, GL_RGBA8); });
+  b.texture(kSolidOpacity, [](const ParamSet& p, const ViewState&) { return radianceGridDesc(directionalSize(p), 0, GL_RGBA8); });
   for (const char* name : kDirectionalVolumes)
     b.texture(name, [](const ParamSet& p, const ViewState&) {
       return radianceGridDesc(directionalSize(p), 0, gridFormat(p));
@@ -373,11 +370,11 @@ void MipmapStage::execute(StageContext& ctx) {
   Texture* dirs[6];
   for (int d = 0; d < 6; ++d)
     dirs[d] = &ctx.board.ensureTexture(kDirectionalVolumes[d], radianceGridDesc(half, 0, format));
-  for (const char* name : kDirectionalOpacity) ctx.board.ensureTexture(name, radianceGridDesc(half, 0, GL_RGBA8));
+  ctx.board.ensureTexture(kSolidOpacity, radianceGridDesc(half, 0, GL_RGBA8));
   buildMipLevel(ctx, src, grid, dirs, ctx.iteration, true);
   double bytes = double(grid.byteSize());
   for (auto* d : dirs) bytes += double(d->byteSize());
-  for (const char* name : kDirectionalOpacity) bytes += double(ctx.board.texture(name).byteSize());
+  bytes += double(ctx.board.texture(kSolidOpacity).byteSize());
   ctx.stats["levels"] = grid.levels();
   ctx.stats["levels_built"] = std::min(ctx.iteration + 2, grid.levels());
   ctx.stats["anisotropic"] = ctx.params.getChoice("mipmap.mode") == "anisotropic" ? 1 : 0;
@@ -402,9 +399,8 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     // occupied voxel under them, mip_blocks.glsl) get that alpha from the clear.
     const uint8_t noOpacity[4] = {0, 0, 0, uint8_t(anisotropic ? 255 : 0)};
     if (writeOpacity)
-      for (const char* name : kDirectionalOpacity)
-        for (int level = 0; level < ctx.board.texture(name).levels(); ++level)
-          glClearTexImage(ctx.board.texture(name).id(), level, GL_RGBA, GL_UNSIGNED_BYTE, noOpacity);
+      for (int level = 0; level < ctx.board.texture(kSolidOpacity).levels(); ++level)
+        glClearTexImage(ctx.board.texture(kSolidOpacity).id(), level, GL_RGBA, GL_UNSIGNED_BYTE, noOpacity);
   }
 
   const auto [blockCount, blockOffset] = listMipBlocks(ctx, res, k);
@@ -433,17 +429,14 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
     glBindTextureUnit(0, src.id());
     for (int d = 0; d < 6; ++d) glBindTextureUnit(1 + d, dirs[d]->id());
     glBindTextureUnit(7, ctx.board.texture(kVoxelFacing).id());
-    Texture& opacityPos = ctx.board.texture(kDirectionalOpacity[0]);
-    Texture& opacityNeg = ctx.board.texture(kDirectionalOpacity[1]);
-    glBindTextureUnit(8, opacityPos.id());
-    glBindTextureUnit(9, opacityNeg.id());
+    Texture& solidOpacity = ctx.board.texture(kSolidOpacity);
+    glBindTextureUnit(8, solidOpacity.id());
     setUniform(aniso, "u_sourceLevel", std::max(k - 1, 0));
     setUniform(aniso, "u_writeOpacity", writeOpacity ? 1 : 0);
     setUniform(aniso, "u_classicDirectional", ctx.params.getBool("mipmap.fronts") ? 0 : 1);
     for (int d = 0; d < 6; ++d) glBindImageTexture(d, dirs[d]->id(), k, GL_TRUE, 0, GL_WRITE_ONLY, dirs[d]->desc().format);
-    // Level k of the opacity volumes: written only with u_writeOpacity (a bounce's re-mip reads them).
-    glBindImageTexture(6, opacityPos.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    glBindImageTexture(7, opacityNeg.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    // Level k of the solid opacity: written only with u_writeOpacity (a bounce's re-mip reads it).
+    glBindImageTexture(6, solidOpacity.id(), k, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     if (levelOneFromVoxels) glBindImageTexture(8, grid.id(), 1, GL_TRUE, 0, GL_WRITE_ONLY, grid.desc().format);
     setUniform(aniso, "u_blockOffset", blockOffset);
     setUniform(aniso, "u_blockCount", blockCount);

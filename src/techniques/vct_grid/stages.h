@@ -29,7 +29,7 @@ float gridMaxRadiance(const ParamSet& p);         // 1 or kHdrMaxRadiance
 // coarser levels and the six directional volumes; then level k+1 of 'grid' is built from level k,
 // and with mipmap.mode=anisotropic level k of 'dirs' (built from level 0 of 'src' when k = 0,
 // each leaf seen per direction as its facing code in kVoxelFacing says) and, when
-// 'writeOpacity', level k of the directional opacity volumes (kDirectionalOpacity; a bounce's
+// 'writeOpacity', level k of the solid-opacity volume (kSolidOpacity; a bounce's
 // grid has the mip stage's geometry, so it reads them). Level 0 of 'src' must be empty outside the
 // voxel fragments' voxels: each level visits only the texels with a fragment's voxel under them
 // (shaders/vct_grid/mip_blocks.glsl) and leaves the others as cleared.
@@ -37,10 +37,12 @@ void buildMipLevel(StageContext& ctx, Texture& src, Texture& grid, Texture* cons
 // The inject stage's R32UI volume: per voxel, the facing code of its fragments' normals
 // (shaders/common/facing.glsl): per travel direction, how much of its surfaces' fronts is seen.
 inline constexpr const char* kVoxelFacing = "voxel-facing";
-// The mip stage's directional opacity (RGBA8, the directional volumes' size and levels): [0] the
-// opacity seen travelling +x, +y, +z in r, g, b, [1] travelling -x, -y, -z. The directional
-// volumes' alpha is the coverage of the surfaces' fronts only (mipmap_anisotropic.comp.glsl).
-extern const char* const kDirectionalOpacity[2];
+// The mip stage's solid opacity (RGBA8, the directional volumes' size and levels): the opacity of
+// the voxels as solid cubes seen along x, y, z in r, g, b. One volume serves both travel directions
+// of an axis: opacity alone composited front to back, 1 - (1 - a0)(1 - a1), does not depend on
+// which child is in front. The directional volumes' alpha is the coverage of the surfaces' fronts
+// only (mipmap_anisotropic.comp.glsl).
+inline constexpr const char* kSolidOpacity = "solid-opacity";
 
 // Indirect bounces (bounce_stage.cpp): the parameter, the volumes each bounce's grid is made of,
 // and the grid the cones gather from (the mip stage's when bounces = 1, else the last bounce's).
