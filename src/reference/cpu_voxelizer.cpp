@@ -50,6 +50,26 @@ bool triangleOverlapsBox(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
   return true;
 }
 
+// triangleOverlapsBox for a box whose column along axis w lies wholly inside the triangle's
+// projection along w (every face of the column's square at least kInsideMargin inside each edge):
+// there the triangle fills the column, so it meets the box exactly where its plane does, and of
+// the 13 axes only the plane's and w's can separate (the box axes u and v and the nine edge axes
+// project to the edge tests, which the column passes by the margin). Both are computed with the
+// expressions of triangleOverlapsBox, so a tie on a face resolves the same way.
+static bool triangleOverlapsBoxInFilledColumn(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                                              const glm::dvec3& center, const glm::dvec3& h, int w) {
+  glm::dvec3 v0 = a - center, v1 = b - center, v2 = c - center;
+  glm::dvec3 unit(0.0);
+  unit[w] = 1.0;
+  if (separatedOn(unit, v0, v1, v2, h)) return false;
+  return !separatedOn(glm::cross(v1 - v0, v2 - v1), v0, v1, v2, h);
+}
+
+// How far inside every edge of the triangle's projection a column's square must lie for
+// triangleOverlapsBoxInFilledColumn: voxel coordinates reach 1024, where doubles resolve about
+// 1e-13, so 1e-6 voxels leaves the squares near an edge to the full test whatever the rounding.
+constexpr double kInsideMargin = 1e-6;
+
 // Calls visit(key) for every (triangle, voxel) pair of triangles first, first + stride, ...
 template <typename Visit>
 static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, const AlphaCoverage& coverage,
@@ -81,18 +101,33 @@ static void forEachReferencePair(const Scene& scene, const VoxelSpace& space, co
     const int w = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
     const int axisU = (w + 1) % 3, axisV = (w + 2) % 3;
     const double r = 0.5 * (an.x + an.y + an.z), planeD = glm::dot(n, v[0]);
+    // The projection along w: a column's square is inside an edge k when the edge function,
+    // oriented so that the triangle is on its positive side, is positive at all four corners: at
+    // the centre less half the sum of the edge's two components.
+    const glm::dvec2 p[3] = {{v[0][axisU], v[0][axisV]}, {v[1][axisU], v[1][axisV]}, {v[2][axisU], v[2][axisV]}};
+    const double orientation = n[w] > 0.0 ? 1.0 : -1.0;
     for (int cu = a[axisU]; cu <= b[axisU]; ++cu)
       for (int cv = a[axisV]; cv <= b[axisV]; ++cv) {
         const double rest = planeD - n[axisU] * (cu + 0.5) - n[axisV] * (cv + 0.5);
         const double c0 = (rest - r) / n[w], c1 = (rest + r) / n[w];
         const int w0 = std::max(a[w], int(std::floor(std::min(c0, c1) - 0.5)) - 1);
         const int w1 = std::min(b[w], int(std::ceil(std::max(c0, c1) - 0.5)) + 1);
+        const glm::dvec2 centre(cu + 0.5, cv + 0.5);
+        bool filled = true;
+        for (int k = 0; k < 3; ++k) {
+          const glm::dvec2 e = p[(k + 1) % 3] - p[k], q = centre - p[k];
+          const double inside = orientation * (e.x * q.y - e.y * q.x) - 0.5 * (std::abs(e.x) + std::abs(e.y));
+          filled = filled && inside > kInsideMargin;
+        }
         for (int cw = w0; cw <= w1; ++cw) {
           glm::ivec3 cell;
           cell[w] = cw;
           cell[axisU] = cu;
           cell[axisV] = cv;
-          if (!triangleOverlapsBox(v[0], v[1], v[2], glm::dvec3(cell) + half, half)) continue;
+          const glm::dvec3 boxCentre = glm::dvec3(cell) + half;
+          if (filled ? !triangleOverlapsBoxInFilledColumn(v[0], v[1], v[2], boxCentre, half, w)
+                     : !triangleOverlapsBox(v[0], v[1], v[2], boxCentre, half))
+            continue;
           if (masked && !coverageAt(coverage, material, level, f[0], f[1], f[2], uv[0], uv[1], uv[2], cell))
             continue;
           visit(packVoxelKey(cell.x, cell.y, cell.z));
