@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/command.h"
+#include "app/huge_pages.h"
 #include "core/error.h"
 #include "gpu/gl_debug.h"
 
@@ -32,6 +33,7 @@ static void printUsage() {
 }
 
 int main(int argc, char** argv) {
+  voxlab::restartWithHugePagesIfUseful(argv);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     printUsage();
