@@ -483,7 +483,12 @@ void UpdateStage::execute(StageContext& ctx) {
   setClipUniforms(guards, layout, after);
   glUseProgram(guards);
   glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
-  dispatchCompute(atlas.desc().size, {4, 4, 4});
+  {
+    // One invocation per guard texel (guards.comp.glsl): B^3 - N^3 per block of B = N + 2 a side.
+    const glm::ivec3 size = atlas.desc().size;
+    const int64_t b = layout.n + 2, blocks = int64_t(size.x / b) * (size.y / b);
+    dispatchCompute({int(blocks * (b * b * b - int64_t(layout.n) * layout.n * layout.n)), 1, 1}, {64, 1, 1});
+  }
   glMemoryBarrier(kAllShaderWrites);
   glBindImageTexture(0, 0, 0, GL_TRUE, 0, GL_READ_WRITE, atlasFormat(ctx.params));
   const double guardsMs = lap(t);
