@@ -23,8 +23,14 @@ void main() {
   ivec3 phys = toroidalAddress(cell);
   uint i = accumulatorIndex(u_level, phys);
   uint count = accum[i];
+  // The stage cleared every face of the box's cells (update_stages.cpp, clearAtlasCells): an empty
+  // cell, which no direction sees either, is zero already.
+  if (count == 0u) {
+    atomicAdd(counters[5 * u_level + 2], 1u);
+    return;
+  }
   vec4 value = vec4(0.0);
-  if (count > 0u) {
+  {
     // Integer division first: the same sums give the same texel on every run.
     uvec3 mean = uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count;
     value = vec4(vec3(mean) / u_fixedScale, 1.0);

@@ -51,6 +51,29 @@ static std::vector<SlabRecord> slabRecords(const Layout& layout, const std::vect
   return slabs;
 }
 
+// Zeroes every face's texels of the cells of 'box' (level k) in the atlas, the box cut where it
+// wraps past physical texel N - 1: the resolve pass then writes only the cells that hold fragments
+// (an image store costs about as much as a filtered read on llvmpipe, and most cells are empty).
+static void clearAtlasCells(const Texture& atlas, int n, int faces, int k, const Box& box) {
+  const glm::ivec3 t = toroidal(box.lo, n);
+  const int b = n + 2;
+  int starts[3][2], sizes[3][2], pieces[3];
+  for (int i = 0; i < 3; ++i) {
+    const int length = int(box.hi[i] - box.lo[i]);
+    starts[i][0] = t[i];
+    sizes[i][0] = std::min(length, n - t[i]);
+    starts[i][1] = 0;
+    sizes[i][1] = length - sizes[i][0];
+    pieces[i] = sizes[i][1] > 0 ? 2 : 1;
+  }
+  for (int face = 0; face < faces; ++face)
+    for (int px = 0; px < pieces[0]; ++px)
+      for (int py = 0; py < pieces[1]; ++py)
+        for (int pz = 0; pz < pieces[2]; ++pz)
+          glClearTexSubImage(atlas.id(), 0, face * b + 1 + starts[0][px], k * b + 1 + starts[1][py], 1 + starts[2][pz],
+                             sizes[0][px], sizes[1][py], sizes[2][pz], GL_RGBA, GL_FLOAT, nullptr);
+}
+
 static PlanRecord planRecord(uint32_t move, int k, const LevelPlan& p) {
   return {move, uint32_t(k), uint32_t(p.exposedCells), uint32_t(p.directCells), uint32_t(p.coverageChanged),
           uint32_t(p.refilteredCells), {int32_t(p.delta.x), int32_t(p.delta.y), int32_t(p.delta.z)}};
@@ -438,7 +461,9 @@ void UpdateStage::execute(StageContext& ctx) {
       trianglesDispatched += triangles;
     }
     phase(1);
-    // 3. Resolve the sums into the atlas.
+    // 3. Resolve the sums into the atlas: the cells cleared (a full build's covered block too,
+    // which the filter below rewrites), then the occupied ones written.
+    for (const Box& box : boxes[size_t(k)]) clearAtlasCells(atlas, n, faces, k, box);
     glUseProgram(resolve);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, accum.id());     // CLIPMAP_BINDING_ACCUM
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, counters.id());  // CLIPMAP_BINDING_COUNTERS
