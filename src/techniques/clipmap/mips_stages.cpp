@@ -62,12 +62,16 @@ void MipsStage::execute(StageContext& ctx) {
   const double s = layout.voxelSize(last);
   const Cell& o = origins[size_t(last)];
   ctx.board.place("clip-mips", WorldBox{glm::vec3(glm::dvec3(o) * s), glm::vec3(glm::dvec3(o + Cell(layout.n)) * s)});
-  GLuint program = ctx.shaders.program({"clipmap/mips.comp.glsl"}, atlasFormatDefines(ctx.params));
-  setClipUniforms(program, layout, origins);
-  glUseProgram(program);
+  // Mip 0 copies the coarsest clip level, the others reduce the mip below: a program each.
+  GLuint programs[2];
+  for (int copy = 0; copy < 2; ++copy) {
+    programs[copy] = ctx.shaders.program({"clipmap/mips.comp.glsl"},
+                                         atlasFormatDefines(ctx.params) + "#define CLIPMAP_MIP_COPY " + std::to_string(copy) + "\n");
+    setClipUniforms(programs[copy], layout, origins);
+  }
   glBindImageTexture(0, atlas.id(), 0, GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
   for (int m = 0; m < mips.levels(); ++m) {
-    setUniform(program, "u_mode", m == 0 ? 0 : 1);
+    glUseProgram(programs[m == 0 ? 1 : 0]);
     glBindImageTexture(1, mips.id(), std::max(m - 1, 0), GL_TRUE, 0, GL_READ_ONLY, atlasFormat(ctx.params));
     glBindImageTexture(2, mips.id(), m, GL_TRUE, 0, GL_WRITE_ONLY, atlasFormat(ctx.params));
     dispatchCompute(mips.levelSize(m), {4, 4, 4});
