@@ -14,6 +14,7 @@
 #include "common/anisotropic_mip.glsl"
 #include "common/facing.glsl"
 #include "common/step_opacity.glsl"
+#include "common/probe_recorder.glsl"
 // The cone table, apertures, distances and G-buffer samplers; u_startOffset is in voxels of the
 // level at the surface here (the tracer scales it).
 #include "common/cone_setup.glsl"
@@ -263,7 +264,11 @@ ConeResult traceCone(vec3 origin, vec3 dir, float aperture, float start, float m
 }
 
 void main() {
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  // The probed pixel's samples come from the recorder (common/probe_recorder.glsl), which traces
+  // that pixel again: a per-sample record flag cost every pixel its masked stores.
+  const bool record = kRecordProbe;
+  ivec2 px;
+  if (!recorderPixel(u_probePixel, px)) return;
   if (any(greaterThanEqual(px, imageSize(u_indirectDiffuse)))) return;
   // At half resolution each traced pixel shades the top-left G-buffer pixel of its 2x2 block; the
   // composite upsamples along surfaces.
@@ -276,7 +281,6 @@ void main() {
     imageStore(u_levelUsed, px, vec4(-1.0));
     return;
   }
-  bool record = px == u_probePixel;
   vec3 n = normalize(texelFetch(u_normal, g, 0).xyz);
   vec3 albedo = texelFetch(u_albedo, g, 0).rgb;
   int surfaceLevel = finestLevel(pos.xyz);

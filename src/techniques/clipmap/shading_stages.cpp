@@ -9,6 +9,7 @@
 #include "techniques/common/composite_stage.h"
 #include "techniques/common/cone_layout.h"
 #include "techniques/common/cone_setup.h"
+#include "techniques/common/probe_recorder.h"
 #include "techniques/common/sky.h"
 #include "techniques/common/traced_image.h"
 
@@ -137,29 +138,33 @@ void ConeTraceStage::execute(StageContext& ctx) {
   const uint32_t zero = 0;
   sampleCount.upload(&zero, 4);
 
-  GLuint program = ctx.shaders.program({"clipmap/cone_trace.comp.glsl"},
-                                       "#define CLIPMAP_FACES " + std::to_string(facesOf(ctx.params)) + "\n");
-  setClipUniforms(program, layout, origins);
+  // Every pixel, then the probed pixel's samples (common/probe_recorder.glsl).
+  const auto [tracer, recorder] = tracerAndRecorder(ctx.shaders, {"clipmap/cone_trace.comp.glsl"},
+                                                    "#define CLIPMAP_FACES " + std::to_string(facesOf(ctx.params)) + "\n");
   std::vector<glm::vec3> mins(kMaxLevels, glm::vec3(0.0f)), offsets(kMaxLevels, glm::vec3(0.0f));
   for (int k = 0; k < layout.levels; ++k) {
     mins[size_t(k)] = glm::vec3(glm::dvec3(origins[size_t(k)]) * layout.voxelSize(k));
     offsets[size_t(k)] = glm::vec3(toroidal(origins[size_t(k)], layout.n));
   }
-  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelMin"), kMaxLevels, &mins[0].x);
-  glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelToroidal"), kMaxLevels, &offsets[0].x);
   const float coarsestEdge = float(layout.voxelSize(layout.levels - 1) * layout.n);
-  setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
-  setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
-  setUniform(program, "u_frontHold", ctx.params.getFloat("clipmap.front-hold"));
-  setUniform(program, "u_mipLevels", mipCount(layout.n));
   const glm::ivec3 traced = indirect.desc().size;
-  // The start offset is in voxels of the finest level holding the surface (the shader scales it).
-  // The camera at the end of the path (the G-buffer's), for the specular cone's view direction.
-  const glm::ivec2 probe = setConeUniforms(program, ctx.params, pathEndView(ctx.params, ctx.view), 1.0f, coarsestEdge,
-                                           glm::ivec2(traced), kTracedCones.scale(ctx.params));
-  setSkyUniforms(program, ctx.params, ctx.scene);
-  setUniform(program, "u_traceSpecular", traceSpecular ? 1 : 0);
-  glUseProgram(program);
+  glm::ivec2 probe(0);
+  for (GLuint program : {tracer, recorder}) {
+    setClipUniforms(program, layout, origins);
+    glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelMin"), kMaxLevels, &mins[0].x);
+    glProgramUniform3fv(program, glGetUniformLocation(program, "u_levelToroidal"), kMaxLevels, &offsets[0].x);
+    setUniform(program, "u_voxelSize0", float(layout.voxelSize0));
+    setUniform(program, "u_levelBand", ctx.params.getFloat("clipmap.transition-band"));
+    setUniform(program, "u_frontHold", ctx.params.getFloat("clipmap.front-hold"));
+    setUniform(program, "u_mipLevels", mipCount(layout.n));
+    // The start offset is in voxels of the finest level holding the surface (the shader scales it).
+    // The camera at the end of the path (the G-buffer's), for the specular cone's view direction.
+    probe = setConeUniforms(program, ctx.params, pathEndView(ctx.params, ctx.view), 1.0f, coarsestEdge,
+                            glm::ivec2(traced), kTracedCones.scale(ctx.params));
+    setSkyUniforms(program, ctx.params, ctx.scene);
+    setUniform(program, "u_traceSpecular", traceSpecular ? 1 : 0);
+  }
+  glUseProgram(tracer);
   glBindTextureUnit(0, ctx.board.texture("clip-atlas").id());
   glBindTextureUnit(4, ctx.board.texture("clip-mips").id());
   glBindTextureUnit(1, ctx.board.texture("position").id());
@@ -173,6 +178,8 @@ void ConeTraceStage::execute(StageContext& ctx) {
   glBindImageTexture(2, ao.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   glBindImageTexture(3, level.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   dispatchCompute({traced.x, traced.y, 1}, {8, 8, 1});
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  dispatchRecorder(recorder, {8, 8, 1});
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   ctx.stats["diffuse_cones"] = double(ctx.params.getInt("cone.count"));
   ctx.stats["traced_pixels"] = double(traced.x) * traced.y;
