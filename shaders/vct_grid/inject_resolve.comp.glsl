@@ -26,9 +26,9 @@ void main() {
   uint slot = claimedSlots[e];
   ivec3 voxel = ivec3(unpackVoxel10(fragments[slot].position));
   VoxelSums s = slots[slot];
+#ifndef VOXLAB_RESOLVE_FACING_ONLY
   float count = float(s.count);
   vec3 sum = vec3(s.red, s.green, s.blue);
-#ifndef VOXLAB_RESOLVE_FACING_ONLY
   imageStore(u_radiance, voxel, vec4(sum / (count * kFixedPointScale), min(count, 255.0) / 255.0));
 #endif
   imageStore(u_facing, voxel, uvec4(s.facing));
