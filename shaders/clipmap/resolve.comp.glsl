@@ -29,12 +29,9 @@ void main() {
     atomicAdd(counters[5 * u_level + 2], 1u);
     return;
   }
-  vec4 value = vec4(0.0);
-  {
-    // Integer division first: the same sums give the same texel on every run.
-    uvec3 mean = uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count;
-    value = vec4(vec3(mean) / u_fixedScale, 1.0);
-  }
+  // Integer division first: the same sums give the same texel on every run.
+  uvec3 mean = uvec3(accum[i + 1u], accum[i + 2u], accum[i + 3u]) / count;
+  vec4 value = vec4(vec3(mean) / u_fixedScale, 1.0);
   imageStore(u_atlas, atlasTexel(0, u_level, phys), value);
   // Six faces: face 1 + d shows a cone travelling along d the fronts it sees (common/facing.glsl):
   // the mean light of the fragments whose fronts d sees, covering the largest front weight among

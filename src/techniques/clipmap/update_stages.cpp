@@ -5,6 +5,7 @@
 #include "techniques/clipmap/unreached_cells.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 
@@ -23,6 +24,36 @@ namespace voxlab::clipmap {
 static constexpr size_t kMaxSlabsPerLevel = 24;
 static size_t slabBytes(int levels) { return sizeof(SlabRecord) * kMaxSlabsPerLevel * size_t(levels); }
 
+// The physical texels of 'box' along each axis: one run from its toroidal start, or two where it
+// wraps past texel N - 1 (the second from texel 0).
+struct AxisRuns {
+  int start[2], size[2], count;
+};
+static std::array<AxisRuns, 3> toroidalRuns(const Box& box, int n) {
+  const glm::ivec3 t = toroidal(box.lo, n);
+  std::array<AxisRuns, 3> runs;
+  for (int i = 0; i < 3; ++i) {
+    const int length = int(box.hi[i] - box.lo[i]);
+    const int first = std::min(length, n - t[i]);
+    runs[size_t(i)] = {{t[i], 0}, {first, length - first}, length > first ? 2 : 1};
+  }
+  return runs;
+}
+
+// Zeroes every face's texels of the cells of 'box' (level k) in the atlas: the resolve pass then
+// writes only the cells that hold fragments (an image store costs about as much as a filtered read
+// on llvmpipe, and most cells are empty).
+static void clearAtlasCells(const Texture& atlas, int n, int faces, int k, const Box& box) {
+  const std::array<AxisRuns, 3> r = toroidalRuns(box, n);
+  const int b = n + 2;
+  for (int face = 0; face < faces; ++face)
+    for (int x = 0; x < r[0].count; ++x)
+      for (int y = 0; y < r[1].count; ++y)
+        for (int z = 0; z < r[2].count; ++z)
+          glClearTexSubImage(atlas.id(), 0, face * b + 1 + r[0].start[x], k * b + 1 + r[1].start[y], 1 + r[2].start[z],
+                             r[0].size[x], r[1].size[y], r[2].size[z], GL_RGBA, GL_FLOAT, nullptr);
+}
+
 // The records of the boxes a move voxelizes directly (its plans from origins 'before', empty
 // for a full build), with where each lands in the physical texture.
 static std::vector<SlabRecord> slabRecords(const Layout& layout, const std::vector<Cell>& before,
@@ -35,13 +66,13 @@ static std::vector<SlabRecord> slabRecords(const Layout& layout, const std::vect
       SlabRecord r{};
       r.lo = glm::vec4(glm::vec3(glm::dvec3(box.lo) * s), float(k));
       r.hi = glm::vec4(glm::vec3(glm::dvec3(box.hi) * s), float(box.volume()));
-      const glm::ivec3 t = toroidal(box.lo, layout.n);
+      const std::array<AxisRuns, 3> runs = toroidalRuns(box, layout.n);
       int pieces = 1;
       for (int i = 0; i < 3; ++i) {
         r.cellLo[i] = int32_t(box.lo[i]);
         r.cellHi[i] = int32_t(box.hi[i]);
-        r.physLo[i] = t[i];
-        if (int64_t(t[i]) + (box.hi[i] - box.lo[i]) > layout.n) pieces *= 2;  // wraps past texel N-1
+        r.physLo[i] = runs[size_t(i)].start[0];
+        pieces *= runs[size_t(i)].count;  // two where it wraps past texel N-1
       }
       r.cellLo[3] = previous.contains(box.lo) ? 1 : 0;
       r.physLo[3] = pieces;
@@ -49,29 +80,6 @@ static std::vector<SlabRecord> slabRecords(const Layout& layout, const std::vect
     }
   }
   return slabs;
-}
-
-// Zeroes every face's texels of the cells of 'box' (level k) in the atlas, the box cut where it
-// wraps past physical texel N - 1: the resolve pass then writes only the cells that hold fragments
-// (an image store costs about as much as a filtered read on llvmpipe, and most cells are empty).
-static void clearAtlasCells(const Texture& atlas, int n, int faces, int k, const Box& box) {
-  const glm::ivec3 t = toroidal(box.lo, n);
-  const int b = n + 2;
-  int starts[3][2], sizes[3][2], pieces[3];
-  for (int i = 0; i < 3; ++i) {
-    const int length = int(box.hi[i] - box.lo[i]);
-    starts[i][0] = t[i];
-    sizes[i][0] = std::min(length, n - t[i]);
-    starts[i][1] = 0;
-    sizes[i][1] = length - sizes[i][0];
-    pieces[i] = sizes[i][1] > 0 ? 2 : 1;
-  }
-  for (int face = 0; face < faces; ++face)
-    for (int px = 0; px < pieces[0]; ++px)
-      for (int py = 0; py < pieces[1]; ++py)
-        for (int pz = 0; pz < pieces[2]; ++pz)
-          glClearTexSubImage(atlas.id(), 0, face * b + 1 + starts[0][px], k * b + 1 + starts[1][py], 1 + starts[2][pz],
-                             sizes[0][px], sizes[1][py], sizes[2][pz], GL_RGBA, GL_FLOAT, nullptr);
 }
 
 static PlanRecord planRecord(uint32_t move, int k, const LevelPlan& p) {
