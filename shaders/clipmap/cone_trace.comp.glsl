@@ -37,7 +37,8 @@ uniform float u_voxelSize0;                        // s_0
 // CLIPMAP_FACES), so a sample runs one mode's lookups only (llvmpipe runs both sides of a branch on
 // a uniform).
 const int kFaces = CLIPMAP_FACES;
-uniform int u_mipLevels;                           // mips of the coarsest level beyond it
+uniform int u_mipLevels;                           // mips of the coarsest level beyond it: at least 1
+                                                   // (N >= 8, src/techniques/clipmap/layout.cpp, mipCount)
 uniform float u_stepScale;
 uniform float u_lodBias;
 uniform int u_maxSteps;
@@ -57,12 +58,18 @@ int finestLevel(vec3 p) {
 }
 
 uniform float u_levelBand;  // cells: the transition band inside the finest level's border (0 = off)
+// 1 where clipmap.transition-band is above 0 (the stage's define): without the band a raised level
+// is exactly k_min, so the code of the ramp and of a raised second level is left out of the program
+// (llvmpipe would run it for every sample).
+#ifndef CLIPMAP_LEVEL_BAND
+#define CLIPMAP_LEVEL_BAND 0
+#endif
 
 // The lowest level a sample at p may read: k_min(p), raised linearly towards k_min + 1 within
 // u_levelBand cells of the border of k_min's footprint region (the next level holds p: levels nest
 // with a margin of N/4 - 1 coarse cells), so the level changes continuously across the border.
 float minimumLevel(vec3 p, int kmin) {
-  if (u_levelBand <= 0.0 || kmin >= u_clipLevels - 1) return float(kmin);
+  if (CLIPMAP_LEVEL_BAND == 0 || kmin >= u_clipLevels - 1) return float(kmin);
   vec3 u = (p - u_levelMin[kmin]) / levelVoxel(kmin);
   vec3 inside = min(u - 0.5, float(u_clipN) - 0.5 - u);
   float margin = min(inside.x, min(inside.y, inside.z));
@@ -93,62 +100,61 @@ vec4 sampleMip(int face, int k, vec3 p) {
   return textureLod(u_mips, vec3(x / (float(kFaces) * n), u.yz), float(m));
 }
 
-// Face 'face' of level k of the whole hierarchy at p: a clip level, or above L-1 a mip of the
-// coarsest level.
-vec4 sampleHierarchy(int face, int k, vec3 p) {
-  return k <= u_clipLevels - 1 ? sampleLevel(face, k, p) : sampleMip(face, k, p);
-}
-
 uniform float u_frontHold;  // cells: how far behind its surface a front keeps its opacity (0 = off)
 
 // The march runs in three phases of the level the cone's width asks for ('own', which grows with
 // the distance): near (own <= L-1: clip levels only, raised by the finer levels' reach and holding
 // fronts), crossing (L-1 < own < L: the coarsest clip level and the first of its mips) and far
-// (own >= L: the mips alone, or the coarsest level when it has none). llvmpipe runs both sides of
-// every branch, so a sample that held the code of every level paid for reads it did not need
-// (every hierarchy lookup read the atlas and the mips, every face the read behind its front); a
-// phase's loop holds only its own reads. Each phase computes what the whole hierarchy would.
+// (own >= L: the mips alone). llvmpipe runs both sides of every branch, even one on a uniform, so
+// a sample that held the code of every level paid for reads it did not need (every hierarchy
+// lookup read the atlas and the mips, every face the read behind its front); a phase's loop holds
+// only its own reads. Each phase computes what the whole hierarchy would.
 const int kNear = 0, kCrossing = 1, kFar = 2;
 
-// Level k of the hierarchy as the phase may meet it: clip levels near, both kinds while crossing,
-// mips far (k > L-1 there unless the coarsest level has no mips).
-vec4 samplePhaseLevel(int face, int k, vec3 p, int phase) {
-  if (phase == kNear) return sampleLevel(face, min(k, u_clipLevels - 1), p);
-  if (phase == kFar && u_mipLevels > 0) return sampleMip(face, k, p);
-  return sampleHierarchy(face, k, p);
-}
-
-// Directional face 'face' (1 + d, d = the travel direction) of clip level k at p, where the level
-// was raised above the cone's own because the finer levels do not reach p (the sample is smaller
-// than the cell): a surface is one cell of the coarse level, and trilinear filtering spreads its
+// The three directional faces 'faces' (1 + d, d = the travel direction) of clip level k <= L-1 at
+// p, for the near phase: p's texel address is computed once for the three. 'hold': the level was
+// raised above the cone's own because the finer levels do not reach p (the sample is smaller than
+// the cell): a surface is one cell of the coarse level, and trilinear filtering spreads its
 // opacity as a hat one cell either side of the cell's centre, which may lie half a cell in front
 // of the surface. A cone that crosses the surface between two of its samples then sees only part
 // of the surface's opacity and goes on behind it (into the void outside a room: light lost). So
-// the face is also read u_frontHold cells back along the travel direction, and the more opaque of
-// the two is kept: a front the cone has reached stays opaque for that far behind its cell centre.
-// Before a front nothing changes (the read behind is further from the front than p). Only the near
-// phase raises a level (beyond L-1 the cone's own level is coarser than any clip level).
-vec4 sampleHoldingFronts(int face, int k, vec3 p, bool hold, int phase) {
-  vec4 s = samplePhaseLevel(face, k, p, phase);
-  if (phase != kNear || !hold || u_frontHold <= 0.0) return s;
-  int d = face - 1;
-  vec3 back = vec3(0.0);
-  back[d >> 1] = (d & 1) == 0 ? -1.0 : 1.0;
-  int kc = min(k, u_clipLevels - 1);
-  vec3 q = p + back * (u_frontHold * levelVoxel(kc));
-  if (!footprintInside(q, kc)) return s;
-  vec4 behind = sampleLevel(face, kc, q);
-  return behind.a > s.a ? behind : s;
+// each face is also read u_frontHold cells back along the travel direction (only that axis of
+// the address moves), and the more opaque of the two is kept: a front the cone has reached stays
+// opaque for that far behind its cell centre. Before a front nothing changes (the read behind is
+// further from the front than p). Only the near phase raises a level (beyond L-1 the cone's own
+// level is coarser than any clip level).
+void nearFaces(int k, vec3 p, bool hold, ivec3 faces, out vec4 s[3]) {
+  float n = float(u_clipN);
+  vec3 u = (p - u_levelMin[k]) / levelVoxel(k);
+  vec3 phys = mod(u + u_levelToroidal[k], n);
+  for (int a = 0; a < 3; ++a) {
+    s[a] = fetchFace(faces[a], k, phys);
+    if (hold && u_frontHold > 0.0) {
+      // Face 1 + d travels along +axis for even d: behind it is -axis.
+      float back = ((faces[a] - 1) & 1) == 0 ? -1.0 : 1.0;
+      float ub = (p[a] + back * (u_frontHold * levelVoxel(k)) - u_levelMin[k][a]) / levelVoxel(k);
+      // Read only where behind lies inside the level's footprint region.
+      if (ub >= 0.5 && ub <= n - 0.5) {
+        vec3 q = phys;
+        q[a] = mod(ub + u_levelToroidal[k][a], n);
+        vec4 behind = fetchFace(faces[a], k, q);
+        if (behind.a > s[a].a) s[a] = behind;
+      }
+    }
+  }
 }
 
-// One directional face at level 'level' >= 1: its two levels blended ('hold': the level was
-// raised above the cone's own, see sampleHoldingFronts).
-vec4 sampleFace(int face, float level, vec3 p, bool hold, int phase) {
-  int top = u_clipLevels - 1 + u_mipLevels;
+// One directional face at level 'level' beyond the near phase: its two levels blended. Crossing
+// (L-1 < level < L) they are the coarsest clip level and its first mip; far, two mips (one at the
+// top).
+vec4 sampleFace(int face, float level, vec3 p, int phase) {
+  int last = u_clipLevels - 1;
+  int top = last + u_mipLevels;
   int k0 = min(int(floor(level)), top);
   float f = level - float(k0);
-  vec4 s = sampleHoldingFronts(face, k0, p, hold, phase);
-  if (f > 0.0 && k0 < top) s = mix(s, sampleHoldingFronts(face, k0 + 1, p, hold, phase), f);
+  if (phase == kCrossing) return mix(sampleLevel(face, last, p), sampleMip(face, last + 1, p), f);
+  vec4 s = sampleMip(face, k0, p);
+  if (f > 0.0 && k0 < top) s = mix(s, sampleMip(face, k0 + 1, p), f);
   return s;
 }
 
@@ -162,7 +168,7 @@ vec4 sampleFace(int face, float level, vec3 p, bool hold, int phase) {
 vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold, int phase) {
   int last = u_clipLevels - 1;
   if (kFaces == 1) {
-    if (phase != kNear && level > float(last) && u_mipLevels > 0) {
+    if (phase != kNear) {  // level > L-1: the coarsest level's mips
       vec3 u = (p - u_levelMin[last]) / levelVoxel(last);
       return textureLod(u_mips, u / float(u_clipN), level - float(last));
     }
@@ -173,10 +179,24 @@ vec4 sampleAt(vec3 p, float level, vec3 dir, bool hold, int phase) {
     return s;
   }
   float directional = max(level, 0.0);
-  vec4 a = seenFronts(anisotropicWeights(dir), sampleFace(dir.x >= 0.0 ? 1 : 2, directional, p, hold, phase),
-                      sampleFace(dir.y >= 0.0 ? 3 : 4, directional, p, hold, phase),
-                      sampleFace(dir.z >= 0.0 ? 5 : 6, directional, p, hold, phase));
-  return a;
+  ivec3 faces = ivec3(dir.x >= 0.0 ? 1 : 2, dir.y >= 0.0 ? 3 : 4, dir.z >= 0.0 ? 5 : 6);
+  if (phase != kNear)
+    return seenFronts(anisotropicWeights(dir), sampleFace(faces.x, directional, p, phase),
+                      sampleFace(faces.y, directional, p, phase), sampleFace(faces.z, directional, p, phase));
+  // Near: clip levels only, each read with its fronts held where the level was raised. Without the
+  // transition band a raised level is k_min exactly, so the next level (weight 0 there) is read
+  // only where it was not raised and needs no hold.
+  int top = last + u_mipLevels;
+  int k0 = min(int(floor(directional)), top);
+  float f = directional - float(k0);
+  vec4 s[3];
+  nearFaces(min(k0, last), p, hold, faces, s);
+  if (f > 0.0 && k0 < top) {
+    vec4 next[3];
+    nearFaces(min(k0 + 1, last), p, hold && CLIPMAP_LEVEL_BAND != 0, faces, next);
+    for (int a = 0; a < 3; ++a) s[a] = mix(s[a], next[a], f);
+  }
+  return seenFronts(anisotropicWeights(dir), s[0], s[1], s[2]);
 }
 
 struct ConeResult { vec3 radiance; float opacity; float opacityAt; };
@@ -200,10 +220,9 @@ float ownLevel(float tanHalf, float t) {
 // Whether the phase holds a sample whose own level is 'own'.
 bool inPhase(int phase, float own) {
   float last = float(u_clipLevels - 1);
-  float farFrom = u_mipLevels > 0 ? last + 1.0 : 1e30;
   if (phase == kNear) return own <= last;
-  if (phase == kCrossing) return own > last && own < farFrom;
-  return own >= farFrom;
+  if (phase == kCrossing) return own > last && own < last + 1.0;
+  return own >= last + 1.0;
 }
 
 void marchSample(inout ConeMarch m, vec3 origin, vec3 dir, float tanHalf, float maxDistance,

@@ -77,7 +77,7 @@ static ParamDesc levelBandParam() {
 
 // How far behind its surface a front keeps its opacity, in cells of the level read, where a
 // sample's level is raised above the cone's own because the finer levels do not reach it
-// (shaders/clipmap/cone_trace.comp.glsl, sampleHoldingFronts). Measured at 128x128 (indirect
+// (shaders/clipmap/cone_trace.comp.glsl, nearFaces). Measured at 128x128 (indirect
 // energy against the reference, Cornell box / sponza / skylight room / two rooms / corridor /
 // spheres room, start offset 0.125): 0 (off): 1.11 / 0.82 / 0.79 / 0.95 / 0.62 / 0.84;
 // 0.5: 1.18 / 0.81 / 0.85 / 0.97 / 0.68 / 0.85; 1: 1.21 / 0.79 / 0.98 / 1.27 / 0.68 / 0.84, the
@@ -140,7 +140,9 @@ void ConeTraceStage::execute(StageContext& ctx) {
 
   // Every pixel, then the probed pixel's samples (common/probe_recorder.glsl).
   const auto [tracer, recorder] = tracerAndRecorder(ctx.shaders, {"clipmap/cone_trace.comp.glsl"},
-                                                    "#define CLIPMAP_FACES " + std::to_string(facesOf(ctx.params)) + "\n");
+                                                    "#define CLIPMAP_FACES " + std::to_string(facesOf(ctx.params)) +
+                                                        "\n#define CLIPMAP_LEVEL_BAND " +
+                                                        (ctx.params.getFloat("clipmap.transition-band") > 0.0f ? "1\n" : "0\n"));
   std::vector<glm::vec3> mins(kMaxLevels, glm::vec3(0.0f)), offsets(kMaxLevels, glm::vec3(0.0f));
   for (int k = 0; k < layout.levels; ++k) {
     mins[size_t(k)] = glm::vec3(glm::dvec3(origins[size_t(k)]) * layout.voxelSize(k));

@@ -67,7 +67,8 @@ TextureDesc atlasDesc(const ParamSet& params);
 ParamDesc atlasFormatParam();
 GLenum atlasFormat(const ParamSet& params);
 std::string atlasFormatDefines(const ParamSet& params);
-// Mips of the coarsest level beyond it, in logical order: log2(N) - 2 of them (the chain stops at 4^3).
+// Mips of the coarsest level beyond it, in logical order: log2(N) - 2 of them (the chain stops at 4^3),
+// so at least one for every N clipmap.resolution allows (8 and up): the cone tracer relies on it.
 int mipCount(int n);
 
 // The anchor along the camera path: move j (0 = the start) puts it at the camera position plus
