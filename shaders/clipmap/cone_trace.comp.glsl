@@ -127,6 +127,8 @@ void nearFaces(int k, vec3 p, bool hold, ivec3 faces, out vec4 s[3]) {
   float n = float(u_clipN);
   vec3 u = (p - u_levelMin[k]) / levelVoxel(k);
   vec3 phys = mod(u + u_levelToroidal[k], n);
+  // No 'continue' in this loop: with one the compiler no longer unrolls it, s[] goes to memory and
+  // the stage takes half as long again (docs/performance.md, clipmap).
   for (int a = 0; a < 3; ++a) {
     s[a] = fetchFace(faces[a], k, phys);
     if (hold && u_frontHold > 0.0) {
