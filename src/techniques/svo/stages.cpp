@@ -813,12 +813,12 @@ void BricksStage::execute(StageContext& ctx) {
   ctx.stats["traced_octree_bytes"] = bricksBytes + tracedNodes * (sizeof(SvoNode) + 4);
   // The dense comparison: vct-grid's radiance mip chain at this resolution and format (all
   // levels), and with anisotropic mips also its six directional chains of half the edge, and with
-  // the fronts rule its two RGBA8 opacity chains.
+  // the fronts rule its RGBA8 solid-opacity chain (one for both signs of an axis).
   const double texelBytes = hdrBricks(ctx.params) ? 8.0 : 4.0;
   double dense = 0.0, directionalDense = 0.0;
   for (int r = ctx.params.getInt("voxel.resolution"); r >= 1; r /= 2) dense += texelBytes * double(r) * r * r;
   for (int r = ctx.params.getInt("voxel.resolution") / 2; r >= 1; r /= 2)
-    directionalDense += (6 * texelBytes + (frontsBricks(ctx.params) ? 2 * 4.0 : 0.0)) * double(r) * r * r;
+    directionalDense += (6 * texelBytes + (frontsBricks(ctx.params) ? 4.0 : 0.0)) * double(r) * r * r;
   ctx.stats["dense_mip_chain_bytes"] = dense;
   ctx.stats["traced_octree_over_dense"] = ctx.stats["traced_octree_bytes"] / dense;
   if (anisotropic) {
