@@ -12,7 +12,8 @@
 #   scripts/lesson-motion.sh [VOXLAB_BINARY]     (default: build/voxlab)
 #   FRAMES=16 SIZE=128x128 LESSON=lessons/09-motion.md scripts/lesson-motion.sh
 #
-# The runs go to WORK=build/lesson-motion/<scene>/<technique>/ (about 3 minutes on 2 cores).
+# The runs go to WORK=build/lesson-motion/<scene>/<technique>/ (40 s on 2 cores with Mesa's shader
+# cache warm, a few minutes when it is cold).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 voxlab="$(realpath "${1:-$root/build/voxlab}")"
