@@ -23,6 +23,7 @@ std::vector<ParamDesc> layoutParams() {
   return {
       ParamDesc::integer("clipmap.levels", 5, 1, kMaxLevels,
                          "clip levels L; level k has voxels 2^k times level 0's (1: one level and the mips of it)", "levels"),
+      // N >= 8: the coarsest level then has at least one mip, which the cone tracer's far phase reads.
       ParamDesc::integer("clipmap.resolution", 32, 8, 64, "cells N along each axis of every level", "voxels").pow2(),
       ParamDesc::fromScene("clipmap.voxel-size", 1e-4, 100.0,
                            "edge s_0 of a level-0 voxel; scene: the scene's largest extent E times the power of two that lets "
